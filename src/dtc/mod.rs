@@ -1,0 +1,147 @@
+//! Dead-time compensators and the one trait every controller implements.
+//!
+//! Each scheme lives in its own module and is built from the shared blocks:
+//! [`crate::Pid`], [`crate::Lti`] (the delay-free model) and [`crate::Delay`]
+//! (the model's dead time).
+
+mod karan_dey;
+mod smith;
+
+pub use karan_dey::{KaranDey, KaranDeyParams};
+pub use smith::SmithPredictor;
+
+use crate::Real;
+
+/// A sampled controller: call [`Controller::update`] once per sample period.
+///
+/// Every scheme in `msp` implements this trait, so the simulator, the CLI and
+/// Python treat them alike. Internal signals and parameters are read by index
+/// (names from [`Controller::signal_names`] and [`Controller::param_names`]),
+/// which keeps the trait allocation-free and object safe.
+pub trait Controller<T: Real> {
+    /// One sample: set point `r[k]` and measurement `y[k]` in, actuator value `u[k]` out.
+    fn update(&mut self, setpoint: T, measurement: T) -> T;
+    /// Returns every state to zero (the delay lines included).
+    fn reset(&mut self);
+    /// Names of the internal signals, e.g. the model output and the model error.
+    fn signal_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Value of internal signal `index` after the last update (NaN if out of range).
+    fn signal(&self, index: usize) -> T {
+        let _ = index;
+        T::nan()
+    }
+    /// Names of the parameters, as in reports and the CLI's `--set`.
+    fn param_names(&self) -> &'static [&'static str];
+    /// Value of parameter `index` (NaN if out of range).
+    fn param(&self, index: usize) -> T;
+    /// True when the last update received a non-finite set point or measurement
+    /// and held its output instead.
+    fn fault(&self) -> bool {
+        false
+    }
+    /// Internal signal by name.
+    fn signal_by_name(&self, name: &str) -> Option<T> {
+        self.signal_names()
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.signal(i))
+    }
+    /// Parameter by name.
+    fn param_by_name(&self, name: &str) -> Option<T> {
+        self.param_names()
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.param(i))
+    }
+}
+
+impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for &mut C {
+    #[inline(always)]
+    fn update(&mut self, r: T, y: T) -> T {
+        (**self).update(r, y)
+    }
+    fn reset(&mut self) {
+        (**self).reset()
+    }
+    fn signal_names(&self) -> &'static [&'static str] {
+        (**self).signal_names()
+    }
+    fn signal(&self, i: usize) -> T {
+        (**self).signal(i)
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        (**self).param_names()
+    }
+    fn param(&self, i: usize) -> T {
+        (**self).param(i)
+    }
+    fn fault(&self) -> bool {
+        (**self).fault()
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for alloc::boxed::Box<C> {
+    #[inline(always)]
+    fn update(&mut self, r: T, y: T) -> T {
+        (**self).update(r, y)
+    }
+    fn reset(&mut self) {
+        (**self).reset()
+    }
+    fn signal_names(&self) -> &'static [&'static str] {
+        (**self).signal_names()
+    }
+    fn signal(&self, i: usize) -> T {
+        (**self).signal(i)
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        (**self).param_names()
+    }
+    fn param(&self, i: usize) -> T {
+        (**self).param(i)
+    }
+    fn fault(&self) -> bool {
+        (**self).fault()
+    }
+}
+
+/// The plain PID loop is a controller too (the `pid` scheme).
+impl<T: Real> Controller<T> for crate::Pid<T> {
+    #[inline(always)]
+    fn update(&mut self, r: T, y: T) -> T {
+        crate::Pid::update(self, r, y)
+    }
+    fn reset(&mut self) {
+        crate::Pid::reset(self)
+    }
+    fn signal_names(&self) -> &'static [&'static str] {
+        &["p", "i", "d"]
+    }
+    fn signal(&self, i: usize) -> T {
+        let t = self.terms();
+        match i {
+            0 => t.p,
+            1 => t.i,
+            2 => t.d,
+            _ => T::nan(),
+        }
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        &["kp", "ti", "td"]
+    }
+    fn param(&self, i: usize) -> T {
+        let c = self.config();
+        match i {
+            0 => c.kp,
+            1 => c.ti(),
+            2 => c.td(),
+            _ => T::nan(),
+        }
+    }
+    fn fault(&self) -> bool {
+        crate::Pid::fault(self)
+    }
+}

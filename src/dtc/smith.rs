@@ -1,0 +1,140 @@
+//! The classic Smith predictor.
+//!
+//! Structure (`001_8c052250023526e6.txt` Fig. 1, `000_3f0725a46e29ef08.txt`
+//! Figs. 4.4–4.5, Eq. 4.5): the primary controller `Gc` acts on
+//!
+//! `e'[k] = r[k] − y_m[k] − (y[k] − y_m[k − d])`,
+//!
+//! where `y_m = G_m·u` is the output of the delay-free model and
+//! `y_m[k − d]` the same output delayed by the model dead time `d` (samples).
+//! With a perfect model the feedback signal is the delay-free model output,
+//! so the closed loop is `Gc·Gm/(1 + Gc·Gm)·e^{−Lm s}` (Eq. 1 of `001_…`): the
+//! delay-free loop, delayed. The model is ZOH-discretized, so for an integer
+//! delay this identity holds sample for sample. A fractional delay is read
+//! from the model output by linear interpolation (see [`crate::delay`]).
+
+use crate::delay::{Delay, DelayStorage};
+use crate::dtc::Controller;
+use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
+
+/// Smith predictor around a [`Pid`], with a model of order `≤ N` and its dead
+/// time in a delay line over storage `S` (`[T; D]` for firmware, `Vec<T>` on a host).
+#[derive(Debug, Clone)]
+pub struct SmithPredictor<T, const N: usize, S> {
+    pid: Pid<T>,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    ym: T,
+    ym_delayed: T,
+    model_error: T,
+    fault: bool,
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S> {
+    /// A predictor from its parts. The model must be strictly proper (no direct
+    /// feed-through), or the loop would be algebraic.
+    pub fn new(pid: PidConfig<T>, model: Lti<T, N>, delay: Delay<T, S>) -> Result<Self, Error> {
+        if model.output(T::one()) != model.free_output() {
+            return Err(Error::Improper("model"));
+        }
+        Ok(SmithPredictor {
+            pid: Pid::new(pid)?,
+            model,
+            delay,
+            ym: T::zero(),
+            ym_delayed: T::zero(),
+            model_error: T::zero(),
+            fault: false,
+        })
+    }
+
+    /// The primary controller.
+    pub fn pid(&self) -> &Pid<T> {
+        &self.pid
+    }
+    /// The primary controller, mutable (manual mode, presets).
+    pub fn pid_mut(&mut self) -> &mut Pid<T> {
+        &mut self.pid
+    }
+    /// Output of the delay-free model `y_m[k]` (the prediction of `y[k + d]`).
+    pub fn prediction(&self) -> T {
+        self.ym
+    }
+    /// The delayed model output `y_m[k − d]`.
+    pub fn delayed_prediction(&self) -> T {
+        self.ym_delayed
+    }
+    /// The model error `y[k] − y_m[k − d]`.
+    pub fn model_error(&self) -> T {
+        self.model_error
+    }
+}
+
+impl<T: Real, const N: usize, S: DelayStorage<T>> SmithPredictor<T, N, S> {
+    /// A predictor whose model is `model` ZOH-discretized at the controller's period.
+    pub fn from_model(pid: PidConfig<T>, model: &ProcessModel<T>, ts: T) -> Result<Self, Error> {
+        let (block, d) = model.discretize::<N>(ts)?;
+        Self::new(PidConfig { ts, ..pid }, block, Delay::new_in(d)?)
+    }
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
+    for SmithPredictor<T, N, S>
+{
+    #[inline]
+    fn update(&mut self, r: T, y: T) -> T {
+        if !(r.is_finite() && y.is_finite()) {
+            self.fault = true;
+            // the model keeps running on the held output: it still tracks the plant
+            let u = self.pid.output();
+            self.ym = self.model.step(u);
+            self.ym_delayed = self.delay.process(self.ym);
+            return u;
+        }
+        self.fault = false;
+        let ym = self.model.free_output();
+        let ym_d = self.delay.process(ym);
+        let err = y - ym_d;
+        let u = self.pid.update(r, ym + err);
+        self.model.step(u);
+        self.ym = ym;
+        self.ym_delayed = ym_d;
+        self.model_error = err;
+        u
+    }
+
+    fn reset(&mut self) {
+        self.pid.reset();
+        self.model.reset();
+        self.delay.reset();
+        self.ym = T::zero();
+        self.ym_delayed = T::zero();
+        self.model_error = T::zero();
+        self.fault = false;
+    }
+
+    fn signal_names(&self) -> &'static [&'static str] {
+        &["ym", "ym_delayed", "model_error"]
+    }
+
+    fn signal(&self, i: usize) -> T {
+        match i {
+            0 => self.ym,
+            1 => self.ym_delayed,
+            2 => self.model_error,
+            _ => T::nan(),
+        }
+    }
+
+    fn param_names(&self) -> &'static [&'static str] {
+        self.pid.param_names()
+    }
+
+    fn param(&self, i: usize) -> T {
+        Controller::param(&self.pid, i)
+    }
+
+    fn fault(&self) -> bool {
+        self.fault
+    }
+}

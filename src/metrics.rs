@@ -1,0 +1,293 @@
+//! Performance indices: streaming integral indices (no_std, O(1) memory) and,
+//! with `std`, MATLAB-style step information.
+//!
+//! Integral indices (`000_3f0725a46e29ef08.txt` Sec. 3.x, Eqs. for ISE/IAE/ITAE,
+//! and TV of ch. 5): `IAE = ∫|e|dt`, `ISE = ∫e²dt`, `ITAE = ∫t|e|dt`,
+//! `ITSE = ∫t e² dt`, `TV = Σ|u[k] − u[k−1]|`. The integrals use the
+//! trapezoidal rule over the samples; sums are compensated (Kahan), and time
+//! is computed as `k·Ts` rather than accumulated, so f32 runs of millions of
+//! samples do not drift.
+
+use crate::real::positive;
+use crate::{Error, Real};
+
+/// A Kahan–Babuška compensated sum.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Sum<T> {
+    s: T,
+    c: T,
+}
+
+impl<T: Real> Sum<T> {
+    /// Adds `x`.
+    #[inline]
+    pub fn add(&mut self, x: T) {
+        let t = self.s + x;
+        if self.s.abs() >= x.abs() {
+            self.c = self.c + ((self.s - t) + x);
+        } else {
+            self.c = self.c + ((x - t) + self.s);
+        }
+        self.s = t;
+    }
+    /// The sum.
+    #[inline]
+    pub fn value(&self) -> T {
+        self.s + self.c
+    }
+}
+
+/// Streaming IAE, ISE, ITAE, ITSE and TV.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct IntegralIndices<T> {
+    ts: T,
+    k: u64,
+    prev_e: T,
+    prev_u: T,
+    iae: Sum<T>,
+    ise: Sum<T>,
+    itae: Sum<T>,
+    itse: Sum<T>,
+    tv: Sum<T>,
+}
+
+/// The values of the integral indices.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Indices<T> {
+    /// Integral of the absolute error.
+    pub iae: T,
+    /// Integral of the squared error.
+    pub ise: T,
+    /// Integral of time times the absolute error.
+    pub itae: T,
+    /// Integral of time times the squared error.
+    pub itse: T,
+    /// Total variation of the control signal.
+    pub tv: T,
+}
+
+impl<T: Real> IntegralIndices<T> {
+    /// Indices for samples every `ts` seconds; time starts at 0 with the first sample.
+    pub fn new(ts: T) -> Result<Self, Error> {
+        Ok(IntegralIndices {
+            ts: positive(ts, "ts")?,
+            k: 0,
+            prev_e: T::zero(),
+            prev_u: T::zero(),
+            iae: Sum::default(),
+            ise: Sum::default(),
+            itae: Sum::default(),
+            itse: Sum::default(),
+            tv: Sum::default(),
+        })
+    }
+
+    /// Adds sample `k`: error `e[k]` and control `u[k]`. Non-finite samples are skipped.
+    #[inline]
+    pub fn push(&mut self, e: T, u: T) {
+        if !(e.is_finite() && u.is_finite()) {
+            return;
+        }
+        if self.k > 0 {
+            let h = self.ts;
+            let t1 = T::from(self.k).unwrap_or(T::zero()) * h;
+            let t0 = t1 - h;
+            let (e0, e1) = (self.prev_e, e);
+            let half = T::half() * h;
+            self.iae.add(half * (e0.abs() + e1.abs()));
+            self.ise.add(half * (e0 * e0 + e1 * e1));
+            self.itae.add(half * (t0 * e0.abs() + t1 * e1.abs()));
+            self.itse.add(half * (t0 * e0 * e0 + t1 * e1 * e1));
+            self.tv.add((u - self.prev_u).abs());
+        }
+        self.prev_e = e;
+        self.prev_u = u;
+        self.k = self.k.saturating_add(1);
+    }
+
+    /// The indices so far.
+    pub fn value(&self) -> Indices<T> {
+        Indices {
+            iae: self.iae.value(),
+            ise: self.ise.value(),
+            itae: self.itae.value(),
+            itse: self.itse.value(),
+            tv: self.tv.value(),
+        }
+    }
+
+    /// Number of samples pushed.
+    pub fn samples(&self) -> u64 {
+        self.k
+    }
+}
+
+/// Step-response characteristics with MATLAB's `stepinfo` definitions
+/// (python-control's `step_info` key names); NaN where a figure cannot be computed.
+#[cfg(feature = "std")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct StepInfo {
+    /// Time from 10 % to 90 % of the step (s).
+    pub rise_time: f64,
+    /// Time after which `|y − y_final|` stays within 2 % of the step (s).
+    pub settling_time: f64,
+    /// Smallest `y` once the response has risen (reached 90 %).
+    pub settling_min: f64,
+    /// Largest `y` once the response has risen.
+    pub settling_max: f64,
+    /// Overshoot beyond the final value, % of the step.
+    pub overshoot: f64,
+    /// Undershoot below the initial value (opposite to the step), % of the step.
+    pub undershoot: f64,
+    /// Peak of `|y|`.
+    pub peak: f64,
+    /// Time of the peak (s).
+    pub peak_time: f64,
+}
+
+/// Step information of `y(t)` for a step from `y0` to `y_final`; times are
+/// measured from `t[0]`. Crossings are located by linear interpolation between samples.
+#[cfg(feature = "std")]
+pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64) -> StepInfo {
+    let nan = f64::NAN;
+    let mut out = StepInfo {
+        rise_time: nan,
+        settling_time: nan,
+        settling_min: nan,
+        settling_max: nan,
+        overshoot: nan,
+        undershoot: nan,
+        peak: nan,
+        peak_time: nan,
+    };
+    let n = t.len().min(y.len());
+    let (Some(&t0), true) = (t.first(), n > 1) else {
+        return out;
+    };
+    let t = t.get(..n).unwrap_or(&[]);
+    let y = y.get(..n).unwrap_or(&[]);
+    let step = y_final - y0;
+    // peak of |y|
+    let (pi, pv) = y
+        .iter()
+        .enumerate()
+        .fold((0usize, f64::NEG_INFINITY), |(bi, bv), (i, v)| {
+            if v.abs() > bv {
+                (i, v.abs())
+            } else {
+                (bi, bv)
+            }
+        });
+    out.peak = pv;
+    out.peak_time = t.get(pi).map_or(nan, |x| x - t0);
+    if !(step.is_finite() && step != 0.0) {
+        return out;
+    }
+    // normalized response: 0 at y0, 1 at y_final
+    let z = |i: usize| y.get(i).map_or(nan, |v| (v - y0) / step);
+    let cross = |level: f64| -> Option<f64> {
+        for i in 0..n {
+            if z(i) >= level {
+                if i == 0 {
+                    return t.first().copied();
+                }
+                let (za, zb) = (z(i.wrapping_sub(1)), z(i));
+                let (ta, tb) = (t.get(i.wrapping_sub(1))?, t.get(i)?);
+                let f = if zb != za {
+                    (level - za) / (zb - za)
+                } else {
+                    0.0
+                };
+                return Some(ta + f * (tb - ta));
+            }
+        }
+        None
+    };
+    let t10 = cross(0.1);
+    let t90 = cross(0.9);
+    if let (Some(a), Some(b)) = (t10, t90) {
+        out.rise_time = b - a;
+    }
+    // settling: last time |z - 1| > 2 %, interpolated to the band edge
+    let band = 0.02;
+    let mut last_out = None;
+    for i in (0..n).rev() {
+        if (z(i) - 1.0).abs() > band {
+            last_out = Some(i);
+            break;
+        }
+    }
+    out.settling_time = match last_out {
+        None => 0.0,
+        Some(i) if i.wrapping_add(1) >= n => nan,
+        Some(i) => {
+            let (za, zb) = (z(i), z(i.wrapping_add(1)));
+            let edge = if za > 1.0 { 1.0 + band } else { 1.0 - band };
+            let f = if zb != za {
+                (edge - za) / (zb - za)
+            } else {
+                0.0
+            };
+            match (t.get(i), t.get(i.wrapping_add(1))) {
+                (Some(ta), Some(tb)) => ta + f.clamp(0.0, 1.0) * (tb - ta) - t0,
+                _ => nan,
+            }
+        }
+    };
+    if let Some(tr) = t90 {
+        let after = t
+            .iter()
+            .zip(y.iter())
+            .filter(|(ti, _)| **ti >= tr)
+            .map(|(_, v)| *v);
+        let (mn, mx) = after.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+        out.settling_min = mn;
+        out.settling_max = mx;
+    }
+    let zmax = (0..n).map(z).fold(f64::NEG_INFINITY, f64::max);
+    let zmin = (0..n).map(z).fold(f64::INFINITY, f64::min);
+    out.overshoot = 100.0 * (zmax - 1.0).max(0.0);
+    out.undershoot = 100.0 * (-zmin).max(0.0);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integral_indices_of_an_exponential() {
+        // e = e^{-t}: IAE = 1, ISE = 1/2, ITAE = 1, ITSE = 1/4
+        let h = 1e-3;
+        let mut m = IntegralIndices::new(h).unwrap();
+        for k in 0..40_000 {
+            m.push((-(k as f64) * h).exp(), 0.0);
+        }
+        let v = m.value();
+        assert!((v.iae - 1.0).abs() < 1e-6);
+        assert!((v.ise - 0.5).abs() < 1e-6);
+        assert!((v.itae - 1.0).abs() < 1e-6);
+        assert!((v.itse - 0.25).abs() < 1e-6);
+    }
+
+    #[test]
+    fn step_info_of_first_order() {
+        let tau = 2.0;
+        let t: Vec<f64> = (0..20_001).map(|k| k as f64 * 1e-3).collect();
+        let y: Vec<f64> = t.iter().map(|t| 1.0 - (-t / tau).exp()).collect();
+        let s = step_info(&t, &y, 0.0, 1.0);
+        assert!(
+            (s.rise_time - tau * 9f64.ln()).abs() < 1e-5,
+            "{}",
+            s.rise_time
+        );
+        assert!((s.settling_time - tau * 50f64.ln()).abs() < 1e-5);
+        assert_eq!(s.overshoot, 0.0);
+    }
+}

@@ -1,0 +1,213 @@
+//! Process models with dead time, and their conversion to discrete blocks.
+//!
+//! The parameter names (`k`, `t`, `t1`, `t2`, `l`) are the ones reports, the
+//! CLI and Python use. Forms (`000_3f0725a46e29ef08.txt` Eq. 4.1,
+//! `001_8c052250023526e6.txt` Sec. 3):
+//!
+//! | model | transfer function |
+//! | --- | --- |
+//! | FOPDT | `K e^{−Ls}/(T s + 1)` |
+//! | SOPDT | `K e^{−Ls}/((T1 s + 1)(T2 s + 1))` |
+//! | IPDT | `K e^{−Ls}/s` |
+//! | FOIPDT | `K e^{−Ls}/(s (T s + 1))` |
+//! | UFOPDT | `K e^{−Ls}/(T s − 1)` |
+
+use crate::real::{finite, non_negative, positive};
+use crate::{Discretization, Error, Lti, Real};
+
+macro_rules! model_struct {
+    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $f:ident),* }) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+        pub struct $name<T> {
+            $($(#[$fm])* pub $f: T,)*
+        }
+    };
+}
+
+model_struct!(
+    /// First order plus dead time `K e^{−Ls}/(T s + 1)`.
+    Fopdt { /// Static gain `K`.
+    k, /// Time constant `T` (s).
+    t, /// Dead time `L` (s).
+    l });
+model_struct!(
+    /// Second order plus dead time `K e^{−Ls}/((T1 s + 1)(T2 s + 1))`.
+    Sopdt { /// Static gain `K`.
+    k, /// First time constant `T1` (s).
+    t1, /// Second time constant `T2` (s).
+    t2, /// Dead time `L` (s).
+    l });
+model_struct!(
+    /// Integrator plus dead time `K e^{−Ls}/s`.
+    Ipdt { /// Velocity gain `K` (1/s).
+    k, /// Dead time `L` (s).
+    l });
+model_struct!(
+    /// First-order integrator plus dead time `K e^{−Ls}/(s (T s + 1))`.
+    Foipdt { /// Velocity gain `K`.
+    k, /// Time constant `T` (s).
+    t, /// Dead time `L` (s).
+    l });
+model_struct!(
+    /// Unstable first order plus dead time `K e^{−Ls}/(T s − 1)`.
+    Ufopdt { /// Gain `K` (the static gain is `−K`).
+    k, /// Time constant `T` of the unstable pole `+1/T` (s).
+    t, /// Dead time `L` (s).
+    l });
+
+impl<T: Real> Fopdt<T> {
+    /// Validated FOPDT model.
+    pub fn new(k: T, t: T, l: T) -> Result<Self, Error> {
+        Ok(Fopdt {
+            k: nonzero(k)?,
+            t: positive(t, "t")?,
+            l: non_negative(l, "l")?,
+        })
+    }
+}
+impl<T: Real> Sopdt<T> {
+    /// Validated SOPDT model.
+    pub fn new(k: T, t1: T, t2: T, l: T) -> Result<Self, Error> {
+        Ok(Sopdt {
+            k: nonzero(k)?,
+            t1: positive(t1, "t1")?,
+            t2: positive(t2, "t2")?,
+            l: non_negative(l, "l")?,
+        })
+    }
+}
+impl<T: Real> Ipdt<T> {
+    /// Validated IPDT model.
+    pub fn new(k: T, l: T) -> Result<Self, Error> {
+        Ok(Ipdt {
+            k: nonzero(k)?,
+            l: non_negative(l, "l")?,
+        })
+    }
+}
+impl<T: Real> Foipdt<T> {
+    /// Validated FOIPDT model.
+    pub fn new(k: T, t: T, l: T) -> Result<Self, Error> {
+        Ok(Foipdt {
+            k: nonzero(k)?,
+            t: positive(t, "t")?,
+            l: non_negative(l, "l")?,
+        })
+    }
+}
+impl<T: Real> Ufopdt<T> {
+    /// Validated UFOPDT model.
+    pub fn new(k: T, t: T, l: T) -> Result<Self, Error> {
+        Ok(Ufopdt {
+            k: nonzero(k)?,
+            t: positive(t, "t")?,
+            l: non_negative(l, "l")?,
+        })
+    }
+}
+
+fn nonzero<T: Real>(k: T) -> Result<T, Error> {
+    finite(k, "k")?;
+    if k == T::zero() {
+        Err(Error::OutOfRange("k"))
+    } else {
+        Ok(k)
+    }
+}
+
+/// Any of the low-order process models.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "model", rename_all = "lowercase"))]
+pub enum ProcessModel<T> {
+    /// First order plus dead time.
+    Fopdt(Fopdt<T>),
+    /// Second order plus dead time.
+    Sopdt(Sopdt<T>),
+    /// Integrator plus dead time.
+    Ipdt(Ipdt<T>),
+    /// First-order integrator plus dead time.
+    Foipdt(Foipdt<T>),
+    /// Unstable first order plus dead time.
+    Ufopdt(Ufopdt<T>),
+}
+
+macro_rules! from_model {
+    ($($v:ident),*) => {$(
+        impl<T> From<$v<T>> for ProcessModel<T> {
+            fn from(m: $v<T>) -> Self {
+                ProcessModel::$v(m)
+            }
+        }
+    )*};
+}
+from_model!(Fopdt, Sopdt, Ipdt, Foipdt, Ufopdt);
+
+impl<T: Real> ProcessModel<T> {
+    /// The dead time `L` (s).
+    pub fn delay(&self) -> T {
+        match self {
+            ProcessModel::Fopdt(m) => m.l,
+            ProcessModel::Sopdt(m) => m.l,
+            ProcessModel::Ipdt(m) => m.l,
+            ProcessModel::Foipdt(m) => m.l,
+            ProcessModel::Ufopdt(m) => m.l,
+        }
+    }
+
+    /// The short name: `fopdt`, `sopdt`, `ipdt`, `foipdt` or `ufopdt`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ProcessModel::Fopdt(_) => "fopdt",
+            ProcessModel::Sopdt(_) => "sopdt",
+            ProcessModel::Ipdt(_) => "ipdt",
+            ProcessModel::Foipdt(_) => "foipdt",
+            ProcessModel::Ufopdt(_) => "ufopdt",
+        }
+    }
+
+    /// True for a pole at the origin.
+    pub fn is_integrating(&self) -> bool {
+        matches!(self, ProcessModel::Ipdt(_) | ProcessModel::Foipdt(_))
+    }
+
+    /// True for a pole in the right half plane.
+    pub fn is_unstable(&self) -> bool {
+        matches!(self, ProcessModel::Ufopdt(_))
+    }
+
+    /// The delay-free part as `(num, den)` coefficients in descending powers of `s`,
+    /// padded to degree 2 (leading zeros).
+    pub fn rational(&self) -> ([T; 3], [T; 3]) {
+        let z = T::zero();
+        let o = T::one();
+        match *self {
+            ProcessModel::Fopdt(m) => ([z, z, m.k], [z, m.t, o]),
+            ProcessModel::Sopdt(m) => ([z, z, m.k], [m.t1 * m.t2, m.t1 + m.t2, o]),
+            ProcessModel::Ipdt(m) => ([z, z, m.k], [z, o, z]),
+            ProcessModel::Foipdt(m) => ([z, z, m.k], [m.t, o, z]),
+            ProcessModel::Ufopdt(m) => ([z, z, m.k], [z, m.t, -o]),
+        }
+    }
+
+    /// The name and value of each parameter, in the order of the model's formula.
+    pub fn params(&self) -> ([(&'static str, T); 4], usize) {
+        let z = ("", T::zero());
+        match *self {
+            ProcessModel::Fopdt(m) => ([("k", m.k), ("t", m.t), ("l", m.l), z], 3),
+            ProcessModel::Sopdt(m) => ([("k", m.k), ("t1", m.t1), ("t2", m.t2), ("l", m.l)], 4),
+            ProcessModel::Ipdt(m) => ([("k", m.k), ("l", m.l), z, z], 2),
+            ProcessModel::Foipdt(m) => ([("k", m.k), ("t", m.t), ("l", m.l), z], 3),
+            ProcessModel::Ufopdt(m) => ([("k", m.k), ("t", m.t), ("l", m.l), z], 3),
+        }
+    }
+
+    /// The delay-free part ZOH-discretized at `ts`, and the dead time in samples.
+    pub fn discretize<const N: usize>(&self, ts: T) -> Result<(Lti<T, N>, T), Error> {
+        let (num, den) = self.rational();
+        let block = Lti::from_tf(&num, &den, ts, Discretization::Zoh)?;
+        Ok((block, crate::delay::samples(self.delay(), ts)?))
+    }
+}

@@ -1,0 +1,482 @@
+//! The industrial PID controller: P, PI, PD and PID are configurations of one type.
+//!
+//! Continuous law (ISA / standard form, `000_3f0725a46e29ef08.txt` ch. 3, Eq. 3.3
+//! family; Åström & Hägglund's two-degree-of-freedom form):
+//!
+//! `u = Kp·[ (b·r − y) + 1/(Ti·s)·(r − y) + Td·s/(1 + Tf·s)·(c·r − y) ]`, `Tf = Td/N`,
+//!
+//! held internally in parallel gains `kp = Kp`, `ki = Kp/Ti`, `kd = Kp·Td`.
+//! Sampled every `Ts = h`, the difference equations are (sample `k`):
+//!
+//! ```text
+//! P[k]   = kp·(b·r[k] − y[k])
+//! D[k]   = Tf/(Tf+h)·D[k−1] + kd/(Tf+h)·(e_d[k] − e_d[k−1]),   e_d = c·r − y   (backward Euler)
+//! v[k]   = P[k] + I[k] + D[k]
+//! u[k]   = sat(ratelimit(v[k]))                                            (limits, rate limit)
+//! I[k+1] = I[k] + ki·h·(r[k] − y[k]) + h/Tt·(u[k] − v[k])                  (forward Euler,
+//!                                                                            back-calculation)
+//! ```
+//!
+//! With conditional integration instead of back-calculation, `I` is frozen while
+//! the output is saturated and the error would drive it further into the limit.
+//! A tracking input replaces `u[k]` by the actuator's real value in the
+//! back-calculation term. In manual mode the output is the manual value and
+//! the integrator tracks `I = u_manual − P − D`, so both transfers are bumpless.
+//! A non-finite set point or measurement never reaches the state: the output
+//! is held and [`Pid::fault`] is raised until valid data returns.
+
+use crate::real::{finite, non_negative, positive};
+use crate::{Error, Real};
+
+/// How the integrator is kept from winding up while the output is limited.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum AntiWindup<T> {
+    /// No protection (for comparison only).
+    None,
+    /// Back-calculation with tracking time constant `tt` (seconds).
+    BackCalculation {
+        /// Tracking time constant `Tt`; Åström–Hägglund suggest `√(Ti·Td)`, or `Ti` for PI.
+        tt: T,
+    },
+    /// Conditional integration (clamping).
+    Conditional,
+}
+
+/// Parameters of a [`Pid`]. Build with [`PidConfig::isa`] or [`PidConfig::parallel`]
+/// and the `with_*` methods; [`Pid::new`] validates every field.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PidConfig<T> {
+    /// Proportional gain `kp`.
+    pub kp: T,
+    /// Integral gain `ki = Kp/Ti` (1/s); zero for P and PD.
+    pub ki: T,
+    /// Derivative gain `kd = Kp·Td` (s); zero for P and PI.
+    pub kd: T,
+    /// Derivative filter time constant `Tf = Td/N` (s); zero for an unfiltered derivative.
+    pub tf: T,
+    /// Set-point weight of the proportional term.
+    pub b: T,
+    /// Set-point weight of the derivative term (0: no derivative kick).
+    pub c: T,
+    /// Lower output limit.
+    pub u_min: T,
+    /// Upper output limit.
+    pub u_max: T,
+    /// Largest output change per second (infinite: none).
+    pub rate_limit: T,
+    /// Anti-windup method.
+    pub anti_windup: AntiWindup<T>,
+    /// Sample period `Ts` (s).
+    pub ts: T,
+}
+
+impl<T: Real> PidConfig<T> {
+    /// ISA (standard) form `Kp(1 + 1/(Ti s) + Td s)`. `ti = ∞` removes the
+    /// integral action, `td = 0` the derivative. The derivative filter defaults
+    /// to `N = 10`, the weights to `b = c = 1`, anti-windup to back-calculation
+    /// with `Tt = √(Ti·Td)` (`Ti` for PI), no limits. Nothing is validated here.
+    pub fn isa(kp: T, ti: T, td: T, ts: T) -> Self {
+        let ki = if ti.is_infinite() && ti > T::zero() {
+            T::zero()
+        } else {
+            kp / ti
+        };
+        let tt = if td > T::zero() && ti.is_finite() {
+            (ti * td).sqrt()
+        } else {
+            ti
+        };
+        PidConfig {
+            kp,
+            ki,
+            kd: kp * td,
+            tf: td / T::of(10.0),
+            b: T::one(),
+            c: T::one(),
+            u_min: T::neg_infinity(),
+            u_max: T::infinity(),
+            rate_limit: T::infinity(),
+            anti_windup: if ki == T::zero() {
+                AntiWindup::None
+            } else {
+                AntiWindup::BackCalculation { tt }
+            },
+            ts,
+        }
+    }
+
+    /// Parallel form `kp + ki/s + kd s` (with the same defaults as [`PidConfig::isa`];
+    /// the filter is `Tf = kd/(10·kp)` when `kp > 0`).
+    pub fn parallel(kp: T, ki: T, kd: T, ts: T) -> Self {
+        let tf = if kp > T::zero() {
+            kd / (kp * T::of(10.0))
+        } else {
+            T::zero()
+        };
+        let tt = if ki > T::zero() && kp > T::zero() {
+            kp / ki
+        } else {
+            ts
+        };
+        PidConfig {
+            kp,
+            ki,
+            kd,
+            tf,
+            b: T::one(),
+            c: T::one(),
+            u_min: T::neg_infinity(),
+            u_max: T::infinity(),
+            rate_limit: T::infinity(),
+            anti_windup: if ki == T::zero() {
+                AntiWindup::None
+            } else {
+                AntiWindup::BackCalculation { tt }
+            },
+            ts,
+        }
+    }
+
+    /// Output limits `[u_min, u_max]`.
+    pub fn with_limits(mut self, u_min: T, u_max: T) -> Self {
+        self.u_min = u_min;
+        self.u_max = u_max;
+        self
+    }
+    /// Derivative filter `Tf = Td/N` (`N` typically 5–20).
+    pub fn with_filter(mut self, n: T) -> Self {
+        let td = if self.kp != T::zero() {
+            self.kd / self.kp
+        } else {
+            T::zero()
+        };
+        self.tf = if n.is_infinite() { T::zero() } else { td / n };
+        self
+    }
+    /// Derivative filter time constant `Tf` directly (s).
+    pub fn with_filter_time(mut self, tf: T) -> Self {
+        self.tf = tf;
+        self
+    }
+    /// Set-point weights `b` (proportional) and `c` (derivative).
+    pub fn with_weights(mut self, b: T, c: T) -> Self {
+        self.b = b;
+        self.c = c;
+        self
+    }
+    /// Anti-windup method.
+    pub fn with_anti_windup(mut self, aw: AntiWindup<T>) -> Self {
+        self.anti_windup = aw;
+        self
+    }
+    /// Largest output change per second.
+    pub fn with_rate_limit(mut self, per_second: T) -> Self {
+        self.rate_limit = per_second;
+        self
+    }
+
+    /// Integral time `Ti = kp/ki` (∞ without integral action).
+    pub fn ti(&self) -> T {
+        if self.ki == T::zero() {
+            T::infinity()
+        } else {
+            self.kp / self.ki
+        }
+    }
+    /// Derivative time `Td = kd/kp`.
+    pub fn td(&self) -> T {
+        if self.kp == T::zero() {
+            T::zero()
+        } else {
+            self.kd / self.kp
+        }
+    }
+
+    /// Checks every field; the error names the first one that is wrong.
+    pub fn validate(&self) -> Result<(), Error> {
+        finite(self.kp, "kp")?;
+        non_negative(self.ki, "ki")?;
+        non_negative(self.kd, "kd")?;
+        non_negative(self.tf, "tf")?;
+        finite(self.b, "b")?;
+        finite(self.c, "c")?;
+        positive(self.ts, "ts")?;
+        if self.u_min.is_nan() {
+            return Err(Error::NonFinite("u_min"));
+        }
+        if self.u_max.is_nan() {
+            return Err(Error::NonFinite("u_max"));
+        }
+        if self.u_min > self.u_max {
+            return Err(Error::InvalidLimits("u_min"));
+        }
+        if self.u_min == T::infinity() {
+            return Err(Error::NonFinite("u_min"));
+        }
+        if self.u_max == T::neg_infinity() {
+            return Err(Error::NonFinite("u_max"));
+        }
+        if self.rate_limit.is_nan() {
+            return Err(Error::NonFinite("rate_limit"));
+        }
+        if !(self.rate_limit > T::zero()) {
+            return Err(Error::NotPositive("rate_limit"));
+        }
+        if let AntiWindup::BackCalculation { tt } = self.anti_windup {
+            positive(tt, "tt")?;
+        }
+        Ok(())
+    }
+}
+
+/// The terms of the last update, for logging.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PidTerms<T> {
+    /// Proportional term `P[k]`.
+    pub p: T,
+    /// Integral term `I[k]`.
+    pub i: T,
+    /// Derivative term `D[k]`.
+    pub d: T,
+    /// Output after limits.
+    pub output: T,
+}
+
+/// Auto or manual operation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Mode {
+    /// The controller computes the output.
+    #[default]
+    Auto,
+    /// The output is set by the operator; the integrator tracks it.
+    Manual,
+}
+
+/// A PID controller (see the module documentation for the equations).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Pid<T> {
+    cfg: PidConfig<T>,
+    /// Derivative filter coefficients `Tf/(Tf+h)` and `kd/(Tf+h)`.
+    ad: T,
+    bd: T,
+    /// Integral increment per unit error `ki·h` and tracking gain `h/Tt`.
+    bi: T,
+    ar: T,
+    /// Largest change per sample.
+    du: T,
+    integral: T,
+    deriv: T,
+    ed_prev: T,
+    started: bool,
+    mode: Mode,
+    manual: T,
+    terms: PidTerms<T>,
+    fault: bool,
+}
+
+impl<T: Real> Pid<T> {
+    /// A controller with zero initial state.
+    pub fn new(cfg: PidConfig<T>) -> Result<Self, Error> {
+        cfg.validate()?;
+        let h = cfg.ts;
+        let denom = cfg.tf + h;
+        let ar = match cfg.anti_windup {
+            AntiWindup::BackCalculation { tt } => h / tt,
+            AntiWindup::None | AntiWindup::Conditional => T::zero(),
+        };
+        Ok(Pid {
+            cfg,
+            ad: cfg.tf / denom,
+            bd: cfg.kd / denom,
+            bi: cfg.ki * h,
+            ar,
+            du: cfg.rate_limit * h,
+            integral: T::zero(),
+            deriv: T::zero(),
+            ed_prev: T::zero(),
+            started: false,
+            mode: Mode::Auto,
+            manual: T::zero(),
+            terms: PidTerms::default(),
+            fault: false,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &PidConfig<T> {
+        &self.cfg
+    }
+
+    /// The terms of the last update.
+    #[inline]
+    pub fn terms(&self) -> PidTerms<T> {
+        self.terms
+    }
+
+    /// The last output.
+    #[inline]
+    pub fn output(&self) -> T {
+        self.terms.output
+    }
+
+    /// True while the last set point or measurement was not finite (output held).
+    #[inline]
+    pub fn fault(&self) -> bool {
+        self.fault
+    }
+
+    /// Zeroes the state and returns to auto mode.
+    pub fn reset(&mut self) {
+        self.integral = T::zero();
+        self.deriv = T::zero();
+        self.ed_prev = T::zero();
+        self.started = false;
+        self.mode = Mode::Auto;
+        self.terms = PidTerms::default();
+        self.fault = false;
+    }
+
+    /// Sets the integral term so that the next output is `u` for zero error
+    /// (bumpless start from a steady state with actuator value `u`).
+    pub fn preset(&mut self, u: T) -> Result<(), Error> {
+        self.integral = finite(u, "u")?;
+        self.terms.output = u;
+        Ok(())
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Switches to manual mode holding the last output (bumpless auto→manual).
+    pub fn set_manual(&mut self) {
+        self.manual = self.terms.output;
+        self.mode = Mode::Manual;
+    }
+
+    /// Sets the manual output (limited to `[u_min, u_max]`).
+    pub fn set_manual_output(&mut self, u: T) -> Result<(), Error> {
+        self.manual = finite(u, "u")?.max(self.cfg.u_min).min(self.cfg.u_max);
+        Ok(())
+    }
+
+    /// Switches to auto mode; the integrator already tracks the manual output,
+    /// so the output does not jump (bumpless manual→auto).
+    pub fn set_auto(&mut self) {
+        self.mode = Mode::Auto;
+    }
+
+    /// One sample: set point `r`, measurement `y`; returns the output.
+    #[inline]
+    pub fn update(&mut self, r: T, y: T) -> T {
+        self.step(r, y, None)
+    }
+
+    /// One sample with a tracking input: `u_actual` is the actuator's real value
+    /// (after external limits or overrides); the integrator tracks it.
+    #[inline]
+    pub fn update_tracking(&mut self, r: T, y: T, u_actual: T) -> T {
+        self.step(r, y, Some(u_actual))
+    }
+
+    #[inline(always)]
+    fn step(&mut self, r: T, y: T, track: Option<T>) -> T {
+        if !(r.is_finite() && y.is_finite()) {
+            self.fault = true;
+            return self.terms.output;
+        }
+        self.fault = false;
+        let cfg = &self.cfg;
+        let e = r - y;
+        let p = cfg.kp * (cfg.b * r - y);
+        let ed = cfg.c * r - y;
+        let d = if self.started {
+            self.ad * self.deriv + self.bd * (ed - self.ed_prev)
+        } else {
+            T::zero()
+        };
+        let i = self.integral;
+        let v = p + i + d;
+        let u = match self.mode {
+            Mode::Manual => self.manual,
+            Mode::Auto => {
+                let mut u = v;
+                if self.started && self.du.is_finite() {
+                    let last = self.terms.output;
+                    u = u.max(last - self.du).min(last + self.du);
+                }
+                u.max(cfg.u_min).min(cfg.u_max)
+            }
+        };
+        let applied = match track {
+            Some(t) if t.is_finite() => t,
+            _ => u,
+        };
+        self.integral = match self.mode {
+            Mode::Manual => applied - p - d,
+            Mode::Auto => match cfg.anti_windup {
+                AntiWindup::Conditional => {
+                    let pushing_up = e > T::zero() && v >= cfg.u_max;
+                    let pushing_down = e < T::zero() && v <= cfg.u_min;
+                    if pushing_up || pushing_down {
+                        i
+                    } else {
+                        i + self.bi * e
+                    }
+                }
+                AntiWindup::BackCalculation { .. } => i + self.bi * e + self.ar * (applied - v),
+                AntiWindup::None => i + self.bi * e,
+            },
+        };
+        self.deriv = d;
+        self.ed_prev = ed;
+        self.started = true;
+        self.terms = PidTerms { p, i, d, output: u };
+        u
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn proportional_only() {
+        let mut c = Pid::new(PidConfig::isa(2.0, f64::INFINITY, 0.0, 0.1)).unwrap();
+        assert_eq!(c.update(1.0, 0.25), 1.5);
+        assert_eq!(c.update(1.0, 0.25), 1.5);
+    }
+
+    #[test]
+    fn pi_integrates_forward_euler() {
+        let mut c = Pid::new(PidConfig::isa(1.0, 2.0, 0.0, 0.5)).unwrap();
+        // I[0] = 0, I[1] = 0.5/2 * 1
+        assert_eq!(c.update(1.0, 0.0), 1.0);
+        assert_eq!(c.update(1.0, 0.0), 1.25);
+        assert_eq!(c.update(1.0, 0.0), 1.5);
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let ok = PidConfig::isa(1.0, 2.0, 0.0, 0.1);
+        assert_eq!(
+            Pid::new(PidConfig { ts: 0.0, ..ok }).unwrap_err(),
+            Error::NotPositive("ts")
+        );
+        assert_eq!(
+            Pid::new(PidConfig { kp: f64::NAN, ..ok }).unwrap_err(),
+            Error::NonFinite("kp")
+        );
+        assert_eq!(
+            Pid::new(ok.with_limits(1.0, -1.0)).unwrap_err(),
+            Error::InvalidLimits("u_min")
+        );
+    }
+}

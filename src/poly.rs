@@ -1,0 +1,397 @@
+//! Rational transfer functions with dead time, `G(s) = b(s)/a(s)·e^{−θs}`
+//! (coefficients in descending powers of `s`), as parsed from an expression and
+//! used by the simulator, the registry and analysis.
+
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::lti::{roots, Cx};
+use crate::model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
+use crate::{Discretization, Error, Lti};
+
+/// Polynomial product (descending coefficients).
+pub fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {
+    if a.is_empty() || b.is_empty() {
+        return Vec::new();
+    }
+    let mut out = vec![0.0; a.len().saturating_add(b.len()).saturating_sub(1)];
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            if let Some(o) = out.get_mut(i.saturating_add(j)) {
+                *o += x * y;
+            }
+        }
+    }
+    out
+}
+
+/// Polynomial sum (descending coefficients).
+pub fn add(a: &[f64], b: &[f64]) -> Vec<f64> {
+    let n = a.len().max(b.len());
+    let mut out = vec![0.0; n];
+    for (o, x) in out.iter_mut().rev().zip(a.iter().rev()) {
+        *o += x;
+    }
+    for (o, x) in out.iter_mut().rev().zip(b.iter().rev()) {
+        *o += x;
+    }
+    out
+}
+
+/// Drops leading zero coefficients (keeps at least one coefficient).
+pub fn trim(p: &[f64]) -> Vec<f64> {
+    let first = p
+        .iter()
+        .position(|v| *v != 0.0)
+        .unwrap_or(p.len().saturating_sub(1));
+    let mut v: Vec<f64> = p.get(first..).unwrap_or(&[]).to_vec();
+    if v.is_empty() {
+        v.push(0.0);
+    }
+    v
+}
+
+/// Value of a polynomial at a real point.
+pub fn eval(p: &[f64], x: f64) -> f64 {
+    p.iter().fold(0.0, |acc, c| acc * x + c)
+}
+
+/// Complex roots `(re, im)` of a polynomial.
+pub fn poly_roots(p: &[f64]) -> Result<Vec<(f64, f64)>, Error> {
+    let p = trim(p);
+    let deg = p.len().saturating_sub(1);
+    let mut out = vec![Cx::<f64>::default(); deg];
+    roots(&p, &mut out)?;
+    Ok(out.into_iter().map(|c| (c.re, c.im)).collect())
+}
+
+/// Whether the plant is stable, integrating or unstable (open loop).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum PlantKind {
+    /// Every pole in the open left half plane.
+    Stable,
+    /// Poles at the origin, none in the right half plane.
+    Integrating,
+    /// A pole in the right half plane.
+    Unstable,
+}
+
+impl fmt::Display for PlantKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            PlantKind::Stable => "stable",
+            PlantKind::Integrating => "integrating",
+            PlantKind::Unstable => "unstable",
+        })
+    }
+}
+
+/// A continuous transfer function with dead time.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TransferFunction {
+    /// Numerator coefficients, descending powers of `s`.
+    pub num: Vec<f64>,
+    /// Denominator coefficients, descending powers of `s`.
+    pub den: Vec<f64>,
+    /// Dead time `θ` (s).
+    pub delay: f64,
+}
+
+const ORIGIN_TOL: f64 = 1e-9;
+
+impl TransferFunction {
+    /// A validated transfer function (proper, finite, non-negative delay).
+    pub fn new(num: &[f64], den: &[f64], delay: f64) -> Result<Self, Error> {
+        if num.iter().any(|v| !v.is_finite()) {
+            return Err(Error::NonFinite("num"));
+        }
+        if den.iter().any(|v| !v.is_finite()) {
+            return Err(Error::NonFinite("den"));
+        }
+        crate::real::non_negative(delay, "delay")?;
+        let num = trim(num);
+        let den = trim(den);
+        if den.iter().all(|v| *v == 0.0) {
+            return Err(Error::Improper("den"));
+        }
+        if num.len() > den.len() {
+            return Err(Error::Improper("num"));
+        }
+        Ok(TransferFunction { num, den, delay })
+    }
+
+    /// From a low-order process model.
+    pub fn from_model(m: &ProcessModel<f64>) -> Self {
+        let (n, d) = m.rational();
+        TransferFunction {
+            num: trim(&n),
+            den: trim(&d),
+            delay: m.delay(),
+        }
+    }
+
+    /// Order of the denominator.
+    pub fn order(&self) -> usize {
+        self.den.len().saturating_sub(1)
+    }
+
+    /// Poles `(re, im)`.
+    pub fn poles(&self) -> Result<Vec<(f64, f64)>, Error> {
+        poly_roots(&self.den)
+    }
+
+    /// Zeros `(re, im)`.
+    pub fn zeros(&self) -> Result<Vec<(f64, f64)>, Error> {
+        poly_roots(&self.num)
+    }
+
+    /// Number of poles at the origin (exact zeros at the end of the denominator).
+    pub fn integrators(&self) -> usize {
+        self.den.iter().rev().take_while(|v| **v == 0.0).count()
+    }
+
+    /// Stable, integrating or unstable.
+    pub fn kind(&self) -> PlantKind {
+        let poles = self.poles().unwrap_or_default();
+        if poles.iter().any(|(re, _)| *re > ORIGIN_TOL) {
+            PlantKind::Unstable
+        } else if self.integrators() > 0 || poles.iter().any(|(re, im)| re.hypot(*im) <= ORIGIN_TOL)
+        {
+            PlantKind::Integrating
+        } else {
+            PlantKind::Stable
+        }
+    }
+
+    /// Static gain `b(0)/a(0)` of the plant with `m` integrators removed
+    /// (the velocity gain `lim s·G(s)` of an integrating plant).
+    pub fn gain(&self) -> f64 {
+        let m = self.integrators();
+        let den = self
+            .den
+            .get(..self.den.len().saturating_sub(m))
+            .unwrap_or(&[]);
+        eval(&self.num, 0.0) / eval(den, 0.0)
+    }
+
+    /// The equivalent low-order model if the plant is exactly one
+    /// (FOPDT, SOPDT with real poles, IPDT, FOIPDT, UFOPDT), else `None`.
+    pub fn exact_model(&self) -> Option<ProcessModel<f64>> {
+        if self.num.len() != 1 {
+            return None;
+        }
+        let b = *self.num.first()?;
+        match self.den.as_slice() {
+            [a1, a0] if *a0 == 0.0 => Ipdt::new(b / a1, self.delay).ok().map(Into::into),
+            [a1, a0] if a1 / a0 > 0.0 => {
+                Fopdt::new(b / a0, a1 / a0, self.delay).ok().map(Into::into)
+            }
+            [a1, a0] => Ufopdt::new(-b / a0, -a1 / a0, self.delay)
+                .ok()
+                .map(Into::into),
+            [a2, a1, a0] if *a0 == 0.0 && a2 / a1 > 0.0 => Foipdt::new(b / a1, a2 / a1, self.delay)
+                .ok()
+                .map(Into::into),
+            [a2, a1, a0] => {
+                // (T1 s + 1)(T2 s + 1) = T1T2 s² + (T1+T2) s + 1
+                let (p, s) = (a2 / a0, a1 / a0);
+                let disc = s * s - 4.0 * p;
+                if disc < 0.0 || p <= 0.0 || s <= 0.0 {
+                    return None;
+                }
+                let t1 = 0.5 * (s + disc.sqrt());
+                let t2 = 0.5 * (s - disc.sqrt());
+                Sopdt::new(b / a0, t1, t2, self.delay).ok().map(Into::into)
+            }
+            _ => None,
+        }
+    }
+
+    /// Time constants `τ = −1/p` of the real stable poles, largest first, with a
+    /// complex pair counted as two time constants `1/ωn`; and the RHP-zero time
+    /// constants, which Skogestad's rules add to the delay.
+    fn lags(&self) -> Result<(Vec<f64>, f64), Error> {
+        let mut lags: Vec<f64> = self
+            .poles()?
+            .iter()
+            .filter(|(re, im)| re.hypot(*im) > ORIGIN_TOL && *re < 0.0)
+            .map(|(re, im)| 1.0 / re.hypot(*im))
+            .collect();
+        lags.sort_by(|a, b| b.total_cmp(a));
+        let inverse: f64 = self
+            .zeros()?
+            .iter()
+            .filter(|(re, _)| *re > ORIGIN_TOL)
+            .map(|(re, _)| 1.0 / re)
+            .sum();
+        Ok((lags, inverse))
+    }
+
+    /// A low-order model for tuning: the exact one when the plant is one,
+    /// otherwise by Skogestad's half rule (SIMC, 2003): the largest time constant
+    /// is kept, half of the next is added to it and the other half to the dead
+    /// time, with every smaller lag and every inverse-response (RHP) zero time
+    /// constant. Integrating plants give an IPDT model (all lags into the delay),
+    /// a plant with one RHP pole a UFOPDT model. `second_order` asks for SOPDT
+    /// (T1 = τ1, T2 = τ2 + τ3/2) for stable plants.
+    pub fn reduce(&self, second_order: bool) -> Result<ProcessModel<f64>, Error> {
+        if let Some(m) = self.exact_model() {
+            if !second_order || !matches!(m, ProcessModel::Fopdt(_)) {
+                return Ok(m);
+            }
+        }
+        let (lags, inverse) = self.lags()?;
+        let k = self.gain();
+        let delay = self.delay + inverse;
+        match self.kind() {
+            PlantKind::Integrating => {
+                if self.integrators() > 1 {
+                    return Err(Error::Unsupported("plants with more than one integrator"));
+                }
+                Ipdt::new(k, delay + lags.iter().sum::<f64>()).map(Into::into)
+            }
+            PlantKind::Unstable => {
+                let poles = self.poles()?;
+                let rhp: Vec<_> = poles.iter().filter(|(re, _)| *re > ORIGIN_TOL).collect();
+                match rhp.as_slice() {
+                    [(re, im)] if *im == 0.0 => {
+                        // K/((T s − 1)·rest): static gain of the rational part is −K
+                        Ufopdt::new(-k, 1.0 / re, delay + lags.iter().sum::<f64>()).map(Into::into)
+                    }
+                    _ => Err(Error::Unsupported(
+                        "plants with more than one unstable pole",
+                    )),
+                }
+            }
+            PlantKind::Stable => {
+                let t = |i: usize| lags.get(i).copied().unwrap_or(0.0);
+                let rest = |from: usize| lags.iter().skip(from).sum::<f64>();
+                if second_order && lags.len() >= 2 {
+                    Sopdt::new(k, t(0), t(1) + t(2) / 2.0, delay + t(2) / 2.0 + rest(3))
+                        .map(Into::into)
+                } else if lags.is_empty() {
+                    Err(Error::Unsupported("a plant without dynamics (no pole)"))
+                } else {
+                    Fopdt::new(k, t(0) + t(1) / 2.0, delay + t(1) / 2.0 + rest(2)).map(Into::into)
+                }
+            }
+        }
+    }
+
+    /// The delay-free part ZOH-discretized at `ts` (order at most `N`).
+    pub fn to_lti<const N: usize>(&self, ts: f64) -> Result<Lti<f64, N>, Error> {
+        Lti::from_tf(&self.num, &self.den, ts, Discretization::Zoh)
+    }
+
+    /// The dead time in samples of period `ts`.
+    pub fn delay_samples(&self, ts: f64) -> Result<f64, Error> {
+        crate::delay::samples(self.delay, ts)
+    }
+
+    /// Time constants `1/|p|` of all non-zero poles and zeros, and the delay:
+    /// the plant's characteristic times (for choosing a sample period).
+    pub fn time_scales(&self) -> Result<Vec<f64>, Error> {
+        let mut out: Vec<f64> = self
+            .poles()?
+            .into_iter()
+            .chain(self.zeros()?)
+            .map(|(re, im)| re.hypot(im))
+            .filter(|m| *m > ORIGIN_TOL)
+            .map(|m| 1.0 / m)
+            .collect();
+        if self.delay > 0.0 {
+            out.push(self.delay);
+        }
+        Ok(out)
+    }
+}
+
+/// Formats a number compactly: integers without a fraction, otherwise the
+/// shortest representation that round-trips at 12 significant digits.
+pub fn fmt_num(x: f64) -> String {
+    if x == x.trunc() && x.abs() < 1e15 {
+        return alloc::format!("{x:.0}");
+    }
+    let s = alloc::format!("{:.11e}", x);
+    let v: f64 = s.parse().unwrap_or(x);
+    alloc::format!("{}", v)
+}
+
+fn fmt_poly(p: &[f64]) -> (String, usize) {
+    let deg = p.len().saturating_sub(1);
+    let mut out = String::new();
+    let mut terms = 0usize;
+    for (i, c) in p.iter().enumerate() {
+        if *c == 0.0 {
+            continue;
+        }
+        let pow = deg.saturating_sub(i);
+        let mag = c.abs();
+        if out.is_empty() {
+            if *c < 0.0 {
+                out.push('-');
+            }
+        } else {
+            out.push_str(if *c < 0.0 { " - " } else { " + " });
+        }
+        let coef = if mag == 1.0 && pow > 0 {
+            String::new()
+        } else {
+            fmt_num(mag)
+        };
+        out.push_str(&coef);
+        match pow {
+            0 => {}
+            1 => out.push('s'),
+            _ => out.push_str(&alloc::format!("s^{pow}")),
+        }
+        terms = terms.saturating_add(1);
+    }
+    if out.is_empty() {
+        out.push('0');
+    }
+    (out, terms)
+}
+
+impl fmt::Display for TransferFunction {
+    /// Canonical form: denominator scaled so its lowest non-zero coefficient has
+    /// magnitude 1 (time-constant form), e.g. `5.6*e^(-93.9s)/(40.2s + 1)`. It
+    /// parses back to the same transfer function.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let scale = self
+            .den
+            .iter()
+            .rev()
+            .find(|v| **v != 0.0)
+            .map_or(1.0, |v| v.abs());
+        let num: Vec<f64> = self.num.iter().map(|v| v / scale).collect();
+        let den: Vec<f64> = self.den.iter().map(|v| v / scale).collect();
+        let (ns, nt) = fmt_poly(&num);
+        let (ds, dt) = fmt_poly(&den);
+        if nt > 1 {
+            write!(f, "({ns})")?;
+        } else {
+            f.write_str(&ns)?;
+        }
+        if self.delay > 0.0 {
+            write!(f, "*e^(-{}s)", fmt_num(self.delay))?;
+        }
+        if ds != "1" {
+            if dt > 1
+                || ds.starts_with('-')
+                || (ds.contains('s') && ds.len() > 1 && !ds.starts_with('s'))
+                || ds.contains('^')
+            {
+                write!(f, "/({ds})")?;
+            } else {
+                write!(f, "/{ds}")?;
+            }
+        }
+        Ok(())
+    }
+}
