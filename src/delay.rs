@@ -191,6 +191,16 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         }
     }
 
+    /// `x[n − j]` for input `x[n]` and `j ≤ capacity`, without advancing the line.
+    #[inline]
+    pub fn peek_back(&self, x: T, j: usize) -> T {
+        if j > self.capacity() {
+            T::zero()
+        } else {
+            self.tap(x, j)
+        }
+    }
+
     /// Reads the delayed sample for input `x[n]` without advancing the line.
     #[inline(always)]
     pub fn peek(&self, x: T) -> T {

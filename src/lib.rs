@@ -59,6 +59,10 @@ pub mod tuning;
 pub mod parse;
 #[cfg(feature = "alloc")]
 pub mod poly;
+#[cfg(feature = "alloc")]
+pub mod registry;
+#[cfg(feature = "std")]
+pub mod sim;
 
 pub use delay::{Delay, DelayLine, DelayLineRef};
 pub use dtc::{Controller, KaranDey, SmithPredictor};

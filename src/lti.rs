@@ -43,6 +43,13 @@ pub enum Discretization {
 /// A discrete SISO state-space block of order at most `N`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "T: serde::Serialize",
+        deserialize = "T: serde::Deserialize<'de> + Default + Copy"
+    ))
+)]
 pub struct Lti<T, const N: usize> {
     #[cfg_attr(feature = "serde", serde(with = "serde_mat"))]
     phi: [[T; N]; N],
@@ -642,6 +649,12 @@ impl<T: Real, const N: usize> Lti<T, N> {
         }
         self.x = next;
         y
+    }
+
+    /// Sets the state vector.
+    #[inline]
+    pub fn set_state(&mut self, x: &[T; N]) {
+        self.x = *x;
     }
 
     /// Zeroes the state.

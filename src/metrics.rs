@@ -252,8 +252,9 @@ pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64) -> StepInfo {
     }
     let zmax = (0..n).map(z).fold(f64::NEG_INFINITY, f64::max);
     let zmin = (0..n).map(z).fold(f64::INFINITY, f64::min);
-    out.overshoot = 100.0 * (zmax - 1.0).max(0.0);
-    out.undershoot = 100.0 * (-zmin).max(0.0);
+    let pos = |x: f64| if x > 0.0 { x } else { 0.0 };
+    out.overshoot = 100.0 * pos(zmax - 1.0);
+    out.undershoot = 100.0 * pos(-zmin);
     out
 }
 

@@ -373,13 +373,17 @@ impl fmt::Display for TransferFunction {
         let den: Vec<f64> = self.den.iter().map(|v| v / scale).collect();
         let (ns, nt) = fmt_poly(&num);
         let (ds, dt) = fmt_poly(&den);
+        let unit_num = ns == "1" && self.delay > 0.0;
         if nt > 1 {
             write!(f, "({ns})")?;
-        } else {
+        } else if !unit_num {
             f.write_str(&ns)?;
         }
         if self.delay > 0.0 {
-            write!(f, "*e^(-{}s)", fmt_num(self.delay))?;
+            if !unit_num {
+                f.write_str("*")?;
+            }
+            write!(f, "e^(-{}s)", fmt_num(self.delay))?;
         }
         if ds != "1" {
             if dt > 1

@@ -1,0 +1,403 @@
+//! `msp`: tune, simulate and compare dead-time compensators from the command line.
+
+mod output;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use msp::parse::parse_plant;
+use msp::poly::fmt_num;
+use msp::registry;
+use msp::sim::{describe_ts, Disturbance, Location, RunError, Scenario, SetpointStep, Shape};
+
+/// Dead-time compensation: Smith predictors and their modifications.
+#[derive(Debug, Parser)]
+#[command(name = "msp", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Debug, Subcommand)]
+enum Cmd {
+    /// Tune a controller for a plant, simulate the closed loop, write CSV, report and plot.
+    Run(RunArgs),
+    /// Print the tuned parameters of a controller for a plant.
+    Tune(TuneArgs),
+    /// List the controllers.
+    List,
+}
+
+#[derive(Debug, Args)]
+struct RunArgs {
+    /// Plant transfer function, e.g. "0.2/s*e^-7.4s".
+    #[arg(long, short = 'p')]
+    plant: Option<String>,
+    /// Scenario file (TOML or JSON); flags given as well override its fields.
+    #[arg(long)]
+    scenario: Option<PathBuf>,
+    /// Model used by the controller (default: the plant itself).
+    #[arg(long, short = 'm')]
+    model: Option<String>,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
+    /// Closed-loop time constant for tuning (s).
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Override a tuned parameter by its report name, e.g. --set kp=0.05.
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
+    set: Vec<(String, f64)>,
+    /// Sample period (s); chosen from the plant when absent.
+    #[arg(long)]
+    ts: Option<f64>,
+    /// Duration (s); chosen from the plant when absent.
+    #[arg(long)]
+    duration: Option<f64>,
+    /// Set-point step VALUE[@TIME] (repeatable); default 1@0.
+    #[arg(long, value_name = "V[@T]", value_parser = parse_setpoint)]
+    setpoint: Vec<SetpointStep>,
+    /// Disturbance input|output[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable).
+    #[arg(long, value_name = "LOC:V@T", value_parser = parse_disturbance, allow_hyphen_values = true)]
+    disturbance: Vec<Disturbance>,
+    /// Measurement-noise standard deviation.
+    #[arg(long)]
+    noise: Option<f64>,
+    /// Noise seed.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Actuator lower limit.
+    #[arg(long, allow_hyphen_values = true)]
+    umin: Option<f64>,
+    /// Actuator upper limit.
+    #[arg(long, allow_hyphen_values = true)]
+    umax: Option<f64>,
+    /// CSV output file (default: standard output).
+    #[arg(long, short = 'o')]
+    output: Option<PathBuf>,
+    /// JSON report file.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// SVG plot of r, y and u.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// No summary on standard error.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+}
+
+#[derive(Debug, Args)]
+struct TuneArgs {
+    /// Plant (or model) transfer function.
+    #[arg(long, short = 'p')]
+    plant: String,
+    /// Controller name; default by plant kind.
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
+    /// Closed-loop time constant (s).
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Override a parameter or design value, e.g. --set alpha=0.5.
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
+    set: Vec<(String, f64)>,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_f64(s: &str, what: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{what}: '{s}' is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{what}: '{s}' is not a finite number"))
+    }
+}
+
+fn parse_kv(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
+    Ok((k.trim().to_string(), parse_f64(v, k.trim())?))
+}
+
+fn parse_setpoint(s: &str) -> Result<SetpointStep, String> {
+    let (v, at) = match s.split_once('@') {
+        Some((v, t)) => (v, parse_f64(t, "time")?),
+        None => (s, 0.0),
+    };
+    if at < 0.0 {
+        return Err("the step time must not be negative".into());
+    }
+    Ok(SetpointStep {
+        value: parse_f64(v, "set point")?,
+        at,
+    })
+}
+
+fn parse_disturbance(s: &str) -> Result<Disturbance, String> {
+    let mut parts = s.splitn(3, ':');
+    let loc = match parts.next().map(str::trim) {
+        Some("input") | Some("load") => Location::Input,
+        Some("output") => Location::Output,
+        other => {
+            return Err(format!(
+                "disturbance location must be 'input' or 'output', got '{}'",
+                other.unwrap_or("")
+            ))
+        }
+    };
+    let a = parts.next().ok_or("expected LOCATION:VALUE[@TIME]")?;
+    let (shape, rest) = match a.trim() {
+        "step" => (
+            Shape::Step,
+            parts
+                .next()
+                .ok_or("expected a value after the shape")?
+                .to_string(),
+        ),
+        "ramp" => (
+            Shape::Ramp,
+            parts
+                .next()
+                .ok_or("expected a slope after 'ramp'")?
+                .to_string(),
+        ),
+        "sine" => (
+            Shape::Sine,
+            parts
+                .next()
+                .ok_or("expected an amplitude after 'sine'")?
+                .to_string(),
+        ),
+        _ => (
+            Shape::Step,
+            parts
+                .next()
+                .map_or_else(|| a.to_string(), |t| format!("{a}:{t}")),
+        ),
+    };
+    let rest = rest.as_str();
+    let (rest, freq) = match rest.split_once('~') {
+        Some((r, f)) => (r, parse_f64(f, "frequency")?),
+        None => (rest, 0.0),
+    };
+    if shape == Shape::Sine && freq <= 0.0 {
+        return Err("a sine disturbance needs a frequency: input:sine:AMPLITUDE@TIME~HZ".into());
+    }
+    let (v, at) = match rest.split_once('@') {
+        Some((v, t)) => (v, parse_f64(t, "time")?),
+        None => (rest, 0.0),
+    };
+    if at < 0.0 {
+        return Err("the disturbance time must not be negative".into());
+    }
+    Ok(Disturbance {
+        location: loc,
+        shape,
+        value: parse_f64(v, "disturbance")?,
+        at,
+        freq,
+    })
+}
+
+/// A failure, with the exit status it maps to.
+#[derive(Debug)]
+pub enum CliError {
+    /// Bad input: exit status 2.
+    Input(String),
+    /// Failure while running: exit status 1.
+    Runtime(String),
+}
+
+impl From<RunError> for CliError {
+    fn from(e: RunError) -> Self {
+        CliError::Input(e.to_string())
+    }
+}
+
+fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        CliError::Input(format!("cannot read scenario file {}: {e}", path.display()))
+    })?;
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if is_json {
+        serde_json::from_str(&text)
+            .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
+    } else {
+        toml::from_str(&text)
+            .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
+    }
+}
+
+fn scenario_from(a: &RunArgs) -> Result<Scenario, CliError> {
+    let mut sc = match &a.scenario {
+        Some(p) => load_scenario(p)?,
+        None => Scenario::default(),
+    };
+    if let Some(p) = &a.plant {
+        sc.plant.clone_from(p);
+    }
+    if sc.plant.trim().is_empty() && a.plant.is_none() && a.scenario.is_none() {
+        return Err(CliError::Input(
+            "give a plant: --plant \"0.2/s*e^-7.4s\" (or --scenario FILE)".into(),
+        ));
+    }
+    macro_rules! over {
+        ($($f:ident => $g:ident),*) => {$( if a.$f.is_some() { sc.$g = a.$f.clone(); } )*};
+    }
+    over!(model => model, controller => controller, lambda => lambda, ts => ts, duration => duration,
+          noise => noise, seed => seed, umin => umin, umax => umax);
+    for (k, v) in &a.set {
+        sc.set.insert(k.clone(), *v);
+    }
+    if !a.setpoint.is_empty() {
+        sc.setpoint.clone_from(&a.setpoint);
+    }
+    sc.disturbance.extend(a.disturbance.iter().copied());
+    Ok(sc)
+}
+
+fn run(a: &RunArgs) -> Result<(), CliError> {
+    let sc = scenario_from(a)?;
+    let out = sc.run()?;
+    let mut warnings = Vec::new();
+    if let Some(t) = out.result.diverged_at {
+        warnings.push(format!(
+            "the closed loop is unstable: the output diverged at t = {} s; the data stop there",
+            fmt_num(t)
+        ));
+    }
+    // everything is computed: now write, each file atomically
+    let csv =
+        output::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+    match &a.output {
+        Some(p) => output::write_atomic(p, &csv)?,
+        None => {
+            use std::io::Write;
+            std::io::stdout()
+                .write_all(&csv)
+                .map_err(|e| CliError::Runtime(format!("writing CSV to standard output: {e}")))?;
+        }
+    }
+    if let Some(p) = &a.report {
+        let json = output::report_json(&out, &warnings);
+        let text =
+            serde_json::to_vec_pretty(&json).map_err(|e| CliError::Runtime(e.to_string()))?;
+        output::write_atomic(p, &text)?;
+    }
+    if let Some(p) = &a.plot {
+        let svg = output::plot_svg(&out).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        output::write_atomic(p, svg.as_bytes())?;
+    }
+    if !a.quiet {
+        eprintln!("{}", output::summary(&out, &warnings));
+    }
+    Ok(())
+}
+
+fn tune(a: &TuneArgs) -> Result<(), CliError> {
+    let plant = parse_plant(&a.plant)
+        .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
+    let scheme = match &a.controller {
+        Some(n) => registry::find(n).map_err(|e| CliError::Input(e.to_string()))?,
+        None => registry::default_for(plant.kind()).map_err(|e| CliError::Input(e.to_string()))?,
+    };
+    let params = scheme
+        .tune_with(&plant, a.lambda, &a.set)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    if a.json {
+        let p: serde_json::Map<String, serde_json::Value> = params
+            .0
+            .iter()
+            .map(|(k, v)| (k.to_string(), output::num(*v)))
+            .collect();
+        let j = serde_json::json!({"plant": plant.to_string(), "controller": {"name": scheme.name, "params": p}});
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?
+        );
+    } else {
+        println!("plant       {} ({})", plant, plant.kind());
+        println!("controller  {}  [{}]", scheme.name, scheme.source);
+        for (k, v) in &params.0 {
+            println!("  {k:<8} = {}", output::fmt_sig(*v));
+        }
+        let _ = describe_ts;
+    }
+    Ok(())
+}
+
+fn list() {
+    for s in registry::SCHEMES {
+        let aliases = if s.aliases.is_empty() {
+            String::new()
+        } else {
+            format!(" (alias {})", s.aliases.join(", "))
+        };
+        println!("{:<12}{aliases}  {}", s.name, s.summary);
+        println!(
+            "{:<12}  params: {}; source: {}",
+            "",
+            s.params.join(", "),
+            s.source
+        );
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let res = match &cli.cmd {
+        Cmd::Run(a) => run(a),
+        Cmd::Tune(a) => tune(a),
+        Cmd::List => {
+            list();
+            Ok(())
+        }
+    };
+    match res {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(CliError::Input(m)) => {
+            eprintln!("error: {m}");
+            ExitCode::from(2)
+        }
+        Err(CliError::Runtime(m)) => {
+            eprintln!("error: {m}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn cli_is_well_formed() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn disturbance_syntax() {
+        let d = parse_disturbance("input:0.1@20").unwrap();
+        assert_eq!(
+            (d.location, d.shape, d.value, d.at),
+            (Location::Input, Shape::Step, 0.1, 20.0)
+        );
+        let d = parse_disturbance("output:sine:0.2@5~0.05").unwrap();
+        assert_eq!(
+            (d.shape, d.value, d.at, d.freq),
+            (Shape::Sine, 0.2, 5.0, 0.05)
+        );
+        let d = parse_disturbance("input:-0.1@30").unwrap();
+        assert_eq!(d.value, -0.1);
+        assert!(parse_disturbance("middle:1@2").is_err());
+    }
+}
