@@ -15,7 +15,9 @@
 //! // Plant model 5.6 e^{-93.9 s} / (40.2 s + 1), sampled every 1 s.
 //! let model = Fopdt::new(5.6, 40.2, 93.9)?;
 //! let pi = tuning::kaya_fopdt(&model, 1.0)?; // Kaya 2003, lambda = L
-//! let mut sp: SmithPredictor<f64, 1, 128> = SmithPredictor::from_model(pi, &model.into(), 1.0)?;
+//! // model order 1, dead time in a 128-sample line stored inline
+//! let mut sp: SmithPredictor<f64, 1, [f64; 128]> =
+//!     SmithPredictor::from_model(pi.config(1.0), &model.into(), 1.0)?;
 //! let u = sp.update(1.0, 0.0); // set point, measurement -> actuator
 //! assert!(u > 0.0);
 //! # Ok::<(), msp::Error>(())
@@ -25,15 +27,20 @@
 //! scheme registry ([`registry`]); `std` (default) adds the exact sampled-data
 //! simulator ([`sim`]) and step information ([`metrics::step_info`]).
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
-#![deny(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    clippy::indexing_slicing,
-    clippy::todo,
-    clippy::unimplemented,
-    clippy::unreachable,
-    clippy::cast_possible_truncation
+#![forbid(unsafe_code)]
+// Unit tests may unwrap; the library code may not.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::todo,
+        clippy::unimplemented,
+        clippy::unreachable,
+        clippy::cast_possible_truncation
+    )
 )]
 // Integer arithmetic in `src/` is written with explicit `wrapping_*`/`saturating_*`
 // operations where an overflow is conceivable; `clippy::arithmetic_side_effects`

@@ -120,7 +120,7 @@ fn nonzero<T: Real>(k: T) -> Result<T, Error> {
 /// Any of the low-order process models.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(tag = "model", rename_all = "lowercase"))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum ProcessModel<T> {
     /// First order plus dead time.
     Fopdt(Fopdt<T>),

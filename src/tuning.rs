@@ -117,12 +117,12 @@ mod tests {
     #[test]
     fn kaya_examples_2_and_3() {
         // 001_… Example 2: FOPDT e^{-10.87s}/(1.27s+1), α = 0.5 → Kc = 0.234, Ti = 1.27
-        let m = ProcessModel::Fopdt(Fopdt::new(1.0, 1.27, 10.87).unwrap());
+        let m = ProcessModel::Fopdt(Fopdt::<f64>::new(1.0, 1.27, 10.87).unwrap());
         let g = kaya_alpha(&m, 0.5).unwrap();
         assert!((g.kp - 0.234).abs() < 5e-4, "{}", g.kp);
         assert_eq!(g.ti, 1.27);
         // SOPDT e^{-10s}/(s+1)^2, α = 0.5 → Kc = 0.400, Ti = 2, Td = 0.5
-        let m = ProcessModel::Sopdt(Sopdt::new(1.0, 1.0, 1.0, 10.0).unwrap());
+        let m = ProcessModel::Sopdt(Sopdt::<f64>::new(1.0, 1.0, 1.0, 10.0).unwrap());
         let g = kaya_alpha(&m, 0.5).unwrap();
         assert!((g.kp - 0.4).abs() < 1e-12);
         assert_eq!((g.ti, g.td), (2.0, 0.5));
@@ -131,7 +131,7 @@ mod tests {
     #[test]
     fn karan_dey_thesis_settings() {
         // 000_… Sec. 4.5.3: 0.2/s e^{-7.4s} → Kp = 5.4, Ti = 3.70, β = 0.25, Td = 1.85, γ ≈ 0.06
-        let m = Ipdt::new(0.2, 7.4).unwrap();
+        let m = Ipdt::<f64>::new(0.2, 7.4).unwrap();
         let p = karan_dey(&m, karan_dey_default_lambda(&m)).unwrap();
         assert!((p.kp - 5.4).abs() < 0.01, "{}", p.kp);
         assert!((p.ti - 3.70).abs() < 1e-12);
@@ -139,7 +139,7 @@ mod tests {
         assert!((p.td - 1.85).abs() < 1e-12);
         assert!((p.gamma - 0.0625).abs() < 1e-12);
         // 0.05/s e^{-6s} → Kp = 26.67, Ti = 3.00, Td = 1.50
-        let m = Ipdt::new(0.05, 6.0).unwrap();
+        let m = Ipdt::<f64>::new(0.05, 6.0).unwrap();
         let p = karan_dey(&m, karan_dey_default_lambda(&m)).unwrap();
         assert!((p.kp - 26.67).abs() < 0.005);
         assert!((p.ti - 3.0).abs() < 1e-12 && (p.td - 1.5).abs() < 1e-12);

@@ -22,7 +22,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 enum Cmd {
     /// Tune a controller for a plant, simulate the closed loop, write CSV, report and plot.
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Print the tuned parameters of a controller for a plant.
     Tune(TuneArgs),
     /// List the controllers.

@@ -1,0 +1,83 @@
+//! Plant expressions parse to the right transfer function; bad ones name the column.
+mod common;
+use msp::parse::parse_plant;
+
+fn check(expr: &str, num: &[f64], den: &[f64], delay: f64) {
+    let tf = parse_plant(expr).unwrap_or_else(|e| panic!("{expr}: {e}"));
+    // compare as rational functions: num·den' = num'·den at several points
+    for x in [0.3, 1.7, -2.1, 4.0] {
+        let a = msp::poly::eval(&tf.num, x) * msp::poly::eval(den, x);
+        let b = msp::poly::eval(num, x) * msp::poly::eval(&tf.den, x);
+        assert!(
+            common::close(a, b, 1e-12, 1e-12),
+            "{expr}: at {x}: {a} vs {b} ({tf:?})"
+        );
+    }
+    assert!(
+        (tf.delay - delay).abs() < 1e-12,
+        "{expr}: delay {}",
+        tf.delay
+    );
+    // canonical form parses back to the same function
+    let again = parse_plant(&tf.to_string()).unwrap_or_else(|e| panic!("{}: {e}", tf));
+    assert!((again.delay - tf.delay).abs() < 1e-12);
+    for x in [0.3, 1.7] {
+        let a = msp::poly::eval(&again.num, x) / msp::poly::eval(&again.den, x);
+        let b = msp::poly::eval(&tf.num, x) / msp::poly::eval(&tf.den, x);
+        assert!(common::close(a, b, 1e-9, 1e-12), "round trip of {tf}");
+    }
+}
+
+#[test]
+fn expressions_of_the_sources() {
+    check("0.2/s*e^-7.4s", &[0.2], &[1.0, 0.0], 7.4);
+    check("0.05/s*e^(-6s)", &[0.05], &[1.0, 0.0], 6.0);
+    check("5.6*e^-93.9s/(40.2s+1)", &[5.6], &[40.2, 1.0], 93.9);
+    check("exp(-93.9*s)*5.6/(40.2*s+1)", &[5.6], &[40.2, 1.0], 93.9);
+    check("e^-10s/((17s+1)(6s+1))", &[1.0], &[102.0, 23.0, 1.0], 10.0);
+    check("e^-10s/(s+1)^2", &[1.0], &[1.0, 2.0, 1.0], 10.0);
+    check("5/(100s-1)*e^-6s", &[5.0], &[100.0, -1.0], 6.0);
+    check(
+        "(0.1251s+1)*e^-0.8s/(2.828s-1)",
+        &[0.1251, 1.0],
+        &[2.828, -1.0],
+        0.8,
+    );
+    check(
+        "e^-5s/(s(0.9s+1)(0.5s+1)(0.3s+1)(0.1s+1))",
+        &[1.0],
+        &msp::poly::mul(
+            &msp::poly::mul(&msp::poly::mul(&[0.9, 1.0, 0.0], &[0.5, 1.0]), &[0.3, 1.0]),
+            &[0.1, 1.0],
+        ),
+        5.0,
+    );
+    check("2*e^-2s/s", &[2.0], &[1.0, 0.0], 2.0);
+    check("(1-0.5s)/(s^2+1.4s+1)", &[-0.5, 1.0], &[1.0, 1.4, 1.0], 0.0);
+    check("1e-3/(s + .5)", &[1e-3], &[1.0, 0.5], 0.0);
+    check("e^-1s*e^-2s/(s+1)", &[1.0], &[1.0, 1.0], 3.0);
+    check(" 2 e^-2 s / s ", &[2.0], &[1.0, 0.0], 2.0);
+}
+
+fn bad(expr: &str, col: usize, words: &str) {
+    let e = parse_plant(expr).expect_err(expr);
+    assert_eq!(e.column, col, "{expr}: {e}");
+    assert!(
+        e.message.contains(words),
+        "{expr}: '{}' lacks '{words}'",
+        e.message
+    );
+    assert!(e.to_string().contains('^'));
+}
+
+#[test]
+fn bad_expressions_name_the_problem_and_column() {
+    bad("(s+1", 1, "unbalanced");
+    bad("s+1)/(s+2)", 4, "unbalanced");
+    bad("0.2/x*e^-7.4s", 5, "unknown symbol 'x'");
+    bad("s^2/(s+1)", 1, "improper");
+    bad("e^7.4s/(s+1)", 3, "positive exponent");
+    bad("", 1, "empty");
+    bad("   ", 1, "empty");
+    bad("1/(s+1)+e^-2s/(s+2)", 8, "different delays");
+}

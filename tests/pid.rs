@@ -1,0 +1,108 @@
+//! PID: anti-windup, bumpless transfer, no derivative kick.
+use msp::{AntiWindup, Lti, Pid, PidConfig};
+
+/// PI on a first-order plant with a saturating actuator; returns (peak y, max |I|).
+fn saturated_run(aw: AntiWindup<f64>) -> (f64, f64) {
+    run(aw, 1.2)
+}
+
+fn run(aw: AntiWindup<f64>, limit: f64) -> (f64, f64) {
+    let h = 0.1;
+    let cfg = PidConfig::isa(2.0, 5.0, 0.0, h)
+        .with_limits(-limit, limit)
+        .with_anti_windup(aw);
+    let mut c = Pid::new(cfg).unwrap();
+    let mut p: Lti<f64, 1> = Lti::first_order(1.0, 10.0, h).unwrap();
+    let (mut peak, mut imax) = (f64::MIN, 0.0f64);
+    for _ in 0..3000 {
+        let y = p.free_output();
+        let u = c.update(1.0, y);
+        imax = imax.max(c.terms().i.abs());
+        peak = peak.max(y);
+        p.step(u);
+    }
+    (peak, imax)
+}
+
+#[test]
+fn anti_windup_bounds_the_integrator_and_removes_the_overshoot() {
+    let (peak_none, i_none) = saturated_run(AntiWindup::None);
+    let (peak_linear, _) = run(AntiWindup::None, f64::INFINITY);
+    for aw in [
+        AntiWindup::BackCalculation { tt: 5.0 },
+        AntiWindup::Conditional,
+    ] {
+        let (peak, i) = saturated_run(aw);
+        assert!(i < 1.5, "{aw:?}: integrator reached {i}");
+        assert!(
+            peak < peak_linear + 0.01,
+            "{aw:?}: overshoot to {peak}, linear loop {peak_linear}"
+        );
+        assert!(peak < peak_none - 0.02, "no improvement over {peak_none}");
+        assert!(i < i_none);
+    }
+}
+
+#[test]
+fn bumpless_manual_auto_transfers() {
+    let cfg = PidConfig::isa(1.5, 4.0, 0.5, 0.1);
+    let mut c = Pid::new(cfg).unwrap();
+    let mut last: f64 = 0.0;
+    for k in 0..50 {
+        last = c.update(1.0, 0.02 * k as f64);
+    }
+    c.set_manual();
+    let m = c.update(1.0, 1.0);
+    assert_eq!(m, last, "auto→manual holds the last output");
+    c.set_manual_output(0.7).unwrap();
+    for _ in 0..20 {
+        assert_eq!(c.update(1.0, 0.9), 0.7);
+    }
+    c.set_auto();
+    let a = c.update(1.0, 0.9);
+    assert!((a - 0.7).abs() < 0.02, "manual→auto jumped from 0.7 to {a}");
+}
+
+#[test]
+fn no_derivative_kick_with_c_zero() {
+    let cfg = PidConfig::isa(1.0, f64::INFINITY, 2.0, 0.1).with_weights(1.0, 0.0);
+    let mut c = Pid::new(cfg).unwrap();
+    c.update(0.0, 0.0);
+    c.update(1.0, 0.0);
+    assert_eq!(c.terms().d, 0.0);
+    let cfg = PidConfig::isa(1.0, f64::INFINITY, 2.0, 0.1);
+    let mut kick = Pid::new(cfg).unwrap();
+    kick.update(0.0, 0.0);
+    kick.update(1.0, 0.0);
+    assert!(
+        kick.terms().d > 1.0,
+        "with c = 1 the step kicks the derivative"
+    );
+}
+
+#[test]
+fn tracking_input_and_rate_limit() {
+    let cfg = PidConfig::isa(1.0, 1.0, 0.0, 0.1).with_rate_limit(1.0);
+    let mut c = Pid::new(cfg).unwrap();
+    let u0: f64 = c.update(1.0, 0.0);
+    let u1 = c.update(1.0, 0.0);
+    assert!((u1 - u0).abs() <= 0.1 + 1e-12);
+    let mut t = Pid::new(PidConfig::isa(1.0, 1.0, 0.0, 0.1)).unwrap();
+    for _ in 0..200 {
+        t.update_tracking(1.0, 0.0, 0.3);
+    }
+    assert!(
+        t.terms().i < 0.3,
+        "integrator follows the actuator's real value"
+    );
+}
+
+#[test]
+fn nan_measurement_holds_the_output() {
+    let mut c = Pid::new(PidConfig::isa(1.0, 2.0, 0.0, 0.1)).unwrap();
+    let u = c.update(1.0, 0.5);
+    assert_eq!(c.update(1.0, f64::NAN), u);
+    assert!(c.fault());
+    assert!(c.update(1.0, 0.5).is_finite());
+    assert!(!c.fault());
+}

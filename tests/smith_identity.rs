@@ -1,0 +1,83 @@
+//! A Smith predictor with a perfect model equals, sample for sample, the
+//! delay-free closed loop delayed by the dead time (`001_…` Eq. 1).
+mod common;
+
+use msp::{Controller, Delay, Lti, Pid, PidConfig, SmithPredictor};
+
+/// Runs both loops for `n` samples and returns the largest difference between
+/// the Smith loop's output and the delay-free loop's output `k` samples earlier.
+fn max_mismatch(num: &[f64], den: &[f64], k: usize, pid: PidConfig<f64>, ts: f64, n: usize) -> f64 {
+    let plant: Lti<f64, 4> = Lti::from_tf(num, den, ts, msp::Discretization::Zoh).unwrap();
+    // delay-free reference loop
+    let mut p0 = plant;
+    let mut c0 = Pid::new(pid).unwrap();
+    let mut y_free = Vec::with_capacity(n);
+    for i in 0..n {
+        let r = if i >= 10 { 1.0 } else { 0.0 };
+        let y = p0.free_output();
+        y_free.push(y);
+        let u = c0.update(r, y);
+        p0.step(u);
+    }
+    // Smith predictor on the delayed plant; the set point is delayed too so that
+    // the whole response is the delay-free one, shifted by k samples.
+    let mut sp: SmithPredictor<f64, 4, Vec<f64>> =
+        SmithPredictor::new(pid, plant, Delay::new_in(k as f64).unwrap()).unwrap();
+    let mut p1 = plant;
+    let mut u_line: Delay<f64, Vec<f64>> = Delay::new_in(k as f64).unwrap();
+    let mut worst: f64 = 0.0;
+    let mut last_u = 0.0;
+    for i in 0..n + k {
+        let r = if i >= 10 { 1.0 } else { 0.0 };
+        let y = p1.free_output();
+        if i >= k {
+            worst = worst.max((y - y_free[i - k]).abs());
+        }
+        let u = sp.update(r, y);
+        last_u = u;
+        p1.step(u_line.process(u));
+    }
+    assert!(last_u.is_finite());
+    worst
+}
+
+#[test]
+fn fopdt_model() {
+    let pid = PidConfig::isa(0.0764, 40.2, 0.0, 1.0);
+    let e = max_mismatch(&[5.6], &[40.2, 1.0], 94, pid, 1.0, 10_000);
+    assert!(e < 1e-12, "{e}");
+}
+
+#[test]
+fn sopdt_model_with_pid() {
+    let pid = PidConfig::isa(0.4, 2.0, 0.5, 0.1);
+    let e = max_mismatch(&[1.0], &[1.0, 2.0, 1.0], 100, pid, 0.1, 10_000);
+    assert!(e < 1e-12, "{e}");
+}
+
+#[test]
+fn ipdt_model() {
+    let pid = PidConfig::isa(5.4, 3.7, 0.0, 0.074);
+    let e = max_mismatch(&[0.2], &[1.0, 0.0], 100, pid, 0.074, 10_000);
+    assert!(e < 1e-12, "{e}");
+}
+
+#[test]
+fn identity_is_not_trivially_true() {
+    // with a wrong model delay the loops differ: the test above can fail
+    let pid = PidConfig::isa(0.0764, 40.2, 0.0, 1.0);
+    let plant: Lti<f64, 4> =
+        Lti::from_tf(&[5.6], &[40.2, 1.0], 1.0, msp::Discretization::Zoh).unwrap();
+    let mut sp: SmithPredictor<f64, 4, Vec<f64>> =
+        SmithPredictor::new(pid, plant, Delay::new_in(80.0).unwrap()).unwrap();
+    let mut p = plant;
+    let mut line: Delay<f64, Vec<f64>> = Delay::new_in(94.0).unwrap();
+    let mut ys = vec![];
+    for _ in 0..400 {
+        let y = p.free_output();
+        ys.push(y);
+        let u = sp.update(1.0, y);
+        p.step(line.process(u));
+    }
+    assert!(sp.model_error().abs() > 1e-3 || ys.iter().any(|y| *y > 1.01));
+}
