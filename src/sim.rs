@@ -131,6 +131,9 @@ pub struct SimConfig {
     pub u_min: f64,
     /// Actuator upper limit.
     pub u_max: f64,
+    /// Plant outputs per controller period (1: at the samples only; more for
+    /// smooth intersample plots).
+    pub substeps: usize,
 }
 
 /// The signals of a run, one entry per sample.
@@ -152,6 +155,8 @@ pub struct SimResult {
     pub signals: Vec<(String, Vec<f64>)>,
     /// Time at which the run was stopped because the output diverged.
     pub diverged_at: Option<f64>,
+    /// Rows per controller period (the controller's samples are every `substeps` rows).
+    pub substeps: usize,
 }
 
 /// A seeded Gaussian generator (SplitMix64 + Box–Muller), reproducible everywhere.
@@ -192,10 +197,20 @@ impl Noise {
     }
 }
 
-/// The plant as simulated: ZOH pieces for the fractional delay.
+/// One piece of a sampling period, integrated exactly by its own ZOH discretization.
+struct Piece {
+    block: Lti<f64, MAX_ORDER>,
+    /// Input `v[n−k]` (true) or `v[n−k−1]` (false, before the fractional delay has passed).
+    late: bool,
+    /// The piece ends at an intermediate output instant (sub-step).
+    record: bool,
+}
+
+/// The plant as simulated: the period is cut at the sub-step instants and at
+/// the instant `f·Ts` where the delayed input changes.
 struct PlantSim {
-    full: Lti<f64, MAX_ORDER>,
-    first: Option<(Lti<f64, MAX_ORDER>, Lti<f64, MAX_ORDER>)>,
+    out: Lti<f64, MAX_ORDER>,
+    pieces: Vec<Piece>,
     line: Delay<f64, Vec<f64>>,
     k: usize,
     feedthrough: f64,
@@ -203,28 +218,42 @@ struct PlantSim {
 }
 
 impl PlantSim {
-    fn new(plant: &TransferFunction, ts: f64) -> Result<Self, Error> {
+    fn new(plant: &TransferFunction, ts: f64, substeps: usize) -> Result<Self, Error> {
         let d = plant.delay_samples(ts)?;
-        let kf = d.floor();
-        let f = d - kf;
-        let full: Lti<f64, MAX_ORDER> = plant.to_lti(ts)?;
-        let first = if f > 1e-12 && f < 1.0 - 1e-12 {
-            Some((
-                Lti::from_tf(&plant.num, &plant.den, f * ts, Discretization::Zoh)?,
-                Lti::from_tf(&plant.num, &plant.den, (1.0 - f) * ts, Discretization::Zoh)?,
-            ))
-        } else {
-            None
-        };
-        let mut k = kf.to_usize_checked()?;
+        let mut kf = d.floor();
+        let mut f = d - kf;
         if f >= 1.0 - 1e-12 {
-            k = k.saturating_add(1);
+            kf += 1.0;
+            f = 0.0;
         }
+        if f <= 1e-12 {
+            f = 0.0;
+        }
+        let out: Lti<f64, MAX_ORDER> = plant.to_lti(ts)?;
+        let m = substeps.max(1);
+        // breakpoints as fractions of the period
+        let mut cuts: Vec<(f64, bool)> = (1..=m).map(|j| (j as f64 / m as f64, j < m)).collect();
+        if f > 0.0 && !cuts.iter().any(|(c, _)| (c - f).abs() < 1e-12) {
+            cuts.push((f, false));
+        }
+        cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut pieces = Vec::with_capacity(cuts.len());
+        let mut a = 0.0;
+        for (b, record) in cuts {
+            let block = Lti::from_tf(&plant.num, &plant.den, (b - a) * ts, Discretization::Zoh)?;
+            pieces.push(Piece {
+                block,
+                late: a >= f - 1e-12,
+                record,
+            });
+            a = b;
+        }
+        let k = kf.to_usize_checked()?;
         let line = Delay::with_storage(vec_zeros(k.saturating_add(1)), 0.0)?;
         Ok(PlantSim {
-            feedthrough: full.output(1.0) - full.free_output(),
-            full,
-            first,
+            feedthrough: out.output(1.0) - out.free_output(),
+            out,
+            pieces,
             line,
             k,
             last_in: 0.0,
@@ -233,28 +262,36 @@ impl PlantSim {
 
     /// Output at the current instant (before the new input is applied).
     fn output(&self) -> f64 {
-        self.full.free_output() + self.feedthrough * self.last_in
+        self.out.free_output() + self.feedthrough * self.last_in
     }
 
-    /// Applies plant input `v[n]` over one period.
-    fn advance(&mut self, v: f64) {
+    /// Applies plant input `v[n]` over one period; the outputs at the
+    /// intermediate sub-step instants are appended to `sub`.
+    fn advance(&mut self, v: f64, sub: &mut Vec<f64>) {
         let now = self.line.peek_back(v, self.k);
         let before = self.line.peek_back(v, self.k.saturating_add(1));
         self.line.process(v);
-        match &mut self.first {
-            None => {
-                self.full.step(now);
-                self.last_in = now;
-            }
-            Some((a, b)) => {
-                a.set_state(self.full.state());
-                a.step(before);
-                b.set_state(a.state());
-                b.step(now);
-                self.full.set_state(b.state());
-                self.last_in = now;
+        if let [only] = self.pieces.as_mut_slice() {
+            // one piece: the state lives in `out`'s block directly
+            only.block.set_state(self.out.state());
+            only.block.step(now);
+            self.out.set_state(only.block.state());
+            self.last_in = now;
+            return;
+        }
+        let mut x = *self.out.state();
+        for p in &mut self.pieces {
+            let input = if p.late { now } else { before };
+            p.block.set_state(&x);
+            p.block.step(input);
+            x = *p.block.state();
+            if p.record {
+                self.out.set_state(&x);
+                sub.push(self.out.free_output() + self.feedthrough * input);
             }
         }
+        self.out.set_state(&x);
+        self.last_in = now;
     }
 }
 
@@ -286,21 +323,25 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
     let steps = num_traits::ToPrimitive::to_usize(&(duration / ts).round())
         .ok_or(Error::OutOfRange("duration"))?;
     let n = steps.saturating_add(1);
-    let mut plant_sim = PlantSim::new(plant, ts)?;
+    let m = cfg.substeps.max(1);
+    let n_rows = n.saturating_mul(m);
+    let mut plant_sim = PlantSim::new(plant, ts, m)?;
+    let mut sub = Vec::with_capacity(m);
     let mut noise = Noise::new(cfg.seed);
     let names = controller.signal_names();
     let mut res = SimResult {
-        t: Vec::with_capacity(n),
-        r: Vec::with_capacity(n),
-        y: Vec::with_capacity(n),
-        u: Vec::with_capacity(n),
-        d: Vec::with_capacity(n),
-        d_out: Vec::with_capacity(n),
+        t: Vec::with_capacity(n_rows),
+        r: Vec::with_capacity(n_rows),
+        y: Vec::with_capacity(n_rows),
+        u: Vec::with_capacity(n_rows),
+        d: Vec::with_capacity(n_rows),
+        d_out: Vec::with_capacity(n_rows),
         signals: names
             .iter()
-            .map(|s| (s.to_string(), Vec::with_capacity(n)))
+            .map(|s| (s.to_string(), Vec::with_capacity(n_rows)))
             .collect(),
         diverged_at: None,
+        substeps: m,
     };
     let inputs: Vec<&Disturbance> = cfg
         .disturbances
@@ -334,15 +375,24 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
             y
         };
         let u = controller.update(r, y_meas).max(cfg.u_min).min(cfg.u_max);
-        plant_sim.advance(u + d_in);
-        res.t.push(t);
-        res.r.push(r);
-        res.y.push(y);
-        res.u.push(u);
-        res.d.push(d_in);
-        res.d_out.push(d_out);
-        for (j, (_, v)) in res.signals.iter_mut().enumerate() {
-            v.push(controller.signal(j));
+        sub.clear();
+        plant_sim.advance(u + d_in, &mut sub);
+        if i + 1 == n {
+            sub.clear(); // nothing after the last sample
+        }
+        for (j, y_sub) in core::iter::once(y)
+            .chain(sub.iter().map(|v| v + d_out))
+            .enumerate()
+        {
+            res.t.push(t + j as f64 * ts / m as f64);
+            res.r.push(r);
+            res.y.push(y_sub);
+            res.u.push(u);
+            res.d.push(d_in);
+            res.d_out.push(d_out);
+            for (q, (_, v)) in res.signals.iter_mut().enumerate() {
+                v.push(controller.signal(q));
+            }
         }
     }
     Ok(res)
@@ -397,7 +447,10 @@ pub fn metrics(
     let mut ind = IntegralIndices::new(ts)?;
     let mut tt = Vec::with_capacity(res.t.len().saturating_sub(start));
     let mut yy = Vec::with_capacity(tt.capacity());
-    for i in start..res.t.len() {
+    // the controller's samples only, whatever the sub-steps
+    let stride = res.substeps.max(1);
+    let first = start.div_ceil(stride).saturating_mul(stride);
+    for i in (first..res.t.len()).step_by(stride) {
         let (Some(t), Some(y), Some(u)) = (res.t.get(i), res.y.get(i), res.u.get(i)) else {
             break;
         };
@@ -482,6 +535,8 @@ pub struct Scenario {
     pub umin: Option<f64>,
     /// Actuator upper limit.
     pub umax: Option<f64>,
+    /// Plant outputs per controller period in the signals (smooth plots).
+    pub substeps: Option<usize>,
 }
 
 /// Everything a run produced.
@@ -664,7 +719,11 @@ impl Scenario {
             seed: self.seed.unwrap_or(0),
             u_min,
             u_max,
+            substeps: self.substeps.unwrap_or(1),
         };
+        if cfg.substeps == 0 || cfg.substeps > 1000 {
+            return Err(RunError::Invalid(Error::OutOfRange("substeps")));
+        }
         let result = simulate(&plant, &mut ctrl, &cfg)?;
         let m0 = metrics(&result, &setpoint, ts, 0.0)?;
         let m1 = metrics(&result, &setpoint, ts, model.delay)?;

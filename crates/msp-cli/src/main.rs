@@ -73,6 +73,9 @@ struct RunArgs {
     /// Actuator upper limit.
     #[arg(long, allow_hyphen_values = true)]
     umax: Option<f64>,
+    /// Plant outputs per controller period in the CSV (smooth intersample plots).
+    #[arg(long)]
+    substeps: Option<usize>,
     /// CSV output file (default: standard output).
     #[arg(long, short = 'o')]
     output: Option<PathBuf>,
@@ -253,7 +256,7 @@ fn scenario_from(a: &RunArgs) -> Result<Scenario, CliError> {
         ($($f:ident => $g:ident),*) => {$( if a.$f.is_some() { sc.$g = a.$f.clone(); } )*};
     }
     over!(model => model, controller => controller, lambda => lambda, ts => ts, duration => duration,
-          noise => noise, seed => seed, umin => umin, umax => umax);
+          noise => noise, seed => seed, umin => umin, umax => umax, substeps => substeps);
     for (k, v) in &a.set {
         sc.set.insert(k.clone(), *v);
     }
