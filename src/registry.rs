@@ -17,7 +17,7 @@ use crate::{tuning, Pid, PidConfig, ProcessModel};
 pub const MAX_ORDER: usize = 8;
 
 /// A controller built by the registry.
-pub type DynController = Box<dyn Controller<f64> + Send>;
+pub type DynController = Box<dyn Controller<f64> + Send + Sync>;
 
 /// Why a scheme could not be tuned or built.
 #[derive(Debug, Clone, PartialEq)]

@@ -112,6 +112,109 @@ pub fn setpoint_at(steps: &[SetpointStep], t: f64) -> f64 {
         .1
 }
 
+/// Parses a finite number; the error names `what`.
+pub fn parse_number(s: &str, what: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| std::format!("{what}: '{s}' is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(std::format!("{what}: '{s}' is not a finite number"))
+    }
+}
+
+impl core::str::FromStr for SetpointStep {
+    type Err = String;
+    /// `VALUE[@TIME]`, e.g. `1@0`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (v, at) = match s.split_once('@') {
+            Some((v, t)) => (v, parse_number(t, "time")?),
+            None => (s, 0.0),
+        };
+        if at < 0.0 {
+            return Err("the step time must not be negative".into());
+        }
+        Ok(SetpointStep {
+            value: parse_number(v, "set point")?,
+            at,
+        })
+    }
+}
+
+impl core::str::FromStr for Disturbance {
+    type Err = String;
+    /// `input|output[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ]`, e.g. `input:0.1@20`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let mut parts = s.splitn(3, ':');
+        let loc = match parts.next().map(str::trim) {
+            Some("input") | Some("load") => Location::Input,
+            Some("output") => Location::Output,
+            other => {
+                return Err(std::format!(
+                    "disturbance location must be 'input' or 'output', got '{}'",
+                    other.unwrap_or("")
+                ))
+            }
+        };
+        let a = parts.next().ok_or("expected LOCATION:VALUE[@TIME]")?;
+        let (shape, rest) = match a.trim() {
+            "step" => (
+                Shape::Step,
+                parts
+                    .next()
+                    .ok_or("expected a value after the shape")?
+                    .to_string(),
+            ),
+            "ramp" => (
+                Shape::Ramp,
+                parts
+                    .next()
+                    .ok_or("expected a slope after 'ramp'")?
+                    .to_string(),
+            ),
+            "sine" => (
+                Shape::Sine,
+                parts
+                    .next()
+                    .ok_or("expected an amplitude after 'sine'")?
+                    .to_string(),
+            ),
+            _ => (
+                Shape::Step,
+                parts
+                    .next()
+                    .map_or_else(|| a.to_string(), |t| std::format!("{a}:{t}")),
+            ),
+        };
+        let rest = rest.as_str();
+        let (rest, freq) = match rest.split_once('~') {
+            Some((r, f)) => (r, parse_number(f, "frequency")?),
+            None => (rest, 0.0),
+        };
+        if shape == Shape::Sine && freq <= 0.0 {
+            return Err(
+                "a sine disturbance needs a frequency: input:sine:AMPLITUDE@TIME~HZ".into(),
+            );
+        }
+        let (v, at) = match rest.split_once('@') {
+            Some((v, t)) => (v, parse_number(t, "time")?),
+            None => (rest, 0.0),
+        };
+        if at < 0.0 {
+            return Err("the disturbance time must not be negative".into());
+        }
+        Ok(Disturbance {
+            location: loc,
+            shape,
+            value: parse_number(v, "disturbance")?,
+            at,
+            freq,
+        })
+    }
+}
+
 /// Settings of one closed-loop simulation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimConfig {
@@ -430,6 +533,27 @@ pub struct Metrics {
     pub peak_time: f64,
 }
 
+impl Metrics {
+    /// Every figure with its report name, in report order.
+    pub fn fields(&self) -> [(&'static str, f64); 13] {
+        [
+            ("iae", self.iae),
+            ("ise", self.ise),
+            ("itae", self.itae),
+            ("itse", self.itse),
+            ("tv", self.tv),
+            ("rise_time", self.rise_time),
+            ("settling_time", self.settling_time),
+            ("settling_min", self.settling_min),
+            ("settling_max", self.settling_max),
+            ("overshoot", self.overshoot),
+            ("undershoot", self.undershoot),
+            ("peak", self.peak),
+            ("peak_time", self.peak_time),
+        ]
+    }
+}
+
 /// Metrics of `res` with the error `e = r(t − shift) − y`, time counted from
 /// `shift` (0 for the plain convention; the model dead time `θm` for the
 /// delayed-reference convention of `000_3f0725a46e29ef08.txt` ch. 5).
@@ -661,6 +785,16 @@ impl Scenario {
             })?,
             None => plant.clone(),
         };
+        self.run_with(plant, model)
+    }
+
+    /// Tunes, builds and simulates for an already parsed plant and model (the
+    /// `plant` and `model` strings are ignored).
+    pub fn run_with(
+        &self,
+        plant: TransferFunction,
+        model: TransferFunction,
+    ) -> Result<RunOutput, RunError> {
         let scheme = match &self.controller {
             Some(name) => registry::find(name)?,
             None => registry::default_for(model.kind())?,

@@ -9,7 +9,7 @@ use clap::{Args, Parser, Subcommand};
 use msp::parse::parse_plant;
 use msp::poly::fmt_num;
 use msp::registry;
-use msp::sim::{describe_ts, Disturbance, Location, RunError, Scenario, SetpointStep, Shape};
+use msp::sim::{describe_ts, Disturbance, RunError, Scenario, SetpointStep};
 
 /// Dead-time compensation: Smith predictors and their modifications.
 #[derive(Debug, Parser)]
@@ -56,10 +56,10 @@ struct RunArgs {
     #[arg(long)]
     duration: Option<f64>,
     /// Set-point step VALUE[@TIME] (repeatable); default 1@0.
-    #[arg(long, value_name = "V[@T]", value_parser = parse_setpoint)]
+    #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>)]
     setpoint: Vec<SetpointStep>,
     /// Disturbance input|output[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable).
-    #[arg(long, value_name = "LOC:V@T", value_parser = parse_disturbance, allow_hyphen_values = true)]
+    #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]
     disturbance: Vec<Disturbance>,
     /// Measurement-noise standard deviation.
     #[arg(long)]
@@ -110,15 +110,7 @@ struct TuneArgs {
 }
 
 fn parse_f64(s: &str, what: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("{what}: '{s}' is not a number"))?;
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("{what}: '{s}' is not a finite number"))
-    }
+    msp::sim::parse_number(s, what)
 }
 
 fn parse_kv(s: &str) -> Result<(String, f64), String> {
@@ -126,86 +118,6 @@ fn parse_kv(s: &str) -> Result<(String, f64), String> {
         .split_once('=')
         .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
     Ok((k.trim().to_string(), parse_f64(v, k.trim())?))
-}
-
-fn parse_setpoint(s: &str) -> Result<SetpointStep, String> {
-    let (v, at) = match s.split_once('@') {
-        Some((v, t)) => (v, parse_f64(t, "time")?),
-        None => (s, 0.0),
-    };
-    if at < 0.0 {
-        return Err("the step time must not be negative".into());
-    }
-    Ok(SetpointStep {
-        value: parse_f64(v, "set point")?,
-        at,
-    })
-}
-
-fn parse_disturbance(s: &str) -> Result<Disturbance, String> {
-    let mut parts = s.splitn(3, ':');
-    let loc = match parts.next().map(str::trim) {
-        Some("input") | Some("load") => Location::Input,
-        Some("output") => Location::Output,
-        other => {
-            return Err(format!(
-                "disturbance location must be 'input' or 'output', got '{}'",
-                other.unwrap_or("")
-            ))
-        }
-    };
-    let a = parts.next().ok_or("expected LOCATION:VALUE[@TIME]")?;
-    let (shape, rest) = match a.trim() {
-        "step" => (
-            Shape::Step,
-            parts
-                .next()
-                .ok_or("expected a value after the shape")?
-                .to_string(),
-        ),
-        "ramp" => (
-            Shape::Ramp,
-            parts
-                .next()
-                .ok_or("expected a slope after 'ramp'")?
-                .to_string(),
-        ),
-        "sine" => (
-            Shape::Sine,
-            parts
-                .next()
-                .ok_or("expected an amplitude after 'sine'")?
-                .to_string(),
-        ),
-        _ => (
-            Shape::Step,
-            parts
-                .next()
-                .map_or_else(|| a.to_string(), |t| format!("{a}:{t}")),
-        ),
-    };
-    let rest = rest.as_str();
-    let (rest, freq) = match rest.split_once('~') {
-        Some((r, f)) => (r, parse_f64(f, "frequency")?),
-        None => (rest, 0.0),
-    };
-    if shape == Shape::Sine && freq <= 0.0 {
-        return Err("a sine disturbance needs a frequency: input:sine:AMPLITUDE@TIME~HZ".into());
-    }
-    let (v, at) = match rest.split_once('@') {
-        Some((v, t)) => (v, parse_f64(t, "time")?),
-        None => (rest, 0.0),
-    };
-    if at < 0.0 {
-        return Err("the disturbance time must not be negative".into());
-    }
-    Ok(Disturbance {
-        location: loc,
-        shape,
-        value: parse_f64(v, "disturbance")?,
-        at,
-        freq,
-    })
 }
 
 /// A failure, with the exit status it maps to.
@@ -381,6 +293,7 @@ fn main() -> ExitCode {
 mod tests {
     use super::*;
     use clap::CommandFactory;
+    use msp::sim::{Location, Shape};
 
     #[test]
     fn cli_is_well_formed() {
@@ -389,18 +302,18 @@ mod tests {
 
     #[test]
     fn disturbance_syntax() {
-        let d = parse_disturbance("input:0.1@20").unwrap();
+        let d = "input:0.1@20".parse::<Disturbance>().unwrap();
         assert_eq!(
             (d.location, d.shape, d.value, d.at),
             (Location::Input, Shape::Step, 0.1, 20.0)
         );
-        let d = parse_disturbance("output:sine:0.2@5~0.05").unwrap();
+        let d = "output:sine:0.2@5~0.05".parse::<Disturbance>().unwrap();
         assert_eq!(
             (d.shape, d.value, d.at, d.freq),
             (Shape::Sine, 0.2, 5.0, 0.05)
         );
-        let d = parse_disturbance("input:-0.1@30").unwrap();
+        let d = "input:-0.1@30".parse::<Disturbance>().unwrap();
         assert_eq!(d.value, -0.1);
-        assert!(parse_disturbance("middle:1@2").is_err());
+        assert!("middle:1@2".parse::<Disturbance>().is_err());
     }
 }

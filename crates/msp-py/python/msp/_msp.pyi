@@ -1,0 +1,116 @@
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union, final
+
+import numpy as np
+import numpy.typing as npt
+from typing_extensions import disjoint_base
+
+__all__ = ["Controller", "Pid", "Plant", "__version__", "controllers", "parse_plant", "run", "tune"]
+__version__: str
+
+@final
+class Plant:
+    def __new__(cls, num: Sequence[float], den: Sequence[float], delay: float = 0.0) -> "Plant": ...
+    @property
+    def num(self) -> List[float]: ...
+    @property
+    def den(self) -> List[float]: ...
+    @property
+    def delay(self) -> float: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def order(self) -> int: ...
+    def __eq__(self, value: object, /) -> bool: ...
+
+def parse_plant(expr: str) -> Plant: ...
+def run(
+    plant: Union[str, Plant],
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    model: Union[str, Plant, None] = None,
+    ts: Optional[float] = None,
+    duration: Optional[float] = None,
+    setpoint: Any = None,
+    disturbance: Any = None,
+    noise: Optional[float] = None,
+    seed: Optional[int] = None,
+    umin: Optional[float] = None,
+    umax: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    substeps: Optional[int] = None,
+) -> Dict[str, Any]: ...
+def tune(
+    plant: Union[str, Plant],
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    lambda_: Optional[float] = None,
+) -> Dict[str, Any]: ...
+def controllers() -> List[Dict[str, Any]]: ...
+
+@disjoint_base
+class Controller:
+    def __new__(
+        cls,
+        name: str,
+        plant: Union[str, Plant],
+        ts: float,
+        params: Optional[Mapping[str, float]] = None,
+        *,
+        umin: float = ...,
+        umax: float = ...,
+        lambda_: Optional[float] = None,
+    ) -> "Controller": ...
+    def update(self, r: float, y: float) -> float: ...
+    def update_many(self, r: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
+    def reset(self) -> None: ...
+    def signal(self, name: str) -> float: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def params(self) -> Dict[str, float]: ...
+    @property
+    def signal_names(self) -> List[str]: ...
+    @property
+    def signals(self) -> Dict[str, float]: ...
+    @property
+    def fault(self) -> bool: ...
+
+@final
+class Pid:
+    def __new__(
+        cls,
+        kp: float,
+        ti: float = ...,
+        td: float = 0.0,
+        ts: float = 1.0,
+        *,
+        n: float = 10.0,
+        b: float = 1.0,
+        c: float = 1.0,
+        umin: float = ...,
+        umax: float = ...,
+        anti_windup: str = "back-calculation",
+        tt: Optional[float] = None,
+        rate_limit: float = ...,
+    ) -> "Pid": ...
+    def update(self, r: float, y: float) -> float: ...
+    def update_tracking(self, r: float, y: float, u_actual: float) -> float: ...
+    def update_many(self, r: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
+    def reset(self) -> None: ...
+    def set_manual(self) -> None: ...
+    def set_manual_output(self, u: float) -> None: ...
+    def set_auto(self) -> None: ...
+    @property
+    def p(self) -> float: ...
+    @property
+    def i(self) -> float: ...
+    @property
+    def d(self) -> float: ...
+    @property
+    def output(self) -> float: ...
+    @property
+    def fault(self) -> bool: ...
+    @property
+    def params(self) -> Dict[str, float]: ...

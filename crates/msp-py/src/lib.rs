@@ -1,0 +1,598 @@
+//! Python bindings: thin conversions around the `msp` library and its registry.
+
+use std::collections::BTreeMap;
+
+use msp::poly::TransferFunction;
+use msp::registry::{self, Build, DynController, Params};
+use msp::sim::{Disturbance, Location, Metrics, RunOutput, Scenario, SetpointStep, Shape};
+use msp::{AntiWindup, Pid, PidConfig};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyString};
+
+fn value_err(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// A transfer function with dead time `num(s)/den(s)·e^(−delay·s)`.
+#[pyclass(frozen, module = "msp._msp")]
+#[derive(Clone)]
+pub struct Plant {
+    inner: TransferFunction,
+}
+
+#[pymethods]
+impl Plant {
+    /// From coefficients in descending powers of `s` and a dead time.
+    #[new]
+    #[pyo3(signature = (num, den, delay = 0.0))]
+    fn new(num: Vec<f64>, den: Vec<f64>, delay: f64) -> PyResult<Self> {
+        Ok(Plant {
+            inner: TransferFunction::new(&num, &den, delay).map_err(value_err)?,
+        })
+    }
+    /// Numerator coefficients (descending powers of s).
+    #[getter]
+    fn num(&self) -> Vec<f64> {
+        self.inner.num.clone()
+    }
+    /// Denominator coefficients (descending powers of s).
+    #[getter]
+    fn den(&self) -> Vec<f64> {
+        self.inner.den.clone()
+    }
+    /// Dead time (s).
+    #[getter]
+    fn delay(&self) -> f64 {
+        self.inner.delay
+    }
+    /// "stable", "integrating" or "unstable".
+    #[getter]
+    fn kind(&self) -> String {
+        self.inner.kind().to_string()
+    }
+    /// Denominator degree.
+    #[getter]
+    fn order(&self) -> usize {
+        self.inner.order()
+    }
+    fn __str__(&self) -> String {
+        self.inner.to_string()
+    }
+    fn __repr__(&self) -> String {
+        format!("msp.parse_plant({:?})", self.inner.to_string())
+    }
+    fn __eq__(&self, other: &Plant) -> bool {
+        self.inner == other.inner
+    }
+}
+
+/// Parses a plant expression such as ``"0.2/s*e^-7.4s"``.
+#[pyfunction]
+fn parse_plant(expr: &str) -> PyResult<Plant> {
+    Ok(Plant {
+        inner: msp::parse::parse_plant(expr).map_err(value_err)?,
+    })
+}
+
+fn plant_of(obj: &Bound<'_, PyAny>) -> PyResult<TransferFunction> {
+    if let Ok(p) = obj.downcast::<Plant>() {
+        return Ok(p.get().inner.clone());
+    }
+    if obj.downcast::<PyString>().is_ok() {
+        let s: String = obj.extract()?;
+        return msp::parse::parse_plant(&s).map_err(value_err);
+    }
+    Err(PyValueError::new_err(
+        "a plant is an expression string or an msp.Plant",
+    ))
+}
+
+fn setpoints(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<SetpointStep>> {
+    let Some(obj) = obj else {
+        return Ok(Vec::new());
+    };
+    if let Ok(v) = obj.extract::<f64>() {
+        return Ok(vec![SetpointStep { value: v, at: 0.0 }]);
+    }
+    if let Ok(s) = obj.extract::<String>() {
+        return Ok(vec![s.parse().map_err(value_err)?]);
+    }
+    let list = obj.downcast::<PyList>().map_err(|_| {
+        PyValueError::new_err(
+            "setpoint: a number, 'V@T', or a list of (value, time) pairs or 'V@T' strings",
+        )
+    })?;
+    let mut out = Vec::new();
+    for item in list.iter() {
+        if let Ok((value, at)) = item.extract::<(f64, f64)>() {
+            out.push(SetpointStep { value, at });
+        } else if let Ok(s) = item.extract::<String>() {
+            out.push(s.parse().map_err(value_err)?);
+        } else if let Ok(v) = item.extract::<f64>() {
+            out.push(SetpointStep { value: v, at: 0.0 });
+        } else {
+            return Err(PyValueError::new_err(
+                "setpoint: each step is (value, time) or 'V@T'",
+            ));
+        }
+    }
+    Ok(out)
+}
+
+fn disturbances(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Disturbance>> {
+    let Some(obj) = obj else {
+        return Ok(Vec::new());
+    };
+    let items: Vec<Bound<'_, PyAny>> = if obj.downcast::<PyList>().is_ok() {
+        obj.downcast::<PyList>()?.iter().collect()
+    } else {
+        vec![obj.clone()]
+    };
+    let mut out = Vec::new();
+    for item in items {
+        if let Ok(s) = item.extract::<String>() {
+            out.push(s.parse().map_err(value_err)?);
+            continue;
+        }
+        let d = item.downcast::<PyDict>().map_err(|_| {
+            PyValueError::new_err(
+                "disturbance: 'input:V@T' or a dict with location, value, at, shape, freq",
+            )
+        })?;
+        let get = |k: &str| -> PyResult<Option<Bound<'_, PyAny>>> { d.get_item(k) };
+        for key in d.keys() {
+            let k: String = key.extract()?;
+            if !["location", "value", "at", "shape", "freq"].contains(&k.as_str()) {
+                return Err(PyValueError::new_err(format!(
+                    "disturbance: unknown field '{k}'"
+                )));
+            }
+        }
+        let location = match get("location")?
+            .map(|v| v.extract::<String>())
+            .transpose()?
+            .as_deref()
+        {
+            Some("input") | Some("load") | None => Location::Input,
+            Some("output") => Location::Output,
+            Some(o) => {
+                return Err(PyValueError::new_err(format!(
+                    "disturbance location '{o}': use 'input' or 'output'"
+                )))
+            }
+        };
+        let shape = match get("shape")?
+            .map(|v| v.extract::<String>())
+            .transpose()?
+            .as_deref()
+        {
+            Some("step") | None => Shape::Step,
+            Some("ramp") => Shape::Ramp,
+            Some("sine") => Shape::Sine,
+            Some(o) => {
+                return Err(PyValueError::new_err(format!(
+                    "disturbance shape '{o}': use step, ramp or sine"
+                )))
+            }
+        };
+        let num = |k: &str, default: Option<f64>| -> PyResult<f64> {
+            match get(k)? {
+                Some(v) => v.extract::<f64>(),
+                None => default.ok_or_else(|| {
+                    PyValueError::new_err(format!("disturbance: '{k}' is required"))
+                }),
+            }
+        };
+        out.push(Disturbance {
+            location,
+            shape,
+            value: num("value", None)?,
+            at: num("at", Some(0.0))?,
+            freq: num("freq", Some(0.0))?,
+        });
+    }
+    Ok(out)
+}
+
+fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in m.fields() {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
+fn params_dict<'py>(py: Python<'py>, p: &Params) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in &p.0 {
+        d.set_item(*k, *v)?;
+    }
+    Ok(d)
+}
+
+fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("plant", out.plant.to_string())?;
+    d.set_item("model", out.model.to_string())?;
+    d.set_item("ts", out.ts)?;
+    d.set_item("duration", out.duration)?;
+    let c = PyDict::new(py);
+    c.set_item("name", out.controller)?;
+    c.set_item("params", params_dict(py, &out.params)?)?;
+    d.set_item("controller", c)?;
+    d.set_item("metrics", metrics_dict(py, &out.metrics)?)?;
+    d.set_item(
+        "metrics_delayed_reference",
+        metrics_dict(py, &out.metrics_delayed_reference)?,
+    )?;
+    d.set_item("stable", out.result.diverged_at.is_none())?;
+    d.set_item("diverged_at", out.result.diverged_at)?;
+    let r = out.result;
+    let signals = PyDict::new(py);
+    for (name, v) in r.signals {
+        signals.set_item(name, v.into_pyarray(py))?;
+    }
+    d.set_item("t", r.t.into_pyarray(py))?;
+    d.set_item("r", r.r.into_pyarray(py))?;
+    d.set_item("y", r.y.into_pyarray(py))?;
+    d.set_item("u", r.u.into_pyarray(py))?;
+    d.set_item("d", r.d.into_pyarray(py))?;
+    d.set_item("d_out", r.d_out.into_pyarray(py))?;
+    d.set_item("signals", signals)?;
+    Ok(d)
+}
+
+/// Simulates the closed loop (see ``msp.run``); returns a dict of arrays and figures.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, model=None, ts=None, duration=None, setpoint=None,
+                    disturbance=None, noise=None, seed=None, umin=None, umax=None, lambda_=None, substeps=None))]
+#[allow(clippy::too_many_arguments)]
+fn run<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    setpoint: Option<&Bound<'py, PyAny>>,
+    disturbance: Option<&Bound<'py, PyAny>>,
+    noise: Option<f64>,
+    seed: Option<u64>,
+    umin: Option<f64>,
+    umax: Option<f64>,
+    lambda_: Option<f64>,
+    substeps: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let plant_tf = plant_of(plant)?;
+    let model_tf = match model {
+        Some(m) => plant_of(m)?,
+        None => plant_tf.clone(),
+    };
+    let sc = Scenario {
+        plant: plant_tf.to_string(),
+        model: None,
+        controller,
+        lambda: lambda_,
+        set: params.unwrap_or_default(),
+        ts,
+        duration,
+        setpoint: setpoints(setpoint)?,
+        disturbance: disturbances(disturbance)?,
+        noise,
+        seed,
+        umin,
+        umax,
+        substeps,
+    };
+    let out = py
+        .allow_threads(|| sc.run_with(plant_tf, model_tf))
+        .map_err(value_err)?;
+    output_dict(py, out)
+}
+
+/// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, lambda_=None))]
+fn tune<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    lambda_: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tf = plant_of(plant)?;
+    let scheme = match controller {
+        Some(n) => registry::find(&n).map_err(value_err)?,
+        None => registry::default_for(tf.kind()).map_err(value_err)?,
+    };
+    let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+    let p = scheme
+        .tune_with(&tf, lambda_, &overrides)
+        .map_err(value_err)?;
+    let d = PyDict::new(py);
+    d.set_item("name", scheme.name)?;
+    d.set_item("params", params_dict(py, &p)?)?;
+    Ok(d)
+}
+
+/// Every controller of the registry: name, aliases, summary, source, params, plants.
+#[pyfunction]
+fn controllers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let out = PyList::empty(py);
+    for s in registry::SCHEMES {
+        let d = PyDict::new(py);
+        d.set_item("name", s.name)?;
+        d.set_item("aliases", s.aliases.to_vec())?;
+        d.set_item("summary", s.summary)?;
+        d.set_item("source", s.source)?;
+        d.set_item("params", s.params.to_vec())?;
+        d.set_item(
+            "plants",
+            s.plants.iter().map(|k| k.to_string()).collect::<Vec<_>>(),
+        )?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+fn loop_many<'py>(
+    py: Python<'py>,
+    r: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    mut f: impl FnMut(f64, f64) -> f64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (r, y) = (r.as_slice()?, y.as_slice()?);
+    if r.len() != y.len() {
+        return Err(PyValueError::new_err(format!(
+            "r has {} samples but y has {}",
+            r.len(),
+            y.len()
+        )));
+    }
+    let u: Vec<f64> = r.iter().zip(y).map(|(r, y)| f(*r, *y)).collect();
+    Ok(u.into_pyarray(py))
+}
+
+/// A per-sample controller of any registered scheme, tuned for a plant.
+#[pyclass(subclass, module = "msp._msp")]
+pub struct Controller {
+    inner: DynController,
+    name: &'static str,
+    params: Params,
+}
+
+#[pymethods]
+impl Controller {
+    /// Tunes scheme ``name`` for ``plant`` (model), builds it at period ``ts``.
+    #[new]
+    #[pyo3(signature = (name, plant, ts, params=None, *, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None))]
+    fn new(
+        name: &str,
+        plant: &Bound<'_, PyAny>,
+        ts: f64,
+        params: Option<BTreeMap<String, f64>>,
+        umin: f64,
+        umax: f64,
+        lambda_: Option<f64>,
+    ) -> PyResult<Self> {
+        let tf = plant_of(plant)?;
+        let scheme = registry::find(name).map_err(value_err)?;
+        let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let p = scheme
+            .tune_with(&tf, lambda_, &overrides)
+            .map_err(value_err)?;
+        let inner = scheme
+            .build_with(
+                &p,
+                &tf,
+                &Build {
+                    ts,
+                    u_min: umin,
+                    u_max: umax,
+                },
+            )
+            .map_err(value_err)?;
+        Ok(Controller {
+            inner,
+            name: scheme.name,
+            params: p,
+        })
+    }
+    /// One sample: set point and measurement in, actuator value out.
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        self.inner.update(r, y)
+    }
+    /// ``update`` over arrays of set points and measurements, looped in Rust.
+    fn update_many<'py>(
+        &mut self,
+        py: Python<'py>,
+        r: PyReadonlyArray1<'py, f64>,
+        y: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let c = &mut self.inner;
+        loop_many(py, r, y, |r, y| c.update(r, y))
+    }
+    /// Zeroes every state.
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+    /// The scheme's name.
+    #[getter]
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    /// Tuned parameters.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        params_dict(py, &self.params)
+    }
+    /// Names of the internal signals.
+    #[getter]
+    fn signal_names(&self) -> Vec<&'static str> {
+        self.inner.signal_names().to_vec()
+    }
+    /// Internal signals after the last update.
+    #[getter]
+    fn signals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (i, n) in self.inner.signal_names().iter().enumerate() {
+            d.set_item(*n, self.inner.signal(i))?;
+        }
+        Ok(d)
+    }
+    /// One internal signal by name.
+    fn signal(&self, name: &str) -> PyResult<f64> {
+        self.inner.signal_by_name(name).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "no signal '{name}'; signals: {}",
+                self.inner.signal_names().join(", ")
+            ))
+        })
+    }
+    /// True when the last update got a non-finite input and held its output.
+    #[getter]
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+}
+
+/// The industrial PID controller (ISA form ``Kp(1 + 1/(Ti s) + Td s)``).
+#[pyclass(module = "msp._msp", name = "Pid")]
+pub struct PyPid {
+    inner: Pid<f64>,
+}
+
+#[pymethods]
+impl PyPid {
+    #[new]
+    #[pyo3(signature = (kp, ti=f64::INFINITY, td=0.0, ts=1.0, *, n=10.0, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
+                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        kp: f64,
+        ti: f64,
+        td: f64,
+        ts: f64,
+        n: f64,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = PidConfig::isa(kp, ti, td, ts)
+            .with_filter(n)
+            .with_weights(b, c)
+            .with_limits(umin, umax)
+            .with_rate_limit(rate_limit);
+        cfg.anti_windup = match (anti_windup, cfg.anti_windup) {
+            (_, AntiWindup::None) if ti.is_infinite() => AntiWindup::None,
+            ("back-calculation", AntiWindup::BackCalculation { tt: d }) => {
+                AntiWindup::BackCalculation {
+                    tt: tt.unwrap_or(d),
+                }
+            }
+            ("back-calculation", _) => AntiWindup::BackCalculation {
+                tt: tt.unwrap_or(ti),
+            },
+            ("conditional", _) => AntiWindup::Conditional,
+            ("none", _) => AntiWindup::None,
+            (o, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "anti_windup '{o}': use back-calculation, conditional or none"
+                )))
+            }
+        };
+        Ok(PyPid {
+            inner: Pid::new(cfg).map_err(value_err)?,
+        })
+    }
+    /// One sample.
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        self.inner.update(r, y)
+    }
+    /// One sample with the actuator's real value for the integrator to track.
+    fn update_tracking(&mut self, r: f64, y: f64, u_actual: f64) -> f64 {
+        self.inner.update_tracking(r, y, u_actual)
+    }
+    /// ``update`` over arrays, looped in Rust.
+    fn update_many<'py>(
+        &mut self,
+        py: Python<'py>,
+        r: PyReadonlyArray1<'py, f64>,
+        y: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let c = &mut self.inner;
+        loop_many(py, r, y, |r, y| c.update(r, y))
+    }
+    /// Zeroes the state, back to auto mode.
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+    /// Manual mode holding the last output.
+    fn set_manual(&mut self) {
+        self.inner.set_manual();
+    }
+    /// Manual output value.
+    fn set_manual_output(&mut self, u: f64) -> PyResult<()> {
+        self.inner.set_manual_output(u).map_err(value_err)
+    }
+    /// Back to auto mode (bumpless).
+    fn set_auto(&mut self) {
+        self.inner.set_auto();
+    }
+    /// Proportional term of the last update.
+    #[getter]
+    fn p(&self) -> f64 {
+        self.inner.terms().p
+    }
+    /// Integral term of the last update.
+    #[getter]
+    fn i(&self) -> f64 {
+        self.inner.terms().i
+    }
+    /// Derivative term of the last update.
+    #[getter]
+    fn d(&self) -> f64 {
+        self.inner.terms().d
+    }
+    /// Last output.
+    #[getter]
+    fn output(&self) -> f64 {
+        self.inner.output()
+    }
+    /// True when the last update got a non-finite input.
+    #[getter]
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+    /// Parameters ``kp``, ``ti``, ``td``.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.config();
+        let d = PyDict::new(py);
+        d.set_item("kp", c.kp)?;
+        d.set_item("ti", c.ti())?;
+        d.set_item("td", c.td())?;
+        Ok(d)
+    }
+}
+
+/// The compiled part of the ``msp`` package.
+#[pymodule]
+fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Plant>()?;
+    m.add_class::<Controller>()?;
+    m.add_class::<PyPid>()?;
+    m.add_function(wrap_pyfunction!(parse_plant, m)?)?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(tune, m)?)?;
+    m.add_function(wrap_pyfunction!(controllers, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,139 @@
+"""The Python module against the CLI, the core and python-control."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import msp
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+MSP_BIN = os.environ.get("MSP_BIN", str(ROOT / "target" / "debug" / "msp"))
+
+
+def cli_csv(*args: str) -> dict[str, np.ndarray]:
+    out = subprocess.run([MSP_BIN, "run", "-q", *args], check=True, capture_output=True, text=True).stdout
+    rows = list(csv.reader(io.StringIO(out)))
+    header, data = rows[0], rows[1:]
+    return {h: np.array([float(r[i]) for r in data]) for i, h in enumerate(header)}
+
+
+@pytest.mark.skipif(not pathlib.Path(MSP_BIN).exists(), reason="the msp binary is not built")
+@pytest.mark.parametrize(
+    "plant, args, kwargs",
+    [
+        ("0.2/s*e^-7.4s", [], {}),
+        ("5.6*e^-93.9s/(40.2s+1)", ["--controller", "smith", "--set", "kp=0.05", "--ts", "0.7",
+                                    "--disturbance", "input:-0.1@300"],
+         {"controller": "smith", "params": {"kp": 0.05}, "ts": 0.7, "disturbance": "input:-0.1@300"}),
+        ("e^-10s/(s+1)^2", ["--noise", "0.01", "--seed", "7", "--setpoint", "1@0", "--setpoint", "2@50"],
+         {"noise": 0.01, "seed": 7, "setpoint": [(1.0, 0.0), (2.0, 50.0)]}),
+    ],
+)
+def test_results_equal_the_cli_bit_for_bit(plant: str, args: list[str], kwargs: dict) -> None:
+    ref = cli_csv("--plant", plant, *args)
+    res = msp.run(plant, **kwargs)
+    for key in ("t", "r", "y", "u", "d"):
+        assert np.array_equal(getattr(res, key), ref[key]), key
+    for name, values in res.signals.items():
+        assert np.array_equal(values, ref[name]), name
+
+
+def test_update_many_equals_a_loop_of_update() -> None:
+    rng = np.random.default_rng(3)
+    r = np.ones(500)
+    y = rng.normal(size=500).cumsum() * 0.01
+    for make in (lambda: msp.SmithPredictor("5.6*e^-93.9s/(40.2s+1)", 1.0),
+                 lambda: msp.KaranDey("0.2/s*e^-7.4s", 0.074),
+                 lambda: msp.Pid(1.2, 3.0, 0.5, ts=0.1, umin=-1, umax=1)):
+        a, b = make(), make()
+        many = a.update_many(r, y)
+        loop = np.array([b.update(ri, yi) for ri, yi in zip(r, y)])
+        assert np.array_equal(many, loop)
+
+
+def test_controller_classes_expose_signals_and_params() -> None:
+    c = msp.SmithPredictor("5.6*e^-93.9s/(40.2s+1)", 1.0)
+    assert c.name == "smith"
+    assert math.isclose(c.params["kp"], 40.2 / (5.6 * 93.9))
+    c.update(1.0, 0.0)
+    c.update(1.0, 0.0)
+    assert c.ym > 0 and c.signals["ym"] == c.ym
+    c.reset()
+    assert c.ym == 0.0
+    with pytest.raises(AttributeError):
+        c.not_a_signal  # noqa: B018
+
+
+def test_every_registry_scheme_has_a_class() -> None:
+    assert msp._check_classes() == []
+
+
+def test_errors_are_value_errors_naming_the_column() -> None:
+    with pytest.raises(ValueError, match="column 5"):
+        msp.run("0.2/x*e^-7.4s")
+    with pytest.raises(ValueError, match="unknown controller"):
+        msp.run("0.2/s*e^-7.4s", controller="nope")
+    with pytest.raises(ValueError, match="no parameter 'zeta'"):
+        msp.run("0.2/s*e^-7.4s", params={"zeta": 1.0})
+    with pytest.raises(ValueError, match="ts"):
+        msp.Pid(1.0, ts=0.0)
+
+
+def test_metrics_match_the_thesis() -> None:
+    res = msp.run("0.2/s*e^-7.4s")
+    assert res.controller["name"] == "karan-dey"
+    assert abs(res.metrics["rise_time"] - 2.04) < 0.03
+    assert abs(res.metrics_delayed_reference["iae"] - 0.93) < 0.014
+    assert set(res.metrics) == set(res.metrics_delayed_reference) == {
+        "iae", "ise", "itae", "itse", "tv", "rise_time", "settling_time", "settling_min",
+        "settling_max", "overshoot", "undershoot", "peak", "peak_time"}
+
+
+def test_python_control_transfer_function_with_delay() -> None:
+    control = pytest.importorskip("control")
+    tf = control.tf([5.6], [40.2, 1.0])
+    a = msp.run(tf, delay=93.9, ts=1.0)
+    b = msp.run("5.6*e^-93.9s/(40.2s+1)", ts=1.0)
+    assert np.array_equal(a.y, b.y)
+    assert msp.tune((tf, 93.9)) == msp.tune("5.6*e^-93.9s/(40.2s+1)")
+
+
+def test_parse_plant_round_trip() -> None:
+    p = msp.parse_plant("e^-10s/(s+1)^2")
+    assert p.num == [1.0] and p.den == [1.0, 2.0, 1.0] and p.delay == 10.0 and p.kind == "stable"
+    assert msp.parse_plant(str(p)) == p
+
+
+def test_to_pandas_and_plot(tmp_path: pathlib.Path) -> None:
+    res = msp.run("0.2/s*e^-7.4s", duration=30)
+    pd = pytest.importorskip("pandas")
+    df = res.to_pandas()
+    assert isinstance(df, pd.DataFrame) and list(df.columns)[:4] == ["r", "y", "u", "d"]
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    fig = res.plot()
+    fig.savefig(tmp_path / "x.png")
+    assert (tmp_path / "x.png").stat().st_size > 1000
+
+
+EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
+
+
+@pytest.mark.parametrize("script", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_examples_write_their_png(script: pathlib.Path, tmp_path: pathlib.Path) -> None:
+    pytest.importorskip("matplotlib")
+    env = dict(os.environ, MPLBACKEND="Agg")
+    subprocess.run([sys.executable, str(script), str(tmp_path)], check=True, env=env, cwd=tmp_path)
+    pngs = list(tmp_path.glob("*.png"))
+    assert pngs and all(p.stat().st_size > 1000 for p in pngs)
