@@ -283,6 +283,95 @@ impl TransferFunction {
         }
     }
 
+    /// The frequency response `G(jω)` with the exact delay, as `(re, im)`.
+    pub fn freq(&self, w: f64) -> (f64, f64) {
+        let ev = |p: &[f64]| {
+            p.iter().fold((0.0, 0.0), |(re, im), c| {
+                (re * 0.0 - im * w + c, re * w + im * 0.0)
+            })
+        };
+        let (nr, ni) = ev(&self.num);
+        let (dr, di) = ev(&self.den);
+        let dd = dr * dr + di * di;
+        let (gr, gi) = ((nr * dr + ni * di) / dd, (ni * dr - nr * di) / dd);
+        let (c, s) = ((w * self.delay).cos(), (w * self.delay).sin());
+        (gr * c + gi * s, gi * c - gr * s)
+    }
+
+    /// The continuous (unwrapped) phase of `G(jω)` in radians, from the poles,
+    /// zeros and the delay.
+    pub fn phase(&self, w: f64) -> Result<f64, Error> {
+        let arg = |(re, im): &(f64, f64)| (w - im).atan2(-re);
+        let zeros: f64 = self.zeros()?.iter().map(arg).sum();
+        let poles: f64 = self.poles()?.iter().map(arg).sum();
+        let lead =
+            self.num.first().copied().unwrap_or(1.0) / self.den.first().copied().unwrap_or(1.0);
+        let sign = if lead < 0.0 {
+            -core::f64::consts::PI
+        } else {
+            0.0
+        };
+        Ok(zeros - poles + sign - w * self.delay)
+    }
+
+    /// The ultimate point: the first frequency `ωu` where the phase reaches
+    /// −180°, and the ultimate gain `Ku = 1/|G(jωu)|`, period `Tu = 2π/ωu`.
+    /// `None` when the phase never gets there (e.g. a first-order lag without delay).
+    pub fn ultimate(&self) -> Option<(f64, f64)> {
+        let target = -core::f64::consts::PI;
+        let scales = self.time_scales().ok()?;
+        let fast = scales.iter().copied().fold(f64::INFINITY, f64::min);
+        let slow = scales.iter().copied().fold(0.0, f64::max);
+        if !fast.is_finite() {
+            return None;
+        }
+        let (mut lo, mut hi) = (1e-4 / slow.max(1e-12), 1e-4 / slow.max(1e-12));
+        let mut found = false;
+        for _ in 0..400 {
+            hi *= 1.1;
+            if self.phase(hi).ok()? <= target {
+                found = true;
+                break;
+            }
+            lo = hi;
+            if hi > 1e4 / fast {
+                break;
+            }
+        }
+        if !found {
+            return None;
+        }
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if self.phase(mid).ok()? > target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let w = 0.5 * (lo + hi);
+        let (re, im) = self.freq(w);
+        Some((1.0 / re.hypot(im), core::f64::consts::TAU / w))
+    }
+
+    /// The plant with its gain, dead time and time constants scaled by
+    /// `(1 + gain)`, `(1 + delay)` and `(1 + tau)` (relative perturbations, e.g.
+    /// `0.1` for +10 %): `K·b(s(1+τ))/a(s(1+τ))·e^{−θ(1+δ)s}`, so every time
+    /// constant and every integrator's time scale changes by `(1 + tau)`.
+    pub fn perturbed(&self, gain: f64, delay: f64, tau: f64) -> Result<Self, Error> {
+        let scale = |p: &[f64]| -> Vec<f64> {
+            let deg = p.len().saturating_sub(1);
+            p.iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    c * (1.0 + tau).powi(i32::try_from(deg.saturating_sub(i)).unwrap_or(0))
+                })
+                .collect()
+        };
+        let num: Vec<f64> = scale(&self.num).iter().map(|c| c * (1.0 + gain)).collect();
+        TransferFunction::new(&num, &scale(&self.den), self.delay * (1.0 + delay))
+    }
+
     /// The delay-free part ZOH-discretized at `ts` (order at most `N`).
     pub fn to_lti<const N: usize>(&self, ts: f64) -> Result<Lti<f64, N>, Error> {
         Lti::from_tf(&self.num, &self.den, ts, Discretization::Zoh)

@@ -9,9 +9,10 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::delay::Delay;
-use crate::dtc::{Controller, KaranDey, KaranDeyParams, SmithPredictor};
+use crate::dtc::compensator::ParamList;
+use crate::dtc::{self, Controller, KaranDeyParams, SmithPredictor};
 use crate::poly::{PlantKind, TransferFunction};
-use crate::{tuning, Pid, PidConfig, ProcessModel};
+use crate::{tuning, Ipdt, Lti, Pid, PidConfig, ProcessModel};
 
 /// Largest model order the registry's controllers hold.
 pub const MAX_ORDER: usize = 8;
@@ -120,13 +121,27 @@ impl Params {
     }
 }
 
-/// Design-time options for a tuning rule (from `--lambda` and `--set`).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// Design-time options for a tuning rule (from `--lambda`, `--rule` and the
+/// design keys of `--set`).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Design {
     /// Closed-loop time constant `λ` (s).
     pub lambda: Option<f64>,
-    /// Kaya's speed factor `α` (`λ = α·L`).
-    pub alpha: Option<f64>,
+    /// A named rule (`pid`: `imc`, `simc` or an ultimate-cycle rule).
+    pub rule: Option<String>,
+    /// Design values by name (`alpha`, `case`, `tde`, …).
+    pub values: Vec<(String, f64)>,
+}
+
+impl Design {
+    /// A design value.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.values
+            .iter()
+            .rev()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| *v)
+    }
 }
 
 /// Options for building a controller.
@@ -173,65 +188,128 @@ fn pid_cfg(p: &Params, b: &Build) -> Result<PidConfig<f64>, crate::Error> {
     Ok(PidConfig::isa(p.req("kp")?, p.req("ti")?, td, b.ts).with_limits(b.u_min, b.u_max))
 }
 
+/// `λ`: given, or `alpha·L`, or `default_factor·L`.
 fn lambda_for(model: &ProcessModel<f64>, d: &Design, default_factor: f64) -> f64 {
-    match (d.lambda, d.alpha) {
+    match (d.lambda.or_else(|| d.get("lambda")), d.get("alpha")) {
         (Some(l), _) => l,
         (None, Some(a)) => a * model.delay(),
         (None, None) => default_factor * model.delay(),
     }
 }
 
+/// A model's delay-free block and its dead-time line.
+type ModelParts = (Lti<f64, MAX_ORDER>, Delay<f64, Vec<f64>>);
+
+/// The case number 1–6 of the disturbance estimator.
+fn case_of(case: f64) -> Result<u8, crate::Error> {
+    (1u8..=6)
+        .find(|c| f64::from(*c) == case)
+        .ok_or(crate::Error::OutOfRange("case"))
+}
+
+/// The model's delay-free part at the controller period and its dead time.
+fn model_parts(model: &TransferFunction, b: &Build) -> Result<ModelParts, crate::Error> {
+    Ok((
+        model.to_lti::<MAX_ORDER>(b.ts)?,
+        Delay::new_in(model.delay_samples(b.ts)?)?,
+    ))
+}
+
+/// A second line holding the model's dead time (Huang's filter, Åström–Hang–Lim's M).
+fn delay_again(model: &TransferFunction, b: &Build) -> Result<Delay<f64, Vec<f64>>, crate::Error> {
+    Delay::new_in(model.delay_samples(b.ts)?)
+}
+
+fn integrating_model(
+    plant: &TransferFunction,
+    scheme: &'static str,
+) -> Result<Ipdt<f64>, crate::Error> {
+    match plant.reduce(false)? {
+        ProcessModel::Ipdt(m) => Ok(m),
+        _ => Err(crate::Error::Unsupported(scheme)),
+    }
+}
+
+fn params_of(names: &'static [&'static str], values: &[f64]) -> Params {
+    Params(names.iter().copied().zip(values.iter().copied()).collect())
+}
+
+/// The controller's own copy of its parameters, in the scheme's report order.
+fn list(names: &'static [&'static str], p: &Params) -> ParamList<f64> {
+    let values: Vec<f64> = names.iter().map(|n| p.get(n).unwrap_or(f64::NAN)).collect();
+    ParamList::new(names, &values)
+}
+
+// ---- pid -------------------------------------------------------------------
+
 fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    // SIMC (Skogestad 2003) on the half-rule model: τc = λ (default θ).
     let m = plant.reduce(true)?;
-    let theta = m.delay();
-    let tc = lambda_for(&m, d, 1.0);
-    let (kp, ti, td) = match m {
-        ProcessModel::Fopdt(f) => (f.t / (f.k * (tc + theta)), f.t.min(4.0 * (tc + theta)), 0.0),
-        ProcessModel::Sopdt(s) => (
-            s.t1 / (s.k * (tc + theta)),
-            s.t1.min(4.0 * (tc + theta)),
-            s.t2,
-        ),
-        ProcessModel::Ipdt(i) => (1.0 / (i.k * (tc + theta)), 4.0 * (tc + theta), 0.0),
-        ProcessModel::Foipdt(i) => (1.0 / (i.k * (tc + theta)), 4.0 * (tc + theta), i.t),
-        ProcessModel::Ufopdt(_) => {
-            return Err(crate::Error::Unsupported(
-                "SIMC tuning of an unstable plant",
-            ))
+    let default_rule = if matches!(plant.reduce(false)?, ProcessModel::Fopdt(_)) {
+        "imc"
+    } else {
+        "simc"
+    };
+    let rule = d.rule.as_deref().unwrap_or(default_rule);
+    let (g, lambda) = match rule {
+        "imc" | "imc-pid" => {
+            let f = match plant.reduce(false)? {
+                ProcessModel::Fopdt(f) => f,
+                _ => {
+                    return Err(crate::Error::Unsupported(
+                        "IMC-PID needs a stable FOPDT model (use --rule simc)",
+                    ))
+                }
+            };
+            let lambda = lambda_for(&f.into(), d, 1.0);
+            (tuning::imc_pid(&f, lambda)?, lambda)
+        }
+        "simc" => {
+            let lambda = lambda_for(&m, d, 1.0);
+            (tuning::simc(&m, lambda)?, lambda)
+        }
+        name => {
+            let r = tuning::ultimate_rule(name).ok_or(crate::Error::Unsupported(
+                "unknown tuning rule (see `msp list`)",
+            ))?;
+            let (ku, tu) = plant
+                .ultimate()
+                .ok_or(crate::Error::Unsupported("the plant has no ultimate point"))?;
+            (tuning::ultimate_cycle(r, ku, tu)?, f64::NAN)
         }
     };
-    Ok(Params(alloc::vec![
-        ("kp", kp),
-        ("ti", ti),
-        ("td", td),
-        ("lambda", tc)
-    ]))
+    Ok(params_of(SCHEMES_PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
 }
+
+const SCHEMES_PID_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
 
 fn build_pid(p: &Params, _m: &TransferFunction, b: &Build) -> Result<DynController, crate::Error> {
     Ok(Box::new(Pid::new(pid_cfg(p, b)?)?))
 }
 
-fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+// ---- smith, filtered-smith, huang ---------------------------------------------
+
+/// Kaya's PI/PID for a stable model, the thesis's IMC-PI for an integrating one.
+fn primary_gains(
+    plant: &TransferFunction,
+    d: &Design,
+    stable_factor: f64,
+) -> Result<(tuning::PidGains<f64>, f64, ProcessModel<f64>), crate::Error> {
     let m = plant.reduce(plant.order() >= 2)?;
-    let (g, lambda) = match m {
+    Ok(match m {
         ProcessModel::Ipdt(i) => {
-            // The thesis compares the Smith predictor with the MSP's own PI (Sec. 5.2).
             let lambda = lambda_for(&m, d, 0.25);
-            (tuning::imc_pi_integrating(&i, lambda)?, lambda)
+            (tuning::imc_pi_integrating(&i, lambda)?, lambda, m)
         }
         _ => {
-            let lambda = lambda_for(&m, d, 1.0);
-            (tuning::kaya(&m, lambda)?, lambda)
+            let lambda = lambda_for(&m, d, stable_factor);
+            (tuning::kaya(&m, lambda)?, lambda, m)
         }
-    };
-    Ok(Params(alloc::vec![
-        ("kp", g.kp),
-        ("ti", g.ti),
-        ("td", g.td),
-        ("lambda", lambda)
-    ]))
+    })
+}
+
+fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let (g, lambda, _) = primary_gains(plant, d, 1.0)?;
+    Ok(params_of(SCHEMES_PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
 }
 
 fn build_smith(
@@ -239,29 +317,87 @@ fn build_smith(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let lti = model.to_lti::<MAX_ORDER>(b.ts)?;
-    let delay = Delay::<f64, Vec<f64>>::new_in(model.delay_samples(b.ts)?)?;
+    let (lti, delay) = model_parts(model, b)?;
     Ok(Box::new(SmithPredictor::new(pid_cfg(p, b)?, lti, delay)?))
 }
 
+/// The dominant time constant of a stable model (for filter defaults).
+fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
+    match *m {
+        ProcessModel::Fopdt(f) => f.t,
+        ProcessModel::Sopdt(s) => s.t1.max(s.t2),
+        _ => m.delay(),
+    }
+}
+
+fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    // 004_…: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
+    let (g, lambda, m) = primary_gains(plant, d, 1.0 / 7.5)?;
+    let b = d.get("b").unwrap_or(0.5 * dominant_lag(&m));
+    let a = d.get("a").unwrap_or(0.0);
+    Ok(params_of(
+        FILTERED_PARAMS,
+        &[g.kp, g.ti, g.td, a, b, lambda],
+    ))
+}
+
+const FILTERED_PARAMS: &[&str] = &["kp", "ti", "td", "a", "b", "lambda"];
+
+fn build_filtered_smith(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let (lti, delay) = model_parts(model, b)?;
+    let f = dtc::filtered_smith::lead_lag_filter(p.req("a")?, p.req("b")?, b.ts)?;
+    Ok(Box::new(
+        dtc::filtered_smith::build(pid_cfg(p, b)?, f, lti, delay, list(FILTERED_PARAMS, p))?
+            .with_limits(b.u_min, b.u_max)?,
+    ))
+}
+
+fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    // 004_…: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
+    let (g, lambda, m) = primary_gains(plant, d, 0.5)?;
+    let kb = d.get("kb").unwrap_or(0.05);
+    let tb = d.get("tb").unwrap_or(dominant_lag(&m));
+    Ok(params_of(HUANG_PARAMS, &[g.kp, g.ti, g.td, kb, tb, lambda]))
+}
+
+const HUANG_PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb", "lambda"];
+
+fn build_huang(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let (lti, delay) = model_parts(model, b)?;
+    let line = delay_again(model, b)?;
+    let c = dtc::huang::build(
+        pid_cfg(p, b)?,
+        p.req("kb")?,
+        p.req("tb")?,
+        lti,
+        delay,
+        line,
+        list(HUANG_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+}
+
+// ---- integrating-plant schemes -------------------------------------------------
+
 fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    let ProcessModel::Ipdt(m) = plant.reduce(false)? else {
-        return Err(crate::Error::Unsupported(
-            "the Karan-Dey MSP needs an integrating plant",
-        ));
-    };
+    let m = integrating_model(plant, "the Karan-Dey MSP needs an integrating plant")?;
     let lambda = lambda_for(&m.into(), d, 0.25);
     let k = tuning::karan_dey(&m, lambda)?;
-    Ok(Params(alloc::vec![
-        ("kp", k.kp),
-        ("ti", k.ti),
-        ("beta", k.beta),
-        ("gamma", k.gamma),
-        ("td", k.td),
-        ("n", k.n),
-        ("lambda", lambda),
-    ]))
+    Ok(params_of(
+        KD_PARAMS,
+        &[k.kp, k.ti, k.beta, k.gamma, k.td, k.n, lambda],
+    ))
 }
+
+const KD_PARAMS: &[&str] = &["kp", "ti", "beta", "gamma", "td", "n", "lambda"];
 
 fn build_karan_dey(
     p: &Params,
@@ -276,22 +412,246 @@ fn build_karan_dey(
         td: p.req("td")?,
         n: p.req("n")?,
     };
-    let lti = model.to_lti::<MAX_ORDER>(b.ts)?;
-    let delay = Delay::<f64, Vec<f64>>::new_in(model.delay_samples(b.ts)?)?;
+    let (lti, delay) = model_parts(model, b)?;
     Ok(Box::new(
-        KaranDey::new(params, lti, delay, b.ts)?.with_limits(b.u_min, b.u_max)?,
+        dtc::karan_dey::build(&params, lti, delay, b.ts)?.with_limits(b.u_min, b.u_max)?,
     ))
 }
+
+fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    // The W-I loop is 1 + C·Kv/(s(1 + Ls)) (see dtc::watanabe_ito): SIMC PI for
+    // an integrator with the lag L folded into the delay, τc = λ (default L/2).
+    let m = integrating_model(
+        plant,
+        "the Watanabe-Ito predictor needs an integrating plant",
+    )?;
+    let lambda = lambda_for(&m.into(), d, 0.5);
+    let s = lambda + m.l;
+    Ok(params_of(
+        WI_PARAMS,
+        &[1.0 / (m.k * s), 4.0 * s, 0.0, lambda],
+    ))
+}
+
+const WI_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
+
+fn build_watanabe_ito(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let m = integrating_model(
+        model,
+        "the Watanabe-Ito predictor needs an integrating plant",
+    )?;
+    let (lti, delay) = model_parts(model, b)?;
+    let c = dtc::watanabe_ito::build(pid_cfg(p, b)?, m.k, m.l, lti, delay, list(WI_PARAMS, p))?;
+    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+}
+
+fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    // set point k/(s + k) with k = 1/λ (λ = L/4 by default); load loop
+    // (1 + k1)s² + k2 s + k3 = (s + a)² with a = 1/L.
+    let m = integrating_model(
+        plant,
+        "the Astrom-Hang-Lim predictor needs an integrating plant",
+    )?;
+    let lambda = lambda_for(&m.into(), d, 0.25);
+    let a = d.get("a").unwrap_or(1.0 / m.l);
+    Ok(params_of(
+        AHL_PARAMS,
+        &[1.0 / lambda, 0.0, 2.0 * a, a * a, lambda],
+    ))
+}
+
+const AHL_PARAMS: &[&str] = &["k", "k1", "k2", "k3", "lambda"];
+
+fn build_astrom_hang_lim(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let m = integrating_model(
+        model,
+        "the Astrom-Hang-Lim predictor needs an integrating plant",
+    )?;
+    let (lti, delay) = model_parts(model, b)?;
+    let line = Delay::new_in(model.delay_samples(b.ts)?.floor())?;
+    let c = dtc::astrom_hang_lim::build(
+        p.req("k")?,
+        p.req("k1")?,
+        p.req("k2")?,
+        p.req("k3")?,
+        m.k,
+        b.ts,
+        lti,
+        delay,
+        line,
+        list(AHL_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+}
+
+fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let m = integrating_model(
+        plant,
+        "the Matausek-Micic predictor needs an integrating plant",
+    )?;
+    let tr = d
+        .get("tr")
+        .unwrap_or_else(|| lambda_for(&m.into(), d, 0.25));
+    Ok(params_of(
+        MM_PARAMS,
+        &[1.0 / (m.k * tr), 0.5 / (m.k * m.l), tr],
+    ))
+}
+
+const MM_PARAMS: &[&str] = &["kr", "k0", "tr"];
+
+fn build_matausek_micic(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let (lti, delay) = model_parts(model, b)?;
+    let c = dtc::matausek_micic::build(
+        p.req("kr")?,
+        p.req("k0")?,
+        b.ts,
+        lti,
+        delay,
+        list(MM_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+}
+
+fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let m = plant.reduce(false)?;
+    let values = match m {
+        ProcessModel::Ipdt(i) => {
+            // the Karan-Dey settings: Gc2 = beta·Kp (P), Gc3 from gamma·Kp with Td = λ
+            let lambda = lambda_for(&m, d, 0.25);
+            let k = tuning::karan_dey(&i, lambda)?;
+            [k.kp, k.ti, k.beta * k.kp, 0.0, k.gamma * k.kp, k.td, lambda]
+        }
+        ProcessModel::Fopdt(_) | ProcessModel::Sopdt(_) => {
+            // Kaya's PI on the model loop; a proportional Gc3 with loop gain 1/2,
+            // stable for any dead time by the small-gain theorem
+            let lambda = lambda_for(&m, d, 1.0);
+            let g = tuning::kaya(&m, lambda)?;
+            let k = plant.gain();
+            [g.kp, g.ti, 0.0, 0.0, 0.5 / k, 0.0, lambda]
+        }
+        _ => {
+            return Err(crate::Error::Unsupported(
+                "the Kaya-Atherton predictor needs a stable or integrating plant",
+            ))
+        }
+    };
+    Ok(params_of(KA_PARAMS, &values))
+}
+
+const KA_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda"];
+
+fn build_kaya_atherton(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let (lti, delay) = model_parts(model, b)?;
+    let c = dtc::kaya_atherton::build(
+        p.req("kp")?,
+        p.req("ti")?,
+        p.req("kf")?,
+        p.req("tf")?,
+        p.req("kb")?,
+        p.req("td")?,
+        b.ts,
+        lti,
+        delay,
+        list(KA_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+}
+
+fn tune_disturbance_estimator(
+    plant: &TransferFunction,
+    d: &Design,
+) -> Result<Params, crate::Error> {
+    let m = integrating_model(
+        plant,
+        "the disturbance estimator needs an integrating plant",
+    )?;
+    let td = d
+        .get("td")
+        .unwrap_or_else(|| lambda_for(&m.into(), d, 0.25));
+    let case = d.get("case").unwrap_or(1.0);
+    let case_n = case_of(case)?;
+    let design = tuning::EstimatorDesign {
+        case: case_n,
+        tde: d.get("tde").unwrap_or(0.55 * m.l),
+        alpha: d
+            .get("alpha")
+            .unwrap_or(if case == 6.0 { 0.95 } else { 0.5 }),
+        w0: d.get("w0").unwrap_or(0.05),
+    };
+    let t = tuning::disturbance_estimator(m.k, m.l, &design)?;
+    Ok(params_of(
+        DE_PARAMS,
+        &[
+            1.0 / (m.k * td),
+            td,
+            case,
+            t.ka,
+            t.ta,
+            t.tc,
+            design.tde,
+            design.alpha,
+            design.w0,
+        ],
+    ))
+}
+
+const DE_PARAMS: &[&str] = &["kr", "td", "case", "ka", "ta", "tc", "tde", "alpha", "w0"];
+
+fn build_disturbance_estimator(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let case = case_of(p.req("case")?)?;
+    let est = dtc::disturbance_estimator::Estimator::from_case(
+        case,
+        p.req("ka")?,
+        p.req("ta")?,
+        p.req("tc")?,
+        p.req("w0")?,
+    )?;
+    let (lti, delay) = model_parts(model, b)?;
+    let c = dtc::disturbance_estimator::build(
+        p.req("kr")?,
+        &est,
+        b.ts,
+        lti,
+        delay,
+        list(DE_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+}
+
+const STABLE: &[PlantKind] = &[PlantKind::Stable];
+const STABLE_INT: &[PlantKind] = &[PlantKind::Stable, PlantKind::Integrating];
+const INT: &[PlantKind] = &[PlantKind::Integrating];
 
 /// Every scheme, in listing order.
 pub static SCHEMES: &[Scheme] = &[
     Scheme {
         name: "pid",
         aliases: &["pi"],
-        summary: "plain PI/PID feedback (SIMC tuning on the half-rule model), the baseline",
-        source: "000_3f0725a46e29ef08.txt ch. 3",
-        plants: &[PlantKind::Stable, PlantKind::Integrating],
-        params: &["kp", "ti", "td", "lambda"],
+        summary: "plain PI/PID feedback, the baseline: IMC-PID (default), SIMC, or an ultimate-cycle rule (--rule)",
+        source: "000_3f0725a46e29ef08.txt Eqs. 3.19-3.27, Tables 3.2-3.3",
+        plants: STABLE_INT,
+        params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_pid,
         build: build_pid,
@@ -301,22 +661,99 @@ pub static SCHEMES: &[Scheme] = &[
         aliases: &["sp"],
         summary: "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants",
         source: "001_8c052250023526e6.txt Eqs. 18-33",
-        plants: &[PlantKind::Stable, PlantKind::Integrating],
-        params: &["kp", "ti", "td", "lambda"],
+        plants: STABLE_INT,
+        params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_smith,
         build: build_smith,
+    },
+    Scheme {
+        name: "filtered-smith",
+        aliases: &["fsp"],
+        summary: "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error",
+        source: "004_feaf9f0851109607.txt",
+        plants: STABLE,
+        params: FILTERED_PARAMS,
+        design: &["lambda", "alpha", "a", "b"],
+        tune: tune_filtered_smith,
+        build: build_filtered_smith,
+    },
+    Scheme {
+        name: "huang",
+        aliases: &[],
+        summary: "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)",
+        source: "004_feaf9f0851109607.txt",
+        plants: STABLE,
+        params: HUANG_PARAMS,
+        design: &["lambda", "alpha", "kb", "tb"],
+        tune: tune_huang,
+        build: build_huang,
+    },
+    Scheme {
+        name: "watanabe-ito",
+        aliases: &["wi"],
+        summary: "Watanabe-Ito predictor for integrating plants: the predictor's static gain removed",
+        source: "000_3f0725a46e29ef08.txt Sec. 4.4.1",
+        plants: INT,
+        params: WI_PARAMS,
+        design: &["lambda", "alpha"],
+        tune: tune_watanabe_ito,
+        build: build_watanabe_ito,
+    },
+    Scheme {
+        name: "astrom-hang-lim",
+        aliases: &["ahl"],
+        summary: "Astrom-Hang-Lim predictor for integrating plants: set-point and load responses decoupled",
+        source: "000_3f0725a46e29ef08.txt Sec. 4.4.2, Eqs. 4.13-4.17",
+        plants: INT,
+        params: AHL_PARAMS,
+        design: &["lambda", "alpha", "a"],
+        tune: tune_astrom_hang_lim,
+        build: build_astrom_hang_lim,
+    },
+    Scheme {
+        name: "matausek-micic",
+        aliases: &["mm"],
+        summary: "Matausek-Micic predictor for integrating plants: P set point, P load feedback",
+        source: "000_3f0725a46e29ef08.txt Sec. 4.4.3, refs [8], [52]",
+        plants: INT,
+        params: MM_PARAMS,
+        design: &["lambda", "alpha", "tr"],
+        tune: tune_matausek_micic,
+        build: build_matausek_micic,
+    },
+    Scheme {
+        name: "kaya-atherton",
+        aliases: &["ka", "pi-pd"],
+        summary: "Kaya-Atherton PI-PD Smith predictor: Gc1 PI, Gc2 P/PD, Gc3 = kb(Td s+1)/(0.1 Td s+1)",
+        source: "000_3f0725a46e29ef08.txt Sec. 4.4.3, Eq. 4.18",
+        plants: STABLE_INT,
+        params: KA_PARAMS,
+        design: &["lambda", "alpha"],
+        tune: tune_kaya_atherton,
+        build: build_kaya_atherton,
     },
     Scheme {
         name: "karan-dey",
         aliases: &["msp"],
         summary: "Karan-Dey three-controller modified Smith predictor for integrating plants (lambda = L/4)",
         source: "000_3f0725a46e29ef08.txt Sec. 4.5",
-        plants: &[PlantKind::Integrating],
-        params: &["kp", "ti", "beta", "gamma", "td", "n", "lambda"],
+        plants: INT,
+        params: KD_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_karan_dey,
         build: build_karan_dey,
+    },
+    Scheme {
+        name: "disturbance-estimator",
+        aliases: &["de"],
+        summary: "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)",
+        source: "003_8b318e9694d9150f.txt",
+        plants: INT,
+        params: DE_PARAMS,
+        design: &["lambda", "td", "case", "tde", "alpha", "w0"],
+        tune: tune_disturbance_estimator,
+        build: build_disturbance_estimator,
     },
 ];
 
@@ -361,6 +798,17 @@ impl Scheme {
         lambda: Option<f64>,
         overrides: &[(String, f64)],
     ) -> Result<Params, RegistryError> {
+        self.tune_rule(model, lambda, None, overrides)
+    }
+
+    /// [`Scheme::tune_with`] with a named rule (`--rule`).
+    pub fn tune_rule(
+        &'static self,
+        model: &TransferFunction,
+        lambda: Option<f64>,
+        rule: Option<&str>,
+        overrides: &[(String, f64)],
+    ) -> Result<Params, RegistryError> {
         let kind = model.kind();
         if !self.plants.contains(&kind) {
             return Err(RegistryError::PlantKind {
@@ -373,17 +821,15 @@ impl Scheme {
                     .collect(),
             });
         }
-        let mut design = Design {
+        let design = Design {
             lambda,
-            alpha: None,
+            rule: rule.map(ToString::to_string),
+            values: overrides
+                .iter()
+                .filter(|(k, _)| self.design.contains(&k.as_str()))
+                .cloned()
+                .collect(),
         };
-        for (k, v) in overrides {
-            match k.as_str() {
-                "lambda" => design.lambda = Some(*v),
-                "alpha" => design.alpha = Some(*v),
-                _ => {}
-            }
-        }
         let mut params = (self.tune)(model, &design)?;
         for (k, v) in overrides {
             if self.design.contains(&k.as_str()) {

@@ -641,6 +641,8 @@ pub struct Scenario {
     pub controller: Option<String>,
     /// Closed-loop time constant for tuning (s).
     pub lambda: Option<f64>,
+    /// A named tuning rule (for `pid`: `imc`, `simc`, or a rule of Tables 3.2/3.3).
+    pub rule: Option<String>,
     /// Parameter overrides, by the names in the report (`kp = 0.05`).
     pub set: std::collections::BTreeMap<String, f64>,
     /// Sample period (s); chosen from the plant when absent.
@@ -814,7 +816,7 @@ impl Scenario {
             return Err(RunError::Invalid(Error::OutOfRange("duration")));
         }
         let overrides: Vec<(String, f64)> = self.set.iter().map(|(k, v)| (k.clone(), *v)).collect();
-        let params = scheme.tune_with(&model, self.lambda, &overrides)?;
+        let params = scheme.tune_rule(&model, self.lambda, self.rule.as_deref(), &overrides)?;
         let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
         let u_max = self.umax.unwrap_or(f64::INFINITY);
         if u_min.is_nan() {
@@ -876,6 +878,94 @@ impl Scenario {
             setpoint,
         })
     }
+}
+
+/// Relative perturbations of the plant for `msp compare` (each controller keeps
+/// the nominal model): `0.1` is +10 %.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
+pub struct Perturbation {
+    /// Gain change.
+    pub gain: f64,
+    /// Dead-time change.
+    pub delay: f64,
+    /// Time-constant change.
+    pub tau: f64,
+}
+
+impl core::str::FromStr for Perturbation {
+    type Err = String;
+    /// `gain=+10%,delay=-5%,tau=0.1`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let mut p = Perturbation::default();
+        for part in s.split(',').map(str::trim).filter(|x| !x.is_empty()) {
+            let (k, v) = part
+                .split_once('=')
+                .ok_or_else(|| std::format!("expected KEY=VALUE in '{part}'"))?;
+            let v = v.trim();
+            let value = match v.strip_suffix('%') {
+                Some(pct) => parse_number(pct, k)? / 100.0,
+                None => parse_number(v, k)?,
+            };
+            if value <= -1.0 {
+                return Err(std::format!(
+                    "{k}: a change of {v} leaves nothing of the plant"
+                ));
+            }
+            match k.trim() {
+                "gain" | "k" => p.gain = value,
+                "delay" | "l" | "theta" => p.delay = value,
+                "tau" | "t" => p.tau = value,
+                other => {
+                    return Err(std::format!(
+                        "unknown perturbation '{other}': use gain, delay or tau"
+                    ))
+                }
+            }
+        }
+        Ok(p)
+    }
+}
+
+/// Runs `base` once per controller on the same (optionally perturbed) plant,
+/// each controller tuned on and holding the nominal model, at one common sample period.
+pub fn compare(
+    base: &Scenario,
+    controllers: &[String],
+    perturb: Perturbation,
+) -> Result<Vec<RunOutput>, RunError> {
+    let nominal = crate::parse::parse_plant(&base.plant).map_err(|error| RunError::Parse {
+        field: "plant",
+        error,
+    })?;
+    let model = match &base.model {
+        Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
+            field: "model",
+            error,
+        })?,
+        None => nominal.clone(),
+    };
+    let plant = nominal.perturbed(perturb.gain, perturb.delay, perturb.tau)?;
+    let mut sc = base.clone();
+    sc.ts = Some(match base.ts {
+        Some(ts) => ts,
+        None => choose_ts(&model),
+    });
+    if sc.duration.is_none() {
+        sc.duration = Some(choose_duration(&plant, sc.ts.unwrap_or(1.0)));
+    }
+    if controllers.is_empty() {
+        return Err(RunError::Invalid(Error::OutOfRange("controllers")));
+    }
+    controllers
+        .iter()
+        .map(|c| {
+            let mut one = sc.clone();
+            one.controller = Some(c.clone());
+            one.run_with(plant.clone(), model.clone())
+        })
+        .collect()
 }
 
 /// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`.

@@ -27,9 +27,9 @@
 //! drives `ym → r − ε`, so `y → r` (zero steady-state error) and `u → −d`.
 
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::Controller;
+use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList};
 use crate::real::{finite, non_negative, positive};
-use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
+use crate::{Discretization, Error, Lti, Pid, PidConfig, ProcessModel, Real};
 
 /// Tuned parameters of the Karan–Dey MSP (names as in reports and `--set`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,165 +62,49 @@ impl<T: Real> KaranDeyParams<T> {
     }
 }
 
-/// The Karan–Dey MSP with a model of order `≤ N` and delay storage `S`.
-#[derive(Debug, Clone)]
-pub struct KaranDey<T, const N: usize, S> {
-    params: KaranDeyParams<T>,
-    gc1: Pid<T>,
-    gc2: T,
-    gc3: Pid<T>,
+/// The Karan–Dey MSP: the general [`Compensator`] configured with `Gc1` (PI),
+/// `Gc2 = β·Kp` on the model output and `Gc3` on the model error.
+pub type KaranDey<T, const N: usize, S> = Compensator<T, N, S>;
+
+/// Parameter names, as in reports and `--set`.
+pub const PARAMS: &[&str] = &["kp", "ti", "beta", "gamma", "td", "n"];
+
+/// Builds the MSP around the delay-free model `Gm` (strictly proper) and its
+/// dead time, sampled every `ts`. `Gc3 = γKp(1 + Td s/(1 + (Td/N)s))` is the
+/// lead-lag `γKp(1 + (Td + Td/N)s)/(1 + (Td/N)s)`, ZOH-discretized.
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    p: &KaranDeyParams<T>,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    u_min: T,
-    u_max: T,
-    ym: T,
-    eps: T,
-    u1: T,
-    u3: T,
-    u: T,
-    fault: bool,
+    ts: T,
+) -> Result<KaranDey<T, N, S>, Error> {
+    p.validate()?;
+    let gc1 = Pid::new(PidConfig::isa(p.kp, p.ti, T::zero(), ts))?;
+    let gc2 = Pid::new(PidConfig::parallel(p.beta * p.kp, T::zero(), T::zero(), ts))?;
+    let gk = p.gamma * p.kp;
+    let tf = p.td / p.n;
+    let gc3 = if p.td > T::zero() {
+        Lti::from_tf(
+            &[gk * (p.td + tf), gk],
+            &[tf, T::one()],
+            ts,
+            Discretization::Zoh,
+        )?
+    } else {
+        Lti::gain(gk)?
+    };
+    let list = ParamList::new(PARAMS, &[p.kp, p.ti, p.beta, p.gamma, p.td, p.n]);
+    Ok(Compensator::new(gc1, model, delay, list)?
+        .with_inner(gc2)
+        .with_disturbance(DisturbancePath::Block(gc3)))
 }
 
-impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> KaranDey<T, N, S> {
-    /// An MSP from its parts: the delay-free model `Gm` (strictly proper), its
-    /// dead time, and the sample period. Output limits default to none.
-    pub fn new(
-        params: KaranDeyParams<T>,
-        model: Lti<T, N>,
-        delay: Delay<T, S>,
-        ts: T,
-    ) -> Result<Self, Error> {
-        params.validate()?;
-        if model.output(T::one()) != model.free_output() {
-            return Err(Error::Improper("model"));
-        }
-        let gc1 = Pid::new(PidConfig::isa(params.kp, params.ti, T::zero(), ts))?;
-        let gk = params.gamma * params.kp;
-        let gc3 = Pid::new(
-            PidConfig::parallel(gk, T::zero(), gk * params.td, ts)
-                .with_filter_time(params.td / params.n),
-        )?;
-        Ok(KaranDey {
-            params,
-            gc1,
-            gc2: params.beta * params.kp,
-            gc3,
-            model,
-            delay,
-            u_min: T::neg_infinity(),
-            u_max: T::infinity(),
-            ym: T::zero(),
-            eps: T::zero(),
-            u1: T::zero(),
-            u3: T::zero(),
-            u: T::zero(),
-            fault: false,
-        })
-    }
-
-    /// Actuator limits applied to `u`.
-    pub fn with_limits(mut self, u_min: T, u_max: T) -> Result<Self, Error> {
-        if u_min.is_nan() {
-            return Err(Error::NonFinite("u_min"));
-        }
-        if u_max.is_nan() {
-            return Err(Error::NonFinite("u_max"));
-        }
-        if u_min > u_max {
-            return Err(Error::InvalidLimits("u_min"));
-        }
-        self.u_min = u_min;
-        self.u_max = u_max;
-        Ok(self)
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &KaranDeyParams<T> {
-        &self.params
-    }
-}
-
-impl<T: Real, const N: usize, S: DelayStorage<T>> KaranDey<T, N, S> {
-    /// An MSP whose model is `model` ZOH-discretized at `ts`.
-    pub fn from_model(
-        params: KaranDeyParams<T>,
-        model: &ProcessModel<T>,
-        ts: T,
-    ) -> Result<Self, Error> {
-        let (block, d) = model.discretize::<N>(finite(ts, "ts")?)?;
-        Self::new(params, block, Delay::new_in(d)?, ts)
-    }
-}
-
-impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for KaranDey<T, N, S> {
-    #[inline]
-    fn update(&mut self, r: T, y: T) -> T {
-        if !(r.is_finite() && y.is_finite()) {
-            self.fault = true;
-            self.ym = self.model.step(self.u1);
-            self.delay.process(self.ym);
-            return self.u;
-        }
-        self.fault = false;
-        let ym = self.model.free_output();
-        let eps = y - self.delay.process(ym);
-        let u1 = self.gc1.update(r, ym + eps) - self.gc2 * ym;
-        let u3 = self.gc3.update(eps, T::zero());
-        let u = (u1 - u3).max(self.u_min).min(self.u_max);
-        self.model.step(u1);
-        self.ym = ym;
-        self.eps = eps;
-        self.u1 = u1;
-        self.u3 = u3;
-        self.u = u;
-        u
-    }
-
-    fn reset(&mut self) {
-        self.gc1.reset();
-        self.gc3.reset();
-        self.model.reset();
-        self.delay.reset();
-        self.ym = T::zero();
-        self.eps = T::zero();
-        self.u1 = T::zero();
-        self.u3 = T::zero();
-        self.u = T::zero();
-        self.fault = false;
-    }
-
-    fn signal_names(&self) -> &'static [&'static str] {
-        &["ym", "epsilon", "u1", "u3"]
-    }
-
-    fn signal(&self, i: usize) -> T {
-        match i {
-            0 => self.ym,
-            1 => self.eps,
-            2 => self.u1,
-            3 => self.u3,
-            _ => T::nan(),
-        }
-    }
-
-    fn param_names(&self) -> &'static [&'static str] {
-        &["kp", "ti", "beta", "gamma", "td", "n"]
-    }
-
-    fn param(&self, i: usize) -> T {
-        let p = &self.params;
-        match i {
-            0 => p.kp,
-            1 => p.ti,
-            2 => p.beta,
-            3 => p.gamma,
-            4 => p.td,
-            5 => p.n,
-            _ => T::nan(),
-        }
-    }
-
-    fn fault(&self) -> bool {
-        self.fault
-    }
+/// [`build`] with the model ZOH-discretized from a process model.
+pub fn from_model<T: Real, const N: usize, S: DelayStorage<T>>(
+    p: &KaranDeyParams<T>,
+    model: &ProcessModel<T>,
+    ts: T,
+) -> Result<KaranDey<T, N, S>, Error> {
+    let (block, d) = model.discretize::<N>(finite(ts, "ts")?)?;
+    build(p, block, Delay::new_in(d)?, ts)
 }

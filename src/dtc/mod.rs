@@ -4,9 +4,18 @@
 //! [`crate::Pid`], [`crate::Lti`] (the delay-free model) and [`crate::Delay`]
 //! (the model's dead time).
 
-mod karan_dey;
+pub mod astrom_hang_lim;
+pub mod compensator;
+pub mod disturbance_estimator;
+pub mod filtered_smith;
+pub mod huang;
+pub mod karan_dey;
+pub mod kaya_atherton;
+pub mod matausek_micic;
 mod smith;
+pub mod watanabe_ito;
 
+pub use compensator::Compensator;
 pub use karan_dey::{KaranDey, KaranDeyParams};
 pub use smith::SmithPredictor;
 

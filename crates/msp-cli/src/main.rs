@@ -7,9 +7,8 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use msp::parse::parse_plant;
-use msp::poly::fmt_num;
 use msp::registry;
-use msp::sim::{describe_ts, Disturbance, RunError, Scenario, SetpointStep};
+use msp::sim::{Disturbance, Perturbation, RunError, Scenario, SetpointStep};
 
 /// Dead-time compensation: Smith predictors and their modifications.
 #[derive(Debug, Parser)]
@@ -23,14 +22,17 @@ pub struct Cli {
 enum Cmd {
     /// Tune a controller for a plant, simulate the closed loop, write CSV, report and plot.
     Run(Box<RunArgs>),
+    /// Run several controllers on the same scenario and print the thesis-style table.
+    Compare(Box<CompareArgs>),
     /// Print the tuned parameters of a controller for a plant.
     Tune(TuneArgs),
-    /// List the controllers.
+    /// List the controllers and the tuning rules.
     List,
 }
 
+/// Everything that describes a closed-loop scenario (shared by run and compare).
 #[derive(Debug, Args)]
-struct RunArgs {
+struct ScenarioArgs {
     /// Plant transfer function, e.g. "0.2/s*e^-7.4s".
     #[arg(long, short = 'p')]
     plant: Option<String>,
@@ -40,13 +42,13 @@ struct RunArgs {
     /// Model used by the controller (default: the plant itself).
     #[arg(long, short = 'm')]
     model: Option<String>,
-    /// Controller name (see `msp list`); default by plant kind.
-    #[arg(long, short = 'c')]
-    controller: Option<String>,
     /// Closed-loop time constant for tuning (s).
     #[arg(long)]
     lambda: Option<f64>,
-    /// Override a tuned parameter by its report name, e.g. --set kp=0.05.
+    /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
+    #[arg(long)]
+    rule: Option<String>,
+    /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05.
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
     set: Vec<(String, f64)>,
     /// Sample period (s); chosen from the plant when absent.
@@ -76,6 +78,15 @@ struct RunArgs {
     /// Plant outputs per controller period in the CSV (smooth intersample plots).
     #[arg(long)]
     substeps: Option<usize>,
+}
+
+#[derive(Debug, Args)]
+struct RunArgs {
+    #[command(flatten)]
+    scenario: ScenarioArgs,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
     /// CSV output file (default: standard output).
     #[arg(long, short = 'o')]
     output: Option<PathBuf>,
@@ -91,6 +102,27 @@ struct RunArgs {
 }
 
 #[derive(Debug, Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    scenario: ScenarioArgs,
+    /// Controllers to compare, comma separated (e.g. karan-dey,smith).
+    #[arg(long, short = 'c', value_delimiter = ',', required = true)]
+    controllers: Vec<String>,
+    /// Perturbation of the plant, e.g. gain=+10%,delay=+10%,tau=-5%; the controllers keep the nominal model.
+    #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
+    perturb: Option<Perturbation>,
+    /// CSV with a column group per controller.
+    #[arg(long, short = 'o')]
+    output: Option<PathBuf>,
+    /// JSON report: one entry per controller.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// SVG plot of every controller's y and u.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
 struct TuneArgs {
     /// Plant (or model) transfer function.
     #[arg(long, short = 'p')]
@@ -101,6 +133,9 @@ struct TuneArgs {
     /// Closed-loop time constant (s).
     #[arg(long)]
     lambda: Option<f64>,
+    /// Tuning rule for `pid` (see `msp list`).
+    #[arg(long)]
+    rule: Option<String>,
     /// Override a parameter or design value, e.g. --set alpha=0.5.
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
     set: Vec<(String, f64)>,
@@ -109,15 +144,11 @@ struct TuneArgs {
     json: bool,
 }
 
-fn parse_f64(s: &str, what: &str) -> Result<f64, String> {
-    msp::sim::parse_number(s, what)
-}
-
 fn parse_kv(s: &str) -> Result<(String, f64), String> {
     let (k, v) = s
         .split_once('=')
         .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
-    Ok((k.trim().to_string(), parse_f64(v, k.trim())?))
+    Ok((k.trim().to_string(), msp::sim::parse_number(v, k.trim())?))
 }
 
 /// A failure, with the exit status it maps to.
@@ -151,7 +182,7 @@ fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
     }
 }
 
-fn scenario_from(a: &RunArgs) -> Result<Scenario, CliError> {
+fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     let mut sc = match &a.scenario {
         Some(p) => load_scenario(p)?,
         None => Scenario::default(),
@@ -165,10 +196,9 @@ fn scenario_from(a: &RunArgs) -> Result<Scenario, CliError> {
         ));
     }
     macro_rules! over {
-        ($($f:ident => $g:ident),*) => {$( if a.$f.is_some() { sc.$g = a.$f.clone(); } )*};
+        ($($f:ident),*) => {$( if a.$f.is_some() { sc.$f = a.$f.clone(); } )*};
     }
-    over!(model => model, controller => controller, lambda => lambda, ts => ts, duration => duration,
-          noise => noise, seed => seed, umin => umin, umax => umax, substeps => substeps);
+    over!(model, lambda, rule, ts, duration, noise, seed, umin, umax, substeps);
     for (k, v) in &a.set {
         sc.set.insert(k.clone(), *v);
     }
@@ -179,41 +209,67 @@ fn scenario_from(a: &RunArgs) -> Result<Scenario, CliError> {
     Ok(sc)
 }
 
-fn run(a: &RunArgs) -> Result<(), CliError> {
-    let sc = scenario_from(a)?;
-    let out = sc.run()?;
-    let mut warnings = Vec::new();
-    if let Some(t) = out.result.diverged_at {
-        warnings.push(format!(
-            "the closed loop is unstable: the output diverged at t = {} s; the data stop there",
-            fmt_num(t)
-        ));
-    }
-    // everything is computed: now write, each file atomically
-    let csv =
-        output::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
-    match &a.output {
-        Some(p) => output::write_atomic(p, &csv)?,
+fn write_or_print(path: Option<&PathBuf>, bytes: &[u8]) -> Result<(), CliError> {
+    match path {
+        Some(p) => output::write_atomic(p, bytes),
         None => {
             use std::io::Write;
             std::io::stdout()
-                .write_all(&csv)
-                .map_err(|e| CliError::Runtime(format!("writing CSV to standard output: {e}")))?;
+                .write_all(bytes)
+                .map_err(|e| CliError::Runtime(format!("writing to standard output: {e}")))
         }
     }
+}
+
+fn run(a: &RunArgs) -> Result<(), CliError> {
+    let mut sc = scenario_from(&a.scenario)?;
+    if a.controller.is_some() {
+        sc.controller.clone_from(&a.controller);
+    }
+    let out = sc.run()?;
+    let warnings = output::warnings(&out);
+    // everything is computed: now write, each file atomically
+    let csv =
+        output::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+    write_or_print(a.output.as_ref(), &csv)?;
     if let Some(p) = &a.report {
-        let json = output::report_json(&out, &warnings);
-        let text =
-            serde_json::to_vec_pretty(&json).map_err(|e| CliError::Runtime(e.to_string()))?;
+        let text = serde_json::to_vec_pretty(&output::report_json(&out, &warnings))
+            .map_err(|e| CliError::Runtime(e.to_string()))?;
         output::write_atomic(p, &text)?;
     }
     if let Some(p) = &a.plot {
-        let svg = output::plot_svg(&out).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        let svg = output::plot_svg(&[&out]).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         output::write_atomic(p, svg.as_bytes())?;
     }
     if !a.quiet {
         eprintln!("{}", output::summary(&out, &warnings));
     }
+    Ok(())
+}
+
+fn compare(a: &CompareArgs) -> Result<(), CliError> {
+    let sc = scenario_from(&a.scenario)?;
+    let runs = msp::sim::compare(&sc, &a.controllers, a.perturb.unwrap_or_default())?;
+    let table = output::compare_table(&runs, a.perturb.unwrap_or_default());
+    let refs: Vec<&msp::sim::RunOutput> = runs.iter().collect();
+    if let Some(p) = &a.output {
+        let csv = output::compare_csv(&refs)
+            .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+        output::write_atomic(p, &csv)?;
+    }
+    if let Some(p) = &a.report {
+        let j: Vec<serde_json::Value> = runs
+            .iter()
+            .map(|r| output::report_json(r, &output::warnings(r)))
+            .collect();
+        let text = serde_json::to_vec_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?;
+        output::write_atomic(p, &text)?;
+    }
+    if let Some(p) = &a.plot {
+        let svg = output::plot_svg(&refs).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        output::write_atomic(p, svg.as_bytes())?;
+    }
+    print!("{table}");
     Ok(())
 }
 
@@ -225,7 +281,7 @@ fn tune(a: &TuneArgs) -> Result<(), CliError> {
         None => registry::default_for(plant.kind()).map_err(|e| CliError::Input(e.to_string()))?,
     };
     let params = scheme
-        .tune_with(&plant, a.lambda, &a.set)
+        .tune_rule(&plant, a.lambda, a.rule.as_deref(), &a.set)
         .map_err(|e| CliError::Input(e.to_string()))?;
     if a.json {
         let p: serde_json::Map<String, serde_json::Value> = params
@@ -244,24 +300,31 @@ fn tune(a: &TuneArgs) -> Result<(), CliError> {
         for (k, v) in &params.0 {
             println!("  {k:<8} = {}", output::fmt_sig(*v));
         }
-        let _ = describe_ts;
     }
     Ok(())
 }
 
 fn list() {
+    println!("controllers:");
     for s in registry::SCHEMES {
         let aliases = if s.aliases.is_empty() {
             String::new()
         } else {
             format!(" (alias {})", s.aliases.join(", "))
         };
-        println!("{:<12}{aliases}  {}", s.name, s.summary);
+        println!("  {:<22}{aliases}  {}", s.name, s.summary);
         println!(
-            "{:<12}  params: {}; source: {}",
+            "  {:<22}  params: {}; source: {}",
             "",
             s.params.join(", "),
             s.source
+        );
+    }
+    println!("tuning rules for `pid` (--rule): imc (IMC-PID, Eqs. 3.25-3.27), simc (Skogestad), and from Ku, Tu:");
+    for r in msp::tuning::PI_RULES.iter().chain(msp::tuning::PID_RULES) {
+        println!(
+            "  {:<20} Kc = {} Ku, Ti = {} Tu, Td = {} Tu  ({})",
+            r.name, r.a, r.b, r.c, r.note
         );
     }
 }
@@ -270,6 +333,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let res = match &cli.cmd {
         Cmd::Run(a) => run(a),
+        Cmd::Compare(a) => compare(a),
         Cmd::Tune(a) => tune(a),
         Cmd::List => {
             list();
@@ -315,5 +379,14 @@ mod tests {
         let d = "input:-0.1@30".parse::<Disturbance>().unwrap();
         assert_eq!(d.value, -0.1);
         assert!("middle:1@2".parse::<Disturbance>().is_err());
+    }
+
+    #[test]
+    fn perturbation_syntax() {
+        let p = "gain=+10%,delay=-5%,tau=0.2"
+            .parse::<Perturbation>()
+            .unwrap();
+        assert!((p.gain - 0.1).abs() < 1e-12 && (p.delay + 0.05).abs() < 1e-12 && p.tau == 0.2);
+        assert!("mass=1".parse::<Perturbation>().is_err());
     }
 }

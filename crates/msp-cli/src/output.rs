@@ -181,70 +181,240 @@ pub fn summary(out: &RunOutput, warnings: &[String]) -> String {
     s
 }
 
-/// An SVG with r and y on top and u below.
-pub fn plot_svg(out: &RunOutput) -> Result<String, Box<dyn std::error::Error>> {
+/// Warnings about a run (an unstable loop).
+pub fn warnings(out: &RunOutput) -> Vec<String> {
+    out.result
+        .diverged_at
+        .map(|t| {
+            format!(
+                "the closed loop with {} is unstable: the output diverged at t = {} s; the data stop there",
+                out.controller,
+                fmt_num(t)
+            )
+        })
+        .into_iter()
+        .collect()
+}
+
+const ROWS: &[(&str, &str)] = &[
+    ("Rise Time (s)", "rise_time"),
+    ("Settling Time (s)", "settling_time"),
+    ("Settling Min", "settling_min"),
+    ("Settling Max", "settling_max"),
+    ("Overshoot (%)", "overshoot"),
+    ("Undershoot (%)", "undershoot"),
+    ("Peak", "peak"),
+    ("Peak Time (s)", "peak_time"),
+    ("ISE", "ise"),
+    ("IAE", "iae"),
+    ("ITSE", "itse"),
+    ("ITAE", "itae"),
+    ("TV", "tv"),
+];
+
+fn metric(m: &Metrics, key: &str) -> f64 {
+    m.fields()
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or(f64::NAN, |(_, v)| *v)
+}
+
+/// The thesis-style table: a row per figure, a column per controller.
+pub fn compare_table(runs: &[RunOutput], p: msp::sim::Perturbation) -> String {
+    let mut s = String::new();
+    if let Some(first) = runs.first() {
+        s.push_str(&format!(
+            "plant {}  model {}  ts {} s",
+            first.plant,
+            first.model,
+            fmt_num(first.ts)
+        ));
+        if p != msp::sim::Perturbation::default() {
+            s.push_str(&format!(
+                "  (perturbed: gain {:+}%, delay {:+}%, tau {:+}%)",
+                fmt_sig(100.0 * p.gain),
+                fmt_sig(100.0 * p.delay),
+                fmt_sig(100.0 * p.tau)
+            ));
+        }
+        s.push('\n');
+    }
+    let w = runs
+        .iter()
+        .map(|r| r.controller.len())
+        .max()
+        .unwrap_or(8)
+        .max(10)
+        + 2;
+    let head = |s: &mut String, title: &str| {
+        s.push_str(&format!("{title:<30}"));
+        for r in runs {
+            s.push_str(&format!("{:>w$}", r.controller));
+        }
+        s.push('\n');
+    };
+    head(&mut s, "e = r - y");
+    for (label, key) in ROWS {
+        s.push_str(&format!("{label:<30}"));
+        for r in runs {
+            s.push_str(&format!("{:>w$}", fmt_sig(metric(&r.metrics, key))));
+        }
+        s.push('\n');
+    }
+    head(&mut s, "e = r(t - θm) - y, t from θm");
+    for (label, key) in ROWS
+        .iter()
+        .filter(|(_, k)| ["ise", "iae", "itse", "itae", "rise_time", "settling_time"].contains(k))
+    {
+        s.push_str(&format!("{label:<30}"));
+        for r in runs {
+            s.push_str(&format!(
+                "{:>w$}",
+                fmt_sig(metric(&r.metrics_delayed_reference, key))
+            ));
+        }
+        s.push('\n');
+    }
+    for r in runs {
+        for w in warnings(r) {
+            s.push_str(&format!("warning: {w}\n"));
+        }
+    }
+    s
+}
+
+/// One CSV for a comparison: `t,r`, then `NAME.y,NAME.u,NAME.SIGNAL…` per controller.
+pub fn compare_csv(runs: &[&RunOutput]) -> Result<Vec<u8>, csv::Error> {
+    let mut w = csv::WriterBuilder::new()
+        .flexible(false)
+        .from_writer(Vec::new());
+    let Some(first) = runs.first() else {
+        return w.into_inner().map_err(|e| csv::Error::from(e.into_error()));
+    };
+    let mut header = vec!["t".to_string(), "r".to_string(), "d".to_string()];
+    for r in runs {
+        header.push(format!("{}.y", r.controller));
+        header.push(format!("{}.u", r.controller));
+        for (n, _) in &r.result.signals {
+            header.push(format!("{}.{n}", r.controller));
+        }
+    }
+    w.write_record(&header)?;
+    let rows = runs.iter().map(|r| r.result.t.len()).max().unwrap_or(0);
+    let get = |v: &Vec<f64>, i: usize| v.get(i).map_or(String::new(), |x| fmt_f(*x));
+    for i in 0..rows {
+        let mut row = vec![
+            get(&first.result.t, i),
+            get(&first.result.r, i),
+            get(&first.result.d, i),
+        ];
+        for r in runs {
+            row.push(get(&r.result.y, i));
+            row.push(get(&r.result.u, i));
+            for (_, v) in &r.result.signals {
+                row.push(get(v, i));
+            }
+        }
+        w.write_record(&row)?;
+    }
+    w.into_inner().map_err(|e| csv::Error::from(e.into_error()))
+}
+
+/// An SVG with r and every run's y on top and u below.
+pub fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
-    let res = &out.result;
-    // at most ~2000 points per series: the picture is the same, the file small
-    let stride = (res.t.len() / 2000).max(1);
-    let pts = |v: &Vec<f64>| -> Vec<(f64, f64)> {
-        res.t
+    let Some(first) = runs.first() else {
+        return Ok(String::new());
+    };
+    let palette = [
+        BLUE,
+        RED,
+        GREEN,
+        MAGENTA,
+        CYAN,
+        RGBColor(255, 140, 0),
+        RGBColor(128, 0, 128),
+        RGBColor(90, 90, 90),
+    ];
+    let color = |i: usize| palette.get(i % palette.len()).copied().unwrap_or(BLUE);
+    let t_end = first.result.t.last().copied().unwrap_or(1.0).max(1e-9);
+    let range = |vs: &[&Vec<f64>]| {
+        let (lo, hi) = vs
             .iter()
+            .flat_map(|v| v.iter())
+            .filter(|x| x.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(*x), b.max(*x))
+            });
+        if !lo.is_finite() {
+            return (-1.0, 1.0);
+        }
+        let pad = ((hi - lo) * 0.08).max(1e-9);
+        (lo - pad, hi + pad)
+    };
+    // at most ~2000 points per series: the picture is the same, the file small
+    let pts = |t: &Vec<f64>, v: &Vec<f64>| -> Vec<(f64, f64)> {
+        let stride = (t.len() / 2000).max(1);
+        t.iter()
             .copied()
             .zip(v.iter().copied())
             .step_by(stride)
-            .chain(res.t.last().copied().zip(v.last().copied()))
+            .chain(t.last().copied().zip(v.last().copied()))
             .collect()
     };
+    let mut ys: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.y).collect();
+    ys.push(&first.result.r);
+    let us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
         root.fill(&WHITE)?;
         let (top, bottom) = root.split_vertically(360);
-        let t_end = res.t.last().copied().unwrap_or(1.0).max(1e-9);
-        let range = |vs: &[&Vec<f64>]| {
-            let (lo, hi) = vs
-                .iter()
-                .flat_map(|v| v.iter())
-                .filter(|x| x.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                    (a.min(*x), b.max(*x))
-                });
-            if !lo.is_finite() {
-                return (-1.0, 1.0);
-            }
-            let pad = ((hi - lo) * 0.08).max(1e-9);
-            (lo - pad, hi + pad)
+        let (ylo, yhi) = range(&ys);
+        let title = if runs.len() == 1 {
+            format!("{} — {}", first.controller, first.plant)
+        } else {
+            format!("{}", first.plant)
         };
-        let (ylo, yhi) = range(&[&res.r, &res.y]);
         let mut c = ChartBuilder::on(&top)
-            .caption(
-                format!("{} — {}", out.controller, out.plant),
-                ("sans-serif", 18),
-            )
+            .caption(title, ("sans-serif", 18))
             .margin(10)
             .x_label_area_size(30)
             .y_label_area_size(50)
             .build_cartesian_2d(0.0..t_end, ylo..yhi)?;
         c.configure_mesh().y_desc("r, y").draw()?;
-        c.draw_series(LineSeries::new(pts(&res.r), &BLACK))?
-            .label("r")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-        c.draw_series(LineSeries::new(pts(&res.y), &BLUE))?
-            .label("y")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+        c.draw_series(LineSeries::new(
+            pts(&first.result.t, &first.result.r),
+            &BLACK,
+        ))?
+        .label("r")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        for (i, r) in runs.iter().enumerate() {
+            let col = color(i);
+            let label = if runs.len() == 1 {
+                "y".to_string()
+            } else {
+                format!("y {}", r.controller)
+            };
+            c.draw_series(LineSeries::new(pts(&r.result.t, &r.result.y), &col))?
+                .label(label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col));
+        }
         c.configure_series_labels()
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()?;
-        let (ulo, uhi) = range(&[&res.u]);
+        let (ulo, uhi) = range(&us);
         let mut c2 = ChartBuilder::on(&bottom)
             .margin(10)
             .x_label_area_size(30)
             .y_label_area_size(50)
             .build_cartesian_2d(0.0..t_end, ulo..uhi)?;
         c2.configure_mesh().x_desc("t (s)").y_desc("u").draw()?;
-        c2.draw_series(LineSeries::new(pts(&res.u), &RED))?;
+        for (i, r) in runs.iter().enumerate() {
+            let col = if runs.len() == 1 { RED } else { color(i) };
+            c2.draw_series(LineSeries::new(pts(&r.result.t, &r.result.u), &col))?;
+        }
         root.present()?;
     }
     Ok(svg)

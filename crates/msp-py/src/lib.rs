@@ -4,7 +4,9 @@ use std::collections::BTreeMap;
 
 use msp::poly::TransferFunction;
 use msp::registry::{self, Build, DynController, Params};
-use msp::sim::{Disturbance, Location, Metrics, RunOutput, Scenario, SetpointStep, Shape};
+use msp::sim::{
+    Disturbance, Location, Metrics, Perturbation, RunOutput, Scenario, SetpointStep, Shape,
+};
 use msp::{AntiWindup, Pid, PidConfig};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -244,10 +246,47 @@ fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDi
     Ok(d)
 }
 
+/// The scenario keywords shared by ``run`` and ``compare``.
+#[allow(clippy::too_many_arguments)]
+fn scenario(
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    setpoint: Option<&Bound<'_, PyAny>>,
+    disturbance: Option<&Bound<'_, PyAny>>,
+    noise: Option<f64>,
+    seed: Option<u64>,
+    umin: Option<f64>,
+    umax: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    substeps: Option<usize>,
+) -> PyResult<Scenario> {
+    Ok(Scenario {
+        plant: String::new(),
+        model: None,
+        controller,
+        lambda: lambda_,
+        rule,
+        set: params.unwrap_or_default(),
+        ts,
+        duration,
+        setpoint: setpoints(setpoint)?,
+        disturbance: disturbances(disturbance)?,
+        noise,
+        seed,
+        umin,
+        umax,
+        substeps,
+    })
+}
+
 /// Simulates the closed loop (see ``msp.run``); returns a dict of arrays and figures.
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, ts=None, duration=None, setpoint=None,
-                    disturbance=None, noise=None, seed=None, umin=None, umax=None, lambda_=None, substeps=None))]
+                    disturbance=None, noise=None, seed=None, umin=None, umax=None, lambda_=None, rule=None,
+                    substeps=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -264,6 +303,7 @@ fn run<'py>(
     umin: Option<f64>,
     umax: Option<f64>,
     lambda_: Option<f64>,
+    rule: Option<String>,
     substeps: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let plant_tf = plant_of(plant)?;
@@ -271,37 +311,113 @@ fn run<'py>(
         Some(m) => plant_of(m)?,
         None => plant_tf.clone(),
     };
-    let sc = Scenario {
-        plant: plant_tf.to_string(),
-        model: None,
+    let sc = scenario(
         controller,
-        lambda: lambda_,
-        set: params.unwrap_or_default(),
+        params,
         ts,
         duration,
-        setpoint: setpoints(setpoint)?,
-        disturbance: disturbances(disturbance)?,
+        setpoint,
+        disturbance,
         noise,
         seed,
         umin,
         umax,
+        lambda_,
+        rule,
         substeps,
-    };
+    )?;
     let out = py
         .allow_threads(|| sc.run_with(plant_tf, model_tf))
         .map_err(value_err)?;
     output_dict(py, out)
 }
 
+/// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.
+#[pyfunction]
+#[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, ts=None, duration=None,
+                    setpoint=None, disturbance=None, noise=None, seed=None, umin=None, umax=None, lambda_=None,
+                    rule=None, substeps=None))]
+#[allow(clippy::too_many_arguments)]
+fn compare<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controllers: Vec<String>,
+    perturb: Option<&Bound<'py, PyAny>>,
+    params: Option<BTreeMap<String, f64>>,
+    model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    setpoint: Option<&Bound<'py, PyAny>>,
+    disturbance: Option<&Bound<'py, PyAny>>,
+    noise: Option<f64>,
+    seed: Option<u64>,
+    umin: Option<f64>,
+    umax: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    substeps: Option<usize>,
+) -> PyResult<Bound<'py, PyList>> {
+    let mut sc = scenario(
+        None,
+        params,
+        ts,
+        duration,
+        setpoint,
+        disturbance,
+        noise,
+        seed,
+        umin,
+        umax,
+        lambda_,
+        rule,
+        substeps,
+    )?;
+    sc.plant = plant_of(plant)?.to_string();
+    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    let p = match perturb {
+        None => Perturbation::default(),
+        Some(obj) => {
+            if let Ok(s) = obj.extract::<String>() {
+                s.parse().map_err(value_err)?
+            } else {
+                let d: BTreeMap<String, f64> = obj.extract()?;
+                let mut p = Perturbation::default();
+                for (k, v) in d {
+                    match k.as_str() {
+                        "gain" => p.gain = v,
+                        "delay" => p.delay = v,
+                        "tau" => p.tau = v,
+                        o => {
+                            return Err(PyValueError::new_err(format!(
+                                "unknown perturbation '{o}': use gain, delay or tau"
+                            )))
+                        }
+                    }
+                }
+                p
+            }
+        }
+    };
+    let runs = py
+        .allow_threads(|| msp::sim::compare(&sc, &controllers, p))
+        .map_err(value_err)?;
+    let out = PyList::empty(py);
+    for r in runs {
+        out.append(output_dict(py, r)?)?;
+    }
+    Ok(out)
+}
+
 /// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, lambda_=None))]
+#[pyo3(signature = (plant, controller=None, params=None, *, lambda_=None, rule=None))]
 fn tune<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
     controller: Option<String>,
     params: Option<BTreeMap<String, f64>>,
     lambda_: Option<f64>,
+    rule: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let tf = plant_of(plant)?;
     let scheme = match controller {
@@ -310,7 +426,7 @@ fn tune<'py>(
     };
     let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
     let p = scheme
-        .tune_with(&tf, lambda_, &overrides)
+        .tune_rule(&tf, lambda_, rule.as_deref(), &overrides)
         .map_err(value_err)?;
     let d = PyDict::new(py);
     d.set_item("name", scheme.name)?;
@@ -368,7 +484,8 @@ pub struct Controller {
 impl Controller {
     /// Tunes scheme ``name`` for ``plant`` (model), builds it at period ``ts``.
     #[new]
-    #[pyo3(signature = (name, plant, ts, params=None, *, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None))]
+    #[pyo3(signature = (name, plant, ts, params=None, *, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         name: &str,
         plant: &Bound<'_, PyAny>,
@@ -377,12 +494,13 @@ impl Controller {
         umin: f64,
         umax: f64,
         lambda_: Option<f64>,
+        rule: Option<String>,
     ) -> PyResult<Self> {
         let tf = plant_of(plant)?;
         let scheme = registry::find(name).map_err(value_err)?;
         let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
         let p = scheme
-            .tune_with(&tf, lambda_, &overrides)
+            .tune_rule(&tf, lambda_, rule.as_deref(), &overrides)
             .map_err(value_err)?;
         let inner = scheme
             .build_with(
@@ -592,6 +710,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(parse_plant, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(tune, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(controllers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

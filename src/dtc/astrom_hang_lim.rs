@@ -1,0 +1,40 @@
+//! Åström, Hang and Lim's Smith predictor for an integrator plus dead time
+//! (`000_3f0725a46e29ef08.txt` Sec. 4.4.2, Eqs. 4.13–4.17; IEEE TAC 39(2), 1994).
+//!
+//! The set point acts through a gain on the delay-free model only,
+//! `u1 = kp·(r − ym)` with `kp = k/Kv`, so `y/r = k/(s + k)·e^{−Ls}` (Eq. 4.14);
+//! the model error reaches the plant input only through the disturbance
+//! compensator `M(s)` ([`AhlFilter`]), so `y/d = G e^{−Ls}/(1 + M G e^{−Ls})`
+//! (Eq. 4.15): the two responses are decoupled, and `M` does not change the
+//! set-point response (tested).
+
+use crate::delay::Delay;
+use crate::dtc::compensator::{AhlFilter, Compensator, DisturbancePath, ErrorPath, ParamList};
+use crate::{Error, Lti, Pid, PidConfig, Real};
+
+pub use crate::dtc::compensator::AhlFilter as DisturbanceCompensator;
+
+/// Parameter names: set-point pole `k` (1/s) and `M(s)`'s `k1`, `k2`, `k3`.
+pub const PARAMS: &[&str] = &["k", "k1", "k2", "k3"];
+
+/// The compensator for the model `kv·e^{−Ls}/s`; `line` holds `L` again for `M(s)`.
+#[allow(clippy::too_many_arguments)]
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    k: T,
+    k1: T,
+    k2: T,
+    k3: T,
+    kv: T,
+    ts: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    line: Delay<T, S>,
+    params: ParamList<T>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let k = crate::real::positive(k, "k")?;
+    let gc1 = Pid::new(PidConfig::parallel(k / kv, T::zero(), T::zero(), ts))?;
+    let m = AhlFilter::new(k1, k2, k3, kv, ts, line)?;
+    Ok(Compensator::new(gc1, model, delay, params)?
+        .with_error_path(ErrorPath::Blocked)?
+        .with_disturbance(DisturbancePath::AstromHangLim(m)))
+}

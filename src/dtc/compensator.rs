@@ -1,0 +1,397 @@
+//! The general modified Smith predictor that the multi-loop schemes configure.
+//!
+//! All the modified Smith predictors of the sources share one skeleton — a
+//! delay-free model `Gm` with its dead time, a primary controller `Gc1`
+//! acting on a predicted output, and extra paths around it. With
+//! `ym = Gm·u1` (delay-free model output), `ε = y − e^{−θm s}·ym` (model error):
+//!
+//! ```text
+//! u1 = Gc1·(r − ym − F·ε + Mc·u1) − Gc2·ym      primary and inner (stabilizing) controller
+//! u  = sat(u1 − Gd·ε)                          disturbance controller at the plant input
+//! ```
+//!
+//! - `F` — how the model error enters the primary loop: `1` (classic Smith
+//!   predictor, Karan–Dey, Draganović), `0` (Åström–Hang–Lim: set point and
+//!   load responses decoupled), a filter (the filtered Smith predictor of
+//!   `004_feaf9f0851109607.txt`) or Huang's `(1+B)/(1+B e^{−θs})`;
+//! - `Gc2` — P or PD feedback of the model output (Karan–Dey `β·Kp`,
+//!   Kaya–Atherton's PD);
+//! - `Gd` — disturbance controller on the model error (Karan–Dey's `Gc3`,
+//!   Draganović's disturbance estimator `A(s)/C(s)`, Matausek–Micic's `K0`,
+//!   Åström–Hang–Lim's `M(s)`);
+//! - `Mc` — Watanabe–Ito's correction of the predictor, `m(s)`.
+//!
+//! With a perfect model and no load, `ε = 0` and the set-point response is
+//! that of the delay-free loop `Gc1·Gm/(1 + Gm(Gc1 + Gc2))`, delayed
+//! (`000_3f0725a46e29ef08.txt` Eq. 4.20); the load response is shaped by `Gd`
+//! and `F` alone. Each scheme's module documents its configuration and tuning.
+
+use crate::delay::Delay;
+use crate::dtc::Controller;
+use crate::metrics::Sum;
+use crate::real::finite;
+use crate::{Error, Lti, Pid, Real};
+
+/// Order capacity of the auxiliary blocks (filters and disturbance controllers).
+pub const AUX: usize = 4;
+
+/// How the model error enters the primary controller's feedback.
+#[derive(Debug, Clone)]
+pub enum ErrorPath<T, S> {
+    /// `F = 1`: the classic Smith predictor.
+    Direct,
+    /// `F = 0`: the primary sees only the delay-free model.
+    Blocked,
+    /// `F` any proper filter (first order, lead-lag, …).
+    Filter(Lti<T, AUX>),
+    /// Huang's approximate inverse of dead time `F = (1 + B)/(1 + B e^{−θs})`
+    /// realized as `f = x + B·(x − e^{−θs} f)`; `B` strictly proper.
+    Huang {
+        /// The low-pass `B(s)`.
+        b: Lti<T, AUX>,
+        /// `e^{−θs}` applied to `f`.
+        line: Delay<T, S>,
+    },
+}
+
+/// The disturbance controller on the model error, subtracted at the plant input.
+#[derive(Debug, Clone)]
+pub enum DisturbancePath<T, S> {
+    /// None.
+    Off,
+    /// A rational controller (P, PD, lead-lag, PI, resonant …).
+    Block(Lti<T, AUX>),
+    /// Åström–Hang–Lim's `M(s)`, which contains the dead time.
+    AstromHangLim(AhlFilter<T, S>),
+}
+
+/// Åström, Hang & Lim's disturbance compensator (`000_3f0725a46e29ef08.txt`
+/// Eqs. 4.16–4.17, for the model `Kv e^{−Ls}/s`):
+///
+/// `M(s) = (1/Kv)·(k4 + k3/s) / (1 + k1 + k2/s + k3/s² − (k4/s + k3/s²)·e^{−Ls})`,
+/// `k4 = k2 + k3·L`.
+///
+/// With this `M` the load loop `1 + M·(Kv/s)·e^{−Ls}` has the delay-free
+/// characteristic polynomial `(1 + k1)s² + k2 s + k3`. The two poles of the
+/// denominator at `s = 0` cancel by the choice of `k4`; the filter is realized
+/// without them as
+///
+/// `m = (Kv⁻¹·k4·ε + I)/(1 + k1)`, `İ = Kv⁻¹·k3·ε − k2·m + k4·m(t − L) − k3·W`,
+/// `W = ∫_{t−L}^{t} m`,
+///
+/// one integrator (the integral action that removes load offsets) and a
+/// moving window of `m` — no unstable or marginal mode. `k4` is derived from
+/// the window length actually used (`L` rounded to whole samples), so the
+/// cancellation at DC is exact in discrete time too.
+#[derive(Debug, Clone)]
+pub struct AhlFilter<T, S> {
+    k1: T,
+    k2: T,
+    k3: T,
+    k4: T,
+    inv_kv: T,
+    h: T,
+    integral: T,
+    window: Sum<T>,
+    line: Delay<T, S>,
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
+    /// `M(s)` for velocity gain `kv`, sample period `ts` and a line of whole
+    /// samples `line` holding the dead time.
+    pub fn new(k1: T, k2: T, k3: T, kv: T, ts: T, line: Delay<T, S>) -> Result<Self, Error> {
+        let (k1, k2, k3) = (finite(k1, "k1")?, finite(k2, "k2")?, finite(k3, "k3")?);
+        if kv == T::zero() || !kv.is_finite() {
+            return Err(Error::OutOfRange("k"));
+        }
+        if !(T::one() + k1 > T::zero()) {
+            return Err(Error::OutOfRange("k1"));
+        }
+        let h = crate::real::positive(ts, "ts")?;
+        let window_len = line.delay().floor() * h;
+        Ok(AhlFilter {
+            k1,
+            k2,
+            k3,
+            k4: k2 + k3 * window_len,
+            inv_kv: T::one() / kv,
+            h,
+            integral: T::zero(),
+            window: Sum::default(),
+            line,
+        })
+    }
+
+    #[inline]
+    fn step(&mut self, eps: T) -> T {
+        let m = (self.k4 * self.inv_kv * eps + self.integral) / (T::one() + self.k1);
+        let m_old = self.line.process(m);
+        self.window.add(self.h * (m - m_old));
+        let w = self.window.value();
+        self.integral = self.integral
+            + self.h * (self.k3 * self.inv_kv * eps - self.k2 * m + self.k4 * m_old - self.k3 * w);
+        m
+    }
+
+    fn reset(&mut self) {
+        self.integral = T::zero();
+        self.window = Sum::default();
+        self.line.reset();
+    }
+}
+
+/// Parameter names and values a scheme reports (up to 12).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamList<T> {
+    names: &'static [&'static str],
+    values: [T; 12],
+}
+
+impl<T: Real> ParamList<T> {
+    /// Pairs `names[i]` with `values[i]` (extra names read as NaN).
+    pub fn new(names: &'static [&'static str], values: &[T]) -> Self {
+        let mut v = [T::nan(); 12];
+        for (d, s) in v.iter_mut().zip(values) {
+            *d = *s;
+        }
+        ParamList { names, values: v }
+    }
+}
+
+/// The general modified Smith predictor (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Compensator<T, const N: usize, S> {
+    gc1: Pid<T>,
+    gc2: Option<Pid<T>>,
+    err: ErrorPath<T, S>,
+    dist: DisturbancePath<T, S>,
+    corr: Option<Lti<T, AUX>>,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    u_min: T,
+    u_max: T,
+    params: ParamList<T>,
+    ym: T,
+    ym_delayed: T,
+    eps: T,
+    u1: T,
+    u3: T,
+    u: T,
+    fault: bool,
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
+    /// A compensator with primary controller `gc1` around the model `model`
+    /// (strictly proper) and its dead time `delay`; the other paths start
+    /// absent (a classic Smith predictor) and are added with the `with_*` methods.
+    pub fn new(
+        gc1: Pid<T>,
+        model: Lti<T, N>,
+        delay: Delay<T, S>,
+        params: ParamList<T>,
+    ) -> Result<Self, Error> {
+        if model.output(T::one()) != model.free_output() {
+            return Err(Error::Improper("model"));
+        }
+        Ok(Compensator {
+            gc1,
+            gc2: None,
+            err: ErrorPath::Direct,
+            dist: DisturbancePath::Off,
+            corr: None,
+            model,
+            delay,
+            u_min: T::neg_infinity(),
+            u_max: T::infinity(),
+            params,
+            ym: T::zero(),
+            ym_delayed: T::zero(),
+            eps: T::zero(),
+            u1: T::zero(),
+            u3: T::zero(),
+            u: T::zero(),
+            fault: false,
+        })
+    }
+
+    /// Inner feedback `Gc2` of the model output (P or PD).
+    pub fn with_inner(mut self, gc2: Pid<T>) -> Self {
+        self.gc2 = Some(gc2);
+        self
+    }
+
+    /// How the model error enters the primary loop.
+    pub fn with_error_path(mut self, path: ErrorPath<T, S>) -> Result<Self, Error> {
+        match &path {
+            ErrorPath::Filter(f) if f.order() > AUX => return Err(Error::OrderTooHigh("filter")),
+            ErrorPath::Huang { b, line } => {
+                if b.output(T::one()) != b.free_output() {
+                    return Err(Error::Improper("b"));
+                }
+                if line.delay() < T::one() {
+                    return Err(Error::OutOfRange("delay"));
+                }
+            }
+            _ => {}
+        }
+        self.err = path;
+        Ok(self)
+    }
+
+    /// The disturbance controller on the model error.
+    pub fn with_disturbance(mut self, path: DisturbancePath<T, S>) -> Self {
+        self.dist = path;
+        self
+    }
+
+    /// Watanabe–Ito's predictor correction `m(s)` (strictly proper), driven by `u1`.
+    pub fn with_correction(mut self, m: Lti<T, AUX>) -> Result<Self, Error> {
+        if m.output(T::one()) != m.free_output() {
+            return Err(Error::Improper("m"));
+        }
+        self.corr = Some(m);
+        Ok(self)
+    }
+
+    /// Actuator limits on `u`.
+    pub fn with_limits(mut self, u_min: T, u_max: T) -> Result<Self, Error> {
+        if u_min.is_nan() {
+            return Err(Error::NonFinite("u_min"));
+        }
+        if u_max.is_nan() {
+            return Err(Error::NonFinite("u_max"));
+        }
+        if u_min > u_max {
+            return Err(Error::InvalidLimits("u_min"));
+        }
+        self.u_min = u_min;
+        self.u_max = u_max;
+        Ok(self)
+    }
+
+    /// The primary controller.
+    pub fn primary(&self) -> &Pid<T> {
+        &self.gc1
+    }
+
+    fn drives_model_with_u1(&self) -> bool {
+        !matches!(self.dist, DisturbancePath::Off)
+    }
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Compensator<T, N, S> {
+    #[inline]
+    fn update(&mut self, r: T, y: T) -> T {
+        if !(r.is_finite() && y.is_finite()) {
+            // hold the output; the model keeps following what the plant receives
+            self.fault = true;
+            let drive = if self.drives_model_with_u1() {
+                self.u1
+            } else {
+                self.u
+            };
+            self.ym = self.model.step(drive);
+            self.delay.process(self.ym);
+            return self.u;
+        }
+        self.fault = false;
+        let ym = self.model.free_output();
+        let ym_d = self.delay.process(ym);
+        let eps = y - ym_d;
+        let fed = match &mut self.err {
+            ErrorPath::Direct => eps,
+            ErrorPath::Blocked => T::zero(),
+            ErrorPath::Filter(f) => f.step(eps),
+            ErrorPath::Huang { b, line } => {
+                let f_delayed = line.peek(T::zero());
+                let f = eps + b.free_output();
+                b.step(eps - f_delayed);
+                line.process(f);
+                f
+            }
+        };
+        let corr = self.corr.as_ref().map_or(T::zero(), |c| c.free_output());
+        let inner = match &mut self.gc2 {
+            Some(g) => g.update(ym, T::zero()),
+            None => T::zero(),
+        };
+        let u1 = self.gc1.update(r, ym + fed - corr) - inner;
+        let u3 = match &mut self.dist {
+            DisturbancePath::Off => T::zero(),
+            DisturbancePath::Block(b) => b.step(eps),
+            DisturbancePath::AstromHangLim(m) => m.step(eps),
+        };
+        let u = (u1 - u3).max(self.u_min).min(self.u_max);
+        let drive = if self.drives_model_with_u1() { u1 } else { u };
+        self.model.step(drive);
+        if let Some(c) = &mut self.corr {
+            c.step(drive);
+        }
+        self.ym = ym;
+        self.ym_delayed = ym_d;
+        self.eps = eps;
+        self.u1 = u1;
+        self.u3 = u3;
+        self.u = u;
+        u
+    }
+
+    fn reset(&mut self) {
+        self.gc1.reset();
+        if let Some(g) = &mut self.gc2 {
+            g.reset();
+        }
+        match &mut self.err {
+            ErrorPath::Filter(f) => f.reset(),
+            ErrorPath::Huang { b, line } => {
+                b.reset();
+                line.reset();
+            }
+            ErrorPath::Direct | ErrorPath::Blocked => {}
+        }
+        match &mut self.dist {
+            DisturbancePath::Block(b) => b.reset(),
+            DisturbancePath::AstromHangLim(m) => m.reset(),
+            DisturbancePath::Off => {}
+        }
+        if let Some(c) = &mut self.corr {
+            c.reset();
+        }
+        self.model.reset();
+        self.delay.reset();
+        self.ym = T::zero();
+        self.ym_delayed = T::zero();
+        self.eps = T::zero();
+        self.u1 = T::zero();
+        self.u3 = T::zero();
+        self.u = T::zero();
+        self.fault = false;
+    }
+
+    fn signal_names(&self) -> &'static [&'static str] {
+        &["ym", "ym_delayed", "model_error", "u1", "u3"]
+    }
+
+    fn signal(&self, i: usize) -> T {
+        match i {
+            0 => self.ym,
+            1 => self.ym_delayed,
+            2 => self.eps,
+            3 => self.u1,
+            4 => self.u3,
+            _ => T::nan(),
+        }
+    }
+
+    fn param_names(&self) -> &'static [&'static str] {
+        self.params.names
+    }
+
+    fn param(&self, i: usize) -> T {
+        self.params.values.get(i).copied().unwrap_or(T::nan())
+    }
+
+    fn fault(&self) -> bool {
+        self.fault
+    }
+}

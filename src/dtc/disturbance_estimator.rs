@@ -1,0 +1,76 @@
+//! The Smith predictor with a disturbance estimator for integrating plants
+//! (`003_8b318e9694d9150f.txt`, Draganović, Stojić & Matijević; Fig. 1, Eqs. 1–17).
+//!
+//! The figure is missing from the source; the realization follows from Eq. 1:
+//! the classic Smith predictor with the P main controller `Kr` produces `u`
+//! (its models driven by `u`), the disturbance estimator
+//! `d̂ = A(s)/C(s)·(y − Gm·u)` acts on the model error, and the plant receives
+//! `u − d̂`. Substituting gives exactly Eq. 1; in the nominal case
+//! `y/r = Kr Kν/(s + Kr Kν)·e^{−Ls}` (Eq. 15, time constant `Td = 1/(Kr Kν)`)
+//! and the load response is governed by `1 + A/C·Kν e^{−Ls}/s = 0` (Eq. 19).
+//! The six designs of `A/C` are in [`crate::tuning::disturbance_estimator`].
+
+use crate::delay::Delay;
+use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList, AUX};
+use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+
+/// The estimator `A(s)/C(s)` in descending powers of `s` (degree ≤ 2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Estimator<T> {
+    /// Numerator `A(s)`.
+    pub a: [T; 3],
+    /// Denominator `C(s)`.
+    pub c: [T; 3],
+}
+
+impl<T: Real> Estimator<T> {
+    /// `A(s)/C(s)` of case 1–6 from its gains (`003_…` Eqs. 20, 23, 31, 41, 58 —
+    /// case 6 with `C = (s² + ω0²)/ω0`, see [`crate::tuning::disturbance_estimator`]).
+    pub fn from_case(case: u8, ka: T, ta: T, tc: T, w0: T) -> Result<Self, Error> {
+        let (z, o) = (T::zero(), T::one());
+        let ka = crate::real::finite(ka, "ka")?;
+        let ta = crate::real::non_negative(ta, "ta")?;
+        let tc = crate::real::non_negative(tc, "tc")?;
+        Ok(match case {
+            1 => Estimator {
+                a: [z, z, ka],
+                c: [z, z, o],
+            },
+            2 => Estimator {
+                a: [z, ka * ta, ka],
+                c: [z, z, o],
+            },
+            3 => Estimator {
+                a: [z, ka * ta, ka],
+                c: [z, crate::real::positive(tc, "tc")?, o],
+            },
+            4 | 5 => Estimator {
+                a: [z, ka * ta, ka],
+                c: [z, crate::real::positive(ta, "ta")?, z],
+            },
+            6 => {
+                let w0 = crate::real::positive(w0, "w0")?;
+                Estimator {
+                    a: [ka * ta, ka, z],
+                    c: [o / w0, z, w0],
+                }
+            }
+            _ => return Err(Error::OutOfRange("case")),
+        })
+    }
+}
+
+/// The predictor with main gain `kr` and estimator `est`, sampled every `ts`.
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    kr: T,
+    est: &Estimator<T>,
+    ts: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    params: ParamList<T>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let gc1 = Pid::new(PidConfig::parallel(kr, T::zero(), T::zero(), ts))?;
+    let ac: Lti<T, AUX> = Lti::from_tf(&est.a, &est.c, ts, Discretization::Zoh)?;
+    Ok(Compensator::new(gc1, model, delay, params)?.with_disturbance(DisturbancePath::Block(ac)))
+}

@@ -1,0 +1,42 @@
+//! The Smith predictor with Huang's approximate inverse of dead time
+//! (`004_feaf9f0851109607.txt`, "Improving Disturbance Rejection", after
+//! Huang et al., AIChE J. 36, 1990).
+//!
+//! The ideal filter on the model error would be `e^{+τs}` (a perfect load
+//! rejection, not causal). Huang's phase-lead approximation is
+//!
+//! `F(s) = (1 + B(s))/(1 + B(s)·e^{−τs})`,
+//!
+//! with `B` a low-pass filter with the model's time constant (the example:
+//! `B = 0.05/(40s + 1)`, `τ` the model dead time); realized as
+//! `f = x + B·(x − e^{−τs}·f)`. The set-point response stays the Smith
+//! predictor's; the PI is re-designed slower (the example: `Kp = 0.144`,
+//! `Ti = 40.1`).
+
+use crate::delay::Delay;
+use crate::dtc::compensator::{Compensator, ErrorPath, ParamList};
+use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+
+/// Parameter names: the PID and `B = kb/(tb·s + 1)`.
+pub const PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb"];
+
+/// The predictor with `B = kb/(tb s + 1)`; `line` holds the model dead time
+/// again (it delays `f`), at least one sample.
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    pid: PidConfig<T>,
+    kb: T,
+    tb: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    line: Delay<T, S>,
+    params: ParamList<T>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let b = Lti::from_tf(
+        &[crate::real::finite(kb, "kb")?],
+        &[crate::real::positive(tb, "tb")?, T::one()],
+        pid.ts,
+        Discretization::Zoh,
+    )?;
+    Compensator::new(Pid::new(pid)?, model, delay, params)?
+        .with_error_path(ErrorPath::Huang { b, line })
+}

@@ -1,0 +1,49 @@
+//! Kaya and Atherton's PI-PD Smith predictor (`000_3f0725a46e29ef08.txt`
+//! Sec. 4.4.3, Fig. 4.10, Eq. 4.18; a modification of Matausek & Micic 1996).
+//!
+//! Three controllers around the model: `Gc1` PI on the predicted error, `Gc2`
+//! P or PD in the inner feedback of the model output (it moves the poles of
+//! the model loop, which matters for integrating and unstable models), and the
+//! disturbance controller `Gc3 = kb(Td s + 1)/(0.1·Td s + 1)` on the model
+//! error at the plant input (Eq. 4.18). The figure is missing from the
+//! thesis; the realization is the same skeleton as the Karan–Dey MSP
+//! ([`crate::dtc::compensator`]), which the thesis derives from it.
+
+use crate::delay::Delay;
+use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList};
+use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+
+/// Parameter names: `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = kf(1 + tf s)`, `Gc3 = kb(td s + 1)/(0.1 td s + 1)`.
+pub const PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td"];
+
+/// The PI-PD Smith predictor.
+#[allow(clippy::too_many_arguments)]
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    kp: T,
+    ti: T,
+    kf: T,
+    tf: T,
+    kb: T,
+    td: T,
+    ts: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    params: ParamList<T>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let gc1 = Pid::new(PidConfig::isa(kp, ti, T::zero(), ts))?;
+    let gc2 = Pid::new(PidConfig::parallel(kf, T::zero(), kf * tf, ts))?;
+    let td = crate::real::non_negative(td, "td")?;
+    let gc3 = if td > T::zero() {
+        Lti::from_tf(
+            &[kb * td, kb],
+            &[T::of(0.1) * td, T::one()],
+            ts,
+            Discretization::Zoh,
+        )?
+    } else {
+        Lti::gain(kb)?
+    };
+    Ok(Compensator::new(gc1, model, delay, params)?
+        .with_inner(gc2)
+        .with_disturbance(DisturbancePath::Block(gc3)))
+}

@@ -1,0 +1,35 @@
+//! Matausek and Micic's modified Smith predictor for an integrator and long
+//! dead time (`000_3f0725a46e29ef08.txt` Sec. 4.4.3, refs. [8], [52]; IEEE TAC
+//! 41(8), 1996).
+//!
+//! The thesis only names it. Built from the published structure: a classic
+//! Smith predictor with the P set-point controller `Kr = 1/(Kv·Tr)` on the
+//! model `Kv e^{−Ls}/s` (first-order set-point response with time constant
+//! `Tr`), plus a proportional feedback `K0` of the model error to the plant
+//! input that rejects constant loads. Its three tuning parameters are those of
+//! the paper's abstract: `L`, `Kv` and `Tr`; `K0 = 1/(2·Kv·L)` makes the load
+//! loop `1 + K0 Kv e^{−Ls}/s` aperiodic (the M-circle condition,
+//! `003_8b318e9694d9150f.txt` Eq. 22). Defining properties (tested): the
+//! set-point response `e^{−Ls}/(Tr s + 1)` and zero steady-state error under
+//! a constant load.
+
+use crate::delay::Delay;
+use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList};
+use crate::{Error, Lti, Pid, PidConfig, Real};
+
+/// Parameter names.
+pub const PARAMS: &[&str] = &["kr", "k0", "tr"];
+
+/// The predictor with set-point gain `kr` and load feedback `k0`.
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    kr: T,
+    k0: T,
+    ts: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    params: ParamList<T>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let gc1 = Pid::new(PidConfig::parallel(kr, T::zero(), T::zero(), ts))?;
+    Ok(Compensator::new(gc1, model, delay, params)?
+        .with_disturbance(DisturbancePath::Block(Lti::gain(k0)?)))
+}

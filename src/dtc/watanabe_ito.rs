@@ -1,0 +1,42 @@
+//! Watanabe and Ito's process-model control for integrating plants
+//! (`000_3f0725a46e29ef08.txt` Sec. 4.4.1, Fig. 4.8, Eq. 4.12; Watanabe & Ito,
+//! IEEE TAC 26(6), 1981 — ref. [3] of `003_8b318e9694d9150f.txt`).
+//!
+//! The thesis names the scheme and its filter `G1(s) = 1/(1 + sL)` but its
+//! figure is missing. Built here from the published idea: the classic
+//! predictor `Gm(s)(1 − e^{−Ls})` of an integrating model has the static gain
+//! `Kv·L`, which under a constant load leaves the offset `Kv·L·d` of the
+//! classic Smith predictor; Watanabe and Ito subtract `m(s) = Kv·L·G1(s)`, a
+//! stable block with the same static gain, from the prediction:
+//!
+//! `e = r − y − [Gm(s)(1 − e^{−Ls}) − Kv·L/(1 + sL)]·u`.
+//!
+//! The predictor then has zero static gain and a PI primary controller
+//! removes constant loads (the defining property, tested). The price is a
+//! set-point response no longer exactly the delay-free one.
+
+use crate::delay::Delay;
+use crate::dtc::compensator::{Compensator, ParamList};
+use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+
+/// Parameter names.
+pub const PARAMS: &[&str] = &["kp", "ti", "td"];
+
+/// The compensator for an integrating model with velocity gain `kv` and dead time `l` (s).
+pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    pid: PidConfig<T>,
+    kv: T,
+    l: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+    params: ParamList<T>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let l = crate::real::positive(l, "l")?;
+    let m = Lti::from_tf(
+        &[crate::real::finite(kv, "k")? * l],
+        &[l, T::one()],
+        pid.ts,
+        Discretization::Zoh,
+    )?;
+    Compensator::new(Pid::new(pid)?, model, delay, params)?.with_correction(m)
+}
