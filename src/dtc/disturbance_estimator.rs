@@ -26,6 +26,7 @@ pub struct Estimator<T> {
 
 impl<T: Real> Estimator<T> {
     /// `A(s)/C(s)` of case 1–6 from its gains (`003_…` Eqs. 20, 23, 31, 41, 58 —
+    /// case 2's PD with a derivative filter `C = T_A/10·s + 1` to make it proper,
     /// case 6 with `C = (s² + ω0²)/ω0`, see [`crate::tuning::disturbance_estimator`]).
     pub fn from_case(case: u8, ka: T, ta: T, tc: T, w0: T) -> Result<Self, Error> {
         let (z, o) = (T::zero(), T::one());
@@ -37,9 +38,10 @@ impl<T: Real> Estimator<T> {
                 a: [z, z, ka],
                 c: [z, z, o],
             },
+            // the PD of Eq. 23 is improper; its derivative is filtered with T_A/10
             2 => Estimator {
                 a: [z, ka * ta, ka],
-                c: [z, z, o],
+                c: [z, ta / T::of(10.0), o],
             },
             3 => Estimator {
                 a: [z, ka * ta, ka],

@@ -137,3 +137,27 @@ def test_examples_write_their_png(script: pathlib.Path, tmp_path: pathlib.Path) 
     subprocess.run([sys.executable, str(script), str(tmp_path)], check=True, env=env, cwd=tmp_path)
     pngs = list(tmp_path.glob("*.png"))
     assert pngs and all(p.stat().st_size > 1000 for p in pngs)
+
+
+def test_compare_matches_the_cli_table_inputs() -> None:
+    runs = msp.compare("0.2/s*e^-7.4s", ["karan-dey", "smith"], perturb="delay=+10%", duration=60)
+    assert [r.controller["name"] for r in runs] == ["karan-dey", "smith"]
+    assert all(r.plant == "0.2*e^(-8.14s)/s" and r.model == "0.2*e^(-7.4s)/s" for r in runs)
+    again = msp.compare("0.2/s*e^-7.4s", ["karan-dey"], perturb={"delay": 0.1}, duration=60)
+    assert np.array_equal(again[0].y, runs[0].y)
+
+
+def test_every_scheme_class_runs_per_sample() -> None:
+    for cls, plant in [(msp.FilteredSmith, "5.6*e^-93.9s/(40.2s+1)"), (msp.Huang, "5.6*e^-93.9s/(40.2s+1)"),
+                       (msp.WatanabeIto, "0.2/s*e^-7.4s"), (msp.AstromHangLim, "0.2/s*e^-7.4s"),
+                       (msp.MatausekMicic, "0.2/s*e^-7.4s"), (msp.KayaAtherton, "0.2/s*e^-7.4s"),
+                       (msp.DisturbanceEstimator, "0.2/s*e^-7.4s"), (msp.PidLoop, "0.2/s*e^-7.4s")]:
+        c = cls(plant, 0.5)
+        u = [c.update(1.0, 0.0) for _ in range(5)]
+        assert all(np.isfinite(u)), cls
+        assert c.name == cls.scheme
+
+
+def test_rule_selects_a_pid_tuning() -> None:
+    zn = msp.tune("0.2/s*e^-7.4s", "pid", rule="zn")["params"]
+    assert math.isclose(zn["ti"], 0.5 * 4 * 7.4)

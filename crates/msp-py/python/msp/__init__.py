@@ -21,14 +21,22 @@ from ._msp import Controller, Pid, Plant, __version__, controllers, parse_plant
 PlantLike = Union[str, Plant, Any]
 
 __all__ = [
+    "AstromHangLim",
     "Controller",
+    "DisturbanceEstimator",
+    "FilteredSmith",
+    "Huang",
     "KaranDey",
+    "KayaAtherton",
+    "MatausekMicic",
     "Pid",
     "PidLoop",
     "Plant",
     "Result",
     "SmithPredictor",
+    "WatanabeIto",
     "__version__",
+    "compare",
     "controllers",
     "parse_plant",
     "run",
@@ -143,6 +151,7 @@ def run(
     umin: Optional[float] = None,
     umax: Optional[float] = None,
     lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
     substeps: Optional[int] = None,
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
@@ -167,8 +176,33 @@ def run(
     sp: Any = list(setpoint) if isinstance(setpoint, (list, tuple)) else setpoint
     raw = _msp.run(p, controller, dict(params) if params else None, model=m, ts=ts, duration=duration,
                    setpoint=sp, disturbance=dist, noise=noise, seed=seed, umin=umin, umax=umax,
-                   lambda_=lambda_, substeps=substeps)
+                   lambda_=lambda_, rule=rule, substeps=substeps)
     return Result(raw)
+
+
+def compare(
+    plant: PlantLike,
+    controllers: Sequence[str],
+    *,
+    perturb: Union[None, str, Mapping[str, float]] = None,
+    delay: Optional[float] = None,
+    **scenario: Any,
+) -> List[Result]:
+    """Run each controller on the same scenario, as ``msp compare`` does.
+
+    ``perturb`` (``"gain=+10%,delay=+10%"`` or ``{"gain": 0.1, "delay": 0.1, "tau": 0.0}``)
+    changes the plant while every controller keeps the nominal model. The other
+    keywords are those of :func:`run`.
+    """
+    p = _plant(plant, delay)
+    if "model" in scenario and scenario["model"] is not None:
+        scenario["model"] = _plant(scenario["model"])
+    for key in ("setpoint", "disturbance"):
+        if isinstance(scenario.get(key), tuple):
+            scenario[key] = list(scenario[key])
+    raw = _msp.compare(p, list(controllers), perturb=dict(perturb) if isinstance(perturb, Mapping) else perturb,
+                       **scenario)
+    return [Result(r) for r in raw]
 
 
 def tune(
@@ -178,9 +212,10 @@ def tune(
     *,
     delay: Optional[float] = None,
     lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
 ) -> Dict[str, Any]:
     """The tuned parameters, ``{"name": ..., "params": {...}}``, as ``msp tune --json`` prints."""
-    return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None, lambda_=lambda_)
+    return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None, lambda_=lambda_, rule=rule)
 
 
 class _Scheme(Controller):
@@ -216,13 +251,59 @@ class SmithPredictor(_Scheme):
     scheme = "smith"
 
 
+class FilteredSmith(_Scheme):
+    """The Smith predictor with a filter on the model error (scheme ``filtered-smith``)."""
+
+    scheme = "filtered-smith"
+
+
+class Huang(_Scheme):
+    """The Smith predictor with Huang's approximate inverse of dead time (scheme ``huang``)."""
+
+    scheme = "huang"
+
+
+class WatanabeIto(_Scheme):
+    """Watanabe–Ito's predictor for integrating plants (scheme ``watanabe-ito``)."""
+
+    scheme = "watanabe-ito"
+
+
+class AstromHangLim(_Scheme):
+    """Åström–Hang–Lim's predictor for integrating plants (scheme ``astrom-hang-lim``)."""
+
+    scheme = "astrom-hang-lim"
+
+
+class MatausekMicic(_Scheme):
+    """Matausek–Micic's predictor for integrating plants (scheme ``matausek-micic``)."""
+
+    scheme = "matausek-micic"
+
+
+class KayaAtherton(_Scheme):
+    """Kaya–Atherton's PI-PD Smith predictor (scheme ``kaya-atherton``)."""
+
+    scheme = "kaya-atherton"
+
+
 class KaranDey(_Scheme):
     """The Karan–Dey modified Smith predictor for integrating plants (scheme ``karan-dey``)."""
 
     scheme = "karan-dey"
 
 
+class DisturbanceEstimator(_Scheme):
+    """The Smith predictor with a disturbance estimator, cases 1–6 (scheme ``disturbance-estimator``)."""
+
+    scheme = "disturbance-estimator"
+
+
+_SCHEME_CLASSES = (PidLoop, SmithPredictor, FilteredSmith, Huang, WatanabeIto, AstromHangLim, MatausekMicic,
+                   KayaAtherton, KaranDey, DisturbanceEstimator)
+
+
 def _check_classes() -> List[str]:
     """Registry schemes without a class here (kept empty by the test suite)."""
-    have = {c.scheme for c in (PidLoop, SmithPredictor, KaranDey)}
+    have = {c.scheme for c in _SCHEME_CLASSES}
     return [c["name"] for c in controllers() if c["name"] not in have]

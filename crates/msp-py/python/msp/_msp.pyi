@@ -4,7 +4,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "__version__", "controllers", "parse_plant", "run", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "__version__", "compare", "controllers", "parse_plant", "run", "tune"]
 __version__: str
 
 @final
@@ -38,14 +38,35 @@ def run(
     umin: Optional[float] = None,
     umax: Optional[float] = None,
     lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
     substeps: Optional[int] = None,
 ) -> Dict[str, Any]: ...
+def compare(
+    plant: Union[str, Plant],
+    controllers: Sequence[str],
+    *,
+    perturb: Any = None,
+    params: Optional[Mapping[str, float]] = None,
+    model: Union[str, Plant, None] = None,
+    ts: Optional[float] = None,
+    duration: Optional[float] = None,
+    setpoint: Any = None,
+    disturbance: Any = None,
+    noise: Optional[float] = None,
+    seed: Optional[int] = None,
+    umin: Optional[float] = None,
+    umax: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
+    substeps: Optional[int] = None,
+) -> List[Dict[str, Any]]: ...
 def tune(
     plant: Union[str, Plant],
     controller: Optional[str] = None,
     params: Optional[Mapping[str, float]] = None,
     *,
     lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
 ) -> Dict[str, Any]: ...
 def controllers() -> List[Dict[str, Any]]: ...
 
@@ -61,6 +82,7 @@ class Controller:
         umin: float = ...,
         umax: float = ...,
         lambda_: Optional[float] = None,
+        rule: Optional[str] = None,
     ) -> "Controller": ...
     def update(self, r: float, y: float) -> float: ...
     def update_many(self, r: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
