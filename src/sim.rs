@@ -374,11 +374,9 @@ impl PlantSim {
         let now = self.line.peek_back(v, self.k);
         let before = self.line.peek_back(v, self.k.saturating_add(1));
         self.line.process(v);
-        if let [only] = self.pieces.as_mut_slice() {
-            // one piece: the state lives in `out`'s block directly
-            only.block.set_state(self.out.state());
-            only.block.step(now);
-            self.out.set_state(only.block.state());
+        if self.pieces.len() == 1 {
+            // one piece spanning the period: `out` is that very discretization
+            self.out.step(now);
             self.last_in = now;
             return;
         }
@@ -462,11 +460,31 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
         .map(|s| s.value.abs())
         .chain(cfg.disturbances.iter().map(|d| d.value.abs()))
         .fold(1.0, f64::max);
+    let mut steps: Vec<SetpointStep> = cfg.setpoint.clone();
+    steps.sort_by(|a, b| a.at.total_cmp(&b.at));
+    let mut next_step = 0usize;
+    let mut r = 0.0;
+    let mut sig = std::vec![0.0; names.len()];
     for i in 0..n {
         let t = i as f64 * ts;
-        let r = setpoint_at(&cfg.setpoint, t);
-        let d_in = inputs.iter().fold(0.0, |acc, d| acc + d.at_time(t));
-        let d_out = outputs.iter().fold(0.0, |acc, d| acc + d.at_time(t));
+        while let Some(s) = steps.get(next_step) {
+            if s.at <= t + 1e-9 * t.abs().max(1.0) {
+                r = s.value;
+                next_step = next_step.saturating_add(1);
+            } else {
+                break;
+            }
+        }
+        let d_in = if inputs.is_empty() {
+            0.0
+        } else {
+            inputs.iter().fold(0.0, |acc, d| acc + d.at_time(t))
+        };
+        let d_out = if outputs.is_empty() {
+            0.0
+        } else {
+            outputs.iter().fold(0.0, |acc, d| acc + d.at_time(t))
+        };
         let y = plant_sim.output() + d_out;
         if !y.is_finite() || y.abs() > 1e6 * scale {
             res.diverged_at = Some(t);
@@ -483,19 +501,21 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
         if i + 1 == n {
             sub.clear(); // nothing after the last sample
         }
-        for (j, y_sub) in core::iter::once(y)
-            .chain(sub.iter().map(|v| v + d_out))
-            .enumerate()
-        {
-            res.t.push(t + j as f64 * ts / m as f64);
+        controller.write_signals(&mut sig);
+        let mut push = |tj: f64, yj: f64| {
+            res.t.push(tj);
             res.r.push(r);
-            res.y.push(y_sub);
+            res.y.push(yj);
             res.u.push(u);
             res.d.push(d_in);
             res.d_out.push(d_out);
-            for (q, (_, v)) in res.signals.iter_mut().enumerate() {
-                v.push(controller.signal(q));
+            for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
+                v.push(*x);
             }
+        };
+        push(t, y);
+        for (j, y_sub) in sub.iter().enumerate() {
+            push(t + (j + 1) as f64 * ts / m as f64, y_sub + d_out);
         }
     }
     Ok(res)
@@ -563,52 +583,59 @@ pub fn metrics(
     ts: f64,
     shift: f64,
 ) -> Result<Metrics, Error> {
-    let start = res
+    use std::borrow::Cow;
+    // the controller's samples only, whatever the sub-steps
+    let stride = res.substeps.max(1);
+    let first_row = res
         .t
         .iter()
         .position(|t| *t >= shift - 1e-9 * ts)
         .unwrap_or(res.t.len());
+    let first = first_row.div_ceil(stride).saturating_mul(stride);
+    fn rows(v: &[f64], first: usize, stride: usize) -> Cow<'_, [f64]> {
+        let tail = v.get(first..).unwrap_or(&[]);
+        if stride == 1 {
+            Cow::Borrowed(tail)
+        } else {
+            Cow::Owned(tail.iter().copied().step_by(stride).collect())
+        }
+    }
+    let (tt, yy, uu) = (
+        rows(&res.t, first, stride),
+        rows(&res.y, first, stride),
+        rows(&res.u, first, stride),
+    );
     let mut ind = IntegralIndices::new(ts)?;
-    let mut tt = Vec::with_capacity(res.t.len().saturating_sub(start));
-    let mut yy = Vec::with_capacity(tt.capacity());
-    // the controller's samples only, whatever the sub-steps
-    let stride = res.substeps.max(1);
-    let first = start.div_ceil(stride).saturating_mul(stride);
-    for i in (first..res.t.len()).step_by(stride) {
-        let (Some(t), Some(y), Some(u)) = (res.t.get(i), res.y.get(i), res.u.get(i)) else {
-            break;
-        };
-        let r = setpoint_at(setpoint, t - shift);
+    let mut steps: Vec<SetpointStep> = setpoint.to_vec();
+    steps.sort_by(|a, b| a.at.total_cmp(&b.at));
+    let mut next = 0usize;
+    let mut r = 0.0;
+    for ((t, y), u) in tt.iter().zip(yy.iter()).zip(uu.iter()) {
+        let tr = t - shift;
+        while let Some(s) = steps.get(next) {
+            if s.at <= tr + 1e-9 * tr.abs().max(1.0) {
+                r = s.value;
+                next = next.saturating_add(1);
+            } else {
+                break;
+            }
+        }
         ind.push(r - y, *u);
-        tt.push(t - shift);
-        yy.push(*y);
     }
     let v = ind.value();
     let y0 = yy.first().copied().unwrap_or(0.0);
-    let y_final = setpoint
-        .iter()
-        .fold((f64::NEG_INFINITY, 0.0), |(ta, v), s| {
-            if s.at >= ta {
-                (s.at, s.value)
-            } else {
-                (ta, v)
-            }
-        })
-        .1;
-    let first_step = setpoint
-        .iter()
-        .map(|s| s.at)
-        .fold(f64::INFINITY, f64::min)
-        .max(0.0);
+    let y_final = steps.last().map_or(0.0, |s| s.value);
+    let first_step = steps.first().map_or(0.0, |s| s.at.max(0.0));
     let from = tt
         .iter()
-        .position(|t| *t >= first_step - 1e-9 * ts)
+        .position(|t| t - shift >= first_step - 1e-9 * ts)
         .unwrap_or(0);
     let s: StepInfo = step_info(
         tt.get(from..).unwrap_or(&[]),
         yy.get(from..).unwrap_or(&[]),
         y0,
         y_final,
+        shift,
     );
     Ok(Metrics {
         iae: v.iae,

@@ -281,3 +281,22 @@ fn compare_runs_every_controller_on_the_perturbed_plant_with_the_nominal_model()
         at: 0.0,
     };
 }
+
+#[test]
+fn kaya_example_3_settings() {
+    // 001_… Example 3, α = 0.5: FOPDT e^{-23.28s}/(3.67s+1) → Kc = 0.315, Ti = 3.670;
+    // SOPDT e^{-21.01s}/(2.77s+1)² → Kc = 0.527, Ti = 5.540, Td = 1.385
+    let smith = msp::registry::find("smith").unwrap();
+    let a = [("alpha".to_string(), 0.5)];
+    let f: msp::poly::TransferFunction = "e^-23.28s/(3.67s+1)".parse().unwrap();
+    let p = smith.tune_with(&f, None, &a).unwrap();
+    assert!(
+        (p.get("kp").unwrap() - 0.315).abs() < 5e-4 && (p.get("ti").unwrap() - 3.67).abs() < 1e-12
+    );
+    let s: msp::poly::TransferFunction = "e^-21.01s/(2.77s+1)^2".parse().unwrap();
+    let p = smith.tune_with(&s, None, &a).unwrap();
+    assert!((p.get("kp").unwrap() - 0.527).abs() < 5e-4, "{:?}", p);
+    assert!(
+        (p.get("ti").unwrap() - 5.54).abs() < 1e-9 && (p.get("td").unwrap() - 1.385).abs() < 1e-9
+    );
+}

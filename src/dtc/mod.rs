@@ -57,6 +57,12 @@ pub trait Controller<T: Real> {
             .position(|n| *n == name)
             .map(|i| self.signal(i))
     }
+    /// Writes every internal signal into `out` (in [`Controller::signal_names`] order).
+    fn write_signals(&self, out: &mut [T]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.signal(i);
+        }
+    }
     /// Parameter by name.
     fn param_by_name(&self, name: &str) -> Option<T> {
         self.param_names()
@@ -89,6 +95,9 @@ impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for &mut C {
     fn fault(&self) -> bool {
         (**self).fault()
     }
+    fn write_signals(&self, out: &mut [T]) {
+        (**self).write_signals(out)
+    }
 }
 
 #[cfg(feature = "alloc")]
@@ -114,6 +123,9 @@ impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for alloc::boxed::Box<C> 
     }
     fn fault(&self) -> bool {
         (**self).fault()
+    }
+    fn write_signals(&self, out: &mut [T]) {
+        (**self).write_signals(out)
     }
 }
 

@@ -126,6 +126,15 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
         }
     }
 
+    fn write_signals(&self, out: &mut [T]) {
+        for (o, v) in out
+            .iter_mut()
+            .zip([self.ym, self.ym_delayed, self.model_error])
+        {
+            *o = v;
+        }
+    }
+
     fn param_names(&self) -> &'static [&'static str] {
         self.pid.param_names()
     }
