@@ -52,6 +52,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod complex;
 pub mod delay;
 pub mod dtc;
 mod error;
@@ -62,6 +63,8 @@ pub mod pid;
 mod real;
 pub mod tuning;
 
+#[cfg(feature = "std")]
+pub mod analysis;
 #[cfg(feature = "alloc")]
 pub mod parse;
 #[cfg(feature = "alloc")]
@@ -70,7 +73,10 @@ pub mod poly;
 pub mod registry;
 #[cfg(feature = "std")]
 pub mod sim;
+#[cfg(feature = "std")]
+pub mod sweep;
 
+pub use complex::Complex;
 pub use delay::{Delay, DelayLine, DelayLineRef};
 pub use dtc::{Controller, KaranDey, SmithPredictor};
 pub use error::Error;

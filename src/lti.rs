@@ -23,6 +23,8 @@
 //!   for the primary controller in `002_0ed51b14a8593ff0.txt` Sec. 3,
 //!   [`Discretization::Matched`]).
 
+use core::ops::{Add, Div, Mul, Sub};
+use crate::complex::Complex;
 use crate::real::{finite, positive};
 use crate::{Error, Real};
 
@@ -657,6 +659,97 @@ impl<T: Real, const N: usize> Lti<T, N> {
         self.x = *x;
     }
 
+    /// The frequency response `C(zI − Φ)⁻¹Γ + D` at `z = e^{jθ}` (`θ = ω·Ts`).
+    pub fn response(&self, theta: T) -> Complex<T> {
+        let n = self.n;
+        let z = Complex::cis(theta);
+        // augmented system [zI − Φ | Γ], complex Gaussian elimination
+        let mut a = [[Complex::<T>::default(); N]; N];
+        let mut b = [Complex::<T>::default(); N];
+        for i in 0..n {
+            for j in 0..n {
+                let phi = self
+                    .phi
+                    .get(i)
+                    .and_then(|r| r.get(j))
+                    .copied()
+                    .unwrap_or(T::zero());
+                let v = if i == j {
+                    z.sub(Complex::real(phi))
+                } else {
+                    Complex::real(-phi)
+                };
+                if let Some(x) = a.get_mut(i).and_then(|r| r.get_mut(j)) {
+                    *x = v;
+                }
+            }
+            if let Some(x) = b.get_mut(i) {
+                *x = Complex::real(self.gamma.get(i).copied().unwrap_or(T::zero()));
+            }
+        }
+        let at = |a: &[[Complex<T>; N]; N], i: usize, j: usize| {
+            a.get(i).and_then(|r| r.get(j)).copied().unwrap_or_default()
+        };
+        for col in 0..n {
+            let mut piv = col;
+            for r in col..n {
+                if at(&a, r, col).abs() > at(&a, piv, col).abs() {
+                    piv = r;
+                }
+            }
+            a.swap(col, piv);
+            b.swap(col, piv);
+            let p = at(&a, col, col);
+            if p.abs() == T::zero() {
+                return Complex::new(T::infinity(), T::zero());
+            }
+            for r in 0..n {
+                if r != col {
+                    let f = at(&a, r, col).div(p);
+                    for c in 0..n {
+                        let v = at(&a, r, c).sub(f.mul(at(&a, col, c)));
+                        if let Some(x) = a.get_mut(r).and_then(|row| row.get_mut(c)) {
+                            *x = v;
+                        }
+                    }
+                    let bc = b.get(col).copied().unwrap_or_default();
+                    if let Some(x) = b.get_mut(r) {
+                        *x = x.sub(f.mul(bc));
+                    }
+                }
+            }
+        }
+        let mut y = Complex::real(self.d);
+        for i in 0..n {
+            let xi = b.get(i).copied().unwrap_or_default().div(at(&a, i, i));
+            y = y.add(xi.scale(self.c.get(i).copied().unwrap_or(T::zero())));
+        }
+        y
+    }
+
+    /// The input vector `Γ`.
+    pub fn input_vector(&self) -> [T; N] {
+        self.gamma
+    }
+
+    /// `Φ·v`.
+    pub fn propagate(&self, v: &[T; N]) -> [T; N] {
+        Mat {
+            a: self.phi,
+            n: self.n,
+        }
+        .mul_vec(v)
+    }
+
+    /// The same block with another input vector `Γ`.
+    pub fn with_input(&self, gamma: &[T; N]) -> Result<Self, Error> {
+        Lti {
+            gamma: *gamma,
+            ..*self
+        }
+        .check_finite()
+    }
+
     /// Zeroes the state.
     pub fn reset(&mut self) {
         self.x = [T::zero(); N];
@@ -715,8 +808,8 @@ impl<T: Real, const N: usize> Lti<T, N> {
         if np > N || np > MAX_MATCHED {
             return Err(Error::OrderTooHigh("den"));
         }
-        let mut zr = [Cx::<T>::default(); MAX_MATCHED];
-        let mut pr = [Cx::<T>::default(); MAX_MATCHED];
+        let mut zr = [Complex::<T>::default(); MAX_MATCHED];
+        let mut pr = [Complex::<T>::default(); MAX_MATCHED];
         roots(num, &mut zr)?;
         roots(den, &mut pr)?;
         let zn = poly_from_roots(zr.get(..nz).unwrap_or(&[]), ts);
@@ -779,48 +872,9 @@ fn strip_one_value<T: Real>(p: &[T], len: usize, ts: T) -> T {
     }
 }
 
-/// A complex number for root finding.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(crate) struct Cx<T> {
-    pub(crate) re: T,
-    pub(crate) im: T,
-}
-
-impl<T: Real> Cx<T> {
-    fn new(re: T, im: T) -> Self {
-        Cx { re, im }
-    }
-    fn add(self, o: Self) -> Self {
-        Cx::new(self.re + o.re, self.im + o.im)
-    }
-    fn sub(self, o: Self) -> Self {
-        Cx::new(self.re - o.re, self.im - o.im)
-    }
-    fn mul(self, o: Self) -> Self {
-        Cx::new(
-            self.re * o.re - self.im * o.im,
-            self.re * o.im + self.im * o.re,
-        )
-    }
-    fn div(self, o: Self) -> Self {
-        let d = o.re * o.re + o.im * o.im;
-        Cx::new(
-            (self.re * o.re + self.im * o.im) / d,
-            (self.im * o.re - self.re * o.im) / d,
-        )
-    }
-    fn abs(self) -> T {
-        self.re.hypot(self.im)
-    }
-    fn exp_scaled(self, ts: T) -> Self {
-        let m = (self.re * ts).exp();
-        Cx::new(m * (self.im * ts).cos(), m * (self.im * ts).sin())
-    }
-}
-
 /// Roots of a real polynomial (descending coefficients) by the Durand–Kerner
 /// iteration; `out` receives `deg` roots.
-pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Cx<T>]) -> Result<(), Error> {
+pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Error> {
     let deg = p.len().saturating_sub(1);
     if deg == 0 {
         return Ok(());
@@ -829,28 +883,28 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Cx<T>]) -> Result<(), Error> {
         return Err(Error::OrderTooHigh("polynomial"));
     }
     let lead = p.first().copied().unwrap_or(T::one());
-    let eval = |z: Cx<T>| -> Cx<T> {
-        p.iter().fold(Cx::default(), |acc, c| {
-            acc.mul(z).add(Cx::new(*c / lead, T::zero()))
+    let eval = |z: Complex<T>| -> Complex<T> {
+        p.iter().fold(Complex::default(), |acc, c| {
+            acc.mul(z).add(Complex::new(*c / lead, T::zero()))
         })
     };
-    let seed = Cx::new(T::of(0.4), T::of(0.9));
+    let seed = Complex::new(T::of(0.4), T::of(0.9));
     // radius bound: 1 + max |a_i / a_0|
     let r = p
         .iter()
         .skip(1)
         .fold(T::zero(), |m, c| m.max((*c / lead).abs()))
         + T::one();
-    let mut z = Cx::new(T::one(), T::zero());
+    let mut z = Complex::new(T::one(), T::zero());
     for o in out.iter_mut().take(deg) {
-        *o = z.mul(Cx::new(r, T::zero()));
+        *o = z.mul(Complex::new(r, T::zero()));
         z = z.mul(seed);
     }
     for _ in 0..500 {
         let mut delta = T::zero();
         for i in 0..deg {
             let zi = out.get(i).copied().unwrap_or_default();
-            let mut den = Cx::new(T::one(), T::zero());
+            let mut den = Complex::new(T::one(), T::zero());
             for (j, zj) in out.iter().enumerate().take(deg) {
                 if j != i {
                     den = den.mul(zi.sub(*zj));
@@ -878,16 +932,16 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Cx<T>]) -> Result<(), Error> {
 }
 
 /// Monic polynomial (descending coefficients, real parts) with roots `e^{r·ts}`.
-fn poly_from_roots<T: Real>(r: &[Cx<T>], ts: T) -> [T; MAX_MATCHED + 1] {
-    let mut c = [Cx::<T>::default(); MAX_MATCHED + 1];
+fn poly_from_roots<T: Real>(r: &[Complex<T>], ts: T) -> [T; MAX_MATCHED + 1] {
+    let mut c = [Complex::<T>::default(); MAX_MATCHED + 1];
     if let Some(c0) = c.first_mut() {
-        *c0 = Cx::new(T::one(), T::zero());
+        *c0 = Complex::new(T::one(), T::zero());
     }
     let mut len = 1usize;
     for root in r.iter().take(MAX_MATCHED) {
         let z = root.exp_scaled(ts);
         // multiply by (x − z): c'[i] = c[i] − z·c[i−1]
-        let mut prev = Cx::default();
+        let mut prev = Complex::default();
         for ci in c.iter_mut().take(len.saturating_add(1)) {
             let cur = *ci;
             *ci = cur.sub(z.mul(prev));

@@ -25,6 +25,7 @@
 //! A non-finite set point or measurement never reaches the state: the output
 //! is held and [`Pid::fault`] is raised until valid data returns.
 
+use core::ops::{Add, Div, Mul, Sub};
 use crate::real::{finite, non_negative, positive};
 use crate::{Error, Real};
 
@@ -376,6 +377,28 @@ impl<T: Real> Pid<T> {
     /// so the output does not jump (bumpless manual→auto).
     pub fn set_auto(&mut self) {
         self.mode = Mode::Auto;
+    }
+
+    /// The linear (unsaturated) frequency response at `z = e^{jθ}` as the pair
+    /// `(Cr, Cy)` of `u = Cr·r − Cy·y`: `Cr = kp·b + ki·h/(z − 1) + D(z)·c`,
+    /// `Cy = kp + ki·h/(z − 1) + D(z)`, `D(z) = kd/(Tf + h)·(1 − z⁻¹)/(1 − Tf/(Tf + h)·z⁻¹)`.
+    pub fn response(&self, theta: T) -> (crate::Complex<T>, crate::Complex<T>) {
+        use crate::Complex;
+        let z = Complex::cis(theta);
+        let zi = Complex::cis(-theta);
+        let one = Complex::real(T::one());
+        let integ = Complex::real(self.bi).div(z.sub(one));
+        let deriv = if self.has_d {
+            Complex::real(self.bd)
+                .mul(one.sub(zi))
+                .div(one.sub(zi.scale(self.ad)))
+        } else {
+            Complex::default()
+        };
+        let kp = Complex::real(self.cfg.kp);
+        let cr = kp.scale(self.cfg.b).add(integ).add(deriv.scale(self.cfg.c));
+        let cy = kp.add(integ).add(deriv);
+        (cr, cy)
     }
 
     /// One sample: set point `r`, measurement `y`; returns the output.

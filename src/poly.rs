@@ -7,7 +7,8 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::lti::{roots, Cx};
+use crate::complex::Complex;
+use crate::lti::roots;
 use crate::model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
 use crate::{Discretization, Error, Lti};
 
@@ -62,7 +63,7 @@ pub fn eval(p: &[f64], x: f64) -> f64 {
 pub fn poly_roots(p: &[f64]) -> Result<Vec<(f64, f64)>, Error> {
     let p = trim(p);
     let deg = p.len().saturating_sub(1);
-    let mut out = vec![Cx::<f64>::default(); deg];
+    let mut out = vec![Complex::<f64>::default(); deg];
     roots(&p, &mut out)?;
     Ok(out.into_iter().map(|c| (c.re, c.im)).collect())
 }

@@ -284,7 +284,8 @@ impl Noise {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
-    fn uniform(&mut self) -> f64 {
+    /// A uniform sample in (0, 1).
+    pub fn uniform(&mut self) -> f64 {
         ((self.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     }
     /// A standard normal sample.
@@ -692,6 +693,24 @@ pub struct Scenario {
     pub substeps: Option<usize>,
 }
 
+/// A tuned and built controller with its sample period.
+pub struct BuiltController {
+    /// The scheme's name.
+    pub scheme: &'static str,
+    /// Its parameters.
+    pub params: Params,
+    /// The controller.
+    pub controller: registry::DynController,
+    /// Sample period.
+    pub ts: f64,
+    /// Whether `ts` was chosen automatically.
+    pub ts_chosen: bool,
+    /// Actuator lower limit.
+    pub u_min: f64,
+    /// Actuator upper limit.
+    pub u_max: f64,
+}
+
 /// Everything a run produced.
 #[derive(Debug, Clone)]
 pub struct RunOutput {
@@ -801,6 +820,61 @@ pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
 }
 
 impl Scenario {
+    /// Chooses the controller (by name or by the model's kind) and the sample
+    /// period, tunes it on `model` and builds it.
+    pub fn build_controller(&self, model: &TransferFunction) -> Result<BuiltController, RunError> {
+        let scheme = match &self.controller {
+            Some(name) => registry::find(name)?,
+            None => registry::default_for(model.kind())?,
+        };
+        if model.order() > MAX_ORDER {
+            return Err(RunError::Invalid(Error::OrderTooHigh("model")));
+        }
+        let (ts, ts_chosen) = match self.ts {
+            Some(ts) => (crate::real::positive(ts, "ts")?, false),
+            None => (choose_ts(model), true),
+        };
+        let overrides: Vec<(String, f64)> = self.set.iter().map(|(k, v)| (k.clone(), *v)).collect();
+        let params = scheme.tune_rule(model, self.lambda, self.rule.as_deref(), &overrides)?;
+        let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
+        let u_max = self.umax.unwrap_or(f64::INFINITY);
+        if u_min.is_nan() {
+            return Err(RunError::Invalid(Error::NonFinite("umin")));
+        }
+        if u_max.is_nan() {
+            return Err(RunError::Invalid(Error::NonFinite("umax")));
+        }
+        if u_min > u_max {
+            return Err(RunError::Invalid(Error::InvalidLimits("umin")));
+        }
+        let controller = scheme.build_with(&params, model, &Build { ts, u_min, u_max })?;
+        Ok(BuiltController {
+            scheme: scheme.name,
+            params,
+            controller,
+            ts,
+            ts_chosen,
+            u_min,
+            u_max,
+        })
+    }
+
+    /// The plant and the model, parsed.
+    pub fn parse(&self) -> Result<(TransferFunction, TransferFunction), RunError> {
+        let plant = crate::parse::parse_plant(&self.plant).map_err(|error| RunError::Parse {
+            field: "plant",
+            error,
+        })?;
+        let model = match &self.model {
+            Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
+                field: "model",
+                error,
+            })?,
+            None => plant.clone(),
+        };
+        Ok((plant, model))
+    }
+
     /// Parses, tunes, builds and simulates.
     pub fn run(&self) -> Result<RunOutput, RunError> {
         let plant = crate::parse::parse_plant(&self.plant).map_err(|error| RunError::Parse {
@@ -824,17 +898,15 @@ impl Scenario {
         plant: TransferFunction,
         model: TransferFunction,
     ) -> Result<RunOutput, RunError> {
-        let scheme = match &self.controller {
-            Some(name) => registry::find(name)?,
-            None => registry::default_for(model.kind())?,
-        };
-        if model.order() > MAX_ORDER {
-            return Err(RunError::Invalid(Error::OrderTooHigh("model")));
-        }
-        let (ts, ts_chosen) = match self.ts {
-            Some(ts) => (crate::real::positive(ts, "ts")?, false),
-            None => (choose_ts(&model), true),
-        };
+        let built = self.build_controller(&model)?;
+        let (scheme, params, mut ctrl, ts, ts_chosen) = (
+            built.scheme,
+            built.params,
+            built.controller,
+            built.ts,
+            built.ts_chosen,
+        );
+        let (u_min, u_max) = (built.u_min, built.u_max);
         let (duration, duration_chosen) = match self.duration {
             Some(d) => (crate::real::positive(d, "duration")?, false),
             None => (choose_duration(&plant, ts), true),
@@ -842,20 +914,6 @@ impl Scenario {
         if duration / ts > 1e8 {
             return Err(RunError::Invalid(Error::OutOfRange("duration")));
         }
-        let overrides: Vec<(String, f64)> = self.set.iter().map(|(k, v)| (k.clone(), *v)).collect();
-        let params = scheme.tune_rule(&model, self.lambda, self.rule.as_deref(), &overrides)?;
-        let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
-        let u_max = self.umax.unwrap_or(f64::INFINITY);
-        if u_min.is_nan() {
-            return Err(RunError::Invalid(Error::NonFinite("umin")));
-        }
-        if u_max.is_nan() {
-            return Err(RunError::Invalid(Error::NonFinite("umax")));
-        }
-        if u_min > u_max {
-            return Err(RunError::Invalid(Error::InvalidLimits("umin")));
-        }
-        let mut ctrl = scheme.build_with(&params, &model, &Build { ts, u_min, u_max })?;
         let setpoint = if self.setpoint.is_empty() {
             std::vec![SetpointStep {
                 value: 1.0,
@@ -897,7 +955,7 @@ impl Scenario {
             ts_chosen,
             duration,
             duration_chosen,
-            controller: scheme.name,
+            controller: scheme,
             params,
             result,
             metrics: m0,

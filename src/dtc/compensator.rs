@@ -26,11 +26,12 @@
 //! (`000_3f0725a46e29ef08.txt` Eq. 4.20); the load response is shaped by `Gd`
 //! and `F` alone. Each scheme's module documents its configuration and tuning.
 
+use core::ops::{Add, Div, Mul, Sub};
 use crate::delay::Delay;
 use crate::dtc::Controller;
 use crate::metrics::Sum;
 use crate::real::finite;
-use crate::{Error, Lti, Pid, Real};
+use crate::{Complex, Error, Lti, Pid, Real};
 
 /// Order capacity of the auxiliary blocks (filters and disturbance controllers).
 pub const AUX: usize = 4;
@@ -137,6 +138,24 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
         self.integral = T::zero();
         self.window = Sum::default();
         self.line.reset();
+    }
+
+    /// `M(z)` of the sampled filter: with `q = h/(z − 1)` and `D = z^{−d}`,
+    /// `M = (k4 + q·k3)/Kv / ((1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1))`.
+    fn response(&self, theta: T) -> Complex<T> {
+        let z = Complex::cis(theta);
+        let one = Complex::real(T::one());
+        let zm1 = z.sub(one);
+        let q = Complex::real(self.h).div(zm1);
+        let d = Complex::delay_response(theta, self.line.delay());
+        let num = Complex::real(self.k4)
+            .add(q.scale(self.k3))
+            .scale(self.inv_kv);
+        let w = z.mul(one.sub(d)).div(zm1).scale(self.h * self.k3);
+        let den = Complex::real(T::one() + self.k1)
+            .add(q.mul(Complex::real(self.k2).sub(d.scale(self.k4))))
+            .add(q.mul(w));
+        num.div(den)
     }
 }
 
@@ -366,6 +385,56 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
         self.u3 = T::zero();
         self.u = T::zero();
         self.fault = false;
+    }
+
+    /// From the structure (module documentation), with `D = z^{−d}`:
+    /// `den = 1 + G1y(Gm − F·D·Gm − Mc) + G2·Gm`, `u1 = (G1r·r − G1y·F·y)/den`,
+    /// `u = u1(1 + Gd·D·Gm) − Gd·y` (model driven by `u1`; without `Gd`, `u = u1`).
+    fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        let one = Complex::real(T::one());
+        let (g1r, g1y) = self.gc1.response(theta);
+        let g2 = self
+            .gc2
+            .as_ref()
+            .map_or(Complex::default(), |g| g.response(theta).0);
+        let gm = self.model.response(theta);
+        let d = Complex::delay_response(theta, self.delay.delay());
+        let f = match &self.err {
+            ErrorPath::Direct => one,
+            ErrorPath::Blocked => Complex::default(),
+            ErrorPath::Filter(f) => f.response(theta),
+            ErrorPath::Huang { b, line } => {
+                let bb = b.response(theta);
+                let dl = Complex::delay_response(theta, line.delay());
+                one.add(bb).div(one.add(bb.mul(dl)))
+            }
+        };
+        let gd = match &self.dist {
+            DisturbancePath::Off => Complex::default(),
+            DisturbancePath::Block(b) => b.response(theta),
+            DisturbancePath::AstromHangLim(m) => m.response(theta),
+        };
+        let mc = self
+            .corr
+            .as_ref()
+            .map_or(Complex::default(), |c| c.response(theta));
+        let den = one
+            .add(g1y.mul(gm.sub(f.mul(d).mul(gm)).sub(mc)))
+            .add(g2.mul(gm));
+        let through = one.add(gd.mul(d).mul(gm));
+        Some((
+            g1r.mul(through).div(den),
+            g1y.mul(f).mul(through).div(den).add(gd),
+        ))
+    }
+
+    fn inner_response(&self, theta: T) -> Option<Complex<T>> {
+        let g1y = self.gc1.response(theta).1;
+        let g2 = self
+            .gc2
+            .as_ref()
+            .map_or(Complex::default(), |g| g.response(theta).0);
+        Some(g1y.add(g2).mul(self.model.response(theta)))
     }
 
     fn signal_names(&self) -> &'static [&'static str] {

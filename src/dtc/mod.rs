@@ -57,6 +57,19 @@ pub trait Controller<T: Real> {
             .position(|n| *n == name)
             .map(|i| self.signal(i))
     }
+    /// The linear frequency response at `z = e^{jθ}` (`θ = ω·Ts`) as the pair
+    /// `(Cr, Cy)` of `u = Cr·r − Cy·y`, with limits inactive; `None` for a
+    /// controller that does not provide it.
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        let _ = theta;
+        None
+    }
+    /// The inner (delay-free model) loop `(Gc1 + Gc2)·Gm` at `z = e^{jθ}` of a
+    /// scheme that has one.
+    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+        let _ = theta;
+        None
+    }
     /// Writes every internal signal into `out` (in [`Controller::signal_names`] order).
     fn write_signals(&self, out: &mut [T]) {
         for (i, o) in out.iter_mut().enumerate() {
@@ -98,6 +111,12 @@ impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for &mut C {
     fn write_signals(&self, out: &mut [T]) {
         (**self).write_signals(out)
     }
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        (**self).response(theta)
+    }
+    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+        (**self).inner_response(theta)
+    }
 }
 
 #[cfg(feature = "alloc")]
@@ -126,6 +145,12 @@ impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for alloc::boxed::Box<C> 
     }
     fn write_signals(&self, out: &mut [T]) {
         (**self).write_signals(out)
+    }
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        (**self).response(theta)
+    }
+    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+        (**self).inner_response(theta)
     }
 }
 
@@ -164,5 +189,8 @@ impl<T: Real> Controller<T> for crate::Pid<T> {
     }
     fn fault(&self) -> bool {
         crate::Pid::fault(self)
+    }
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        Some(crate::Pid::response(self, theta))
     }
 }

@@ -13,6 +13,7 @@
 //! delay this identity holds sample for sample. A fractional delay is read
 //! from the model output by linear interpolation (see [`crate::delay`]).
 
+use core::ops::{Add, Div, Mul, Sub};
 use crate::delay::{Delay, DelayStorage};
 use crate::dtc::Controller;
 use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
@@ -124,6 +125,21 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
             2 => self.model_error,
             _ => T::nan(),
         }
+    }
+
+    /// `u = G1r/(1 + G1y·Gm(1 − z^{−d}))·r − G1y/(1 + G1y·Gm(1 − z^{−d}))·y`.
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        use crate::Complex;
+        let (g1r, g1y) = self.pid.response(theta);
+        let gm = self.model.response(theta);
+        let d = Complex::delay_response(theta, self.delay.delay());
+        let one = Complex::real(T::one());
+        let den = one.add(g1y.mul(gm).mul(one.sub(d)));
+        Some((g1r.div(den), g1y.div(den)))
+    }
+
+    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+        Some(self.pid.response(theta).1.mul(self.model.response(theta)))
     }
 
     fn write_signals(&self, out: &mut [T]) {

@@ -26,6 +26,10 @@ enum Cmd {
     Compare(Box<CompareArgs>),
     /// Print the tuned parameters of a controller for a plant.
     Tune(TuneArgs),
+    /// Gain, phase and delay margins, sensitivity peaks and the stability region, with the exact delay.
+    Margins(Box<MarginsArgs>),
+    /// Many closed-loop runs over a range of plant perturbations, in parallel.
+    Sweep(Box<SweepArgs>),
     /// List the controllers and the tuning rules.
     List,
 }
@@ -120,6 +124,84 @@ struct CompareArgs {
     /// SVG plot of every controller's y and u.
     #[arg(long)]
     plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct MarginsArgs {
+    #[command(flatten)]
+    scenario: ScenarioArgs,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
+    /// Use the exact discrete equivalent of the plant instead of the continuous plant behind a hold.
+    #[arg(long)]
+    discrete: bool,
+    /// Robust-stability test for a gain and delay uncertainty, e.g. gain=10%,delay=10%.
+    #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
+    uncertainty: Option<Perturbation>,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+    /// SVG with the Bode and Nyquist plots of the loop at the plant input.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct SweepArgs {
+    #[command(flatten)]
+    scenario: ScenarioArgs,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
+    /// Relative gain range, e.g. -20%..+20%.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = str::parse::<msp::sweep::Range>)]
+    gain: msp::sweep::Range,
+    /// Relative dead-time range.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = str::parse::<msp::sweep::Range>)]
+    delay: msp::sweep::Range,
+    /// Relative time-constant range.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = str::parse::<msp::sweep::Range>)]
+    tau: msp::sweep::Range,
+    /// Points per swept axis.
+    #[arg(long, default_value_t = 11, conflicts_with = "samples")]
+    grid: usize,
+    /// Random points instead of a grid.
+    #[arg(long, default_value_t = 0)]
+    samples: usize,
+    /// Seed of the random points.
+    #[arg(long = "sweep-seed", default_value_t = 1)]
+    sweep_seed: u64,
+    /// Run only shard I of N (runs whose index is I mod N), e.g. 0/4.
+    #[arg(long, value_parser = parse_shard, default_value = "0/1")]
+    shard: (usize, usize),
+    /// Merge shard CSVs into one (no runs): msp sweep --merge a.csv b.csv -o all.csv.
+    #[arg(long, num_args = 1.., conflicts_with = "plant")]
+    merge: Vec<PathBuf>,
+    /// CSV with one row per run (default: standard output).
+    #[arg(long, short = 'o')]
+    output: Option<PathBuf>,
+    /// No progress bar and summary.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("shard '{s}': expected I/N, e.g. 0/4"))?;
+    let i: usize = i
+        .trim()
+        .parse()
+        .map_err(|_| format!("shard '{s}': I is not a whole number"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("shard '{s}': N is not a whole number"))?;
+    if n == 0 || i >= n {
+        return Err(format!("shard '{s}': need 0 <= I < N"));
+    }
+    Ok((i, n))
 }
 
 #[derive(Debug, Args)]
@@ -250,7 +332,26 @@ fn run(a: &RunArgs) -> Result<(), CliError> {
 fn compare(a: &CompareArgs) -> Result<(), CliError> {
     let sc = scenario_from(&a.scenario)?;
     let runs = msp::sim::compare(&sc, &a.controllers, a.perturb.unwrap_or_default())?;
-    let table = output::compare_table(&runs, a.perturb.unwrap_or_default());
+    let margins: Vec<Option<msp::analysis::Margins>> = a
+        .controllers
+        .iter()
+        .map(|c| {
+            let mut one = sc.clone();
+            one.controller = Some(c.clone());
+            one.ts = runs.first().map(|r| r.ts);
+            let (_, model) = one.parse().ok()?;
+            let plant = runs.first()?.plant.clone();
+            let built = one.build_controller(&model).ok()?;
+            msp::analysis::margins(
+                built.controller.as_ref(),
+                &plant,
+                built.ts,
+                msp::analysis::View::Sampled,
+            )
+            .ok()
+        })
+        .collect();
+    let table = output::compare_table(&runs, &margins, a.perturb.unwrap_or_default());
     let refs: Vec<&msp::sim::RunOutput> = runs.iter().collect();
     if let Some(p) = &a.output {
         let csv = output::compare_csv(&refs)
@@ -270,6 +371,67 @@ fn compare(a: &CompareArgs) -> Result<(), CliError> {
         output::write_atomic(p, svg.as_bytes())?;
     }
     print!("{table}");
+    Ok(())
+}
+
+fn margins(a: &MarginsArgs) -> Result<(), CliError> {
+    let mut sc = scenario_from(&a.scenario)?;
+    if a.controller.is_some() {
+        sc.controller.clone_from(&a.controller);
+    }
+    let view = if a.discrete {
+        msp::analysis::View::Discrete
+    } else {
+        msp::analysis::View::Sampled
+    };
+    let an = msp::analysis::analyze(&sc, view, a.uncertainty.map(|u| (u.gain, u.delay)))?;
+    if let Some(p) = &a.plot {
+        let svg = output::bode_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        output::write_atomic(p, svg.as_bytes())?;
+    }
+    if a.json {
+        let text = serde_json::to_string_pretty(&output::margins_json(&an))
+            .map_err(|e| CliError::Runtime(e.to_string()))?;
+        println!("{text}");
+    } else {
+        print!("{}", output::margins_text(&an));
+    }
+    Ok(())
+}
+
+fn sweep(a: &SweepArgs) -> Result<(), CliError> {
+    if !a.merge.is_empty() {
+        let csv = output::merge_sweeps(&a.merge)?;
+        return write_or_print(a.output.as_ref(), &csv);
+    }
+    let mut sc = scenario_from(&a.scenario)?;
+    if a.controller.is_some() {
+        sc.controller.clone_from(&a.controller);
+    }
+    let spec = msp::sweep::SweepSpec {
+        gain: a.gain,
+        delay: a.delay,
+        tau: a.tau,
+        grid: a.grid,
+        samples: a.samples,
+        seed: a.sweep_seed,
+        shard: a.shard,
+    };
+    let total = msp::sweep::points(&spec).len();
+    use std::io::IsTerminal;
+    let bar = if !a.quiet && std::io::stderr().is_terminal() {
+        indicatif::ProgressBar::new(total as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let rows = msp::sweep::sweep(&sc, &spec, &|_| bar.inc(1))?;
+    bar.finish_and_clear();
+    let csv =
+        output::sweep_csv(&rows).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+    write_or_print(a.output.as_ref(), &csv)?;
+    if !a.quiet {
+        eprint!("{}", output::sweep_summary(&rows));
+    }
     Ok(())
 }
 
@@ -335,6 +497,8 @@ fn main() -> ExitCode {
         Cmd::Run(a) => run(a),
         Cmd::Compare(a) => compare(a),
         Cmd::Tune(a) => tune(a),
+        Cmd::Margins(a) => margins(a),
+        Cmd::Sweep(a) => sweep(a),
         Cmd::List => {
             list();
             Ok(())

@@ -220,7 +220,11 @@ fn metric(m: &Metrics, key: &str) -> f64 {
 }
 
 /// The thesis-style table: a row per figure, a column per controller.
-pub fn compare_table(runs: &[RunOutput], p: msp::sim::Perturbation) -> String {
+pub fn compare_table(
+    runs: &[RunOutput],
+    margins: &[Option<msp::analysis::Margins>],
+    p: msp::sim::Perturbation,
+) -> String {
     let mut s = String::new();
     if let Some(first) = runs.first() {
         s.push_str(&format!(
@@ -258,6 +262,23 @@ pub fn compare_table(runs: &[RunOutput], p: msp::sim::Perturbation) -> String {
         s.push_str(&format!("{label:<30}"));
         for r in runs {
             s.push_str(&format!("{:>w$}", fmt_sig(metric(&r.metrics, key))));
+        }
+        s.push('\n');
+    }
+    head(&mut s, "frequency domain (loop at plant input)");
+    let freq: [(&str, fn(&msp::analysis::Margins) -> f64); 4] = [
+        ("Gm (dB)", |m| m.gm_db),
+        ("Pm (Degrees)", |m| m.pm),
+        ("Wco (rad/s)", |m| m.wcg),
+        ("Wpm (rad/s)", |m| m.wcp),
+    ];
+    for (label, f) in freq {
+        s.push_str(&format!("{label:<30}"));
+        for m in margins.iter().take(runs.len()) {
+            s.push_str(&format!(
+                "{:>w$}",
+                m.as_ref().map_or("-".to_string(), |m| fmt_sig(f(m)))
+            ));
         }
         s.push('\n');
     }
@@ -418,4 +439,327 @@ pub fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error::Error
         root.present()?;
     }
     Ok(svg)
+}
+
+/// The `msp margins --json` document: MATLAB/python-control key names at the top level.
+pub fn margins_json(an: &msp::analysis::Analysis) -> Value {
+    let mut o = Map::new();
+    o.insert("plant".into(), json!(an.plant.to_string()));
+    o.insert("model".into(), json!(an.model.to_string()));
+    o.insert("ts".into(), num(an.ts));
+    let params: Map<String, Value> = an
+        .params
+        .0
+        .iter()
+        .map(|(k, v)| (k.to_string(), num(*v)))
+        .collect();
+    o.insert(
+        "controller".into(),
+        json!({"name": an.controller, "params": params}),
+    );
+    for (k, v) in an.margins.fields() {
+        o.insert(k.into(), num(v));
+    }
+    o.insert("stable".into(), json!(an.stable));
+    if let Some(inner) = &an.inner {
+        let m: Map<String, Value> = inner
+            .fields()
+            .iter()
+            .map(|(k, v)| (k.to_string(), num(*v)))
+            .collect();
+        o.insert("inner".into(), Value::Object(m));
+    }
+    o.insert(
+        "region".into(),
+        Value::Array(
+            an.region
+                .iter()
+                .map(|(k, d)| json!({"gain": num(*k), "dm": num(*d)}))
+                .collect(),
+        ),
+    );
+    if let Some(p) = an.robust_peak {
+        o.insert("robust_peak".into(), num(p));
+        o.insert("robustly_stable".into(), json!(p < 1.0));
+    }
+    Value::Object(o)
+}
+
+/// The human `msp margins` report.
+pub fn margins_text(an: &msp::analysis::Analysis) -> String {
+    let m = &an.margins;
+    let mut s = String::new();
+    s.push_str(&format!("plant       {}\n", an.plant));
+    if an.model != an.plant {
+        s.push_str(&format!("model       {}\n", an.model));
+    }
+    let params: Vec<String> = an
+        .params
+        .0
+        .iter()
+        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
+        .collect();
+    s.push_str(&format!(
+        "controller  {}: {}  (ts {} s)\n",
+        an.controller,
+        params.join(" "),
+        fmt_num(an.ts)
+    ));
+    s.push_str(&format!(
+        "gain margin   gm = {} ({} dB) at wcg = {} rad/s\n",
+        fmt_sig(m.gm),
+        fmt_sig(m.gm_db),
+        fmt_sig(m.wcg)
+    ));
+    s.push_str(&format!(
+        "phase margin  pm = {} deg at wcp = {} rad/s\n",
+        fmt_sig(m.pm),
+        fmt_sig(m.wcp)
+    ));
+    s.push_str(&format!("delay margin  dm = {} s\n", fmt_sig(m.dm)));
+    s.push_str(&format!(
+        "peaks         ms = {}, mt = {}\n",
+        fmt_sig(m.ms),
+        fmt_sig(m.mt)
+    ));
+    if m.gm_lower > 0.0 {
+        s.push_str(&format!("lower gain limit {}\n", fmt_sig(m.gm_lower)));
+    }
+    if let Some(i) = &an.inner {
+        s.push_str(&format!(
+            "inner loop    gm = {} pm = {} deg at {} rad/s\n",
+            fmt_sig(i.gm),
+            fmt_sig(i.pm),
+            fmt_sig(i.wcp)
+        ));
+    }
+    s.push_str(&format!(
+        "nominal loop  {}\n",
+        if an.stable {
+            "stable (simulated)"
+        } else {
+            "NOT stable in simulation: the margins are not limits"
+        }
+    ));
+    s.push_str("stability region: gain factor -> delay margin (s)\n");
+    for (k, d) in &an.region {
+        s.push_str(&format!("  {:>8} -> {}\n", fmt_sig(*k), fmt_sig(*d)));
+    }
+    if let Some(p) = an.robust_peak {
+        s.push_str(&format!(
+            "robust stability max|T·Δ| = {} ({})\n",
+            fmt_sig(p),
+            if p < 1.0 {
+                "robustly stable"
+            } else {
+                "not guaranteed"
+            }
+        ));
+    }
+    s
+}
+
+/// Bode magnitude and phase and the Nyquist plot of the loop at the plant input.
+pub fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let r = &an.response;
+    let mag: Vec<(f64, f64)> =
+        r.w.iter()
+            .zip(&r.l)
+            .map(|(w, l)| (*w, 20.0 * l.abs().log10()))
+            .collect();
+    // unwrapped phase along the grid
+    let mut phase = Vec::with_capacity(r.l.len());
+    let mut prev = 0.0f64;
+    let mut offset = 0.0;
+    for (i, (w, l)) in r.w.iter().zip(&r.l).enumerate() {
+        let p = l.arg().to_degrees();
+        if i > 0 {
+            if p - prev > 180.0 {
+                offset -= 360.0;
+            } else if p - prev < -180.0 {
+                offset += 360.0;
+            }
+        }
+        prev = p;
+        phase.push((*w, p + offset));
+    }
+    let finite = |v: &[(f64, f64)]| {
+        v.iter()
+            .map(|p| p.1)
+            .filter(|x| x.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            })
+    };
+    let (w0, w1) = (
+        r.w.first().copied().unwrap_or(1e-3),
+        r.w.last().copied().unwrap_or(1.0),
+    );
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 700)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (left, right) = root.split_horizontally(600);
+        let (top, bottom) = left.split_vertically(350);
+        let (mlo, mhi) = finite(&mag);
+        let mut c = ChartBuilder::on(&top)
+            .caption(
+                format!(
+                    "{} on {}: gm {} dB, pm {} deg",
+                    an.controller,
+                    an.plant,
+                    fmt_sig(an.margins.gm_db),
+                    fmt_sig(an.margins.pm)
+                ),
+                ("sans-serif", 15),
+            )
+            .margin(8)
+            .x_label_area_size(25)
+            .y_label_area_size(50)
+            .build_cartesian_2d((w0..w1).log_scale(), (mlo.max(-120.0) - 5.0)..(mhi + 5.0))?;
+        c.configure_mesh().y_desc("|L| (dB)").draw()?;
+        c.draw_series(LineSeries::new(mag.iter().copied(), &BLUE))?;
+        c.draw_series(LineSeries::new([(w0, 0.0), (w1, 0.0)], &BLACK.mix(0.4)))?;
+        let (plo, phi) = finite(&phase);
+        let mut c2 = ChartBuilder::on(&bottom)
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(50)
+            .build_cartesian_2d(
+                (w0..w1).log_scale(),
+                (plo.max(-3600.0) - 10.0)..(phi + 10.0),
+            )?;
+        c2.configure_mesh()
+            .x_desc("ω (rad/s)")
+            .y_desc("arg L (deg)")
+            .draw()?;
+        c2.draw_series(LineSeries::new(phase.iter().copied(), &RED))?;
+        c2.draw_series(LineSeries::new(
+            [(w0, -180.0), (w1, -180.0)],
+            &BLACK.mix(0.4),
+        ))?;
+        let pts: Vec<(f64, f64)> =
+            r.l.iter()
+                .filter(|l| l.abs() < 10.0)
+                .map(|l| (l.re, l.im))
+                .collect();
+        let mut c3 = ChartBuilder::on(&right)
+            .caption("Nyquist (|L| < 10)", ("sans-serif", 15))
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(40)
+            .build_cartesian_2d(-3.0..2.0, -3.0..2.0)?;
+        c3.configure_mesh().x_desc("Re L").y_desc("Im L").draw()?;
+        c3.draw_series(LineSeries::new(pts, &BLUE))?;
+        c3.draw_series(std::iter::once(Circle::new((-1.0, 0.0), 4, RED.filled())))?;
+        root.present()?;
+    }
+    Ok(svg)
+}
+
+const SWEEP_HEAD: &[&str] = &["index", "gain", "delay", "tau", "stable"];
+
+/// One CSV row per run: the perturbation, the verdict, the metrics and the largest |u|.
+pub fn sweep_csv(rows: &[msp::sweep::SweepRow]) -> Result<Vec<u8>, csv::Error> {
+    let mut w = csv::WriterBuilder::new().from_writer(Vec::with_capacity(rows.len() * 200));
+    let mut header: Vec<&str> = SWEEP_HEAD.to_vec();
+    let names: Vec<&str> = rows
+        .first()
+        .map(|r| r.metrics.fields().iter().map(|(k, _)| *k).collect())
+        .unwrap_or_default();
+    header.extend(&names);
+    header.push("max_abs_u");
+    w.write_record(&header)?;
+    for r in rows {
+        let mut rec = vec![
+            r.index.to_string(),
+            fmt_f(r.gain),
+            fmt_f(r.delay),
+            fmt_f(r.tau),
+            r.stable.to_string(),
+        ];
+        rec.extend(r.metrics.fields().iter().map(|(_, v)| fmt_f(*v)));
+        rec.push(fmt_f(r.max_abs_u));
+        w.write_record(&rec)?;
+    }
+    w.into_inner().map_err(|e| csv::Error::from(e.into_error()))
+}
+
+/// The worst cases of a sweep.
+pub fn sweep_summary(rows: &[msp::sweep::SweepRow]) -> String {
+    let unstable = rows.iter().filter(|r| !r.stable).count();
+    let mut s = format!("{} runs, {} unstable\n", rows.len(), unstable);
+    let worst = |name: &str, key: fn(&msp::sweep::SweepRow) -> f64| -> String {
+        match rows
+            .iter()
+            .filter(|r| key(r).is_finite())
+            .max_by(|a, b| key(a).total_cmp(&key(b)))
+        {
+            Some(r) => format!(
+                "worst {name:<14} {:>10}  at gain {:+}%, delay {:+}%, tau {:+}% (index {})\n",
+                fmt_sig(key(r)),
+                fmt_sig(100.0 * r.gain),
+                fmt_sig(100.0 * r.delay),
+                fmt_sig(100.0 * r.tau),
+                r.index
+            ),
+            None => String::new(),
+        }
+    };
+    s.push_str(&worst("iae", |r| r.metrics.iae));
+    s.push_str(&worst("overshoot (%)", |r| r.metrics.overshoot));
+    s.push_str(&worst("settling (s)", |r| r.metrics.settling_time));
+    s.push_str(&worst("max |u|", |r| r.max_abs_u));
+    for r in rows.iter().filter(|r| !r.stable).take(5) {
+        s.push_str(&format!(
+            "unstable: gain {:+}%, delay {:+}%, tau {:+}%\n",
+            fmt_sig(100.0 * r.gain),
+            fmt_sig(100.0 * r.delay),
+            fmt_sig(100.0 * r.tau)
+        ));
+    }
+    s
+}
+
+/// Concatenates shard CSVs (same header) and orders the rows by index.
+pub fn merge_sweeps(paths: &[std::path::PathBuf]) -> Result<Vec<u8>, CliError> {
+    let mut header: Option<csv::StringRecord> = None;
+    let mut rows: Vec<(usize, csv::StringRecord)> = Vec::new();
+    for p in paths {
+        let mut r = csv::Reader::from_path(p)
+            .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?;
+        let h = r
+            .headers()
+            .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?
+            .clone();
+        match &header {
+            None => header = Some(h),
+            Some(first) if *first != h => {
+                return Err(CliError::Input(format!(
+                    "{}: its columns differ from the first file's",
+                    p.display()
+                )))
+            }
+            Some(_) => {}
+        }
+        for rec in r.records() {
+            let rec = rec.map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?;
+            let idx: usize = rec.get(0).and_then(|x| x.parse().ok()).ok_or_else(|| {
+                CliError::Input(format!("{}: a row without an index", p.display()))
+            })?;
+            rows.push((idx, rec));
+        }
+    }
+    rows.sort_by_key(|(i, _)| *i);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    if let Some(h) = header {
+        w.write_record(&h)
+            .map_err(|e| CliError::Runtime(e.to_string()))?;
+    }
+    for (_, r) in rows {
+        w.write_record(&r)
+            .map_err(|e| CliError::Runtime(e.to_string()))?;
+    }
+    w.into_inner().map_err(|e| CliError::Runtime(e.to_string()))
 }

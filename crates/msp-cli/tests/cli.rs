@@ -174,3 +174,186 @@ fn tune_prints_kaya_settings() {
             predicate::str::contains("\"kp\": 0.4").and(predicate::str::contains("\"td\": 0.5")),
         );
 }
+
+fn read_csv(path: &std::path::Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn sweep_of_10000_runs_and_its_worst_case_by_a_single_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("runs.csv");
+    let common = [
+        "--plant",
+        "0.2/s*e^-7.4s",
+        "-c",
+        "karan-dey",
+        "--ts",
+        "0.074",
+        "--duration",
+        "100",
+    ];
+    msp()
+        .arg("sweep")
+        .args(common)
+        .args([
+            "--gain=-20%..+20%",
+            "--delay=-10%..+10%",
+            "--grid",
+            "100",
+            "-o",
+        ])
+        .arg(&csv)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("10000 runs"));
+    let rows = read_csv(&csv);
+    assert_eq!(rows.len(), 10_001);
+    let col = |name: &str| rows[0].iter().position(|h| h == name).unwrap();
+    let (iae, gain, delay) = (col("iae"), col("gain"), col("delay"));
+    let worst = rows[1..]
+        .iter()
+        .max_by(|a, b| {
+            a[iae]
+                .parse::<f64>()
+                .unwrap()
+                .total_cmp(&b[iae].parse::<f64>().unwrap())
+        })
+        .unwrap();
+    let (g, d): (f64, f64) = (worst[gain].parse().unwrap(), worst[delay].parse().unwrap());
+    // the same loop as one msp run: the perturbed plant, the nominal model
+    let report = dir.path().join("worst.json");
+    msp()
+        .args([
+            "run",
+            "-q",
+            "--plant",
+            &format!("{}/s*e^-{}s", 0.2 * (1.0 + g), 7.4 * (1.0 + d)),
+            "--model",
+            "0.2/s*e^-7.4s",
+        ])
+        .args([
+            "-c",
+            "karan-dey",
+            "--ts",
+            "0.074",
+            "--duration",
+            "100",
+            "-o",
+        ])
+        .arg(dir.path().join("worst.csv"))
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let single = j["metrics"]["iae"].as_f64().unwrap();
+    let swept: f64 = worst[iae].parse().unwrap();
+    assert!(
+        (single - swept).abs() <= 1e-9 * swept.abs(),
+        "{single} vs {swept}"
+    );
+}
+
+#[test]
+fn sweep_shards_merge_into_the_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "--plant",
+        "0.2/s*e^-7.4s",
+        "--ts",
+        "0.074",
+        "--duration",
+        "60",
+        "--gain=-10%..+10%",
+        "--samples",
+        "30",
+    ];
+    let whole = dir.path().join("whole.csv");
+    msp()
+        .arg("sweep")
+        .args(args)
+        .arg("-q")
+        .arg("-o")
+        .arg(&whole)
+        .assert()
+        .success();
+    let mut parts = Vec::new();
+    for i in 0..3 {
+        let p = dir.path().join(format!("part{i}.csv"));
+        msp()
+            .arg("sweep")
+            .args(args)
+            .args(["-q", "--shard", &format!("{i}/3"), "-o"])
+            .arg(&p)
+            .assert()
+            .success();
+        parts.push(p);
+    }
+    let merged = dir.path().join("merged.csv");
+    msp()
+        .args(["sweep", "--merge"])
+        .args(&parts)
+        .arg("-o")
+        .arg(&merged)
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::read_to_string(&whole).unwrap(),
+        std::fs::read_to_string(&merged).unwrap()
+    );
+}
+
+#[test]
+fn margins_json_has_the_matlab_keys() {
+    let out = msp()
+        .args([
+            "margins",
+            "--plant",
+            "5.6*e^-93.9s/(40.2s+1)",
+            "-c",
+            "pid",
+            "--set",
+            "kp=0.0501",
+            "--set",
+            "ti=47.3",
+            "--set",
+            "td=0",
+            "--json",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    for k in ["gm", "gm_db", "pm", "wcg", "wcp", "dm", "ms", "mt"] {
+        assert!(j[k].is_number(), "{k}");
+    }
+    assert_eq!(j["stable"], true);
+}
+
+#[test]
+fn compare_prints_the_frequency_rows() {
+    msp()
+        .args([
+            "compare",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey,smith",
+            "--duration",
+            "60",
+        ])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("Gm (dB)")
+                .and(predicate::str::contains("Wpm (rad/s)"))
+                .and(predicate::str::contains("IAE")),
+        );
+}

@@ -8,7 +8,7 @@ use msp::sim::{
     Disturbance, Location, Metrics, Perturbation, RunOutput, Scenario, SetpointStep, Shape,
 };
 use msp::{AntiWindup, Pid, PidConfig};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
@@ -408,6 +408,168 @@ fn compare<'py>(
     Ok(out)
 }
 
+fn margins_dict<'py>(py: Python<'py>, m: &msp::analysis::Margins) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in m.fields() {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
+/// Margins, stability region and robust-stability test (see ``msp.margins``).
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, model=None, ts=None, lambda_=None, rule=None,
+                    discrete=false, uncertainty=None))]
+#[allow(clippy::too_many_arguments)]
+fn margins<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    discrete: bool,
+    uncertainty: Option<(f64, f64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut sc = scenario(
+        controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
+    )?;
+    sc.plant = plant_of(plant)?.to_string();
+    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    let view = if discrete {
+        msp::analysis::View::Discrete
+    } else {
+        msp::analysis::View::Sampled
+    };
+    let an = py
+        .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
+        .map_err(value_err)?;
+    let d = margins_dict(py, &an.margins)?;
+    d.set_item("plant", an.plant.to_string())?;
+    d.set_item("model", an.model.to_string())?;
+    d.set_item("ts", an.ts)?;
+    let c = PyDict::new(py);
+    c.set_item("name", an.controller)?;
+    c.set_item("params", params_dict(py, &an.params)?)?;
+    d.set_item("controller", c)?;
+    d.set_item("stable", an.stable)?;
+    if let Some(i) = &an.inner {
+        d.set_item("inner", margins_dict(py, i)?)?;
+    }
+    d.set_item("region", an.region.clone())?;
+    d.set_item("robust_peak", an.robust_peak)?;
+    d.set_item("w", an.response.w.clone().into_pyarray(py))?;
+    let l: Vec<f64> = an.response.l.iter().flat_map(|c| [c.re, c.im]).collect();
+    let arr = l.into_pyarray(py).reshape([an.response.w.len(), 2])?;
+    d.set_item("l", arr)?;
+    Ok(d)
+}
+
+/// A sweep of plant perturbations (see ``msp.sweep``): a dict of numpy columns.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0),
+                    grid=11, samples=0, seed=1, shard=(0, 1), model=None, ts=None, duration=None, lambda_=None,
+                    rule=None))]
+#[allow(clippy::too_many_arguments)]
+fn sweep<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    gain: (f64, f64),
+    delay: (f64, f64),
+    tau: (f64, f64),
+    grid: usize,
+    samples: usize,
+    seed: u64,
+    shard: (usize, usize),
+    model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    use msp::sweep::{Range, SweepSpec};
+    let range = |(lo, hi): (f64, f64), name: &str| -> PyResult<Range> {
+        if lo.is_nan() || hi.is_nan() || lo > hi || lo <= -1.0 {
+            return Err(PyValueError::new_err(format!("{name}: need -1 < lo <= hi")));
+        }
+        Ok(Range { lo, hi })
+    };
+    let spec = SweepSpec {
+        gain: range(gain, "gain")?,
+        delay: range(delay, "delay")?,
+        tau: range(tau, "tau")?,
+        grid,
+        samples,
+        seed,
+        shard,
+    };
+    let mut sc = scenario(
+        controller, params, ts, duration, None, None, None, None, None, None, lambda_, rule, None,
+    )?;
+    sc.plant = plant_of(plant)?.to_string();
+    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    let rows = py
+        .allow_threads(|| msp::sweep::sweep(&sc, &spec, &|_| {}))
+        .map_err(value_err)?;
+    let d = PyDict::new(py);
+    d.set_item(
+        "index",
+        rows.iter()
+            .map(|r| r.index)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "gain",
+        rows.iter()
+            .map(|r| r.gain)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "delay",
+        rows.iter()
+            .map(|r| r.delay)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "tau",
+        rows.iter()
+            .map(|r| r.tau)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "stable",
+        rows.iter()
+            .map(|r| r.stable)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    if let Some(first) = rows.first() {
+        for (i, (k, _)) in first.metrics.fields().iter().enumerate() {
+            let col: Vec<f64> = rows
+                .iter()
+                .map(|r| r.metrics.fields().get(i).map_or(f64::NAN, |f| f.1))
+                .collect();
+            d.set_item(*k, col.into_pyarray(py))?;
+        }
+    }
+    d.set_item(
+        "max_abs_u",
+        rows.iter()
+            .map(|r| r.max_abs_u)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    Ok(d)
+}
+
 /// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``.
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, lambda_=None, rule=None))]
@@ -711,6 +873,8 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(tune, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(margins, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(controllers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -161,3 +161,28 @@ def test_every_scheme_class_runs_per_sample() -> None:
 def test_rule_selects_a_pid_tuning() -> None:
     zn = msp.tune("0.2/s*e^-7.4s", "pid", rule="zn")["params"]
     assert math.isclose(zn["ti"], 0.5 * 4 * 7.4)
+
+
+def test_margins_agree_with_python_control_on_the_exact_delay_loop() -> None:
+    control = pytest.importorskip("control")
+    kp, ti = 0.0501, 47.3
+    m = msp.margins("5.6*e^-93.9s/(40.2s+1)", "pid", {"kp": kp, "ti": ti, "td": 0.0}, ts=0.05)
+    w = np.logspace(-4, 0, 20_000)
+    s = 1j * w
+    loop = kp * (1 + 1 / (ti * s)) * 5.6 * np.exp(-93.9 * s) / (40.2 * s + 1)
+    gm, pm, _, wpc, wgc, _ = control.stability_margins(control.frd(loop, w))
+    assert math.isclose(m["gm"], gm, rel_tol=0.01)
+    assert math.isclose(m["pm"], pm, rel_tol=0.01)
+    assert math.isclose(m["wcg"], wpc, rel_tol=0.01)
+    assert math.isclose(m["wcp"], wgc, rel_tol=0.01)
+    assert m["stable"] and math.isclose(m["dm"], math.radians(m["pm"]) / m["wcp"], rel_tol=1e-9)
+
+
+def test_sweep_columns_and_shards() -> None:
+    args = dict(controller="karan-dey", gain="-10%..+10%", delay=(-0.05, 0.05), grid=4, ts=0.074, duration=60)
+    whole = msp.sweep("0.2/s*e^-7.4s", **args)
+    assert len(whole["iae"]) == 16 and whole["stable"].dtype == bool
+    a = msp.sweep("0.2/s*e^-7.4s", shard=(0, 2), **args)
+    b = msp.sweep("0.2/s*e^-7.4s", shard=(1, 2), **args)
+    merged = np.concatenate([a["iae"], b["iae"]])[np.argsort(np.concatenate([a["index"], b["index"]]))]
+    assert np.array_equal(merged, whole["iae"])

@@ -38,8 +38,10 @@ __all__ = [
     "__version__",
     "compare",
     "controllers",
+    "margins",
     "parse_plant",
     "run",
+    "sweep",
     "tune",
 ]
 
@@ -203,6 +205,88 @@ def compare(
     raw = _msp.compare(p, list(controllers), perturb=dict(perturb) if isinstance(perturb, Mapping) else perturb,
                        **scenario)
     return [Result(r) for r in raw]
+
+
+def _relative(v: Union[str, float]) -> float:
+    if isinstance(v, str):
+        text = v.strip()
+        return float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    return float(v)
+
+
+def _range(r: Union[None, str, float, Tuple[float, float]]) -> Tuple[float, float]:
+    if r is None:
+        return (0.0, 0.0)
+    if isinstance(r, str):
+        a, _, b = r.partition("..")
+        return (_relative(a), _relative(b or a))
+    if isinstance(r, (int, float)):
+        return (float(r), float(r))
+    return (float(r[0]), float(r[1]))
+
+
+def margins(
+    plant: PlantLike,
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    delay: Optional[float] = None,
+    model: Optional[PlantLike] = None,
+    ts: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
+    discrete: bool = False,
+    uncertainty: Union[None, str, Mapping[str, float], Tuple[float, float]] = None,
+) -> Dict[str, Any]:
+    """Margins of the loop at the plant input with the exact dead time, as ``msp margins``.
+
+    Returns a dict with ``gm``, ``gm_db``, ``pm`` (degrees), ``wcg``, ``wcp``, ``dm`` (s),
+    ``ms``, ``mt`` (python-control / MATLAB names), ``inner`` (the model loop's margins),
+    ``region`` (gain factor, delay margin pairs), ``stable``, ``robust_peak`` (``max|T·Δ|``
+    for ``uncertainty``: ``"gain=10%,delay=10%"``, a dict or a ``(gain, delay)`` pair), and
+    the loop response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``).
+    """
+    unc: Optional[Tuple[float, float]] = None
+    if isinstance(uncertainty, str):
+        parts = dict(p.split("=") for p in uncertainty.replace(" ", "").split(",") if p)
+        unc = (_relative(parts.get("gain", "0")), _relative(parts.get("delay", "0")))
+    elif isinstance(uncertainty, Mapping):
+        unc = (float(uncertainty.get("gain", 0.0)), float(uncertainty.get("delay", 0.0)))
+    elif uncertainty is not None:
+        unc = (float(uncertainty[0]), float(uncertainty[1]))
+    return _msp.margins(_plant(plant, delay), controller, dict(params) if params else None,
+                        model=_plant(model) if model is not None else None, ts=ts, lambda_=lambda_,
+                        rule=rule, discrete=discrete, uncertainty=unc)
+
+
+def sweep(
+    plant: PlantLike,
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    gain: Union[None, str, float, Tuple[float, float]] = None,
+    delay: Union[None, str, float, Tuple[float, float]] = None,
+    tau: Union[None, str, float, Tuple[float, float]] = None,
+    grid: int = 11,
+    samples: int = 0,
+    seed: int = 1,
+    shard: Tuple[int, int] = (0, 1),
+    model: Optional[PlantLike] = None,
+    ts: Optional[float] = None,
+    duration: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
+) -> Dict[str, np.ndarray]:
+    """Many closed-loop runs over relative plant perturbations, in parallel, as ``msp sweep``.
+
+    Ranges are ``"-20%..+20%"`` or ``(lo, hi)`` pairs of relative changes. Returns one numpy
+    column per field: ``index``, ``gain``, ``delay``, ``tau``, ``stable`` and the metrics.
+    ``shard=(i, n)`` runs the runs whose index is ``i`` modulo ``n`` (for distributed engines).
+    """
+    return _msp.sweep(_plant(plant), controller, dict(params) if params else None, gain=_range(gain),
+                      delay=_range(delay), tau=_range(tau), grid=grid, samples=samples, seed=seed,
+                      shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None, ts=ts,
+                      duration=duration, lambda_=lambda_, rule=rule)
 
 
 def tune(

@@ -1,10 +1,10 @@
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union, final
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "__version__", "compare", "controllers", "parse_plant", "run", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "__version__", "compare", "controllers", "margins", "parse_plant", "run", "sweep", "tune"]
 __version__: str
 
 @final
@@ -69,6 +69,36 @@ def tune(
     rule: Optional[str] = None,
 ) -> Dict[str, Any]: ...
 def controllers() -> List[Dict[str, Any]]: ...
+def margins(
+    plant: Union[str, Plant],
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    model: Union[str, Plant, None] = None,
+    ts: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
+    discrete: bool = False,
+    uncertainty: Optional[Tuple[float, float]] = None,
+) -> Dict[str, Any]: ...
+def sweep(
+    plant: Union[str, Plant],
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    gain: Tuple[float, float] = ...,
+    delay: Tuple[float, float] = ...,
+    tau: Tuple[float, float] = ...,
+    grid: int = 11,
+    samples: int = 0,
+    seed: int = 1,
+    shard: Tuple[int, int] = ...,
+    model: Union[str, Plant, None] = None,
+    ts: Optional[float] = None,
+    duration: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    rule: Optional[str] = None,
+) -> Dict[str, Any]: ...
 
 @disjoint_base
 class Controller:

@@ -1,0 +1,481 @@
+//! Frequency-domain analysis of a sampled controller on its plant, with the
+//! exact dead time `e^{−jωθ}` (never a Padé approximation).
+//!
+//! The loop is broken at the plant input. The controller's feedback path
+//! `Cy(e^{jωTs})` comes from [`Controller::response`] (every scheme derives it
+//! from its own blocks; the tests check it against the time domain). Two
+//! views of the plant:
+//!
+//! - **sampled-data** (default): the continuous plant behind the zero-order
+//!   hold, `L(jω) = Cy(e^{jωTs}) · (1 − e^{−jωTs})/(jωTs) · P(jω)`, for
+//!   `ω` up to the Nyquist frequency (aliasing neglected);
+//! - **discrete**: the exact ZOH equivalent of the plant, dead time included
+//!   (a fractional dead time through the modified z-transform),
+//!   `L(z) = Cy(z)·P_d(z)` on `z = e^{jωTs}`.
+//!
+//! From `L`: the gain margin `gm` at the phase crossover `wcg`, the phase
+//! margin `pm` (degrees) at the gain crossover `wcp`, the delay margin
+//! `dm = pm/wcp` (s), and the peaks `ms = max|1/(1 + L)|`, `mt = max|L/(1 + L)|`
+//! (key names of MATLAB's `margin` and python-control). The crossover margins
+//! measure the distance to the first imaginary-axis crossing of the
+//! closed-loop poles as the loop gain or delay grows from nominal, so they are
+//! the loop's gain and delay limits provided the nominal loop is stable —
+//! which [`Margins::stable`] reports from a simulation of the loop (the Smith
+//! predictor's controller is itself unstable on an integrating model, so
+//! the open-loop Nyquist count alone would not settle it).
+
+use core::ops::{Add, Div, Mul, Sub};
+use std::vec::Vec;
+
+use crate::complex::Complex;
+use crate::dtc::Controller;
+use crate::poly::TransferFunction;
+use crate::{Discretization, Error, Lti};
+
+/// Which plant view the loop uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum View {
+    /// Continuous plant behind a zero-order hold.
+    #[default]
+    Sampled,
+    /// The exact discrete equivalent of the plant.
+    Discrete,
+}
+
+/// The exact ZOH equivalent of `plant` at `ts` as a frequency response: with
+/// `θ = (k + f)·Ts`, `x[n+1] = Φx[n] + Γ₁v[n−k−1] + Γ₂v[n−k]`, `y = Cx`, where
+/// `Γ₁ = Φ((1 − f)Ts)·Γ(f·Ts)` and `Γ₂ = Γ((1 − f)Ts)`.
+pub struct DiscretePlant {
+    full: Lti<f64, 8>,
+    late: Lti<f64, 8>,
+    early: Option<Lti<f64, 8>>,
+    k: f64,
+}
+
+impl DiscretePlant {
+    /// The discrete equivalent of `plant` at `ts`.
+    pub fn new(plant: &TransferFunction, ts: f64) -> Result<Self, Error> {
+        let d = plant.delay_samples(ts)?;
+        let (mut k, mut f) = (d.floor(), d - d.floor());
+        if f > 1.0 - 1e-12 {
+            k += 1.0;
+            f = 0.0;
+        }
+        let full = plant.to_lti::<8>(ts)?;
+        if f <= 1e-12 {
+            return Ok(DiscretePlant {
+                full,
+                late: full,
+                early: None,
+                k,
+            });
+        }
+        // y(z) = C(zI − Φ)⁻¹[Γ₂ z^{−k} + Γ₁ z^{−k−1}] v: both pieces share Φ and C, so
+        // each is the full block with its own Γ (a piece's ZOH over part of the period,
+        // propagated to the period's end)
+        let a = Lti::<f64, 8>::from_tf(&plant.num, &plant.den, f * ts, Discretization::Zoh)?;
+        let b =
+            Lti::<f64, 8>::from_tf(&plant.num, &plant.den, (1.0 - f) * ts, Discretization::Zoh)?;
+        let early = full.with_input(&b.propagate(&a.input_vector()))?;
+        let late = full.with_input(&b.input_vector())?;
+        Ok(DiscretePlant {
+            full,
+            late,
+            early: Some(early),
+            k,
+        })
+    }
+
+    /// `P_d(e^{jθ})`.
+    pub fn response(&self, theta: f64) -> Complex<f64> {
+        let _ = &self.full;
+        let late = self.late.response(theta).mul(Complex::cis(-theta * self.k));
+        match &self.early {
+            None => late,
+            Some(e) => late.add(e.response(theta).mul(Complex::cis(-theta * (self.k + 1.0)))),
+        }
+    }
+}
+
+/// The loop transfer at the plant input on a frequency grid.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LoopResponse {
+    /// Frequencies (rad/s).
+    pub w: Vec<f64>,
+    /// `L(jω)`.
+    pub l: Vec<Complex<f64>>,
+}
+
+/// Evaluates `L` at `w` (rad/s).
+pub fn loop_at(
+    controller: &dyn Controller<f64>,
+    plant: &TransferFunction,
+    dplant: Option<&DiscretePlant>,
+    ts: f64,
+    w: f64,
+) -> Option<Complex<f64>> {
+    let theta = w * ts;
+    let (_, cy) = controller.response(theta)?;
+    let p = match dplant {
+        Some(d) => d.response(theta),
+        None => {
+            let (re, im) = plant.freq(w);
+            // zero-order hold (1 − e^{−jωT})/(jωT)
+            let zoh = Complex::real(1.0)
+                .sub(Complex::cis(-theta))
+                .div(Complex::new(0.0, theta));
+            Complex::new(re, im).mul(zoh)
+        }
+    };
+    Some(cy.mul(p))
+}
+
+/// Stability margins and sensitivity peaks (names as MATLAB's `margin` and python-control).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Margins {
+    /// Gain margin (absolute ratio); infinite without a phase crossover.
+    pub gm: f64,
+    /// Gain margin in dB.
+    pub gm_db: f64,
+    /// Phase margin (degrees); infinite without a gain crossover.
+    pub pm: f64,
+    /// Phase-crossover frequency (rad/s).
+    pub wcg: f64,
+    /// Gain-crossover frequency (rad/s).
+    pub wcp: f64,
+    /// Delay margin (s): the extra dead time that makes the loop oscillate.
+    pub dm: f64,
+    /// Peak of the sensitivity `|1/(1 + L)|`.
+    pub ms: f64,
+    /// Peak of the complementary sensitivity `|L/(1 + L)|`.
+    pub mt: f64,
+    /// Lower gain limit (a loop that is only conditionally stable loses
+    /// stability when its gain falls below this factor; 0 if none).
+    pub gm_lower: f64,
+}
+
+impl Margins {
+    /// Every figure with its report name.
+    pub fn fields(&self) -> [(&'static str, f64); 9] {
+        [
+            ("gm", self.gm),
+            ("gm_db", self.gm_db),
+            ("pm", self.pm),
+            ("wcg", self.wcg),
+            ("wcp", self.wcp),
+            ("dm", self.dm),
+            ("ms", self.ms),
+            ("mt", self.mt),
+            ("gm_lower", self.gm_lower),
+        ]
+    }
+}
+
+/// A log-spaced grid from the plant's slowest time scale to the Nyquist frequency.
+pub fn grid(plant: &TransferFunction, ts: f64, points: usize) -> Vec<f64> {
+    let scales = plant.time_scales().unwrap_or_default();
+    let slow = scales.iter().copied().fold(ts, f64::max);
+    let lo = 1e-3 / slow;
+    let hi = 0.999 * core::f64::consts::PI / ts;
+    let n = points.max(16);
+    (0..n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+        .collect()
+}
+
+/// The loop response on a grid.
+pub fn loop_response(
+    controller: &dyn Controller<f64>,
+    plant: &TransferFunction,
+    ts: f64,
+    view: View,
+    w: &[f64],
+) -> Result<LoopResponse, Error> {
+    let dp = match view {
+        View::Discrete => Some(DiscretePlant::new(plant, ts)?),
+        View::Sampled => None,
+    };
+    let mut out = LoopResponse {
+        w: Vec::with_capacity(w.len()),
+        l: Vec::with_capacity(w.len()),
+    };
+    for &wi in w {
+        let l = loop_at(controller, plant, dp.as_ref(), ts, wi).ok_or(Error::Unsupported(
+            "this controller has no frequency response",
+        ))?;
+        out.w.push(wi);
+        out.l.push(l);
+    }
+    Ok(out)
+}
+
+/// Bisection of `f(w) = 0` between a sign change.
+fn refine(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let mut fa = f(a);
+    for _ in 0..80 {
+        let m = (a * b).sqrt();
+        let fm = f(m);
+        if (fm > 0.0) == (fa > 0.0) {
+            a = m;
+            fa = fm;
+        } else {
+            b = m;
+        }
+    }
+    (a * b).sqrt()
+}
+
+/// Margins of `controller` on `plant` at period `ts` (the nominal closed loop
+/// is assumed stable; see the module documentation).
+pub fn margins(
+    controller: &dyn Controller<f64>,
+    plant: &TransferFunction,
+    ts: f64,
+    view: View,
+) -> Result<Margins, Error> {
+    if controller.response(0.1).is_none() {
+        return Err(Error::Unsupported(
+            "this controller has no frequency response",
+        ));
+    }
+    let dp = match view {
+        View::Discrete => Some(DiscretePlant::new(plant, ts)?),
+        View::Sampled => None,
+    };
+    let at = |wi: f64| {
+        loop_at(controller, plant, dp.as_ref(), ts, wi).unwrap_or(Complex::new(f64::NAN, f64::NAN))
+    };
+    Ok(margins_of(&at, &grid(plant, ts, 6000)))
+}
+
+/// Margins of the inner (delay-free model) loop of a multi-loop scheme, if it has one.
+pub fn inner_margins(
+    controller: &dyn Controller<f64>,
+    plant: &TransferFunction,
+    ts: f64,
+) -> Option<Margins> {
+    controller.inner_response(0.1)?;
+    let at = |wi: f64| {
+        controller
+            .inner_response(wi * ts)
+            .unwrap_or(Complex::new(f64::NAN, f64::NAN))
+    };
+    Some(margins_of(&at, &grid(plant, ts, 6000)))
+}
+
+/// Margins of any loop function `at(ω)` on the grid `w`.
+pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
+    let l: Vec<Complex<f64>> = w.iter().map(|wi| at(*wi)).collect();
+    let mut gm_hi = f64::INFINITY;
+    let mut gm_lo = 0.0f64;
+    let mut wcg = f64::NAN;
+    let mut pm = f64::INFINITY;
+    let mut wcp = f64::NAN;
+    let mut dm = f64::INFINITY;
+    let (mut ms, mut mt) = (0.0f64, 0.0f64);
+    for (i, li) in l.iter().enumerate() {
+        let s = Complex::real(1.0).div(Complex::real(1.0).add(*li));
+        ms = ms.max(s.abs());
+        mt = mt.max(li.mul(s).abs());
+        let (Some(next), Some(&wa), Some(&wb)) = (l.get(i + 1), w.get(i), w.get(i + 1)) else { break };
+        // phase crossover: Im L changes sign with Re L < 0
+        if (li.im > 0.0) != (next.im > 0.0) && (li.re < 0.0 || next.re < 0.0) {
+            let wx = refine(&|x| at(x).im, wa, wb);
+            let lx = at(wx);
+            if lx.re < 0.0 {
+                let k = 1.0 / lx.abs();
+                if k > 1.0 && k < gm_hi {
+                    gm_hi = k;
+                    wcg = wx;
+                }
+                if k <= 1.0 {
+                    gm_lo = gm_lo.max(k);
+                }
+            }
+        }
+        // gain crossover: |L| crosses 1
+        if (li.abs() > 1.0) != (next.abs() > 1.0) {
+            let wx = refine(&|x| at(x).abs() - 1.0, wa, wb);
+            let lx = at(wx);
+            let mut p = 180.0 + lx.arg().to_degrees();
+            if p > 180.0 {
+                p -= 360.0;
+            }
+            if p.abs() < pm.abs() {
+                pm = p;
+                wcp = wx;
+            }
+            // extra delay τ with arg(L e^{−jωτ}) = −180°: τ = (π + arg L)/ω (mod 2π/ω)
+            let mut phase = core::f64::consts::PI + lx.arg();
+            while phase < 0.0 {
+                phase += 2.0 * core::f64::consts::PI;
+            }
+            dm = dm.min(phase / wx);
+        }
+    }
+    Margins {
+        gm: gm_hi,
+        gm_db: 20.0 * gm_hi.log10(),
+        pm,
+        wcg,
+        wcp,
+        dm,
+        ms,
+        mt,
+        gm_lower: gm_lo,
+    }
+}
+
+/// The delay margin of the loop with its gain scaled by each factor in
+/// `gains`: the combined gain-and-delay region that keeps the loop stable is
+/// below this curve (`000_3f0725a46e29ef08.txt` Eqs. 4.55–4.57 bound the same
+/// region through the complementary sensitivity).
+pub fn region(
+    controller: &dyn Controller<f64>,
+    plant: &TransferFunction,
+    ts: f64,
+    view: View,
+    gains: &[f64],
+) -> Result<Vec<(f64, f64)>, Error> {
+    let dp = match view {
+        View::Discrete => Some(DiscretePlant::new(plant, ts)?),
+        View::Sampled => None,
+    };
+    let w = grid(plant, ts, 6000);
+    Ok(gains
+        .iter()
+        .map(|k| {
+            let at = |wi: f64| {
+                loop_at(controller, plant, dp.as_ref(), ts, wi)
+                    .unwrap_or(Complex::new(f64::NAN, f64::NAN))
+                    .scale(*k)
+            };
+            (*k, margins_of(&at, &w).dm)
+        })
+        .collect())
+}
+
+/// The robust stability test for a multiplicative uncertainty `Δ(ω)`
+/// (`000_3f0725a46e29ef08.txt` Eq. 4.52, `002_0ed51b14a8593ff0.txt` Eq. 17):
+/// `max_ω |T(jω)·Δ(jω)| < 1`. Returns that peak (the loop is robustly stable
+/// when it is below 1). For a gain error `δk` and a delay error `δθ` the
+/// uncertainty is `Δ = (1 + δk)e^{−jω·δθ} − 1` (Eqs. 4.54–4.57).
+pub fn robust_stability(
+    controller: &dyn Controller<f64>,
+    plant: &TransferFunction,
+    ts: f64,
+    view: View,
+    delta: &dyn Fn(f64) -> f64,
+) -> Result<f64, Error> {
+    let lr = loop_response(controller, plant, ts, view, &grid(plant, ts, 6000))?;
+    Ok(lr
+        .w
+        .iter()
+        .zip(&lr.l)
+        .map(|(w, l)| l.div(Complex::real(1.0).add(*l)).abs() * delta(*w))
+        .fold(0.0, f64::max))
+}
+
+/// `|Δ(jω)|` for a relative gain error and an absolute extra dead time (s).
+pub fn gain_delay_uncertainty(gain: f64, delay: f64) -> impl Fn(f64) -> f64 {
+    move |w| {
+        Complex::cis(-w * delay)
+            .scale(1.0 + gain)
+            .sub(Complex::real(1.0))
+            .abs()
+    }
+}
+
+/// Everything `msp margins` reports.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// The plant.
+    pub plant: TransferFunction,
+    /// The controller's model.
+    pub model: TransferFunction,
+    /// Sample period.
+    pub ts: f64,
+    /// The controller.
+    pub controller: &'static str,
+    /// Its parameters.
+    pub params: crate::registry::Params,
+    /// Margins of the loop at the plant input.
+    pub margins: Margins,
+    /// Margins of the inner (model) loop, for schemes that have one.
+    pub inner: Option<Margins>,
+    /// Whether a simulation of the nominal loop settles (see the module documentation).
+    pub stable: bool,
+    /// `(gain factor, delay margin)` pairs: the combined gain/delay stability region.
+    pub region: Vec<(f64, f64)>,
+    /// `max|T·Δ|` for the given gain and delay uncertainty, if one was given.
+    pub robust_peak: Option<f64>,
+    /// The loop response for plots.
+    pub response: LoopResponse,
+}
+
+/// Margins, stability region and robust-stability test of a scenario's controller
+/// on its plant. `uncertainty` is a relative gain error and a relative delay error.
+pub fn analyze(
+    sc: &crate::sim::Scenario,
+    view: View,
+    uncertainty: Option<(f64, f64)>,
+) -> Result<Analysis, crate::sim::RunError> {
+    let (plant, model) = sc.parse()?;
+    let built = sc.build_controller(&model)?;
+    let ctrl = built.controller.as_ref();
+    let ts = built.ts;
+    let m = margins(ctrl, &plant, ts, view)?;
+    let inner = inner_margins(ctrl, &plant, ts);
+    let top = if m.gm.is_finite() { m.gm } else { 4.0 };
+    let gains: Vec<f64> = (1..=12)
+        .map(|i| 0.25 + (top - 0.25) * f64::from(i) / 12.0)
+        .filter(|k| *k < top)
+        .collect();
+    let reg = region(ctrl, &plant, ts, view, &gains)?;
+    let robust_peak = match uncertainty {
+        Some((g, d)) => Some(robust_stability(
+            ctrl,
+            &plant,
+            ts,
+            view,
+            &gain_delay_uncertainty(g, d * plant.delay),
+        )?),
+        None => None,
+    };
+    let response = loop_response(ctrl, &plant, ts, view, &grid(&plant, ts, 800))?;
+    // a step of the nominal loop, long enough to show a slow instability
+    let mut probe = sc.clone();
+    probe.ts = Some(ts);
+    probe.duration = Some(crate::sim::choose_duration(&plant, ts) * 3.0);
+    probe.disturbance.clear();
+    probe.noise = None;
+    let stable = match probe.run_with(plant.clone(), model.clone()) {
+        Ok(out) => {
+            let y = &out.result.y;
+            let n = y.len();
+            let target = out.setpoint.last().map_or(0.0, |s| s.value);
+            out.result.diverged_at.is_none()
+                && y.get(n * 9 / 10..).is_some_and(|t| {
+                    t.iter()
+                        .all(|v| (v - target).abs() < 0.02 * target.abs().max(1e-3))
+                })
+        }
+        Err(_) => false,
+    };
+    Ok(Analysis {
+        plant,
+        model,
+        ts,
+        controller: built.scheme,
+        params: built.params,
+        margins: m,
+        inner,
+        stable,
+        region: reg,
+        robust_peak,
+        response,
+    })
+}

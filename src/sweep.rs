@@ -1,0 +1,215 @@
+//! Sweeps: many closed-loop runs over a range of plant perturbations, in
+//! parallel, with a stability verdict per run, splittable into shards.
+
+use std::string::String;
+use std::vec::Vec;
+
+use crate::sim::{choose_duration, choose_ts, Metrics, Noise, RunError, Scenario};
+
+/// A relative range `lo..hi` (e.g. `-0.2..0.2` for −20 % … +20 %).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Range {
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end.
+    pub hi: f64,
+}
+
+impl core::str::FromStr for Range {
+    type Err = String;
+    /// `-20%..+20%` or `-0.2..0.2`; a single value is a range of one point.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let one = |x: &str| -> Result<f64, String> {
+            let x = x.trim();
+            match x.strip_suffix('%') {
+                Some(p) => Ok(crate::sim::parse_number(p, "range")? / 100.0),
+                None => crate::sim::parse_number(x, "range"),
+            }
+        };
+        let (lo, hi) = match s.split_once("..") {
+            Some((a, b)) => (one(a)?, one(b)?),
+            None => {
+                let v = one(s)?;
+                (v, v)
+            }
+        };
+        if lo > hi {
+            return Err(std::format!(
+                "range '{s}': the lower end is above the upper end"
+            ));
+        }
+        if lo <= -1.0 {
+            return Err(std::format!(
+                "range '{s}': a change of -100 % or less leaves nothing of the plant"
+            ));
+        }
+        Ok(Range { lo, hi })
+    }
+}
+
+/// What to sweep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SweepSpec {
+    /// Relative gain changes.
+    pub gain: Range,
+    /// Relative dead-time changes.
+    pub delay: Range,
+    /// Relative time-constant changes.
+    pub tau: Range,
+    /// Points per swept axis on a grid, or
+    pub grid: usize,
+    /// this many random points (uniform, seeded) instead of a grid when non-zero.
+    pub samples: usize,
+    /// Seed of the random points.
+    pub seed: u64,
+    /// This shard `(i, n)`: the runs whose index `≡ i (mod n)`.
+    pub shard: (usize, usize),
+}
+
+/// One run of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SweepRow {
+    /// Position in the whole sweep (shards keep it, so pieces merge back in order).
+    pub index: usize,
+    /// Relative gain change.
+    pub gain: f64,
+    /// Relative dead-time change.
+    pub delay: f64,
+    /// Relative time-constant change.
+    pub tau: f64,
+    /// The stability verdict ([`stable`]).
+    pub stable: bool,
+    /// Figures of the run (on `e = r − y`).
+    pub metrics: Metrics,
+    /// Largest actuator magnitude.
+    pub max_abs_u: f64,
+}
+
+fn axis(r: Range, n: usize) -> Vec<f64> {
+    if r.lo == r.hi || n <= 1 {
+        return std::vec![0.5 * (r.lo + r.hi)];
+    }
+    (0..n)
+        .map(|i| r.lo + (r.hi - r.lo) * i as f64 / (n - 1) as f64)
+        .collect()
+}
+
+/// Every point of the sweep as `(index, gain, delay, tau)`, this shard only.
+pub fn points(spec: &SweepSpec) -> Vec<(usize, f64, f64, f64)> {
+    let (i, n) = (spec.shard.0, spec.shard.1.max(1));
+    let all: Vec<(f64, f64, f64)> = if spec.samples > 0 {
+        let mut rng = Noise::new(spec.seed);
+        let pick = |r: Range, rng: &mut Noise| r.lo + (r.hi - r.lo) * rng.uniform();
+        (0..spec.samples)
+            .map(|_| {
+                (
+                    pick(spec.gain, &mut rng),
+                    pick(spec.delay, &mut rng),
+                    pick(spec.tau, &mut rng),
+                )
+            })
+            .collect()
+    } else {
+        let mut v = Vec::new();
+        for g in axis(spec.gain, spec.grid) {
+            for d in axis(spec.delay, spec.grid) {
+                for t in axis(spec.tau, spec.grid) {
+                    v.push((g, d, t));
+                }
+            }
+        }
+        v
+    };
+    all.into_iter()
+        .enumerate()
+        .filter(|(k, _)| k % n == i)
+        .map(|(k, (g, d, t))| (k, g, d, t))
+        .collect()
+}
+
+/// The stability verdict of a run: it did not diverge, and either its last
+/// tenth lies within 2 % of the final set point or its oscillation is still
+/// decaying (the last fifth's swing below 0.9 of the fifth before).
+pub fn stable(out: &crate::sim::RunOutput) -> bool {
+    let y = &out.result.y;
+    let n = y.len();
+    if out.result.diverged_at.is_some() || n < 10 {
+        return false;
+    }
+    let target = out
+        .setpoint
+        .iter()
+        .fold((f64::NEG_INFINITY, 0.0), |(ta, v), s| {
+            if s.at >= ta {
+                (s.at, s.value)
+            } else {
+                (ta, v)
+            }
+        })
+        .1;
+    let settled = y.get(n * 9 / 10..).is_some_and(|t| {
+        t.iter()
+            .all(|v| (v - target).abs() <= 0.02 * target.abs().max(1e-3))
+    });
+    let swing = |a: usize, b: usize| {
+        y.get(a..b).map_or(0.0, |s| {
+            s.iter().fold(f64::MIN, |m, v| m.max(*v)) - s.iter().fold(f64::MAX, |m, v| m.min(*v))
+        })
+    };
+    settled || swing(n * 4 / 5, n) < 0.9 * swing(n * 3 / 5, n * 4 / 5)
+}
+
+/// Runs the sweep of `base` (its plant perturbed, its model kept nominal).
+/// `progress` is called after each finished run with the count so far.
+pub fn sweep(
+    base: &Scenario,
+    spec: &SweepSpec,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<SweepRow>, RunError> {
+    if spec.shard.1 == 0 || spec.shard.0 >= spec.shard.1 {
+        return Err(RunError::Invalid(crate::Error::OutOfRange("shard")));
+    }
+    let (nominal, model) = base.parse()?;
+    let mut sc = base.clone();
+    let ts = match base.ts {
+        Some(ts) => ts,
+        None => choose_ts(&model),
+    };
+    sc.ts = Some(ts);
+    if sc.duration.is_none() {
+        sc.duration = Some(choose_duration(&nominal, ts));
+    }
+    // tune once: every run gets the same controller settings
+    let built = sc.build_controller(&model)?;
+    for (k, v) in &built.params.0 {
+        sc.set.entry((*k).into()).or_insert(*v);
+    }
+    sc.controller = Some(built.scheme.into());
+    let pts = points(spec);
+    let done = core::sync::atomic::AtomicUsize::new(0);
+    let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
+        let plant = nominal.perturbed(gain, delay, tau)?;
+        let out = sc.run_with(plant, model.clone())?;
+        let max_abs_u = out.result.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+        progress(done.fetch_add(1, core::sync::atomic::Ordering::Relaxed) + 1);
+        Ok(SweepRow {
+            index,
+            gain,
+            delay,
+            tau,
+            stable: stable(&out),
+            metrics: out.metrics,
+            max_abs_u,
+        })
+    };
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        pts.par_iter().map(one).collect()
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        pts.iter().map(one).collect()
+    }
+}

@@ -1,0 +1,186 @@
+//! Margins against independent closed forms, and the limits against simulation.
+mod common;
+use common::assert_close;
+use msp::analysis::{margins, View};
+use msp::poly::TransferFunction;
+use msp::registry::{self, Build};
+use msp::sim::Scenario;
+
+/// Independent margins of a continuous loop function by scanning and bisection.
+fn margins_of(l: &dyn Fn(f64) -> (f64, f64)) -> (f64, f64, f64, f64) {
+    let (mut gm, mut wcg, mut pm, mut wcp) = (f64::INFINITY, f64::NAN, f64::INFINITY, f64::NAN);
+    let ws: Vec<f64> = (0..200_000)
+        .map(|i| 1e-5 * 10f64.powf(i as f64 * 5.0 / 200_000.0))
+        .collect();
+    for pair in ws.windows(2) {
+        let (a, b) = (l(pair[0]), l(pair[1]));
+        if (a.1 > 0.0) != (b.1 > 0.0) && a.0 < 0.0 {
+            let k = 1.0 / a.0.hypot(a.1);
+            if k < gm {
+                gm = k;
+                wcg = pair[0];
+            }
+        }
+        let (ma, mb) = (a.0.hypot(a.1), b.0.hypot(b.1));
+        if (ma > 1.0) != (mb > 1.0) && wcp.is_nan() {
+            wcp = pair[0];
+            pm = 180.0 + a.1.atan2(a.0).to_degrees();
+        }
+    }
+    (gm, wcg, pm, wcp)
+}
+
+fn cmul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
+}
+fn cdiv(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let d = b.0 * b.0 + b.1 * b.1;
+    ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
+}
+
+const PLANT: &str = "5.6*e^-93.9s/(40.2s+1)";
+
+fn controller(
+    name: &str,
+    plant: &TransferFunction,
+    ts: f64,
+    set: &[(&str, f64)],
+) -> msp::registry::DynController {
+    let s = registry::find(name).unwrap();
+    let over: Vec<(String, f64)> = set.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let p = s.tune_with(plant, None, &over).unwrap();
+    s.build_with(
+        &p,
+        plant,
+        &Build {
+            ts,
+            u_min: f64::NEG_INFINITY,
+            u_max: f64::INFINITY,
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn pi_and_smith_margins_of_the_matlab_example_agree_with_closed_forms() {
+    let plant: TransferFunction = PLANT.parse().unwrap();
+    let ts = 0.05;
+    let (kp, ti) = (0.0501, 47.3);
+    let p = |w: f64| {
+        cdiv(
+            (5.6 * (-93.9 * w).cos(), -5.6 * (93.9 * w).sin()),
+            (1.0, 40.2 * w),
+        )
+    };
+    let c = |w: f64| (kp, -kp / (ti * w));
+    // PI loop
+    let pi = controller("pid", &plant, ts, &[("kp", kp), ("ti", ti), ("td", 0.0)]);
+    let m = margins(pi.as_ref(), &plant, ts, View::Sampled).unwrap();
+    let (gm, wcg, pm, wcp) = margins_of(&|w| cmul(c(w), p(w)));
+    assert_close(m.gm, gm, 0.01, 0.0);
+    assert_close(m.wcg, wcg, 0.01, 0.0);
+    assert_close(m.pm, pm, 0.01, 0.0);
+    assert_close(m.wcp, wcp, 0.01, 0.0);
+    assert_close(m.dm, pm.to_radians() / wcp, 0.01, 0.0);
+    // Smith predictor with the example's PI (Kp = 0.574, Ti = 40.2): at the plant input
+    // L = C/(1 + C·Gm(1 − e^{-Ls}))·P
+    let (kp, ti) = (0.574, 40.2);
+    let c = |w: f64| (kp, -kp / (ti * w));
+    let gm_ = |w: f64| cdiv((5.6, 0.0), (1.0, 40.2 * w));
+    let sp = controller("smith", &plant, ts, &[("kp", kp), ("ti", ti)]);
+    let m = margins(sp.as_ref(), &plant, ts, View::Sampled).unwrap();
+    let lsp = |w: f64| {
+        let one_minus_d = (1.0 - (93.9 * w).cos(), (93.9 * w).sin());
+        let den = (1.0, 0.0);
+        let inner = cmul(cmul(c(w), gm_(w)), one_minus_d);
+        cmul(cdiv(c(w), (den.0 + inner.0, den.1 + inner.1)), p(w))
+    };
+    let (gm, _, pm, wcp) = margins_of(&lsp);
+    assert_close(m.gm, gm, 0.01, 0.0);
+    assert_close(m.pm, pm, 0.01, 0.0);
+    assert_close(m.wcp, wcp, 0.01, 0.0);
+    // the discrete view agrees at these slow frequencies
+    let d = margins(sp.as_ref(), &plant, ts, View::Discrete).unwrap();
+    assert_close(d.pm, m.pm, 0.01, 0.0);
+}
+
+fn settles(plant: &str, model: &str, controller: &str, duration: f64) -> bool {
+    let sc = Scenario {
+        plant: plant.into(),
+        model: Some(model.into()),
+        controller: Some(controller.into()),
+        ts: Some(0.0939),
+        duration: Some(duration),
+        ..Default::default()
+    };
+    let out = sc.run().unwrap();
+    let y = &out.result.y;
+    if out.result.diverged_at.is_some() {
+        return false;
+    }
+    // the oscillation in the last fifth against the one in the fifth before
+    let n = y.len();
+    let amp = |a: usize, b: usize| {
+        let s = &y[a..b];
+        s.iter().fold(f64::MIN, |m, v| m.max(*v)) - s.iter().fold(f64::MAX, |m, v| m.min(*v))
+    };
+    amp(4 * n / 5, n) < 0.5 * amp(3 * n / 5, 4 * n / 5) + 1e-6
+}
+
+#[test]
+fn delay_margin_is_where_the_loop_starts_to_oscillate() {
+    let plant: TransferFunction = PLANT.parse().unwrap();
+    let ts = 0.0939;
+    let c = controller("pid", &plant, ts, &[]);
+    let m = margins(c.as_ref(), &plant, ts, View::Discrete).unwrap();
+    assert_close(m.dm, m.pm.to_radians() / m.wcp, 1e-9, 0.0);
+    let with_delay = |extra: f64| format!("5.6*e^-{}s/(40.2s+1)", 93.9 + extra);
+    assert!(
+        settles(&with_delay(0.9 * m.dm), PLANT, "pid", 20_000.0),
+        "90 % of dm should settle"
+    );
+    assert!(
+        !settles(&with_delay(1.05 * m.dm), PLANT, "pid", 20_000.0),
+        "dm + 5 % should not settle"
+    );
+}
+
+#[test]
+fn karan_dey_limits_are_confirmed_by_simulation() {
+    let ipdt = "0.2/s*e^-7.4s";
+    let plant: TransferFunction = ipdt.parse().unwrap();
+    let ts = 0.0074;
+    let c = controller("karan-dey", &plant, ts, &[]);
+    let m = margins(c.as_ref(), &plant, ts, View::Discrete).unwrap();
+    assert!(m.gm > 1.0 && m.dm > 0.0, "{m:?}");
+    let run = |k: f64, extra: f64| {
+        let sc = Scenario {
+            plant: format!("{}/s*e^-{}s", 0.2 * k, 7.4 + extra),
+            model: Some(ipdt.into()),
+            controller: Some("karan-dey".into()),
+            ts: Some(ts),
+            duration: Some(600.0),
+            ..Default::default()
+        };
+        let out = sc.run().unwrap();
+        let y = &out.result.y;
+        let n = y.len();
+        out.result.diverged_at.is_none() && y[9 * n / 10..].iter().all(|v| (v - 1.0).abs() < 0.05)
+    };
+    assert!(run(0.97 * m.gm, 0.0), "just inside the gain limit {}", m.gm);
+    assert!(
+        !run(1.03 * m.gm, 0.0),
+        "just outside the gain limit {}",
+        m.gm
+    );
+    assert!(
+        run(1.0, 0.95 * m.dm),
+        "just inside the delay limit {}",
+        m.dm
+    );
+    assert!(
+        !run(1.0, 1.05 * m.dm),
+        "just outside the delay limit {}",
+        m.dm
+    );
+}
