@@ -280,7 +280,9 @@ pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
         let s = Complex::real(1.0).div(Complex::real(1.0).add(*li));
         ms = ms.max(s.abs());
         mt = mt.max(li.mul(s).abs());
-        let (Some(next), Some(&wa), Some(&wb)) = (l.get(i + 1), w.get(i), w.get(i + 1)) else { break };
+        let (Some(next), Some(&wa), Some(&wb)) = (l.get(i + 1), w.get(i), w.get(i + 1)) else {
+            break;
+        };
         // phase crossover: Im L changes sign with Re L < 0
         if (li.im > 0.0) != (next.im > 0.0) && (li.re < 0.0 || next.re < 0.0) {
             let wx = refine(&|x| at(x).im, wa, wb);

@@ -82,7 +82,10 @@ impl<T: Real> core::ops::Mul for Complex<T> {
     type Output = Self;
     #[inline]
     fn mul(self, o: Self) -> Self {
-        Complex::new(self.re * o.re - self.im * o.im, self.re * o.im + self.im * o.re)
+        Complex::new(
+            self.re * o.re - self.im * o.im,
+            self.re * o.im + self.im * o.re,
+        )
     }
 }
 
@@ -91,6 +94,9 @@ impl<T: Real> core::ops::Div for Complex<T> {
     #[inline]
     fn div(self, o: Self) -> Self {
         let d = o.re * o.re + o.im * o.im;
-        Complex::new((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
+        Complex::new(
+            (self.re * o.re + self.im * o.im) / d,
+            (self.im * o.re - self.re * o.im) / d,
+        )
     }
 }

@@ -23,10 +23,10 @@
 //!   for the primary controller in `002_0ed51b14a8593ff0.txt` Sec. 3,
 //!   [`Discretization::Matched`]).
 
-use core::ops::{Add, Div, Mul, Sub};
 use crate::complex::Complex;
 use crate::real::{finite, positive};
 use crate::{Error, Real};
+use core::ops::{Add, Div, Mul, Sub};
 
 /// How a continuous block is turned into a discrete one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

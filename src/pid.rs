@@ -25,9 +25,9 @@
 //! A non-finite set point or measurement never reaches the state: the output
 //! is held and [`Pid::fault`] is raised until valid data returns.
 
-use core::ops::{Add, Div, Mul, Sub};
 use crate::real::{finite, non_negative, positive};
 use crate::{Error, Real};
+use core::ops::{Add, Div, Mul, Sub};
 
 /// How the integrator is kept from winding up while the output is limited.
 #[derive(Debug, Clone, Copy, PartialEq)]

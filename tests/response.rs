@@ -28,8 +28,9 @@ fn fit(u: &[f64], theta: f64, from: usize) -> (f64, f64) {
         for r in 0..4 {
             if r != c {
                 let f = ata[r][c] / p;
-                for k in 0..4 {
-                    ata[r][k] -= f * ata[c][k];
+                let pivot_row = ata[c];
+                for (x, pv) in ata[r].iter_mut().zip(pivot_row) {
+                    *x -= f * pv;
                 }
                 atb[r] -= f * atb[c];
             }

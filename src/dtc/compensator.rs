@@ -26,12 +26,12 @@
 //! (`000_3f0725a46e29ef08.txt` Eq. 4.20); the load response is shaped by `Gd`
 //! and `F` alone. Each scheme's module documents its configuration and tuning.
 
-use core::ops::{Add, Div, Mul, Sub};
 use crate::delay::Delay;
 use crate::dtc::Controller;
 use crate::metrics::Sum;
 use crate::real::finite;
 use crate::{Complex, Error, Lti, Pid, Real};
+use core::ops::{Add, Div, Mul, Sub};
 
 /// Order capacity of the auxiliary blocks (filters and disturbance controllers).
 pub const AUX: usize = 4;

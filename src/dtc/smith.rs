@@ -13,10 +13,10 @@
 //! delay this identity holds sample for sample. A fractional delay is read
 //! from the model output by linear interpolation (see [`crate::delay`]).
 
-use core::ops::{Add, Div, Mul, Sub};
 use crate::delay::{Delay, DelayStorage};
 use crate::dtc::Controller;
 use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
+use core::ops::{Add, Div, Mul, Sub};
 
 /// Smith predictor around a [`Pid`], with a model of order `≤ N` and its dead
 /// time in a delay line over storage `S` (`[T; D]` for firmware, `Vec<T>` on a host).

@@ -266,7 +266,8 @@ pub fn compare_table(
         s.push('\n');
     }
     head(&mut s, "frequency domain (loop at plant input)");
-    let freq: [(&str, fn(&msp::analysis::Margins) -> f64); 4] = [
+    type Figure = fn(&msp::analysis::Margins) -> f64;
+    let freq: [(&str, Figure); 4] = [
         ("Gm (dB)", |m| m.gm_db),
         ("Pm (Degrees)", |m| m.pm),
         ("Wco (rad/s)", |m| m.wcg),
