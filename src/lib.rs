@@ -52,6 +52,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod autotune;
 pub mod complex;
 pub mod delay;
 pub mod dtc;
@@ -65,6 +66,8 @@ pub mod tuning;
 
 #[cfg(feature = "std")]
 pub mod analysis;
+#[cfg(feature = "std")]
+pub mod ident;
 #[cfg(feature = "alloc")]
 pub mod parse;
 #[cfg(feature = "alloc")]

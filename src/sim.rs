@@ -410,6 +410,39 @@ impl ToUsize for f64 {
     }
 }
 
+/// The exact sampled plant, stepped one held input at a time.
+pub struct PlantStepper(PlantSim);
+
+impl PlantStepper {
+    /// The plant at rest, sampled every `ts`.
+    pub fn new(plant: &TransferFunction, ts: f64) -> Result<Self, Error> {
+        Ok(PlantStepper(PlantSim::new(plant, ts, 1)?))
+    }
+    /// The output now.
+    pub fn output(&self) -> f64 {
+        self.0.output()
+    }
+    /// Holds `u` for one period.
+    pub fn advance(&mut self, u: f64) {
+        let mut sub = Vec::new();
+        self.0.advance(u, &mut sub);
+    }
+}
+
+/// The plant's response at the sample instants to the held input `u[k]`
+/// (exact: ZOH discretization and the modified z-transform for the dead time);
+/// `y[k]` is the output at `k·ts`, before `u[k]` acts.
+pub fn open_loop(plant: &TransferFunction, ts: f64, u: &[f64]) -> Result<Vec<f64>, Error> {
+    let mut p = PlantSim::new(plant, ts, 1)?;
+    let mut sub = Vec::new();
+    let mut y = Vec::with_capacity(u.len());
+    for uk in u {
+        y.push(p.output());
+        p.advance(*uk, &mut sub);
+    }
+    Ok(y)
+}
+
 /// Runs the closed loop of `controller` on `plant`.
 pub fn simulate<C: Controller<f64> + ?Sized>(
     plant: &TransferFunction,

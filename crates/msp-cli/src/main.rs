@@ -30,6 +30,10 @@ enum Cmd {
     Margins(Box<MarginsArgs>),
     /// Many closed-loop runs over a range of plant perturbations, in parallel.
     Sweep(Box<SweepArgs>),
+    /// Relay test on the plant, identify a model, tune a controller, run the closed loop.
+    Autotune(Box<AutotuneArgs>),
+    /// Identify a model from recorded step-test data (CSV with columns t, u, y).
+    Identify(IdentifyArgs),
     /// List the controllers and the tuning rules.
     List,
 }
@@ -202,6 +206,62 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
         return Err(format!("shard '{s}': need 0 <= I < N"));
     }
     Ok((i, n))
+}
+
+#[derive(Debug, Args)]
+struct AutotuneArgs {
+    /// The (simulated) plant the relay test runs on.
+    #[arg(long, short = 'p')]
+    plant: String,
+    /// Relay amplitude h.
+    #[arg(long, default_value_t = 1.0)]
+    relay_amplitude: f64,
+    /// Relay hysteresis (default: three noise standard deviations).
+    #[arg(long)]
+    hysteresis: Option<f64>,
+    /// Relay bias for the static gain (default: 0 for integrating plants, 0.2 h otherwise).
+    #[arg(long, allow_hyphen_values = true)]
+    bias: Option<f64>,
+    /// Measurement-noise standard deviation.
+    #[arg(long, default_value_t = 0.0)]
+    noise: f64,
+    /// Noise seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Model to identify: ipdt, fopdt or sopdt (default by plant kind).
+    #[arg(long, value_parser = str::parse::<msp::ident::ModelKind>)]
+    model: Option<msp::ident::ModelKind>,
+    /// Controller to tune (default by the identified model).
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
+    /// Sample period (s).
+    #[arg(long)]
+    ts: Option<f64>,
+    /// Safety band on the output during the relay test.
+    #[arg(long, default_value_t = f64::INFINITY)]
+    band: f64,
+    /// Duration of the closed-loop run (s).
+    #[arg(long)]
+    duration: Option<f64>,
+    /// CSV of the closed-loop run.
+    #[arg(long, short = 'o')]
+    output: Option<PathBuf>,
+    /// JSON report.
+    #[arg(long)]
+    report: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct IdentifyArgs {
+    /// CSV with columns t, u, y (a step in u).
+    #[arg(long)]
+    data: PathBuf,
+    /// Model to fit.
+    #[arg(long, default_value = "fopdt", value_parser = str::parse::<msp::ident::ModelKind>)]
+    model: msp::ident::ModelKind,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Debug, Args)]
@@ -435,6 +495,111 @@ fn sweep(a: &SweepArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
+    let plant = parse_plant(&a.plant)
+        .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
+    let o = msp::ident::AutotuneOptions {
+        amplitude: a.relay_amplitude,
+        hysteresis: a.hysteresis,
+        bias: a.bias,
+        noise: a.noise,
+        seed: a.seed,
+        model: a.model,
+        controller: a.controller.clone(),
+        ts: a.ts,
+        band: a.band,
+    };
+    let base = Scenario {
+        duration: a.duration,
+        ..Default::default()
+    };
+    let out = msp::ident::autotune(&plant, &o, &base).map_err(|e| match e {
+        msp::ident::AutotuneError::Run(r) => CliError::from(r),
+        msp::ident::AutotuneError::Ident(
+            msp::Error::NotPositive(_)
+            | msp::Error::Negative(_)
+            | msp::Error::NonFinite(_)
+            | msp::Error::OutOfRange(_),
+        ) => CliError::Input(e.to_string()),
+        other => CliError::Runtime(other.to_string()),
+    })?;
+    let report = output::autotune_json(&plant, &out);
+    if let Some(p) = &a.output {
+        let csv = output::csv_bytes(&out.run)
+            .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+        output::write_atomic(p, &csv)?;
+    }
+    if let Some(p) = &a.report {
+        let text =
+            serde_json::to_vec_pretty(&report).map_err(|e| CliError::Runtime(e.to_string()))?;
+        output::write_atomic(p, &text)?;
+    }
+    print!("{}", output::autotune_text(&plant, &out));
+    Ok(())
+}
+
+fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
+    let mut r = csv::Reader::from_path(&a.data)
+        .map_err(|e| CliError::Input(format!("{}: {e}", a.data.display())))?;
+    let head = r
+        .headers()
+        .map_err(|e| CliError::Input(format!("{}: {e}", a.data.display())))?
+        .clone();
+    let col = |name: &str| {
+        head.iter().position(|h| h.trim() == name).ok_or_else(|| {
+            CliError::Input(format!(
+                "{}: no column '{name}' (need t, u, y)",
+                a.data.display()
+            ))
+        })
+    };
+    let (ct, cu, cy) = (col("t")?, col("u")?, col("y")?);
+    let (mut t, mut u, mut y) = (Vec::new(), Vec::new(), Vec::new());
+    for (line, rec) in r.records().enumerate() {
+        let rec = rec.map_err(|e| CliError::Input(format!("{}: {e}", a.data.display())))?;
+        let num = |c: usize| -> Result<f64, CliError> {
+            rec.get(c)
+                .and_then(|v| v.trim().parse::<f64>().ok())
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    CliError::Input(format!(
+                        "{}: row {}: not a finite number in column {}",
+                        a.data.display(),
+                        line + 2,
+                        c + 1
+                    ))
+                })
+        };
+        t.push(num(ct)?);
+        u.push(num(cu)?);
+        y.push(num(cy)?);
+    }
+    let fit = msp::ident::identify_step(a.model, &t, &u, &y)
+        .map_err(|e| CliError::Input(format!("identification failed: {e}")))?;
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&output::fit_json(&fit))
+                .map_err(|e| CliError::Runtime(e.to_string()))?
+        );
+    } else {
+        println!(
+            "model  {}",
+            msp::poly::TransferFunction::from_model(&fit.model)
+        );
+        let (ps, n) = fit.model.params();
+        for (k, v) in ps.iter().take(n) {
+            println!("  {k:<3} = {}", output::fmt_sig(*v));
+        }
+        println!(
+            "fit    rmse {}  r2 {}",
+            output::fmt_sig(fit.rmse),
+            output::fmt_sig(fit.r2)
+        );
+    }
+    Ok(())
+}
+
 fn tune(a: &TuneArgs) -> Result<(), CliError> {
     let plant = parse_plant(&a.plant)
         .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
@@ -499,6 +664,8 @@ fn main() -> ExitCode {
         Cmd::Tune(a) => tune(a),
         Cmd::Margins(a) => margins(a),
         Cmd::Sweep(a) => sweep(a),
+        Cmd::Autotune(a) => autotune(a),
+        Cmd::Identify(a) => identify(a),
         Cmd::List => {
             list();
             Ok(())

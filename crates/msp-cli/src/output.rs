@@ -764,3 +764,106 @@ pub fn merge_sweeps(paths: &[std::path::PathBuf]) -> Result<Vec<u8>, CliError> {
     }
     w.into_inner().map_err(|e| CliError::Runtime(e.to_string()))
 }
+
+/// `{"model": "fopdt", "k": …, "t": …, "l": …, "rmse": …, "r2": …}`.
+pub fn fit_json(fit: &msp::ident::Fit) -> Value {
+    let mut o = Map::new();
+    o.insert("model".into(), json!(fit.model.kind()));
+    let (ps, n) = fit.model.params();
+    for (k, v) in ps.iter().take(n) {
+        o.insert((*k).into(), num(*v));
+    }
+    o.insert("rmse".into(), num(fit.rmse));
+    o.insert("r2".into(), num(fit.r2));
+    Value::Object(o)
+}
+
+/// The `msp autotune --report` document.
+pub fn autotune_json(
+    plant: &msp::poly::TransferFunction,
+    out: &msp::ident::AutotuneOutput,
+) -> Value {
+    let r = &out.result;
+    let (ku, tu) = r.ultimate();
+    let mut j = report_json(&out.run, &warnings(&out.run));
+    if let Value::Object(o) = &mut j {
+        o.insert("identified".into(), fit_json(&out.fit));
+        if let Some(m) = plant.exact_model() {
+            let mut t = Map::new();
+            t.insert("model".into(), json!(m.kind()));
+            let (ps, n) = m.params();
+            for (k, v) in ps.iter().take(n) {
+                t.insert((*k).into(), num(*v));
+            }
+            o.insert("true".into(), Value::Object(t));
+        }
+        o.insert(
+            "relay".into(),
+            json!({
+                "amplitude": num(r.amplitude), "hysteresis": num(r.hysteresis), "bias": num(r.bias),
+                "t_up": num(r.t_up), "t_down": num(r.t_down), "period": num(r.period),
+                "a_max": num(r.a_max), "a_min": num(r.a_min), "gain": r.gain().map_or(Value::Null, num),
+                "ku": num(ku), "tu": num(tu), "cycles": r.cycles,
+            }),
+        );
+    }
+    j
+}
+
+/// The human autotune summary.
+pub fn autotune_text(
+    plant: &msp::poly::TransferFunction,
+    out: &msp::ident::AutotuneOutput,
+) -> String {
+    let r = &out.result;
+    let (ku, tu) = r.ultimate();
+    let mut s = String::new();
+    s.push_str(&format!("plant       {plant}\n"));
+    s.push_str(&format!(
+        "relay       h {} eps {} bias {}: period {} s (up {} s, down {} s), output {}..{}, {} cycles\n",
+        fmt_sig(r.amplitude),
+        fmt_sig(r.hysteresis),
+        fmt_sig(r.bias),
+        fmt_sig(r.period),
+        fmt_sig(r.t_up),
+        fmt_sig(r.t_down),
+        fmt_sig(r.a_min),
+        fmt_sig(r.a_max),
+        r.cycles
+    ));
+    s.push_str(&format!(
+        "            Ku {} Tu {} s (describing function)\n",
+        fmt_sig(ku),
+        fmt_sig(tu)
+    ));
+    s.push_str(&format!(
+        "identified  {}  (rmse {}, r2 {})\n",
+        msp::poly::TransferFunction::from_model(&out.fit.model),
+        fmt_sig(out.fit.rmse),
+        fmt_sig(out.fit.r2)
+    ));
+    let params: Vec<String> = out
+        .run
+        .params
+        .0
+        .iter()
+        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
+        .collect();
+    s.push_str(&format!(
+        "controller  {}: {}\n",
+        out.run.controller,
+        params.join(" ")
+    ));
+    let m = &out.run.metrics;
+    s.push_str(&format!(
+        "closed loop rise {} s, settling {} s, overshoot {} %, IAE {}\n",
+        fmt_sig(m.rise_time),
+        fmt_sig(m.settling_time),
+        fmt_sig(m.overshoot),
+        fmt_sig(m.iae)
+    ));
+    for w in warnings(&out.run) {
+        s.push_str(&format!("warning: {w}\n"));
+    }
+    s
+}

@@ -357,3 +357,73 @@ fn compare_prints_the_frequency_rows() {
                 .and(predicate::str::contains("IAE")),
         );
 }
+
+#[test]
+fn autotune_reports_the_identified_and_the_true_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("at.json");
+    msp()
+        .args([
+            "autotune",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--hysteresis",
+            "0.05",
+            "--report",
+        ])
+        .arg(&report)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("identified"));
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(j["identified"]["model"], "ipdt");
+    assert!((j["identified"]["k"].as_f64().unwrap() - 0.2).abs() < 0.002);
+    assert!((j["identified"]["l"].as_f64().unwrap() - 7.4).abs() < 0.074);
+    assert_eq!(j["true"]["model"], "ipdt");
+    assert!(j["relay"]["period"].is_number() && j["metrics"]["iae"].is_number());
+    assert_eq!(j["controller"]["name"], "karan-dey");
+    msp()
+        .args(["autotune", "--plant", "0.2/s*e^-7.4s", "--band", "0.5"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("aborted"));
+}
+
+#[test]
+fn identify_reads_a_step_test() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("step.csv");
+    let mut text = String::from("t,u,y\n");
+    for k in 0..1200 {
+        let t = k as f64 * 0.05;
+        let u = if t >= 5.0 { 1.0 } else { 0.0 };
+        let y = if t > 9.0 {
+            2.0 * (1.0 - (-(t - 9.0) / 5.0).exp())
+        } else {
+            0.0
+        };
+        text.push_str(&format!("{t},{u},{y}\n"));
+    }
+    std::fs::write(&data, text).unwrap();
+    let out = msp()
+        .args(["identify", "--json", "--data"])
+        .arg(&data)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert!(
+        (j["k"].as_f64().unwrap() - 2.0).abs() < 0.02
+            && (j["t"].as_f64().unwrap() - 5.0).abs() < 0.1
+    );
+    std::fs::write(&data, "t,u\n0,1\n").unwrap();
+    msp()
+        .args(["identify", "--data"])
+        .arg(&data)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("no column 'y'"));
+}

@@ -9,7 +9,7 @@ use msp::sim::{
 };
 use msp::{AntiWindup, Pid, PidConfig};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
 
@@ -570,6 +570,108 @@ fn sweep<'py>(
     Ok(d)
 }
 
+fn fit_dict<'py>(py: Python<'py>, fit: &msp::ident::Fit) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("model", fit.model.kind())?;
+    let (ps, n) = fit.model.params();
+    for (k, v) in ps.iter().take(n) {
+        d.set_item(*k, *v)?;
+    }
+    d.set_item("rmse", fit.rmse)?;
+    d.set_item("r2", fit.r2)?;
+    Ok(d)
+}
+
+/// Relay test, identification, tuning and closed loop (see ``msp.autotune``).
+#[pyfunction]
+#[pyo3(signature = (plant, *, relay_amplitude=1.0, hysteresis=None, bias=None, noise=0.0, seed=0, model=None,
+                    controller=None, ts=None, band=f64::INFINITY, duration=None))]
+#[allow(clippy::too_many_arguments)]
+fn autotune<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    relay_amplitude: f64,
+    hysteresis: Option<f64>,
+    bias: Option<f64>,
+    noise: f64,
+    seed: u64,
+    model: Option<String>,
+    controller: Option<String>,
+    ts: Option<f64>,
+    band: f64,
+    duration: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tf = plant_of(plant)?;
+    let model = model
+        .map(|m| m.parse::<msp::ident::ModelKind>())
+        .transpose()
+        .map_err(PyValueError::new_err)?;
+    let o = msp::ident::AutotuneOptions {
+        amplitude: relay_amplitude,
+        hysteresis,
+        bias,
+        noise,
+        seed,
+        model,
+        controller,
+        ts,
+        band,
+    };
+    let base = Scenario {
+        duration,
+        ..Default::default()
+    };
+    let out = py
+        .allow_threads(|| msp::ident::autotune(&tf, &o, &base))
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let d = PyDict::new(py);
+    d.set_item("identified", fit_dict(py, &out.fit)?)?;
+    let r = &out.result;
+    let (ku, tu) = r.ultimate();
+    let relay = PyDict::new(py);
+    for (k, v) in [
+        ("amplitude", r.amplitude),
+        ("hysteresis", r.hysteresis),
+        ("bias", r.bias),
+        ("t_up", r.t_up),
+        ("t_down", r.t_down),
+        ("period", r.period),
+        ("a_max", r.a_max),
+        ("a_min", r.a_min),
+        ("ku", ku),
+        ("tu", tu),
+    ] {
+        relay.set_item(k, v)?;
+    }
+    relay.set_item("gain", r.gain())?;
+    relay.set_item("cycles", r.cycles)?;
+    d.set_item("relay", relay)?;
+    d.set_item("run", output_dict(py, out.run)?)?;
+    Ok(d)
+}
+
+/// Step-test identification from samples (see ``msp.identify``).
+#[pyfunction]
+#[pyo3(signature = (t, u, y, model="fopdt"))]
+fn identify<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    u: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    model: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let kind: msp::ident::ModelKind = model.parse().map_err(PyValueError::new_err)?;
+    let (t, u, y) = (
+        t.as_slice()?.to_vec(),
+        u.as_slice()?.to_vec(),
+        y.as_slice()?.to_vec(),
+    );
+    let fit = py
+        .allow_threads(|| msp::ident::identify_step(kind, &t, &u, &y))
+        .map_err(value_err)?;
+    fit_dict(py, &fit)
+}
+
 /// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``.
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, lambda_=None, rule=None))]
@@ -875,6 +977,8 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(margins, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(autotune, m)?)?;
+    m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(controllers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -186,3 +186,19 @@ def test_sweep_columns_and_shards() -> None:
     b = msp.sweep("0.2/s*e^-7.4s", shard=(1, 2), **args)
     merged = np.concatenate([a["iae"], b["iae"]])[np.argsort(np.concatenate([a["index"], b["index"]]))]
     assert np.array_equal(merged, whole["iae"])
+
+
+def test_autotune_and_identify() -> None:
+    out = msp.autotune("2*e^-4s/(5s+1)")
+    ident = out["identified"]
+    assert ident["model"] == "fopdt"
+    assert abs(ident["k"] - 2) < 0.02 and abs(ident["t"] - 5) < 0.05 and abs(ident["l"] - 4) < 0.04
+    assert out["run"].controller["name"] == "smith" and out["run"].stable
+    with pytest.raises(RuntimeError, match="aborted"):
+        msp.autotune("0.2/s*e^-7.4s", band=0.5)
+    t = np.arange(0, 60, 0.05)
+    u = np.where(t >= 5, 1.0, 0.0)
+    # an exact FOPDT response to compare with
+    y = np.where(t > 9, 2 * (1 - np.exp(-(t - 9) / 5)), 0.0)
+    fit = msp.identify(t, u, y, "fopdt")
+    assert abs(fit["k"] - 2) < 0.02 and abs(fit["t"] - 5) < 0.1 and abs(fit["l"] - 4) < 0.1

@@ -22,6 +22,7 @@ PlantLike = Union[str, Plant, Any]
 
 __all__ = [
     "AstromHangLim",
+    "autotune",
     "Controller",
     "DisturbanceEstimator",
     "FilteredSmith",
@@ -38,6 +39,7 @@ __all__ = [
     "__version__",
     "compare",
     "controllers",
+    "identify",
     "margins",
     "parse_plant",
     "run",
@@ -287,6 +289,41 @@ def sweep(
                       delay=_range(delay), tau=_range(tau), grid=grid, samples=samples, seed=seed,
                       shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None, ts=ts,
                       duration=duration, lambda_=lambda_, rule=rule)
+
+
+def autotune(
+    plant: PlantLike,
+    *,
+    delay: Optional[float] = None,
+    relay_amplitude: float = 1.0,
+    hysteresis: Optional[float] = None,
+    bias: Optional[float] = None,
+    noise: float = 0.0,
+    seed: int = 0,
+    model: Optional[str] = None,
+    controller: Optional[str] = None,
+    ts: Optional[float] = None,
+    band: float = float("inf"),
+    duration: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Relay test on ``plant``, model identification, tuning and the closed loop, as ``msp autotune``.
+
+    Returns ``{"identified": {"model": "fopdt", "k": …, "t": …, "l": …, "rmse": …, "r2": …},
+    "relay": {...}, "run": Result}``. Raises ``RuntimeError`` when the relay test aborts.
+    """
+    raw = _msp.autotune(_plant(plant, delay), relay_amplitude=relay_amplitude, hysteresis=hysteresis, bias=bias,
+                        noise=noise, seed=seed, model=model, controller=controller, ts=ts, band=band,
+                        duration=duration)
+    raw["run"] = Result(raw["run"])
+    return raw
+
+
+def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:
+    """Step-test identification of ``model`` ("fopdt", "sopdt", "ipdt") from samples ``t, u, y``
+    (a step in ``u``), as ``msp identify``: the two-point / slope-intercept estimate refined by
+    least squares on the exact sampled response."""
+    arr = [np.ascontiguousarray(np.asarray(v, dtype=np.float64)) for v in (t, u, y)]
+    return _msp.identify(arr[0], arr[1], arr[2], model)
 
 
 def tune(

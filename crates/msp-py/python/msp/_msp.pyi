@@ -4,7 +4,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "__version__", "compare", "controllers", "margins", "parse_plant", "run", "sweep", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "sweep", "tune"]
 __version__: str
 
 @final
@@ -69,6 +69,23 @@ def tune(
     rule: Optional[str] = None,
 ) -> Dict[str, Any]: ...
 def controllers() -> List[Dict[str, Any]]: ...
+def autotune(
+    plant: Union[str, Plant],
+    *,
+    relay_amplitude: float = 1.0,
+    hysteresis: Optional[float] = None,
+    bias: Optional[float] = None,
+    noise: float = 0.0,
+    seed: int = 0,
+    model: Optional[str] = None,
+    controller: Optional[str] = None,
+    ts: Optional[float] = None,
+    band: float = ...,
+    duration: Optional[float] = None,
+) -> Dict[str, Any]: ...
+def identify(
+    t: npt.NDArray[np.float64], u: npt.NDArray[np.float64], y: npt.NDArray[np.float64], model: str = "fopdt"
+) -> Dict[str, Any]: ...
 def margins(
     plant: Union[str, Plant],
     controller: Optional[str] = None,

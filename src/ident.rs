@@ -1,0 +1,537 @@
+//! Identification of process models from recorded data: step tests and relay
+//! tests, by closed forms and by least squares on the exact sampled response.
+
+use std::vec::Vec;
+
+use crate::autotune::{
+    identify_fopdt, identify_ipdt, RelayConfig, RelayResult, RelayState, RelayTest,
+};
+use crate::poly::TransferFunction;
+use crate::{Error, Fopdt, Ipdt, ProcessModel, Sopdt};
+
+/// Which model to fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum ModelKind {
+    /// First order plus dead time.
+    Fopdt,
+    /// Second order plus dead time.
+    Sopdt,
+    /// Integrator plus dead time.
+    Ipdt,
+}
+
+impl core::str::FromStr for ModelKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "fopdt" => Ok(ModelKind::Fopdt),
+            "sopdt" => Ok(ModelKind::Sopdt),
+            "ipdt" => Ok(ModelKind::Ipdt),
+            o => Err(std::format!(
+                "unknown model '{o}': use fopdt, sopdt or ipdt"
+            )),
+        }
+    }
+}
+
+/// A fitted model and how well it fits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fit {
+    /// The model.
+    pub model: ProcessModel<f64>,
+    /// Root-mean-square error of the model's response against the data.
+    pub rmse: f64,
+    /// `1 − ‖y − ŷ‖²/‖y − ȳ‖²`.
+    pub r2: f64,
+}
+
+/// Nelder–Mead minimization of `f` from `x0` with initial steps `step`.
+pub fn nelder_mead(f: &dyn Fn(&[f64]) -> f64, x0: &[f64], step: &[f64], iters: usize) -> Vec<f64> {
+    let n = x0.len();
+    let mut simplex: Vec<Vec<f64>> = std::vec![x0.to_vec()];
+    for i in 0..n {
+        let mut v = x0.to_vec();
+        if let (Some(vi), Some(si)) = (v.get_mut(i), step.get(i)) {
+            *vi += si;
+        }
+        simplex.push(v);
+    }
+    let mut fx: Vec<f64> = simplex.iter().map(|v| f(v)).collect();
+    for _ in 0..iters {
+        let mut order: Vec<usize> = (0..=n).collect();
+        order.sort_by(|a, b| {
+            fx.get(*a)
+                .unwrap_or(&f64::NAN)
+                .total_cmp(fx.get(*b).unwrap_or(&f64::NAN))
+        });
+        simplex = order
+            .iter()
+            .filter_map(|i| simplex.get(*i).cloned())
+            .collect();
+        fx = order.iter().filter_map(|i| fx.get(*i).copied()).collect();
+        let (Some(best), Some(worst)) = (fx.first().copied(), fx.last().copied()) else {
+            break;
+        };
+        if (worst - best).abs() <= 1e-14 * (1.0 + best.abs()) {
+            break;
+        }
+        let centroid: Vec<f64> = (0..n)
+            .map(|j| {
+                simplex
+                    .iter()
+                    .take(n)
+                    .map(|v| v.get(j).copied().unwrap_or(0.0))
+                    .sum::<f64>()
+                    / n as f64
+            })
+            .collect();
+        let Some(w) = simplex.last().cloned() else {
+            break;
+        };
+        let along = |t: f64| -> Vec<f64> {
+            centroid
+                .iter()
+                .zip(&w)
+                .map(|(c, x)| c + t * (c - x))
+                .collect()
+        };
+        let xr = along(1.0);
+        let fr = f(&xr);
+        let second = fx.get(n.saturating_sub(1)).copied().unwrap_or(worst);
+        if fr < best {
+            let xe = along(2.0);
+            let fe = f(&xe);
+            let (x, v) = if fe < fr { (xe, fe) } else { (xr, fr) };
+            replace_last(&mut simplex, &mut fx, x, v);
+        } else if fr < second {
+            replace_last(&mut simplex, &mut fx, xr, fr);
+        } else {
+            let xc = along(if fr < worst { 0.5 } else { -0.5 });
+            let fc = f(&xc);
+            if fc < worst.min(fr) {
+                replace_last(&mut simplex, &mut fx, xc, fc);
+            } else {
+                let Some(b) = simplex.first().cloned() else {
+                    break;
+                };
+                for (v, fv) in simplex.iter_mut().zip(fx.iter_mut()).skip(1) {
+                    for (x, bx) in v.iter_mut().zip(&b) {
+                        *x = bx + 0.5 * (*x - bx);
+                    }
+                    *fv = f(v);
+                }
+            }
+        }
+    }
+    let best = fx
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map_or(0, |(i, _)| i);
+    simplex.get(best).cloned().unwrap_or_else(|| x0.to_vec())
+}
+
+fn replace_last(s: &mut [Vec<f64>], f: &mut [f64], x: Vec<f64>, v: f64) {
+    if let (Some(sl), Some(fl)) = (s.last_mut(), f.last_mut()) {
+        *sl = x;
+        *fl = v;
+    }
+}
+
+fn model_from(kind: ModelKind, p: &[f64]) -> Option<ProcessModel<f64>> {
+    let g = |i: usize| p.get(i).copied();
+    match kind {
+        ModelKind::Fopdt => Fopdt::new(g(0)?, g(1)?.exp(), g(2)?.exp())
+            .ok()
+            .map(Into::into),
+        ModelKind::Ipdt => Ipdt::new(g(0)?, g(1)?.exp()).ok().map(Into::into),
+        ModelKind::Sopdt => {
+            let (a, b) = (g(1)?.exp(), g(2)?.exp());
+            Sopdt::new(g(0)?, a.max(b), a.min(b), g(3)?.exp())
+                .ok()
+                .map(Into::into)
+        }
+    }
+}
+
+fn params_of(m: &ProcessModel<f64>) -> Vec<f64> {
+    let tiny = |x: f64| x.max(1e-9).ln();
+    match *m {
+        ProcessModel::Fopdt(f) => std::vec![f.k, tiny(f.t), tiny(f.l)],
+        ProcessModel::Ipdt(i) => std::vec![i.k, tiny(i.l)],
+        ProcessModel::Sopdt(s) => std::vec![s.k, tiny(s.t1), tiny(s.t2), tiny(s.l)],
+        ProcessModel::Foipdt(f) => std::vec![f.k, tiny(f.t), tiny(f.l)],
+        ProcessModel::Ufopdt(f) => std::vec![f.k, tiny(f.t), tiny(f.l)],
+    }
+}
+
+/// The model's response to the deviations `u − u0` at period `ts`, plus `y0`.
+fn response(m: &ProcessModel<f64>, ts: f64, du: &[f64], y0: f64) -> Option<Vec<f64>> {
+    let tf = TransferFunction::from_model(m);
+    crate::sim::open_loop(&tf, ts, du)
+        .ok()
+        .map(|y| y.into_iter().map(|v| v + y0).collect())
+}
+
+fn score(m: &ProcessModel<f64>, ts: f64, du: &[f64], y: &[f64], y0: f64) -> Fit {
+    let Some(yh) = response(m, ts, du, y0) else {
+        return Fit {
+            model: *m,
+            rmse: f64::INFINITY,
+            r2: f64::NEG_INFINITY,
+        };
+    };
+    let n = y.len().max(1) as f64;
+    let sse: f64 = y.iter().zip(&yh).map(|(a, b)| (a - b) * (a - b)).sum();
+    let mean = y.iter().sum::<f64>() / n;
+    let sst: f64 = y.iter().map(|a| (a - mean) * (a - mean)).sum();
+    Fit {
+        model: *m,
+        rmse: (sse / n).sqrt(),
+        r2: if sst > 0.0 { 1.0 - sse / sst } else { f64::NAN },
+    }
+}
+
+/// Least-squares fit of `kind` to samples `(u, y)` taken every `ts`, starting
+/// from `start`; `(u0, y0)` is the initial steady state.
+pub fn least_squares(
+    kind: ModelKind,
+    ts: f64,
+    u: &[f64],
+    y: &[f64],
+    u0: f64,
+    y0: f64,
+    start: &ProcessModel<f64>,
+) -> Result<Fit, Error> {
+    let du: Vec<f64> = u.iter().map(|v| v - u0).collect();
+    let cost = |p: &[f64]| -> f64 {
+        match model_from(kind, p).and_then(|m| response(&m, ts, &du, y0)) {
+            Some(yh) => y.iter().zip(&yh).map(|(a, b)| (a - b) * (a - b)).sum(),
+            None => f64::INFINITY,
+        }
+    };
+    let mut x = params_of(start);
+    if kind == ModelKind::Sopdt {
+        if let ProcessModel::Fopdt(f) = start {
+            // split the lag: a few starts, keep the best
+            let mut best = (f64::INFINITY, x.clone());
+            for r in [0.5, 0.25, 0.1] {
+                let t2 = (r * f.t).max(1e-6);
+                let p = std::vec![
+                    f.k,
+                    (f.t - t2).max(1e-6).ln(),
+                    t2.ln(),
+                    (f.l + 0.5 * t2).max(1e-6).ln()
+                ];
+                let c = cost(&p);
+                if c < best.0 {
+                    best = (c, p);
+                }
+            }
+            x = best.1;
+        }
+    }
+    let step: Vec<f64> = x
+        .iter()
+        .enumerate()
+        .map(|(i, v)| if i == 0 { 0.1 * v.abs().max(1e-6) } else { 0.2 })
+        .collect();
+    for _ in 0..3 {
+        x = nelder_mead(&cost, &x, &step, 4000);
+    }
+    let m = model_from(kind, &x).ok_or(Error::Numerical("least squares (no valid model found)"))?;
+    Ok(score(&m, ts, &du, y, y0))
+}
+
+/// The first sample where the input moves from its initial value, and the step size.
+fn step_of(u: &[f64]) -> Result<(usize, f64, f64), Error> {
+    let u0 = *u.first().ok_or(Error::OutOfRange("data"))?;
+    let k = u
+        .iter()
+        .position(|v| (v - u0).abs() > 1e-12 * (1.0 + u0.abs()))
+        .ok_or(Error::Unsupported(
+            "the input never changes: no step in the data",
+        ))?;
+    let u1 = *u.last().ok_or(Error::OutOfRange("data"))?;
+    Ok((k, u0, u1 - u0))
+}
+
+/// FOPDT by the two-point method (28.3 % and 63.2 % of the final change):
+/// `T = 1.5 (t63 − t28)`, `L = t63 − T`, `K = Δy/Δu`.
+pub fn two_point(t: &[f64], u: &[f64], y: &[f64]) -> Result<Fopdt<f64>, Error> {
+    let (k0, _, du) = step_of(u)?;
+    let ts_step = *t.get(k0).ok_or(Error::OutOfRange("data"))?;
+    let y0 = *y.first().ok_or(Error::OutOfRange("data"))?;
+    let tail = y.len().saturating_sub(y.len() / 20).max(1);
+    let yf = y
+        .get(tail..)
+        .map_or(y0, |s| s.iter().sum::<f64>() / s.len().max(1) as f64);
+    let dy = yf - y0;
+    let cross = |frac: f64| -> Option<f64> {
+        let level = y0 + frac * dy;
+        for i in k0.max(1)..y.len() {
+            let (a, b) = (*y.get(i - 1)?, *y.get(i)?);
+            if (a - level) * (b - level) <= 0.0 && a != b {
+                let (ta, tb) = (*t.get(i - 1)?, *t.get(i)?);
+                return Some(ta + (level - a) / (b - a) * (tb - ta));
+            }
+        }
+        None
+    };
+    let (t28, t63) = (
+        cross(0.283).ok_or(Error::Unsupported("no 28.3 % crossing"))?,
+        cross(0.632).ok_or(Error::Unsupported("no 63.2 % crossing"))?,
+    );
+    let tc = 1.5 * (t63 - t28);
+    Fopdt::new(dy / du, tc, (t63 - tc - ts_step).max(0.0))
+}
+
+/// IPDT from the slope and intercept of the final ramp: `y ≈ y0 + K Δu (t − t_step − L)`.
+pub fn slope_intercept(t: &[f64], u: &[f64], y: &[f64]) -> Result<Ipdt<f64>, Error> {
+    let (k0, _, du) = step_of(u)?;
+    let ts_step = *t.get(k0).ok_or(Error::OutOfRange("data"))?;
+    let y0 = *y.first().ok_or(Error::OutOfRange("data"))?;
+    let from = y.len() / 2;
+    let (tt, yy) = (t.get(from..).unwrap_or(&[]), y.get(from..).unwrap_or(&[]));
+    let n = tt.len() as f64;
+    if n < 2.0 {
+        return Err(Error::OutOfRange("data"));
+    }
+    let (mt, my) = (tt.iter().sum::<f64>() / n, yy.iter().sum::<f64>() / n);
+    let sxy: f64 = tt.iter().zip(yy).map(|(a, b)| (a - mt) * (b - my)).sum();
+    let sxx: f64 = tt.iter().map(|a| (a - mt) * (a - mt)).sum();
+    let slope = sxy / sxx;
+    let t_at_y0 = mt + (y0 - my) / slope;
+    Ipdt::new(slope / du, (t_at_y0 - ts_step).max(0.0))
+}
+
+/// Step-test identification of `kind` from samples every `ts` (uniform `t`):
+/// the closed-form estimate, refined by least squares.
+pub fn identify_step(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result<Fit, Error> {
+    if t.len() != u.len() || t.len() != y.len() || t.len() < 10 {
+        return Err(Error::OutOfRange("data"));
+    }
+    let ts = match (t.first(), t.get(1)) {
+        (Some(a), Some(b)) if b > a => b - a,
+        _ => return Err(Error::NotPositive("ts")),
+    };
+    let (u0, y0) = (*u.first().unwrap_or(&0.0), *y.first().unwrap_or(&0.0));
+    let start: ProcessModel<f64> = match kind {
+        ModelKind::Ipdt => slope_intercept(t, u, y)?.into(),
+        ModelKind::Fopdt | ModelKind::Sopdt => two_point(t, u, y)?.into(),
+    };
+    least_squares(kind, ts, u, y, u0, y0, &start)
+}
+
+/// A relay experiment on a simulated plant, with measurement noise.
+#[derive(Debug, Clone)]
+pub struct RelayRun {
+    /// How it ended.
+    pub state: RelayState<f64>,
+    /// Actuator values.
+    pub u: Vec<f64>,
+    /// Measured outputs.
+    pub y: Vec<f64>,
+    /// Sample period.
+    pub ts: f64,
+}
+
+/// Runs the relay experiment `cfg` on `plant` (exact sampled-data simulation),
+/// with Gaussian measurement noise of standard deviation `noise`.
+pub fn relay_experiment(
+    plant: &TransferFunction,
+    cfg: RelayConfig<f64>,
+    noise: f64,
+    seed: u64,
+) -> Result<RelayRun, Error> {
+    let mut test = RelayTest::new(cfg)?;
+    let mut rng = crate::sim::Noise::new(seed);
+    let mut us = Vec::new();
+    let mut ys = Vec::new();
+    // the plant starts at its steady state (u0, y0): simulated in deviations
+    let mut plant_sim = crate::sim::PlantStepper::new(plant, cfg.ts)?;
+    for _ in 0..=cfg.max_samples {
+        let y = plant_sim.output() + cfg.y0;
+        let y_meas = y + if noise > 0.0 {
+            noise * rng.gaussian()
+        } else {
+            0.0
+        };
+        let u = test.update(y_meas);
+        us.push(u);
+        ys.push(y_meas);
+        plant_sim.advance(u - cfg.u0);
+        if test.state() != RelayState::Running {
+            break;
+        }
+    }
+    Ok(RelayRun {
+        state: test.state(),
+        u: us,
+        y: ys,
+        ts: cfg.ts,
+    })
+}
+
+/// Models from a relay run: the exact closed forms, then (with `refine`) a
+/// least-squares fit to the recorded cycles, which removes the bias that
+/// measurement noise puts on the peaks.
+pub fn identify_relay(
+    run: &RelayRun,
+    r: &RelayResult<f64>,
+    kind: ModelKind,
+    cfg: &RelayConfig<f64>,
+    refine: bool,
+) -> Result<Fit, Error> {
+    let start: ProcessModel<f64> = match kind {
+        ModelKind::Ipdt => identify_ipdt(r)?.into(),
+        ModelKind::Fopdt | ModelKind::Sopdt => {
+            let k = r.gain().ok_or(Error::Unsupported(
+                "FOPDT/SOPDT identification needs the gain: run the relay with a bias",
+            ))?;
+            identify_fopdt(r, k)?.into()
+        }
+    };
+    let du: Vec<f64> = run.u.iter().map(|v| v - cfg.u0).collect();
+    if !refine && kind != ModelKind::Sopdt {
+        return Ok(score(&start, run.ts, &du, &run.y, cfg.y0));
+    }
+    least_squares(kind, run.ts, &run.u, &run.y, cfg.u0, cfg.y0, &start)
+}
+
+/// Settings of `msp autotune`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AutotuneOptions {
+    /// Relay amplitude.
+    pub amplitude: f64,
+    /// Hysteresis (default: three noise standard deviations).
+    pub hysteresis: Option<f64>,
+    /// Relay bias (default: 0 for integrating plants, 20 % of the amplitude otherwise).
+    pub bias: Option<f64>,
+    /// Measurement-noise standard deviation.
+    pub noise: f64,
+    /// Noise seed.
+    pub seed: u64,
+    /// Model to identify (default: IPDT for integrating plants, FOPDT otherwise).
+    pub model: Option<ModelKind>,
+    /// Controller to tune (default by the identified model's kind).
+    pub controller: Option<String>,
+    /// Sample period (default chosen from the plant).
+    pub ts: Option<f64>,
+    /// Safety band on the output.
+    pub band: f64,
+}
+
+impl Default for AutotuneOptions {
+    fn default() -> Self {
+        AutotuneOptions {
+            amplitude: 1.0,
+            hysteresis: None,
+            bias: None,
+            noise: 0.0,
+            seed: 0,
+            model: None,
+            controller: None,
+            ts: None,
+            band: f64::INFINITY,
+        }
+    }
+}
+
+/// What `msp autotune` found and did.
+#[derive(Debug, Clone)]
+pub struct AutotuneOutput {
+    /// The relay's settings.
+    pub relay: RelayConfig<f64>,
+    /// The limit cycle.
+    pub result: RelayResult<f64>,
+    /// The identified model and its fit to the recorded cycles.
+    pub fit: Fit,
+    /// The closed loop of the tuned controller on the true plant.
+    pub run: crate::sim::RunOutput,
+}
+
+/// Why autotuning failed.
+#[derive(Debug)]
+pub enum AutotuneError {
+    /// The relay experiment stopped (the actuator is back at its initial value).
+    Aborted(crate::autotune::RelayAbort),
+    /// Identification failed.
+    Ident(Error),
+    /// Tuning or the closed loop failed.
+    Run(crate::sim::RunError),
+}
+
+impl core::fmt::Display for AutotuneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            AutotuneError::Aborted(a) => write!(
+                f,
+                "relay experiment aborted: {a}; the actuator is back at its initial value"
+            ),
+            AutotuneError::Ident(e) => write!(f, "identification failed: {e}"),
+            AutotuneError::Run(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for AutotuneError {}
+
+/// Relay test on `plant`, identification, tuning, and the closed loop on `plant`.
+pub fn autotune(
+    plant: &TransferFunction,
+    o: &AutotuneOptions,
+    base: &crate::sim::Scenario,
+) -> Result<AutotuneOutput, AutotuneError> {
+    let integrating = plant.kind() == crate::poly::PlantKind::Integrating;
+    let kind = o.model.unwrap_or(if integrating {
+        ModelKind::Ipdt
+    } else {
+        ModelKind::Fopdt
+    });
+    let ts = o.ts.unwrap_or_else(|| crate::sim::choose_ts(plant));
+    let mut cfg = RelayConfig::new(o.amplitude, ts);
+    cfg.hysteresis = o.hysteresis.unwrap_or(3.0 * o.noise);
+    cfg.bias = o.bias.unwrap_or(if kind == ModelKind::Ipdt {
+        0.0
+    } else {
+        0.2 * o.amplitude
+    });
+    cfg.band = o.band;
+    cfg.tolerance = if o.noise > 0.0 { 0.05 } else { 0.002 };
+    let slow = plant
+        .time_scales()
+        .unwrap_or_default()
+        .into_iter()
+        .fold(plant.delay, f64::max);
+    let budget = num_traits::ToPrimitive::to_u32(&(200.0 * slow / ts).clamp(1000.0, 2e7))
+        .unwrap_or(20_000_000);
+    cfg.max_samples = budget;
+    let run = relay_experiment(plant, cfg, o.noise, o.seed).map_err(AutotuneError::Ident)?;
+    let result = match run.state {
+        RelayState::Done(r) => r,
+        RelayState::Aborted(a) => return Err(AutotuneError::Aborted(a)),
+        RelayState::Running => {
+            return Err(AutotuneError::Aborted(crate::autotune::RelayAbort::Timeout))
+        }
+    };
+    let fit =
+        identify_relay(&run, &result, kind, &cfg, o.noise > 0.0).map_err(AutotuneError::Ident)?;
+    let mut sc = base.clone();
+    sc.plant = plant.to_string();
+    sc.model = Some(TransferFunction::from_model(&fit.model).to_string());
+    sc.controller = o.controller.clone().or(sc.controller);
+    sc.ts = Some(ts);
+    let model_tf = TransferFunction::from_model(&fit.model);
+    let out = sc
+        .run_with(plant.clone(), model_tf)
+        .map_err(AutotuneError::Run)?;
+    Ok(AutotuneOutput {
+        relay: cfg,
+        result,
+        fit,
+        run: out,
+    })
+}

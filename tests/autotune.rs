@@ -1,0 +1,213 @@
+//! Relay autotuning and identification against plants of known parameters.
+use msp::autotune::{RelayAbort, RelayConfig, RelayState};
+use msp::ident::{
+    autotune, identify_step, relay_experiment, AutotuneError, AutotuneOptions, ModelKind,
+};
+use msp::poly::TransferFunction;
+use msp::sim::Scenario;
+use msp::ProcessModel;
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+fn tune(plant: &str, o: AutotuneOptions) -> msp::ident::AutotuneOutput {
+    let tf: TransferFunction = plant.parse().unwrap();
+    autotune(&tf, &o, &Scenario::default()).unwrap_or_else(|e| panic!("{plant}: {e}"))
+}
+
+#[test]
+fn ipdt_and_fopdt_identified_within_one_percent() {
+    for hysteresis in [0.0, 0.05] {
+        let o = tune(
+            "0.2/s*e^-7.4s",
+            AutotuneOptions {
+                hysteresis: Some(hysteresis),
+                ..Default::default()
+            },
+        );
+        let ProcessModel::Ipdt(m) = o.fit.model else {
+            panic!("{:?}", o.fit.model)
+        };
+        assert!(
+            rel(m.k, 0.2) < 0.01 && rel(m.l, 7.4) < 0.01,
+            "ε = {hysteresis}: {m:?}"
+        );
+        assert!(o.run.result.diverged_at.is_none());
+        let o = tune(
+            "2*e^-4s/(5s+1)",
+            AutotuneOptions {
+                hysteresis: Some(hysteresis),
+                ..Default::default()
+            },
+        );
+        let ProcessModel::Fopdt(m) = o.fit.model else {
+            panic!()
+        };
+        assert!(
+            rel(m.k, 2.0) < 0.01 && rel(m.t, 5.0) < 0.01 && rel(m.l, 4.0) < 0.01,
+            "ε = {hysteresis}: {m:?}"
+        );
+    }
+}
+
+#[test]
+fn with_one_percent_noise_within_five_percent() {
+    // IPDT: output amplitude K·h·L = 1.48; FOPDT: about K·h·(1 − e^{-L/T}) ≈ 1.1
+    let o = tune(
+        "0.2/s*e^-7.4s",
+        AutotuneOptions {
+            noise: 0.0148,
+            seed: 3,
+            ..Default::default()
+        },
+    );
+    let ProcessModel::Ipdt(m) = o.fit.model else {
+        panic!()
+    };
+    assert!(rel(m.k, 0.2) < 0.05 && rel(m.l, 7.4) < 0.05, "{m:?}");
+    let o = tune(
+        "2*e^-4s/(5s+1)",
+        AutotuneOptions {
+            noise: 0.011,
+            seed: 5,
+            ..Default::default()
+        },
+    );
+    let ProcessModel::Fopdt(m) = o.fit.model else {
+        panic!()
+    };
+    assert!(
+        rel(m.k, 2.0) < 0.05 && rel(m.t, 5.0) < 0.05 && rel(m.l, 4.0) < 0.05,
+        "{m:?}"
+    );
+}
+
+#[test]
+fn kaya_example_2_models_and_a_robust_smith_predictor() {
+    let plant = "e^-10s/(s+1)^2";
+    let o = tune(
+        plant,
+        AutotuneOptions {
+            ts: Some(0.02),
+            ..Default::default()
+        },
+    );
+    let ProcessModel::Fopdt(f) = o.fit.model else {
+        panic!()
+    };
+    // Kaya (001_… Example 2): e^{-10.87s}/(1.27s+1)
+    assert!(
+        rel(f.k, 1.0) < 0.02 && rel(f.t, 1.27) < 0.15 && rel(f.l, 10.87) < 0.03,
+        "{f:?}"
+    );
+    let s = tune(
+        plant,
+        AutotuneOptions {
+            ts: Some(0.02),
+            model: Some(ModelKind::Sopdt),
+            ..Default::default()
+        },
+    );
+    let ProcessModel::Sopdt(m) = s.fit.model else {
+        panic!()
+    };
+    assert!(
+        rel(m.k, 1.0) < 0.02
+            && rel(m.t1, 1.0) < 0.05
+            && rel(m.t2, 1.0) < 0.05
+            && rel(m.l, 10.0) < 0.02,
+        "{m:?}"
+    );
+    // the autotuned Smith predictor stays stable with +30 % dead time
+    let model = TransferFunction::from_model(&o.fit.model).to_string();
+    let sc = Scenario {
+        plant: "e^-13s/(s+1)^2".into(),
+        model: Some(model),
+        controller: Some("smith".into()),
+        ts: Some(0.02),
+        duration: Some(600.0),
+        ..Default::default()
+    };
+    let out = sc.run().unwrap();
+    assert!(out.result.diverged_at.is_none());
+    assert!((out.result.y.last().unwrap() - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn aborts_cleanly() {
+    let tf: TransferFunction = "0.2/s*e^-7.4s".parse().unwrap();
+    let mut cfg = RelayConfig::new(1.0, 0.074);
+    cfg.u0 = 0.3;
+    cfg.max_samples = 200; // far too short to settle
+    let r = relay_experiment(&tf, cfg, 0.0, 0).unwrap();
+    assert_eq!(r.state, RelayState::Aborted(RelayAbort::Timeout));
+    assert_eq!(
+        *r.u.last().unwrap(),
+        0.3,
+        "the actuator returns to its initial value"
+    );
+    cfg.max_samples = 100_000;
+    cfg.band = 0.5;
+    let r = relay_experiment(&tf, cfg, 0.0, 0).unwrap();
+    assert_eq!(r.state, RelayState::Aborted(RelayAbort::OutOfBand));
+    assert_eq!(*r.u.last().unwrap(), 0.3);
+    let e = autotune(
+        &tf,
+        &AutotuneOptions {
+            band: 0.5,
+            ..Default::default()
+        },
+        &Scenario::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(e, AutotuneError::Aborted(RelayAbort::OutOfBand)));
+}
+
+fn step_data(plant: &str, ts: f64, n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let tf: TransferFunction = plant.parse().unwrap();
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * ts).collect();
+    let u: Vec<f64> = t
+        .iter()
+        .map(|t| if *t >= 5.0 { 2.0 } else { 0.5 })
+        .collect();
+    let du: Vec<f64> = u.iter().map(|v| v - 0.5).collect();
+    let y: Vec<f64> = msp::sim::open_loop(&tf, ts, &du)
+        .unwrap()
+        .into_iter()
+        .map(|v| v + 1.0)
+        .collect();
+    (t, u, y)
+}
+
+#[test]
+fn step_tests_recover_the_parameters() {
+    let (t, u, y) = step_data("2*e^-4s/(5s+1)", 0.05, 1200);
+    let f = identify_step(ModelKind::Fopdt, &t, &u, &y).unwrap();
+    let ProcessModel::Fopdt(m) = f.model else {
+        panic!()
+    };
+    assert!(
+        rel(m.k, 2.0) < 0.01 && rel(m.t, 5.0) < 0.01 && rel(m.l, 4.0) < 0.01,
+        "{m:?}"
+    );
+    let (t, u, y) = step_data("0.2/s*e^-7.4s", 0.05, 1200);
+    let f = identify_step(ModelKind::Ipdt, &t, &u, &y).unwrap();
+    let ProcessModel::Ipdt(m) = f.model else {
+        panic!()
+    };
+    assert!(rel(m.k, 0.2) < 0.01 && rel(m.l, 7.4) < 0.01, "{m:?}");
+    let (t, u, y) = step_data("1.5*e^-3s/((6s+1)(2s+1))", 0.05, 1600);
+    let f = identify_step(ModelKind::Sopdt, &t, &u, &y).unwrap();
+    let ProcessModel::Sopdt(m) = f.model else {
+        panic!()
+    };
+    assert!(
+        rel(m.k, 1.5) < 0.01
+            && rel(m.t1, 6.0) < 0.01
+            && rel(m.t2, 2.0) < 0.01
+            && rel(m.l, 3.0) < 0.01,
+        "{m:?}"
+    );
+    assert!(f.r2 > 0.9999);
+}
