@@ -282,6 +282,7 @@ pub struct Pid<T> {
     manual: T,
     terms: PidTerms<T>,
     fault: bool,
+    failsafe: Option<T>,
 }
 
 impl<T: Real> Pid<T> {
@@ -311,6 +312,7 @@ impl<T: Real> Pid<T> {
             manual: T::zero(),
             terms: PidTerms::default(),
             fault: false,
+            failsafe: None,
         })
     }
 
@@ -335,6 +337,20 @@ impl<T: Real> Pid<T> {
     #[inline]
     pub fn fault(&self) -> bool {
         self.fault
+    }
+
+    /// The output to give while the set point or measurement is not finite
+    /// (`None`: hold the last output). When valid data returns, the integrator
+    /// is set so that the output continues from this value (bumpless).
+    pub fn set_failsafe(&mut self, value: Option<T>) -> Result<(), Error> {
+        if let Some(v) = value {
+            finite(v, "failsafe")?;
+            if v < self.cfg.u_min || v > self.cfg.u_max {
+                return Err(Error::OutOfRange("failsafe"));
+            }
+        }
+        self.failsafe = value;
+        Ok(())
     }
 
     /// Zeroes the state and returns to auto mode.
@@ -418,18 +434,25 @@ impl<T: Real> Pid<T> {
     fn step(&mut self, r: T, y: T, track: Option<T>) -> T {
         if !(r.is_finite() && y.is_finite()) {
             self.fault = true;
-            return self.terms.output;
+            let held = self.failsafe.unwrap_or(self.terms.output);
+            self.terms.output = held;
+            return held;
         }
+        let recovering = self.fault;
         self.fault = false;
         let cfg = &self.cfg;
         let e = r - y;
         let p = cfg.kp * (cfg.b * r - y);
         let ed = cfg.c * r - y;
-        let d = if self.has_d && self.started {
+        let d = if self.has_d && self.started && !recovering {
             self.ad * self.deriv + self.bd * (ed - self.ed_prev)
         } else {
             T::zero()
         };
+        if recovering && self.started {
+            // continue from the output given during the fault, as manual→auto does
+            self.integral = self.terms.output - p - d;
+        }
         let i = self.integral;
         let v = p + i + d;
         let u = match self.mode {

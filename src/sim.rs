@@ -536,20 +536,22 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
             sub.clear(); // nothing after the last sample
         }
         controller.write_signals(&mut sig);
-        let mut push = |tj: f64, yj: f64| {
-            res.t.push(tj);
-            res.r.push(r);
-            res.y.push(yj);
-            res.u.push(u);
-            res.d.push(d_in);
-            res.d_out.push(d_out);
-            for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
-                v.push(*x);
-            }
-        };
-        push(t, y);
+        macro_rules! push {
+            ($tj:expr, $yj:expr) => {{
+                res.t.push($tj);
+                res.r.push(r);
+                res.y.push($yj);
+                res.u.push(u);
+                res.d.push(d_in);
+                res.d_out.push(d_out);
+                for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
+                    v.push(*x);
+                }
+            }};
+        }
+        push!(t, y);
         for (j, y_sub) in sub.iter().enumerate() {
-            push(t + (j + 1) as f64 * ts / m as f64, y_sub + d_out);
+            push!(t + (j + 1) as f64 * ts / m as f64, y_sub + d_out);
         }
     }
     Ok(res)
@@ -979,8 +981,18 @@ impl Scenario {
             return Err(RunError::Invalid(Error::OutOfRange("substeps")));
         }
         let result = simulate(&plant, &mut ctrl, &cfg)?;
-        let m0 = metrics(&result, &setpoint, ts, 0.0)?;
-        let m1 = metrics(&result, &setpoint, ts, model.delay)?;
+        // the two conventions are independent passes over the signals
+        #[cfg(feature = "parallel")]
+        let (m0, m1) = rayon::join(
+            || metrics(&result, &setpoint, ts, 0.0),
+            || metrics(&result, &setpoint, ts, model.delay),
+        );
+        #[cfg(not(feature = "parallel"))]
+        let (m0, m1) = (
+            metrics(&result, &setpoint, ts, 0.0),
+            metrics(&result, &setpoint, ts, model.delay),
+        );
+        let (m0, m1) = (m0?, m1?);
         Ok(RunOutput {
             plant,
             model,

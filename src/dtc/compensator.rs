@@ -197,6 +197,7 @@ pub struct Compensator<T, const N: usize, S> {
     u3: T,
     u: T,
     fault: bool,
+    failsafe: Option<T>,
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
@@ -230,7 +231,18 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             u3: T::zero(),
             u: T::zero(),
             fault: false,
+            failsafe: None,
         })
+    }
+
+    /// The output to give while the set point or measurement is not finite
+    /// (`None`: hold the last output).
+    pub fn with_failsafe(mut self, value: Option<T>) -> Result<Self, Error> {
+        if let Some(v) = value {
+            finite(v, "failsafe")?;
+        }
+        self.failsafe = value;
+        Ok(self)
     }
 
     /// Inner feedback `Gc2` of the model output (P or PD).

@@ -86,8 +86,9 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     fn update(&mut self, r: T, y: T) -> T {
         if !(r.is_finite() && y.is_finite()) {
             self.fault = true;
-            // the model keeps running on the held output: it still tracks the plant
-            let u = self.pid.output();
+            // the PID holds its output (or gives its fail-safe value); the model keeps
+            // running on what the actuator receives, so it still tracks the plant
+            let u = self.pid.update(r, T::nan());
             self.ym = self.model.step(u);
             self.ym_delayed = self.delay.process(self.ym);
             return u;

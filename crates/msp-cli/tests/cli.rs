@@ -427,3 +427,85 @@ fn identify_reads_a_step_test() {
         .code(2)
         .stderr(predicate::str::contains("no column 'y'"));
 }
+
+mod loader {
+    use msp::sim::Scenario;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 2000, .. ProptestConfig::default() })]
+        #[test]
+        fn scenario_files_never_panic(s in "\\PC{0,80}") {
+            let _ = toml::from_str::<Scenario>(&s).map_err(|e| e.to_string());
+            let _ = serde_json::from_str::<Scenario>(&s).map_err(|e| e.to_string());
+        }
+
+        #[test]
+        fn plausible_scenario_files_never_panic(
+            plant in "[-+*/^()se0-9. ]{0,20}", ts in -1.0f64..1.0, d in -10.0f64..100.0, field in "[a-z]{1,8}",
+        ) {
+            let toml = format!("plant = \"{plant}\"\nts = {ts}\nduration = {d}\n{field} = 1\n");
+            if let Ok(sc) = toml::from_str::<Scenario>(&toml) {
+                let _ = sc.run().map_err(|e| e.to_string());
+            }
+        }
+    }
+}
+
+#[test]
+fn an_unstable_loop_ends_with_a_warning_and_keeps_its_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, report) = (dir.path().join("u.csv"), dir.path().join("u.json"));
+    // the plain PI far too aggressive for this dead time
+    msp()
+        .args([
+            "run",
+            "--plant",
+            "5.6*e^-93.9s/(40.2s+1)",
+            "-c",
+            "pid",
+            "--set",
+            "kp=2",
+            "--ts",
+            "1",
+            "--duration",
+            "5000",
+            "-o",
+        ])
+        .arg(&csv)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains(
+            "warning: the closed loop with pid is unstable",
+        ));
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(j["stable"], false);
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+    assert!(rows > 100 && rows < 5000, "{rows}");
+    assert!(!std::fs::read_to_string(&csv).unwrap().contains("inf"));
+}
+
+#[test]
+fn bad_flags_exit_2_without_a_panic_trace() {
+    for args in [
+        vec!["run", "--plant", "1/(s+1)", "--ts", "0"],
+        vec!["run", "--plant", "1/(s+1)", "--ts", "nan"],
+        vec!["run", "--plant", "1/(s+1)", "--umin", "2", "--umax", "1"],
+        vec!["run", "--plant", "1/(s+1)", "--duration", "-3"],
+        vec!["run", "--plant", "1/(s+1)", "--setpoint", "x@2"],
+        vec!["run", "--plant", "1/(s+1)", "--disturbance", "input:1@-2"],
+        vec!["sweep", "--plant", "1/(s+1)", "--gain", "20%..10%"],
+        vec!["sweep", "--plant", "1/(s+1)", "--shard", "3/2"],
+        vec!["margins", "--plant", "1/(s+1)", "-c", "karan-dey"],
+        vec!["autotune", "--plant", "1/(s+1)", "--relay-amplitude", "-1"],
+    ] {
+        msp()
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains("panicked").not());
+    }
+}
