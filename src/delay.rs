@@ -213,13 +213,20 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         }
     }
 
+    /// One step of a ramped delay change (rare: kept out of the hot path).
+    #[cold]
+    #[inline(never)]
+    fn slew_step(&mut self) {
+        let step = crate::real::clamp(self.target - self.current, -self.slew, self.slew);
+        let next = self.current + step;
+        self.apply(next);
+    }
+
     /// Pushes `x[n]` and returns `x[n − d]`.
     #[inline]
     pub fn process(&mut self, x: T) -> T {
         if self.current != self.target {
-            let step = (self.target - self.current).max(-self.slew).min(self.slew);
-            let next = self.current + step;
-            self.apply(next);
+            self.slew_step();
         }
         let y = self.peek(x);
         let n = self.buf.as_ref().len();

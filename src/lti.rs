@@ -618,6 +618,13 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// The output the block would give for input `u` now, without advancing it.
     #[inline(always)]
     pub fn output(&self, u: T) -> T {
+        if N == 1 {
+            let cx = match (self.c.first(), self.x.first()) {
+                (Some(c), Some(x)) if self.n == 1 => *c * *x,
+                _ => T::zero(),
+            };
+            return cx + self.d * u;
+        }
         self.c
             .iter()
             .zip(self.x.iter())
@@ -636,6 +643,22 @@ impl<T: Real, const N: usize> Lti<T, N> {
     #[inline(always)]
     pub fn step(&mut self, u: T) -> T {
         let y = self.output(u);
+        self.advance(u);
+        y
+    }
+
+    /// `x[k+1] = Φ x[k] + Γ u[k]` without computing the output.
+    #[inline(always)]
+    pub fn advance(&mut self, u: T) {
+        if N == 1 {
+            // first order: one multiply-add, no loops
+            if let (Some(x), Some(row), Some(g)) = (self.x.first_mut(), self.phi.first(), self.gamma.first()) {
+                if self.n == 1 {
+                    *x = row.first().copied().unwrap_or(T::zero()) * *x + *g * u;
+                }
+            }
+            return;
+        }
         let mut next = [T::zero(); N];
         for ((xn, row), g) in next
             .iter_mut()
@@ -650,7 +673,6 @@ impl<T: Real, const N: usize> Lti<T, N> {
                 .fold(*g * u, |s, (p, x)| s + *p * *x);
         }
         self.x = next;
-        y
     }
 
     /// Sets the state vector.

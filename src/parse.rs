@@ -283,6 +283,7 @@ impl Parser<'_> {
                 Tok::Star => {
                     self.bump();
                     acc = acc.mul(&self.power()?);
+                    check_degree(&acc, col)?;
                 }
                 Tok::Slash => {
                     self.bump();
@@ -294,8 +295,8 @@ impl Parser<'_> {
                     acc = acc.mul(&inv);
                 }
                 Tok::Num(_) | Tok::S | Tok::E | Tok::Exp | Tok::LParen => {
-                    let _ = col;
                     acc = acc.mul(&self.power()?);
+                    check_degree(&acc, col)?;
                 }
                 _ => return Ok(acc),
             }
@@ -329,12 +330,16 @@ impl Parser<'_> {
                 col,
             ));
         };
-        if n != n.trunc() || n > 64.0 {
-            return Err(("powers must be integers from -64 to 64".into(), col));
+        if n != n.trunc() || n > f64::from(MAX_DEGREE) {
+            return Err((alloc::format!("powers must be integers from -{MAX_DEGREE} to {MAX_DEGREE}"), col));
         }
         let _ = caret_col;
         #[allow(clippy::cast_possible_truncation)]
         let n = (n as i32).saturating_mul(sign);
+        let deg = base.num.len().max(base.den.len()).saturating_sub(1);
+        if deg.saturating_mul(n.unsigned_abs() as usize) > MAX_DEGREE as usize {
+            return Err((alloc::format!("the power makes a polynomial of degree above {MAX_DEGREE}"), col));
+        }
         let mut out = Val::constant(1.0);
         for _ in 0..n.unsigned_abs() {
             out = out.mul(&base);
@@ -426,6 +431,16 @@ impl Parser<'_> {
             other => Err((alloc::format!("unexpected {}", describe(other)), col)),
         }
     }
+}
+
+/// Largest polynomial degree an expression may build.
+const MAX_DEGREE: u16 = 256;
+
+fn check_degree(v: &Val, col: usize) -> PResult<()> {
+    if v.num.len().max(v.den.len()) > usize::from(MAX_DEGREE) + 1 {
+        return Err((alloc::format!("the expression builds a polynomial of degree above {MAX_DEGREE}"), col));
+    }
+    Ok(())
 }
 
 /// `e^{v}` for `v = −θ·s`.

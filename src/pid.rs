@@ -274,6 +274,7 @@ pub struct Pid<T> {
     /// Derivative action present (`kd > 0`), rate limit finite.
     has_d: bool,
     has_rate: bool,
+    has_limits: bool,
     integral: T,
     deriv: T,
     ed_prev: T,
@@ -304,6 +305,7 @@ impl<T: Real> Pid<T> {
             du: cfg.rate_limit * h,
             has_d: cfg.kd != T::zero(),
             has_rate: cfg.rate_limit.is_finite(),
+            has_limits: cfg.u_min.is_finite() || cfg.u_max.is_finite(),
             integral: T::zero(),
             deriv: T::zero(),
             ed_prev: T::zero(),
@@ -430,13 +432,20 @@ impl<T: Real> Pid<T> {
         self.step(r, y, Some(u_actual))
     }
 
+    /// The output during a fault: held, or the fail-safe value.
+    #[cold]
+    #[inline(never)]
+    fn hold(&mut self) -> T {
+        self.fault = true;
+        let held = self.failsafe.unwrap_or(self.terms.output);
+        self.terms.output = held;
+        held
+    }
+
     #[inline(always)]
     fn step(&mut self, r: T, y: T, track: Option<T>) -> T {
         if !(r.is_finite() && y.is_finite()) {
-            self.fault = true;
-            let held = self.failsafe.unwrap_or(self.terms.output);
-            self.terms.output = held;
-            return held;
+            return self.hold();
         }
         let recovering = self.fault;
         self.fault = false;
@@ -461,9 +470,12 @@ impl<T: Real> Pid<T> {
                 let mut u = v;
                 if self.has_rate && self.started {
                     let last = self.terms.output;
-                    u = u.max(last - self.du).min(last + self.du);
+                    u = crate::real::clamp(u, last - self.du, last + self.du);
                 }
-                u.max(cfg.u_min).min(cfg.u_max)
+                if self.has_limits {
+                    u = crate::real::clamp(u, cfg.u_min, cfg.u_max);
+                }
+                u
             }
         };
         let applied = match track {
@@ -472,6 +484,8 @@ impl<T: Real> Pid<T> {
         };
         self.integral = match self.mode {
             Mode::Manual => applied - p - d,
+            // nothing limits the output: no windup to guard against
+            Mode::Auto if !self.has_limits && !self.has_rate && track.is_none() => i + self.bi * e,
             Mode::Auto => match cfg.anti_windup {
                 AntiWindup::Conditional => {
                     let pushing_up = e > T::zero() && v >= cfg.u_max;

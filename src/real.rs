@@ -80,3 +80,16 @@ pub(crate) fn non_negative<T: Real>(x: T, field: &'static str) -> Result<T, crat
         Err(crate::Error::Negative(field))
     }
 }
+
+/// `x` limited to `[lo, hi]` by comparisons (on a Cortex-M4 `f32::max`/`min`
+/// are library calls; a NaN `x` passes through unchanged).
+#[inline(always)]
+pub(crate) fn clamp<T: Real>(x: T, lo: T, hi: T) -> T {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
+    }
+}

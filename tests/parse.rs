@@ -81,3 +81,14 @@ fn bad_expressions_name_the_problem_and_column() {
     bad("   ", 1, "empty");
     bad("1/(s+1)+e^-2s/(s+2)", 8, "different delays");
 }
+
+#[test]
+fn fuzz_findings_stay_fixed() {
+    // a canonical form with a power above the old limit of 64 must parse back
+    let tf = parse_plant("ssss^\u{c}-31s4ss^\u{c}-31sss^\u{c}-31s4ss4s4s^4s4").unwrap();
+    let again = parse_plant(&tf.to_string()).unwrap();
+    assert_eq!(again.to_string(), tf.to_string());
+    // powers that would build enormous polynomials are refused, not computed
+    let e = parse_plant("((s+1)^200)^200").unwrap_err();
+    assert!(e.message.contains("degree above 256"), "{e}");
+}

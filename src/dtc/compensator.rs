@@ -305,6 +305,21 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         &self.gc1
     }
 
+    /// A sample with a non-finite input: the output is held (or the fail-safe
+    /// value given); the model keeps following what the plant receives.
+    #[cold]
+    #[inline(never)]
+    fn on_fault(&mut self) -> T {
+        self.fault = true;
+        if let Some(f) = self.failsafe {
+            self.u = f;
+        }
+        let drive = if self.drives_model_with_u1() { self.u1 } else { self.u };
+        self.ym = self.model.step(drive);
+        self.delay.process(self.ym);
+        self.u
+    }
+
     fn drives_model_with_u1(&self) -> bool {
         !matches!(self.dist, DisturbancePath::Off)
     }
@@ -314,16 +329,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
     #[inline]
     fn update(&mut self, r: T, y: T) -> T {
         if !(r.is_finite() && y.is_finite()) {
-            // hold the output; the model keeps following what the plant receives
-            self.fault = true;
-            let drive = if self.drives_model_with_u1() {
-                self.u1
-            } else {
-                self.u
-            };
-            self.ym = self.model.step(drive);
-            self.delay.process(self.ym);
-            return self.u;
+            return self.on_fault();
         }
         self.fault = false;
         let ym = self.model.free_output();
@@ -352,11 +358,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
             DisturbancePath::Block(b) => b.step(eps),
             DisturbancePath::AstromHangLim(m) => m.step(eps),
         };
-        let u = (u1 - u3).max(self.u_min).min(self.u_max);
+        let u = crate::real::clamp(u1 - u3, self.u_min, self.u_max);
         let drive = if self.drives_model_with_u1() { u1 } else { u };
-        self.model.step(drive);
+        self.model.advance(drive);
         if let Some(c) = &mut self.corr {
-            c.step(drive);
+            c.advance(drive);
         }
         self.ym = ym;
         self.ym_delayed = ym_d;

@@ -71,6 +71,21 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S
     }
 }
 
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S> {
+    /// A sample with a non-finite input: the PID holds its output (or gives its
+    /// fail-safe value); the model keeps running on what the actuator receives,
+    /// so it still tracks the plant.
+    #[cold]
+    #[inline(never)]
+    fn on_fault(&mut self, r: T) -> T {
+        self.fault = true;
+        let u = self.pid.update(r, T::nan());
+        self.ym = self.model.step(u);
+        self.ym_delayed = self.delay.process(self.ym);
+        u
+    }
+}
+
 impl<T: Real, const N: usize, S: DelayStorage<T>> SmithPredictor<T, N, S> {
     /// A predictor whose model is `model` ZOH-discretized at the controller's period.
     pub fn from_model(pid: PidConfig<T>, model: &ProcessModel<T>, ts: T) -> Result<Self, Error> {
@@ -85,20 +100,14 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     #[inline]
     fn update(&mut self, r: T, y: T) -> T {
         if !(r.is_finite() && y.is_finite()) {
-            self.fault = true;
-            // the PID holds its output (or gives its fail-safe value); the model keeps
-            // running on what the actuator receives, so it still tracks the plant
-            let u = self.pid.update(r, T::nan());
-            self.ym = self.model.step(u);
-            self.ym_delayed = self.delay.process(self.ym);
-            return u;
+            return self.on_fault(r);
         }
         self.fault = false;
         let ym = self.model.free_output();
         let ym_d = self.delay.process(ym);
         let err = y - ym_d;
         let u = self.pid.update(r, ym + err);
-        self.model.step(u);
+        self.model.advance(u);
         self.ym = ym;
         self.ym_delayed = ym_d;
         self.model_error = err;

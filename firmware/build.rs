@@ -1,0 +1,23 @@
+//! Copies the memory layout for the linker and computes the host's f64
+//! reference runs with the same loop code the firmware runs in f32.
+#![allow(dead_code)]
+
+use std::io::Write;
+
+#[path = "src/loops.rs"]
+mod loops;
+
+fn main() {
+    let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
+    std::fs::copy("memory.x", out.join("memory.x")).expect("memory.x");
+    println!("cargo:rustc-link-search={}", out.display());
+    println!("cargo:rerun-if-changed=memory.x");
+    println!("cargo:rerun-if-changed=src/loops.rs");
+    let (mut c, mut p) = loops::smith::<f64>();
+    let smith = loops::run(&mut c, &mut p, |_| {});
+    let (mut c, mut p) = loops::karan_dey::<f64>();
+    let kd = loops::run(&mut c, &mut p, |_| {});
+    let mut f = std::fs::File::create(out.join("reference.rs")).expect("reference.rs");
+    writeln!(f, "pub const SMITH: [f64; {}] = {:?};", smith.len(), smith).expect("write");
+    writeln!(f, "pub const KARAN_DEY: [f64; {}] = {:?};", kd.len(), kd).expect("write");
+}

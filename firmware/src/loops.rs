@@ -1,0 +1,104 @@
+// The two closed loops, written once for f32 (firmware) and f64 (host reference,
+// included by build.rs): the controller against an exactly discretized plant
+// with its dead time in a delay line.
+
+use msp::{Controller, Delay, DelayLine, Lti, PidConfig, ProcessModel, Real, SmithPredictor};
+use msp::dtc::karan_dey::{self, KaranDey};
+
+pub const SAMPLES: usize = 10_000;
+pub const CHECKS: usize = 20;
+pub const CAP: usize = 128;
+
+/// The plant: the same ZOH block as the model, the dead time in a line.
+pub struct Plant<T: Real> {
+    block: Lti<T, 1>,
+    line: DelayLine<T, CAP>,
+}
+
+impl<T: Real> Plant<T> {
+    pub fn new(m: &ProcessModel<T>, ts: T) -> Plant<T> {
+        let (block, d) = match m.discretize::<1>(ts) {
+            Ok(x) => x,
+            Err(_) => panic_model(),
+        };
+        let line = match Delay::new_in(d) {
+            Ok(l) => l,
+            Err(_) => panic_model(),
+        };
+        Plant { block, line }
+    }
+    pub fn output(&self) -> T {
+        self.block.free_output()
+    }
+    pub fn advance(&mut self, u: T) {
+        let v = self.line.process(u);
+        self.block.step(v);
+    }
+}
+
+fn panic_model() -> ! {
+    panic!("model")
+}
+
+pub fn smith<T: Real>() -> (SmithPredictor<T, 1, [T; CAP]>, Plant<T>) {
+    // 004_…: 5.6 e^{-93.9 s}/(40.2 s + 1), Kaya's PI, Ts = 0.939 s (100 samples of dead time)
+    let ts = T::of(0.939);
+    let m: ProcessModel<T> = match msp::Fopdt::new(T::of(5.6), T::of(40.2), T::of(93.9)) {
+        Ok(f) => f.into(),
+        Err(_) => panic_model(),
+    };
+    let pi = PidConfig::isa(T::of(40.2 / (5.6 * 93.9)), T::of(40.2), T::zero(), ts);
+    match SmithPredictor::from_model(pi, &m, ts) {
+        Ok(c) => (c, Plant::new(&m, ts)),
+        Err(_) => panic_model(),
+    }
+}
+
+pub fn karan_dey<T: Real>() -> (KaranDey<T, 1, [T; CAP]>, Plant<T>) {
+    // 000_…: 0.2 e^{-7.4 s}/s with lambda = L/4, Ts = 0.074 s (100 samples of dead time)
+    let ts = T::of(0.074);
+    let ipdt = match msp::Ipdt::new(T::of(0.2), T::of(7.4)) {
+        Ok(m) => m,
+        Err(_) => panic_model(),
+    };
+    let p = match msp::tuning::karan_dey(&ipdt, ipdt.l / T::of(4.0)) {
+        Ok(p) => p,
+        Err(_) => panic_model(),
+    };
+    let m: ProcessModel<T> = ipdt.into();
+    match karan_dey::from_model(&p, &m, ts) {
+        Ok(c) => (c, Plant::new(&m, ts)),
+        Err(_) => panic_model(),
+    }
+}
+
+/// The set point (steps) and an input load at two thirds of the run.
+pub fn inputs<T: Real>(k: usize) -> (T, T) {
+    let r = if k < SAMPLES / 2 { T::one() } else { T::of(0.5) };
+    let d = if k >= 2 * SAMPLES / 3 { T::of(-0.05) } else { T::zero() };
+    (r, d)
+}
+
+/// Runs the loop, calling `tick` around each update; returns `y` at CHECKS evenly spaced samples.
+pub fn run<T: Real, C: Controller<T>>(c: &mut C, p: &mut Plant<T>, tick: impl FnMut(bool)) -> [T; CHECKS] {
+    run_with(c, p, tick, |c, r, y| c.update(r, y))
+}
+
+/// [`run`] with the update call given (the firmware passes a non-inlined function).
+pub fn run_with<T: Real, C>(c: &mut C, p: &mut Plant<T>, mut tick: impl FnMut(bool), mut update: impl FnMut(&mut C, T, T) -> T) -> [T; CHECKS] {
+    let mut out = [T::zero(); CHECKS];
+    for k in 0..SAMPLES {
+        let (r, d) = inputs::<T>(k);
+        let y = p.output();
+        tick(true);
+        let u = update(c, r, y);
+        tick(false);
+        p.advance(u + d);
+        if (k + 1) % (SAMPLES / CHECKS) == 0 {
+            if let Some(slot) = out.get_mut((k + 1) / (SAMPLES / CHECKS) - 1) {
+                *slot = y;
+            }
+        }
+    }
+    out
+}
