@@ -618,7 +618,7 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// The output the block would give for input `u` now, without advancing it.
     #[inline(always)]
     pub fn output(&self, u: T) -> T {
-        if N == 1 {
+        if self.n <= 1 {
             let cx = match (self.c.first(), self.x.first()) {
                 (Some(c), Some(x)) if self.n == 1 => *c * *x,
                 _ => T::zero(),
@@ -650,12 +650,12 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// `x[k+1] = Φ x[k] + Γ u[k]` without computing the output.
     #[inline(always)]
     pub fn advance(&mut self, u: T) {
-        if N == 1 {
+        if self.n == 1 {
             // first order: one multiply-add, no loops
-            if let (Some(x), Some(row), Some(g)) = (self.x.first_mut(), self.phi.first(), self.gamma.first()) {
-                if self.n == 1 {
-                    *x = row.first().copied().unwrap_or(T::zero()) * *x + *g * u;
-                }
+            if let (Some(x), Some(row), Some(g)) =
+                (self.x.first_mut(), self.phi.first(), self.gamma.first())
+            {
+                *x = row.first().copied().unwrap_or(T::zero()) * *x + *g * u;
             }
             return;
         }

@@ -272,6 +272,7 @@ impl Parser<'_> {
                 den: mul(&acc.den, &rhs.den),
                 delay: acc.delay,
             };
+            check_degree(&acc, col)?;
         }
     }
 
@@ -331,14 +332,20 @@ impl Parser<'_> {
             ));
         };
         if n != n.trunc() || n > f64::from(MAX_DEGREE) {
-            return Err((alloc::format!("powers must be integers from -{MAX_DEGREE} to {MAX_DEGREE}"), col));
+            return Err((
+                alloc::format!("powers must be integers from -{MAX_DEGREE} to {MAX_DEGREE}"),
+                col,
+            ));
         }
         let _ = caret_col;
         #[allow(clippy::cast_possible_truncation)]
         let n = (n as i32).saturating_mul(sign);
         let deg = base.num.len().max(base.den.len()).saturating_sub(1);
         if deg.saturating_mul(n.unsigned_abs() as usize) > MAX_DEGREE as usize {
-            return Err((alloc::format!("the power makes a polynomial of degree above {MAX_DEGREE}"), col));
+            return Err((
+                alloc::format!("the power makes a polynomial of degree above {MAX_DEGREE}"),
+                col,
+            ));
         }
         let mut out = Val::constant(1.0);
         for _ in 0..n.unsigned_abs() {
@@ -438,7 +445,10 @@ const MAX_DEGREE: u16 = 256;
 
 fn check_degree(v: &Val, col: usize) -> PResult<()> {
     if v.num.len().max(v.den.len()) > usize::from(MAX_DEGREE) + 1 {
-        return Err((alloc::format!("the expression builds a polynomial of degree above {MAX_DEGREE}"), col));
+        return Err((
+            alloc::format!("the expression builds a polynomial of degree above {MAX_DEGREE}"),
+            col,
+        ));
     }
     Ok(())
 }

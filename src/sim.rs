@@ -557,6 +557,56 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
     Ok(res)
 }
 
+impl SimResult {
+    /// Writes the signals as CSV: `t,r,y,u,d`, then `d_out` when there is an
+    /// output disturbance, then the controller's signals (shortest round-trip
+    /// number formatting).
+    pub fn write_csv<W: std::io::Write>(&self, w: &mut W) -> std::io::Result<()> {
+        let with_dout = self.d_out.iter().any(|v| *v != 0.0);
+        let mut head = std::string::String::from("t,r,y,u,d");
+        if with_dout {
+            head.push_str(",d_out");
+        }
+        for (n, _) in &self.signals {
+            head.push(',');
+            head.push_str(n);
+        }
+        head.push('\n');
+        w.write_all(head.as_bytes())?;
+        let mut buf = ryu::Buffer::new();
+        let mut line: Vec<u8> = Vec::with_capacity(256);
+        let mut num = |line: &mut Vec<u8>, v: f64| {
+            if v.is_finite() {
+                let s = buf.format_finite(v);
+                // ryu writes integers as "1.0"; keep them as "1" like `{}` does
+                line.extend_from_slice(s.strip_suffix(".0").unwrap_or(s).as_bytes());
+            } else {
+                line.extend_from_slice(std::format!("{v}").as_bytes());
+            }
+        };
+        for i in 0..self.t.len() {
+            line.clear();
+            let get = |v: &Vec<f64>| v.get(i).copied().unwrap_or(f64::NAN);
+            num(&mut line, get(&self.t));
+            for v in [&self.r, &self.y, &self.u, &self.d] {
+                line.push(b',');
+                num(&mut line, get(v));
+            }
+            if with_dout {
+                line.push(b',');
+                num(&mut line, get(&self.d_out));
+            }
+            for (_, v) in &self.signals {
+                line.push(b',');
+                num(&mut line, get(v));
+            }
+            line.push(b'\n');
+            w.write_all(&line)?;
+        }
+        Ok(())
+    }
+}
+
 /// The metrics of a run, with the key names of the JSON report and Python.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -92,3 +92,15 @@ fn fuzz_findings_stay_fixed() {
     let e = parse_plant("((s+1)^200)^200").unwrap_err();
     assert!(e.message.contains("degree above 256"), "{e}");
 }
+
+#[test]
+fn sums_cannot_build_polynomials_beyond_the_limit_either() {
+    let big = (0..30)
+        .map(|i| format!("1/(s^{})", 10 + i))
+        .collect::<Vec<_>>()
+        .join("+");
+    match parse_plant(&big) {
+        Ok(tf) => assert!(parse_plant(&tf.to_string()).is_ok()),
+        Err(e) => assert!(e.message.contains("degree above 256"), "{e}"),
+    }
+}

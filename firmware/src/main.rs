@@ -69,6 +69,13 @@ fn empty_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32,
     r * 0.0
 }
 
+/// 64 instructions of work, to check the measurement.
+#[inline(never)]
+fn nop_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, _y: f32) -> f32 {
+    nops64!();
+    r * 0.0
+}
+
 /// One Smith-predictor update, kept out of line so its size is its own symbol.
 #[inline(never)]
 fn smith_update(c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y: f32) -> f32 {
@@ -115,6 +122,10 @@ fn main() -> ! {
     let (y_kd, t_kd) = ticks(|| loops::run_with(&mut kd, &mut plant, |_| {}, karan_dey_update));
 
     let per = |t: u32| (f64::from(t) - f64::from(base)) * ipt / n;
+    // a known cost through the same harness: 64 nops
+    let (mut c1, mut plant1) = loops::smith::<f32>();
+    let (_, t_nop) = ticks(|| loops::run_with(&mut c1, &mut plant1, |_| {}, nop_update));
+    hprintln!("calibration: a 64-nop update measures {:.0} instructions", per(t_nop));
     let ok = check("smith", &y_sp, &reference::SMITH, per(t_sp), ram_sp)
         & check("karan-dey", &y_kd, &reference::KARAN_DEY, per(t_kd), ram_kd);
     hprintln!("verdict: {}", if ok { "PASS" } else { "FAIL" });

@@ -314,7 +314,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         if let Some(f) = self.failsafe {
             self.u = f;
         }
-        let drive = if self.drives_model_with_u1() { self.u1 } else { self.u };
+        let drive = if self.drives_model_with_u1() {
+            self.u1
+        } else {
+            self.u
+        };
         self.ym = self.model.step(drive);
         self.delay.process(self.ym);
         self.u

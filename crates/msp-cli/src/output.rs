@@ -34,31 +34,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
 
 /// The CSV: `t,r,y,u,d`, `d_out` when there is an output disturbance, then the
 /// controller's internal signals.
-pub fn csv_bytes(out: &RunOutput) -> Result<Vec<u8>, csv::Error> {
-    let res = &out.result;
-    let with_dout = res.d_out.iter().any(|v| *v != 0.0);
-    let mut w = csv::WriterBuilder::new().from_writer(Vec::with_capacity(res.t.len() * 64));
-    let mut header: Vec<&str> = vec!["t", "r", "y", "u", "d"];
-    if with_dout {
-        header.push("d_out");
-    }
-    header.extend(res.signals.iter().map(|(n, _)| n.as_str()));
-    w.write_record(&header)?;
-    for i in 0..res.t.len() {
-        let mut row: Vec<String> = Vec::with_capacity(header.len());
-        let get = |v: &Vec<f64>| v.get(i).copied().unwrap_or(f64::NAN);
-        for v in [&res.t, &res.r, &res.y, &res.u, &res.d] {
-            row.push(fmt_f(get(v)));
-        }
-        if with_dout {
-            row.push(fmt_f(get(&res.d_out)));
-        }
-        for (_, v) in &res.signals {
-            row.push(fmt_f(get(v)));
-        }
-        w.write_record(&row)?;
-    }
-    w.into_inner().map_err(|e| csv::Error::from(e.into_error()))
+pub fn csv_bytes(out: &RunOutput) -> std::io::Result<Vec<u8>> {
+    let mut v = Vec::with_capacity(out.result.t.len() * 64);
+    out.result.write_csv(&mut v)?;
+    Ok(v)
 }
 
 /// Shortest round-trip formatting of a float.

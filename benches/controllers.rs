@@ -1,0 +1,184 @@
+#![allow(missing_docs)]
+//! Controller updates against a hand-written Smith-PI step, in f32 and f64.
+//!
+//! Run: `cargo bench --bench controllers`. Each update is timed in a loop that
+//! feeds its output back through a first-order plant, so the dependency chain
+//! of a real loop is measured, the same for msp and the reference.
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use msp::dtc::karan_dey;
+use msp::poly::TransferFunction;
+use msp::registry::{Build, SCHEMES};
+use msp::{
+    Controller, Delay, DelayLine, Fopdt, Ipdt, PidConfig, ProcessModel, Real, SmithPredictor,
+};
+
+/// The minimal hand-written Smith-PI step: PI, first-order model, ring buffer.
+struct HandSmith<T, const N: usize> {
+    kp: T,
+    ki: T,
+    a: T,
+    b: T,
+    integ: T,
+    ym: T,
+    buf: [T; N],
+    head: usize,
+}
+
+impl<T: Real, const N: usize> HandSmith<T, N> {
+    fn new() -> Self {
+        let a = T::of((-0.939f64 / 40.2).exp());
+        HandSmith {
+            kp: T::of(0.0764),
+            ki: T::of(0.0764 * 0.939 / 40.2),
+            a,
+            b: T::of(5.6) * (T::one() - a),
+            integ: T::zero(),
+            ym: T::zero(),
+            buf: [T::zero(); N],
+            head: 0,
+        }
+    }
+    #[inline(always)]
+    fn update(&mut self, r: T, y: T) -> T {
+        let ymd = self.buf[self.head];
+        self.buf[self.head] = self.ym;
+        self.head += 1;
+        if self.head == N {
+            self.head = 0;
+        }
+        let e = r - (self.ym + y - ymd);
+        let u = self.kp * e + self.integ;
+        self.integ = self.integ + self.ki * e;
+        self.ym = self.a * self.ym + self.b * u;
+        u
+    }
+}
+
+fn fopdt<T: Real>() -> ProcessModel<T> {
+    Fopdt::new(T::of(5.6), T::of(40.2), T::of(93.9))
+        .map(Into::into)
+        .expect("model")
+}
+
+fn smith<T: Real, const D: usize>(delay: f64) -> SmithPredictor<T, 1, [T; D]> {
+    let ts = T::of(0.939);
+    let m: ProcessModel<T> = Fopdt::new(T::of(5.6), T::of(40.2), T::of(delay * 0.939))
+        .map(Into::into)
+        .expect("model");
+    SmithPredictor::from_model(
+        PidConfig::isa(T::of(0.0764), T::of(40.2), T::zero(), ts),
+        &m,
+        ts,
+    )
+    .expect("smith")
+}
+
+/// Times `step(r, y) -> u` inside a loop closed through `y ← 0.99·y + 0.01·u`.
+fn closed<T: Real>(c: &mut Criterion, group: &str, name: &str, mut step: impl FnMut(T, T) -> T) {
+    let mut g = c.benchmark_group(group);
+    g.throughput(Throughput::Elements(1));
+    let mut y = T::zero();
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            let u = step(black_box(T::one()), y);
+            y = T::of(0.99) * y + T::of(0.01) * u;
+            u
+        })
+    });
+    g.finish();
+}
+
+fn updates<T: Real>(c: &mut Criterion, ty: &str) {
+    let group = format!("update/{ty}");
+    let mut hand = HandSmith::<T, 100>::new();
+    closed(c, &group, "hand-written smith-pi", |r, y| hand.update(r, y));
+    let mut sp = smith::<T, 128>(100.0);
+    closed(c, &group, "smith", |r, y| sp.update(r, y));
+    let ipdt = Ipdt::new(T::of(0.2), T::of(7.4)).expect("ipdt");
+    let p = msp::tuning::karan_dey(&ipdt, ipdt.l / T::of(4.0)).expect("tuning");
+    let mut kd =
+        karan_dey::from_model::<T, 1, [T; 128]>(&p, &ipdt.into(), T::of(0.074)).expect("kd");
+    closed(c, &group, "karan-dey", |r, y| kd.update(r, y));
+    let _ = fopdt::<T>();
+}
+
+fn registry_updates(c: &mut Criterion) {
+    // every scheme as the CLI and Python build it (f64, dynamic dispatch)
+    for s in SCHEMES {
+        let plant: TransferFunction = if s.plants.contains(&msp::poly::PlantKind::Integrating) {
+            "0.2/s*e^-7.4s"
+        } else {
+            "5.6*e^-93.9s/(40.2s+1)"
+        }
+        .parse()
+        .expect("plant");
+        let Ok(p) = s.tune_with(&plant, None, &[]) else {
+            continue;
+        };
+        let mut ctrl = s
+            .build_with(
+                &p,
+                &plant,
+                &Build {
+                    ts: 0.1,
+                    u_min: f64::NEG_INFINITY,
+                    u_max: f64::INFINITY,
+                },
+            )
+            .expect("build");
+        closed(c, "update/f64/registry", s.name, |r, y| ctrl.update(r, y));
+    }
+}
+
+fn capacity(c: &mut Criterion) {
+    // the cost does not grow with the dead time or the delay line's capacity
+    let mut g = c.benchmark_group("smith/delay-capacity");
+    g.throughput(Throughput::Elements(1));
+    macro_rules! at {
+        ($n:literal) => {{
+            let mut sp = smith::<f64, $n>($n as f64);
+            let mut y = 0.0;
+            g.bench_with_input(BenchmarkId::from_parameter($n), &$n, |b, _| {
+                b.iter(|| {
+                    let u = sp.update(black_box(1.0), y);
+                    y = 0.99 * y + 0.01 * u;
+                    u
+                })
+            });
+        }};
+    }
+    at!(16);
+    at!(1024);
+    at!(65536);
+    g.finish();
+    let mut g = c.benchmark_group("delay-line");
+    g.throughput(Throughput::Elements(1));
+    macro_rules! line {
+        ($n:literal) => {{
+            let mut d: DelayLine<f64, $n> = Delay::new_in(($n - 1) as f64 + 0.5).expect("line");
+            let mut x = 0.0;
+            g.bench_with_input(BenchmarkId::from_parameter($n), &$n, |b, _| {
+                b.iter(|| {
+                    x += 1.0;
+                    d.process(black_box(x))
+                })
+            });
+        }};
+    }
+    line!(16);
+    line!(1024);
+    line!(65536);
+    g.finish();
+}
+
+fn all(c: &mut Criterion) {
+    updates::<f64>(c, "f64");
+    updates::<f32>(c, "f32");
+    registry_updates(c);
+    capacity(c);
+}
+
+criterion_group!(benches, all);
+criterion_main!(benches);

@@ -1,0 +1,170 @@
+#![allow(missing_docs)]
+//! The simulator's samples per second (with and without CSV output), the
+//! parser, and a whole `msp run`, against a hand-written closed loop.
+//!
+//! Run: `cargo bench --bench simulation`.
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use msp::poly::TransferFunction;
+use msp::sim::{simulate, Scenario, SetpointStep, SimConfig};
+use msp::{Delay, PidConfig, SmithPredictor};
+
+const N: usize = 100_000;
+
+/// The hand-written reference: PI + first-order model + ring buffers, plant included.
+fn hand_loop(n: usize) -> f64 {
+    let (a, b) = (
+        (-0.939f64 / 40.2).exp(),
+        5.6 * (1.0 - (-0.939f64 / 40.2).exp()),
+    );
+    let d = 100usize;
+    let (mut buf, mut ubuf) = (vec![0.0f64; d], vec![0.0f64; d]);
+    let (mut y, mut ym, mut integ, mut head) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    let (kp, ki) = (black_box(0.0764), black_box(0.0764 * 0.939 / 40.2));
+    let mut out = vec![0.0; n];
+    for o in out.iter_mut() {
+        let ymd = buf[head];
+        buf[head] = ym;
+        let e = 1.0 - (ym + y - ymd);
+        let u = kp * e + integ;
+        integ += ki * e;
+        ym = a * ym + b * u;
+        let ud = ubuf[head];
+        ubuf[head] = u;
+        y = a * y + b * ud;
+        head = if head + 1 == d { 0 } else { head + 1 };
+        *o = y;
+    }
+    out[n - 1]
+}
+
+fn cfg(n: usize) -> SimConfig {
+    SimConfig {
+        ts: 0.939,
+        duration: 0.939 * (n - 1) as f64,
+        setpoint: vec![SetpointStep {
+            value: 1.0,
+            at: 0.0,
+        }],
+        disturbances: vec![],
+        noise: 0.0,
+        seed: 0,
+        u_min: f64::NEG_INFINITY,
+        u_max: f64::INFINITY,
+        substeps: 1,
+    }
+}
+
+fn sims(c: &mut Criterion) {
+    let plant: TransferFunction = "5.6*e^-93.9s/(40.2s+1)".parse().expect("plant");
+    let mut g = c.benchmark_group("closed-loop/fopdt+smith");
+    g.throughput(Throughput::Elements(N as u64));
+    g.sample_size(20);
+    g.bench_function("hand-written", |b| b.iter(|| hand_loop(black_box(N))));
+    let model = plant.to_lti::<1>(0.939).expect("model");
+    let pi = PidConfig::isa(0.0764, 40.2, 0.0, 0.939);
+    let config = cfg(N);
+    g.bench_function("msp simulate (concrete controller)", |b| {
+        b.iter(|| {
+            let mut sp: SmithPredictor<f64, 1, Vec<f64>> =
+                SmithPredictor::new(pi, model, Delay::new_in(100.0).expect("line")).expect("sp");
+            simulate(&plant, &mut sp, &config).expect("sim")
+        })
+    });
+    let s = msp::registry::find("smith").expect("smith");
+    let p = s.tune_with(&plant, None, &[]).expect("tune");
+    g.bench_function("msp simulate (registry controller)", |b| {
+        b.iter(|| {
+            let mut c = s
+                .build_with(
+                    &p,
+                    &plant,
+                    &msp::registry::Build {
+                        ts: 0.939,
+                        u_min: f64::NEG_INFINITY,
+                        u_max: f64::INFINITY,
+                    },
+                )
+                .expect("build");
+            simulate(&plant, &mut c, &config).expect("sim")
+        })
+    });
+    let res = {
+        let mut c = s
+            .build_with(
+                &p,
+                &plant,
+                &msp::registry::Build {
+                    ts: 0.939,
+                    u_min: f64::NEG_INFINITY,
+                    u_max: f64::INFINITY,
+                },
+            )
+            .expect("build");
+        simulate(&plant, &mut c, &config).expect("sim")
+    };
+    g.bench_function("msp simulate + CSV", |b| {
+        b.iter(|| {
+            let mut c = s
+                .build_with(
+                    &p,
+                    &plant,
+                    &msp::registry::Build {
+                        ts: 0.939,
+                        u_min: f64::NEG_INFINITY,
+                        u_max: f64::INFINITY,
+                    },
+                )
+                .expect("build");
+            let r = simulate(&plant, &mut c, &config).expect("sim");
+            let mut v = Vec::with_capacity(N * 80);
+            r.write_csv(&mut v).expect("csv");
+            v
+        })
+    });
+    g.finish();
+    let mut g = c.benchmark_group("csv");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function("rows", |b| {
+        b.iter(|| {
+            let mut v = Vec::with_capacity(N * 80);
+            res.write_csv(&mut v).expect("csv");
+            v
+        })
+    });
+    g.finish();
+}
+
+fn whole(c: &mut Criterion) {
+    let mut g = c.benchmark_group("msp run");
+    g.sample_size(20);
+    g.bench_function("0.2/s*e^-7.4s (parse, tune, simulate, metrics, CSV)", |b| {
+        b.iter(|| {
+            let out = Scenario {
+                plant: "0.2/s*e^-7.4s".into(),
+                ..Default::default()
+            }
+            .run()
+            .expect("run");
+            let mut v = Vec::new();
+            out.result.write_csv(&mut v).expect("csv");
+            v
+        })
+    });
+    g.finish();
+    let mut g = c.benchmark_group("parse");
+    for e in [
+        "0.2/s*e^-7.4s",
+        "e^-5s/(s(0.9s+1)(0.5s+1)(0.3s+1)(0.1s+1))",
+        "(0.1251s+1)*e^-0.8s/(2.828s-1)",
+    ] {
+        g.bench_function(e, |b| {
+            b.iter(|| msp::parse::parse_plant(black_box(e)).expect("parse"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, sims, whole);
+criterion_main!(benches);
