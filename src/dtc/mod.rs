@@ -8,6 +8,7 @@ pub mod astrom_hang_lim;
 pub mod compensator;
 pub mod disturbance_estimator;
 pub mod filtered_smith;
+pub mod fsp;
 pub mod huang;
 pub mod karan_dey;
 pub mod kaya_atherton;
