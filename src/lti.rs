@@ -749,6 +749,25 @@ impl<T: Real, const N: usize> Lti<T, N> {
         y
     }
 
+    /// `Φ[i][j]` (0 outside the order).
+    pub fn phi_entry(&self, i: usize, j: usize) -> T {
+        self.phi
+            .get(i)
+            .and_then(|r| r.get(j))
+            .copied()
+            .unwrap_or(T::zero())
+    }
+
+    /// The output vector `C`.
+    pub fn output_vector(&self) -> [T; N] {
+        self.c
+    }
+
+    /// The feed-through `D`.
+    pub fn feedthrough(&self) -> T {
+        self.d
+    }
+
     /// The input vector `Γ`.
     pub fn input_vector(&self) -> [T; N] {
         self.gamma

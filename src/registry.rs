@@ -662,7 +662,59 @@ fn build_disturbance_estimator<const N: usize>(
     Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
 }
 
+fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let m = plant.reduce(false)?;
+    let lambda = lambda_for(&m, d, 1.0);
+    let (kp, ti) = match m {
+        // K/(T s − 1): the delay-free loop with a PI gets the double pole −1/λ
+        ProcessModel::Ufopdt(u) => {
+            let kkc = 1.0 + 2.0 * u.t / lambda;
+            (kkc / u.k, kkc * lambda * lambda / u.t)
+        }
+        // K/s: the same placement gives the thesis's IMC-PI
+        ProcessModel::Ipdt(i) => (2.0 / (i.k * lambda), 2.0 * lambda),
+        _ => {
+            let g = tuning::kaya(&plant.reduce(true)?, lambda)?;
+            (g.kp, g.ti)
+        }
+    };
+    let tf = d.get("tf").unwrap_or(0.5 * m.delay().max(1e-9));
+    Ok(params_of(FSP_PARAMS, &[kp, ti, tf, lambda]))
+}
+
+const FSP_PARAMS: &[&str] = &["kp", "ti", "tf", "lambda"];
+
+fn build_fsp(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let d = model.delay_samples(b.ts)?;
+    let h = d.round();
+    if (d - h).abs() > 1e-6 {
+        return Err(crate::Error::Unsupported(
+            "fsp needs a dead time of a whole number of samples: choose ts = L/n",
+        ));
+    }
+    let gm = model.to_lti::<MAX_ORDER>(b.ts)?;
+    let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
+    let design = dtc::fsp::design(&gm, h, b.ts, p.req("tf")?)?;
+    let k = PidConfig::isa(p.req("kp")?, p.req("ti")?, 0.0, b.ts).with_limits(b.u_min, b.u_max);
+    let values: Vec<f64> = FSP_PARAMS
+        .iter()
+        .map(|n| p.get(n).unwrap_or(f64::NAN))
+        .collect();
+    Ok(Box::new(dtc::fsp::FilteredSmith::new(
+        k, &design, FSP_PARAMS, values,
+    )?))
+}
+
 const STABLE: &[PlantKind] = &[PlantKind::Stable];
+const ALL: &[PlantKind] = &[
+    PlantKind::Stable,
+    PlantKind::Integrating,
+    PlantKind::Unstable,
+];
 const STABLE_INT: &[PlantKind] = &[PlantKind::Stable, PlantKind::Integrating];
 const INT: &[PlantKind] = &[PlantKind::Integrating];
 
@@ -692,7 +744,7 @@ pub static SCHEMES: &[Scheme] = &[
     },
     Scheme {
         name: "filtered-smith",
-        aliases: &["fsp"],
+        aliases: &[],
         summary: "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error",
         source: "004_feaf9f0851109607.txt",
         plants: STABLE,
@@ -768,6 +820,17 @@ pub static SCHEMES: &[Scheme] = &[
         build: by_order!(build_karan_dey),
     },
     Scheme {
+        name: "fsp",
+        aliases: &["filtered-smith-unstable"],
+        summary: "filtered Smith predictor for unstable, integrating and stable plants: Fr(z) from the Diophantine condition",
+        source: "002_0ed51b14a8593ff0.txt Sec. 3, Eq. 10",
+        plants: ALL,
+        params: FSP_PARAMS,
+        design: &["lambda", "alpha", "tf"],
+        tune: tune_fsp,
+        build: build_fsp,
+    },
+    Scheme {
         name: "disturbance-estimator",
         aliases: &["de"],
         summary: "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)",
@@ -795,20 +858,13 @@ pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
 }
 
 /// The default scheme for a plant: the Karan–Dey MSP for integrating plants,
-/// the Smith predictor (Kaya tuning) for stable ones.
+/// the Smith predictor (Kaya tuning) for stable ones, the filtered Smith
+/// predictor for unstable ones.
 pub fn default_for(kind: PlantKind) -> Result<&'static Scheme, RegistryError> {
     match kind {
         PlantKind::Integrating => find("karan-dey"),
         PlantKind::Stable => find("smith"),
-        PlantKind::Unstable => Err(RegistryError::PlantKind {
-            scheme: "smith",
-            kind,
-            alternatives: SCHEMES
-                .iter()
-                .filter(|s| s.plants.contains(&kind))
-                .map(|s| s.name)
-                .collect(),
-        }),
+        PlantKind::Unstable => find("fsp"),
     }
 }
 

@@ -300,3 +300,43 @@ fn kaya_example_3_settings() {
         (p.get("ti").unwrap() - 5.54).abs() < 1e-9 && (p.get("td").unwrap() - 1.385).abs() < 1e-9
     );
 }
+
+#[test]
+fn fsp_controls_unstable_and_integrating_plants_and_rejects_loads() {
+    // the thesis's unstable benchmark is the default case for `msp run`
+    for (plant, controller) in [
+        ("5/(100s-1)*e^-6s", None),
+        ("1/((10s-1)(2s+1))*e^-1s", Some("fsp")),
+        ("0.2/s*e^-7.4s", Some("fsp")),
+    ] {
+        let mut sc = Scenario {
+            plant: plant.into(),
+            controller: controller.map(Into::into),
+            ..Default::default()
+        };
+        sc.duration = Some(300.0);
+        sc.disturbance = vec![load(-0.1, 150.0)];
+        let o = sc.run().unwrap();
+        assert_eq!(o.controller, "fsp", "{plant}");
+        assert!(o.result.diverged_at.is_none(), "{plant}");
+        let at = |t: f64| o.result.y[o.result.t.iter().position(|x| *x >= t).unwrap()];
+        assert!(
+            (at(149.0) - 1.0).abs() < 1e-3,
+            "{plant}: settles, y = {}",
+            at(149.0)
+        );
+        assert!(
+            (o.result.y.last().unwrap() - 1.0).abs() < 1e-3,
+            "{plant}: rejects the load"
+        );
+        // internally stable: the actuator stays bounded
+        assert!(o.result.u.iter().all(|u| u.abs() < 20.0), "{plant}");
+    }
+    // a biproper model is refused with a reason, not run into an algebraic loop
+    let sc = Scenario {
+        plant: "(0.1251s+1)*e^-0.8s/(2.828s-1)".into(),
+        ..Default::default()
+    };
+    let e = sc.run().unwrap_err().to_string();
+    assert!(e.contains("strictly proper"), "{e}");
+}

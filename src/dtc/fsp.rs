@@ -195,3 +195,355 @@ mod tests {
         assert!((c40[0] - 3.8549).abs() > 0.5);
     }
 }
+
+#[cfg(feature = "alloc")]
+pub use self::controller::{design, FilteredSmith, FspDesign};
+
+#[cfg(feature = "alloc")]
+mod controller {
+    use alloc::vec;
+    use alloc::vec::Vec;
+
+    use super::solve;
+    use crate::dtc::Controller;
+    use crate::{Complex, Error, Lti, Pid, PidConfig};
+
+    /// The designed predictor: `ŷ = S(z)·u + Fr(z)·y` with `S = Gm(1 − z^{−h}Fr)`
+    /// realized without the unstable poles, `S = z^{−h}·Nm(z − 1)p/(Dm⁻·Dr)`.
+    #[derive(Debug, Clone)]
+    pub struct FspDesign {
+        /// `Fr = Nr/Dr` (descending powers of z).
+        pub nr: Vec<f64>,
+        /// Its denominator.
+        pub dr: Vec<f64>,
+        /// Numerator of `S` in powers of `z^{−1}` (starting at `z^{−delay}`).
+        pub s_num: Vec<f64>,
+        /// Denominator of `S` in powers of `z^{−1}` (monic).
+        pub s_den: Vec<f64>,
+    }
+
+    fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {
+        crate::poly::mul(a, b)
+    }
+
+    /// Polynomial division `a / b` (descending), quotient and remainder.
+    fn div(a: &[f64], b: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Error> {
+        let lead = *b.first().ok_or(Error::Numerical("division"))?;
+        if a.len() < b.len() {
+            return Ok((vec![0.0], a.to_vec()));
+        }
+        let mut r = a.to_vec();
+        let mut q = vec![0.0; a.len() + 1 - b.len()];
+        for i in 0..q.len() {
+            let f = r.get(i).copied().unwrap_or(0.0) / lead;
+            if let Some(qi) = q.get_mut(i) {
+                *qi = f;
+            }
+            for (j, bj) in b.iter().enumerate() {
+                if let Some(x) = r.get_mut(i + j) {
+                    *x -= f * bj;
+                }
+            }
+        }
+        let rem = r.split_off(q.len());
+        Ok((q, rem))
+    }
+
+    /// Numerator and denominator (descending powers of z) of a discrete block, by
+    /// Faddeev–LeVerrier on its realization.
+    fn tf_of<const N: usize>(b: &Lti<f64, N>) -> (Vec<f64>, Vec<f64>) {
+        let n = b.order();
+        let z = 0.3f64;
+        let _ = z;
+        // sample the response on n + 1 points of a circle and solve for the coefficients
+        // would be ill-conditioned; LeVerrier on Φ is exact for the small orders used here
+        let phi = |i: usize, j: usize| b.phi_entry(i, j);
+        let mut c = vec![1.0];
+        let mut m = vec![vec![0.0; n]; n];
+        for (i, row) in m.iter_mut().enumerate() {
+            if let Some(x) = row.get_mut(i) {
+                *x = 1.0;
+            }
+        }
+        let mut ms = Vec::with_capacity(n);
+        for k in 1..=n {
+            // A·M_{k−1}
+            let mut am = vec![vec![0.0; n]; n];
+            for (i, row) in am.iter_mut().enumerate() {
+                for (j, x) in row.iter_mut().enumerate() {
+                    *x = (0..n)
+                        .map(|q| {
+                            phi(i, q) * m.get(q).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
+                        })
+                        .sum();
+                }
+            }
+            let tr: f64 = (0..n)
+                .map(|i| am.get(i).and_then(|r| r.get(i)).copied().unwrap_or(0.0))
+                .sum();
+            let ck = -tr / k as f64;
+            ms.push(m.clone());
+            c.push(ck);
+            for (i, row) in am.iter_mut().enumerate() {
+                if let Some(x) = row.get_mut(i) {
+                    *x += ck;
+                }
+            }
+            m = am;
+        }
+        // numerator: C·M_k·Γ for k = 0..n−1, plus D·den
+        let (cv, g, d) = (b.output_vector(), b.input_vector(), b.feedthrough());
+        let mut num = vec![0.0; n + 1];
+        for (k, mk) in ms.iter().enumerate() {
+            let v: f64 = (0..n)
+                .map(|i| {
+                    cv.get(i).copied().unwrap_or(0.0)
+                        * (0..n)
+                            .map(|j| {
+                                mk.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
+                                    * g.get(j).copied().unwrap_or(0.0)
+                            })
+                            .sum::<f64>()
+                })
+                .sum();
+            if let Some(x) = num.get_mut(k + 1) {
+                *x = v;
+            }
+        }
+        for (x, ck) in num.iter_mut().zip(&c) {
+            *x += d * ck;
+        }
+        (num, c)
+    }
+
+    /// Designs the filter `Fr = Nr/(z − α)^m` (`α = e^{−Ts/Tf}`) and the stable predictor
+    /// `S` for the ZOH model `gm` with a dead time of `h` samples.
+    pub fn design<const N: usize>(
+        gm: &Lti<f64, N>,
+        h: usize,
+        ts: f64,
+        tf: f64,
+    ) -> Result<FspDesign, Error> {
+        let (nm, dm) = tf_of(gm);
+        if gm.feedthrough() != 0.0 {
+            return Err(Error::Unsupported(
+                "fsp needs a strictly proper model (a biproper one makes the predictor algebraic)",
+            ));
+        }
+        let roots = crate::poly::poly_roots(&dm)?;
+        let mut unstable = Vec::new();
+        let (mut dplus, mut dminus) = (vec![1.0], vec![1.0]);
+        for (re, im) in roots {
+            if re.hypot(im) >= 1.0 - 1e-9 {
+                if im.abs() > 1e-9 {
+                    return Err(Error::Unsupported(
+                        "complex unstable poles in the filtered Smith predictor",
+                    ));
+                }
+                unstable.push(re);
+                dplus = mul(&dplus, &[1.0, -re]);
+            } else if im.abs() <= 1e-12 {
+                dminus = mul(&dminus, &[1.0, -re]);
+            } else if im > 0.0 {
+                dminus = mul(&dminus, &[1.0, -2.0 * re, re * re + im * im]);
+            }
+        }
+        // the roots of Dm⁺(z)(z − 1) with multiplicities (clustered within 1e-6)
+        let mut cond: Vec<(f64, usize)> = vec![(1.0, 1)];
+        for u in unstable {
+            match cond.iter_mut().find(|(x, _)| (*x - u).abs() < 1e-6) {
+                Some(c) => c.1 += 1,
+                None => cond.push((u, 1)),
+            }
+        }
+        let m: usize = cond.iter().map(|c| c.1).sum();
+        let alpha = (-ts / crate::real::positive(tf, "tf")?).exp();
+        let mut dr = vec![1.0];
+        for _ in 0..m {
+            dr = mul(&dr, &[1.0, -alpha]);
+        }
+        let (c, k) = solve(h, &dr, &[1.0], &cond)?;
+        let nr: Vec<f64> = c.iter().take(k).copied().collect();
+        // p = (z^h·Dr − Nr)/(Dm⁺(z − 1)), exactly (the remainder is rounding)
+        let mut zh_dr = dr.clone();
+        zh_dr.extend(core::iter::repeat(0.0).take(h));
+        let nr_pad: Vec<f64> = core::iter::repeat(0.0)
+            .take(zh_dr.len().saturating_sub(nr.len()))
+            .chain(nr.iter().copied())
+            .collect();
+        let diff: Vec<f64> = zh_dr.iter().zip(&nr_pad).map(|(a, b)| a - b).collect();
+        let (p, rem) = div(&diff, &mul(&dplus, &[1.0, -1.0]))?;
+        let scale = diff.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+        if rem.iter().any(|r| r.abs() > 1e-6 * scale) {
+            return Err(Error::Numerical("robustness filter (Eq. 10 not satisfied)"));
+        }
+        // S = Nm(z − 1)p / (Dm⁻·Dr·z^h), in powers of z^{-1}
+        let b = mul(&mul(&nm, &[1.0, -1.0]), &p);
+        let a = mul(&dminus, &dr);
+        let da = a.len() - 1 + h;
+        let db = crate::poly::trim(&b).len() - 1;
+        let b = crate::poly::trim(&b);
+        let lead = a.first().copied().unwrap_or(1.0);
+        let mut s_num = vec![0.0; da - db];
+        s_num.extend(b.iter().map(|v| v / lead));
+        let s_den: Vec<f64> = a.iter().map(|v| v / lead).collect();
+        Ok(FspDesign {
+            nr,
+            dr,
+            s_num,
+            s_den,
+        })
+    }
+
+    /// The filtered Smith predictor for unstable, integrating and stable plants:
+    /// `u = K(r − ŷ)` with `ŷ = S(z)·u + Fr(z)·y`. `S` is evaluated in direct form
+    /// over the input history (its numerator spans the dead time, so the cost is
+    /// proportional to it).
+    #[derive(Debug, Clone)]
+    pub struct FilteredSmith {
+        k: Pid<f64>,
+        fr: Lti<f64, 8>,
+        s_num: Vec<f64>,
+        s_den: Vec<f64>,
+        u_hist: Vec<f64>,
+        s_hist: Vec<f64>,
+        uh: usize,
+        sh: usize,
+        names: &'static [&'static str],
+        values: Vec<f64>,
+        pred: f64,
+        u: f64,
+        fault: bool,
+    }
+
+    impl FilteredSmith {
+        /// The controller `k` around the designed predictor.
+        pub fn new(
+            k: PidConfig<f64>,
+            d: &FspDesign,
+            names: &'static [&'static str],
+            values: Vec<f64>,
+        ) -> Result<Self, Error> {
+            let fr = Lti::from_discrete_tf(&d.nr, &d.dr)?;
+            Ok(FilteredSmith {
+                k: Pid::new(k)?,
+                fr,
+                s_num: d.s_num.clone(),
+                s_den: d.s_den.clone(),
+                u_hist: vec![0.0; d.s_num.len().max(1)],
+                s_hist: vec![0.0; d.s_den.len().max(1)],
+                uh: 0,
+                sh: 0,
+                names,
+                values,
+                pred: 0.0,
+                u: 0.0,
+                fault: false,
+            })
+        }
+
+        /// `S·u` at this sample from the past inputs and outputs (S is strictly proper):
+        /// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]`.
+        fn s_output(&self) -> f64 {
+            let n = self.u_hist.len();
+            let m = self.s_hist.len();
+            let mut acc = 0.0;
+            // u_hist[uh] holds u[n − 1], u_hist[uh − (k − 1)] holds u[n − k]
+            for (k, b) in self.s_num.iter().enumerate().skip(1) {
+                let idx = (self.uh + n - ((k - 1) % n)) % n;
+                acc += b * self.u_hist.get(idx).copied().unwrap_or(0.0);
+            }
+            for (k, a) in self.s_den.iter().enumerate().skip(1) {
+                let idx = (self.sh + m - ((k - 1) % m)) % m;
+                acc -= a * self.s_hist.get(idx).copied().unwrap_or(0.0);
+            }
+            acc
+        }
+    }
+
+    impl Controller<f64> for FilteredSmith {
+        fn update(&mut self, r: f64, y: f64) -> f64 {
+            let s = self.s_output();
+            if !(r.is_finite() && y.is_finite()) {
+                // the output is held; the predictor keeps following the actuator
+                self.fault = true;
+                let u = self.k.update(r, f64::NAN);
+                self.push(u, s);
+                return u;
+            }
+            self.fault = false;
+            let fy = self.fr.step(y);
+            let pred = s + fy;
+            let u = self.k.update(r, pred);
+            self.push(u, s);
+            self.pred = pred;
+            self.u = u;
+            u
+        }
+        fn reset(&mut self) {
+            self.k.reset();
+            self.fr.reset();
+            self.u_hist.iter_mut().for_each(|v| *v = 0.0);
+            self.s_hist.iter_mut().for_each(|v| *v = 0.0);
+            self.uh = 0;
+            self.sh = 0;
+            self.pred = 0.0;
+            self.u = 0.0;
+            self.fault = false;
+        }
+        fn signal_names(&self) -> &'static [&'static str] {
+            &["prediction"]
+        }
+        fn signal(&self, i: usize) -> f64 {
+            if i == 0 {
+                self.pred
+            } else {
+                f64::NAN
+            }
+        }
+        fn param_names(&self) -> &'static [&'static str] {
+            self.names
+        }
+        fn param(&self, i: usize) -> f64 {
+            self.values.get(i).copied().unwrap_or(f64::NAN)
+        }
+        fn fault(&self) -> bool {
+            self.fault
+        }
+        fn response(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
+            // u = K_r r − K_y(S u + Fr y) → u = K_r/(1 + K_y S)·r − K_y Fr/(1 + K_y S)·y
+            let (kr, ky) = self.k.response(theta);
+            let zi = |k: usize| Complex::cis(-theta * k as f64);
+            let num = self
+                .s_num
+                .iter()
+                .enumerate()
+                .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b));
+            let den = self
+                .s_den
+                .iter()
+                .enumerate()
+                .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b));
+            let s = num / den;
+            let one = Complex::real(1.0);
+            let d = one + ky * s;
+            Some((kr / d, ky * self.fr.response(theta) / d))
+        }
+    }
+
+    impl FilteredSmith {
+        /// Stores `u[n]` and `s[n]` as the newest history entries.
+        fn push(&mut self, u: f64, s: f64) {
+            let n = self.u_hist.len().max(1);
+            let m = self.s_hist.len().max(1);
+            self.uh = (self.uh + 1) % n;
+            self.sh = (self.sh + 1) % m;
+            if let Some(x) = self.u_hist.get_mut(self.uh) {
+                *x = u;
+            }
+            if let Some(x) = self.s_hist.get_mut(self.sh) {
+                *x = s;
+            }
+        }
+    }
+}

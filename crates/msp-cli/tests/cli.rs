@@ -127,10 +127,12 @@ fn bad_names_exit_2() {
         .code(2)
         .stderr(predicate::str::contains("no parameter 'zeta'"));
     msp()
-        .args(["run", "--plant", "5/(100s-1)*e^-6s"])
+        .args(["run", "--plant", "5/(100s-1)*e^-6s", "-c", "smith"])
         .assert()
         .code(2)
-        .stderr(predicate::str::contains("unstable"));
+        .stderr(predicate::str::contains(
+            "cannot control an unstable plant; use one of: fsp",
+        ));
 }
 
 #[test]

@@ -26,6 +26,7 @@ __all__ = [
     "Controller",
     "DisturbanceEstimator",
     "FilteredSmith",
+    "FilteredSmithUnstable",
     "Huang",
     "KaranDey",
     "KayaAtherton",
@@ -414,6 +415,12 @@ class KaranDey(_Scheme):
     scheme = "karan-dey"
 
 
+class FilteredSmithUnstable(_Scheme):
+    """The filtered Smith predictor for unstable, integrating and stable plants (scheme ``fsp``)."""
+
+    scheme = "fsp"
+
+
 class DisturbanceEstimator(_Scheme):
     """The Smith predictor with a disturbance estimator, cases 1–6 (scheme ``disturbance-estimator``)."""
 
@@ -421,7 +428,7 @@ class DisturbanceEstimator(_Scheme):
 
 
 _SCHEME_CLASSES = (PidLoop, SmithPredictor, FilteredSmith, Huang, WatanabeIto, AstromHangLim, MatausekMicic,
-                   KayaAtherton, KaranDey, DisturbanceEstimator)
+                   KayaAtherton, KaranDey, DisturbanceEstimator, FilteredSmithUnstable)
 
 
 def _check_classes() -> List[str]:
