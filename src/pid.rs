@@ -90,22 +90,15 @@ impl<T: Real> PidConfig<T> {
         } else {
             ti
         };
+        let base = Self::parallel(kp, ki, kp * td, ts);
         PidConfig {
-            kp,
-            ki,
-            kd: kp * td,
             tf: td / T::of(10.0),
-            b: T::one(),
-            c: T::one(),
-            u_min: T::neg_infinity(),
-            u_max: T::infinity(),
-            rate_limit: T::infinity(),
             anti_windup: if ki == T::zero() {
                 AntiWindup::None
             } else {
                 AntiWindup::BackCalculation { tt }
             },
-            ts,
+            ..base
         }
     }
 

@@ -86,74 +86,48 @@ pub trait Controller<T: Real> {
     }
 }
 
-impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for &mut C {
-    #[inline(always)]
-    fn update(&mut self, r: T, y: T) -> T {
-        (**self).update(r, y)
-    }
-    fn reset(&mut self) {
-        (**self).reset()
-    }
-    fn signal_names(&self) -> &'static [&'static str] {
-        (**self).signal_names()
-    }
-    fn signal(&self, i: usize) -> T {
-        (**self).signal(i)
-    }
-    fn param_names(&self) -> &'static [&'static str] {
-        (**self).param_names()
-    }
-    fn param(&self, i: usize) -> T {
-        (**self).param(i)
-    }
-    fn fault(&self) -> bool {
-        (**self).fault()
-    }
-    fn write_signals(&self, out: &mut [T]) {
-        (**self).write_signals(out)
-    }
-    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
-        (**self).response(theta)
-    }
-    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
-        (**self).inner_response(theta)
-    }
+/// A pointer to a controller is a controller (`&mut C`, and `Box<C>` with `alloc`).
+macro_rules! forward {
+    ($($ptr:ty),*) => {$(
+        impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for $ptr {
+            #[inline(always)]
+            fn update(&mut self, r: T, y: T) -> T {
+                (**self).update(r, y)
+            }
+            fn reset(&mut self) {
+                (**self).reset()
+            }
+            fn signal_names(&self) -> &'static [&'static str] {
+                (**self).signal_names()
+            }
+            fn signal(&self, i: usize) -> T {
+                (**self).signal(i)
+            }
+            fn param_names(&self) -> &'static [&'static str] {
+                (**self).param_names()
+            }
+            fn param(&self, i: usize) -> T {
+                (**self).param(i)
+            }
+            fn fault(&self) -> bool {
+                (**self).fault()
+            }
+            fn write_signals(&self, out: &mut [T]) {
+                (**self).write_signals(out)
+            }
+            fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+                (**self).response(theta)
+            }
+            fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+                (**self).inner_response(theta)
+            }
+        }
+    )*};
 }
 
+forward!(&mut C);
 #[cfg(feature = "alloc")]
-impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for alloc::boxed::Box<C> {
-    #[inline(always)]
-    fn update(&mut self, r: T, y: T) -> T {
-        (**self).update(r, y)
-    }
-    fn reset(&mut self) {
-        (**self).reset()
-    }
-    fn signal_names(&self) -> &'static [&'static str] {
-        (**self).signal_names()
-    }
-    fn signal(&self, i: usize) -> T {
-        (**self).signal(i)
-    }
-    fn param_names(&self) -> &'static [&'static str] {
-        (**self).param_names()
-    }
-    fn param(&self, i: usize) -> T {
-        (**self).param(i)
-    }
-    fn fault(&self) -> bool {
-        (**self).fault()
-    }
-    fn write_signals(&self, out: &mut [T]) {
-        (**self).write_signals(out)
-    }
-    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
-        (**self).response(theta)
-    }
-    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
-        (**self).inner_response(theta)
-    }
-}
+forward!(alloc::boxed::Box<C>);
 
 /// The plain PID loop is a controller too (the `pid` scheme).
 impl<T: Real> Controller<T> for crate::Pid<T> {

@@ -78,6 +78,14 @@ pub fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
     })
 }
 
+/// `kp=0.0764 ti=40.2 …` for summaries.
+pub fn params_line(p: &msp::registry::Params) -> String {
+    p.0.iter()
+        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// Four significant digits.
 pub fn fmt_sig(v: f64) -> String {
     if !v.is_finite() {
@@ -117,17 +125,8 @@ pub fn summary(out: &RunOutput, warnings: &[String]) -> String {
             ""
         }
     ));
-    let params: Vec<String> = out
-        .params
-        .0
-        .iter()
-        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
-        .collect();
-    s.push_str(&format!(
-        "controller  {}: {}\n",
-        out.controller,
-        params.join(" ")
-    ));
+    let params = params_line(&out.params);
+    s.push_str(&format!("controller  {}: {}\n", out.controller, params));
     let m = &out.metrics;
     let d = &out.metrics_delayed_reference;
     s.push_str(&format!(
@@ -473,16 +472,11 @@ pub fn margins_text(an: &msp::analysis::Analysis) -> String {
     if an.model != an.plant {
         s.push_str(&format!("model       {}\n", an.model));
     }
-    let params: Vec<String> = an
-        .params
-        .0
-        .iter()
-        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
-        .collect();
+    let params = params_line(&an.params);
     s.push_str(&format!(
         "controller  {}: {}  (ts {} s)\n",
         an.controller,
-        params.join(" "),
+        params,
         fmt_num(an.ts)
     ));
     s.push_str(&format!(
@@ -821,18 +815,8 @@ pub fn autotune_text(
         fmt_sig(out.fit.rmse),
         fmt_sig(out.fit.r2)
     ));
-    let params: Vec<String> = out
-        .run
-        .params
-        .0
-        .iter()
-        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
-        .collect();
-    s.push_str(&format!(
-        "controller  {}: {}\n",
-        out.run.controller,
-        params.join(" ")
-    ));
+    let params = params_line(&out.run.params);
+    s.push_str(&format!("controller  {}: {}\n", out.run.controller, params));
     let m = &out.run.metrics;
     s.push_str(&format!(
         "closed loop rise {} s, settling {} s, overshoot {} %, IAE {}\n",
