@@ -536,23 +536,39 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
             sub.clear(); // nothing after the last sample
         }
         controller.write_signals(&mut sig);
+        // time and the disturbance columns are filled after the loop when they
+        // follow from the schedule alone: fewer stores per sample
         macro_rules! push {
-            ($tj:expr, $yj:expr) => {{
-                res.t.push($tj);
+            ($yj:expr) => {{
                 res.r.push(r);
                 res.y.push($yj);
                 res.u.push(u);
-                res.d.push(d_in);
-                res.d_out.push(d_out);
+                if !inputs.is_empty() {
+                    res.d.push(d_in);
+                }
+                if !outputs.is_empty() {
+                    res.d_out.push(d_out);
+                }
                 for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
                     v.push(*x);
                 }
             }};
         }
-        push!(t, y);
-        for (j, y_sub) in sub.iter().enumerate() {
-            push!(t + (j + 1) as f64 * ts / m as f64, y_sub + d_out);
+        push!(y);
+        for y_sub in &sub {
+            push!(y_sub + d_out);
         }
+    }
+    let rows = res.y.len();
+    let step = ts / m as f64;
+    res.t = (0..rows)
+        .map(|k| (k / m) as f64 * ts + (k % m) as f64 * step)
+        .collect();
+    if inputs.is_empty() {
+        res.d = std::vec![0.0; rows];
+    }
+    if outputs.is_empty() {
+        res.d_out = std::vec![0.0; rows];
     }
     Ok(res)
 }
