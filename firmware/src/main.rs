@@ -76,6 +76,29 @@ fn nop_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, _
     r * 0.0
 }
 
+macro_rules! fma8 {
+    ($x:ident, $a:ident, $b:ident) => {
+        $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b;
+        $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b;
+    };
+}
+
+/// 64 dependent floating-point multiply-adds, to check how VFP code is counted.
+#[inline(never)]
+fn fma_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y: f32) -> f32 {
+    let (a, b) = (core::hint::black_box(0.999f32), core::hint::black_box(0.001f32));
+    let mut x = y;
+    fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b);
+    fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b);
+    x * 0.0 + r * 0.0
+}
+
+/// The Smith predictor's PID alone, for the cost breakdown.
+#[inline(never)]
+fn pid_update(c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y: f32) -> f32 {
+    c.pid_mut().update(r, y)
+}
+
 /// One Smith-predictor update, kept out of line so its size is its own symbol.
 #[inline(never)]
 fn smith_update(c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y: f32) -> f32 {
@@ -126,6 +149,12 @@ fn main() -> ! {
     let (mut c1, mut plant1) = loops::smith::<f32>();
     let (_, t_nop) = ticks(|| loops::run_with(&mut c1, &mut plant1, |_| {}, nop_update));
     hprintln!("calibration: a 64-nop update measures {:.0} instructions", per(t_nop));
+    let (mut c2, mut plant2) = loops::smith::<f32>();
+    let (_, t_pid) = ticks(|| loops::run_with(&mut c2, &mut plant2, |_| {}, pid_update));
+    hprintln!("breakdown: the PID alone {:.0} instructions", per(t_pid));
+    let (mut c3, mut plant3) = loops::smith::<f32>();
+    let (_, t_fma) = ticks(|| loops::run_with(&mut c3, &mut plant3, |_| {}, fma_update));
+    hprintln!("calibration: 64 VFP multiply-adds measure {:.0} instructions", per(t_fma));
     let ok = check("smith", &y_sp, &reference::SMITH, per(t_sp), ram_sp)
         & check("karan-dey", &y_kd, &reference::KARAN_DEY, per(t_kd), ram_kd);
     hprintln!("verdict: {}", if ok { "PASS" } else { "FAIL" });
