@@ -2,8 +2,8 @@
 // included by build.rs): the controller against an exactly discretized plant
 // with its dead time in a delay line.
 
-use msp::{Controller, Delay, DelayLine, Lti, PidConfig, ProcessModel, Real, SmithPredictor};
 use msp::dtc::karan_dey::{self, KaranDey};
+use msp::{Controller, Delay, DelayLine, Lti, PidConfig, ProcessModel, Real, SmithPredictor};
 
 pub const SAMPLES: usize = 10_000;
 pub const CHECKS: usize = 20;
@@ -74,18 +74,36 @@ pub fn karan_dey<T: Real>() -> (KaranDey<T, 1, [T; CAP]>, Plant<T>) {
 
 /// The set point (steps) and an input load at two thirds of the run.
 pub fn inputs<T: Real>(k: usize) -> (T, T) {
-    let r = if k < SAMPLES / 2 { T::one() } else { T::of(0.5) };
-    let d = if k >= 2 * SAMPLES / 3 { T::of(-0.05) } else { T::zero() };
+    let r = if k < SAMPLES / 2 {
+        T::one()
+    } else {
+        T::of(0.5)
+    };
+    let d = if k >= 2 * SAMPLES / 3 {
+        T::of(-0.05)
+    } else {
+        T::zero()
+    };
     (r, d)
 }
 
 /// Runs the loop, calling `tick` around each update; returns `y` at CHECKS evenly spaced samples.
-pub fn run<T: Real, C: Controller<T>>(c: &mut C, p: &mut Plant<T>, tick: impl FnMut(bool)) -> [T; CHECKS] {
+#[allow(dead_code)] // build.rs runs it for the host reference
+pub fn run<T: Real, C: Controller<T>>(
+    c: &mut C,
+    p: &mut Plant<T>,
+    tick: impl FnMut(bool),
+) -> [T; CHECKS] {
     run_with(c, p, tick, |c, r, y| c.update(r, y))
 }
 
 /// [`run`] with the update call given (the firmware passes a non-inlined function).
-pub fn run_with<T: Real, C>(c: &mut C, p: &mut Plant<T>, mut tick: impl FnMut(bool), mut update: impl FnMut(&mut C, T, T) -> T) -> [T; CHECKS] {
+pub fn run_with<T: Real, C>(
+    c: &mut C,
+    p: &mut Plant<T>,
+    mut tick: impl FnMut(bool),
+    mut update: impl FnMut(&mut C, T, T) -> T,
+) -> [T; CHECKS] {
     let mut out = [T::zero(); CHECKS];
     for k in 0..SAMPLES {
         let (r, d) = inputs::<T>(k);

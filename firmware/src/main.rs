@@ -25,8 +25,22 @@ macro_rules! nops4 {
 }
 macro_rules! nops64 {
     () => {
-        nops4!(); nops4!(); nops4!(); nops4!(); nops4!(); nops4!(); nops4!(); nops4!();
-        nops4!(); nops4!(); nops4!(); nops4!(); nops4!(); nops4!(); nops4!(); nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
+        nops4!();
     };
 }
 
@@ -35,14 +49,70 @@ macro_rules! nops64 {
 /// a tick is about 40 instructions; measured on 4096 straight-line `nop`s.
 fn instructions_per_tick() -> f64 {
     let t0 = cortex_m::peripheral::SYST::get_current();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
-    nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!(); nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
+    nops64!();
     let t1 = cortex_m::peripheral::SYST::get_current();
     let ticks = t0.wrapping_sub(t1) & 0x00FF_FFFF;
     4096.0 / f64::from(ticks.max(1))
@@ -50,7 +120,10 @@ fn instructions_per_tick() -> f64 {
 
 fn check(name: &str, got: &[f32], want: &[f64], instructions: f64, ram: usize) -> bool {
     let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
-    let worst = got.iter().zip(want).fold(0.0f64, |m, (g, w)| m.max((f64::from(*g) - w).abs() / scale));
+    let worst = got
+        .iter()
+        .zip(want)
+        .fold(0.0f64, |m, (g, w)| m.max((f64::from(*g) - w).abs() / scale));
     let ok = worst < 1e-4;
     hprintln!(
         "{}: max relative difference to the host's f64 run {:e} ({}); {:.0} instructions per update; controller RAM {} bytes",
@@ -78,18 +151,33 @@ fn nop_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, _
 
 macro_rules! fma8 {
     ($x:ident, $a:ident, $b:ident) => {
-        $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b;
-        $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b; $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
+        $x = $x * $a + $b;
     };
 }
 
 /// 64 dependent floating-point multiply-adds, to check how VFP code is counted.
 #[inline(never)]
 fn fma_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y: f32) -> f32 {
-    let (a, b) = (core::hint::black_box(0.999f32), core::hint::black_box(0.001f32));
+    let (a, b) = (
+        core::hint::black_box(0.999f32),
+        core::hint::black_box(0.001f32),
+    );
     let mut x = y;
-    fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b);
-    fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b); fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
+    fma8!(x, a, b);
     x * 0.0 + r * 0.0
 }
 
@@ -123,7 +211,9 @@ fn ticks<R>(f: impl FnOnce() -> R) -> (R, u32) {
 
 #[entry]
 fn main() -> ! {
-    let Some(mut p) = cortex_m::Peripherals::take() else { fail() };
+    let Some(mut p) = cortex_m::Peripherals::take() else {
+        fail()
+    };
     p.SYST.set_clock_source(SystClkSource::Core);
     p.SYST.set_reload(0x00FF_FFFF);
     p.SYST.clear_current();
@@ -148,17 +238,27 @@ fn main() -> ! {
     // a known cost through the same harness: 64 nops
     let (mut c1, mut plant1) = loops::smith::<f32>();
     let (_, t_nop) = ticks(|| loops::run_with(&mut c1, &mut plant1, |_| {}, nop_update));
-    hprintln!("calibration: a 64-nop update measures {:.0} instructions", per(t_nop));
+    hprintln!(
+        "calibration: a 64-nop update measures {:.0} instructions",
+        per(t_nop)
+    );
     let (mut c2, mut plant2) = loops::smith::<f32>();
     let (_, t_pid) = ticks(|| loops::run_with(&mut c2, &mut plant2, |_| {}, pid_update));
     hprintln!("breakdown: the PID alone {:.0} instructions", per(t_pid));
     let (mut c3, mut plant3) = loops::smith::<f32>();
     let (_, t_fma) = ticks(|| loops::run_with(&mut c3, &mut plant3, |_| {}, fma_update));
-    hprintln!("calibration: 64 VFP multiply-adds measure {:.0} instructions", per(t_fma));
+    hprintln!(
+        "calibration: 64 VFP multiply-adds measure {:.0} instructions",
+        per(t_fma)
+    );
     let ok = check("smith", &y_sp, &reference::SMITH, per(t_sp), ram_sp)
         & check("karan-dey", &y_kd, &reference::KARAN_DEY, per(t_kd), ram_kd);
     hprintln!("verdict: {}", if ok { "PASS" } else { "FAIL" });
-    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    debug::exit(if ok {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
     loop {
         cortex_m::asm::wfi();
     }

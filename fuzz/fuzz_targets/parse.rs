@@ -3,7 +3,9 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(s) = std::str::from_utf8(data) else { return };
+    let Ok(s) = std::str::from_utf8(data) else {
+        return;
+    };
     match msp::parse::parse_plant(s) {
         Ok(tf) => {
             assert!(tf.num.iter().chain(&tf.den).all(|c| c.is_finite()));

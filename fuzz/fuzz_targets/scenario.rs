@@ -5,8 +5,12 @@ use libfuzzer_sys::fuzz_target;
 use msp::sim::Scenario;
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(s) = std::str::from_utf8(data) else { return };
-    let parsed = toml::from_str::<Scenario>(s).ok().or_else(|| serde_json::from_str::<Scenario>(s).ok());
+    let Ok(s) = std::str::from_utf8(data) else {
+        return;
+    };
+    let parsed = toml::from_str::<Scenario>(s)
+        .ok()
+        .or_else(|| serde_json::from_str::<Scenario>(s).ok());
     if let Some(sc) = parsed {
         // keep each run short: a fuzz input may ask for a billion samples
         let ts = sc.ts.unwrap_or(0.01);
