@@ -20,7 +20,7 @@
 //! measure the distance to the first imaginary-axis crossing of the
 //! closed-loop poles as the loop gain or delay grows from nominal, so they are
 //! the loop's gain and delay limits provided the nominal loop is stable —
-//! which [`Margins::stable`] reports from a simulation of the loop (the Smith
+//! which [`Analysis::stable`] reports from a simulation of the loop (the Smith
 //! predictor's controller is itself unstable on an integrating model, so
 //! the open-loop Nyquist count alone would not settle it).
 

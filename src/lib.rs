@@ -23,9 +23,12 @@
 //! # Ok::<(), msp::Error>(())
 //! ```
 //!
-//! Behind features: `alloc` adds the plant-expression parser ([`parse`]) and the
-//! scheme registry ([`registry`]); `std` (default) adds the exact sampled-data
-//! simulator ([`sim`]) and step information ([`metrics::step_info`]).
+//! The relay experiment of [`autotune`] runs on the device too. Behind
+//! features: `alloc` adds the plant-expression parser ([`parse`]), transfer
+//! functions ([`poly`]) and the scheme registry ([`registry`]); `std` (default)
+//! adds the exact sampled-data simulator ([`sim`]), step information
+//! ([`metrics::step_info`]), frequency-domain analysis ([`analysis`]), sweeps
+//! ([`sweep`], parallel with `parallel`) and identification ([`ident`]).
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![forbid(unsafe_code)]
 // Unit tests may unwrap; the library code may not.

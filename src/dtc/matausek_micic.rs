@@ -1,5 +1,5 @@
 //! Matausek and Micic's modified Smith predictor for an integrator and long
-//! dead time (`000_3f0725a46e29ef08.txt` Sec. 4.4.3, refs. [8], [52]; IEEE TAC
+//! dead time (`000_3f0725a46e29ef08.txt` Sec. 4.4.3, refs. \[8\], \[52\]; IEEE TAC
 //! 41(8), 1996).
 //!
 //! The thesis only names it. Built from the published structure: a classic
