@@ -86,6 +86,16 @@ pub fn params_line(p: &msp::registry::Params) -> String {
         .join(" ")
 }
 
+/// A relative change as a signed percentage: `+10`, `-5`, `0`.
+fn pct(x: f64) -> String {
+    let v = fmt_sig(100.0 * x);
+    if x > 0.0 {
+        format!("+{v}")
+    } else {
+        v
+    }
+}
+
 /// Four significant digits.
 pub fn fmt_sig(v: f64) -> String {
     if !v.is_finite() {
@@ -213,10 +223,10 @@ pub fn compare_table(
         ));
         if p != msp::sim::Perturbation::default() {
             s.push_str(&format!(
-                "  (perturbed: gain {:+}%, delay {:+}%, tau {:+}%)",
-                fmt_sig(100.0 * p.gain),
-                fmt_sig(100.0 * p.delay),
-                fmt_sig(100.0 * p.tau)
+                "  (perturbed: gain {}%, delay {}%, tau {}%)",
+                pct(p.gain),
+                pct(p.delay),
+                pct(p.tau)
             ));
         }
         s.push('\n');
@@ -671,11 +681,11 @@ pub fn sweep_summary(rows: &[msp::sweep::SweepRow]) -> String {
             .max_by(|a, b| key(a).total_cmp(&key(b)))
         {
             Some(r) => format!(
-                "worst {name:<14} {:>10}  at gain {:+}%, delay {:+}%, tau {:+}% (index {})\n",
+                "worst {name:<14} {:>10}  at gain {}%, delay {}%, tau {}% (index {})\n",
                 fmt_sig(key(r)),
-                fmt_sig(100.0 * r.gain),
-                fmt_sig(100.0 * r.delay),
-                fmt_sig(100.0 * r.tau),
+                pct(r.gain),
+                pct(r.delay),
+                pct(r.tau),
                 r.index
             ),
             None => String::new(),
@@ -687,10 +697,10 @@ pub fn sweep_summary(rows: &[msp::sweep::SweepRow]) -> String {
     s.push_str(&worst("max |u|", |r| r.max_abs_u));
     for r in rows.iter().filter(|r| !r.stable).take(5) {
         s.push_str(&format!(
-            "unstable: gain {:+}%, delay {:+}%, tau {:+}%\n",
-            fmt_sig(100.0 * r.gain),
-            fmt_sig(100.0 * r.delay),
-            fmt_sig(100.0 * r.tau)
+            "unstable: gain {}%, delay {}%, tau {}%\n",
+            pct(r.gain),
+            pct(r.delay),
+            pct(r.tau)
         ));
     }
     s
