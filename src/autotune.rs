@@ -393,14 +393,28 @@ pub fn identify_fopdt<T: Real>(r: &RelayResult<T>, k: T) -> Result<Fopdt<T>, Err
 mod tests {
     use super::*;
 
+    /// Unwraps in test helpers: a failure aborts the test with the error's text.
+    trait ExpectOk<T> {
+        fn expect_ok(self) -> T;
+    }
+    impl<T, E: core::fmt::Debug> ExpectOk<T> for Result<T, E> {
+        #[track_caller]
+        fn expect_ok(self) -> T {
+            match self {
+                Ok(v) => v,
+                Err(e) => std::panic::panic_any(std::format!("{e:?}")),
+            }
+        }
+    }
+
     /// Runs the relay on an exactly discretized plant `x' = Φx + Γ u(t − L)`.
     fn run(num: &[f64], den: &[f64], delay: f64, cfg: RelayConfig<f64>) -> RelayState<f64> {
         let plant: crate::Lti<f64, 4> =
-            crate::Lti::from_tf(num, den, cfg.ts, crate::Discretization::Zoh).unwrap();
+            crate::Lti::from_tf(num, den, cfg.ts, crate::Discretization::Zoh).expect_ok();
         let mut p = plant;
         let d = (delay / cfg.ts).round() as usize;
         let mut line = vec![cfg.u0; d + 1];
-        let mut test = RelayTest::new(cfg).unwrap();
+        let mut test = RelayTest::new(cfg).expect_ok();
         for k in 0..cfg.max_samples as usize + 1 {
             let y = p.free_output();
             let u = test.update(y);
@@ -414,38 +428,40 @@ mod tests {
     }
 
     #[test]
-    fn ipdt_exact() {
+    fn ipdt_exact() -> Result<(), Box<dyn std::error::Error>> {
         let mut cfg = RelayConfig::new(1.0, 0.0074);
         cfg.hysteresis = 0.1;
         let RelayState::Done(r) = run(&[0.2], &[1.0, 0.0], 7.4, cfg) else {
-            panic!()
+            return Err("the relay test did not finish".into());
         };
-        let m = identify_ipdt(&r).unwrap();
+        let m = identify_ipdt(&r)?;
         assert!(
             (m.k - 0.2).abs() < 0.002 && (m.l - 7.4).abs() < 0.074,
             "{m:?}"
         );
+        Ok(())
     }
 
     #[test]
-    fn fopdt_exact_with_bias() {
+    fn fopdt_exact_with_bias() -> Result<(), Box<dyn std::error::Error>> {
         let mut cfg = RelayConfig::new(1.0, 0.004);
         cfg.bias = 0.3;
         cfg.hysteresis = 0.05;
         let RelayState::Done(r) = run(&[2.0], &[5.0, 1.0], 4.0, cfg) else {
-            panic!()
+            return Err("the relay test did not finish".into());
         };
-        let k = r.gain().unwrap();
+        let k = r.gain().ok_or("no gain from a biased relay")?;
         assert!((k - 2.0).abs() < 0.01, "{k}");
-        let m = identify_fopdt(&r, k).unwrap();
+        let m = identify_fopdt(&r, k)?;
         assert!(
             (m.t - 5.0).abs() < 0.05 && (m.l - 4.0).abs() < 0.04,
             "{m:?}"
         );
+        Ok(())
     }
 
     #[test]
-    fn aborts_out_of_band() {
+    fn aborts_out_of_band() -> Result<(), Box<dyn std::error::Error>> {
         let mut cfg = RelayConfig::new(1.0, 0.01);
         cfg.band = 0.5;
         cfg.u0 = 0.25;
@@ -453,5 +469,6 @@ mod tests {
             run(&[0.2], &[1.0, 0.0], 7.4, cfg),
             RelayState::Aborted(RelayAbort::OutOfBand)
         );
+        Ok(())
     }
 }

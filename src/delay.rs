@@ -261,62 +261,74 @@ mod tests {
     use super::*;
 
     #[test]
-    fn integer_delay_is_exact() {
-        let mut d: DelayLine<f64, 4> = DelayLine::new(3.0).unwrap();
+    fn integer_delay_is_exact() -> Result<(), Box<dyn std::error::Error>> {
+        let mut d: DelayLine<f64, 4> = DelayLine::new(3.0)?;
         let out: Vec<f64> = (1..=8).map(|i| d.process(i as f64)).collect();
         assert_eq!(out, [0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+        Ok(())
     }
 
     #[test]
-    fn zero_delay_and_zero_capacity() {
-        let mut d: DelayLine<f64, 0> = DelayLine::new(0.0).unwrap();
+    fn zero_delay_and_zero_capacity() -> Result<(), Box<dyn std::error::Error>> {
+        let mut d: DelayLine<f64, 0> = DelayLine::new(0.0)?;
         assert_eq!(d.process(2.5), 2.5);
         assert_eq!(
-            DelayLine::<f64, 0>::new(0.5).unwrap_err(),
+            DelayLine::<f64, 0>::new(0.5)
+                .err()
+                .ok_or("an error was expected")?,
             Error::DelayTooLong("delay")
         );
+        Ok(())
     }
 
     #[test]
-    fn capacity_is_the_longest_delay() {
-        let mut d: DelayLine<f64, 3> = DelayLine::new(3.0).unwrap();
+    fn capacity_is_the_longest_delay() -> Result<(), Box<dyn std::error::Error>> {
+        let mut d: DelayLine<f64, 3> = DelayLine::new(3.0)?;
         let out: Vec<f64> = (1..=5).map(|i| d.process(i as f64)).collect();
         assert_eq!(out, [0.0, 0.0, 0.0, 1.0, 2.0]);
         assert!(DelayLine::<f64, 3>::new(3.0001).is_err());
         assert_eq!(
-            DelayLine::<f64, 3>::new(f64::NAN).unwrap_err(),
+            DelayLine::<f64, 3>::new(f64::NAN)
+                .err()
+                .ok_or("an error was expected")?,
             Error::NonFinite("delay")
         );
         assert_eq!(
-            DelayLine::<f64, 3>::new(-1.0).unwrap_err(),
+            DelayLine::<f64, 3>::new(-1.0)
+                .err()
+                .ok_or("an error was expected")?,
             Error::Negative("delay")
         );
+        Ok(())
     }
 
     #[test]
-    fn fractional_delay_interpolates_linearly() {
-        let mut d: DelayLine<f64, 8> = DelayLine::new(2.25).unwrap();
+    fn fractional_delay_interpolates_linearly() -> Result<(), Box<dyn std::error::Error>> {
+        let mut d: DelayLine<f64, 8> = DelayLine::new(2.25)?;
         let out: Vec<f64> = (0..8).map(|i| d.process((i * i) as f64)).collect();
         // x[n] = n^2, y[n] = 0.75 x[n-2] + 0.25 x[n-3]
         for (n, y) in out.iter().enumerate().skip(3) {
             let e = 0.75 * ((n - 2) * (n - 2)) as f64 + 0.25 * ((n - 3) * (n - 3)) as f64;
             assert!((y - e).abs() < 1e-12);
         }
+        Ok(())
     }
 
     #[test]
-    fn fill_gives_a_steady_output() {
-        let mut d: DelayLine<f32, 5> = DelayLine::new(4.5).unwrap();
+    fn fill_gives_a_steady_output() -> Result<(), Box<dyn std::error::Error>> {
+        let mut d: DelayLine<f32, 5> = DelayLine::new(4.5)?;
         d.fill(2.0);
         assert_eq!(d.process(0.0), 2.0);
+        Ok(())
     }
 
     #[test]
-    fn slice_storage() {
+    fn slice_storage() -> Result<(), Box<dyn std::error::Error>> {
         let mut storage = [9.0f64; 10];
-        let mut d = DelayLineRef::with_storage(&mut storage[..], 2.0).unwrap();
+        let mut d = DelayLineRef::with_storage(&mut storage[..], 2.0)?;
         assert_eq!(d.process(1.0), 0.0);
         assert_eq!(d.process(2.0), 0.0);
         assert_eq!(d.process(3.0), 1.0);
+        Ok(())
     }
 }

@@ -255,10 +255,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn integral_indices_of_an_exponential() {
+    fn integral_indices_of_an_exponential() -> Result<(), Box<dyn std::error::Error>> {
         // e = e^{-t}: IAE = 1, ISE = 1/2, ITAE = 1, ITSE = 1/4
         let h = 1e-3;
-        let mut m = IntegralIndices::new(h).unwrap();
+        let mut m = IntegralIndices::new(h)?;
         for k in 0..40_000 {
             m.push((-(k as f64) * h).exp(), 0.0);
         }
@@ -267,10 +267,11 @@ mod tests {
         assert!((v.ise - 0.5).abs() < 1e-6);
         assert!((v.itae - 1.0).abs() < 1e-6);
         assert!((v.itse - 0.25).abs() < 1e-6);
+        Ok(())
     }
 
     #[test]
-    fn step_info_of_first_order() {
+    fn step_info_of_first_order() -> Result<(), Box<dyn std::error::Error>> {
         let tau = 2.0;
         let t: Vec<f64> = (0..20_001).map(|k| k as f64 * 1e-3).collect();
         let y: Vec<f64> = t.iter().map(|t| 1.0 - (-t / tau).exp()).collect();
@@ -282,5 +283,6 @@ mod tests {
         );
         assert!((s.settling_time - tau * 50f64.ln()).abs() < 1e-5);
         assert_eq!(s.overshoot, 0.0);
+        Ok(())
     }
 }
