@@ -74,49 +74,27 @@ fn sims(c: &mut Criterion) {
     });
     let s = msp::registry::find("smith").expect("smith");
     let p = s.tune_with(&plant, None, &[]).expect("tune");
+    let build = || {
+        let unlimited = msp::registry::Build {
+            ts: 0.939,
+            u_min: f64::NEG_INFINITY,
+            u_max: f64::INFINITY,
+        };
+        s.build_with(&p, &plant, &unlimited).expect("build")
+    };
     g.bench_function("msp simulate (registry controller)", |b| {
         b.iter(|| {
-            let mut c = s
-                .build_with(
-                    &p,
-                    &plant,
-                    &msp::registry::Build {
-                        ts: 0.939,
-                        u_min: f64::NEG_INFINITY,
-                        u_max: f64::INFINITY,
-                    },
-                )
-                .expect("build");
+            let mut c = build();
             simulate(&plant, &mut c, &config).expect("sim")
         })
     });
     let res = {
-        let mut c = s
-            .build_with(
-                &p,
-                &plant,
-                &msp::registry::Build {
-                    ts: 0.939,
-                    u_min: f64::NEG_INFINITY,
-                    u_max: f64::INFINITY,
-                },
-            )
-            .expect("build");
+        let mut c = build();
         simulate(&plant, &mut c, &config).expect("sim")
     };
     g.bench_function("msp simulate + CSV", |b| {
         b.iter(|| {
-            let mut c = s
-                .build_with(
-                    &p,
-                    &plant,
-                    &msp::registry::Build {
-                        ts: 0.939,
-                        u_min: f64::NEG_INFINITY,
-                        u_max: f64::INFINITY,
-                    },
-                )
-                .expect("build");
+            let mut c = build();
             let r = simulate(&plant, &mut c, &config).expect("sim");
             let mut v = Vec::with_capacity(N * 80);
             r.write_csv(&mut v).expect("csv");

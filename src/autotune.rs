@@ -392,20 +392,7 @@ pub fn identify_fopdt<T: Real>(r: &RelayResult<T>, k: T) -> Result<Fopdt<T>, Err
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Unwraps in test helpers: a failure aborts the test with the error's text.
-    trait ExpectOk<T> {
-        fn expect_ok(self) -> T;
-    }
-    impl<T, E: core::fmt::Debug> ExpectOk<T> for Result<T, E> {
-        #[track_caller]
-        fn expect_ok(self) -> T {
-            match self {
-                Ok(v) => v,
-                Err(e) => std::panic::panic_any(std::format!("{e:?}")),
-            }
-        }
-    }
+    use crate::test_util::ExpectOk;
 
     /// Runs the relay on an exactly discretized plant `x' = Φx + Γ u(t − L)`.
     fn run(num: &[f64], den: &[f64], delay: f64, cfg: RelayConfig<f64>) -> RelayState<f64> {

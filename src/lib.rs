@@ -65,6 +65,8 @@ pub mod metrics;
 pub mod model;
 pub mod pid;
 mod real;
+#[cfg(test)]
+mod test_util;
 pub mod tuning;
 
 #[cfg(feature = "std")]

@@ -155,20 +155,7 @@ pub fn solve<T: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Unwraps in test helpers: a failure aborts the test with the error's text.
-    trait ExpectOk<T> {
-        fn expect_ok(self) -> T;
-    }
-    impl<T, E: core::fmt::Debug> ExpectOk<T> for Result<T, E> {
-        #[track_caller]
-        fn expect_ok(self) -> T {
-            match self {
-                Ok(v) => v,
-                Err(e) => std::panic::panic_any(std::format!("{e:?}")),
-            }
-        }
-    }
+    use crate::test_util::ExpectOk;
 
     /// Fr = kf (z − ρ1)(z − ρ2)/((z − γ1)(z − γ2)): with Q = z − ρ1 the free part is
     /// c = kf·z − kf·ρ2.

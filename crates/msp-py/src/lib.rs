@@ -515,6 +515,9 @@ fn sweep<'py>(
     let rows = py
         .allow_threads(|| msp::sweep::sweep(&sc, &spec, &|_| {}))
         .map_err(value_err)?;
+    let col = |f: &dyn Fn(&msp::sweep::SweepRow) -> f64| {
+        rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py)
+    };
     let d = PyDict::new(py);
     d.set_item(
         "index",
@@ -523,27 +526,9 @@ fn sweep<'py>(
             .collect::<Vec<_>>()
             .into_pyarray(py),
     )?;
-    d.set_item(
-        "gain",
-        rows.iter()
-            .map(|r| r.gain)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "delay",
-        rows.iter()
-            .map(|r| r.delay)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "tau",
-        rows.iter()
-            .map(|r| r.tau)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
+    d.set_item("gain", col(&|r| r.gain))?;
+    d.set_item("delay", col(&|r| r.delay))?;
+    d.set_item("tau", col(&|r| r.tau))?;
     d.set_item(
         "stable",
         rows.iter()
@@ -553,20 +538,11 @@ fn sweep<'py>(
     )?;
     if let Some(first) = rows.first() {
         for (i, (k, _)) in first.metrics.fields().iter().enumerate() {
-            let col: Vec<f64> = rows
-                .iter()
-                .map(|r| r.metrics.fields().get(i).map_or(f64::NAN, |f| f.1))
-                .collect();
-            d.set_item(*k, col.into_pyarray(py))?;
+            let metric = col(&|r| r.metrics.fields().get(i).map_or(f64::NAN, |f| f.1));
+            d.set_item(*k, metric)?;
         }
     }
-    d.set_item(
-        "max_abs_u",
-        rows.iter()
-            .map(|r| r.max_abs_u)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
+    d.set_item("max_abs_u", col(&|r| r.max_abs_u))?;
     Ok(d)
 }
 
