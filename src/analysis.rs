@@ -398,6 +398,8 @@ pub struct Analysis {
     pub plant: TransferFunction,
     /// The controller's model.
     pub model: TransferFunction,
+    /// Cascade processes: the secondary process and its model.
+    pub inner_process: Option<(TransferFunction, TransferFunction)>,
     /// Sample period.
     pub ts: f64,
     /// The controller.
@@ -412,49 +414,166 @@ pub struct Analysis {
     pub stable: bool,
     /// `(gain factor, delay margin)` pairs: the combined gain/delay stability region.
     pub region: Vec<(f64, f64)>,
-    /// `max|T·Δ|` for the given gain and delay uncertainty, if one was given.
+    /// `max|T·Δ|` (Eq. 17) for the given perturbation, if one was given.
     pub robust_peak: Option<f64>,
     /// The loop response for plots.
     pub response: LoopResponse,
 }
 
-/// Margins, stability region and robust-stability test of a scenario's controller
-/// on its plant. `uncertainty` is a relative gain error and a relative delay error.
+/// The frequency response `ω ↦ P(jω)` of the process a controller's loop acts on.
+pub type ProcessResponse = Box<dyn Fn(f64) -> Complex<f64>>;
+
+/// The process seen from the controller's output at `ω` (rad/s): the plant
+/// (sampled-data or discrete view), or for a cascade scheme the primary loop's
+/// process `r2 → y` with the inner IMC loop closed, exactly in the discrete
+/// view (`002_0ed51b14a8593ff0.txt` Sec. 3.3):
+/// `P(z) = P12(z)·Q(z)/(1 + Q(z)(P2(z) − P2m(z)))`, `P12` and `P2` the ZOH
+/// equivalents of `P1·P2` and `P2` with their dead times, `Q` and `P2m` the
+/// controller's IMC filter and secondary model.
+pub fn process_response(
+    plant: &TransferFunction,
+    inner: Option<(
+        &TransferFunction,
+        &crate::dtc::cascade::Imc,
+        &TransferFunction,
+    )>,
+    ts: f64,
+    view: View,
+) -> Result<ProcessResponse, Error> {
+    if let Some((p2, imc, p2m)) = inner {
+        let p12 = DiscretePlant::new(&plant.series(p2)?, ts)?;
+        let d2 = DiscretePlant::new(p2, ts)?;
+        let m2 = DiscretePlant::new(p2m, ts)?;
+        let imc = imc.clone();
+        return Ok(Box::new(move |w: f64| {
+            let th = w * ts;
+            let q = imc.q_response(th);
+            let one = Complex::real(1.0);
+            p12.response(th)
+                .mul(q)
+                .div(one.add(q.mul(d2.response(th).sub(m2.response(th)))))
+        }));
+    }
+    let plant = plant.clone();
+    Ok(match view {
+        View::Discrete => {
+            let dp = DiscretePlant::new(&plant, ts)?;
+            Box::new(move |w: f64| dp.response(w * ts))
+        }
+        View::Sampled => Box::new(move |w: f64| {
+            let theta = w * ts;
+            let (re, im) = plant.freq(w);
+            let zoh = Complex::real(1.0)
+                .sub(Complex::cis(-theta))
+                .div(Complex::new(0.0, theta));
+            Complex::new(re, im).mul(zoh)
+        }),
+    })
+}
+
+/// Margins, stability region and the robust-stability test of Eq. 17 of a
+/// scenario's controller on its process. `uncertainty` perturbs the plant (and,
+/// for a cascade process, the secondary through its `inner_*` fields): the
+/// multiplicative uncertainty is exact, `Δ(ω) = P_perturbed(jω)/P(jω) − 1`
+/// (for a gain error `δk` and a delay error `δθ` this is
+/// `(1 + δk)e^{−jωθδθ} − 1`, `000_3f0725a46e29ef08.txt` Eqs. 4.54–4.57), and
+/// `robust_peak = max_ω |T(jω)·Δ(jω)|` over `ω ∈ (0, π/Ts)`.
 pub fn analyze(
     sc: &crate::sim::Scenario,
     view: View,
-    uncertainty: Option<(f64, f64)>,
+    uncertainty: Option<crate::sim::Perturbation>,
 ) -> Result<Analysis, crate::sim::RunError> {
     let (plant, model) = sc.parse()?;
-    let built = sc.build_controller(&model)?;
+    let inner = sc.parse_inner()?;
+    let built = sc.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();
     let ts = built.ts;
-    let m = margins(ctrl, &plant, ts, view)?;
-    let inner = inner_margins(ctrl, &plant, ts);
+    if ctrl.response(0.1).is_none() {
+        return Err(crate::sim::RunError::Invalid(Error::Unsupported(
+            "this controller has no frequency response",
+        )));
+    }
+    let cascade = ctrl.is_cascade();
+    // the process as the controller's loop sees it, and its perturbed twin
+    let imc = match (&inner, cascade) {
+        (Some((_, m2)), true) => Some(crate::dtc::cascade::Imc::design(
+            m2,
+            built.params.get("lambda2").unwrap_or(f64::NAN),
+            ts,
+        )?),
+        _ => None,
+    };
+    let whole =
+        |p1: &TransferFunction, p2: Option<&TransferFunction>| -> Result<TransferFunction, Error> {
+            match (p2, cascade) {
+                (Some(p2), false) => p1.series(p2),
+                _ => Ok(p1.clone()),
+            }
+        };
+    let proc_of =
+        |p1: &TransferFunction, p2: Option<&TransferFunction>| -> Result<ProcessResponse, Error> {
+            let main = whole(p1, p2)?;
+            let parts = match (p2, &imc, &inner) {
+                (Some(p2), Some(q), Some((_, m2))) => Some((p2, q, m2)),
+                _ => None,
+            };
+            process_response(&main, parts, ts, view)
+        };
+    let p2 = inner.as_ref().map(|(p, _)| p);
+    let process = proc_of(&plant, p2)?;
+    let shown = whole(&plant, p2)?;
+    let grid_plant = match p2 {
+        Some(p2) => plant.series(p2)?,
+        None => plant.clone(),
+    };
+    let w = grid(&grid_plant, ts, 6000);
+    let loop_fn = |wi: f64| -> Complex<f64> {
+        match ctrl.response(wi * ts) {
+            Some((_, cy)) => cy.mul(process(wi)),
+            None => Complex::new(f64::NAN, f64::NAN),
+        }
+    };
+    let m = margins_of(&loop_fn, &w);
+    let inner_m = if cascade {
+        None
+    } else {
+        inner_margins(ctrl, &shown, ts)
+    };
     let top = if m.gm.is_finite() { m.gm } else { 4.0 };
-    let gains: Vec<f64> = (1..=12)
+    let reg: Vec<(f64, f64)> = (1..=12)
         .map(|i| 0.25 + (top - 0.25) * f64::from(i) / 12.0)
         .filter(|k| *k < top)
+        .map(|k| (k, margins_of(&|wi| loop_fn(wi).scale(k), &w).dm))
         .collect();
-    let reg = region(ctrl, &plant, ts, view, &gains)?;
     let robust_peak = match uncertainty {
-        Some((g, d)) => Some(robust_stability(
-            ctrl,
-            &plant,
-            ts,
-            view,
-            &gain_delay_uncertainty(g, d * plant.delay),
-        )?),
+        Some(u) => {
+            let p1u = plant.perturbed(u.gain, u.delay, u.tau)?;
+            let p2u = match p2 {
+                Some(p2) => Some(p2.perturbed(u.inner_gain, u.inner_delay, u.inner_tau)?),
+                None => None,
+            };
+            let perturbed = proc_of(&p1u, p2u.as_ref())?;
+            Some(w.iter().fold(0.0f64, |acc, wi| {
+                let l = loop_fn(*wi);
+                let t = l.div(Complex::real(1.0).add(l));
+                let delta = perturbed(*wi).div(process(*wi)).sub(Complex::real(1.0));
+                acc.max(t.abs() * delta.abs())
+            }))
+        }
         None => None,
     };
-    let response = loop_response(ctrl, &plant, ts, view, &grid(&plant, ts, 800))?;
+    let wr = grid(&grid_plant, ts, 800);
+    let response = LoopResponse {
+        l: wr.iter().map(|wi| loop_fn(*wi)).collect(),
+        w: wr,
+    };
     // a step of the nominal loop, long enough to show a slow instability
     let mut probe = sc.clone();
     probe.ts = Some(ts);
-    probe.duration = Some(crate::sim::choose_duration(&plant, ts) * 3.0);
+    probe.duration = Some(crate::sim::choose_duration(&grid_plant, ts) * 3.0);
     probe.disturbance.clear();
     probe.noise = None;
-    let stable = match probe.run_with(plant.clone(), model.clone()) {
+    let stable = match probe.run_process(plant.clone(), model.clone(), inner.clone()) {
         Ok(out) => {
             let y = &out.result.y;
             let n = y.len();
@@ -470,11 +589,12 @@ pub fn analyze(
     Ok(Analysis {
         plant,
         model,
+        inner_process: inner,
         ts,
         controller: built.scheme,
         params: built.params,
         margins: m,
-        inner,
+        inner: inner_m,
         stable,
         region: reg,
         robust_peak,

@@ -390,6 +390,34 @@ fn companion<T: Real, const N: usize>(
     Ok((a, c, d, n))
 }
 
+/// A continuous realization `(A, b, c, d, n)` of `num(s)/den(s)` in
+/// controllable canonical form (`ẋ = Ax + b·u`, `y = c·x + d·u`, order `n ≤ N`).
+pub type Realization<T, const N: usize> = ([[T; N]; N], [T; N], [T; N], T, usize);
+
+/// The controllable canonical realization of the continuous `num(s)/den(s)`
+/// (descending coefficients), the one [`Lti::from_tf`] discretizes.
+pub fn realize<T: Real, const N: usize>(num: &[T], den: &[T]) -> Result<Realization<T, N>, Error> {
+    let (a, c, d, n) = companion::<T, N>(num, den)?;
+    let mut am = [[T::zero(); N]; N];
+    if let Some(row) = am.first_mut() {
+        for (x, aj) in row.iter_mut().zip(a.iter()).take(n) {
+            *x = -*aj;
+        }
+    }
+    for i in 1..n {
+        if let Some(v) = am.get_mut(i).and_then(|r| r.get_mut(i.wrapping_sub(1))) {
+            *v = T::one();
+        }
+    }
+    let mut b = [T::zero(); N];
+    if n > 0 {
+        if let Some(b0) = b.first_mut() {
+            *b0 = T::one();
+        }
+    }
+    Ok((am, b, c, d, n))
+}
+
 impl<T: Real, const N: usize> Lti<T, N> {
     /// A static gain `y = k·u` (order 0).
     pub fn gain(k: T) -> Result<Self, Error> {

@@ -54,6 +54,32 @@ pub fn trim(p: &[f64]) -> Vec<f64> {
     v
 }
 
+/// Polynomial division `a / b` (descending), quotient and remainder.
+pub fn div(a: &[f64], b: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let lead = *b.first().ok_or(Error::Numerical("division"))?;
+    if lead == 0.0 {
+        return Err(Error::Numerical("division"));
+    }
+    if a.len() < b.len() {
+        return Ok((vec![0.0], a.to_vec()));
+    }
+    let mut r = a.to_vec();
+    let mut q = vec![0.0; a.len().saturating_add(1).saturating_sub(b.len())];
+    for i in 0..q.len() {
+        let f = r.get(i).copied().unwrap_or(0.0) / lead;
+        if let Some(qi) = q.get_mut(i) {
+            *qi = f;
+        }
+        for (j, bj) in b.iter().enumerate() {
+            if let Some(x) = r.get_mut(i.saturating_add(j)) {
+                *x -= f * bj;
+            }
+        }
+    }
+    let rem = r.split_off(q.len());
+    Ok((q, rem))
+}
+
 /// Value of a polynomial at a real point.
 pub fn eval(p: &[f64], x: f64) -> f64 {
     p.iter().fold(0.0, |acc, c| acc * x + c)
@@ -371,6 +397,15 @@ impl TransferFunction {
         };
         let num: Vec<f64> = scale(&self.num).iter().map(|c| c * (1.0 + gain)).collect();
         TransferFunction::new(&num, &scale(&self.den), self.delay * (1.0 + delay))
+    }
+
+    /// The series connection `self·other` (dead times added).
+    pub fn series(&self, other: &Self) -> Result<Self, Error> {
+        TransferFunction::new(
+            &mul(&self.num, &other.num),
+            &mul(&self.den, &other.den),
+            self.delay + other.delay,
+        )
     }
 
     /// The delay-free part ZOH-discretized at `ts` (order at most `N`).

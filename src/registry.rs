@@ -175,6 +175,24 @@ pub struct Scheme {
     pub tune: fn(&TransferFunction, &Design) -> Result<Params, crate::Error>,
     /// Construction: parameters + model → controller.
     pub build: fn(&Params, &TransferFunction, &Build) -> Result<DynController, crate::Error>,
+    /// For a cascade scheme (`002_0ed51b14a8593ff0.txt`): tuning and
+    /// construction from the primary and the secondary models.
+    pub cascade: Option<CascadeFns>,
+}
+
+/// Tuning and construction of a cascade scheme from the primary model `P1`
+/// and the secondary model `P2`.
+#[derive(Clone, Copy)]
+pub struct CascadeFns {
+    /// `(P1, P2, design)` → parameters.
+    pub tune: fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::Error>,
+    /// `(parameters, P1, P2, build)` → controller.
+    pub build: fn(
+        &Params,
+        &TransferFunction,
+        &TransferFunction,
+        &Build,
+    ) -> Result<DynController, crate::Error>,
 }
 
 impl fmt::Debug for Scheme {
@@ -549,7 +567,11 @@ fn build_matausek_micic<const N: usize>(
 }
 
 fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    let m = plant.reduce(false)?;
+    let m = match plant.reduce(false)? {
+        // an integrator with a lag T acts at low frequency as K/s with T more dead time
+        ProcessModel::Foipdt(f) => ProcessModel::Ipdt(Ipdt::new(f.k, f.l + f.t)?),
+        other => other,
+    };
     let values = match m {
         ProcessModel::Ipdt(i) => {
             // the Karan-Dey settings: Gc2 = beta·Kp (P), Gc3 from gamma·Kp with Td = λ
@@ -709,6 +731,330 @@ fn build_fsp(
     )?))
 }
 
+// ---- cascade schemes (002_0ed51b14a8593ff0.txt) -------------------------------
+
+use crate::dtc::cascade::{self, Cascade, Imc};
+use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath};
+use crate::dtc::fsp::{FrSpec, Predicted};
+use crate::dtc::gpcc::GpccPredictor;
+
+/// A cascade scheme without an inner plant.
+fn needs_inner(_: &TransferFunction, _: &Design) -> Result<Params, crate::Error> {
+    Err(crate::Error::Unsupported(
+        "a cascade scheme needs the secondary process (--inner-plant)",
+    ))
+}
+
+fn needs_inner_build(
+    _: &Params,
+    _: &TransferFunction,
+    _: &Build,
+) -> Result<DynController, crate::Error> {
+    Err(crate::Error::Unsupported(
+        "a cascade scheme needs the secondary process (--inner-plant)",
+    ))
+}
+
+/// The inner IMC filter time constant: given, or the secondary dead time
+/// (the paper's examples: λ2 = L2 = 2 s in Example 1), or a tenth of the
+/// secondary's slowest time scale when it has no dead time.
+fn lambda2_for(p2: &TransferFunction, d: &Design) -> Result<f64, crate::Error> {
+    if let Some(l) = d.get("lambda2") {
+        return Ok(l);
+    }
+    if p2.delay > 0.0 {
+        return Ok(p2.delay);
+    }
+    let slow = p2.time_scales()?.into_iter().fold(0.0, f64::max);
+    Ok(if slow > 0.0 { 0.1 * slow } else { 1.0 })
+}
+
+/// The primary model `Gm e^{−Ls}` (with the inner loop closed), `λ` and the
+/// pole-placed series PID `(kp, ki, kd, τ)` for it. Default `λ = 0.8·L`: Uma
+/// et al.'s Example 1 design places the poles at `−1/5` for `L = 6 s`.
+fn cascade_primary(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    d: &Design,
+) -> Result<(f64, f64, [f64; 4], TransferFunction), crate::Error> {
+    let lambda2 = lambda2_for(p2, d)?;
+    let gm = cascade::primary_model(p1, p2, lambda2)?;
+    let lambda = match (d.lambda.or_else(|| d.get("lambda")), d.get("alpha")) {
+        (Some(l), _) => l,
+        (None, Some(a)) => a * gm.delay,
+        (None, None) if gm.delay > 0.0 => 0.8 * gm.delay,
+        (None, None) => lambda2,
+    };
+    let k = cascade::pole_placement(&gm, lambda)?;
+    Ok((lambda2, lambda, k, gm))
+}
+
+/// The parts every cascade scheme builds: the primary model's ZOH block, its
+/// dead time in whole samples, the inner loop and the primary PID.
+struct CascadeParts {
+    gm: Lti<f64, MAX_ORDER>,
+    h: usize,
+    imc: Imc,
+    k: PidConfig<f64>,
+}
+
+fn cascade_parts(
+    p: &Params,
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    b: &Build,
+) -> Result<CascadeParts, crate::Error> {
+    let lambda2 = p.req("lambda2")?;
+    let gm = cascade::primary_model(p1, p2, lambda2)?;
+    let d = gm.delay_samples(b.ts)?;
+    let h = d.round();
+    if (d - h).abs() > 1e-6 {
+        return Err(crate::Error::Unsupported(
+            "the cascade predictors need L1 + L2 of a whole number of samples: choose ts = (L1 + L2)/n",
+        ));
+    }
+    let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
+    Ok(CascadeParts {
+        gm: gm.to_lti::<MAX_ORDER>(b.ts)?,
+        h,
+        imc: Imc::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?,
+        k: cascade::series_pid(
+            p.req("kp")?,
+            p.req("ki")?,
+            p.req("kd")?,
+            p.req("tau")?,
+            p.get("epsilon").unwrap_or(1.0),
+            b.ts,
+        )?,
+    })
+}
+
+fn values_of(names: &'static [&'static str], p: &Params) -> Vec<f64> {
+    names.iter().map(|n| p.get(n).unwrap_or(f64::NAN)).collect()
+}
+
+const FSPCC_PARAMS: &[&str] = &[
+    "kp", "ki", "kd", "tau", "epsilon", "lambda2", "tf", "lead", "lag", "lambda",
+];
+const PREDICTED_SIGNALS: &[&str] = &["r2", "inner_error", "prediction"];
+const COMPENSATOR_SIGNALS: &[&str] = &[
+    "r2",
+    "inner_error",
+    "ym",
+    "ym_delayed",
+    "model_error",
+    "u1",
+    "u3",
+];
+
+fn tune_fspcc(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    d: &Design,
+) -> Result<Params, crate::Error> {
+    let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, d)?;
+    let tf = d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9));
+    Ok(params_of(
+        FSPCC_PARAMS,
+        &[
+            kp,
+            ki,
+            kd,
+            tau,
+            d.get("epsilon").unwrap_or(1.0),
+            lambda2,
+            tf,
+            d.get("lead").unwrap_or(0.0),
+            d.get("lag").unwrap_or(0.0),
+            lambda,
+        ],
+    ))
+}
+
+fn build_fspcc(
+    p: &Params,
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let c = cascade_parts(p, p1, p2, b)?;
+    let (lead, lag) = (p.req("lead")?, p.req("lag")?);
+    let spec = FrSpec {
+        tf: p.req("tf")?,
+        lead: if lead > 0.0 && lag > 0.0 {
+            Some((lead, lag))
+        } else {
+            None
+        },
+        biproper: true,
+    };
+    let design = dtc::fsp::design_with(&c.gm, c.h, b.ts, &spec)?;
+    let outer =
+        dtc::fsp::FilteredSmith::new(c.k, &design, FSPCC_PARAMS, values_of(FSPCC_PARAMS, p))?;
+    Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
+}
+
+const GPCC_PARAMS: &[&str] = &[
+    "kp", "ki", "kd", "tau", "epsilon", "lambda2", "tk", "lambda",
+];
+
+fn tune_gpcc(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    d: &Design,
+) -> Result<Params, crate::Error> {
+    let (lambda2, lambda, [kp, ki, kd, tau], _) = cascade_primary(p1, p2, d)?;
+    Ok(params_of(
+        GPCC_PARAMS,
+        &[
+            kp,
+            ki,
+            kd,
+            tau,
+            d.get("epsilon").unwrap_or(1.0),
+            lambda2,
+            d.get("tk").unwrap_or(0.0),
+            lambda,
+        ],
+    ))
+}
+
+fn build_gpcc(
+    p: &Params,
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let c = cascade_parts(p, p1, p2, b)?;
+    let pred = GpccPredictor::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
+    let outer = Predicted::with_predictor(c.k, pred, GPCC_PARAMS, values_of(GPCC_PARAMS, p))?;
+    Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
+}
+
+const UMA_PARAMS: &[&str] = &[
+    "kp", "ki", "kd", "tau", "epsilon", "lambda2", "kpd", "kid", "kdd", "lead", "lag", "tf",
+    "lambda",
+];
+
+fn tune_uma(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    d: &Design,
+) -> Result<Params, crate::Error> {
+    let (lambda2, lambda, [kp, ki, kd, tau], _) = cascade_primary(p1, p2, d)?;
+    // Gcd: Uma et al. tune it on a Padé approximation of the dead time, a rule
+    // the sources do not give: its gains are left to --set (NaN until then)
+    Ok(params_of(
+        UMA_PARAMS,
+        &[
+            kp,
+            ki,
+            kd,
+            tau,
+            d.get("epsilon").unwrap_or(1.0),
+            lambda2,
+            f64::NAN,
+            f64::NAN,
+            f64::NAN,
+            d.get("lead").unwrap_or(0.0),
+            d.get("lag").unwrap_or(0.0),
+            d.get("tf").unwrap_or(0.0),
+            lambda,
+        ],
+    ))
+}
+
+fn build_uma(
+    p: &Params,
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let c = cascade_parts(p, p1, p2, b)?;
+    let (kpd, kid, kdd) = (p.req("kpd")?, p.req("kid")?, p.req("kdd")?);
+    if [kpd, kid, kdd].iter().any(|v| v.is_nan()) {
+        return Err(crate::Error::Unsupported(
+            "uma: the disturbance controller Gcd has no tuning rule in the sources; set kpd, kid and kdd (and lead, lag) with --set",
+        ));
+    }
+    let (lead, lag) = (p.req("lead")?, p.req("lag")?);
+    // Gcd = (kpd + kid/s + kdd s)(lead s + 1)/(lag s + 1), pole-zero matched
+    let (mut num, mut den) = if kid != 0.0 {
+        (alloc::vec![kdd, kpd, kid], alloc::vec![1.0, 0.0])
+    } else {
+        (alloc::vec![kdd, kpd], alloc::vec![1.0])
+    };
+    num = crate::poly::mul(&num, &[lead, 1.0]);
+    den = crate::poly::mul(&den, &[lag, 1.0]);
+    let (nz, dz) = cascade::matched(&num, &den, b.ts)?;
+    let gcd = Lti::from_discrete_tf(&nz, &dz)?;
+    let tf = p.req("tf")?;
+    let err = if tf > 0.0 {
+        ErrorPath::Filter(Lti::from_tf(
+            &[1.0],
+            &[tf, 1.0],
+            b.ts,
+            crate::Discretization::Matched,
+        )?)
+    } else {
+        ErrorPath::Direct
+    };
+    let delay: Delay<f64, Vec<f64>> = Delay::new_in(c.gm_delay())?;
+    let outer = Compensator::new(Pid::new(c.k)?, c.gm, delay, list(UMA_PARAMS, p))?
+        .with_error_path(err)?
+        .with_disturbance(DisturbancePath::Block(gcd));
+    Ok(Box::new(Cascade::new(outer, c.imc, COMPENSATOR_SIGNALS)))
+}
+
+impl CascadeParts {
+    fn gm_delay(&self) -> f64 {
+        f64::from(u32::try_from(self.h).unwrap_or(u32::MAX))
+    }
+}
+
+const KAYA_CASCADE_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda2", "lambda"];
+
+fn tune_kaya_cascade(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    d: &Design,
+) -> Result<Params, crate::Error> {
+    let lambda2 = lambda2_for(p2, d)?;
+    let gm = cascade::primary_model(p1, p2, lambda2)?;
+    let single = tune_kaya_atherton(&gm, d)?;
+    let mut values: Vec<f64> = KA_PARAMS
+        .iter()
+        .map(|n| single.get(n).unwrap_or(f64::NAN))
+        .collect();
+    values.insert(6, lambda2);
+    Ok(params_of(KAYA_CASCADE_PARAMS, &values))
+}
+
+fn build_kaya_cascade(
+    p: &Params,
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let lambda2 = p.req("lambda2")?;
+    let gm = cascade::primary_model(p1, p2, lambda2)?;
+    let imc = Imc::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?;
+    let (lti, delay) = model_parts::<MAX_ORDER>(&gm, b)?;
+    let outer = dtc::kaya_atherton::build(
+        p.req("kp")?,
+        p.req("ti")?,
+        p.req("kf")?,
+        p.req("tf")?,
+        p.req("kb")?,
+        p.req("td")?,
+        b.ts,
+        lti,
+        delay,
+        list(KAYA_CASCADE_PARAMS, p),
+    )?;
+    Ok(Box::new(Cascade::new(outer, imc, COMPENSATOR_SIGNALS)))
+}
+
 const STABLE: &[PlantKind] = &[PlantKind::Stable];
 const ALL: &[PlantKind] = &[
     PlantKind::Stable,
@@ -730,6 +1076,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha"],
         tune: tune_pid,
         build: build_pid,
+        cascade: None,
     },
     Scheme {
         name: "smith",
@@ -741,6 +1088,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha"],
         tune: tune_smith,
         build: by_order!(build_smith),
+        cascade: None,
     },
     Scheme {
         name: "filtered-smith",
@@ -752,6 +1100,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "a", "b"],
         tune: tune_filtered_smith,
         build: by_order!(build_filtered_smith),
+        cascade: None,
     },
     Scheme {
         name: "huang",
@@ -763,6 +1112,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "kb", "tb"],
         tune: tune_huang,
         build: by_order!(build_huang),
+        cascade: None,
     },
     Scheme {
         name: "watanabe-ito",
@@ -774,6 +1124,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha"],
         tune: tune_watanabe_ito,
         build: by_order!(build_watanabe_ito),
+        cascade: None,
     },
     Scheme {
         name: "astrom-hang-lim",
@@ -785,6 +1136,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "a"],
         tune: tune_astrom_hang_lim,
         build: by_order!(build_astrom_hang_lim),
+        cascade: None,
     },
     Scheme {
         name: "matausek-micic",
@@ -796,6 +1148,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "tr"],
         tune: tune_matausek_micic,
         build: by_order!(build_matausek_micic),
+        cascade: None,
     },
     Scheme {
         name: "kaya-atherton",
@@ -807,6 +1160,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha"],
         tune: tune_kaya_atherton,
         build: by_order!(build_kaya_atherton),
+        cascade: None,
     },
     Scheme {
         name: "karan-dey",
@@ -818,6 +1172,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha"],
         tune: tune_karan_dey,
         build: by_order!(build_karan_dey),
+        cascade: None,
     },
     Scheme {
         name: "fsp",
@@ -829,6 +1184,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "tf"],
         tune: tune_fsp,
         build: build_fsp,
+        cascade: None,
     },
     Scheme {
         name: "disturbance-estimator",
@@ -840,6 +1196,67 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "td", "case", "tde", "alpha", "w0"],
         tune: tune_disturbance_estimator,
         build: by_order!(build_disturbance_estimator),
+        cascade: None,
+    },
+    Scheme {
+        name: "fspcc",
+        aliases: &[],
+        summary: "cascade: filtered Smith predictor (Fr from Eq. 10) outside an IMC inner loop",
+        source: "002_0ed51b14a8593ff0.txt Sec. 3.1, Figs. 5-6, Eq. 10",
+        plants: ALL,
+        params: FSPCC_PARAMS,
+        design: &["lambda", "alpha", "lambda2", "epsilon", "tf", "lead", "lag"],
+        tune: needs_inner,
+        build: needs_inner_build,
+        cascade: Some(CascadeFns {
+            tune: tune_fspcc,
+            build: build_fspcc,
+        }),
+    },
+    Scheme {
+        name: "gpcc",
+        aliases: &[],
+        summary: "cascade: generalized predictor (F1, F2, Gamma, Fk) outside an IMC inner loop",
+        source: "002_0ed51b14a8593ff0.txt Sec. 3.2, Fig. 7, Eqs. 1-4",
+        plants: ALL,
+        params: GPCC_PARAMS,
+        design: &["lambda", "alpha", "lambda2", "epsilon", "tk"],
+        tune: needs_inner,
+        build: needs_inner_build,
+        cascade: Some(CascadeFns {
+            tune: tune_gpcc,
+            build: build_gpcc,
+        }),
+    },
+    Scheme {
+        name: "uma",
+        aliases: &["uma-2009"],
+        summary: "cascade competitor: Uma et al. 2009 modified Smith predictor (Gcs, Gcd, Gf; set Gcd's gains)",
+        source: "002_0ed51b14a8593ff0.txt Sec. 2.3, Fig. 4",
+        plants: ALL,
+        params: UMA_PARAMS,
+        design: &["lambda", "alpha", "lambda2", "epsilon", "lead", "lag", "tf"],
+        tune: needs_inner,
+        build: needs_inner_build,
+        cascade: Some(CascadeFns {
+            tune: tune_uma,
+            build: build_uma,
+        }),
+    },
+    Scheme {
+        name: "kaya-cascade",
+        aliases: &["kaya-2008"],
+        summary: "cascade competitor: Kaya et al. 2008 Smith predictor in the outer loop (Gc1, Gc3, Gd)",
+        source: "002_0ed51b14a8593ff0.txt Sec. 2.2, Fig. 3",
+        plants: STABLE_INT,
+        params: KAYA_CASCADE_PARAMS,
+        design: &["lambda", "alpha", "lambda2"],
+        tune: needs_inner,
+        build: needs_inner_build,
+        cascade: Some(CascadeFns {
+            tune: tune_kaya_cascade,
+            build: build_kaya_cascade,
+        }),
     },
 ];
 
@@ -888,6 +1305,33 @@ impl Scheme {
         rule: Option<&str>,
         overrides: &[(String, f64)],
     ) -> Result<Params, RegistryError> {
+        self.tune_process(model, None, lambda, rule, overrides)
+    }
+
+    /// True for a cascade scheme (it needs the secondary process).
+    pub fn is_cascade(&self) -> bool {
+        self.cascade.is_some()
+    }
+
+    /// Tunes on the primary `model` and, for a cascade process, the secondary
+    /// `inner` model. A single-loop scheme on a cascade process controls the
+    /// whole series `P1·P2` from the plant input (the secondary measurement unused).
+    pub fn tune_process(
+        &'static self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        lambda: Option<f64>,
+        rule: Option<&str>,
+        overrides: &[(String, f64)],
+    ) -> Result<Params, RegistryError> {
+        let whole;
+        let model = match (inner, self.cascade.is_some()) {
+            (Some(p2), false) => {
+                whole = model.series(p2)?;
+                &whole
+            }
+            _ => model,
+        };
         let kind = model.kind();
         if !self.plants.contains(&kind) {
             return Err(RegistryError::PlantKind {
@@ -909,7 +1353,10 @@ impl Scheme {
                 .cloned()
                 .collect(),
         };
-        let mut params = (self.tune)(model, &design)?;
+        let mut params = match (self.cascade, inner) {
+            (Some(c), Some(p2)) => (c.tune)(model, p2, &design)?,
+            _ => (self.tune)(model, &design)?,
+        };
         for (k, v) in overrides {
             if self.design.contains(&k.as_str()) {
                 continue;
@@ -934,6 +1381,22 @@ impl Scheme {
         model: &TransferFunction,
         b: &Build,
     ) -> Result<DynController, RegistryError> {
-        Ok((self.build)(params, model, b)?)
+        self.build_process(params, model, None, b)
+    }
+
+    /// Builds the controller for the primary `model` and, for a cascade
+    /// process, the secondary `inner` model.
+    pub fn build_process(
+        &self,
+        params: &Params,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        b: &Build,
+    ) -> Result<DynController, RegistryError> {
+        Ok(match (self.cascade, inner) {
+            (Some(c), Some(p2)) => (c.build)(params, model, p2, b)?,
+            (None, Some(p2)) => (self.build)(params, &model.series(p2)?, b)?,
+            _ => (self.build)(params, model, b)?,
+        })
     }
 }

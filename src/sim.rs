@@ -32,6 +32,10 @@ pub enum Location {
     Input,
     /// Added to the plant output.
     Output,
+    /// Cascade plants: added to the secondary output `y2`, which is measured
+    /// and drives the primary process (`d0` of `002_0ed51b14a8593ff0.txt`
+    /// Fig. 1; `input` is its `d2`, `output` its `d1`).
+    Inner,
 }
 
 /// The shape of a disturbance.
@@ -145,15 +149,17 @@ impl core::str::FromStr for SetpointStep {
 
 impl core::str::FromStr for Disturbance {
     type Err = String;
-    /// `input|output[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ]`, e.g. `input:0.1@20`.
+    /// `input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ]`, e.g.
+    /// `input:0.1@20`; for cascade plants `d2`, `d1`, `d0` name the same places.
     fn from_str(s: &str) -> Result<Self, String> {
         let mut parts = s.splitn(3, ':');
         let loc = match parts.next().map(str::trim) {
-            Some("input") | Some("load") => Location::Input,
-            Some("output") => Location::Output,
+            Some("input") | Some("load") | Some("d2") => Location::Input,
+            Some("output") | Some("d1") => Location::Output,
+            Some("inner") | Some("d0") => Location::Inner,
             other => {
                 return Err(std::format!(
-                    "disturbance location must be 'input' or 'output', got '{}'",
+                    "disturbance location must be 'input' (d2), 'output' (d1) or 'inner' (d0), got '{}'",
                     other.unwrap_or("")
                 ))
             }
@@ -254,6 +260,11 @@ pub struct SimResult {
     pub d: Vec<f64>,
     /// Output disturbance (all zero when there is none).
     pub d_out: Vec<f64>,
+    /// Cascade plants: the secondary output `y2` as measured (empty otherwise).
+    pub y2: Vec<f64>,
+    /// Cascade plants: the disturbance `d0` at the secondary output (empty
+    /// without one).
+    pub d_inner: Vec<f64>,
     /// Internal signals of the controller, by name.
     pub signals: Vec<(String, Vec<f64>)>,
     /// Time at which the run was stopped because the output diverged.
@@ -429,6 +440,33 @@ impl PlantStepper {
     }
 }
 
+/// The exact sampled cascade process (primary `p1` fed by the secondary `p2`),
+/// stepped one held input at a time (see [`simulate_cascade`]).
+pub struct CascadeStepper {
+    p2: PlantSim,
+    joint: Box<JointSim>,
+}
+
+impl CascadeStepper {
+    /// The process at rest, sampled every `ts`.
+    pub fn new(p1: &TransferFunction, p2: &TransferFunction, ts: f64) -> Result<Self, Error> {
+        Ok(CascadeStepper {
+            p2: PlantSim::new(p2, ts, 1)?,
+            joint: Box::new(JointSim::new(p1, p2, ts, 1)?),
+        })
+    }
+    /// The primary output `y` and the secondary output `y2` now.
+    pub fn outputs(&self) -> (f64, f64) {
+        (self.joint.output(), self.p2.output())
+    }
+    /// Holds `u` for one period.
+    pub fn advance(&mut self, u: f64) {
+        let mut sub = Vec::new();
+        self.p2.advance(u, &mut sub);
+        self.joint.advance(u, 0.0, &mut sub);
+    }
+}
+
 /// The plant's response at the sample instants to the held input `u[k]`
 /// (exact: ZOH discretization and the modified z-transform for the dead time);
 /// `y[k]` is the output at `k·ts`, before `u[k]` acts.
@@ -443,9 +481,215 @@ pub fn open_loop(plant: &TransferFunction, ts: f64, u: &[f64]) -> Result<Vec<f64
     Ok(y)
 }
 
+/// The primary output of a cascade process, `y = P1·(P2·v(t − L1 − L2) + d0(t − L1))`,
+/// as one state-space system with the two held inputs `v = u + d2` and `d0`
+/// (`x = [x2; x1]`, `A = [[A2, 0], [b1·c2, A1]]`, `Bv = [b2; b1·d2]`,
+/// `Bd = [0; b1]`, `C = [d1·c2, c1]`): the closed loop keeps this one state
+/// bounded even when `P1` is unstable, where a sum of separately simulated
+/// parts would cancel growing terms. Each period is cut where either delayed
+/// input changes and at the sub-step instants; every piece is integrated
+/// exactly by its own ZOH discretization.
+struct JointSim {
+    c: [f64; MAX_ORDER],
+    dv: f64,
+    dd: f64,
+    pieces: Vec<JointPiece>,
+    x: [f64; MAX_ORDER],
+    line_v: Delay<f64, Vec<f64>>,
+    line_d: Delay<f64, Vec<f64>>,
+    kv: usize,
+    kd: usize,
+    last_v: f64,
+    last_d: f64,
+}
+
+struct JointPiece {
+    v: Lti<f64, MAX_ORDER>,
+    gd: [f64; MAX_ORDER],
+    v_late: bool,
+    d_late: bool,
+    record: bool,
+}
+
+/// Whole samples and fraction of a delay.
+fn split_delay(d: f64) -> (f64, f64) {
+    let mut k = d.floor();
+    let mut f = d - k;
+    if f >= 1.0 - 1e-12 {
+        k += 1.0;
+        f = 0.0;
+    }
+    if f <= 1e-12 {
+        f = 0.0;
+    }
+    (k, f)
+}
+
+impl JointSim {
+    fn new(p1: &TransferFunction, p2: &TransferFunction, ts: f64, m: usize) -> Result<Self, Error> {
+        let (a2, b2, c2, d2, n2) = crate::lti::realize::<f64, MAX_ORDER>(&p2.num, &p2.den)?;
+        let (a1, b1, c1, d1, n1) = crate::lti::realize::<f64, MAX_ORDER>(&p1.num, &p1.den)?;
+        let n = n1.saturating_add(n2);
+        if n > MAX_ORDER {
+            return Err(Error::OrderTooHigh("cascade process"));
+        }
+        let mut a = [[0.0; MAX_ORDER]; MAX_ORDER];
+        let (mut bv, mut bd, mut c) = ([0.0; MAX_ORDER], [0.0; MAX_ORDER], [0.0; MAX_ORDER]);
+        let get = |m: &[[f64; MAX_ORDER]; MAX_ORDER], i: usize, j: usize| {
+            m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
+        };
+        let at = |v: &[f64; MAX_ORDER], i: usize| v.get(i).copied().unwrap_or(0.0);
+        let put = |v: &mut [f64; MAX_ORDER], i: usize, x: f64| {
+            if let Some(e) = v.get_mut(i) {
+                *e = x;
+            }
+        };
+        for (i, row) in a.iter_mut().enumerate().take(n) {
+            for (j, x) in row.iter_mut().enumerate().take(n) {
+                *x = match (i < n2, j < n2) {
+                    (true, true) => get(&a2, i, j),
+                    (false, true) => at(&b1, i - n2) * at(&c2, j),
+                    (false, false) => get(&a1, i - n2, j - n2),
+                    (true, false) => 0.0,
+                };
+            }
+        }
+        for i in 0..n {
+            if i < n2 {
+                put(&mut bv, i, at(&b2, i));
+                put(&mut c, i, d1 * at(&c2, i));
+            } else {
+                put(&mut bv, i, at(&b1, i - n2) * d2);
+                put(&mut bd, i, at(&b1, i - n2));
+                put(&mut c, i, at(&c1, i - n2));
+            }
+        }
+        let (kv, fv) = split_delay(crate::delay::samples(p1.delay + p2.delay, ts)?);
+        let (kd, fd) = split_delay(crate::delay::samples(p1.delay, ts)?);
+        let mut cuts: Vec<(f64, bool)> = (1..=m).map(|j| (j as f64 / m as f64, j < m)).collect();
+        for f in [fv, fd] {
+            if f > 0.0 && !cuts.iter().any(|(c, _)| (c - f).abs() < 1e-12) {
+                cuts.push((f, false));
+            }
+        }
+        cuts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut pieces = Vec::with_capacity(cuts.len());
+        let mut start = 0.0;
+        for (end, record) in cuts {
+            let len = (end - start) * ts;
+            let v = Lti::from_state_space(&a, &bv, &c, d1 * d2, n, len, Discretization::Zoh)?;
+            let gd = Lti::<f64, MAX_ORDER>::from_state_space(
+                &a,
+                &bd,
+                &c,
+                d1,
+                n,
+                len,
+                Discretization::Zoh,
+            )?
+            .input_vector();
+            pieces.push(JointPiece {
+                v,
+                gd,
+                v_late: start >= fv - 1e-12,
+                d_late: start >= fd - 1e-12,
+                record,
+            });
+            start = end;
+        }
+        let kv = kv.to_usize_checked()?;
+        let kd = kd.to_usize_checked()?;
+        Ok(JointSim {
+            c,
+            dv: d1 * d2,
+            dd: d1,
+            pieces,
+            x: [0.0; MAX_ORDER],
+            line_v: Delay::with_storage(vec_zeros(kv.saturating_add(2)), 0.0)?,
+            line_d: Delay::with_storage(vec_zeros(kd.saturating_add(2)), 0.0)?,
+            kv,
+            kd,
+            last_v: 0.0,
+            last_d: 0.0,
+        })
+    }
+
+    fn free(&self) -> f64 {
+        self.c.iter().zip(&self.x).map(|(c, x)| c * x).sum()
+    }
+
+    fn output(&self) -> f64 {
+        self.free() + self.dv * self.last_v + self.dd * self.last_d
+    }
+
+    fn advance(&mut self, v: f64, d: f64, sub: &mut Vec<f64>) {
+        let v_now = self.line_v.peek_back(v, self.kv);
+        let v_before = self.line_v.peek_back(v, self.kv.saturating_add(1));
+        let d_now = self.line_d.peek_back(d, self.kd);
+        let d_before = self.line_d.peek_back(d, self.kd.saturating_add(1));
+        self.line_v.process(v);
+        self.line_d.process(d);
+        for p in &mut self.pieces {
+            let vi = if p.v_late { v_now } else { v_before };
+            let di = if p.d_late { d_now } else { d_before };
+            p.v.set_state(&self.x);
+            p.v.step(vi);
+            let xv = *p.v.state();
+            for ((x, a), g) in self.x.iter_mut().zip(xv.iter()).zip(p.gd.iter()) {
+                *x = a + g * di;
+            }
+            if p.record {
+                let y = self.c.iter().zip(&self.x).map(|(c, x)| c * x).sum::<f64>()
+                    + self.dv * vi
+                    + self.dd * di;
+                sub.push(y);
+            }
+        }
+        self.last_v = v_now;
+        self.last_d = d_now;
+    }
+}
+
+/// The process as simulated: one plant, or a cascade (`002_0ed51b14a8593ff0.txt`
+/// Fig. 1). With `v = u + d2` held over each period and `d0` held too,
+/// `y2 = P2 e^{−L2 s}·v + d0` (its own block) and
+/// `y = P1 e^{−L1 s}(P2 e^{−L2 s}·v + d0) + d1` ([`JointSim`]), both sampled exactly.
+enum Process {
+    Single(PlantSim),
+    Cascade {
+        p2: PlantSim,
+        joint: Box<JointSim>,
+        sub2: Vec<f64>,
+    },
+}
+
 /// Runs the closed loop of `controller` on `plant`.
 pub fn simulate<C: Controller<f64> + ?Sized>(
     plant: &TransferFunction,
+    controller: &mut C,
+    cfg: &SimConfig,
+) -> Result<SimResult, Error> {
+    simulate_process(plant, None, controller, cfg)
+}
+
+/// Runs the closed loop of `controller` on the cascade process: primary
+/// `p1` (with its dead time `L1`) fed by the secondary `p2` (dead time `L2`),
+/// whose output `y2` the controller also receives
+/// ([`Controller::update_cascade`]). Disturbances at [`Location::Input`] act
+/// at the input of `p2` (`d2`), at [`Location::Inner`] on `y2` (`d0`), at
+/// [`Location::Output`] on `y` (`d1`).
+pub fn simulate_cascade<C: Controller<f64> + ?Sized>(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    controller: &mut C,
+    cfg: &SimConfig,
+) -> Result<SimResult, Error> {
+    simulate_process(p1, Some(p2), controller, cfg)
+}
+
+fn simulate_process<C: Controller<f64> + ?Sized>(
+    plant: &TransferFunction,
+    inner: Option<&TransferFunction>,
     controller: &mut C,
     cfg: &SimConfig,
 ) -> Result<SimResult, Error> {
@@ -460,7 +704,15 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
     let n = steps.saturating_add(1);
     let m = cfg.substeps.max(1);
     let n_rows = n.saturating_mul(m);
-    let mut plant_sim = PlantSim::new(plant, ts, m)?;
+    let mut process = match inner {
+        None => Process::Single(PlantSim::new(plant, ts, m)?),
+        Some(p2) => Process::Cascade {
+            p2: PlantSim::new(p2, ts, m)?,
+            joint: Box::new(JointSim::new(plant, p2, ts, m)?),
+            sub2: Vec::with_capacity(m),
+        },
+    };
+    let cascade = inner.is_some();
     let mut sub = Vec::with_capacity(m);
     let mut noise = Noise::new(cfg.seed);
     let names = controller.signal_names();
@@ -471,6 +723,8 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
         u: Vec::with_capacity(n_rows),
         d: Vec::with_capacity(n_rows),
         d_out: Vec::with_capacity(n_rows),
+        y2: Vec::new(),
+        d_inner: Vec::new(),
         signals: names
             .iter()
             .map(|s| (s.to_string(), Vec::with_capacity(n_rows)))
@@ -478,16 +732,29 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
         diverged_at: None,
         substeps: m,
     };
-    let inputs: Vec<&Disturbance> = cfg
-        .disturbances
-        .iter()
-        .filter(|d| d.location == Location::Input)
-        .collect();
-    let outputs: Vec<&Disturbance> = cfg
-        .disturbances
-        .iter()
-        .filter(|d| d.location == Location::Output)
-        .collect();
+    let pick = |loc: Location| -> Vec<&Disturbance> {
+        cfg.disturbances
+            .iter()
+            .filter(|d| d.location == loc)
+            .collect()
+    };
+    let (inputs, outputs, middles) = (
+        pick(Location::Input),
+        pick(Location::Output),
+        pick(Location::Inner),
+    );
+    if !cascade && !middles.is_empty() {
+        return Err(Error::Unsupported(
+            "an 'inner' (d0) disturbance needs a cascade process (an inner plant)",
+        ));
+    }
+    let sum_at = |ds: &[&Disturbance], t: f64| -> f64 {
+        if ds.is_empty() {
+            0.0
+        } else {
+            ds.iter().fold(0.0, |acc, d| acc + d.at_time(t))
+        }
+    };
     let scale = cfg
         .setpoint
         .iter()
@@ -509,18 +776,14 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
                 break;
             }
         }
-        let d_in = if inputs.is_empty() {
-            0.0
-        } else {
-            inputs.iter().fold(0.0, |acc, d| acc + d.at_time(t))
+        let d_in = sum_at(&inputs, t);
+        let d_out = sum_at(&outputs, t);
+        let d_mid = sum_at(&middles, t);
+        let (y, y2) = match &process {
+            Process::Single(p) => (p.output() + d_out, 0.0),
+            Process::Cascade { p2, joint, .. } => (joint.output() + d_out, p2.output() + d_mid),
         };
-        let d_out = if outputs.is_empty() {
-            0.0
-        } else {
-            outputs.iter().fold(0.0, |acc, d| acc + d.at_time(t))
-        };
-        let y = plant_sim.output() + d_out;
-        if !y.is_finite() || y.abs() > 1e6 * scale {
+        if !y.is_finite() || y.abs() > 1e6 * scale || !y2.is_finite() || y2.abs() > 1e6 * scale {
             res.diverged_at = Some(t);
             break;
         }
@@ -529,9 +792,22 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
         } else {
             y
         };
-        let u = controller.update(r, y_meas).max(cfg.u_min).min(cfg.u_max);
+        let u = if cascade {
+            controller.update_cascade(r, y_meas, y2)
+        } else {
+            controller.update(r, y_meas)
+        }
+        .max(cfg.u_min)
+        .min(cfg.u_max);
         sub.clear();
-        plant_sim.advance(u + d_in, &mut sub);
+        match &mut process {
+            Process::Single(p) => p.advance(u + d_in, &mut sub),
+            Process::Cascade { p2, joint, sub2 } => {
+                sub2.clear();
+                p2.advance(u + d_in, sub2);
+                joint.advance(u + d_in, d_mid, &mut sub);
+            }
+        }
         if i + 1 == n {
             sub.clear(); // nothing after the last sample
         }
@@ -539,7 +815,7 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
         // time and the disturbance columns are filled after the loop when they
         // follow from the schedule alone: fewer stores per sample
         macro_rules! push {
-            ($yj:expr) => {{
+            ($yj:expr, $y2j:expr) => {{
                 res.r.push(r);
                 res.y.push($yj);
                 res.u.push(u);
@@ -549,14 +825,27 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
                 if !outputs.is_empty() {
                     res.d_out.push(d_out);
                 }
+                if cascade {
+                    res.y2.push($y2j);
+                    if !middles.is_empty() {
+                        res.d_inner.push(d_mid);
+                    }
+                }
                 for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
                     v.push(*x);
                 }
             }};
         }
-        push!(y);
-        for y_sub in &sub {
-            push!(y_sub + d_out);
+        push!(y, y2);
+        let subs2: &[f64] = match &process {
+            Process::Cascade { sub2, .. } => sub2,
+            Process::Single(_) => &[],
+        };
+        for (j, y_sub) in sub.iter().enumerate() {
+            push!(
+                y_sub + d_out,
+                subs2.get(j).copied().unwrap_or(f64::NAN) + d_mid
+            );
         }
     }
     let rows = res.y.len();
@@ -575,13 +864,22 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
 
 impl SimResult {
     /// Writes the signals as CSV: `t,r,y,u,d`, then `d_out` when there is an
-    /// output disturbance, then the controller's signals (shortest round-trip
+    /// output disturbance, `y2` for a cascade process, `d_inner` when it has a
+    /// `d0` disturbance, then the controller's signals (shortest round-trip
     /// number formatting).
     pub fn write_csv<W: std::io::Write>(&self, w: &mut W) -> std::io::Result<()> {
         let with_dout = self.d_out.iter().any(|v| *v != 0.0);
+        let with_y2 = !self.y2.is_empty();
+        let with_dinner = !self.d_inner.is_empty();
         let mut head = std::string::String::from("t,r,y,u,d");
         if with_dout {
             head.push_str(",d_out");
+        }
+        if with_y2 {
+            head.push_str(",y2");
+        }
+        if with_dinner {
+            head.push_str(",d_inner");
         }
         for (n, _) in &self.signals {
             head.push(',');
@@ -611,6 +909,14 @@ impl SimResult {
             if with_dout {
                 line.push(b',');
                 num(&mut line, get(&self.d_out));
+            }
+            if with_y2 {
+                line.push(b',');
+                num(&mut line, get(&self.y2));
+            }
+            if with_dinner {
+                line.push(b',');
+                num(&mut line, get(&self.d_inner));
             }
             for (_, v) in &self.signals {
                 line.push(b',');
@@ -766,6 +1072,11 @@ pub struct Scenario {
     pub plant: String,
     /// Model expression (defaults to the plant: a perfect model).
     pub model: Option<String>,
+    /// Cascade processes: the secondary process `P2 e^{−L2 s}` whose output is
+    /// measured and drives `plant` (then the primary `P1 e^{−L1 s}`).
+    pub inner_plant: Option<String>,
+    /// The controller's model of the secondary process (defaults to `inner_plant`).
+    pub inner_model: Option<String>,
     /// Controller name from the registry (default: chosen by plant kind).
     pub controller: Option<String>,
     /// Closed-loop time constant for tuning (s).
@@ -819,6 +1130,8 @@ pub struct RunOutput {
     pub plant: TransferFunction,
     /// The controller's model.
     pub model: TransferFunction,
+    /// Cascade processes: the secondary process and its model.
+    pub inner: Option<(TransferFunction, TransferFunction)>,
     /// Sample period used.
     pub ts: f64,
     /// Whether `ts` was chosen automatically.
@@ -924,19 +1237,44 @@ impl Scenario {
     /// Chooses the controller (by name or by the model's kind) and the sample
     /// period, tunes it on `model` and builds it.
     pub fn build_controller(&self, model: &TransferFunction) -> Result<BuiltController, RunError> {
-        let scheme = match &self.controller {
-            Some(name) => registry::find(name)?,
-            None => registry::default_for(model.kind())?,
+        self.build_controller_for(model, None)
+    }
+
+    /// [`Scenario::build_controller`] for a cascade process with the secondary
+    /// model `inner` (the default scheme is then FSPCC).
+    pub fn build_controller_for(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<BuiltController, RunError> {
+        let scheme = match (&self.controller, inner) {
+            (Some(name), _) => registry::find(name)?,
+            (None, Some(_)) => registry::find("fspcc")?,
+            (None, None) => registry::default_for(model.kind())?,
         };
-        if model.order() > MAX_ORDER {
+        let whole = match inner {
+            Some(p2) => model.series(p2)?,
+            None => model.clone(),
+        };
+        if whole.order() > MAX_ORDER {
             return Err(RunError::Invalid(Error::OrderTooHigh("model")));
         }
         let (ts, ts_chosen) = match self.ts {
             Some(ts) => (crate::real::positive(ts, "ts")?, false),
-            None => (choose_ts(model), true),
+            None => (choose_ts(&whole), true),
         };
-        let overrides: Vec<(String, f64)> = self.set.iter().map(|(k, v)| (k.clone(), *v)).collect();
-        let params = scheme.tune_rule(model, self.lambda, self.rule.as_deref(), &overrides)?;
+        let overrides: Vec<(String, f64)> = self
+            .set
+            .iter()
+            .filter_map(|(k, v)| match k.split_once('.') {
+                // `scheme.param` applies to that scheme only (for `msp compare`)
+                Some((s, name)) => (s == scheme.name || scheme.aliases.contains(&s))
+                    .then(|| (name.to_string(), *v)),
+                None => Some((k.clone(), *v)),
+            })
+            .collect();
+        let params =
+            scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
         let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
         let u_max = self.umax.unwrap_or(f64::INFINITY);
         if u_min.is_nan() {
@@ -948,7 +1286,8 @@ impl Scenario {
         if u_min > u_max {
             return Err(RunError::Invalid(Error::InvalidLimits("umin")));
         }
-        let controller = scheme.build_with(&params, model, &Build { ts, u_min, u_max })?;
+        let controller =
+            scheme.build_process(&params, model, inner, &Build { ts, u_min, u_max })?;
         Ok(BuiltController {
             scheme: scheme.name,
             params,
@@ -976,6 +1315,30 @@ impl Scenario {
         Ok((plant, model))
     }
 
+    /// The secondary process and its model, parsed (cascade scenarios).
+    pub fn parse_inner(&self) -> Result<Option<(TransferFunction, TransferFunction)>, RunError> {
+        let Some(p2) = &self.inner_plant else {
+            if self.inner_model.is_some() {
+                return Err(RunError::Invalid(Error::Unsupported(
+                    "an inner model without an inner plant",
+                )));
+            }
+            return Ok(None);
+        };
+        let plant = crate::parse::parse_plant(p2).map_err(|error| RunError::Parse {
+            field: "inner plant",
+            error,
+        })?;
+        let model = match &self.inner_model {
+            Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
+                field: "inner model",
+                error,
+            })?,
+            None => plant.clone(),
+        };
+        Ok(Some((plant, model)))
+    }
+
     /// Parses, tunes, builds and simulates.
     pub fn run(&self) -> Result<RunOutput, RunError> {
         let plant = crate::parse::parse_plant(&self.plant).map_err(|error| RunError::Parse {
@@ -989,7 +1352,8 @@ impl Scenario {
             })?,
             None => plant.clone(),
         };
-        self.run_with(plant, model)
+        let inner = self.parse_inner()?;
+        self.run_process(plant, model, inner)
     }
 
     /// Tunes, builds and simulates for an already parsed plant and model (the
@@ -999,7 +1363,18 @@ impl Scenario {
         plant: TransferFunction,
         model: TransferFunction,
     ) -> Result<RunOutput, RunError> {
-        let built = self.build_controller(&model)?;
+        self.run_process(plant, model, None)
+    }
+
+    /// [`Scenario::run_with`] for a cascade process: `inner` holds the
+    /// secondary process and its model.
+    pub fn run_process(
+        &self,
+        plant: TransferFunction,
+        model: TransferFunction,
+        inner: Option<(TransferFunction, TransferFunction)>,
+    ) -> Result<RunOutput, RunError> {
+        let built = self.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
         let (scheme, params, mut ctrl, ts, ts_chosen) = (
             built.scheme,
             built.params,
@@ -1010,7 +1385,16 @@ impl Scenario {
         let (u_min, u_max) = (built.u_min, built.u_max);
         let (duration, duration_chosen) = match self.duration {
             Some(d) => (crate::real::positive(d, "duration")?, false),
-            None => (choose_duration(&plant, ts), true),
+            None => (
+                choose_duration(
+                    &match &inner {
+                        Some((p2, _)) => plant.series(p2)?,
+                        None => plant.clone(),
+                    },
+                    ts,
+                ),
+                true,
+            ),
         };
         if duration / ts > 1e8 {
             return Err(RunError::Invalid(Error::OutOfRange("duration")));
@@ -1046,22 +1430,27 @@ impl Scenario {
         if cfg.substeps == 0 || cfg.substeps > 1000 {
             return Err(RunError::Invalid(Error::OutOfRange("substeps")));
         }
-        let result = simulate(&plant, &mut ctrl, &cfg)?;
+        let result = match &inner {
+            Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,
+            None => simulate(&plant, &mut ctrl, &cfg)?,
+        };
+        let model_delay = model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay);
         // the two conventions are independent passes over the signals
         #[cfg(feature = "parallel")]
         let (m0, m1) = rayon::join(
             || metrics(&result, &setpoint, ts, 0.0),
-            || metrics(&result, &setpoint, ts, model.delay),
+            || metrics(&result, &setpoint, ts, model_delay),
         );
         #[cfg(not(feature = "parallel"))]
         let (m0, m1) = (
             metrics(&result, &setpoint, ts, 0.0),
-            metrics(&result, &setpoint, ts, model.delay),
+            metrics(&result, &setpoint, ts, model_delay),
         );
         let (m0, m1) = (m0?, m1?);
         Ok(RunOutput {
             plant,
             model,
+            inner,
             ts,
             ts_chosen,
             duration,
@@ -1088,6 +1477,13 @@ pub struct Perturbation {
     pub delay: f64,
     /// Time-constant change.
     pub tau: f64,
+    /// Cascade processes: gain change of the secondary process (the three
+    /// fields above act on the primary).
+    pub inner_gain: f64,
+    /// Dead-time change of the secondary process.
+    pub inner_delay: f64,
+    /// Time-constant change of the secondary process.
+    pub inner_tau: f64,
 }
 
 impl core::str::FromStr for Perturbation {
@@ -1113,9 +1509,12 @@ impl core::str::FromStr for Perturbation {
                 "gain" | "k" => p.gain = value,
                 "delay" | "l" | "theta" => p.delay = value,
                 "tau" | "t" => p.tau = value,
+                "inner_gain" => p.inner_gain = value,
+                "inner_delay" => p.inner_delay = value,
+                "inner_tau" => p.inner_tau = value,
                 other => {
                     return Err(std::format!(
-                        "unknown perturbation '{other}': use gain, delay or tau"
+                        "unknown perturbation '{other}': use gain, delay, tau (or inner_gain, inner_delay, inner_tau for the secondary of a cascade)"
                     ))
                 }
             }
@@ -1143,13 +1542,31 @@ pub fn compare(
         None => nominal.clone(),
     };
     let plant = nominal.perturbed(perturb.gain, perturb.delay, perturb.tau)?;
+    let inner = match base.parse_inner()? {
+        Some((p2, m2)) => Some((
+            p2.perturbed(perturb.inner_gain, perturb.inner_delay, perturb.inner_tau)?,
+            m2,
+        )),
+        None => {
+            if perturb.inner_gain != 0.0 || perturb.inner_delay != 0.0 || perturb.inner_tau != 0.0 {
+                return Err(RunError::Invalid(Error::Unsupported(
+                    "inner perturbations need a cascade process (an inner plant)",
+                )));
+            }
+            None
+        }
+    };
+    let (whole_model, whole_plant) = match &inner {
+        Some((p2, m2)) => (model.series(m2)?, plant.series(p2)?),
+        None => (model.clone(), plant.clone()),
+    };
     let mut sc = base.clone();
     sc.ts = Some(match base.ts {
         Some(ts) => ts,
-        None => choose_ts(&model),
+        None => choose_ts(&whole_model),
     });
     if sc.duration.is_none() {
-        sc.duration = Some(choose_duration(&plant, sc.ts.unwrap_or(1.0)));
+        sc.duration = Some(choose_duration(&whole_plant, sc.ts.unwrap_or(1.0)));
     }
     if controllers.is_empty() {
         return Err(RunError::Invalid(Error::OutOfRange("controllers")));
@@ -1159,7 +1576,7 @@ pub fn compare(
         .map(|c| {
             let mut one = sc.clone();
             one.controller = Some(c.clone());
-            one.run_with(plant.clone(), model.clone())
+            one.run_process(plant.clone(), model.clone(), inner.clone())
         })
         .collect()
 }

@@ -154,6 +154,10 @@ fn f32_runs_do_not_drift() {
 #[test]
 fn a_nan_measurement_never_reaches_the_state_and_recovery_is_bumpless() {
     for scheme in SCHEMES {
+        if scheme.is_cascade() {
+            cascade_nan(scheme);
+            continue;
+        }
         let integrating = scheme.plants.contains(&msp::poly::PlantKind::Integrating);
         let expr = if integrating {
             "0.2/s*e^-7.4s"
@@ -226,5 +230,78 @@ fn pid_fail_safe_value_and_bumpless_return() {
     assert_eq!(
         c.set_failsafe(Some(11.0)).unwrap_err(),
         msp::Error::OutOfRange("failsafe")
+    );
+}
+
+/// The same for a cascade scheme on García et al.'s Example 2 (integrating
+/// primary): the primary sensor fails, then the secondary one.
+fn cascade_nan(scheme: &'static msp::registry::Scheme) {
+    let p1: TransferFunction = "2e^-2s/s".parse().unwrap();
+    let p2: TransferFunction = "4e^-2s/(s+1)".parse().unwrap();
+    let ts = 0.1;
+    // Uma et al.'s Gcd has no rule in the sources: a PD from their Example 2
+    let gcd: Vec<(String, f64)> = if scheme.name == "uma" {
+        vec![
+            ("kpd".into(), 0.0436),
+            ("kid".into(), 0.0),
+            ("kdd".into(), 0.1206),
+        ]
+    } else {
+        vec![]
+    };
+    let p = scheme
+        .tune_process(&p1, Some(&p2), None, None, &gcd)
+        .unwrap();
+    let mut c = scheme
+        .build_process(
+            &p,
+            &p1,
+            Some(&p2),
+            &Build {
+                ts,
+                u_min: -10.0,
+                u_max: 10.0,
+            },
+        )
+        .unwrap();
+    let mut sim = msp::sim::CascadeStepper::new(&p1, &p2, ts).unwrap();
+    let mut last = (0.0, 0.0);
+    for k in 0..8000 {
+        let (y, y2) = sim.outputs();
+        let y_meas = if (4000..4040).contains(&k) {
+            f64::NAN
+        } else {
+            y
+        };
+        let y2_meas = if (6000..6040).contains(&k) {
+            f64::NAN
+        } else {
+            y2
+        };
+        let u = c.update_cascade(1.0, y_meas, y2_meas);
+        assert!(u.is_finite(), "{}", scheme.name);
+        assert_eq!(
+            c.fault(),
+            y_meas.is_nan() || y2_meas.is_nan(),
+            "{} at {k}",
+            scheme.name
+        );
+        for i in 0..c.signal_names().len() {
+            assert!(
+                c.signal(i).is_finite(),
+                "{}: {}",
+                scheme.name,
+                c.signal_names()[i]
+            );
+        }
+        sim.advance(u);
+        last = (y, y2);
+    }
+    // back on the set point after both faults
+    assert!(
+        (last.0 - 1.0).abs() < 1e-3,
+        "{}: y = {}",
+        scheme.name,
+        last.0
     );
 }

@@ -265,9 +265,8 @@ fn compare_runs_every_controller_on_the_perturbed_plant_with_the_nominal_model()
         ..Default::default()
     };
     let p = msp::sim::Perturbation {
-        gain: 0.0,
         delay: 0.1,
-        tau: 0.0,
+        ..Default::default()
     };
     let runs = msp::sim::compare(&base, &["karan-dey".into(), "smith".into()], p).unwrap();
     assert_eq!(runs.len(), 2);

@@ -163,13 +163,13 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParamList<T> {
     names: &'static [&'static str],
-    values: [T; 12],
+    values: [T; 16],
 }
 
 impl<T: Real> ParamList<T> {
     /// Pairs `names[i]` with `values[i]` (extra names read as NaN).
     pub fn new(names: &'static [&'static str], values: &[T]) -> Self {
-        let mut v = [T::nan(); 12];
+        let mut v = [T::nan(); 16];
         for (d, s) in v.iter_mut().zip(values) {
             *d = *s;
         }

@@ -201,7 +201,10 @@ mod tests {
 }
 
 #[cfg(feature = "alloc")]
-pub use self::controller::{design, FilteredSmith, FspDesign};
+pub use self::controller::{
+    design, design_with, model_tf, DirectForm, FilteredSmith, FrSpec, FspDesign, FspPredictor,
+    Predicted, Predictor,
+};
 
 #[cfg(feature = "alloc")]
 mod controller {
@@ -230,28 +233,7 @@ mod controller {
         crate::poly::mul(a, b)
     }
 
-    /// Polynomial division `a / b` (descending), quotient and remainder.
-    fn div(a: &[f64], b: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Error> {
-        let lead = *b.first().ok_or(Error::Numerical("division"))?;
-        if a.len() < b.len() {
-            return Ok((vec![0.0], a.to_vec()));
-        }
-        let mut r = a.to_vec();
-        let mut q = vec![0.0; a.len() + 1 - b.len()];
-        for i in 0..q.len() {
-            let f = r.get(i).copied().unwrap_or(0.0) / lead;
-            if let Some(qi) = q.get_mut(i) {
-                *qi = f;
-            }
-            for (j, bj) in b.iter().enumerate() {
-                if let Some(x) = r.get_mut(i + j) {
-                    *x -= f * bj;
-                }
-            }
-        }
-        let rem = r.split_off(q.len());
-        Ok((q, rem))
-    }
+    use crate::poly::div;
 
     /// Numerator and denominator (descending powers of z) of a discrete block, by
     /// Faddeev–LeVerrier on its realization.
@@ -320,6 +302,27 @@ mod controller {
         (num, c)
     }
 
+    /// The shape of the robustness filter `Fr = Nr/Dr` whose free coefficients
+    /// Eq. 10 fixes.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct FrSpec {
+        /// Time constant `Tf` of the filter poles `γ = e^{−Ts/Tf}` (s).
+        pub tf: f64,
+        /// An optional phase lead `(z − ρ1)/(z − γ1)` given by its zero and pole
+        /// time constants `(T_zero, T_pole)`: `ρ1 = e^{−Ts/T_zero}`,
+        /// `γ1 = e^{−Ts/T_pole}` (`002_…` Sec. 4, from the lead of `Gcd`).
+        pub lead: Option<(f64, f64)>,
+        /// `Nr` of the same degree as `Dr` (the biproper filters of `002_…`
+        /// Sec. 4: `Dr = (z − γ)^{m−1}`), or `Nr` one degree lower
+        /// (`Dr = (z − γ)^m`, a strictly proper filter).
+        pub biproper: bool,
+    }
+
+    /// The model `Gm(z)` as numerator and denominator (descending powers of `z`).
+    pub fn model_tf<const N: usize>(gm: &Lti<f64, N>) -> (Vec<f64>, Vec<f64>) {
+        tf_of(gm)
+    }
+
     /// Designs the filter `Fr = Nr/(z − α)^m` (`α = e^{−Ts/Tf}`) and the stable predictor
     /// `S` for the ZOH model `gm` with a dead time of `h` samples.
     pub fn design<const N: usize>(
@@ -327,6 +330,28 @@ mod controller {
         h: usize,
         ts: f64,
         tf: f64,
+    ) -> Result<FspDesign, Error> {
+        design_with(
+            gm,
+            h,
+            ts,
+            &FrSpec {
+                tf,
+                lead: None,
+                biproper: false,
+            },
+        )
+    }
+
+    /// Designs `Fr` of the shape `spec` and the stable predictor `S` for the ZOH
+    /// model `gm` with a dead time of `h` samples: FSPCC's
+    /// `Fr = kf (z − ρ1)(z − ρ2)/((z − γ1)(z − γ2))` is
+    /// `FrSpec { tf, lead: Some((T_zero, T_pole)), biproper: true }`.
+    pub fn design_with<const N: usize>(
+        gm: &Lti<f64, N>,
+        h: usize,
+        ts: f64,
+        spec: &FrSpec,
     ) -> Result<FspDesign, Error> {
         let (nm, dm) = tf_of(gm);
         if gm.feedthrough() != 0.0 {
@@ -361,13 +386,26 @@ mod controller {
             }
         }
         let m: usize = cond.iter().map(|c| c.1).sum();
-        let alpha = (-ts / crate::real::positive(tf, "tf")?).exp();
+        let pole =
+            |t: f64| -> Result<f64, Error> { Ok((-ts / crate::real::positive(t, "tf")?).exp()) };
+        let alpha = pole(spec.tf)?;
         let mut dr = vec![1.0];
-        for _ in 0..m {
+        for _ in 0..(if spec.biproper {
+            m.saturating_sub(1)
+        } else {
+            m
+        }) {
             dr = mul(&dr, &[1.0, -alpha]);
         }
-        let (c, k) = solve(h, &dr, &[1.0], &cond)?;
-        let nr: Vec<f64> = c.iter().take(k).copied().collect();
+        let q = match spec.lead {
+            Some((t_zero, t_pole)) => {
+                dr = mul(&dr, &[1.0, -pole(t_pole)?]);
+                vec![1.0, -pole(t_zero)?]
+            }
+            None => vec![1.0],
+        };
+        let (c, k) = solve(h, &dr, &q, &cond)?;
+        let nr: Vec<f64> = mul(&q, &c.iter().take(k).copied().collect::<Vec<f64>>());
         // p = (z^h·Dr − Nr)/(Dm⁺(z − 1)), exactly (the remainder is rounding)
         let mut zh_dr = dr.clone();
         zh_dr.extend(core::iter::repeat(0.0).take(h));
@@ -399,26 +437,155 @@ mod controller {
         })
     }
 
-    /// The filtered Smith predictor for unstable, integrating and stable plants:
-    /// `u = K(r − ŷ)` with `ŷ = S(z)·u + Fr(z)·y`. `S` is evaluated in direct form
-    /// over the input history (its numerator spans the dead time, so the cost is
-    /// proportional to it).
+    /// An output predictor of the predictor-based dead-time compensators:
+    /// `ŷ[k] = Su(z)·u[k] + Sy(z)·y[k]`, with `Su` strictly proper (it sees
+    /// the past inputs only). The filtered Smith predictor's `S`, `Fr` and the
+    /// GPCC's `F1`, `F2`, `Fk` ([`crate::dtc::gpcc`]) are two such predictors.
+    pub trait Predictor: core::fmt::Debug {
+        /// The prediction at this sample from the past inputs and the measurement `y`.
+        fn predict(&mut self, y: f64) -> f64;
+        /// A sample whose measurement is missing: the part driven by the inputs only.
+        fn predict_held(&mut self) -> f64;
+        /// Records the input `u[k]` applied at this sample.
+        fn commit(&mut self, u: f64);
+        /// Zeroes every state.
+        fn reset(&mut self);
+        /// `(Su, Sy)` at `z = e^{jθ}`.
+        fn response(&self, theta: f64) -> (Complex<f64>, Complex<f64>);
+    }
+
+    /// A direct-form filter over a ring of past inputs and outputs:
+    /// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]` (strictly proper, `a_0 = 1`).
     #[derive(Debug, Clone)]
-    pub struct FilteredSmith {
-        k: Pid<f64>,
-        fr: Lti<f64, 8>,
-        s_num: Vec<f64>,
-        s_den: Vec<f64>,
+    pub struct DirectForm {
+        num: Vec<f64>,
+        den: Vec<f64>,
         u_hist: Vec<f64>,
         s_hist: Vec<f64>,
         uh: usize,
         sh: usize,
+    }
+
+    impl DirectForm {
+        /// The filter `num/den` in powers of `z^{−1}` (`num[0]` is ignored: strictly proper).
+        pub fn new(num: &[f64], den: &[f64]) -> Self {
+            DirectForm {
+                num: num.to_vec(),
+                den: den.to_vec(),
+                u_hist: vec![0.0; num.len().max(1)],
+                s_hist: vec![0.0; den.len().max(1)],
+                uh: 0,
+                sh: 0,
+            }
+        }
+        /// The output at this sample from the history.
+        pub fn output(&self) -> f64 {
+            let n = self.u_hist.len();
+            let m = self.s_hist.len();
+            let mut acc = 0.0;
+            // u_hist[uh] holds u[n − 1], u_hist[uh − (k − 1)] holds u[n − k]
+            for (k, b) in self.num.iter().enumerate().skip(1) {
+                let idx = (self.uh + n - ((k - 1) % n)) % n;
+                acc += b * self.u_hist.get(idx).copied().unwrap_or(0.0);
+            }
+            for (k, a) in self.den.iter().enumerate().skip(1) {
+                let idx = (self.sh + m - ((k - 1) % m)) % m;
+                acc -= a * self.s_hist.get(idx).copied().unwrap_or(0.0);
+            }
+            acc
+        }
+        /// Stores `u[n]` and the output `s[n]` as the newest history entries.
+        pub fn push(&mut self, u: f64, s: f64) {
+            let n = self.u_hist.len().max(1);
+            let m = self.s_hist.len().max(1);
+            self.uh = (self.uh + 1) % n;
+            self.sh = (self.sh + 1) % m;
+            if let Some(x) = self.u_hist.get_mut(self.uh) {
+                *x = u;
+            }
+            if let Some(x) = self.s_hist.get_mut(self.sh) {
+                *x = s;
+            }
+        }
+        /// Zeroes the history.
+        pub fn reset(&mut self) {
+            self.u_hist.iter_mut().for_each(|v| *v = 0.0);
+            self.s_hist.iter_mut().for_each(|v| *v = 0.0);
+            self.uh = 0;
+            self.sh = 0;
+        }
+        /// The response at `z = e^{jθ}`.
+        pub fn response(&self, theta: f64) -> Complex<f64> {
+            let zi = |k: usize| Complex::cis(-theta * k as f64);
+            let sum = |p: &[f64]| {
+                p.iter()
+                    .enumerate()
+                    .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b))
+            };
+            sum(&self.num) / sum(&self.den)
+        }
+    }
+
+    /// The filtered Smith predictor's output predictor `ŷ = S(z)·u + Fr(z)·y`
+    /// (`002_0ed51b14a8593ff0.txt` Fig. 6). `S` is evaluated in direct form over
+    /// the input history (its numerator spans the dead time, so the cost is
+    /// proportional to it).
+    #[derive(Debug, Clone)]
+    pub struct FspPredictor {
+        fr: Lti<f64, 8>,
+        s: DirectForm,
+        last_s: f64,
+    }
+
+    impl FspPredictor {
+        /// The predictor of a design.
+        pub fn new(d: &FspDesign) -> Result<Self, Error> {
+            Ok(FspPredictor {
+                fr: Lti::from_discrete_tf(&d.nr, &d.dr)?,
+                s: DirectForm::new(&d.s_num, &d.s_den),
+                last_s: 0.0,
+            })
+        }
+    }
+
+    impl Predictor for FspPredictor {
+        fn predict(&mut self, y: f64) -> f64 {
+            self.last_s = self.s.output();
+            self.last_s + self.fr.step(y)
+        }
+        fn predict_held(&mut self) -> f64 {
+            self.last_s = self.s.output();
+            self.last_s
+        }
+        fn commit(&mut self, u: f64) {
+            self.s.push(u, self.last_s);
+        }
+        fn reset(&mut self) {
+            self.fr.reset();
+            self.s.reset();
+            self.last_s = 0.0;
+        }
+        fn response(&self, theta: f64) -> (Complex<f64>, Complex<f64>) {
+            (self.s.response(theta), self.fr.response(theta))
+        }
+    }
+
+    /// A primary controller `K` around an output predictor: `u = K(r − ŷ)`.
+    /// With [`FspPredictor`] this is the filtered Smith predictor for unstable,
+    /// integrating and stable plants; with [`crate::dtc::gpcc::GpccPredictor`]
+    /// the generalized predictor.
+    #[derive(Debug, Clone)]
+    pub struct Predicted<P> {
+        k: Pid<f64>,
+        pred: P,
         names: &'static [&'static str],
         values: Vec<f64>,
-        pred: f64,
-        u: f64,
+        yhat: f64,
         fault: bool,
     }
+
+    /// The filtered Smith predictor.
+    pub type FilteredSmith = Predicted<FspPredictor>;
 
     impl FilteredSmith {
         /// The controller `k` around the designed predictor.
@@ -428,71 +595,50 @@ mod controller {
             names: &'static [&'static str],
             values: Vec<f64>,
         ) -> Result<Self, Error> {
-            let fr = Lti::from_discrete_tf(&d.nr, &d.dr)?;
-            Ok(FilteredSmith {
-                k: Pid::new(k)?,
-                fr,
-                s_num: d.s_num.clone(),
-                s_den: d.s_den.clone(),
-                u_hist: vec![0.0; d.s_num.len().max(1)],
-                s_hist: vec![0.0; d.s_den.len().max(1)],
-                uh: 0,
-                sh: 0,
-                names,
-                values,
-                pred: 0.0,
-                u: 0.0,
-                fault: false,
-            })
-        }
-
-        /// `S·u` at this sample from the past inputs and outputs (S is strictly proper):
-        /// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]`.
-        fn s_output(&self) -> f64 {
-            let n = self.u_hist.len();
-            let m = self.s_hist.len();
-            let mut acc = 0.0;
-            // u_hist[uh] holds u[n − 1], u_hist[uh − (k − 1)] holds u[n − k]
-            for (k, b) in self.s_num.iter().enumerate().skip(1) {
-                let idx = (self.uh + n - ((k - 1) % n)) % n;
-                acc += b * self.u_hist.get(idx).copied().unwrap_or(0.0);
-            }
-            for (k, a) in self.s_den.iter().enumerate().skip(1) {
-                let idx = (self.sh + m - ((k - 1) % m)) % m;
-                acc -= a * self.s_hist.get(idx).copied().unwrap_or(0.0);
-            }
-            acc
+            Predicted::with_predictor(k, FspPredictor::new(d)?, names, values)
         }
     }
 
-    impl Controller<f64> for FilteredSmith {
+    impl<P: Predictor> Predicted<P> {
+        /// The controller `k` around `pred`; `names`/`values` are the scheme's parameters.
+        pub fn with_predictor(
+            k: PidConfig<f64>,
+            pred: P,
+            names: &'static [&'static str],
+            values: Vec<f64>,
+        ) -> Result<Self, Error> {
+            Ok(Predicted {
+                k: Pid::new(k)?,
+                pred,
+                names,
+                values,
+                yhat: 0.0,
+                fault: false,
+            })
+        }
+    }
+
+    impl<P: Predictor> Controller<f64> for Predicted<P> {
         fn update(&mut self, r: f64, y: f64) -> f64 {
-            let s = self.s_output();
             if !(r.is_finite() && y.is_finite()) {
                 // the output is held; the predictor keeps following the actuator
                 self.fault = true;
+                self.pred.predict_held();
                 let u = self.k.update(r, f64::NAN);
-                self.push(u, s);
+                self.pred.commit(u);
                 return u;
             }
             self.fault = false;
-            let fy = self.fr.step(y);
-            let pred = s + fy;
-            let u = self.k.update(r, pred);
-            self.push(u, s);
-            self.pred = pred;
-            self.u = u;
+            let yhat = self.pred.predict(y);
+            let u = self.k.update(r, yhat);
+            self.pred.commit(u);
+            self.yhat = yhat;
             u
         }
         fn reset(&mut self) {
             self.k.reset();
-            self.fr.reset();
-            self.u_hist.iter_mut().for_each(|v| *v = 0.0);
-            self.s_hist.iter_mut().for_each(|v| *v = 0.0);
-            self.uh = 0;
-            self.sh = 0;
-            self.pred = 0.0;
-            self.u = 0.0;
+            self.pred.reset();
+            self.yhat = 0.0;
             self.fault = false;
         }
         fn signal_names(&self) -> &'static [&'static str] {
@@ -500,7 +646,7 @@ mod controller {
         }
         fn signal(&self, i: usize) -> f64 {
             if i == 0 {
-                self.pred
+                self.yhat
             } else {
                 f64::NAN
             }
@@ -515,39 +661,11 @@ mod controller {
             self.fault
         }
         fn response(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
-            // u = K_r r − K_y(S u + Fr y) → u = K_r/(1 + K_y S)·r − K_y Fr/(1 + K_y S)·y
+            // u = K_r r − K_y(Su u + Sy y) → u = K_r/(1 + K_y Su)·r − K_y Sy/(1 + K_y Su)·y
             let (kr, ky) = self.k.response(theta);
-            let zi = |k: usize| Complex::cis(-theta * k as f64);
-            let num = self
-                .s_num
-                .iter()
-                .enumerate()
-                .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b));
-            let den = self
-                .s_den
-                .iter()
-                .enumerate()
-                .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b));
-            let s = num / den;
-            let one = Complex::real(1.0);
-            let d = one + ky * s;
-            Some((kr / d, ky * self.fr.response(theta) / d))
-        }
-    }
-
-    impl FilteredSmith {
-        /// Stores `u[n]` and `s[n]` as the newest history entries.
-        fn push(&mut self, u: f64, s: f64) {
-            let n = self.u_hist.len().max(1);
-            let m = self.s_hist.len().max(1);
-            self.uh = (self.uh + 1) % n;
-            self.sh = (self.sh + 1) % m;
-            if let Some(x) = self.u_hist.get_mut(self.uh) {
-                *x = u;
-            }
-            if let Some(x) = self.s_hist.get_mut(self.sh) {
-                *x = s;
-            }
+            let (su, sy) = self.pred.response(theta);
+            let d = Complex::real(1.0) + ky * su;
+            Some((kr / d, ky * sy / d))
         }
     }
 }

@@ -5,10 +5,14 @@
 //! (the model's dead time).
 
 pub mod astrom_hang_lim;
+#[cfg(feature = "alloc")]
+pub mod cascade;
 pub mod compensator;
 pub mod disturbance_estimator;
 pub mod filtered_smith;
 pub mod fsp;
+#[cfg(feature = "alloc")]
+pub mod gpcc;
 pub mod huang;
 pub mod karan_dey;
 pub mod kaya_atherton;
@@ -31,6 +35,18 @@ use crate::Real;
 pub trait Controller<T: Real> {
     /// One sample: set point `r[k]` and measurement `y[k]` in, actuator value `u[k]` out.
     fn update(&mut self, setpoint: T, measurement: T) -> T;
+    /// One sample of a cascade loop (`002_0ed51b14a8593ff0.txt` Fig. 1): the
+    /// primary measurement `y[k]` and the secondary (inner) measurement
+    /// `y2[k]`. A single-loop controller ignores `y2` and controls `y` from the
+    /// plant input directly; a cascade scheme closes its inner loop on it.
+    fn update_cascade(&mut self, setpoint: T, measurement: T, inner: T) -> T {
+        let _ = inner;
+        self.update(setpoint, measurement)
+    }
+    /// True for a scheme that closes an inner loop on the secondary measurement.
+    fn is_cascade(&self) -> bool {
+        false
+    }
     /// Returns every state to zero (the delay lines included).
     fn reset(&mut self);
     /// Names of the internal signals, e.g. the model output and the model error.
@@ -93,6 +109,13 @@ macro_rules! forward {
             #[inline(always)]
             fn update(&mut self, r: T, y: T) -> T {
                 (**self).update(r, y)
+            }
+            #[inline(always)]
+            fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
+                (**self).update_cascade(r, y, y2)
+            }
+            fn is_cascade(&self) -> bool {
+                (**self).is_cascade()
             }
             fn reset(&mut self) {
                 (**self).reset()

@@ -444,7 +444,7 @@ fn margins(a: &MarginsArgs) -> Result<(), CliError> {
     } else {
         msp::analysis::View::Sampled
     };
-    let an = msp::analysis::analyze(&sc, view, a.uncertainty.map(|u| (u.gain, u.delay)))?;
+    let an = msp::analysis::analyze(&sc, view, a.uncertainty)?;
     if let Some(p) = &a.plot {
         let svg = output::bode_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         output::write_atomic(p, svg.as_bytes())?;

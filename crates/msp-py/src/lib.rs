@@ -266,6 +266,8 @@ fn scenario(
     Ok(Scenario {
         plant: String::new(),
         model: None,
+        inner_plant: None,
+        inner_model: None,
         controller,
         lambda: lambda_,
         rule,
@@ -444,7 +446,17 @@ fn margins<'py>(
         msp::analysis::View::Sampled
     };
     let an = py
-        .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
+        .allow_threads(|| {
+            msp::analysis::analyze(
+                &sc,
+                view,
+                uncertainty.map(|(gain, delay)| Perturbation {
+                    gain,
+                    delay,
+                    ..Perturbation::default()
+                }),
+            )
+        })
         .map_err(value_err)?;
     let d = margins_dict(py, &an.margins)?;
     d.set_item("plant", an.plant.to_string())?;

@@ -1,0 +1,515 @@
+//! Cascade control of dead-time processes (`002_0ed51b14a8593ff0.txt` Fig. 1):
+//! a secondary process `P2 e^{−L2 s}` whose output `y2` is measured and feeds
+//! the primary process `P1 e^{−L1 s}`; disturbances `d2` at the plant input,
+//! `d0` at the secondary output (it enters `y2` and `P1`) and `d1` at the
+//! primary output.
+//!
+//! Every cascade scheme of the paper has the same inner loop, an IMC
+//! controller on the secondary measurement,
+//!
+//! `u = Q(z)·(r2 − (y2 − P2m(z)·z^{−d2}·u))`, `Q = Mimc/P2` (Sec. 3.1),
+//!
+//! with `Q(s) = P2⁻¹(s)/(λ2 s + 1)^r` (`r` the relative degree of `P2`, so
+//! `Mimc = e^{−L2 s}/(λ2 s + 1)^r`; the paper's inner controllers are exactly
+//! this: `0.5(20s+1)/(2s+1)` for `2/(20s+1)`, λ2 = 2 s) pole-zero matched at
+//! the sample period. The schemes differ in the outer (primary) controller,
+//! designed for the overall model `Pm = Mimc·P1 = Gm(s)·e^{−(L1+L2)s}`
+//! (Eqs. 5–9): FSPCC is the filtered Smith predictor
+//! ([`crate::dtc::fsp`]) on `Gm`, GPCC the generalized predictor
+//! ([`crate::dtc::gpcc`]), and the competitors of Sec. 2 — Uma et al. 2009 and
+//! Kaya et al. 2008 — are configurations of [`crate::dtc::Compensator`].
+//! [`Cascade`] joins any such outer controller to the inner IMC loop.
+
+use alloc::vec::Vec;
+
+use crate::delay::Delay;
+use crate::dtc::Controller;
+use crate::poly::{mul, poly_roots, trim, TransferFunction};
+use crate::{AntiWindup, Complex, Discretization, Error, Lti, PidConfig};
+
+/// Order capacity of the inner IMC controller `Q`.
+pub const Q_ORDER: usize = 4;
+/// Order capacity of the inner model `P2m`.
+pub const P2_ORDER: usize = 4;
+
+/// The inner IMC loop `u = Q·(r2 − (y2 − P2m z^{−d2} u))`.
+#[derive(Debug, Clone)]
+pub struct Imc {
+    q: Lti<f64, Q_ORDER>,
+    model: Lti<f64, P2_ORDER>,
+    line: Delay<f64, Vec<f64>>,
+    u_min: f64,
+    u_max: f64,
+    error: f64,
+}
+
+impl Imc {
+    /// The loop from its controller `q`, the delay-free secondary model
+    /// (strictly proper) and its dead-time line.
+    pub fn new(
+        q: Lti<f64, Q_ORDER>,
+        model: Lti<f64, P2_ORDER>,
+        line: Delay<f64, Vec<f64>>,
+    ) -> Result<Self, Error> {
+        if model.feedthrough() != 0.0 {
+            return Err(Error::Improper("inner model"));
+        }
+        Ok(Imc {
+            q,
+            model,
+            line,
+            u_min: f64::NEG_INFINITY,
+            u_max: f64::INFINITY,
+            error: 0.0,
+        })
+    }
+
+    /// The IMC loop for the secondary plant `p2` with the filter time constant
+    /// `lambda2`, sampled at `ts`.
+    pub fn design(p2: &TransferFunction, lambda2: f64, ts: f64) -> Result<Self, Error> {
+        let (qn, qd) = imc_q(p2, lambda2)?;
+        let q = Lti::from_tf(&qn, &qd, ts, Discretization::Matched)?;
+        let model = Lti::from_tf(&p2.num, &p2.den, ts, Discretization::Zoh)?;
+        Imc::new(q, model, Delay::new_in(p2.delay_samples(ts)?)?)
+    }
+
+    /// Actuator limits (the model sees the limited value: IMC needs no anti-windup).
+    pub fn with_limits(mut self, u_min: f64, u_max: f64) -> Result<Self, Error> {
+        if u_min > u_max || u_min.is_nan() || u_max.is_nan() {
+            return Err(Error::InvalidLimits("u_min"));
+        }
+        self.u_min = u_min;
+        self.u_max = u_max;
+        Ok(self)
+    }
+
+    /// One sample: inner set point `r2`, secondary measurement `y2` (`None`: the
+    /// model error is taken as zero).
+    pub fn update(&mut self, r2: f64, y2: Option<f64>) -> f64 {
+        let ym = self.model.free_output();
+        let ymd = self.line.process(ym);
+        self.error = y2.map_or(0.0, |y| y - ymd);
+        let u = self.q.step(r2 - self.error).max(self.u_min).min(self.u_max);
+        self.model.advance(u);
+        u
+    }
+
+    /// The model error `y2 − P2m z^{−d2} u` of the last sample.
+    pub fn error(&self) -> f64 {
+        self.error
+    }
+
+    /// `Q(e^{jθ})`.
+    pub fn q_response(&self, theta: f64) -> Complex<f64> {
+        self.q.response(theta)
+    }
+
+    /// Zeroes every state.
+    pub fn reset(&mut self) {
+        self.q.reset();
+        self.model.reset();
+        self.line.reset();
+        self.error = 0.0;
+    }
+}
+
+/// `Q(s) = a2(s)/(b2(s)·(λ2 s + 1)^r)` for `P2 = b2/a2`: the IMC controller
+/// (numerator, denominator). `P2` must be stable and minimum phase.
+pub fn imc_q(p2: &TransferFunction, lambda2: f64) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let lambda2 = crate::real::positive(lambda2, "lambda2")?;
+    if p2.poles()?.iter().any(|(re, _)| *re >= 0.0) {
+        return Err(Error::Unsupported(
+            "the inner IMC loop needs a stable secondary process",
+        ));
+    }
+    if p2.zeros()?.iter().any(|(re, _)| *re >= 0.0) {
+        return Err(Error::Unsupported(
+            "the inner IMC loop needs a minimum-phase secondary process",
+        ));
+    }
+    let num = trim(&p2.num);
+    let den = trim(&p2.den);
+    let r = den.len().saturating_sub(num.len());
+    let mut qd = num;
+    for _ in 0..r {
+        qd = mul(&qd, &[lambda2, 1.0]);
+    }
+    Ok((den, qd))
+}
+
+/// The overall delay-free model `Gm(s) = P1(s)/(λ2 s + 1)^r` and its dead time
+/// `L1 + L2`: the primary loop's model `Pm = Mimc·P1` (Sec. 3.3).
+pub fn primary_model(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    lambda2: f64,
+) -> Result<TransferFunction, Error> {
+    let lambda2 = crate::real::positive(lambda2, "lambda2")?;
+    let r = trim(&p2.den).len().saturating_sub(trim(&p2.num).len());
+    let mut den = p1.den.clone();
+    for _ in 0..r {
+        den = mul(&den, &[lambda2, 1.0]);
+    }
+    TransferFunction::new(&p1.num, &den, p1.delay + p2.delay)
+}
+
+/// The primary controller of Uma et al. (`002_…` Sec. 4):
+/// `Gcs = (kp + ki/s + kd·s)/(τ s + 1)` with the set-point weight `ε` on the
+/// proportional term, as a [`PidConfig`]. The series filter is rewritten as a
+/// parallel PID with the derivative filter `τ`:
+///
+/// `Gcs = P' + ki/s + kd'·s/(τ s + 1)`, `P' = kp − ki·τ`, `kd' = kd − P'·τ`,
+///
+/// and the set-point path `(ε·kp·s + ki)/(s(τ s + 1))` by the weights
+/// `b = (ε·kp − ki·τ)/P'`, `c = −b·P'·τ/kd'` (derivative of the set point removed).
+pub fn series_pid(
+    kp: f64,
+    ki: f64,
+    kd: f64,
+    tau: f64,
+    epsilon: f64,
+    ts: f64,
+) -> Result<PidConfig<f64>, Error> {
+    let tau = crate::real::non_negative(tau, "tau")?;
+    let p = kp - ki * tau;
+    let kdp = kd - p * tau;
+    if kdp < -1e-12 * kd.abs().max(1.0) {
+        return Err(Error::OutOfRange(
+            "kd (the series-filtered PID needs kd >= (kp - ki*tau)*tau)",
+        ));
+    }
+    let kdp = kdp.max(0.0);
+    let bp = epsilon * kp - ki * tau;
+    let b = if p != 0.0 { bp / p } else { 1.0 };
+    let c = if kdp > 0.0 { -bp * tau / kdp } else { 0.0 };
+    let mut cfg = PidConfig::parallel(p, ki, kdp, ts)
+        .with_filter_time(tau)
+        .with_weights(b, c)
+        .with_anti_windup(AntiWindup::None);
+    if kdp == 0.0 && tau > 0.0 {
+        // a PI with a series lag: no derivative term can carry the lag
+        return Err(Error::Unsupported(
+            "tau without derivative action (set kd = (kp - ki*tau)*tau or tau = 0)",
+        ));
+    }
+    if tau == 0.0 {
+        cfg.tf = 0.0;
+    }
+    Ok(cfg)
+}
+
+/// Pole placement of the series-filtered PID `(kp + ki/s + kd s)/(τ s + 1)` on
+/// a delay-free model `Gm = n/d` of order 1 or 2: every closed-loop pole at
+/// `−1/λ`. The characteristic polynomial `s(τ s + 1)d + (kd s² + kp s + ki)n`
+/// is linear in `(τ, kd, kp, ki)`; matching it to `τ·d0·(s + 1/λ)^N`
+/// (`N = deg d + 2`) gives as many equations as unknowns (first order: no
+/// `kd`). Uma et al.'s Example 1 controller of `002_…` is exactly this design
+/// with `λ = 5 s` (`(s + 0.2)^4`), for an overall dead time of 6 s.
+/// When no causal filter achieves that (a slow `λ` against a fast model pole
+/// `−p`, e.g. `2/(s(0.5 s + 1))` with `λ > 2 s`), one closed-loop pole is
+/// placed at `−p` instead. Returns `(kp, ki, kd, tau)`.
+pub fn pole_placement(gm: &TransferFunction, lambda: f64) -> Result<[f64; 4], Error> {
+    let lambda = crate::real::positive(lambda, "lambda")?;
+    match place(gm, 1.0 / lambda, None) {
+        Err(Error::Numerical(_)) => {
+            let fastest = gm
+                .poles()?
+                .iter()
+                .filter(|(re, _)| *re < 0.0)
+                .map(|(re, im)| re.hypot(*im))
+                .fold(1.0 / lambda, f64::max);
+            place(gm, 1.0 / lambda, Some(fastest))
+        }
+        other => other,
+    }
+}
+
+/// Places the closed-loop poles at `−a` (one at `−b` when given).
+fn place(gm: &TransferFunction, a: f64, b: Option<f64>) -> Result<[f64; 4], Error> {
+    let d = trim(&gm.den);
+    let n = trim(&gm.num);
+    let deg = d.len().saturating_sub(1);
+    if !(1..=2).contains(&deg) || n.len() >= d.len() {
+        return Err(Error::Unsupported(
+            "pole placement of the primary PID needs a strictly proper model of order 1 or 2",
+        ));
+    }
+    let big_n = deg.saturating_add(2);
+    // target (s + a)^N or (s + a)^{N−1}(s + b), ascending coefficients
+    let mut target = alloc::vec![1.0];
+    for i in 0..big_n {
+        let root = match b {
+            Some(b) if i == 0 => b,
+            _ => a,
+        };
+        target = mul(&target, &[1.0, root]);
+    }
+    let asc = |p: &[f64]| -> Vec<f64> { p.iter().rev().copied().collect() };
+    let coef = |p: &[f64], k: usize| p.get(k).copied().unwrap_or(0.0);
+    let (da, na, ta) = (asc(&d), asc(&n), asc(&target));
+    let d0 = coef(&d, 0);
+    // columns: τ, kp, ki, (kd); rows: powers 0..N−1
+    let unknowns = if deg == 2 { 4 } else { 3 };
+    let mut m = [[0.0f64; 5]; 4];
+    for (k, row) in m.iter_mut().enumerate().take(unknowns) {
+        // τ: s²·d − d0·target; constant part s·d
+        let tau_col = if k >= 2 { coef(&da, k - 2) } else { 0.0 } - d0 * coef(&ta, k);
+        let kp_col = if k >= 1 { coef(&na, k - 1) } else { 0.0 };
+        let ki_col = coef(&na, k);
+        let kd_col = if k >= 2 { coef(&na, k - 2) } else { 0.0 };
+        let rhs = -(if k >= 1 { coef(&da, k - 1) } else { 0.0 });
+        *row = [tau_col, kp_col, ki_col, kd_col, rhs];
+        if unknowns == 3 {
+            row[3] = rhs;
+        }
+    }
+    let x = solve_small(&mut m, unknowns)?;
+    let (tau, kp, ki) = (x[0], x[1], x[2]);
+    let kd = if unknowns == 4 { x[3] } else { 0.0 };
+    if !(tau >= 0.0) {
+        return Err(Error::Numerical(
+            "pole placement gives a negative filter time constant (choose a larger lambda)",
+        ));
+    }
+    Ok([kp, ki, kd, tau])
+}
+
+/// Gauss–Jordan elimination on an `n×(n+1)` augmented system (`n ≤ 4`).
+fn solve_small(m: &mut [[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
+    for col in 0..n {
+        let piv = (col..n)
+            .max_by(|a, b| {
+                let va = m.get(*a).and_then(|r| r.get(col)).map_or(0.0, |v| v.abs());
+                let vb = m.get(*b).and_then(|r| r.get(col)).map_or(0.0, |v| v.abs());
+                va.total_cmp(&vb)
+            })
+            .unwrap_or(col);
+        m.swap(col, piv);
+        let prow = m.get(col).copied().unwrap_or([0.0; 5]);
+        let p = prow.get(col).copied().unwrap_or(0.0);
+        if p.abs() < 1e-300 {
+            return Err(Error::Numerical("pole placement (singular equations)"));
+        }
+        for (r, row) in m.iter_mut().enumerate().take(n) {
+            if r == col {
+                continue;
+            }
+            let f = row.get(col).copied().unwrap_or(0.0) / p;
+            for (v, pv) in row.iter_mut().zip(prow.iter()) {
+                *v -= f * pv;
+            }
+        }
+    }
+    let mut x = [0.0; 4];
+    for (i, xi) in x.iter_mut().enumerate().take(n) {
+        let row = m.get(i).copied().unwrap_or([0.0; 5]);
+        *xi = row.get(n).copied().unwrap_or(0.0) / row.get(i).copied().unwrap_or(1.0);
+    }
+    Ok(x)
+}
+
+/// Pole-zero matching `z = e^{s·ts}` of a continuous controller `num/den` that
+/// may be improper (a PD or PID with a lead, like Uma et al.'s `Gcd`): each
+/// excess zero gets a pole at `z = 0` (a backward difference), and the gain is
+/// matched at `s = 0` after removing the roots at the origin. Returns the
+/// discrete numerator and denominator (descending powers of `z`).
+pub fn matched(num: &[f64], den: &[f64], ts: f64) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let ts = crate::real::positive(ts, "ts")?;
+    let strip = |p: &[f64]| -> (Vec<f64>, usize) {
+        let mut p = trim(p);
+        let mut k = 0usize;
+        while p.len() > 1 && p.last().copied() == Some(0.0) {
+            p.pop();
+            k = k.saturating_add(1);
+        }
+        (p, k)
+    };
+    let (ns, nz0) = strip(num);
+    let (ds, dp0) = strip(den);
+    let map = |p: &[f64]| -> Result<Vec<f64>, Error> {
+        let mut out = alloc::vec![1.0];
+        if p.len() > 1 {
+            for (re, im) in poly_roots(p)? {
+                if im.abs() <= 1e-12 {
+                    out = mul(&out, &[1.0, -(re * ts).exp()]);
+                } else if im > 0.0 {
+                    let r = (re * ts).exp();
+                    out = mul(&out, &[1.0, -2.0 * r * (im * ts).cos(), r * r]);
+                }
+            }
+        }
+        Ok(out)
+    };
+    let (mut zn, mut zd) = (map(&ns)?, map(&ds)?);
+    let ev = |p: &[f64]| crate::poly::eval(p, 1.0);
+    // (z − 1)/ts ≈ s near s = 0
+    let cont = ns.last().copied().unwrap_or(1.0) / ds.last().copied().unwrap_or(1.0);
+    let power = i32::try_from(nz0).unwrap_or(0) - i32::try_from(dp0).unwrap_or(0);
+    let disc = ev(&zn) / ev(&zd) * ts.powi(power);
+    if !(disc.is_finite() && disc != 0.0) {
+        return Err(Error::Numerical("pole-zero matching gain"));
+    }
+    let k = cont / disc;
+    for _ in 0..nz0 {
+        zn = mul(&zn, &[1.0, -1.0]);
+    }
+    for _ in 0..dp0 {
+        zd = mul(&zd, &[1.0, -1.0]);
+    }
+    for v in zn.iter_mut() {
+        *v *= k;
+    }
+    while zn.len() > zd.len() {
+        zd.push(0.0);
+    }
+    Ok((zn, zd))
+}
+
+/// Any single-loop outer controller (its "actuator" is the inner set point
+/// `r2`) joined to the inner IMC loop.
+#[derive(Debug, Clone)]
+pub struct Cascade<O> {
+    outer: O,
+    inner: Imc,
+    names: &'static [&'static str],
+    r2: f64,
+    fault: bool,
+}
+
+/// Names of the cascade's own signals, before the outer controller's.
+pub const SIGNALS: &[&str] = &["r2", "inner_error"];
+
+impl<O> Cascade<O> {
+    /// `outer` around `inner`; `names` lists [`SIGNALS`] followed by the outer
+    /// controller's signal names.
+    pub fn new(outer: O, inner: Imc, names: &'static [&'static str]) -> Self {
+        Cascade {
+            outer,
+            inner,
+            names,
+            r2: 0.0,
+            fault: false,
+        }
+    }
+    /// The outer controller.
+    pub fn outer(&self) -> &O {
+        &self.outer
+    }
+    /// The inner loop.
+    pub fn inner(&self) -> &Imc {
+        &self.inner
+    }
+}
+
+impl<O: Controller<f64>> Cascade<O> {
+    fn step(&mut self, r: f64, y: f64, y2: Option<f64>) -> f64 {
+        self.r2 = self.outer.update(r, y);
+        let y2 = y2.filter(|v| v.is_finite());
+        let u = self.inner.update(self.r2, y2);
+        self.fault = self.outer.fault() || y2.is_none();
+        u
+    }
+}
+
+impl<O: Controller<f64>> Controller<f64> for Cascade<O> {
+    /// Without the secondary measurement the inner model error is taken as zero.
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        let u = self.step(r, y, None);
+        self.fault = self.outer.fault();
+        u
+    }
+    fn update_cascade(&mut self, r: f64, y: f64, y2: f64) -> f64 {
+        self.step(r, y, Some(y2))
+    }
+    fn is_cascade(&self) -> bool {
+        true
+    }
+    fn reset(&mut self) {
+        self.outer.reset();
+        self.inner.reset();
+        self.r2 = 0.0;
+        self.fault = false;
+    }
+    fn signal_names(&self) -> &'static [&'static str] {
+        self.names
+    }
+    fn signal(&self, i: usize) -> f64 {
+        match i {
+            0 => self.r2,
+            1 => self.inner.error(),
+            _ => self.outer.signal(i.saturating_sub(SIGNALS.len())),
+        }
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        self.outer.param_names()
+    }
+    fn param(&self, i: usize) -> f64 {
+        self.outer.param(i)
+    }
+    fn fault(&self) -> bool {
+        self.fault
+    }
+    /// The outer controller's `(Cr, Cy)` with the inner set point `r2` as its
+    /// actuator: the loop it closes is `Q·P1·P2` (the inner loop closed, nominal).
+    fn response(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
+        self.outer.response(theta)
+    }
+    fn inner_response(&self, theta: f64) -> Option<Complex<f64>> {
+        self.outer.inner_response(theta)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pole_placement_gives_uma_example_1() -> Result<(), Error> {
+        // Gm = 1/((2s + 1)(20s − 1)), λ = 5: kp 4.6571, ki 0.1829, kd 12.2857, τ 2.8571
+        let gm = TransferFunction::new(&[1.0], &mul(&[2.0, 1.0], &[20.0, -1.0]), 6.0)?;
+        let [kp, ki, kd, tau] = pole_placement(&gm, 5.0)?;
+        for (v, w) in [(kp, 4.6571), (ki, 0.1829), (kd, 12.2857), (tau, 2.8571)] {
+            assert!((v - w).abs() / w < 1e-3, "{v} vs {w}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn series_pid_equals_the_series_form() -> Result<(), Error> {
+        // the continuous limit: responses of Gcs and of the parallel form agree
+        let (kp, ki, kd, tau, eps) = (4.6571, 0.1829, 12.2857, 2.8571, 0.3);
+        let cfg = series_pid(kp, ki, kd, tau, eps, 1e-4)?;
+        let pid = crate::Pid::new(cfg)?;
+        for w in [0.01, 0.1, 1.0] {
+            let theta = w * 1e-4;
+            let (cr, cy) = pid.response(theta);
+            let s = Complex::new(0.0, w);
+            let one = Complex::real(1.0);
+            let lag = one / (s.scale(tau) + one);
+            let gy = (Complex::real(kp) + Complex::real(ki) / s + s.scale(kd)) * lag;
+            let gr = (Complex::real(eps * kp) + Complex::real(ki) / s) * lag;
+            assert!((cy - gy).abs() / gy.abs() < 1e-3, "{w}");
+            assert!((cr - gr).abs() / gr.abs() < 1e-3, "{w}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn matched_discretization_of_garcia_filters() -> Result<(), Error> {
+        // 002_… Example 1: γ1 = e^{−T/0.144} = 0.2494, ρ1 = e^{−T/3} = 0.9355
+        let (n, d) = matched(&[3.0, 1.0], &[0.144, 1.0], 0.2)?;
+        assert!((n[1] / n[0] + 0.9355).abs() < 1e-4);
+        assert!((d[1] + 0.2494).abs() < 1e-4);
+        // an improper PD gets a pole at the origin and keeps its DC gain
+        let (n, d) = matched(&[0.5, 1.0], &[1.0], 0.1)?;
+        assert_eq!(d, alloc::vec![1.0, 0.0]);
+        assert!((crate::poly::eval(&n, 1.0) - 1.0).abs() < 1e-12);
+        // an integrator 2/s becomes 2·Ts/(z − 1)
+        let (n, d) = matched(&[2.0], &[1.0, 0.0], 0.1)?;
+        assert!(
+            (n[0] - 0.2).abs() < 1e-12 && d == alloc::vec![1.0, -1.0],
+            "{n:?} {d:?}"
+        );
+        Ok(())
+    }
+}
