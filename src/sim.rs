@@ -1154,6 +1154,21 @@ pub struct RunOutput {
     pub setpoint: Vec<SetpointStep>,
 }
 
+impl RunOutput {
+    /// The controller's dead time: the model's, plus the secondary model's for
+    /// a cascade process (the delay of the delayed-reference metrics).
+    pub fn model_delay(&self) -> f64 {
+        self.model.delay + self.inner.as_ref().map_or(0.0, |(_, m)| m.delay)
+    }
+    /// The whole model from the plant input: `model`, or `model·inner model`.
+    pub fn whole_model(&self) -> TransferFunction {
+        match &self.inner {
+            Some((_, m2)) => self.model.series(m2).unwrap_or_else(|_| self.model.clone()),
+            None => self.model.clone(),
+        }
+    }
+}
+
 /// Why a scenario could not run.
 #[derive(Debug)]
 pub enum RunError {

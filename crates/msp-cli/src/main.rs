@@ -50,13 +50,21 @@ struct ScenarioArgs {
     /// Model used by the controller (default: the plant itself).
     #[arg(long, short = 'm')]
     model: Option<String>,
+    /// Cascade process: the secondary process, measured, feeding the plant (the primary),
+    /// e.g. "2e^-2s/(20s+1)"; the default controller is then fspcc.
+    #[arg(long)]
+    inner_plant: Option<String>,
+    /// The controller's model of the secondary process (default: the inner plant).
+    #[arg(long)]
+    inner_model: Option<String>,
     /// Closed-loop time constant for tuning (s).
     #[arg(long)]
     lambda: Option<f64>,
     /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
     #[arg(long)]
     rule: Option<String>,
-    /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05.
+    /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
+    /// SCHEME.KEY=VALUE applies to one scheme only (for compare).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
     set: Vec<(String, f64)>,
     /// Sample period (s); chosen from the plant when absent.
@@ -68,7 +76,8 @@ struct ScenarioArgs {
     /// Set-point step VALUE[@TIME] (repeatable); default 1@0.
     #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>)]
     setpoint: Vec<SetpointStep>,
-    /// Disturbance input|output[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable).
+    /// Disturbance input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable);
+    /// for a cascade process d2 = input, d1 = output, d0 = inner (at the secondary output).
     #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]
     disturbance: Vec<Disturbance>,
     /// Measurement-noise standard deviation.
@@ -116,7 +125,8 @@ struct CompareArgs {
     /// Controllers to compare, comma separated (e.g. karan-dey,smith).
     #[arg(long, short = 'c', value_delimiter = ',', required = true)]
     controllers: Vec<String>,
-    /// Perturbation of the plant, e.g. gain=+10%,delay=+10%,tau=-5%; the controllers keep the nominal model.
+    /// Perturbation of the plant, e.g. gain=+10%,delay=+10%,tau=-5% (inner_gain, inner_delay,
+    /// inner_tau for the secondary of a cascade); the controllers keep the nominal model.
     #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
     perturb: Option<Perturbation>,
     /// CSV with a column group per controller.
@@ -140,7 +150,8 @@ struct MarginsArgs {
     /// Use the exact discrete equivalent of the plant instead of the continuous plant behind a hold.
     #[arg(long)]
     discrete: bool,
-    /// Robust-stability test for a gain and delay uncertainty, e.g. gain=10%,delay=10%.
+    /// Robust-stability test (Eq. 17, max|T·Δ| < 1) for a plant perturbation, e.g.
+    /// gain=10%,delay=10%,tau=-20% (inner_gain, inner_delay, inner_tau for a cascade's secondary).
     #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
     uncertainty: Option<Perturbation>,
     /// Print JSON.
@@ -269,6 +280,16 @@ struct TuneArgs {
     /// Plant (or model) transfer function.
     #[arg(long, short = 'p')]
     plant: String,
+    /// Cascade process: the secondary process (the default controller is then fspcc).
+    #[arg(long)]
+    inner_plant: Option<String>,
+    /// Sample period (s) for the robust-stability test; chosen from the plant when absent.
+    #[arg(long)]
+    ts: Option<f64>,
+    /// Also report the robust-stability test (Eq. 17, max|T·Δ| < 1) for this perturbation,
+    /// e.g. delay=20%,tau=-20%.
+    #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
+    uncertainty: Option<Perturbation>,
     /// Controller name; default by plant kind.
     #[arg(long, short = 'c')]
     controller: Option<String>,
@@ -340,7 +361,20 @@ fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     macro_rules! over {
         ($($f:ident),*) => {$( if a.$f.is_some() { sc.$f = a.$f.clone(); } )*};
     }
-    over!(model, lambda, rule, ts, duration, noise, seed, umin, umax, substeps);
+    over!(
+        model,
+        inner_plant,
+        inner_model,
+        lambda,
+        rule,
+        ts,
+        duration,
+        noise,
+        seed,
+        umin,
+        umax,
+        substeps
+    );
     for (k, v) in &a.set {
         sc.set.insert(k.clone(), *v);
     }
@@ -399,6 +433,12 @@ fn compare(a: &CompareArgs) -> Result<(), CliError> {
             let mut one = sc.clone();
             one.controller = Some(c.clone());
             one.ts = runs.first().map(|r| r.ts);
+            if one.inner_plant.is_some() {
+                // the cascade's loop is broken at the inner set point
+                return msp::analysis::analyze(&one, msp::analysis::View::Discrete, None)
+                    .ok()
+                    .map(|an| an.margins);
+            }
             let (_, model) = one.parse().ok()?;
             let plant = runs.first()?.plant.clone();
             let built = one.build_controller(&model).ok()?;
@@ -603,29 +643,77 @@ fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
 fn tune(a: &TuneArgs) -> Result<(), CliError> {
     let plant = parse_plant(&a.plant)
         .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
-    let scheme = match &a.controller {
-        Some(n) => registry::find(n).map_err(|e| CliError::Input(e.to_string()))?,
-        None => registry::default_for(plant.kind()).map_err(|e| CliError::Input(e.to_string()))?,
+    let inner = a
+        .inner_plant
+        .as_deref()
+        .map(parse_plant)
+        .transpose()
+        .map_err(|e| CliError::Input(format!("invalid inner plant expression: {e}")))?;
+    let scheme = match (&a.controller, &inner) {
+        (Some(n), _) => registry::find(n).map_err(|e| CliError::Input(e.to_string()))?,
+        (None, Some(_)) => registry::find("fspcc").map_err(|e| CliError::Input(e.to_string()))?,
+        (None, None) => {
+            registry::default_for(plant.kind()).map_err(|e| CliError::Input(e.to_string()))?
+        }
     };
     let params = scheme
-        .tune_rule(&plant, a.lambda, a.rule.as_deref(), &a.set)
+        .tune_process(&plant, inner.as_ref(), a.lambda, a.rule.as_deref(), &a.set)
         .map_err(|e| CliError::Input(e.to_string()))?;
+    // Eq. 17 on the tuned controller, when asked for
+    let robust = match a.uncertainty {
+        Some(u) => {
+            let sc = Scenario {
+                plant: a.plant.clone(),
+                inner_plant: a.inner_plant.clone(),
+                controller: Some(scheme.name.to_string()),
+                lambda: a.lambda,
+                rule: a.rule.clone(),
+                set: a.set.iter().cloned().collect(),
+                ts: a.ts,
+                ..Scenario::default()
+            };
+            let an = msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?;
+            an.robust_peak
+        }
+        None => None,
+    };
     if a.json {
         let p: serde_json::Map<String, serde_json::Value> = params
             .0
             .iter()
             .map(|(k, v)| (k.to_string(), output::num(*v)))
             .collect();
-        let j = serde_json::json!({"plant": plant.to_string(), "controller": {"name": scheme.name, "params": p}});
+        let mut j = serde_json::json!({"plant": plant.to_string(), "controller": {"name": scheme.name, "params": p}});
+        if let Some(i) = &inner {
+            j["inner_plant"] = serde_json::json!(i.to_string());
+        }
+        if let Some(r) = robust {
+            j["robust_peak"] = output::num(r);
+            j["robustly_stable"] = serde_json::json!(r < 1.0);
+        }
         println!(
             "{}",
             serde_json::to_string_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?
         );
     } else {
         println!("plant       {} ({})", plant, plant.kind());
+        if let Some(i) = &inner {
+            println!("inner plant {} ({})", i, i.kind());
+        }
         println!("controller  {}  [{}]", scheme.name, scheme.source);
         for (k, v) in &params.0 {
             println!("  {k:<8} = {}", output::fmt_sig(*v));
+        }
+        if let Some(r) = robust {
+            println!(
+                "robust stability max|T·Δ| = {} ({})",
+                output::fmt_sig(r),
+                if r < 1.0 {
+                    "robustly stable"
+                } else {
+                    "not guaranteed"
+                }
+            );
         }
     }
     Ok(())

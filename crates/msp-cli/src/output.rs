@@ -63,7 +63,7 @@ pub fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
         .iter()
         .map(|(k, v)| (k.to_string(), num(*v)))
         .collect();
-    json!({
+    let mut j = json!({
         "plant": out.plant.to_string(),
         "plant_kind": out.plant.kind().to_string(),
         "model": out.model.to_string(),
@@ -75,7 +75,12 @@ pub fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
         "metrics_delayed_reference": metrics_json(&out.metrics_delayed_reference),
         "stable": out.result.diverged_at.is_none(),
         "warnings": warnings,
-    })
+    });
+    if let Some((p2, m2)) = &out.inner {
+        j["inner_plant"] = json!(p2.to_string());
+        j["inner_model"] = json!(m2.to_string());
+    }
+    j
 }
 
 /// `kp=0.0764 ti=40.2 …` for summaries.
@@ -117,9 +122,15 @@ pub fn summary(out: &RunOutput, warnings: &[String]) -> String {
     if out.model != out.plant {
         s.push_str(&format!("model       {}\n", out.model));
     }
+    if let Some((p2, m2)) = &out.inner {
+        s.push_str(&format!("inner plant {} ({})\n", p2, p2.kind()));
+        if m2 != p2 {
+            s.push_str(&format!("inner model {m2}\n"));
+        }
+    }
     s.push_str(&format!(
         "ts          {}{}\n",
-        describe_ts(&out.model, out.ts),
+        describe_ts(&out.whole_model(), out.ts),
         if out.ts_chosen {
             "  [chosen from the plant; --ts to change]"
         } else {
@@ -161,7 +172,7 @@ pub fn summary(out: &RunOutput, warnings: &[String]) -> String {
         fmt_sig(d.ise),
         fmt_sig(d.itae),
         fmt_sig(d.itse),
-        fmt_num(out.model.delay)
+        fmt_num(out.model_delay())
     ));
     for w in warnings {
         s.push_str(&format!("\nwarning: {w}"));
@@ -253,7 +264,7 @@ pub fn compare_table(
         }
         s.push('\n');
     }
-    head(&mut s, "frequency domain (loop at plant input)");
+    head(&mut s, "frequency domain (loop at the controller output)");
     type Figure = fn(&msp::analysis::Margins) -> f64;
     let freq: [(&str, Figure); 4] = [
         ("Gm (dB)", |m| m.gm_db),
@@ -435,6 +446,10 @@ pub fn margins_json(an: &msp::analysis::Analysis) -> Value {
     let mut o = Map::new();
     o.insert("plant".into(), json!(an.plant.to_string()));
     o.insert("model".into(), json!(an.model.to_string()));
+    if let Some((p2, m2)) = &an.inner_process {
+        o.insert("inner_plant".into(), json!(p2.to_string()));
+        o.insert("inner_model".into(), json!(m2.to_string()));
+    }
     o.insert("ts".into(), num(an.ts));
     let params: Map<String, Value> = an
         .params

@@ -157,11 +157,12 @@ fn disturbances(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Disturbance>> {
             .transpose()?
             .as_deref()
         {
-            Some("input") | Some("load") | None => Location::Input,
-            Some("output") => Location::Output,
+            Some("input") | Some("load") | Some("d2") | None => Location::Input,
+            Some("output") | Some("d1") => Location::Output,
+            Some("inner") | Some("d0") => Location::Inner,
             Some(o) => {
                 return Err(PyValueError::new_err(format!(
-                    "disturbance location '{o}': use 'input' or 'output'"
+                    "disturbance location '{o}': use 'input' (d2), 'output' (d1) or 'inner' (d0)"
                 )))
             }
         };
@@ -218,6 +219,14 @@ fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDi
     let d = PyDict::new(py);
     d.set_item("plant", out.plant.to_string())?;
     d.set_item("model", out.model.to_string())?;
+    d.set_item(
+        "inner_plant",
+        out.inner.as_ref().map(|(p, _)| p.to_string()),
+    )?;
+    d.set_item(
+        "inner_model",
+        out.inner.as_ref().map(|(_, m)| m.to_string()),
+    )?;
     d.set_item("ts", out.ts)?;
     d.set_item("duration", out.duration)?;
     let c = PyDict::new(py);
@@ -242,6 +251,16 @@ fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDi
     d.set_item("u", r.u.into_pyarray(py))?;
     d.set_item("d", r.d.into_pyarray(py))?;
     d.set_item("d_out", r.d_out.into_pyarray(py))?;
+    if !r.y2.is_empty() {
+        let rows = r.y2.len();
+        d.set_item("y2", r.y2.into_pyarray(py))?;
+        let d0 = if r.d_inner.is_empty() {
+            vec![0.0; rows]
+        } else {
+            r.d_inner
+        };
+        d.set_item("d_inner", d0.into_pyarray(py))?;
+    }
     d.set_item("signals", signals)?;
     Ok(d)
 }
@@ -284,11 +303,32 @@ fn scenario(
     })
 }
 
+/// The secondary process and its model of a cascade scenario.
+fn inner_of(
+    plant: Option<&Bound<'_, PyAny>>,
+    model: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<(TransferFunction, TransferFunction)>> {
+    match (plant, model) {
+        (None, None) => Ok(None),
+        (None, Some(_)) => Err(PyValueError::new_err(
+            "inner_model needs inner_plant (the secondary process)",
+        )),
+        (Some(p), m) => {
+            let p2 = plant_of(p)?;
+            let m2 = match m {
+                Some(m) => plant_of(m)?,
+                None => p2.clone(),
+            };
+            Ok(Some((p2, m2)))
+        }
+    }
+}
+
 /// Simulates the closed loop (see ``msp.run``); returns a dict of arrays and figures.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, model=None, ts=None, duration=None, setpoint=None,
-                    disturbance=None, noise=None, seed=None, umin=None, umax=None, lambda_=None, rule=None,
-                    substeps=None))]
+#[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
+                    ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
+                    umax=None, lambda_=None, rule=None, substeps=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -296,6 +336,8 @@ fn run<'py>(
     controller: Option<String>,
     params: Option<BTreeMap<String, f64>>,
     model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
     ts: Option<f64>,
     duration: Option<f64>,
     setpoint: Option<&Bound<'py, PyAny>>,
@@ -328,17 +370,18 @@ fn run<'py>(
         rule,
         substeps,
     )?;
+    let inner = inner_of(inner_plant, inner_model)?;
     let out = py
-        .allow_threads(|| sc.run_with(plant_tf, model_tf))
+        .allow_threads(|| sc.run_process(plant_tf, model_tf, inner))
         .map_err(value_err)?;
     output_dict(py, out)
 }
 
 /// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.
 #[pyfunction]
-#[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, ts=None, duration=None,
-                    setpoint=None, disturbance=None, noise=None, seed=None, umin=None, umax=None, lambda_=None,
-                    rule=None, substeps=None))]
+#[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
+                    inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
+                    seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None))]
 #[allow(clippy::too_many_arguments)]
 fn compare<'py>(
     py: Python<'py>,
@@ -347,6 +390,8 @@ fn compare<'py>(
     perturb: Option<&Bound<'py, PyAny>>,
     params: Option<BTreeMap<String, f64>>,
     model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
     ts: Option<f64>,
     duration: Option<f64>,
     setpoint: Option<&Bound<'py, PyAny>>,
@@ -376,30 +421,11 @@ fn compare<'py>(
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
-    let p = match perturb {
-        None => Perturbation::default(),
-        Some(obj) => {
-            if let Ok(s) = obj.extract::<String>() {
-                s.parse().map_err(value_err)?
-            } else {
-                let d: BTreeMap<String, f64> = obj.extract()?;
-                let mut p = Perturbation::default();
-                for (k, v) in d {
-                    match k.as_str() {
-                        "gain" => p.gain = v,
-                        "delay" => p.delay = v,
-                        "tau" => p.tau = v,
-                        o => {
-                            return Err(PyValueError::new_err(format!(
-                                "unknown perturbation '{o}': use gain, delay or tau"
-                            )))
-                        }
-                    }
-                }
-                p
-            }
-        }
-    };
+    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
+        sc.inner_plant = Some(p2.to_string());
+        sc.inner_model = Some(m2.to_string());
+    }
+    let p = perturbation_of(perturb)?.unwrap_or_default();
     let runs = py
         .allow_threads(|| msp::sim::compare(&sc, &controllers, p))
         .map_err(value_err)?;
@@ -408,6 +434,34 @@ fn compare<'py>(
         out.append(output_dict(py, r)?)?;
     }
     Ok(out)
+}
+
+/// A perturbation from ``"delay=20%,tau=-20%"`` or ``{"delay": 0.2, "tau": -0.2}``.
+fn perturbation_of(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Perturbation>> {
+    let Some(obj) = obj else {
+        return Ok(None);
+    };
+    if let Ok(s) = obj.extract::<String>() {
+        return s.parse().map(Some).map_err(value_err);
+    }
+    let d: BTreeMap<String, f64> = obj.extract()?;
+    let mut p = Perturbation::default();
+    for (k, v) in d {
+        match k.as_str() {
+            "gain" => p.gain = v,
+            "delay" => p.delay = v,
+            "tau" => p.tau = v,
+            "inner_gain" => p.inner_gain = v,
+            "inner_delay" => p.inner_delay = v,
+            "inner_tau" => p.inner_tau = v,
+            o => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown perturbation '{o}': use gain, delay, tau, inner_gain, inner_delay or inner_tau"
+                )))
+            }
+        }
+    }
+    Ok(Some(p))
 }
 
 fn margins_dict<'py>(py: Python<'py>, m: &msp::analysis::Margins) -> PyResult<Bound<'py, PyDict>> {
@@ -420,8 +474,8 @@ fn margins_dict<'py>(py: Python<'py>, m: &msp::analysis::Margins) -> PyResult<Bo
 
 /// Margins, stability region and robust-stability test (see ``msp.margins``).
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, model=None, ts=None, lambda_=None, rule=None,
-                    discrete=false, uncertainty=None))]
+#[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
+                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None))]
 #[allow(clippy::too_many_arguments)]
 fn margins<'py>(
     py: Python<'py>,
@@ -429,34 +483,31 @@ fn margins<'py>(
     controller: Option<String>,
     params: Option<BTreeMap<String, f64>>,
     model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
     ts: Option<f64>,
     lambda_: Option<f64>,
     rule: Option<String>,
     discrete: bool,
-    uncertainty: Option<(f64, f64)>,
+    uncertainty: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut sc = scenario(
         controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
+        sc.inner_plant = Some(p2.to_string());
+        sc.inner_model = Some(m2.to_string());
+    }
+    let uncertainty = perturbation_of(uncertainty)?;
     let view = if discrete {
         msp::analysis::View::Discrete
     } else {
         msp::analysis::View::Sampled
     };
     let an = py
-        .allow_threads(|| {
-            msp::analysis::analyze(
-                &sc,
-                view,
-                uncertainty.map(|(gain, delay)| Perturbation {
-                    gain,
-                    delay,
-                    ..Perturbation::default()
-                }),
-            )
-        })
+        .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
         .map_err(value_err)?;
     let d = margins_dict(py, &an.margins)?;
     d.set_item("plant", an.plant.to_string())?;
@@ -662,23 +713,26 @@ fn identify<'py>(
 
 /// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, lambda_=None, rule=None))]
+#[pyo3(signature = (plant, controller=None, params=None, *, inner_plant=None, lambda_=None, rule=None))]
 fn tune<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
     controller: Option<String>,
     params: Option<BTreeMap<String, f64>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
     lambda_: Option<f64>,
     rule: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let tf = plant_of(plant)?;
-    let scheme = match controller {
-        Some(n) => registry::find(&n).map_err(value_err)?,
-        None => registry::default_for(tf.kind()).map_err(value_err)?,
+    let inner = inner_plant.map(plant_of).transpose()?;
+    let scheme = match (controller, &inner) {
+        (Some(n), _) => registry::find(&n).map_err(value_err)?,
+        (None, Some(_)) => registry::find("fspcc").map_err(value_err)?,
+        (None, None) => registry::default_for(tf.kind()).map_err(value_err)?,
     };
     let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
     let p = scheme
-        .tune_rule(&tf, lambda_, rule.as_deref(), &overrides)
+        .tune_process(&tf, inner.as_ref(), lambda_, rule.as_deref(), &overrides)
         .map_err(value_err)?;
     let d = PyDict::new(py);
     d.set_item("name", scheme.name)?;
@@ -697,6 +751,7 @@ fn controllers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         d.set_item("summary", s.summary)?;
         d.set_item("source", s.source)?;
         d.set_item("params", s.params.to_vec())?;
+        d.set_item("cascade", s.is_cascade())?;
         d.set_item(
             "plants",
             s.plants.iter().map(|k| k.to_string()).collect::<Vec<_>>(),
@@ -736,28 +791,31 @@ pub struct Controller {
 impl Controller {
     /// Tunes scheme ``name`` for ``plant`` (model), builds it at period ``ts``.
     #[new]
-    #[pyo3(signature = (name, plant, ts, params=None, *, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None))]
+    #[pyo3(signature = (name, plant, ts, params=None, *, inner_plant=None, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         name: &str,
         plant: &Bound<'_, PyAny>,
         ts: f64,
         params: Option<BTreeMap<String, f64>>,
+        inner_plant: Option<&Bound<'_, PyAny>>,
         umin: f64,
         umax: f64,
         lambda_: Option<f64>,
         rule: Option<String>,
     ) -> PyResult<Self> {
         let tf = plant_of(plant)?;
+        let p2 = inner_plant.map(plant_of).transpose()?;
         let scheme = registry::find(name).map_err(value_err)?;
         let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
         let p = scheme
-            .tune_rule(&tf, lambda_, rule.as_deref(), &overrides)
+            .tune_process(&tf, p2.as_ref(), lambda_, rule.as_deref(), &overrides)
             .map_err(value_err)?;
         let inner = scheme
-            .build_with(
+            .build_process(
                 &p,
                 &tf,
+                p2.as_ref(),
                 &Build {
                     ts,
                     u_min: umin,
@@ -771,19 +829,50 @@ impl Controller {
             params: p,
         })
     }
-    /// One sample: set point and measurement in, actuator value out.
-    fn update(&mut self, r: f64, y: f64) -> f64 {
-        self.inner.update(r, y)
+    /// One sample: set point and measurement in, actuator value out; ``y2`` is
+    /// the secondary measurement of a cascade (ignored by single-loop schemes).
+    #[pyo3(signature = (r, y, y2=None))]
+    fn update(&mut self, r: f64, y: f64, y2: Option<f64>) -> f64 {
+        match y2 {
+            Some(y2) => self.inner.update_cascade(r, y, y2),
+            None => self.inner.update(r, y),
+        }
     }
-    /// ``update`` over arrays of set points and measurements, looped in Rust.
+    /// ``update`` over arrays of set points and measurements (and secondary
+    /// measurements), looped in Rust.
+    #[pyo3(signature = (r, y, y2=None))]
     fn update_many<'py>(
         &mut self,
         py: Python<'py>,
         r: PyReadonlyArray1<'py, f64>,
         y: PyReadonlyArray1<'py, f64>,
+        y2: Option<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let c = &mut self.inner;
-        loop_many(py, r, y, |r, y| c.update(r, y))
+        match y2 {
+            None => loop_many(py, r, y, |r, y| c.update(r, y)),
+            Some(y2) => {
+                let y2 = y2.as_slice()?;
+                if y2.len() != y.len()? {
+                    return Err(PyValueError::new_err(format!(
+                        "y has {} samples but y2 has {}",
+                        y.len()?,
+                        y2.len()
+                    )));
+                }
+                let mut k = 0usize;
+                loop_many(py, r, y, |r, y| {
+                    let u = c.update_cascade(r, y, y2.get(k).copied().unwrap_or(f64::NAN));
+                    k += 1;
+                    u
+                })
+            }
+        }
+    }
+    /// True for a cascade scheme (pass ``y2`` to ``update``).
+    #[getter]
+    fn is_cascade(&self) -> bool {
+        self.inner.is_cascade()
     }
     /// Zeroes every state.
     fn reset(&mut self) {

@@ -202,3 +202,52 @@ def test_autotune_and_identify() -> None:
     y = np.where(t > 9, 2 * (1 - np.exp(-(t - 9) / 5)), 0.0)
     fit = msp.identify(t, u, y, "fopdt")
     assert abs(fit["k"] - 2) < 0.02 and abs(fit["t"] - 5) < 0.1 and abs(fit["l"] - 4) < 0.1
+
+
+GARCIA_1 = {"plant": "e^-4s/(20s-1)", "inner_plant": "2e^-2s/(20s+1)"}
+
+
+@pytest.mark.skipif(not pathlib.Path(MSP_BIN).exists(), reason="the msp binary is not built")
+def test_cascade_results_equal_the_cli_bit_for_bit() -> None:
+    ref = cli_csv("--plant", GARCIA_1["plant"], "--inner-plant", GARCIA_1["inner_plant"], "--ts", "0.2",
+                  "--duration", "200", "--disturbance", "d2:-1@50", "--disturbance", "d0:-0.5@100",
+                  "--disturbance", "d1:-0.2@150", "--controller", "gpcc")
+    res = msp.run(GARCIA_1["plant"], "gpcc", inner_plant=GARCIA_1["inner_plant"], ts=0.2, duration=200,
+                  disturbance=["d2:-1@50", {"location": "d0", "value": -0.5, "at": 100},
+                               {"location": "output", "value": -0.2, "at": 150}])
+    for key in ("t", "r", "y", "u", "d", "d_out", "y2", "d_inner"):
+        assert np.array_equal(getattr(res, key), ref[key]), key
+    for name, values in res.signals.items():
+        assert np.array_equal(values, ref[name]), name
+    assert res.inner_plant == "2*e^(-2s)/(20s + 1)" and res.stable
+
+
+def test_cascade_controller_per_sample_equals_the_simulation() -> None:
+    res = msp.run(GARCIA_1["plant"], "fspcc", inner_plant=GARCIA_1["inner_plant"], ts=0.2, duration=100)
+    c = msp.Fspcc(GARCIA_1["plant"], 0.2, inner_plant=GARCIA_1["inner_plant"])
+    assert c.is_cascade and c.name == "fspcc"
+    u = np.array([c.update(r, y, y2) for r, y, y2 in zip(res.r, res.y, res.y2)])
+    assert np.array_equal(u, res.u)
+    again = msp.Fspcc(GARCIA_1["plant"], 0.2, inner_plant=GARCIA_1["inner_plant"])
+    assert np.array_equal(again.update_many(res.r, res.y, res.y2), res.u)
+    assert again.r2 == c.r2
+
+
+def test_cascade_compare_margins_and_tune() -> None:
+    runs = msp.compare(GARCIA_1["plant"], ["fspcc", "gpcc"], perturb={"delay": 0.2, "tau": -0.2},
+                       inner_plant=GARCIA_1["inner_plant"], ts=0.2, duration=300)
+    assert all(r.stable and r.plant == "e^(-4.8s)/(16s - 1)" for r in runs)
+    m = msp.margins(GARCIA_1["plant"], "gpcc", inner_plant=GARCIA_1["inner_plant"], ts=0.2,
+                    uncertainty="delay=20%,tau=-20%")
+    assert m["stable"] and m["robust_peak"] > 0.0
+    if pathlib.Path(MSP_BIN).exists():
+        import json
+
+        out = subprocess.run([MSP_BIN, "margins", "--plant", GARCIA_1["plant"], "--inner-plant",
+                              GARCIA_1["inner_plant"], "-c", "gpcc", "--ts", "0.2", "--json", "--uncertainty",
+                              "delay=20%,tau=-20%"], check=True, capture_output=True, text=True).stdout
+        assert json.loads(out)["robust_peak"] == m["robust_peak"]
+    t = msp.tune(GARCIA_1["plant"], inner_plant=GARCIA_1["inner_plant"])
+    assert t["name"] == "fspcc" and t["params"]["lambda2"] == 2.0
+    with pytest.raises(ValueError, match="inner"):
+        msp.run(GARCIA_1["plant"], "fspcc")

@@ -27,15 +27,19 @@ __all__ = [
     "DisturbanceEstimator",
     "FilteredSmith",
     "FilteredSmithUnstable",
+    "Fspcc",
+    "Gpcc",
     "Huang",
     "KaranDey",
     "KayaAtherton",
+    "KayaCascade",
     "MatausekMicic",
     "Pid",
     "PidLoop",
     "Plant",
     "Result",
     "SmithPredictor",
+    "Uma",
     "WatanabeIto",
     "__version__",
     "compare",
@@ -85,6 +89,11 @@ class Result:
         Time, set point, plant output, actuator value, input (load) disturbance.
     d_out : numpy.ndarray
         Output disturbance.
+    y2, d_inner : numpy.ndarray or None
+        Cascade processes: the secondary output as measured and the disturbance
+        ``d0`` at the secondary output (``None`` for a single plant).
+    inner_plant, inner_model : str or None
+        Cascade processes: the secondary process and the controller's model of it.
     signals : dict of str to numpy.ndarray
         The controller's internal signals (also readable as attributes).
     metrics, metrics_delayed_reference : dict of str to float
@@ -100,6 +109,10 @@ class Result:
     u: np.ndarray
     d: np.ndarray
     d_out: np.ndarray
+    y2: Optional[np.ndarray]
+    d_inner: Optional[np.ndarray]
+    inner_plant: Optional[str]
+    inner_model: Optional[str]
     signals: Dict[str, np.ndarray]
     metrics: Dict[str, float]
     metrics_delayed_reference: Dict[str, float]
@@ -114,6 +127,8 @@ class Result:
         for key in ("t", "r", "y", "u", "d", "d_out", "signals", "metrics", "metrics_delayed_reference",
                     "controller", "plant", "model", "ts", "duration", "stable"):
             setattr(self, key, raw[key])
+        for key in ("y2", "d_inner", "inner_plant", "inner_model"):
+            setattr(self, key, raw.get(key))
 
     def __getattr__(self, name: str) -> np.ndarray:
         signals = self.__dict__.get("signals", {})
@@ -130,6 +145,8 @@ class Result:
         import pandas as pd  # type: ignore[import-untyped]
 
         cols: Dict[str, np.ndarray] = {"r": self.r, "y": self.y, "u": self.u, "d": self.d}
+        if self.y2 is not None:
+            cols["y2"] = self.y2
         cols.update(self.signals)
         return pd.DataFrame(cols, index=pd.Index(self.t, name="t"))
 
@@ -147,6 +164,8 @@ def run(
     *,
     delay: Optional[float] = None,
     model: Optional[PlantLike] = None,
+    inner_plant: Optional[PlantLike] = None,
+    inner_model: Optional[PlantLike] = None,
     ts: Optional[float] = None,
     duration: Optional[float] = None,
     setpoint: Union[None, float, str, Sequence[Union[float, str, Tuple[float, float]]]] = None,
@@ -171,15 +190,22 @@ def run(
         Overrides of tuned parameters by report name (``{"kp": 0.05}``), like the CLI's ``--set``.
     setpoint : float, "V@T" or list of (value, time), optional
         Default: a unit step at t = 0.
+    inner_plant, inner_model : str, Plant or control.TransferFunction, optional
+        A cascade process (``002_0ed51b14a8593ff0.txt`` Fig. 1): the secondary process, whose
+        output ``y2`` is measured and drives ``plant``; the default controller is then ``fspcc``.
     disturbance : "input:V@T", dict or list of them, optional
-        Dicts have ``location`` ("input"/"output"), ``value``, ``at``, ``shape`` ("step", "ramp",
-        "sine") and ``freq`` (Hz).
+        Dicts have ``location`` ("input"/"output", and "inner" for a cascade's secondary output;
+        the paper's ``d2``/``d1``/``d0`` are accepted too), ``value``, ``at``, ``shape``
+        ("step", "ramp", "sine") and ``freq`` (Hz).
     """
     p = _plant(plant, delay)
     m = _plant(model) if model is not None else None
+    ip = _plant(inner_plant) if inner_plant is not None else None
+    im = _plant(inner_model) if inner_model is not None else None
     dist: Any = list(disturbance) if isinstance(disturbance, (list, tuple)) else disturbance
     sp: Any = list(setpoint) if isinstance(setpoint, (list, tuple)) else setpoint
-    raw = _msp.run(p, controller, dict(params) if params else None, model=m, ts=ts, duration=duration,
+    raw = _msp.run(p, controller, dict(params) if params else None, model=m, inner_plant=ip, inner_model=im,
+                   ts=ts, duration=duration,
                    setpoint=sp, disturbance=dist, noise=noise, seed=seed, umin=umin, umax=umax,
                    lambda_=lambda_, rule=rule, substeps=substeps)
     return Result(raw)
@@ -195,13 +221,15 @@ def compare(
 ) -> List[Result]:
     """Run each controller on the same scenario, as ``msp compare`` does.
 
-    ``perturb`` (``"gain=+10%,delay=+10%"`` or ``{"gain": 0.1, "delay": 0.1, "tau": 0.0}``)
-    changes the plant while every controller keeps the nominal model. The other
-    keywords are those of :func:`run`.
+    ``perturb`` (``"gain=+10%,delay=+10%"`` or ``{"gain": 0.1, "delay": 0.1, "tau": 0.0}``;
+    ``inner_gain``, ``inner_delay``, ``inner_tau`` for a cascade's secondary) changes the plant
+    while every controller keeps the nominal model. The other keywords are those of :func:`run`;
+    ``params`` keys ``"scheme.name"`` apply to one scheme only.
     """
     p = _plant(plant, delay)
-    if "model" in scenario and scenario["model"] is not None:
-        scenario["model"] = _plant(scenario["model"])
+    for key in ("model", "inner_plant", "inner_model"):
+        if scenario.get(key) is not None:
+            scenario[key] = _plant(scenario[key])
     for key in ("setpoint", "disturbance"):
         if isinstance(scenario.get(key), tuple):
             scenario[key] = list(scenario[key])
@@ -235,6 +263,8 @@ def margins(
     *,
     delay: Optional[float] = None,
     model: Optional[PlantLike] = None,
+    inner_plant: Optional[PlantLike] = None,
+    inner_model: Optional[PlantLike] = None,
     ts: Optional[float] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
@@ -245,21 +275,22 @@ def margins(
 
     Returns a dict with ``gm``, ``gm_db``, ``pm`` (degrees), ``wcg``, ``wcp``, ``dm`` (s),
     ``ms``, ``mt`` (python-control / MATLAB names), ``inner`` (the model loop's margins),
-    ``region`` (gain factor, delay margin pairs), ``stable``, ``robust_peak`` (``max|T·Δ|``
-    for ``uncertainty``: ``"gain=10%,delay=10%"``, a dict or a ``(gain, delay)`` pair), and
-    the loop response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``).
+    ``region`` (gain factor, delay margin pairs), ``stable``, ``robust_peak`` (Eq. 17,
+    ``max|T·Δ|`` with the exact uncertainty of the perturbation ``uncertainty``:
+    ``"gain=10%,delay=10%,tau=-20%"``, a dict of the same keys, or a ``(gain, delay)`` pair), and
+    the loop response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``). For a cascade scheme
+    (``inner_plant``) the loop is broken at the inner set point ``r2``.
     """
-    unc: Optional[Tuple[float, float]] = None
-    if isinstance(uncertainty, str):
-        parts = dict(p.split("=") for p in uncertainty.replace(" ", "").split(",") if p)
-        unc = (_relative(parts.get("gain", "0")), _relative(parts.get("delay", "0")))
-    elif isinstance(uncertainty, Mapping):
-        unc = (float(uncertainty.get("gain", 0.0)), float(uncertainty.get("delay", 0.0)))
+    unc: Any = None
+    if isinstance(uncertainty, (str, Mapping)):
+        unc = uncertainty if isinstance(uncertainty, str) else {k: float(v) for k, v in uncertainty.items()}
     elif uncertainty is not None:
-        unc = (float(uncertainty[0]), float(uncertainty[1]))
+        unc = {"gain": float(uncertainty[0]), "delay": float(uncertainty[1])}
     return _msp.margins(_plant(plant, delay), controller, dict(params) if params else None,
-                        model=_plant(model) if model is not None else None, ts=ts, lambda_=lambda_,
-                        rule=rule, discrete=discrete, uncertainty=unc)
+                        model=_plant(model) if model is not None else None,
+                        inner_plant=_plant(inner_plant) if inner_plant is not None else None,
+                        inner_model=_plant(inner_model) if inner_model is not None else None,
+                        ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, uncertainty=unc)
 
 
 def sweep(
@@ -333,11 +364,15 @@ def tune(
     params: Optional[Mapping[str, float]] = None,
     *,
     delay: Optional[float] = None,
+    inner_plant: Optional[PlantLike] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
 ) -> Dict[str, Any]:
-    """The tuned parameters, ``{"name": ..., "params": {...}}``, as ``msp tune --json`` prints."""
-    return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None, lambda_=lambda_, rule=rule)
+    """The tuned parameters, ``{"name": ..., "params": {...}}``, as ``msp tune --json`` prints
+    (``inner_plant`` for a cascade process)."""
+    return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None,
+                     inner_plant=_plant(inner_plant) if inner_plant is not None else None,
+                     lambda_=lambda_, rule=rule)
 
 
 class _Scheme(Controller):
@@ -346,10 +381,13 @@ class _Scheme(Controller):
     scheme: str = ""
 
     def __new__(cls, plant: PlantLike, ts: float, params: Optional[Mapping[str, float]] = None, *,
-                delay: Optional[float] = None, umin: float = float("-inf"), umax: float = float("inf"),
+                delay: Optional[float] = None, inner_plant: Optional[PlantLike] = None,
+                umin: float = float("-inf"), umax: float = float("inf"),
                 lambda_: Optional[float] = None) -> "_Scheme":
+        ip = _plant(inner_plant) if inner_plant is not None else None
         obj = super().__new__(cls, cls.scheme, _plant(plant, delay), ts,  # type: ignore[arg-type]
-                              dict(params) if params else None, umin=umin, umax=umax, lambda_=lambda_)
+                              dict(params) if params else None, inner_plant=ip, umin=umin, umax=umax,
+                              lambda_=lambda_)
         return obj  # type: ignore[return-value]
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
@@ -427,8 +465,34 @@ class DisturbanceEstimator(_Scheme):
     scheme = "disturbance-estimator"
 
 
+class Fspcc(_Scheme):
+    """Cascade: the filtered Smith predictor outside an IMC inner loop (scheme ``fspcc``);
+    build with ``inner_plant=`` and call ``update(r, y, y2)``."""
+
+    scheme = "fspcc"
+
+
+class Gpcc(_Scheme):
+    """Cascade: the generalized predictor outside an IMC inner loop (scheme ``gpcc``)."""
+
+    scheme = "gpcc"
+
+
+class Uma(_Scheme):
+    """Cascade competitor: Uma et al. 2009 (scheme ``uma``; set ``kpd``, ``kid``, ``kdd``)."""
+
+    scheme = "uma"
+
+
+class KayaCascade(_Scheme):
+    """Cascade competitor: Kaya et al. 2008 (scheme ``kaya-cascade``)."""
+
+    scheme = "kaya-cascade"
+
+
 _SCHEME_CLASSES = (PidLoop, SmithPredictor, FilteredSmith, Huang, WatanabeIto, AstromHangLim, MatausekMicic,
-                   KayaAtherton, KaranDey, DisturbanceEstimator, FilteredSmithUnstable)
+                   KayaAtherton, KaranDey, DisturbanceEstimator, FilteredSmithUnstable, Fspcc, Gpcc, Uma,
+                   KayaCascade)
 
 
 def _check_classes() -> List[str]:

@@ -29,6 +29,8 @@ def run(
     params: Optional[Mapping[str, float]] = None,
     *,
     model: Union[str, Plant, None] = None,
+    inner_plant: Union[str, Plant, None] = None,
+    inner_model: Union[str, Plant, None] = None,
     ts: Optional[float] = None,
     duration: Optional[float] = None,
     setpoint: Any = None,
@@ -48,6 +50,8 @@ def compare(
     perturb: Any = None,
     params: Optional[Mapping[str, float]] = None,
     model: Union[str, Plant, None] = None,
+    inner_plant: Union[str, Plant, None] = None,
+    inner_model: Union[str, Plant, None] = None,
     ts: Optional[float] = None,
     duration: Optional[float] = None,
     setpoint: Any = None,
@@ -65,6 +69,7 @@ def tune(
     controller: Optional[str] = None,
     params: Optional[Mapping[str, float]] = None,
     *,
+    inner_plant: Union[str, Plant, None] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
 ) -> Dict[str, Any]: ...
@@ -92,11 +97,13 @@ def margins(
     params: Optional[Mapping[str, float]] = None,
     *,
     model: Union[str, Plant, None] = None,
+    inner_plant: Union[str, Plant, None] = None,
+    inner_model: Union[str, Plant, None] = None,
     ts: Optional[float] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     discrete: bool = False,
-    uncertainty: Optional[Tuple[float, float]] = None,
+    uncertainty: Any = None,
 ) -> Dict[str, Any]: ...
 def sweep(
     plant: Union[str, Plant],
@@ -126,14 +133,22 @@ class Controller:
         ts: float,
         params: Optional[Mapping[str, float]] = None,
         *,
+        inner_plant: Union[str, Plant, None] = None,
         umin: float = ...,
         umax: float = ...,
         lambda_: Optional[float] = None,
         rule: Optional[str] = None,
     ) -> "Controller": ...
-    def update(self, r: float, y: float) -> float: ...
-    def update_many(self, r: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
+    def update(self, r: float, y: float, y2: Optional[float] = None) -> float: ...
+    def update_many(
+        self,
+        r: npt.NDArray[np.float64],
+        y: npt.NDArray[np.float64],
+        y2: Optional[npt.NDArray[np.float64]] = None,
+    ) -> npt.NDArray[np.float64]: ...
     def reset(self) -> None: ...
+    @property
+    def is_cascade(self) -> bool: ...
     def signal(self, name: str) -> float: ...
     @property
     def name(self) -> str: ...
