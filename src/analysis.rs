@@ -46,12 +46,14 @@ pub enum View {
 
 /// The exact ZOH equivalent of `plant` at `ts` as a frequency response: with
 /// `θ = (k + f)·Ts`, `x[n+1] = Φx[n] + Γ₁v[n−k−1] + Γ₂v[n−k]`, `y = Cx`, where
-/// `Γ₁ = Φ((1 − f)Ts)·Γ(f·Ts)` and `Γ₂ = Γ((1 − f)Ts)`.
+/// `Γ₁ = Φ((1 − f)Ts)·Γ(f·Ts)` and `Γ₂ = Γ((1 − f)Ts)`. A biproper plant's
+/// direct term `D` acts on the input in effect just before the sample instant,
+/// `D·v[n−k−1]` (the simulator's convention).
 pub struct DiscretePlant {
-    full: Lti<f64, 8>,
     late: Lti<f64, 8>,
     early: Option<Lti<f64, 8>>,
     k: f64,
+    direct: f64,
 }
 
 impl DiscretePlant {
@@ -63,39 +65,52 @@ impl DiscretePlant {
             k += 1.0;
             f = 0.0;
         }
-        let full = plant.to_lti::<8>(ts)?;
+        // the strictly proper part and the direct term
+        let num = crate::poly::trim(&plant.num);
+        let den = crate::poly::trim(&plant.den);
+        let direct = if num.len() >= den.len() {
+            num.first().copied().unwrap_or(0.0) / den.first().copied().unwrap_or(1.0)
+        } else {
+            0.0
+        };
+        let rest: std::vec::Vec<f64> = if direct != 0.0 {
+            num.iter().zip(&den).map(|(n, a)| n - direct * a).collect()
+        } else {
+            num
+        };
+        let full = Lti::<f64, 8>::from_tf(&rest, &den, ts, Discretization::Zoh)?;
         if f <= 1e-12 {
             return Ok(DiscretePlant {
-                full,
                 late: full,
                 early: None,
                 k,
+                direct,
             });
         }
         // y(z) = C(zI − Φ)⁻¹[Γ₂ z^{−k} + Γ₁ z^{−k−1}] v: both pieces share Φ and C, so
         // each is the full block with its own Γ (a piece's ZOH over part of the period,
         // propagated to the period's end)
-        let a = Lti::<f64, 8>::from_tf(&plant.num, &plant.den, f * ts, Discretization::Zoh)?;
-        let b =
-            Lti::<f64, 8>::from_tf(&plant.num, &plant.den, (1.0 - f) * ts, Discretization::Zoh)?;
+        let a = Lti::<f64, 8>::from_tf(&rest, &den, f * ts, Discretization::Zoh)?;
+        let b = Lti::<f64, 8>::from_tf(&rest, &den, (1.0 - f) * ts, Discretization::Zoh)?;
         let early = full.with_input(&b.propagate(&a.input_vector()))?;
         let late = full.with_input(&b.input_vector())?;
         Ok(DiscretePlant {
-            full,
             late,
             early: Some(early),
             k,
+            direct,
         })
     }
 
     /// `P_d(e^{jθ})`.
     pub fn response(&self, theta: f64) -> Complex<f64> {
-        let _ = &self.full;
         let late = self.late.response(theta).mul(Complex::cis(-theta * self.k));
-        match &self.early {
+        let d = Complex::cis(-theta * (self.k + 1.0)).scale(self.direct);
+        let p = match &self.early {
             None => late,
             Some(e) => late.add(e.response(theta).mul(Complex::cis(-theta * (self.k + 1.0)))),
-        }
+        };
+        p.add(d)
     }
 }
 

@@ -413,6 +413,41 @@ impl TransferFunction {
         Lti::from_tf(&self.num, &self.den, ts, Discretization::Zoh)
     }
 
+    /// The delay-free part as a controller's model samples it, strictly proper:
+    /// the ZOH discretization, and for a biproper plant `G = D + G'` the
+    /// output just before the new input acts — the simulator's convention
+    /// ([`crate::sim`]) and a sensor's that is read before the actuator moves:
+    /// `G'(z) + D·z^{−1}` (one order more). No model is then algebraic.
+    pub fn to_model_lti<const N: usize>(&self, ts: f64) -> Result<Lti<f64, N>, Error> {
+        let (num, den) = (trim(&self.num), trim(&self.den));
+        let lead = den.first().copied().unwrap_or(1.0);
+        if num.len() < den.len() || num.iter().all(|v| *v == 0.0) {
+            return self.to_lti(ts);
+        }
+        let d = num.first().copied().unwrap_or(0.0) / lead;
+        let rest: Vec<f64> = num.iter().zip(&den).map(|(n, a)| n - d * a).collect();
+        let (nz, dz) = if den.len() > 1 {
+            let sp: Lti<f64, N> = Lti::from_tf(&rest, &den, ts, Discretization::Zoh)?;
+            crate::dtc::fsp::model_tf(&sp)
+        } else {
+            (vec![0.0], vec![1.0])
+        };
+        // (z·N'(z) + D·Den(z)) / (z·Den(z))
+        let num2 = add(
+            &mul(&nz, &[1.0, 0.0]),
+            &dz.iter().map(|a| d * a).collect::<Vec<f64>>(),
+        );
+        let den2 = mul(&dz, &[1.0, 0.0]);
+        Lti::from_discrete_tf(&num2, &den2)
+    }
+
+    /// The order of [`TransferFunction::to_model_lti`]: one more for a biproper plant.
+    pub fn model_order(&self) -> usize {
+        let biproper =
+            trim(&self.num).len() >= trim(&self.den).len() && self.num.iter().any(|v| *v != 0.0);
+        self.order().saturating_add(usize::from(biproper))
+    }
+
     /// The dead time in samples of period `ts`.
     pub fn delay_samples(&self, ts: f64) -> Result<f64, Error> {
         crate::delay::samples(self.delay, ts)

@@ -231,7 +231,7 @@ fn model_parts<const N: usize>(
     b: &Build,
 ) -> Result<ModelParts<N>, crate::Error> {
     Ok((
-        model.to_lti::<N>(b.ts)?,
+        model.to_model_lti::<N>(b.ts)?,
         Delay::new_in(model.delay_samples(b.ts)?)?,
     ))
 }
@@ -264,7 +264,7 @@ macro_rules! by_order {
             m: &TransferFunction,
             b: &Build,
         ) -> Result<DynController, crate::Error> {
-            match m.order() {
+            match m.model_order() {
                 0 | 1 => $f::<1>(p, m, b),
                 2 => $f::<2>(p, m, b),
                 3 | 4 => $f::<4>(p, m, b),
@@ -718,7 +718,7 @@ fn build_fsp(
             "fsp needs a dead time of a whole number of samples: choose ts = L/n",
         ));
     }
-    let gm = model.to_lti::<MAX_ORDER>(b.ts)?;
+    let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
     let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
     let design = dtc::fsp::design(&gm, h, b.ts, p.req("tf")?)?;
     let k = PidConfig::isa(p.req("kp")?, p.req("ti")?, 0.0, b.ts).with_limits(b.u_min, b.u_max);
@@ -815,7 +815,7 @@ fn cascade_parts(
     }
     let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
     Ok(CascadeParts {
-        gm: gm.to_lti::<MAX_ORDER>(b.ts)?,
+        gm: gm.to_model_lti::<MAX_ORDER>(b.ts)?,
         h,
         imc: Imc::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?,
         k: cascade::series_pid(

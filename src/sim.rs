@@ -1271,7 +1271,7 @@ impl Scenario {
             Some(p2) => model.series(p2)?,
             None => model.clone(),
         };
-        if whole.order() > MAX_ORDER {
+        if whole.model_order() > MAX_ORDER {
             return Err(RunError::Invalid(Error::OrderTooHigh("model")));
         }
         let (ts, ts_chosen) = match self.ts {

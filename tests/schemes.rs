@@ -331,11 +331,42 @@ fn fsp_controls_unstable_and_integrating_plants_and_rejects_loads() {
         // internally stable: the actuator stays bounded
         assert!(o.result.u.iter().all(|u| u.abs() < 20.0), "{plant}");
     }
-    // a biproper model is refused with a reason, not run into an algebraic loop
+}
+
+/// A biproper model (García et al.'s Example 3 primary, with a zero): sampled
+/// as the simulator samples the plant (the direct term acts on the input in
+/// effect just before the instant, `TransferFunction::to_model_lti`), the model
+/// is strictly proper and nothing is algebraic. With a perfect model the
+/// prediction is the plant output one dead time ahead (the Smith principle),
+/// sample for sample, and loads are rejected.
+#[test]
+fn fsp_handles_a_biproper_model() {
     let sc = Scenario {
         plant: "(0.1251s+1)*e^-0.8s/(2.828s-1)".into(),
+        ts: Some(0.01),
+        duration: Some(40.0),
+        disturbance: vec![load(0.1, 20.0)],
         ..Default::default()
     };
-    let e = sc.run().unwrap_err().to_string();
-    assert!(e.contains("strictly proper"), "{e}");
+    let o = sc.run().unwrap();
+    assert_eq!(o.controller, "fsp");
+    assert!(o.result.diverged_at.is_none());
+    let pred = &o
+        .result
+        .signals
+        .iter()
+        .find(|(n, _)| n == "prediction")
+        .unwrap()
+        .1;
+    let h = 80;
+    let load_at = 2000;
+    for (k, (p, y)) in pred
+        .iter()
+        .zip(&o.result.y[h..])
+        .take(load_at - h)
+        .enumerate()
+    {
+        assert!((y - p).abs() < 1e-9, "sample {k}: {y} vs {p}");
+    }
+    assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-3);
 }

@@ -356,7 +356,7 @@ mod controller {
         let (nm, dm) = tf_of(gm);
         if gm.feedthrough() != 0.0 {
             return Err(Error::Unsupported(
-                "fsp needs a strictly proper model (a biproper one makes the predictor algebraic)",
+                "fsp needs a strictly proper model (TransferFunction::to_model_lti gives one)",
             ));
         }
         let roots = crate::poly::poly_roots(&dm)?;
