@@ -17,7 +17,10 @@ fn main() {
     let smith = loops::run(&mut c, &mut p, |_| {});
     let (mut c, mut p) = loops::karan_dey::<f64>();
     let kd = loops::run(&mut c, &mut p, |_| {});
+    let (mut c, mut p) = loops::fsp::<f64>();
+    let fsp = loops::run(&mut c, &mut p, |_| {});
     let mut f = std::fs::File::create(out.join("reference.rs")).expect("reference.rs");
     writeln!(f, "pub const SMITH: [f64; {}] = {:?};", smith.len(), smith).expect("write");
     writeln!(f, "pub const KARAN_DEY: [f64; {}] = {:?};", kd.len(), kd).expect("write");
+    writeln!(f, "pub const FSP: [f64; {}] = {:?};", fsp.len(), fsp).expect("write");
 }

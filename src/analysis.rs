@@ -435,6 +435,13 @@ pub struct Analysis {
     pub response: LoopResponse,
 }
 
+/// A cascade's secondary process, the controller's IMC loop and its model of the secondary.
+pub type InnerLoop<'a> = (
+    &'a TransferFunction,
+    &'a crate::dtc::cascade::Imc<f64, Vec<f64>>,
+    &'a TransferFunction,
+);
+
 /// The frequency response `ω ↦ P(jω)` of the process a controller's loop acts on.
 pub type ProcessResponse = Box<dyn Fn(f64) -> Complex<f64>>;
 
@@ -447,11 +454,7 @@ pub type ProcessResponse = Box<dyn Fn(f64) -> Complex<f64>>;
 /// controller's IMC filter and secondary model.
 pub fn process_response(
     plant: &TransferFunction,
-    inner: Option<(
-        &TransferFunction,
-        &crate::dtc::cascade::Imc,
-        &TransferFunction,
-    )>,
+    inner: Option<InnerLoop<'_>>,
     ts: f64,
     view: View,
 ) -> Result<ProcessResponse, Error> {
@@ -511,7 +514,7 @@ pub fn analyze(
     let cascade = ctrl.is_cascade();
     // the process as the controller's loop sees it, and its perturbed twin
     let imc = match (&inner, cascade) {
-        (Some((_, m2)), true) => Some(crate::dtc::cascade::Imc::design(
+        (Some((_, m2)), true) => Some(crate::dtc::cascade::Imc::<f64, Vec<f64>>::design(
             m2,
             built.params.get("lambda2").unwrap_or(f64::NAN),
             ts,

@@ -720,14 +720,12 @@ fn build_fsp(
     }
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
     let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
-    let design = dtc::fsp::design(&gm, h, b.ts, p.req("tf")?)?;
+    let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, p.req("tf")?)?;
     let k = PidConfig::isa(p.req("kp")?, p.req("ti")?, 0.0, b.ts).with_limits(b.u_min, b.u_max);
-    let values: Vec<f64> = FSP_PARAMS
-        .iter()
-        .map(|n| p.get(n).unwrap_or(f64::NAN))
-        .collect();
-    Ok(Box::new(dtc::fsp::FilteredSmith::new(
-        k, &design, FSP_PARAMS, values,
+    Ok(Box::new(dtc::fsp::FilteredSmith::<f64, Vec<f64>>::new(
+        k,
+        &design,
+        list(FSP_PARAMS, p),
     )?))
 }
 
@@ -794,7 +792,7 @@ fn cascade_primary(
 struct CascadeParts {
     gm: Lti<f64, MAX_ORDER>,
     h: usize,
-    imc: Imc,
+    imc: Imc<f64, Vec<f64>>,
     k: PidConfig<f64>,
 }
 
@@ -817,7 +815,7 @@ fn cascade_parts(
     Ok(CascadeParts {
         gm: gm.to_model_lti::<MAX_ORDER>(b.ts)?,
         h,
-        imc: Imc::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?,
+        imc: Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?,
         k: cascade::series_pid(
             p.req("kp")?,
             p.req("ki")?,
@@ -827,10 +825,6 @@ fn cascade_parts(
             b.ts,
         )?,
     })
-}
-
-fn values_of(names: &'static [&'static str], p: &Params) -> Vec<f64> {
-    names.iter().map(|n| p.get(n).unwrap_or(f64::NAN)).collect()
 }
 
 const FSPCC_PARAMS: &[&str] = &[
@@ -888,9 +882,8 @@ fn build_fspcc(
         },
         biproper: true,
     };
-    let design = dtc::fsp::design_with(&c.gm, c.h, b.ts, &spec)?;
-    let outer =
-        dtc::fsp::FilteredSmith::new(c.k, &design, FSPCC_PARAMS, values_of(FSPCC_PARAMS, p))?;
+    let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, b.ts, &spec)?;
+    let outer = dtc::fsp::FilteredSmith::<f64, Vec<f64>>::new(c.k, &design, list(FSPCC_PARAMS, p))?;
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
@@ -926,8 +919,8 @@ fn build_gpcc(
     b: &Build,
 ) -> Result<DynController, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
-    let pred = GpccPredictor::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
-    let outer = Predicted::with_predictor(c.k, pred, GPCC_PARAMS, values_of(GPCC_PARAMS, p))?;
+    let pred = GpccPredictor::<f64, Vec<f64>>::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
+    let outer = Predicted::with_predictor(c.k, pred, list(GPCC_PARAMS, p))?;
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
@@ -1038,7 +1031,7 @@ fn build_kaya_cascade(
 ) -> Result<DynController, crate::Error> {
     let lambda2 = p.req("lambda2")?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
-    let imc = Imc::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?;
+    let imc = Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?;
     let (lti, delay) = model_parts::<MAX_ORDER>(&gm, b)?;
     let outer = dtc::kaya_atherton::build(
         p.req("kp")?,

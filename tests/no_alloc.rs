@@ -69,3 +69,53 @@ fn update_allocates_nothing() {
         }
     }
 }
+
+#[test]
+fn cascade_update_allocates_nothing() {
+    // García et al.'s Example 2 (integrating primary)
+    let p1: TransferFunction = "2e^-2s/s".parse().unwrap();
+    let p2: TransferFunction = "4e^-2s/(s+1)".parse().unwrap();
+    let gcd = [
+        ("kpd".to_string(), 0.0436),
+        ("kid".to_string(), 0.0),
+        ("kdd".to_string(), 0.1206),
+    ];
+    let mut checked = 0;
+    for scheme in SCHEMES.iter().filter(|s| s.is_cascade()) {
+        let params = scheme
+            .tune_process(
+                &p1,
+                Some(&p2),
+                None,
+                None,
+                &gcd[..if scheme.name == "uma" { 3 } else { 0 }],
+            )
+            .unwrap();
+        let mut c = scheme
+            .build_process(
+                &params,
+                &p1,
+                Some(&p2),
+                &Build {
+                    ts: 0.1,
+                    u_min: -10.0,
+                    u_max: 10.0,
+                },
+            )
+            .unwrap();
+        COUNTING.with(|c| c.set(true));
+        let before = ALLOCS.load(Ordering::SeqCst);
+        let (mut y, mut y2) = (0.0, 0.0);
+        for _ in 0..10_000 {
+            let u = c.update_cascade(1.0, y, y2);
+            y2 = 0.9 * y2 + 0.1 * u;
+            y += 0.01 * y2;
+        }
+        c.reset();
+        let after = ALLOCS.load(Ordering::SeqCst);
+        COUNTING.with(|c| c.set(false));
+        assert_eq!(after, before, "{} allocated during update", scheme.name);
+        checked += 1;
+    }
+    assert_eq!(checked, 4);
+}

@@ -2,6 +2,8 @@
 // included by build.rs): the controller against an exactly discretized plant
 // with its dead time in a delay line.
 
+use msp::dtc::compensator::ParamList;
+use msp::dtc::fsp::{design, FilteredSmith};
 use msp::dtc::karan_dey::{self, KaranDey};
 use msp::{Controller, Delay, DelayLine, Lti, PidConfig, ProcessModel, Real, SmithPredictor};
 
@@ -70,6 +72,37 @@ pub fn karan_dey<T: Real>() -> (KaranDey<T, 1, [T; CAP]>, Plant<T>) {
         Ok(c) => (c, Plant::new(&m, ts)),
         Err(_) => panic_model(),
     }
+}
+
+pub fn fsp<T: Real>() -> (FilteredSmith<T, [T; CAP]>, Plant<T>) {
+    // 000_…'s unstable benchmark 5 e^{-6 s}/(100 s - 1), Ts = 0.06 s (100 samples of
+    // dead time); the PI that places a double pole at -1/lambda (lambda = L) and
+    // Fr with Tf = L/2, as `msp run` tunes it; Fr and S designed here, in f64
+    let (k, t, l, ts) = (5.0, 100.0, 6.0, 0.06);
+    let kkc = 1.0 + 2.0 * t / l;
+    let (kp, ti) = (kkc / k, kkc * l * l / t);
+    let m64: ProcessModel<f64> = match msp::Ufopdt::new(k, t, l) {
+        Ok(m) => m.into(),
+        Err(_) => panic_model(),
+    };
+    let gm = match m64.discretize::<1>(ts) {
+        Ok((g, _)) => g,
+        Err(_) => panic_model(),
+    };
+    let d = match design::<[f64; CAP], 1>(&gm, 100, ts, l / 2.0) {
+        Ok(d) => d,
+        Err(_) => panic_model(),
+    };
+    let pi = PidConfig::isa(T::of(kp), T::of(ti), T::zero(), T::of(ts));
+    let c = match FilteredSmith::new(pi, &d, ParamList::new(&[], &[])) {
+        Ok(c) => c,
+        Err(_) => panic_model(),
+    };
+    let m: ProcessModel<T> = match msp::Ufopdt::new(T::of(k), T::of(t), T::of(l)) {
+        Ok(m) => m.into(),
+        Err(_) => panic_model(),
+    };
+    (c, Plant::new(&m, T::of(ts)))
 }
 
 /// The set point (steps) and an input load at two thirds of the run.

@@ -20,61 +20,59 @@
 //! Kaya et al. 2008 — are configurations of [`crate::dtc::Compensator`].
 //! [`Cascade`] joins any such outer controller to the inner IMC loop.
 
+#[cfg(feature = "alloc")]
 use alloc::vec::Vec;
 
 use crate::delay::Delay;
+#[cfg(feature = "alloc")]
+use crate::delay::DelayStorage;
 use crate::dtc::Controller;
+#[cfg(feature = "alloc")]
 use crate::poly::{mul, poly_roots, trim, TransferFunction};
-use crate::{AntiWindup, Complex, Discretization, Error, Lti, PidConfig};
+#[cfg(feature = "alloc")]
+use crate::Discretization;
+use crate::{AntiWindup, Complex, Error, Lti, PidConfig, Real};
 
 /// Order capacity of the inner IMC controller `Q`.
 pub const Q_ORDER: usize = 4;
 /// Order capacity of the inner model `P2m`.
 pub const P2_ORDER: usize = 4;
 
-/// The inner IMC loop `u = Q·(r2 − (y2 − P2m z^{−d2} u))`.
+/// The inner IMC loop `u = Q·(r2 − (y2 − P2m z^{−d2} u))`, its dead-time line
+/// over storage `S` (`[T; D]` on a device, `Vec<T>` on a host).
 #[derive(Debug, Clone)]
-pub struct Imc {
-    q: Lti<f64, Q_ORDER>,
-    model: Lti<f64, P2_ORDER>,
-    line: Delay<f64, Vec<f64>>,
-    u_min: f64,
-    u_max: f64,
-    error: f64,
+pub struct Imc<T, S> {
+    q: Lti<T, Q_ORDER>,
+    model: Lti<T, P2_ORDER>,
+    line: Delay<T, S>,
+    u_min: T,
+    u_max: T,
+    error: T,
 }
 
-impl Imc {
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     /// The loop from its controller `q`, the delay-free secondary model
     /// (strictly proper) and its dead-time line.
     pub fn new(
-        q: Lti<f64, Q_ORDER>,
-        model: Lti<f64, P2_ORDER>,
-        line: Delay<f64, Vec<f64>>,
+        q: Lti<T, Q_ORDER>,
+        model: Lti<T, P2_ORDER>,
+        line: Delay<T, S>,
     ) -> Result<Self, Error> {
-        if model.feedthrough() != 0.0 {
+        if model.feedthrough() != T::zero() {
             return Err(Error::Improper("inner model"));
         }
         Ok(Imc {
             q,
             model,
             line,
-            u_min: f64::NEG_INFINITY,
-            u_max: f64::INFINITY,
-            error: 0.0,
+            u_min: T::neg_infinity(),
+            u_max: T::infinity(),
+            error: T::zero(),
         })
     }
 
-    /// The IMC loop for the secondary plant `p2` with the filter time constant
-    /// `lambda2`, sampled at `ts`.
-    pub fn design(p2: &TransferFunction, lambda2: f64, ts: f64) -> Result<Self, Error> {
-        let (qn, qd) = imc_q(p2, lambda2)?;
-        let q = Lti::from_tf(&qn, &qd, ts, Discretization::Matched)?;
-        let model = Lti::from_tf(&p2.num, &p2.den, ts, Discretization::Zoh)?;
-        Imc::new(q, model, Delay::new_in(p2.delay_samples(ts)?)?)
-    }
-
     /// Actuator limits (the model sees the limited value: IMC needs no anti-windup).
-    pub fn with_limits(mut self, u_min: f64, u_max: f64) -> Result<Self, Error> {
+    pub fn with_limits(mut self, u_min: T, u_max: T) -> Result<Self, Error> {
         if u_min > u_max || u_min.is_nan() || u_max.is_nan() {
             return Err(Error::InvalidLimits("u_min"));
         }
@@ -85,22 +83,22 @@ impl Imc {
 
     /// One sample: inner set point `r2`, secondary measurement `y2` (`None`: the
     /// model error is taken as zero).
-    pub fn update(&mut self, r2: f64, y2: Option<f64>) -> f64 {
+    pub fn update(&mut self, r2: T, y2: Option<T>) -> T {
         let ym = self.model.free_output();
         let ymd = self.line.process(ym);
-        self.error = y2.map_or(0.0, |y| y - ymd);
+        self.error = y2.map_or(T::zero(), |y| y - ymd);
         let u = self.q.step(r2 - self.error).max(self.u_min).min(self.u_max);
         self.model.advance(u);
         u
     }
 
     /// The model error `y2 − P2m z^{−d2} u` of the last sample.
-    pub fn error(&self) -> f64 {
+    pub fn error(&self) -> T {
         self.error
     }
 
     /// `Q(e^{jθ})`.
-    pub fn q_response(&self, theta: f64) -> Complex<f64> {
+    pub fn q_response(&self, theta: T) -> Complex<T> {
         self.q.response(theta)
     }
 
@@ -109,12 +107,31 @@ impl Imc {
         self.q.reset();
         self.model.reset();
         self.line.reset();
-        self.error = 0.0;
+        self.error = T::zero();
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl<T: Real, S: DelayStorage<T>> Imc<T, S> {
+    /// The IMC loop for the secondary plant `p2` with the filter time constant
+    /// `lambda2`, sampled at `ts`.
+    pub fn design(p2: &TransferFunction, lambda2: f64, ts: f64) -> Result<Self, Error> {
+        let (qn, qd) = imc_q(p2, lambda2)?;
+        let cast = |p: &[f64]| -> Vec<T> { p.iter().map(|v| T::of(*v)).collect() };
+        let q = Lti::from_tf(&cast(&qn), &cast(&qd), T::of(ts), Discretization::Matched)?;
+        let model = Lti::from_tf(
+            &cast(&p2.num),
+            &cast(&p2.den),
+            T::of(ts),
+            Discretization::Zoh,
+        )?;
+        Imc::new(q, model, Delay::new_in(T::of(p2.delay_samples(ts)?))?)
     }
 }
 
 /// `Q(s) = a2(s)/(b2(s)·(λ2 s + 1)^r)` for `P2 = b2/a2`: the IMC controller
 /// (numerator, denominator). `P2` must be stable and minimum phase.
+#[cfg(feature = "alloc")]
 pub fn imc_q(p2: &TransferFunction, lambda2: f64) -> Result<(Vec<f64>, Vec<f64>), Error> {
     let lambda2 = crate::real::positive(lambda2, "lambda2")?;
     if p2.poles()?.iter().any(|(re, _)| *re >= 0.0) {
@@ -139,6 +156,7 @@ pub fn imc_q(p2: &TransferFunction, lambda2: f64) -> Result<(Vec<f64>, Vec<f64>)
 
 /// The overall delay-free model `Gm(s) = P1(s)/(λ2 s + 1)^r` and its dead time
 /// `L1 + L2`: the primary loop's model `Pm = Mimc·P1` (Sec. 3.3).
+#[cfg(feature = "alloc")]
 pub fn primary_model(
     p1: &TransferFunction,
     p2: &TransferFunction,
@@ -162,38 +180,42 @@ pub fn primary_model(
 ///
 /// and the set-point path `(ε·kp·s + ki)/(s(τ s + 1))` by the weights
 /// `b = (ε·kp − ki·τ)/P'`, `c = −b·P'·τ/kd'` (derivative of the set point removed).
-pub fn series_pid(
-    kp: f64,
-    ki: f64,
-    kd: f64,
-    tau: f64,
-    epsilon: f64,
-    ts: f64,
-) -> Result<PidConfig<f64>, Error> {
+pub fn series_pid<T: Real>(
+    kp: T,
+    ki: T,
+    kd: T,
+    tau: T,
+    epsilon: T,
+    ts: T,
+) -> Result<PidConfig<T>, Error> {
     let tau = crate::real::non_negative(tau, "tau")?;
     let p = kp - ki * tau;
     let kdp = kd - p * tau;
-    if kdp < -1e-12 * kd.abs().max(1.0) {
+    if kdp < -T::of(1e-12) * kd.abs().max(T::one()) {
         return Err(Error::OutOfRange(
             "kd (the series-filtered PID needs kd >= (kp - ki*tau)*tau)",
         ));
     }
-    let kdp = kdp.max(0.0);
+    let kdp = kdp.max(T::zero());
     let bp = epsilon * kp - ki * tau;
-    let b = if p != 0.0 { bp / p } else { 1.0 };
-    let c = if kdp > 0.0 { -bp * tau / kdp } else { 0.0 };
+    let b = if p != T::zero() { bp / p } else { T::one() };
+    let c = if kdp > T::zero() {
+        -bp * tau / kdp
+    } else {
+        T::zero()
+    };
     let mut cfg = PidConfig::parallel(p, ki, kdp, ts)
         .with_filter_time(tau)
         .with_weights(b, c)
         .with_anti_windup(AntiWindup::None);
-    if kdp == 0.0 && tau > 0.0 {
+    if kdp == T::zero() && tau > T::zero() {
         // a PI with a series lag: no derivative term can carry the lag
         return Err(Error::Unsupported(
             "tau without derivative action (set kd = (kp - ki*tau)*tau or tau = 0)",
         ));
     }
-    if tau == 0.0 {
-        cfg.tf = 0.0;
+    if tau == T::zero() {
+        cfg.tf = T::zero();
     }
     Ok(cfg)
 }
@@ -208,6 +230,7 @@ pub fn series_pid(
 /// When no causal filter achieves that (a slow `λ` against a fast model pole
 /// `−p`, e.g. `2/(s(0.5 s + 1))` with `λ > 2 s`), one closed-loop pole is
 /// placed at `−p` instead. Returns `(kp, ki, kd, tau)`.
+#[cfg(feature = "alloc")]
 pub fn pole_placement(gm: &TransferFunction, lambda: f64) -> Result<[f64; 4], Error> {
     let lambda = crate::real::positive(lambda, "lambda")?;
     match place(gm, 1.0 / lambda, None) {
@@ -225,6 +248,7 @@ pub fn pole_placement(gm: &TransferFunction, lambda: f64) -> Result<[f64; 4], Er
 }
 
 /// Places the closed-loop poles at `−a` (one at `−b` when given).
+#[cfg(feature = "alloc")]
 fn place(gm: &TransferFunction, a: f64, b: Option<f64>) -> Result<[f64; 4], Error> {
     let d = trim(&gm.den);
     let n = trim(&gm.num);
@@ -275,6 +299,7 @@ fn place(gm: &TransferFunction, a: f64, b: Option<f64>) -> Result<[f64; 4], Erro
 }
 
 /// Gauss–Jordan elimination on an `n×(n+1)` augmented system (`n ≤ 4`).
+#[cfg(feature = "alloc")]
 fn solve_small(m: &mut [[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
     for col in 0..n {
         let piv = (col..n)
@@ -313,6 +338,7 @@ fn solve_small(m: &mut [[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
 /// excess zero gets a pole at `z = 0` (a backward difference), and the gain is
 /// matched at `s = 0` after removing the roots at the origin. Returns the
 /// discrete numerator and denominator (descending powers of `z`).
+#[cfg(feature = "alloc")]
 pub fn matched(num: &[f64], den: &[f64], ts: f64) -> Result<(Vec<f64>, Vec<f64>), Error> {
     let ts = crate::real::positive(ts, "ts")?;
     let strip = |p: &[f64]| -> (Vec<f64>, usize) {
@@ -368,26 +394,26 @@ pub fn matched(num: &[f64], den: &[f64], ts: f64) -> Result<(Vec<f64>, Vec<f64>)
 /// Any single-loop outer controller (its "actuator" is the inner set point
 /// `r2`) joined to the inner IMC loop.
 #[derive(Debug, Clone)]
-pub struct Cascade<O> {
+pub struct Cascade<T, O, S> {
     outer: O,
-    inner: Imc,
+    inner: Imc<T, S>,
     names: &'static [&'static str],
-    r2: f64,
+    r2: T,
     fault: bool,
 }
 
 /// Names of the cascade's own signals, before the outer controller's.
 pub const SIGNALS: &[&str] = &["r2", "inner_error"];
 
-impl<O> Cascade<O> {
+impl<T: Real, O, S> Cascade<T, O, S> {
     /// `outer` around `inner`; `names` lists [`SIGNALS`] followed by the outer
     /// controller's signal names.
-    pub fn new(outer: O, inner: Imc, names: &'static [&'static str]) -> Self {
+    pub fn new(outer: O, inner: Imc<T, S>, names: &'static [&'static str]) -> Self {
         Cascade {
             outer,
             inner,
             names,
-            r2: 0.0,
+            r2: T::zero(),
             fault: false,
         }
     }
@@ -396,13 +422,13 @@ impl<O> Cascade<O> {
         &self.outer
     }
     /// The inner loop.
-    pub fn inner(&self) -> &Imc {
+    pub fn inner(&self) -> &Imc<T, S> {
         &self.inner
     }
 }
 
-impl<O: Controller<f64>> Cascade<O> {
-    fn step(&mut self, r: f64, y: f64, y2: Option<f64>) -> f64 {
+impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Cascade<T, O, S> {
+    fn step(&mut self, r: T, y: T, y2: Option<T>) -> T {
         self.r2 = self.outer.update(r, y);
         let y2 = y2.filter(|v| v.is_finite());
         let u = self.inner.update(self.r2, y2);
@@ -411,14 +437,14 @@ impl<O: Controller<f64>> Cascade<O> {
     }
 }
 
-impl<O: Controller<f64>> Controller<f64> for Cascade<O> {
+impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Cascade<T, O, S> {
     /// Without the secondary measurement the inner model error is taken as zero.
-    fn update(&mut self, r: f64, y: f64) -> f64 {
+    fn update(&mut self, r: T, y: T) -> T {
         let u = self.step(r, y, None);
         self.fault = self.outer.fault();
         u
     }
-    fn update_cascade(&mut self, r: f64, y: f64, y2: f64) -> f64 {
+    fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
         self.step(r, y, Some(y2))
     }
     fn is_cascade(&self) -> bool {
@@ -427,13 +453,13 @@ impl<O: Controller<f64>> Controller<f64> for Cascade<O> {
     fn reset(&mut self) {
         self.outer.reset();
         self.inner.reset();
-        self.r2 = 0.0;
+        self.r2 = T::zero();
         self.fault = false;
     }
     fn signal_names(&self) -> &'static [&'static str] {
         self.names
     }
-    fn signal(&self, i: usize) -> f64 {
+    fn signal(&self, i: usize) -> T {
         match i {
             0 => self.r2,
             1 => self.inner.error(),
@@ -443,7 +469,7 @@ impl<O: Controller<f64>> Controller<f64> for Cascade<O> {
     fn param_names(&self) -> &'static [&'static str] {
         self.outer.param_names()
     }
-    fn param(&self, i: usize) -> f64 {
+    fn param(&self, i: usize) -> T {
         self.outer.param(i)
     }
     fn fault(&self) -> bool {
@@ -451,15 +477,15 @@ impl<O: Controller<f64>> Controller<f64> for Cascade<O> {
     }
     /// The outer controller's `(Cr, Cy)` with the inner set point `r2` as its
     /// actuator: the loop it closes is `Q·P1·P2` (the inner loop closed, nominal).
-    fn response(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
+    fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
         self.outer.response(theta)
     }
-    fn inner_response(&self, theta: f64) -> Option<Complex<f64>> {
+    fn inner_response(&self, theta: T) -> Option<Complex<T>> {
         self.outer.inner_response(theta)
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "alloc"))]
 mod tests {
     use super::*;
 

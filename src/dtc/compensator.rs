@@ -159,7 +159,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     }
 }
 
-/// Parameter names and values a scheme reports (up to 12).
+/// Parameter names and values a scheme reports (up to 16).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParamList<T> {
     names: &'static [&'static str],
@@ -174,6 +174,14 @@ impl<T: Real> ParamList<T> {
             *d = *s;
         }
         ParamList { names, values: v }
+    }
+    /// The names.
+    pub fn names(&self) -> &'static [&'static str] {
+        self.names
+    }
+    /// Value `i` (NaN if out of range).
+    pub fn get(&self, i: usize) -> T {
+        self.values.get(i).copied().unwrap_or(T::nan())
     }
 }
 

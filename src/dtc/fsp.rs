@@ -13,6 +13,8 @@
 //! `z^h Dr(z) − Nr(z)` vanish (repeated roots, such as the integrator's `z = 1`
 //! counted twice, through derivatives). The conditions form a small linear system.
 
+#[cfg(doc)]
+use crate::delay::DelayStorage;
 use crate::{Error, Real};
 
 /// Largest number of conditions (roots with multiplicity) the solver takes.
@@ -200,76 +202,121 @@ mod tests {
     }
 }
 
-#[cfg(feature = "alloc")]
-pub use self::controller::{
-    design, design_with, model_tf, DirectForm, FilteredSmith, FrSpec, FspDesign, FspPredictor,
-    Predicted, Predictor,
-};
+pub(crate) use self::design::buffer;
+pub use self::design::{design, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL};
+pub use self::runtime::{DirectForm, FilteredSmith, FspPredictor, Predicted, Predictor};
 
-#[cfg(feature = "alloc")]
-mod controller {
-    use alloc::vec;
-    use alloc::vec::Vec;
+/// The design of `Fr` and `S` without allocation: model-sized polynomials in
+/// fixed arrays, the dead-time-sized ones (`z^h·Dr`, `p`, the numerator of
+/// `S`) in storage the caller's type provides ([`DelayStorage`]: a `Vec` on a
+/// host, `[f64; C]` on a device, `C` at least `h` plus twice the model order
+/// plus 8).
+mod design {
+    use super::{solve, MAX_CONDITIONS};
+    use crate::complex::Complex;
+    use crate::delay::DelayStorage;
+    use crate::{Error, Lti};
+    #[allow(unused_imports)] // f64 methods under no_std
+    use num_traits::Float;
 
-    use super::solve;
-    use crate::dtc::Controller;
-    use crate::{Complex, Error, Lti, Pid, PidConfig};
+    /// Capacity of [`SmallPoly`].
+    pub const SMALL: usize = 24;
 
-    /// The designed predictor: `ŷ = S(z)·u + Fr(z)·y` with `S = Gm(1 − z^{−h}Fr)`
-    /// realized without the unstable poles, `S = z^{−h}·Nm(z − 1)p/(Dm⁻·Dr)`.
-    #[derive(Debug, Clone)]
-    pub struct FspDesign {
-        /// `Fr = Nr/Dr` (descending powers of z).
-        pub nr: Vec<f64>,
-        /// Its denominator.
-        pub dr: Vec<f64>,
-        /// Numerator of `S` in powers of `z^{−1}` (starting at `z^{−delay}`).
-        pub s_num: Vec<f64>,
-        /// Denominator of `S` in powers of `z^{−1}` (monic).
-        pub s_den: Vec<f64>,
+    /// A polynomial of degree below [`SMALL`] (descending coefficients).
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct SmallPoly {
+        c: [f64; SMALL],
+        len: usize,
     }
 
-    fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {
-        crate::poly::mul(a, b)
+    impl SmallPoly {
+        /// `p` with its leading zeros dropped (at least one coefficient kept).
+        pub fn new(p: &[f64]) -> Result<Self, Error> {
+            let first = p
+                .iter()
+                .position(|v| *v != 0.0)
+                .unwrap_or(p.len().saturating_sub(1));
+            let p = p.get(first..).unwrap_or(&[]);
+            if p.len() > SMALL {
+                return Err(Error::OrderTooHigh("polynomial"));
+            }
+            let mut c = [0.0; SMALL];
+            for (d, v) in c.iter_mut().zip(p) {
+                *d = *v;
+            }
+            Ok(SmallPoly {
+                c,
+                len: p.len().max(1),
+            })
+        }
+        /// The coefficients.
+        pub fn as_slice(&self) -> &[f64] {
+            self.c.get(..self.len).unwrap_or(&[])
+        }
+        /// The product with `b`.
+        pub fn mul(&self, b: &[f64]) -> Result<Self, Error> {
+            let n = self.len.saturating_add(b.len()).saturating_sub(1);
+            if n > SMALL {
+                return Err(Error::OrderTooHigh("polynomial"));
+            }
+            let mut c = [0.0; SMALL];
+            for (i, x) in self.as_slice().iter().enumerate() {
+                for (j, y) in b.iter().enumerate() {
+                    if let Some(o) = c.get_mut(i.saturating_add(j)) {
+                        *o += x * y;
+                    }
+                }
+            }
+            Ok(SmallPoly { c, len: n.max(1) })
+        }
+        /// Number of coefficients.
+        pub fn len(&self) -> usize {
+            self.len
+        }
+        /// Always false: a polynomial keeps one coefficient.
+        pub fn is_empty(&self) -> bool {
+            false
+        }
+        fn lead(&self) -> f64 {
+            self.c.first().copied().unwrap_or(1.0)
+        }
     }
 
-    use crate::poly::div;
-
-    /// Numerator and denominator (descending powers of z) of a discrete block, by
+    /// Numerator and denominator (descending powers of `z`, the numerator with
+    /// as many coefficients as the denominator) of a discrete block, by
     /// Faddeev–LeVerrier on its realization.
-    fn tf_of<const N: usize>(b: &Lti<f64, N>) -> (Vec<f64>, Vec<f64>) {
-        let n = b.order();
-        let z = 0.3f64;
-        let _ = z;
-        // sample the response on n + 1 points of a circle and solve for the coefficients
-        // would be ill-conditioned; LeVerrier on Φ is exact for the small orders used here
-        let phi = |i: usize, j: usize| b.phi_entry(i, j);
-        let mut c = vec![1.0];
-        let mut m = vec![vec![0.0; n]; n];
+    pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
+        let n = b.order().min(N);
+        let at = |m: &[[f64; N]; N], i: usize, j: usize| {
+            m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
+        };
+        let mut den = [0.0; SMALL];
+        if let Some(d0) = den.first_mut() {
+            *d0 = 1.0;
+        }
+        let mut m = [[0.0; N]; N];
         for (i, row) in m.iter_mut().enumerate() {
             if let Some(x) = row.get_mut(i) {
                 *x = 1.0;
             }
         }
-        let mut ms = Vec::with_capacity(n);
+        let mut ms = [[[0.0; N]; N]; N];
         for k in 1..=n {
             // A·M_{k−1}
-            let mut am = vec![vec![0.0; n]; n];
-            for (i, row) in am.iter_mut().enumerate() {
-                for (j, x) in row.iter_mut().enumerate() {
-                    *x = (0..n)
-                        .map(|q| {
-                            phi(i, q) * m.get(q).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
-                        })
-                        .sum();
+            let mut am = [[0.0; N]; N];
+            for (i, row) in am.iter_mut().enumerate().take(n) {
+                for (j, x) in row.iter_mut().enumerate().take(n) {
+                    *x = (0..n).map(|q| b.phi_entry(i, q) * at(&m, q, j)).sum();
                 }
             }
-            let tr: f64 = (0..n)
-                .map(|i| am.get(i).and_then(|r| r.get(i)).copied().unwrap_or(0.0))
-                .sum();
-            let ck = -tr / k as f64;
-            ms.push(m.clone());
-            c.push(ck);
+            let tr: f64 = (0..n).map(|i| at(&am, i, i)).sum();
+            let ck = -tr / f64::from(u32::try_from(k).unwrap_or(u32::MAX));
+            if let Some(slot) = ms.get_mut(k - 1) {
+                *slot = m;
+            }
+            if let Some(d) = den.get_mut(k) {
+                *d = ck;
+            }
             for (i, row) in am.iter_mut().enumerate() {
                 if let Some(x) = row.get_mut(i) {
                     *x += ck;
@@ -277,18 +324,15 @@ mod controller {
             }
             m = am;
         }
-        // numerator: C·M_k·Γ for k = 0..n−1, plus D·den
+        // numerator: C·M_k·Γ for k = 0..n−1 (the coefficient of z^{n−1−k}), plus D·den
         let (cv, g, d) = (b.output_vector(), b.input_vector(), b.feedthrough());
-        let mut num = vec![0.0; n + 1];
-        for (k, mk) in ms.iter().enumerate() {
+        let mut num = [0.0; SMALL];
+        for (k, mk) in ms.iter().enumerate().take(n) {
             let v: f64 = (0..n)
                 .map(|i| {
                     cv.get(i).copied().unwrap_or(0.0)
                         * (0..n)
-                            .map(|j| {
-                                mk.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
-                                    * g.get(j).copied().unwrap_or(0.0)
-                            })
+                            .map(|j| at(mk, i, j) * g.get(j).copied().unwrap_or(0.0))
                             .sum::<f64>()
                 })
                 .sum();
@@ -296,10 +340,11 @@ mod controller {
                 *x = v;
             }
         }
-        for (x, ck) in num.iter_mut().zip(&c) {
+        for (x, ck) in num.iter_mut().zip(den.iter()).take(n + 1) {
             *x += d * ck;
         }
-        (num, c)
+        let len = n + 1;
+        (SmallPoly { c: num, len }, SmallPoly { c: den, len })
     }
 
     /// The shape of the robustness filter `Fr = Nr/Dr` whose free coefficients
@@ -318,19 +363,62 @@ mod controller {
         pub biproper: bool,
     }
 
-    /// The model `Gm(z)` as numerator and denominator (descending powers of `z`).
-    pub fn model_tf<const N: usize>(gm: &Lti<f64, N>) -> (Vec<f64>, Vec<f64>) {
-        tf_of(gm)
+    /// The designed predictor: `ŷ = S(z)·u + Fr(z)·y` with `S = Gm(1 − z^{−h}Fr)`
+    /// realized without the unstable poles, `S = z^{−h}·Nm(z − 1)p/(Dm⁻·Dr)`.
+    #[derive(Debug, Clone)]
+    pub struct FspDesign<S> {
+        /// `Fr = Nr/Dr` (descending powers of z).
+        pub nr: SmallPoly,
+        /// Its denominator.
+        pub dr: SmallPoly,
+        /// Numerator of `S` in powers of `z^{−1}` (starting at `z^{−delay}`):
+        /// the first [`FspDesign::s_len`] entries.
+        pub s_num: S,
+        /// Length of the numerator of `S`.
+        pub s_len: usize,
+        /// Denominator of `S` in powers of `z^{−1}` (monic).
+        pub s_den: SmallPoly,
+    }
+
+    impl<S: AsRef<[f64]>> FspDesign<S> {
+        /// The numerator of `S`.
+        pub fn s_num(&self) -> &[f64] {
+            self.s_num.as_ref().get(..self.s_len).unwrap_or(&[])
+        }
+    }
+
+    /// Storage of at least `len` values.
+    pub(crate) fn buffer<T: crate::Real, S: DelayStorage<T>>(len: usize) -> Result<S, Error> {
+        let n = u32::try_from(len).map_err(|_| Error::DelayTooLong("predictor storage"))?;
+        let s = S::for_delay(T::of(f64::from(n)))?;
+        if s.as_ref().len() < len {
+            return Err(Error::DelayTooLong("predictor storage"));
+        }
+        Ok(s)
     }
 
     /// Designs the filter `Fr = Nr/(z − α)^m` (`α = e^{−Ts/Tf}`) and the stable predictor
     /// `S` for the ZOH model `gm` with a dead time of `h` samples.
-    pub fn design<const N: usize>(
+    ///
+    /// On a device, with arrays for the dead-time-sized buffers:
+    ///
+    /// ```
+    /// use msp::dtc::{compensator::ParamList, fsp::{design, FilteredSmith}};
+    /// use msp::Controller;
+    /// // 5 e^{-6s}/(100s - 1) at Ts = 0.06 s: h = 100 samples; buffers of 128
+    /// let (gm, _) = msp::ProcessModel::from(msp::Ufopdt::new(5.0, 100.0, 6.0)?).discretize::<1>(0.06)?;
+    /// let d = design::<[f64; 128], 1>(&gm, 100, 0.06, 3.0)?; // Fr with Tf = 3 s, S stable
+    /// let mut fsp: FilteredSmith<f32, [f32; 128]> =
+    ///     FilteredSmith::new(msp::PidConfig::isa(6.87, 12.36, 0.0, 0.06), &d, ParamList::new(&[], &[]))?;
+    /// assert!(fsp.update(1.0, 0.0) > 0.0);
+    /// # Ok::<(), msp::Error>(())
+    /// ```
+    pub fn design<S: DelayStorage<f64>, const N: usize>(
         gm: &Lti<f64, N>,
         h: usize,
         ts: f64,
         tf: f64,
-    ) -> Result<FspDesign, Error> {
+    ) -> Result<FspDesign<S>, Error> {
         design_with(
             gm,
             h,
@@ -344,163 +432,264 @@ mod controller {
     }
 
     /// Designs `Fr` of the shape `spec` and the stable predictor `S` for the ZOH
-    /// model `gm` with a dead time of `h` samples: FSPCC's
+    /// model `gm` (strictly proper) with a dead time of `h` samples: FSPCC's
     /// `Fr = kf (z − ρ1)(z − ρ2)/((z − γ1)(z − γ2))` is
     /// `FrSpec { tf, lead: Some((T_zero, T_pole)), biproper: true }`.
-    pub fn design_with<const N: usize>(
+    pub fn design_with<S: DelayStorage<f64>, const N: usize>(
         gm: &Lti<f64, N>,
         h: usize,
         ts: f64,
         spec: &FrSpec,
-    ) -> Result<FspDesign, Error> {
-        let (nm, dm) = tf_of(gm);
+    ) -> Result<FspDesign<S>, Error> {
         if gm.feedthrough() != 0.0 {
             return Err(Error::Unsupported(
                 "fsp needs a strictly proper model (TransferFunction::to_model_lti gives one)",
             ));
         }
-        let roots = crate::poly::poly_roots(&dm)?;
-        let mut unstable = Vec::new();
-        let (mut dplus, mut dminus) = (vec![1.0], vec![1.0]);
-        for (re, im) in roots {
+        let (nm, dm) = model_tf(gm);
+        let deg = dm.len().saturating_sub(1);
+        let mut rts = [Complex::<f64>::default(); SMALL];
+        crate::lti::roots(dm.as_slice(), &mut rts)?;
+        let (mut dplus, mut dminus) = (SmallPoly::new(&[1.0])?, SmallPoly::new(&[1.0])?);
+        // the roots of Dm⁺(z)(z − 1) with multiplicities (clustered within 1e-6)
+        let mut cond = [(0.0f64, 0usize); MAX_CONDITIONS];
+        let mut count = 0usize;
+        let mut add = |x: f64, cond: &mut [(f64, usize); MAX_CONDITIONS]| -> Result<(), Error> {
+            if let Some(c) = cond
+                .iter_mut()
+                .take(count)
+                .find(|(r, _)| (*r - x).abs() < 1e-6)
+            {
+                c.1 = c.1.saturating_add(1);
+                return Ok(());
+            }
+            let slot = cond.get_mut(count).ok_or(Error::OutOfRange("roots"))?;
+            *slot = (x, 1);
+            count = count.saturating_add(1);
+            Ok(())
+        };
+        add(1.0, &mut cond)?;
+        for r in rts.iter().take(deg) {
+            let (re, im) = (r.re, r.im);
             if re.hypot(im) >= 1.0 - 1e-9 {
                 if im.abs() > 1e-9 {
                     return Err(Error::Unsupported(
                         "complex unstable poles in the filtered Smith predictor",
                     ));
                 }
-                unstable.push(re);
-                dplus = mul(&dplus, &[1.0, -re]);
+                add(re, &mut cond)?;
+                dplus = dplus.mul(&[1.0, -re])?;
             } else if im.abs() <= 1e-12 {
-                dminus = mul(&dminus, &[1.0, -re]);
+                dminus = dminus.mul(&[1.0, -re])?;
             } else if im > 0.0 {
-                dminus = mul(&dminus, &[1.0, -2.0 * re, re * re + im * im]);
+                dminus = dminus.mul(&[1.0, -2.0 * re, re * re + im * im])?;
             }
         }
-        // the roots of Dm⁺(z)(z − 1) with multiplicities (clustered within 1e-6)
-        let mut cond: Vec<(f64, usize)> = vec![(1.0, 1)];
-        for u in unstable {
-            match cond.iter_mut().find(|(x, _)| (*x - u).abs() < 1e-6) {
-                Some(c) => c.1 += 1,
-                None => cond.push((u, 1)),
-            }
-        }
+        let cond = cond.get(..count).unwrap_or(&[]);
         let m: usize = cond.iter().map(|c| c.1).sum();
         let pole =
             |t: f64| -> Result<f64, Error> { Ok((-ts / crate::real::positive(t, "tf")?).exp()) };
         let alpha = pole(spec.tf)?;
-        let mut dr = vec![1.0];
+        let mut dr = SmallPoly::new(&[1.0])?;
         for _ in 0..(if spec.biproper {
             m.saturating_sub(1)
         } else {
             m
         }) {
-            dr = mul(&dr, &[1.0, -alpha]);
+            dr = dr.mul(&[1.0, -alpha])?;
         }
         let q = match spec.lead {
             Some((t_zero, t_pole)) => {
-                dr = mul(&dr, &[1.0, -pole(t_pole)?]);
-                vec![1.0, -pole(t_zero)?]
+                dr = dr.mul(&[1.0, -pole(t_pole)?])?;
+                SmallPoly::new(&[1.0, -pole(t_zero)?])?
             }
-            None => vec![1.0],
+            None => SmallPoly::new(&[1.0])?,
         };
-        let (c, k) = solve(h, &dr, &q, &cond)?;
-        let nr: Vec<f64> = mul(&q, &c.iter().take(k).copied().collect::<Vec<f64>>());
-        // p = (z^h·Dr − Nr)/(Dm⁺(z − 1)), exactly (the remainder is rounding)
-        let mut zh_dr = dr.clone();
-        zh_dr.extend(core::iter::repeat(0.0).take(h));
-        let nr_pad: Vec<f64> = core::iter::repeat(0.0)
-            .take(zh_dr.len().saturating_sub(nr.len()))
-            .chain(nr.iter().copied())
-            .collect();
-        let diff: Vec<f64> = zh_dr.iter().zip(&nr_pad).map(|(a, b)| a - b).collect();
-        let (p, rem) = div(&diff, &mul(&dplus, &[1.0, -1.0]))?;
-        let scale = diff.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
-        if rem.iter().any(|r| r.abs() > 1e-6 * scale) {
-            return Err(Error::Numerical("robustness filter (Eq. 10 not satisfied)"));
+        let (c, k) = solve(h, dr.as_slice(), q.as_slice(), cond)?;
+        let nr = q.mul(c.get(..k).unwrap_or(&[]))?;
+        // diff = z^h·Dr − Nr, then p = diff/(Dm⁺(z − 1)) in place (quotient in front)
+        let dlen = h.saturating_add(dr.len());
+        let mut diff: S = buffer(dlen)?;
+        {
+            let d = diff.as_mut();
+            d.iter_mut().for_each(|v| *v = 0.0);
+            for (x, v) in d.iter_mut().zip(dr.as_slice()) {
+                *x = *v;
+            }
+            let off = dlen.saturating_sub(nr.len());
+            for (i, v) in nr.as_slice().iter().enumerate() {
+                if let Some(x) = d.get_mut(off.saturating_add(i)) {
+                    *x -= v;
+                }
+            }
         }
-        // S = Nm(z − 1)p / (Dm⁻·Dr·z^h), in powers of z^{-1}
-        let b = mul(&mul(&nm, &[1.0, -1.0]), &p);
-        let a = mul(&dminus, &dr);
-        let da = a.len() - 1 + h;
-        let db = crate::poly::trim(&b).len() - 1;
-        let b = crate::poly::trim(&b);
-        let lead = a.first().copied().unwrap_or(1.0);
-        let mut s_num = vec![0.0; da - db];
-        s_num.extend(b.iter().map(|v| v / lead));
-        let s_den: Vec<f64> = a.iter().map(|v| v / lead).collect();
+        let divisor = dplus.mul(&[1.0, -1.0])?;
+        let dv = divisor.as_slice();
+        let lead = divisor.lead();
+        let qlen = dlen.saturating_add(1).saturating_sub(dv.len());
+        let scale = {
+            let d = diff.as_ref();
+            d.iter().take(dlen).fold(1.0f64, |m, v| m.max(v.abs()))
+        };
+        {
+            let d = diff.as_mut();
+            for i in 0..qlen {
+                let f = d.get(i).copied().unwrap_or(0.0) / lead;
+                for (j, b) in dv.iter().enumerate().skip(1) {
+                    if let Some(x) = d.get_mut(i.saturating_add(j)) {
+                        *x -= f * b;
+                    }
+                }
+                if let Some(x) = d.get_mut(i) {
+                    *x = f;
+                }
+            }
+            if d.iter()
+                .take(dlen)
+                .skip(qlen)
+                .any(|r| r.abs() > 1e-6 * scale)
+            {
+                return Err(Error::Numerical("robustness filter (Eq. 10 not satisfied)"));
+            }
+        }
+        // S = Nm(z − 1)p / (Dm⁻·Dr·z^h), in powers of z^{−1}
+        let nm1 = SmallPoly::new(nm.as_slice())?.mul(&[1.0, -1.0])?;
+        let a = dminus.mul(dr.as_slice())?;
+        let a_lead = a.lead();
+        let da = a.len().saturating_sub(1).saturating_add(h);
+        let blen = qlen.saturating_add(nm1.len()).saturating_sub(1);
+        let db = blen.saturating_sub(1);
+        let s_len = da.saturating_add(1);
+        let off = da.saturating_sub(db);
+        let mut s_num: S = buffer(s_len)?;
+        {
+            let p = diff.as_ref();
+            let out = s_num.as_mut();
+            out.iter_mut().for_each(|v| *v = 0.0);
+            for (i, ni) in nm1.as_slice().iter().enumerate() {
+                for (j, pj) in p.iter().take(qlen).enumerate() {
+                    if let Some(x) = out.get_mut(off.saturating_add(i).saturating_add(j)) {
+                        *x += ni * pj / a_lead;
+                    }
+                }
+            }
+        }
+        let mut s_den = [0.0; SMALL];
+        for (d, v) in s_den.iter_mut().zip(a.as_slice()) {
+            *d = v / a_lead;
+        }
         Ok(FspDesign {
             nr,
             dr,
             s_num,
-            s_den,
+            s_len,
+            s_den: SmallPoly::new(s_den.get(..a.len()).unwrap_or(&[1.0]))?,
         })
     }
+}
+
+/// The controllers: generic over `f32`/`f64` and over the storage of the
+/// dead-time-sized buffers (`Vec` on a host, arrays on a device).
+mod runtime {
+    use super::design::{buffer, FspDesign, SMALL};
+    use crate::delay::DelayStorage;
+    use crate::dtc::compensator::ParamList;
+    use crate::dtc::Controller;
+    use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
 
     /// An output predictor of the predictor-based dead-time compensators:
     /// `ŷ[k] = Su(z)·u[k] + Sy(z)·y[k]`, with `Su` strictly proper (it sees
     /// the past inputs only). The filtered Smith predictor's `S`, `Fr` and the
     /// GPCC's `F1`, `F2`, `Fk` ([`crate::dtc::gpcc`]) are two such predictors.
-    pub trait Predictor: core::fmt::Debug {
+    pub trait Predictor<T: Real> {
         /// The prediction at this sample from the past inputs and the measurement `y`.
-        fn predict(&mut self, y: f64) -> f64;
+        fn predict(&mut self, y: T) -> T;
         /// A sample whose measurement is missing: the part driven by the inputs only.
-        fn predict_held(&mut self) -> f64;
+        fn predict_held(&mut self) -> T;
         /// Records the input `u[k]` applied at this sample.
-        fn commit(&mut self, u: f64);
+        fn commit(&mut self, u: T);
         /// Zeroes every state.
         fn reset(&mut self);
         /// `(Su, Sy)` at `z = e^{jθ}`.
-        fn response(&self, theta: f64) -> (Complex<f64>, Complex<f64>);
+        fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
     }
 
     /// A direct-form filter over a ring of past inputs and outputs:
-    /// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]` (strictly proper, `a_0 = 1`).
+    /// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]` (strictly proper,
+    /// `a_0 = 1`). The numerator (as long as the dead time) and the input
+    /// history live in storage `S`; the denominator is model-sized.
     #[derive(Debug, Clone)]
-    pub struct DirectForm {
-        num: Vec<f64>,
-        den: Vec<f64>,
-        u_hist: Vec<f64>,
-        s_hist: Vec<f64>,
+    pub struct DirectForm<T, S> {
+        num: S,
+        nlen: usize,
+        den: [T; SMALL],
+        dlen: usize,
+        u_hist: S,
+        s_hist: [T; SMALL],
         uh: usize,
         sh: usize,
     }
 
-    impl DirectForm {
+    impl<T: Real, S: DelayStorage<T>> DirectForm<T, S> {
         /// The filter `num/den` in powers of `z^{−1}` (`num[0]` is ignored: strictly proper).
-        pub fn new(num: &[f64], den: &[f64]) -> Self {
-            DirectForm {
-                num: num.to_vec(),
-                den: den.to_vec(),
-                u_hist: vec![0.0; num.len().max(1)],
-                s_hist: vec![0.0; den.len().max(1)],
+        pub fn new(num: &[f64], den: &[f64]) -> Result<Self, Error> {
+            if den.len() > SMALL {
+                return Err(Error::OrderTooHigh("predictor denominator"));
+            }
+            let nlen = num.len().max(1);
+            let mut nb: S = buffer(nlen)?;
+            nb.as_mut().iter_mut().for_each(|v| *v = T::zero());
+            for (d, v) in nb.as_mut().iter_mut().zip(num) {
+                *d = T::of(*v);
+            }
+            let mut u_hist: S = buffer(nlen)?;
+            u_hist.as_mut().iter_mut().for_each(|v| *v = T::zero());
+            let mut dn = [T::zero(); SMALL];
+            for (d, v) in dn.iter_mut().zip(den) {
+                *d = T::of(*v);
+            }
+            Ok(DirectForm {
+                num: nb,
+                nlen,
+                den: dn,
+                dlen: den.len().max(1),
+                u_hist,
+                s_hist: [T::zero(); SMALL],
                 uh: 0,
                 sh: 0,
-            }
+            })
         }
+    }
+
+    impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
         /// The output at this sample from the history.
-        pub fn output(&self) -> f64 {
-            let n = self.u_hist.len();
-            let m = self.s_hist.len();
-            let mut acc = 0.0;
-            // u_hist[uh] holds u[n − 1], u_hist[uh − (k − 1)] holds u[n − k]
-            for (k, b) in self.num.iter().enumerate().skip(1) {
-                let idx = (self.uh + n - ((k - 1) % n)) % n;
-                acc += b * self.u_hist.get(idx).copied().unwrap_or(0.0);
+        pub fn output(&self) -> T {
+            let (n, m) = (self.nlen, self.dlen);
+            let num = self.num.as_ref().get(1..n).unwrap_or(&[]);
+            let uh = self.u_hist.as_ref().get(..n).unwrap_or(&[]);
+            // u[n − k] for k = 1, 2, … runs backwards from u_hist[uh] and wraps:
+            // two contiguous pieces, no index arithmetic per term
+            let (front, back) = uh.split_at((self.uh + 1).min(uh.len()));
+            let mut acc = T::zero();
+            let mut coeffs = num.iter();
+            // (the history first in the zip: it is the one that runs out)
+            for (u, b) in front.iter().rev().zip(coeffs.by_ref()) {
+                acc = acc + *b * *u;
             }
-            for (k, a) in self.den.iter().enumerate().skip(1) {
+            for (u, b) in back.iter().rev().zip(coeffs) {
+                acc = acc + *b * *u;
+            }
+            for (k, a) in self.den.iter().enumerate().take(m).skip(1) {
                 let idx = (self.sh + m - ((k - 1) % m)) % m;
-                acc -= a * self.s_hist.get(idx).copied().unwrap_or(0.0);
+                acc = acc - *a * self.s_hist.get(idx).copied().unwrap_or(T::zero());
             }
             acc
         }
         /// Stores `u[n]` and the output `s[n]` as the newest history entries.
-        pub fn push(&mut self, u: f64, s: f64) {
-            let n = self.u_hist.len().max(1);
-            let m = self.s_hist.len().max(1);
-            self.uh = (self.uh + 1) % n;
-            self.sh = (self.sh + 1) % m;
-            if let Some(x) = self.u_hist.get_mut(self.uh) {
+        pub fn push(&mut self, u: T, s: T) {
+            self.uh = (self.uh + 1) % self.nlen.max(1);
+            self.sh = (self.sh + 1) % self.dlen.max(1);
+            if let Some(x) = self.u_hist.as_mut().get_mut(self.uh) {
                 *x = u;
             }
             if let Some(x) = self.s_hist.get_mut(self.sh) {
@@ -509,20 +698,22 @@ mod controller {
         }
         /// Zeroes the history.
         pub fn reset(&mut self) {
-            self.u_hist.iter_mut().for_each(|v| *v = 0.0);
-            self.s_hist.iter_mut().for_each(|v| *v = 0.0);
+            self.u_hist.as_mut().iter_mut().for_each(|v| *v = T::zero());
+            self.s_hist.iter_mut().for_each(|v| *v = T::zero());
             self.uh = 0;
             self.sh = 0;
         }
         /// The response at `z = e^{jθ}`.
-        pub fn response(&self, theta: f64) -> Complex<f64> {
-            let zi = |k: usize| Complex::cis(-theta * k as f64);
-            let sum = |p: &[f64]| {
+        pub fn response(&self, theta: T) -> Complex<T> {
+            let zi =
+                |k: usize| Complex::cis(-theta * T::of(f64::from(u32::try_from(k).unwrap_or(0))));
+            let sum = |p: &[T]| {
                 p.iter()
                     .enumerate()
                     .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b))
             };
-            sum(&self.num) / sum(&self.den)
+            sum(self.num.as_ref().get(..self.nlen).unwrap_or(&[]))
+                / sum(self.den.get(..self.dlen).unwrap_or(&[]))
         }
     }
 
@@ -531,41 +722,52 @@ mod controller {
     /// the input history (its numerator spans the dead time, so the cost is
     /// proportional to it).
     #[derive(Debug, Clone)]
-    pub struct FspPredictor {
-        fr: Lti<f64, 8>,
-        s: DirectForm,
-        last_s: f64,
+    pub struct FspPredictor<T, S> {
+        fr: Lti<T, 8>,
+        s: DirectForm<T, S>,
+        last_s: T,
     }
 
-    impl FspPredictor {
+    impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
         /// The predictor of a design.
-        pub fn new(d: &FspDesign) -> Result<Self, Error> {
+        pub fn new<D: AsRef<[f64]>>(d: &FspDesign<D>) -> Result<Self, Error> {
+            let cast = |p: &[f64]| -> [T; SMALL] {
+                let mut o = [T::zero(); SMALL];
+                for (d, v) in o.iter_mut().zip(p) {
+                    *d = T::of(*v);
+                }
+                o
+            };
+            let (nr, dr) = (cast(d.nr.as_slice()), cast(d.dr.as_slice()));
             Ok(FspPredictor {
-                fr: Lti::from_discrete_tf(&d.nr, &d.dr)?,
-                s: DirectForm::new(&d.s_num, &d.s_den),
-                last_s: 0.0,
+                fr: Lti::from_discrete_tf(
+                    nr.get(..d.nr.len()).unwrap_or(&[]),
+                    dr.get(..d.dr.len()).unwrap_or(&[]),
+                )?,
+                s: DirectForm::new(d.s_num(), d.s_den.as_slice())?,
+                last_s: T::zero(),
             })
         }
     }
 
-    impl Predictor for FspPredictor {
-        fn predict(&mut self, y: f64) -> f64 {
+    impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
+        fn predict(&mut self, y: T) -> T {
             self.last_s = self.s.output();
             self.last_s + self.fr.step(y)
         }
-        fn predict_held(&mut self) -> f64 {
+        fn predict_held(&mut self) -> T {
             self.last_s = self.s.output();
             self.last_s
         }
-        fn commit(&mut self, u: f64) {
+        fn commit(&mut self, u: T) {
             self.s.push(u, self.last_s);
         }
         fn reset(&mut self) {
             self.fr.reset();
             self.s.reset();
-            self.last_s = 0.0;
+            self.last_s = T::zero();
         }
-        fn response(&self, theta: f64) -> (Complex<f64>, Complex<f64>) {
+        fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
             (self.s.response(theta), self.fr.response(theta))
         }
     }
@@ -575,56 +777,52 @@ mod controller {
     /// integrating and stable plants; with [`crate::dtc::gpcc::GpccPredictor`]
     /// the generalized predictor.
     #[derive(Debug, Clone)]
-    pub struct Predicted<P> {
-        k: Pid<f64>,
+    pub struct Predicted<T, P> {
+        k: Pid<T>,
         pred: P,
-        names: &'static [&'static str],
-        values: Vec<f64>,
-        yhat: f64,
+        params: ParamList<T>,
+        yhat: T,
         fault: bool,
     }
 
     /// The filtered Smith predictor.
-    pub type FilteredSmith = Predicted<FspPredictor>;
+    pub type FilteredSmith<T, S> = Predicted<T, FspPredictor<T, S>>;
 
-    impl FilteredSmith {
+    impl<T: Real, S: DelayStorage<T>> FilteredSmith<T, S> {
         /// The controller `k` around the designed predictor.
-        pub fn new(
-            k: PidConfig<f64>,
-            d: &FspDesign,
-            names: &'static [&'static str],
-            values: Vec<f64>,
+        pub fn new<D: AsRef<[f64]>>(
+            k: PidConfig<T>,
+            d: &FspDesign<D>,
+            params: ParamList<T>,
         ) -> Result<Self, Error> {
-            Predicted::with_predictor(k, FspPredictor::new(d)?, names, values)
+            Predicted::with_predictor(k, FspPredictor::new(d)?, params)
         }
     }
 
-    impl<P: Predictor> Predicted<P> {
-        /// The controller `k` around `pred`; `names`/`values` are the scheme's parameters.
+    impl<T: Real, P: Predictor<T>> Predicted<T, P> {
+        /// The controller `k` around `pred`, reporting `params`.
         pub fn with_predictor(
-            k: PidConfig<f64>,
+            k: PidConfig<T>,
             pred: P,
-            names: &'static [&'static str],
-            values: Vec<f64>,
+            params: ParamList<T>,
         ) -> Result<Self, Error> {
             Ok(Predicted {
                 k: Pid::new(k)?,
                 pred,
-                names,
-                values,
-                yhat: 0.0,
+                params,
+                yhat: T::zero(),
                 fault: false,
             })
         }
     }
 
-    impl<P: Predictor> Controller<f64> for Predicted<P> {
-        fn update(&mut self, r: f64, y: f64) -> f64 {
+    impl<T: Real, P: Predictor<T>> Controller<T> for Predicted<T, P> {
+        fn update(&mut self, r: T, y: T) -> T {
             if !(r.is_finite() && y.is_finite()) {
                 // the output is held; the predictor keeps following the actuator
                 self.fault = true;
                 self.pred.predict_held();
-                let u = self.k.update(r, f64::NAN);
+                let u = self.k.update(r, T::nan());
                 self.pred.commit(u);
                 return u;
             }
@@ -638,33 +836,33 @@ mod controller {
         fn reset(&mut self) {
             self.k.reset();
             self.pred.reset();
-            self.yhat = 0.0;
+            self.yhat = T::zero();
             self.fault = false;
         }
         fn signal_names(&self) -> &'static [&'static str] {
             &["prediction"]
         }
-        fn signal(&self, i: usize) -> f64 {
+        fn signal(&self, i: usize) -> T {
             if i == 0 {
                 self.yhat
             } else {
-                f64::NAN
+                T::nan()
             }
         }
         fn param_names(&self) -> &'static [&'static str] {
-            self.names
+            self.params.names()
         }
-        fn param(&self, i: usize) -> f64 {
-            self.values.get(i).copied().unwrap_or(f64::NAN)
+        fn param(&self, i: usize) -> T {
+            self.params.get(i)
         }
         fn fault(&self) -> bool {
             self.fault
         }
-        fn response(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
+        fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
             // u = K_r r − K_y(Su u + Sy y) → u = K_r/(1 + K_y Su)·r − K_y Sy/(1 + K_y Su)·y
             let (kr, ky) = self.k.response(theta);
             let (su, sy) = self.pred.response(theta);
-            let d = Complex::real(1.0) + ky * su;
+            let d = Complex::real(T::one()) + ky * su;
             Some((kr / d, ky * sy / d))
         }
     }

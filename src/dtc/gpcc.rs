@@ -21,62 +21,106 @@
 //!
 //! so that, in the filtered Smith predictor's terms, `Fr = F2 + Fk(1 − z^{−h}F2)`
 //! (Sec. 3.3) and the robust-stability test of Eq. 17 is shared.
+//!
+//! The design runs in `f64` without allocation (model-sized polynomials in
+//! fixed arrays, the `h` Markov parameters and the input history in storage
+//! `S`); the predictor runs in `T` (`f32` or `f64`).
 
-use alloc::vec;
-use alloc::vec::Vec;
-
-use crate::delay::Delay;
-use crate::dtc::fsp::{model_tf, Predictor};
-use crate::poly::{div, mul, poly_roots, trim};
-use crate::{Complex, Discretization, Error, Lti};
+use crate::complex::Complex;
+use crate::delay::{Delay, DelayStorage};
+use crate::dtc::fsp::{buffer, model_tf, Predictor, SmallPoly, SMALL};
+use crate::{Discretization, Error, Lti, Real};
+#[allow(unused_imports)] // f64 methods under no_std
+use num_traits::Float;
 
 /// Zeros of `Gm` with `|z|` at least this go into `Γ`.
 pub const ZERO_RADIUS: f64 = 0.8;
 
 /// The GPCC output predictor `ŷ = F1·u + F2·y + Fk(y − z^{−h}ȳ)`.
 #[derive(Debug, Clone)]
-pub struct GpccPredictor {
-    gamma: Lti<f64, 4>,
-    markov: Vec<f64>,
-    ring: Vec<f64>,
+pub struct GpccPredictor<T, S> {
+    gamma: Lti<T, 4>,
+    markov: S,
+    ring: S,
+    h: usize,
     newest: usize,
-    f2: Lti<f64, 8>,
-    fk: Lti<f64, 4>,
-    line: Delay<f64, Vec<f64>>,
-    f1: f64,
+    f2: Lti<T, 8>,
+    fk: Lti<T, 4>,
+    line: Delay<T, S>,
+    f1: T,
 }
 
-/// `(Γ numerator, Γ denominator, Gn numerator)`.
-type Split = (Vec<f64>, Vec<f64>, Vec<f64>);
-
-/// `(Γ numerator, Γ denominator, Gn numerator)` for the model `nm/dm`.
-fn split_zeros(nm: &[f64]) -> Result<Split, Error> {
-    let nm = trim(nm);
-    let mut bad = vec![1.0];
+/// `(Γ numerator, Γ denominator, Gn numerator)` for the model numerator `nm`.
+fn split_zeros(nm: &[f64]) -> Result<(SmallPoly, SmallPoly, SmallPoly), Error> {
+    let nm = SmallPoly::new(nm)?;
+    let mut bad = SmallPoly::new(&[1.0])?;
     let mut count = 0usize;
-    if nm.len() > 1 {
-        for (re, im) in poly_roots(&nm)? {
+    let deg = nm.len().saturating_sub(1);
+    if deg > 0 {
+        let mut rts = [Complex::<f64>::default(); SMALL];
+        crate::lti::roots(nm.as_slice(), &mut rts)?;
+        for r in rts.iter().take(deg) {
+            let (re, im) = (r.re, r.im);
             if re.hypot(im) < ZERO_RADIUS {
                 continue;
             }
             if im.abs() <= 1e-12 {
-                bad = mul(&bad, &[1.0, -re]);
+                bad = bad.mul(&[1.0, -re])?;
                 count = count.saturating_add(1);
             } else if im > 0.0 {
-                bad = mul(&bad, &[1.0, -2.0 * re, re * re + im * im]);
+                bad = bad.mul(&[1.0, -2.0 * re, re * re + im * im])?;
                 count = count.saturating_add(2);
             }
         }
     }
-    let (core, _rem) = div(&nm, &bad)?;
-    let mut gn = core;
-    gn.extend(core::iter::repeat(0.0).take(count));
-    let mut gamma_den = vec![1.0];
-    gamma_den.extend(core::iter::repeat(0.0).take(count));
+    // Gn numerator = nm / bad · z^count (synthetic division, the remainder is rounding)
+    let (a, b) = (nm.as_slice(), bad.as_slice());
+    let lead = b.first().copied().unwrap_or(1.0);
+    let qlen = a.len().saturating_add(1).saturating_sub(b.len()).max(1);
+    let mut r = [0.0; SMALL];
+    for (d, v) in r.iter_mut().zip(a) {
+        *d = *v;
+    }
+    let mut q = [0.0; SMALL];
+    for i in 0..qlen.min(a.len()) {
+        let f = r.get(i).copied().unwrap_or(0.0) / lead;
+        if let Some(x) = q.get_mut(i) {
+            *x = f;
+        }
+        for (j, bj) in b.iter().enumerate() {
+            if let Some(x) = r.get_mut(i.saturating_add(j)) {
+                *x -= f * bj;
+            }
+        }
+    }
+    let mut gn = [0.0; SMALL];
+    for (d, v) in gn.iter_mut().zip(q.iter().take(qlen)) {
+        *d = *v;
+    }
+    let gn = SmallPoly::new(gn.get(..qlen.saturating_add(count)).unwrap_or(&[0.0]))?;
+    let mut gd = [0.0; SMALL];
+    if let Some(g) = gd.first_mut() {
+        *g = 1.0;
+    }
+    let gamma_den = SmallPoly::new(gd.get(..count.saturating_add(1)).unwrap_or(&[1.0]))?;
     Ok((bad, gamma_den, gn))
 }
 
-impl GpccPredictor {
+fn cast<T: Real>(p: &SmallPoly) -> ([T; SMALL], usize) {
+    let mut o = [T::zero(); SMALL];
+    for (d, v) in o.iter_mut().zip(p.as_slice()) {
+        *d = T::of(*v);
+    }
+    (o, p.len())
+}
+
+fn lti_of<T: Real, const M: usize>(num: &SmallPoly, den: &SmallPoly) -> Result<Lti<T, M>, Error> {
+    let (n, nl) = cast::<T>(num);
+    let (d, dl) = cast::<T>(den);
+    Lti::from_discrete_tf(n.get(..nl).unwrap_or(&[]), d.get(..dl).unwrap_or(&[]))
+}
+
+impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
     /// Designs the predictor for the ZOH model `gm` with a dead time of `h`
     /// samples; `tk` is the time constant of `Fk(s) = 1/(tk·s + 1)` (pole-zero
     /// matched at `ts`), `0` for `Fk = 1`.
@@ -90,91 +134,101 @@ impl GpccPredictor {
             return Err(Error::Unsupported("gpcc needs a strictly proper model"));
         }
         let (nm, dm) = model_tf(gm);
-        let (gamma_num, gamma_den, gn_num) = split_zeros(&nm)?;
+        let (gamma_num, gamma_den, gn_num) = split_zeros(nm.as_slice())?;
         if gamma_num.len() > 5 {
             return Err(Error::OrderTooHigh("gpcc: zeros near the unit circle"));
         }
-        let gn: Lti<f64, 8> = Lti::from_discrete_tf(&gn_num, &dm)?;
+        let gn: Lti<f64, 8> = Lti::from_discrete_tf(gn_num.as_slice(), dm.as_slice())?;
         let c = gn.output_vector();
         let mut v = gn.input_vector();
-        let mut markov = Vec::with_capacity(h);
-        for _ in 0..h {
-            markov.push(c.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>());
+        let mut markov: S = buffer(h.max(1))?;
+        markov.as_mut().iter_mut().for_each(|x| *x = T::zero());
+        for slot in markov.as_mut().iter_mut().take(h) {
+            *slot = T::of(c.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>());
             v = gn.propagate(&v);
         }
         let (num_star, _) = model_tf(&gn.with_input(&v)?);
-        let num_star = trim(&num_star);
-        let gn_num = trim(&gn_num);
+        let num_star = SmallPoly::new(num_star.as_slice())?;
         if num_star.len() > gn_num.len() {
             return Err(Error::Unsupported(
                 "gpcc: the model's relative degree is above one (F2 would be improper)",
             ));
         }
-        let f2 = Lti::from_discrete_tf(&num_star, &gn_num)?;
         let fk = if tk > 0.0 {
-            Lti::from_tf(&[1.0], &[tk, 1.0], ts, Discretization::Matched)?
+            Lti::from_tf(
+                &[T::one()],
+                &[T::of(tk), T::one()],
+                T::of(ts),
+                Discretization::Matched,
+            )?
         } else {
-            Lti::gain(1.0)?
+            Lti::gain(T::one())?
         };
-        let h_real = f64::from(u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?);
+        let mut ring: S = buffer(h.max(1))?;
+        ring.as_mut().iter_mut().for_each(|x| *x = T::zero());
+        let hn = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
         Ok(GpccPredictor {
-            gamma: Lti::from_discrete_tf(&gamma_num, &gamma_den)?,
+            gamma: lti_of(&gamma_num, &gamma_den)?,
             markov,
-            ring: vec![0.0; h.max(1)],
+            ring,
+            h,
             newest: 0,
-            f2,
+            f2: lti_of(&num_star, &gn_num)?,
             fk,
-            line: Delay::new_in(h_real)?,
-            f1: 0.0,
+            line: Delay::new_in(T::of(f64::from(hn)))?,
+            f1: T::zero(),
         })
     }
+}
 
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> GpccPredictor<T, S> {
     /// `F1·u` from the filtered past inputs `w = Γ·u`.
-    fn f1_output(&self) -> f64 {
-        let n = self.ring.len();
+    fn f1_output(&self) -> T {
+        let n = self.h.max(1);
+        let ring = self.ring.as_ref();
         self.markov
+            .as_ref()
             .iter()
+            .take(self.h)
             .enumerate()
-            .map(|(i, m)| {
+            .fold(T::zero(), |acc, (i, m)| {
                 // i = 0 is w[k − 1], the newest entry
                 let idx = (self.newest + n - (i % n)) % n;
-                m * self.ring.get(idx).copied().unwrap_or(0.0)
+                acc + *m * ring.get(idx).copied().unwrap_or(T::zero())
             })
-            .sum()
     }
 
     /// `(F1, F2, Fk)` at `z = e^{jθ}`.
-    pub fn filters(&self, theta: f64) -> (Complex<f64>, Complex<f64>, Complex<f64>) {
-        let f1 = self
-            .markov
-            .iter()
-            .enumerate()
-            .fold(Complex::default(), |a, (i, m)| {
-                a + Complex::cis(-theta * (i as f64 + 1.0)).scale(*m)
-            })
-            * self.gamma.response(theta);
+    pub fn filters(&self, theta: T) -> (Complex<T>, Complex<T>, Complex<T>) {
+        let f1 = self.markov.as_ref().iter().take(self.h).enumerate().fold(
+            Complex::default(),
+            |a, (i, m)| {
+                let k = T::of(f64::from(u32::try_from(i).unwrap_or(0)) + 1.0);
+                a + Complex::cis(-theta * k).scale(*m)
+            },
+        ) * self.gamma.response(theta);
         (f1, self.f2.response(theta), self.fk.response(theta))
     }
 }
 
-impl Predictor for GpccPredictor {
-    fn predict(&mut self, y: f64) -> f64 {
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
+    fn predict(&mut self, y: T) -> T {
         self.f1 = self.f1_output();
         let ybar = self.f1 + self.f2.step(y);
         let old = self.line.process(ybar);
         ybar + self.fk.step(y - old)
     }
-    fn predict_held(&mut self) -> f64 {
+    fn predict_held(&mut self) -> T {
         self.f1 = self.f1_output();
         let ybar = self.f1 + self.f2.free_output();
         self.line.process(ybar);
         ybar
     }
-    fn commit(&mut self, u: f64) {
+    fn commit(&mut self, u: T) {
         let w = self.gamma.step(u);
-        let n = self.ring.len().max(1);
+        let n = self.h.max(1);
         self.newest = (self.newest + 1) % n;
-        if let Some(x) = self.ring.get_mut(self.newest) {
+        if let Some(x) = self.ring.as_mut().get_mut(self.newest) {
             *x = w;
         }
     }
@@ -183,44 +237,46 @@ impl Predictor for GpccPredictor {
         self.f2.reset();
         self.fk.reset();
         self.line.reset();
-        self.ring.iter_mut().for_each(|v| *v = 0.0);
+        self.ring.as_mut().iter_mut().for_each(|v| *v = T::zero());
         self.newest = 0;
-        self.f1 = 0.0;
+        self.f1 = T::zero();
     }
     /// `Su = F1(1 − Fk z^{−h})`, `Sy = F2 + Fk(1 − z^{−h}F2)`.
-    fn response(&self, theta: f64) -> (Complex<f64>, Complex<f64>) {
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         let (f1, f2, fk) = self.filters(theta);
-        let zh = Complex::cis(-theta * self.markov.len() as f64);
-        let one = Complex::real(1.0);
+        let hh = T::of(f64::from(u32::try_from(self.h).unwrap_or(0)));
+        let zh = Complex::cis(-theta * hh);
+        let one = Complex::real(T::one());
         (f1 * (one - fk * zh), f2 + fk * (one - zh * f2))
     }
 }
 
 /// The generalized predictor controller: a primary `K` around [`GpccPredictor`].
-pub type Gpcc = crate::dtc::fsp::Predicted<GpccPredictor>;
+pub type Gpcc<T, S> = crate::dtc::fsp::Predicted<T, GpccPredictor<T, S>>;
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dtc::fsp::Predictor;
+
+    fn example1() -> Result<Lti<f64, 8>, Error> {
+        // 002_… Example 1's overall model 1/((2s + 1)(20s − 1)), T = 0.2
+        Lti::from_tf(&[1.0], &[40.0, 18.0, -1.0], 0.2, Discretization::Zoh)
+    }
 
     /// Eq. 2 holds exactly: with `y = z^{−h}Gm·u` the prediction equals `Gm·u`.
     #[test]
     fn predicts_the_undelayed_output_of_an_unstable_model() -> Result<(), Error> {
-        // Example 1's overall model, T = 0.2, h = 30
-        let ts = 0.2;
-        let gm: Lti<f64, 8> = Lti::from_tf(
-            &[1.0],
-            &crate::poly::mul(&[2.0, 1.0], &[20.0, -1.0]),
-            ts,
-            Discretization::Zoh,
-        )?;
+        let gm = example1()?;
         let h = 30;
-        let mut p = GpccPredictor::design(&gm, h, ts, 36.0)?;
+        let mut p: GpccPredictor<f64, [f64; 64]> = GpccPredictor::design(&gm, h, 0.2, 36.0)?;
         let (mut model, mut plant) = (gm, gm);
-        let mut line: Delay<f64, Vec<f64>> = Delay::new_in(30.0)?;
+        let mut line: Delay<f64, [f64; 64]> = Delay::new_in(30.0)?;
         for k in 0..400 {
-            let u = if k < 50 { 1.0 } else { (k as f64 * 0.05).sin() };
+            let u = if k < 50 {
+                1.0
+            } else {
+                (f64::from(k) * 0.05).sin()
+            };
             let y = line.process(plant.free_output());
             let yhat = p.predict(y);
             let ym = model.free_output();
@@ -238,19 +294,12 @@ mod tests {
     #[test]
     fn gamma_takes_the_sampling_zero() -> Result<(), Error> {
         // 002_… Example 1: Γ(z) = (z + 0.9704)/z, Gn = 0.00048537 z/((z − 1.01)(z − 0.9048))
-        let gm: Lti<f64, 8> = Lti::from_tf(
-            &[1.0],
-            &crate::poly::mul(&[2.0, 1.0], &[20.0, -1.0]),
-            0.2,
-            Discretization::Zoh,
-        )?;
-        let (nm, _) = model_tf(&gm);
-        let (g_num, g_den, gn) = split_zeros(&nm)?;
-        assert!((g_num[1] - 0.9704).abs() < 1e-4, "{g_num:?}");
-        assert_eq!(g_den, vec![1.0, 0.0]);
-        let gn = trim(&gn);
-        assert!((gn[0] - 0.00048537).abs() < 1e-8, "{gn:?}");
-        assert_eq!(gn[1], 0.0);
+        let (nm, _) = model_tf(&example1()?);
+        let (g_num, g_den, gn) = split_zeros(nm.as_slice())?;
+        assert!((g_num.as_slice()[1] - 0.9704).abs() < 1e-4, "{g_num:?}");
+        assert_eq!(g_den.as_slice(), &[1.0, 0.0]);
+        assert!((gn.as_slice()[0] - 0.00048537).abs() < 1e-8, "{gn:?}");
+        assert_eq!(gn.as_slice()[1], 0.0);
         Ok(())
     }
 }

@@ -5,13 +5,11 @@
 //! (the model's dead time).
 
 pub mod astrom_hang_lim;
-#[cfg(feature = "alloc")]
 pub mod cascade;
 pub mod compensator;
 pub mod disturbance_estimator;
 pub mod filtered_smith;
 pub mod fsp;
-#[cfg(feature = "alloc")]
 pub mod gpcc;
 pub mod huang;
 pub mod karan_dey;
