@@ -554,24 +554,8 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// A discrete transfer function `num(z)/den(z)` (descending powers of `z`),
     /// realized in controllable canonical form.
     pub fn from_discrete_tf(num: &[T], den: &[T]) -> Result<Self, Error> {
-        let (a, c, d, n) = companion::<T, N>(num, den)?;
-        let mut phi = [[T::zero(); N]; N];
-        if let Some(row) = phi.first_mut() {
-            for (p, aj) in row.iter_mut().zip(a.iter()).take(n) {
-                *p = -*aj;
-            }
-        }
-        for i in 1..n {
-            if let Some(v) = phi.get_mut(i).and_then(|r| r.get_mut(i.wrapping_sub(1))) {
-                *v = T::one();
-            }
-        }
-        let mut gamma = [T::zero(); N];
-        if n > 0 {
-            if let Some(g) = gamma.first_mut() {
-                *g = T::one();
-            }
-        }
+        // the same canonical form as the continuous one, read as Φ and Γ
+        let (phi, gamma, c, d, n) = realize::<T, N>(num, den)?;
         Lti {
             phi,
             gamma,

@@ -787,6 +787,23 @@ fn cascade_primary(
     Ok((lambda2, lambda, k, gm))
 }
 
+/// A cascade scheme's parameters: the primary PID `kp, ki, kd, tau`, the
+/// set-point weight (0.3, the paper's examples), `lambda2`, then the scheme's
+/// own values from `tail(Gm)`, then `lambda`.
+fn cascade_params(
+    names: &'static [&'static str],
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    d: &Design,
+    tail: impl FnOnce(&TransferFunction) -> Vec<f64>,
+) -> Result<Params, crate::Error> {
+    let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, d)?;
+    let mut v = alloc::vec![kp, ki, kd, tau, d.get("epsilon").unwrap_or(0.3), lambda2];
+    v.extend(tail(&gm));
+    v.push(lambda);
+    Ok(params_of(names, &v))
+}
+
 /// The parts every cascade scheme builds: the primary model's ZOH block, its
 /// dead time in whole samples, the inner loop and the primary PID.
 struct CascadeParts {
@@ -846,23 +863,13 @@ fn tune_fspcc(
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<Params, crate::Error> {
-    let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, d)?;
-    let tf = d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9));
-    Ok(params_of(
-        FSPCC_PARAMS,
-        &[
-            kp,
-            ki,
-            kd,
-            tau,
-            d.get("epsilon").unwrap_or(0.3),
-            lambda2,
-            tf,
+    cascade_params(FSPCC_PARAMS, p1, p2, d, |gm| {
+        alloc::vec![
+            d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9)),
             d.get("lead").unwrap_or(0.0),
             d.get("lag").unwrap_or(0.0),
-            lambda,
-        ],
-    ))
+        ]
+    })
 }
 
 fn build_fspcc(
@@ -896,20 +903,9 @@ fn tune_gpcc(
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<Params, crate::Error> {
-    let (lambda2, lambda, [kp, ki, kd, tau], _) = cascade_primary(p1, p2, d)?;
-    Ok(params_of(
-        GPCC_PARAMS,
-        &[
-            kp,
-            ki,
-            kd,
-            tau,
-            d.get("epsilon").unwrap_or(0.3),
-            lambda2,
-            d.get("tk").unwrap_or(0.0),
-            lambda,
-        ],
-    ))
+    cascade_params(GPCC_PARAMS, p1, p2, d, |_| {
+        alloc::vec![d.get("tk").unwrap_or(0.0)]
+    })
 }
 
 fn build_gpcc(
@@ -934,27 +930,18 @@ fn tune_uma(
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<Params, crate::Error> {
-    let (lambda2, lambda, [kp, ki, kd, tau], _) = cascade_primary(p1, p2, d)?;
     // Gcd: Uma et al. tune it on a Padé approximation of the dead time, a rule
     // the sources do not give: its gains are left to --set (NaN until then)
-    Ok(params_of(
-        UMA_PARAMS,
-        &[
-            kp,
-            ki,
-            kd,
-            tau,
-            d.get("epsilon").unwrap_or(0.3),
-            lambda2,
+    cascade_params(UMA_PARAMS, p1, p2, d, |_| {
+        alloc::vec![
             f64::NAN,
             f64::NAN,
             f64::NAN,
             d.get("lead").unwrap_or(0.0),
             d.get("lag").unwrap_or(0.0),
             d.get("tf").unwrap_or(0.0),
-            lambda,
-        ],
-    ))
+        ]
+    })
 }
 
 fn build_uma(

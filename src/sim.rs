@@ -1316,18 +1316,7 @@ impl Scenario {
 
     /// The plant and the model, parsed.
     pub fn parse(&self) -> Result<(TransferFunction, TransferFunction), RunError> {
-        let plant = crate::parse::parse_plant(&self.plant).map_err(|error| RunError::Parse {
-            field: "plant",
-            error,
-        })?;
-        let model = match &self.model {
-            Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
-                field: "model",
-                error,
-            })?,
-            None => plant.clone(),
-        };
-        Ok((plant, model))
+        plant_and_model(&self.plant, self.model.as_deref(), ("plant", "model"))
     }
 
     /// The secondary process and its model, parsed (cascade scenarios).
@@ -1340,33 +1329,17 @@ impl Scenario {
             }
             return Ok(None);
         };
-        let plant = crate::parse::parse_plant(p2).map_err(|error| RunError::Parse {
-            field: "inner plant",
-            error,
-        })?;
-        let model = match &self.inner_model {
-            Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
-                field: "inner model",
-                error,
-            })?,
-            None => plant.clone(),
-        };
-        Ok(Some((plant, model)))
+        plant_and_model(
+            p2,
+            self.inner_model.as_deref(),
+            ("inner plant", "inner model"),
+        )
+        .map(Some)
     }
 
     /// Parses, tunes, builds and simulates.
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        let plant = crate::parse::parse_plant(&self.plant).map_err(|error| RunError::Parse {
-            field: "plant",
-            error,
-        })?;
-        let model = match &self.model {
-            Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
-                field: "model",
-                error,
-            })?,
-            None => plant.clone(),
-        };
+        let (plant, model) = self.parse()?;
         let inner = self.parse_inner()?;
         self.run_process(plant, model, inner)
     }
@@ -1480,6 +1453,24 @@ impl Scenario {
     }
 }
 
+/// A plant expression and an optional model expression (default: the plant),
+/// parsed; errors name the `fields`.
+fn plant_and_model(
+    plant: &str,
+    model: Option<&str>,
+    fields: (&'static str, &'static str),
+) -> Result<(TransferFunction, TransferFunction), RunError> {
+    let parse = |e: &str, field| {
+        crate::parse::parse_plant(e).map_err(|error| RunError::Parse { field, error })
+    };
+    let p = parse(plant, fields.0)?;
+    let m = match model {
+        Some(m) => parse(m, fields.1)?,
+        None => p.clone(),
+    };
+    Ok((p, m))
+}
+
 /// Relative perturbations of the plant for `msp compare` (each controller keeps
 /// the nominal model): `0.1` is +10 %.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -1545,17 +1536,7 @@ pub fn compare(
     controllers: &[String],
     perturb: Perturbation,
 ) -> Result<Vec<RunOutput>, RunError> {
-    let nominal = crate::parse::parse_plant(&base.plant).map_err(|error| RunError::Parse {
-        field: "plant",
-        error,
-    })?;
-    let model = match &base.model {
-        Some(m) => crate::parse::parse_plant(m).map_err(|error| RunError::Parse {
-            field: "model",
-            error,
-        })?,
-        None => nominal.clone(),
-    };
+    let (nominal, model) = base.parse()?;
     let plant = nominal.perturbed(perturb.gain, perturb.delay, perturb.tau)?;
     let inner = match base.parse_inner()? {
         Some((p2, m2)) => Some((

@@ -30,6 +30,22 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static A: Counting = Counting;
 
+const BUILD: Build = Build {
+    ts: 0.1,
+    u_min: -10.0,
+    u_max: 10.0,
+};
+
+/// Allocations made by this thread while `f` runs.
+fn allocations(f: impl FnOnce()) -> usize {
+    COUNTING.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    f();
+    let after = ALLOCS.load(Ordering::SeqCst);
+    COUNTING.with(|c| c.set(false));
+    after - before
+}
+
 #[test]
 fn update_allocates_nothing() {
     let plants = ["0.2/s*e^-7.4s", "5.6*e^-93.9s/(40.2s+1)"];
@@ -39,33 +55,21 @@ fn update_allocates_nothing() {
             let Ok(params) = scheme.tune_with(&plant, None, &[]) else {
                 continue;
             };
-            let mut c = scheme
-                .build_with(
-                    &params,
-                    &plant,
-                    &Build {
-                        ts: 0.1,
-                        u_min: -10.0,
-                        u_max: 10.0,
-                    },
-                )
-                .unwrap();
-            COUNTING.with(|c| c.set(true));
-            let before = ALLOCS.load(Ordering::SeqCst);
-            let mut y = 0.0;
-            for k in 0..10_000 {
-                y = 0.999 * y + 0.001 * c.update(1.0, y);
-                if k == 5000 {
-                    y = f64::NAN;
+            let mut c = scheme.build_with(&params, &plant, &BUILD).unwrap();
+            let n = allocations(|| {
+                let mut y = 0.0;
+                for k in 0..10_000 {
+                    y = 0.999 * y + 0.001 * c.update(1.0, y);
+                    if k == 5000 {
+                        y = f64::NAN;
+                    }
+                    if !y.is_finite() {
+                        y = 0.0;
+                    }
                 }
-                if !y.is_finite() {
-                    y = 0.0;
-                }
-            }
-            c.reset();
-            let after = ALLOCS.load(Ordering::SeqCst);
-            COUNTING.with(|c| c.set(false));
-            assert_eq!(after, before, "{} allocated during update", scheme.name);
+                c.reset();
+            });
+            assert_eq!(n, 0, "{} allocated during update", scheme.name);
         }
     }
 }
@@ -92,29 +96,18 @@ fn cascade_update_allocates_nothing() {
             )
             .unwrap();
         let mut c = scheme
-            .build_process(
-                &params,
-                &p1,
-                Some(&p2),
-                &Build {
-                    ts: 0.1,
-                    u_min: -10.0,
-                    u_max: 10.0,
-                },
-            )
+            .build_process(&params, &p1, Some(&p2), &BUILD)
             .unwrap();
-        COUNTING.with(|c| c.set(true));
-        let before = ALLOCS.load(Ordering::SeqCst);
-        let (mut y, mut y2) = (0.0, 0.0);
-        for _ in 0..10_000 {
-            let u = c.update_cascade(1.0, y, y2);
-            y2 = 0.9 * y2 + 0.1 * u;
-            y += 0.01 * y2;
-        }
-        c.reset();
-        let after = ALLOCS.load(Ordering::SeqCst);
-        COUNTING.with(|c| c.set(false));
-        assert_eq!(after, before, "{} allocated during update", scheme.name);
+        let n = allocations(|| {
+            let (mut y, mut y2) = (0.0, 0.0);
+            for _ in 0..10_000 {
+                let u = c.update_cascade(1.0, y, y2);
+                y2 = 0.9 * y2 + 0.1 * u;
+                y += 0.01 * y2;
+            }
+            c.reset();
+        });
+        assert_eq!(n, 0, "{} allocated during update", scheme.name);
         checked += 1;
     }
     assert_eq!(checked, 4);
