@@ -810,7 +810,10 @@ struct CascadeParts {
     gm: Lti<f64, MAX_ORDER>,
     h: usize,
     imc: Imc<f64, Vec<f64>>,
+    /// Uma et al.'s `Gcs` as a PID (their continuous design, sampled).
     k: PidConfig<f64>,
+    /// The same, pole-zero matched (FSPCC's and GPCC's `K(z)`).
+    km: dtc::fsp::Matched2Dof<f64>,
 }
 
 fn cascade_parts(
@@ -829,18 +832,14 @@ fn cascade_parts(
         ));
     }
     let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
+    let (kp, ki, kd, tau) = (p.req("kp")?, p.req("ki")?, p.req("kd")?, p.req("tau")?);
+    let epsilon = p.get("epsilon").unwrap_or(1.0);
     Ok(CascadeParts {
         gm: gm.to_model_lti::<MAX_ORDER>(b.ts)?,
         h,
         imc: Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?,
-        k: cascade::series_pid(
-            p.req("kp")?,
-            p.req("ki")?,
-            p.req("kd")?,
-            p.req("tau")?,
-            p.get("epsilon").unwrap_or(1.0),
-            b.ts,
-        )?,
+        k: cascade::series_pid(kp, ki, kd, tau, epsilon, b.ts)?,
+        km: cascade::matched_primary(kp, ki, kd, tau, epsilon, b.ts)?,
     })
 }
 
@@ -890,7 +889,11 @@ fn build_fspcc(
         biproper: true,
     };
     let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, b.ts, &spec)?;
-    let outer = dtc::fsp::FilteredSmith::<f64, Vec<f64>>::new(c.k, &design, list(FSPCC_PARAMS, p))?;
+    let outer = Predicted::<f64, _, _>::with_primary(
+        c.km,
+        dtc::fsp::FspPredictor::<f64, Vec<f64>>::new(&design)?,
+        list(FSPCC_PARAMS, p),
+    );
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
@@ -916,7 +919,7 @@ fn build_gpcc(
 ) -> Result<DynController, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
     let pred = GpccPredictor::<f64, Vec<f64>>::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
-    let outer = Predicted::with_predictor(c.k, pred, list(GPCC_PARAMS, p))?;
+    let outer = Predicted::<f64, _, _>::with_primary(c.km, pred, list(GPCC_PARAMS, p));
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 

@@ -402,28 +402,44 @@ fn eq17_below_one_means_stable() -> R {
 }
 
 /// FSPCC, GPCC and Uma et al. share `Gcs` and the model: their nominal set-point
-/// responses are one and the same (Eqs. 5 and 11, `H_yr = Gcs·Pm/(1 + Gcs·Gm)`).
-/// Not to the last bit: the outer model `Gm(z)` is the ZOH of the continuous
-/// `Mimc·P1` as the paper takes it, while the sampled inner loop gives
-/// `Q(z)·ZOH(P1·P2)`, a small mismatch that each scheme's error path treats in
-/// its own way. The exact identity is checked on the outer loop alone below.
+/// responses are the same (Eqs. 5 and 11, `H_yr = Gcs·Pm/(1 + Gcs·Gm)`).
+/// FSPCC and GPCC share even the discrete `K(z)` (pole-zero matched); they agree
+/// up to the mismatch between the outer model `Gm(z)` — the ZOH of the
+/// continuous `Mimc·P1`, as the paper takes it — and the sampled inner loop
+/// `Q(z)·ZOH(P1·P2)`, which each error path treats in its own way (the exact
+/// identity is checked on the outer loop alone below). Uma et al.'s scheme
+/// samples the continuous `Gcs` as a PID instead: close (0.4 %), not equal. The
+/// step comes after the first sample: a PID skips its derivative on its first
+/// sample (a bumpless start), which a step at t = 0 would show.
 #[test]
 fn nominal_set_point_responses_coincide() -> R {
+    let mut sc = example1(vec![], 150.0);
+    sc.setpoint = vec![msp::sim::SetpointStep {
+        value: 1.0,
+        at: 1.0,
+    }];
     let runs = compare(
-        &example1(vec![], 150.0),
+        &sc,
         &["fspcc".into(), "gpcc".into(), "uma".into()],
         Perturbation::default(),
     )?;
-    for run in &runs[1..] {
-        for (a, b) in runs[0].result.y.iter().zip(&run.result.y) {
-            assert!(
-                (a - b).abs() < 1e-4,
-                "{} vs {}: {a} {b}",
-                runs[0].controller,
-                run.controller
-            );
-        }
-    }
+    let worst = |a: &RunOutput, b: &RunOutput| {
+        a.result
+            .y
+            .iter()
+            .zip(&b.result.y)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    };
+    assert!(
+        worst(&runs[0], &runs[1]) < 1e-4,
+        "{}",
+        worst(&runs[0], &runs[1])
+    );
+    assert!(
+        worst(&runs[0], &runs[2]) < 1e-2,
+        "{}",
+        worst(&runs[0], &runs[2])
+    );
     Ok(())
 }
 

@@ -220,6 +220,30 @@ pub fn series_pid<T: Real>(
     Ok(cfg)
 }
 
+/// FSPCC's and GPCC's primary controller (`002_…` Sec. 4): Uma et al.'s
+/// `Gcs = (kp + ki/s + kd s)/(τ s + 1)` with the set-point weight `ε`,
+/// pole-zero matched at `ts` ([`matched`]) as `u = K(z)(F(z) r − y)` with
+/// `K = Gcs` and the prefilter `F = (ε kp s + ki)/(kd s² + kp s + ki)`.
+#[cfg(feature = "alloc")]
+pub fn matched_primary<T: Real>(
+    kp: f64,
+    ki: f64,
+    kd: f64,
+    tau: f64,
+    epsilon: f64,
+    ts: f64,
+) -> Result<crate::dtc::fsp::Matched2Dof<T>, Error> {
+    let tau = crate::real::non_negative(tau, "tau")?;
+    let lti = |(n, d): (Vec<f64>, Vec<f64>)| -> Result<Lti<T, 4>, Error> {
+        let c = |p: &[f64]| -> Vec<T> { p.iter().map(|v| T::of(*v)).collect() };
+        Lti::from_discrete_tf(&c(&n), &c(&d))
+    };
+    let pid = [kd, kp, ki];
+    let k = lti(matched(&pid, &mul(&[1.0, 0.0], &[tau, 1.0]), ts)?)?;
+    let f = lti(matched(&[epsilon * kp, ki], &pid, ts)?)?;
+    Ok(crate::dtc::fsp::Matched2Dof::new(f, k))
+}
+
 /// Pole placement of the series-filtered PID `(kp + ki/s + kd s)/(τ s + 1)` on
 /// a delay-free model `Gm = n/d` of order 1 or 2: every closed-loop pole at
 /// `−1/λ`. The characteristic polynomial `s(τ s + 1)d + (kd s² + kp s + ki)n`

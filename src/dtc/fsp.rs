@@ -204,7 +204,9 @@ mod tests {
 
 pub(crate) use self::design::buffer;
 pub use self::design::{design, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL};
-pub use self::runtime::{DirectForm, FilteredSmith, FspPredictor, Predicted, Predictor};
+pub use self::runtime::{
+    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
+};
 
 /// The design of `Fr` and `S` without allocation: model-sized polynomials in
 /// fixed arrays, the dead-time-sized ones (`z^h·Dr`, `p`, the numerator of
@@ -614,6 +616,67 @@ mod runtime {
         fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
     }
 
+    /// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`.
+    pub trait Primary<T: Real> {
+        /// One sample (a non-finite `y` holds the output).
+        fn update(&mut self, r: T, y: T) -> T;
+        /// Zeroes every state.
+        fn reset(&mut self);
+        /// `(Cr, Cy)` at `z = e^{jθ}`.
+        fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+    }
+
+    impl<T: Real> Primary<T> for Pid<T> {
+        fn update(&mut self, r: T, y: T) -> T {
+            Pid::update(self, r, y)
+        }
+        fn reset(&mut self) {
+            Pid::reset(self)
+        }
+        fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+            Pid::response(self, theta)
+        }
+    }
+
+    /// A discrete two-degree-of-freedom controller `u = K(z)·(F(z)·r − y)`:
+    /// the pole-zero matched form of a continuous design (`002_…` Sec. 4: the
+    /// primary `K(z)` of FSPCC and GPCC is Uma et al.'s `Gcs` discretized this
+    /// way; `F` carries the set-point weight, `F = Gcs,r/Gcs`). One integrator,
+    /// in `K`, so nothing grows without bound in steady state.
+    #[derive(Debug, Clone)]
+    pub struct Matched2Dof<T> {
+        f: Lti<T, 4>,
+        k: Lti<T, 4>,
+        u: T,
+    }
+
+    impl<T: Real> Matched2Dof<T> {
+        /// From the discrete prefilter `f` and controller `k`.
+        pub fn new(f: Lti<T, 4>, k: Lti<T, 4>) -> Self {
+            Matched2Dof { f, k, u: T::zero() }
+        }
+    }
+
+    impl<T: Real> Primary<T> for Matched2Dof<T> {
+        fn update(&mut self, r: T, y: T) -> T {
+            if !(r.is_finite() && y.is_finite()) {
+                return self.u;
+            }
+            let rf = self.f.step(r);
+            self.u = self.k.step(rf - y);
+            self.u
+        }
+        fn reset(&mut self) {
+            self.f.reset();
+            self.k.reset();
+            self.u = T::zero();
+        }
+        fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+            let k = self.k.response(theta);
+            (k * self.f.response(theta), k)
+        }
+    }
+
     /// A direct-form filter over a ring of past inputs and outputs:
     /// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]` (strictly proper,
     /// `a_0 = 1`). The numerator (as long as the dead time) and the input
@@ -777,15 +840,15 @@ mod runtime {
     /// integrating and stable plants; with [`crate::dtc::gpcc::GpccPredictor`]
     /// the generalized predictor.
     #[derive(Debug, Clone)]
-    pub struct Predicted<T, P> {
-        k: Pid<T>,
+    pub struct Predicted<T, P, K = Pid<T>> {
+        k: K,
         pred: P,
         params: ParamList<T>,
         yhat: T,
         fault: bool,
     }
 
-    /// The filtered Smith predictor.
+    /// The filtered Smith predictor (with a PID primary controller).
     pub type FilteredSmith<T, S> = Predicted<T, FspPredictor<T, S>>;
 
     impl<T: Real, S: DelayStorage<T>> FilteredSmith<T, S> {
@@ -800,23 +863,30 @@ mod runtime {
     }
 
     impl<T: Real, P: Predictor<T>> Predicted<T, P> {
-        /// The controller `k` around `pred`, reporting `params`.
+        /// The PID `k` around `pred`, reporting `params`.
         pub fn with_predictor(
             k: PidConfig<T>,
             pred: P,
             params: ParamList<T>,
         ) -> Result<Self, Error> {
-            Ok(Predicted {
-                k: Pid::new(k)?,
+            Ok(Predicted::with_primary(Pid::new(k)?, pred, params))
+        }
+    }
+
+    impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
+        /// Any primary controller `k` around `pred`, reporting `params`.
+        pub fn with_primary(k: K, pred: P, params: ParamList<T>) -> Self {
+            Predicted {
+                k,
                 pred,
                 params,
                 yhat: T::zero(),
                 fault: false,
-            })
+            }
         }
     }
 
-    impl<T: Real, P: Predictor<T>> Controller<T> for Predicted<T, P> {
+    impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, K> {
         fn update(&mut self, r: T, y: T) -> T {
             if !(r.is_finite() && y.is_finite()) {
                 // the output is held; the predictor keeps following the actuator
