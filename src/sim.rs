@@ -1424,16 +1424,25 @@ impl Scenario {
         };
         let model_delay = model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay);
         // the two conventions are independent passes over the signals
+        let both = || {
+            (
+                metrics(&result, &setpoint, ts, 0.0),
+                metrics(&result, &setpoint, ts, model_delay),
+            )
+        };
+        // two threads only pay off for long runs: waking a worker costs more
+        // than a pass over some hundred thousand samples
         #[cfg(feature = "parallel")]
-        let (m0, m1) = rayon::join(
-            || metrics(&result, &setpoint, ts, 0.0),
-            || metrics(&result, &setpoint, ts, model_delay),
-        );
+        let (m0, m1) = if result.y.len() > 500_000 {
+            rayon::join(
+                || metrics(&result, &setpoint, ts, 0.0),
+                || metrics(&result, &setpoint, ts, model_delay),
+            )
+        } else {
+            both()
+        };
         #[cfg(not(feature = "parallel"))]
-        let (m0, m1) = (
-            metrics(&result, &setpoint, ts, 0.0),
-            metrics(&result, &setpoint, ts, model_delay),
-        );
+        let (m0, m1) = both();
         let (m0, m1) = (m0?, m1?);
         Ok(RunOutput {
             plant,
