@@ -890,7 +890,10 @@ impl SimResult {
         let mut buf = ryu::Buffer::new();
         let mut line: Vec<u8> = Vec::with_capacity(256);
         let mut num = |line: &mut Vec<u8>, v: f64| {
-            if v.is_finite() {
+            if v == 0.0 && v.is_sign_positive() {
+                // the common value of disturbance columns, without formatting
+                line.push(b'0');
+            } else if v.is_finite() {
                 let s = buf.format_finite(v);
                 // ryu writes integers as "1.0"; keep them as "1" like `{}` does
                 line.extend_from_slice(s.strip_suffix(".0").unwrap_or(s).as_bytes());
