@@ -160,7 +160,8 @@ pub fn stable(out: &crate::sim::RunOutput) -> bool {
     settled || swing(n * 4 / 5, n) < 0.9 * swing(n * 3 / 5, n * 4 / 5)
 }
 
-/// Runs the sweep of `base` (its plant perturbed, its model kept nominal).
+/// Runs the sweep of `base` (its plant perturbed, its model kept nominal; for a
+/// cascade process the primary is perturbed, the secondary kept).
 /// `progress` is called after each finished run with the count so far.
 pub fn sweep(
     base: &Scenario,
@@ -171,17 +172,26 @@ pub fn sweep(
         return Err(RunError::Invalid(crate::Error::OutOfRange("shard")));
     }
     let (nominal, model) = base.parse()?;
+    let inner = base.parse_inner()?;
+    let whole =
+        |p: &crate::poly::TransferFunction, i: Option<&crate::poly::TransferFunction>| match i {
+            Some(i) => p.series(i),
+            None => Ok(p.clone()),
+        };
     let mut sc = base.clone();
     let ts = match base.ts {
         Some(ts) => ts,
-        None => choose_ts(&model),
+        None => choose_ts(&whole(&model, inner.as_ref().map(|(_, m)| m))?),
     };
     sc.ts = Some(ts);
     if sc.duration.is_none() {
-        sc.duration = Some(choose_duration(&nominal, ts));
+        sc.duration = Some(choose_duration(
+            &whole(&nominal, inner.as_ref().map(|(p, _)| p))?,
+            ts,
+        ));
     }
     // tune once: every run gets the same controller settings
-    let built = sc.build_controller(&model)?;
+    let built = sc.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
     for (k, v) in &built.params.0 {
         sc.set.entry((*k).into()).or_insert(*v);
     }
@@ -190,7 +200,7 @@ pub fn sweep(
     let done = core::sync::atomic::AtomicUsize::new(0);
     let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
         let plant = nominal.perturbed(gain, delay, tau)?;
-        let out = sc.run_with(plant, model.clone())?;
+        let out = sc.run_process(plant, model.clone(), inner.clone())?;
         let max_abs_u = out.result.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
         progress(done.fetch_add(1, core::sync::atomic::Ordering::Relaxed) + 1);
         Ok(SweepRow {

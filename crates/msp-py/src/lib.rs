@@ -533,8 +533,8 @@ fn margins<'py>(
 /// A sweep of plant perturbations (see ``msp.sweep``): a dict of numpy columns.
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0),
-                    grid=11, samples=0, seed=1, shard=(0, 1), model=None, ts=None, duration=None, lambda_=None,
-                    rule=None))]
+                    grid=11, samples=0, seed=1, shard=(0, 1), model=None, inner_plant=None, inner_model=None,
+                    ts=None, duration=None, lambda_=None, rule=None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
@@ -549,6 +549,8 @@ fn sweep<'py>(
     seed: u64,
     shard: (usize, usize),
     model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
     ts: Option<f64>,
     duration: Option<f64>,
     lambda_: Option<f64>,
@@ -575,6 +577,10 @@ fn sweep<'py>(
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
+        sc.inner_plant = Some(p2.to_string());
+        sc.inner_model = Some(m2.to_string());
+    }
     let rows = py
         .allow_threads(|| msp::sweep::sweep(&sc, &spec, &|_| {}))
         .map_err(value_err)?;

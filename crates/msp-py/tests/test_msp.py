@@ -251,3 +251,9 @@ def test_cascade_compare_margins_and_tune() -> None:
     assert t["name"] == "fspcc" and t["params"]["lambda2"] == 2.0
     with pytest.raises(ValueError, match="inner"):
         msp.run(GARCIA_1["plant"], "fspcc")
+
+
+def test_cascade_sweep_perturbs_the_primary() -> None:
+    cols = msp.sweep(GARCIA_1["plant"], "fspcc", inner_plant=GARCIA_1["inner_plant"], delay="-20%..+20%",
+                     grid=3, ts=0.2, duration=300)
+    assert list(cols["delay"]) == [-0.2, 0.0, 0.2] and cols["stable"].all()

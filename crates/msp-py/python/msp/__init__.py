@@ -306,6 +306,8 @@ def sweep(
     seed: int = 1,
     shard: Tuple[int, int] = (0, 1),
     model: Optional[PlantLike] = None,
+    inner_plant: Optional[PlantLike] = None,
+    inner_model: Optional[PlantLike] = None,
     ts: Optional[float] = None,
     duration: Optional[float] = None,
     lambda_: Optional[float] = None,
@@ -316,10 +318,13 @@ def sweep(
     Ranges are ``"-20%..+20%"`` or ``(lo, hi)`` pairs of relative changes. Returns one numpy
     column per field: ``index``, ``gain``, ``delay``, ``tau``, ``stable`` and the metrics.
     ``shard=(i, n)`` runs the runs whose index is ``i`` modulo ``n`` (for distributed engines).
+    With ``inner_plant`` (a cascade process) the primary is perturbed, the secondary kept.
     """
     return _msp.sweep(_plant(plant), controller, dict(params) if params else None, gain=_range(gain),
                       delay=_range(delay), tau=_range(tau), grid=grid, samples=samples, seed=seed,
-                      shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None, ts=ts,
+                      shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None,
+                      inner_plant=_plant(inner_plant) if inner_plant is not None else None,
+                      inner_model=_plant(inner_model) if inner_model is not None else None, ts=ts,
                       duration=duration, lambda_=lambda_, rule=rule)
 
 

@@ -118,6 +118,8 @@ def sweep(
     seed: int = 1,
     shard: Tuple[int, int] = ...,
     model: Union[str, Plant, None] = None,
+    inner_plant: Union[str, Plant, None] = None,
+    inner_model: Union[str, Plant, None] = None,
     ts: Optional[float] = None,
     duration: Optional[float] = None,
     lambda_: Optional[float] = None,
