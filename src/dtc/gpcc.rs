@@ -288,6 +288,9 @@ mod tests {
             model.advance(u);
             plant.advance(u);
         }
+        // the prediction-error filter passes steps: Fk(1) = 1
+        let (_, _, fk) = p.filters(1e-9);
+        assert!((fk.re - 1.0).abs() < 1e-9 && fk.im.abs() < 1e-6, "{fk:?}");
         Ok(())
     }
 
