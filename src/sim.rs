@@ -334,24 +334,9 @@ struct PlantSim {
 
 impl PlantSim {
     fn new(plant: &TransferFunction, ts: f64, substeps: usize) -> Result<Self, Error> {
-        let d = plant.delay_samples(ts)?;
-        let mut kf = d.floor();
-        let mut f = d - kf;
-        if f >= 1.0 - 1e-12 {
-            kf += 1.0;
-            f = 0.0;
-        }
-        if f <= 1e-12 {
-            f = 0.0;
-        }
+        let (kf, f) = split_delay(plant.delay_samples(ts)?);
         let out: Lti<f64, MAX_ORDER> = plant.to_lti(ts)?;
-        let m = substeps.max(1);
-        // breakpoints as fractions of the period
-        let mut cuts: Vec<(f64, bool)> = (1..=m).map(|j| (j as f64 / m as f64, j < m)).collect();
-        if f > 0.0 && !cuts.iter().any(|(c, _)| (c - f).abs() < 1e-12) {
-            cuts.push((f, false));
-        }
-        cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let cuts = cuts(substeps, &[f]);
         let mut pieces = Vec::with_capacity(cuts.len());
         let mut a = 0.0;
         for (b, record) in cuts {
@@ -511,6 +496,21 @@ struct JointPiece {
     record: bool,
 }
 
+/// The breakpoints of a period as fractions of it: the `m` sub-step instants
+/// (recorded, but for the period's end) and where a delayed input changes
+/// (the fractions `f`).
+fn cuts(m: usize, fractions: &[f64]) -> Vec<(f64, bool)> {
+    let m = m.max(1);
+    let mut cuts: Vec<(f64, bool)> = (1..=m).map(|j| (j as f64 / m as f64, j < m)).collect();
+    for f in fractions {
+        if *f > 0.0 && !cuts.iter().any(|(c, _)| (c - f).abs() < 1e-12) {
+            cuts.push((*f, false));
+        }
+    }
+    cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    cuts
+}
+
 /// Whole samples and fraction of a delay.
 fn split_delay(d: f64) -> (f64, f64) {
     let mut k = d.floor();
@@ -566,13 +566,7 @@ impl JointSim {
         }
         let (kv, fv) = split_delay(crate::delay::samples(p1.delay + p2.delay, ts)?);
         let (kd, fd) = split_delay(crate::delay::samples(p1.delay, ts)?);
-        let mut cuts: Vec<(f64, bool)> = (1..=m).map(|j| (j as f64 / m as f64, j < m)).collect();
-        for f in [fv, fd] {
-            if f > 0.0 && !cuts.iter().any(|(c, _)| (c - f).abs() < 1e-12) {
-                cuts.push((f, false));
-            }
-        }
-        cuts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let cuts = cuts(m, &[fv, fd]);
         let mut pieces = Vec::with_capacity(cuts.len());
         let mut start = 0.0;
         for (end, record) in cuts {
