@@ -570,3 +570,51 @@ fn outer_loops_equal_the_delayed_delay_free_loop() -> R {
     }
     Ok(())
 }
+
+mod eq10 {
+    use msp::dtc::fsp::{design_with, FrSpec, FspPredictor, Predictor};
+    use msp::{Complex, Discretization, Lti};
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        /// For random unstable, integrating and stable models, dead times and
+        /// filter shapes, the designed predictor is `S = Gm(1 − z^{−h}Fr)` at
+        /// every frequency (Eq. 10 made it stable, not different) and `Fr(1) = 1`.
+        #[test]
+        fn the_predictor_is_gm_times_one_minus_delayed_fr(
+            kind in 0usize..3,
+            t in 1.0f64..50.0,
+            ratio in 0.05f64..1.5,
+            h in 1usize..120,
+            tf_frac in 0.2f64..2.0,
+            lead in proptest::option::of((0.05f64..0.5, 0.01f64..0.04)),
+            biproper in any::<bool>(),
+        ) {
+            let l = ratio * t;
+            let ts = l / h as f64;
+            let den: Vec<f64> = match kind {
+                0 => vec![t, -1.0],                      // unstable first order
+                1 => vec![1.0, 0.0],                     // integrator
+                _ => vec![t * 0.3, t + 0.3, 1.0],        // stable second order
+            };
+            let gm: Lti<f64, 8> = Lti::from_tf(&[2.0], &den, ts, Discretization::Zoh).unwrap();
+            let spec = FrSpec {
+                tf: tf_frac * l,
+                lead: lead.map(|(a, b)| (a * l, b * l)),
+                biproper,
+            };
+            let d = design_with::<Vec<f64>, 8>(&gm, h, ts, &spec).unwrap();
+            let p: FspPredictor<f64, Vec<f64>> = FspPredictor::new(&d).unwrap();
+            let (_, fr1) = p.response(1e-12);
+            prop_assert!((fr1.re - 1.0).abs() < 1e-6 && fr1.im.abs() < 1e-6, "Fr(1) = {:?}", fr1);
+            for theta in [0.01, 0.1, 0.5, 1.5, 3.0] {
+                let (s, fr) = p.response(theta);
+                let g = gm.response(theta);
+                let want = g * (Complex::real(1.0) - Complex::cis(-theta * h as f64) * fr);
+                let scale = g.abs() * (1.0 + fr.abs());
+                prop_assert!((s - want).abs() <= 1e-6 * scale, "θ = {}: {:?} vs {:?}", theta, s, want);
+            }
+        }
+    }
+}
