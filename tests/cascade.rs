@@ -617,4 +617,38 @@ mod eq10 {
             }
         }
     }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        /// The GPCC predicts the undelayed output exactly (Eq. 2) whatever `Fk`:
+        /// `Su + Sy·z^{−h}·Gm = Gm` at every frequency, for random models (their
+        /// sampling zeros near −1 go to `Γ`) and dead times.
+        #[test]
+        fn the_gpcc_predicts_the_undelayed_output(
+            order in 1usize..4,
+            t in 1.0f64..30.0,
+            unstable in any::<bool>(),
+            ratio in 0.05f64..1.0,
+            h in 1usize..100,
+            tk in prop_oneof![Just(0.0), 0.5f64..40.0],
+        ) {
+            use msp::dtc::gpcc::GpccPredictor;
+            let l = ratio * t;
+            let ts = l / h as f64;
+            let mut den = vec![if unstable { t } else { -t }, -1.0];
+            for i in 1..order {
+                den = msp::poly::mul(&den, &[t / (2.0 + i as f64), 1.0]);
+            }
+            let den: Vec<f64> = den.iter().map(|v| -v).collect();
+            let gm: Lti<f64, 8> = Lti::from_tf(&[1.5], &den, ts, Discretization::Zoh).unwrap();
+            let p: GpccPredictor<f64, Vec<f64>> = GpccPredictor::design(&gm, h, ts, tk).unwrap();
+            for theta in [0.01, 0.2, 1.0, 2.0, 3.0] {
+                let (su, sy) = p.response(theta);
+                let g = gm.response(theta);
+                let got = su + sy * Complex::cis(-theta * h as f64) * g;
+                prop_assert!((got - g).abs() <= 1e-6 * g.abs().max(1e-9) * (1.0 + sy.abs()),
+                    "θ = {}: {:?} vs {:?}", theta, got, g);
+            }
+        }
+    }
 }
