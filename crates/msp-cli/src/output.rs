@@ -232,13 +232,25 @@ pub fn compare_table(
             first.model,
             fmt_num(first.ts)
         ));
+        if let Some((p2, m2)) = &first.inner {
+            s.push_str(&format!("\ninner plant {p2}  inner model {m2}"));
+        }
         if p != msp::sim::Perturbation::default() {
             s.push_str(&format!(
-                "  (perturbed: gain {}%, delay {}%, tau {}%)",
+                "  (perturbed: gain {}%, delay {}%, tau {}%",
                 pct(p.gain),
                 pct(p.delay),
                 pct(p.tau)
             ));
+            if first.inner.is_some() {
+                s.push_str(&format!(
+                    "; inner gain {}%, delay {}%, tau {}%",
+                    pct(p.inner_gain),
+                    pct(p.inner_delay),
+                    pct(p.inner_tau)
+                ));
+            }
+            s.push(')');
         }
         s.push('\n');
     }
