@@ -171,28 +171,43 @@ pub struct Scheme {
     pub params: &'static [&'static str],
     /// Design keys accepted by `--set` before tuning.
     pub design: &'static [&'static str],
-    /// Tuning rule: model → parameters.
-    pub tune: fn(&TransferFunction, &Design) -> Result<Params, crate::Error>,
-    /// Construction: parameters + model → controller.
-    pub build: fn(&Params, &TransferFunction, &Build) -> Result<DynController, crate::Error>,
-    /// For a cascade scheme (`002_0ed51b14a8593ff0.txt`): tuning and
-    /// construction from the primary and the secondary models.
-    pub cascade: Option<CascadeFns>,
+    /// Tuning and construction.
+    pub fns: SchemeFns,
 }
 
-/// Tuning and construction of a cascade scheme from the primary model `P1`
-/// and the secondary model `P2`.
+/// A single-loop tuning rule: model → parameters.
+pub type TuneFn = fn(&TransferFunction, &Design) -> Result<Params, crate::Error>;
+/// A single-loop construction: parameters + model → controller.
+pub type BuildFn = fn(&Params, &TransferFunction, &Build) -> Result<DynController, crate::Error>;
+/// A cascade tuning rule: `(P1, P2, design)` → parameters.
+pub type CascadeTuneFn =
+    fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::Error>;
+/// A cascade construction: `(parameters, P1, P2, build)` → controller.
+pub type CascadeBuildFn = fn(
+    &Params,
+    &TransferFunction,
+    &TransferFunction,
+    &Build,
+) -> Result<DynController, crate::Error>;
+
+/// How a scheme is tuned and built: from the plant's model, or — for a cascade
+/// scheme (`002_0ed51b14a8593ff0.txt`) — from the primary and the secondary models.
 #[derive(Clone, Copy)]
-pub struct CascadeFns {
-    /// `(P1, P2, design)` → parameters.
-    pub tune: fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::Error>,
-    /// `(parameters, P1, P2, build)` → controller.
-    pub build: fn(
-        &Params,
-        &TransferFunction,
-        &TransferFunction,
-        &Build,
-    ) -> Result<DynController, crate::Error>,
+pub enum SchemeFns {
+    /// A single-loop scheme.
+    Single {
+        /// Tuning rule.
+        tune: TuneFn,
+        /// Construction.
+        build: BuildFn,
+    },
+    /// A cascade scheme: it needs the secondary process.
+    Cascade {
+        /// Tuning rule.
+        tune: CascadeTuneFn,
+        /// Construction.
+        build: CascadeBuildFn,
+    },
 }
 
 impl fmt::Debug for Scheme {
@@ -236,7 +251,7 @@ fn model_parts<const N: usize>(
     ))
 }
 
-/// A second line holding the model's dead time (Huang's filter, Åström–Hang–Lim's M).
+/// The model's dead time in a line of its own (Huang's filter, Åström–Hang–Lim's M, Uma et al.'s model).
 fn delay_again(model: &TransferFunction, b: &Build) -> Result<Delay<f64, Vec<f64>>, crate::Error> {
     Delay::new_in(model.delay_samples(b.ts)?)
 }
@@ -598,13 +613,15 @@ fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, cr
 
 const KA_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda"];
 
-fn build_kaya_atherton<const N: usize>(
+/// Kaya–Atherton's predictor on `model`, reporting `names` (without limits).
+fn kaya_atherton_on<const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+    names: &'static [&'static str],
+) -> Result<Compensator<f64, N, Vec<f64>>, crate::Error> {
     let (lti, delay) = model_parts::<N>(model, b)?;
-    let c = dtc::kaya_atherton::build(
+    dtc::kaya_atherton::build(
         p.req("kp")?,
         p.req("ti")?,
         p.req("kf")?,
@@ -614,8 +631,16 @@ fn build_kaya_atherton<const N: usize>(
         b.ts,
         lti,
         delay,
-        list(KA_PARAMS, p),
-    )?;
+        list(names, p),
+    )
+}
+
+fn build_kaya_atherton<const N: usize>(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynController, crate::Error> {
+    let c = kaya_atherton_on::<N>(p, model, b, KA_PARAMS)?;
     Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
 }
 
@@ -706,20 +731,26 @@ fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
 
 const FSP_PARAMS: &[&str] = &["kp", "ti", "tf", "lambda"];
 
+/// The dead time of `model` in whole samples: the predictors of `002_…`
+/// realize `z^{−h}` inside `S` and `F1`, so `h` must be an integer.
+fn whole_samples(model: &TransferFunction, ts: f64) -> Result<usize, crate::Error> {
+    let d = model.delay_samples(ts)?;
+    let h = d.round();
+    if (d - h).abs() > 1e-6 {
+        return Err(crate::Error::Unsupported(
+            "the predictor needs a dead time of a whole number of samples: choose ts = L/n",
+        ));
+    }
+    num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))
+}
+
 fn build_fsp(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let d = model.delay_samples(b.ts)?;
-    let h = d.round();
-    if (d - h).abs() > 1e-6 {
-        return Err(crate::Error::Unsupported(
-            "fsp needs a dead time of a whole number of samples: choose ts = L/n",
-        ));
-    }
+    let h = whole_samples(model, b.ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
-    let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
     let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, p.req("tf")?)?;
     let k = PidConfig::isa(p.req("kp")?, p.req("ti")?, 0.0, b.ts).with_limits(b.u_min, b.u_max);
     Ok(Box::new(dtc::fsp::FilteredSmith::<f64, Vec<f64>>::new(
@@ -736,19 +767,9 @@ use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath};
 use crate::dtc::fsp::{FrSpec, Predicted};
 use crate::dtc::gpcc::GpccPredictor;
 
-/// A cascade scheme without an inner plant.
-fn needs_inner(_: &TransferFunction, _: &Design) -> Result<Params, crate::Error> {
-    Err(crate::Error::Unsupported(
-        "a cascade scheme needs the secondary process (--inner-plant)",
-    ))
-}
-
-fn needs_inner_build(
-    _: &Params,
-    _: &TransferFunction,
-    _: &Build,
-) -> Result<DynController, crate::Error> {
-    Err(crate::Error::Unsupported(
+/// A cascade scheme asked for without the secondary process.
+fn needs_inner() -> RegistryError {
+    RegistryError::Core(crate::Error::Unsupported(
         "a cascade scheme needs the secondary process (--inner-plant)",
     ))
 }
@@ -804,9 +825,11 @@ fn cascade_params(
     Ok(params_of(names, &v))
 }
 
-/// The parts every cascade scheme builds: the primary model's ZOH block, its
-/// dead time in whole samples, the inner loop and the primary PID.
+/// The parts every cascade scheme builds: the primary model `Gm e^{−(L1+L2)s}`,
+/// its ZOH block, its dead time in whole samples, the inner loop and the
+/// primary controller (as Uma et al.'s PID and as FSPCC's matched `K(z)`).
 struct CascadeParts {
+    model: TransferFunction,
     gm: Lti<f64, MAX_ORDER>,
     h: usize,
     imc: Imc<f64, Vec<f64>>,
@@ -816,28 +839,33 @@ struct CascadeParts {
     km: dtc::fsp::Matched2Dof<f64>,
 }
 
+/// The primary model `Gm e^{−(L1+L2)s}` and the inner IMC loop of a cascade
+/// scheme (actuator limits on the inner loop's output, the plant input).
+fn cascade_inner(
+    p: &Params,
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    b: &Build,
+) -> Result<(TransferFunction, Imc<f64, Vec<f64>>), crate::Error> {
+    let lambda2 = p.req("lambda2")?;
+    let imc = Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?;
+    Ok((cascade::primary_model(p1, p2, lambda2)?, imc))
+}
+
 fn cascade_parts(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
 ) -> Result<CascadeParts, crate::Error> {
-    let lambda2 = p.req("lambda2")?;
-    let gm = cascade::primary_model(p1, p2, lambda2)?;
-    let d = gm.delay_samples(b.ts)?;
-    let h = d.round();
-    if (d - h).abs() > 1e-6 {
-        return Err(crate::Error::Unsupported(
-            "the cascade predictors need L1 + L2 of a whole number of samples: choose ts = (L1 + L2)/n",
-        ));
-    }
-    let h = num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))?;
+    let (model, imc) = cascade_inner(p, p1, p2, b)?;
     let (kp, ki, kd, tau) = (p.req("kp")?, p.req("ki")?, p.req("kd")?, p.req("tau")?);
     let epsilon = p.get("epsilon").unwrap_or(1.0);
     Ok(CascadeParts {
-        gm: gm.to_model_lti::<MAX_ORDER>(b.ts)?,
-        h,
-        imc: Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?,
+        gm: model.to_model_lti::<MAX_ORDER>(b.ts)?,
+        h: whole_samples(&model, b.ts)?,
+        model,
+        imc,
         k: cascade::series_pid(kp, ki, kd, tau, epsilon, b.ts)?,
         km: cascade::matched_primary(kp, ki, kd, tau, epsilon, b.ts)?,
     })
@@ -982,17 +1010,11 @@ fn build_uma(
     } else {
         ErrorPath::Direct
     };
-    let delay: Delay<f64, Vec<f64>> = Delay::new_in(c.gm_delay())?;
+    let delay = delay_again(&c.model, b)?;
     let outer = Compensator::new(Pid::new(c.k)?, c.gm, delay, list(UMA_PARAMS, p))?
         .with_error_path(err)?
         .with_disturbance(DisturbancePath::Block(gcd));
     Ok(Box::new(Cascade::new(outer, c.imc, COMPENSATOR_SIGNALS)))
-}
-
-impl CascadeParts {
-    fn gm_delay(&self) -> f64 {
-        f64::from(u32::try_from(self.h).unwrap_or(u32::MAX))
-    }
 }
 
 const KAYA_CASCADE_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda2", "lambda"];
@@ -1019,22 +1041,8 @@ fn build_kaya_cascade(
     p2: &TransferFunction,
     b: &Build,
 ) -> Result<DynController, crate::Error> {
-    let lambda2 = p.req("lambda2")?;
-    let gm = cascade::primary_model(p1, p2, lambda2)?;
-    let imc = Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?;
-    let (lti, delay) = model_parts::<MAX_ORDER>(&gm, b)?;
-    let outer = dtc::kaya_atherton::build(
-        p.req("kp")?,
-        p.req("ti")?,
-        p.req("kf")?,
-        p.req("tf")?,
-        p.req("kb")?,
-        p.req("td")?,
-        b.ts,
-        lti,
-        delay,
-        list(KAYA_CASCADE_PARAMS, p),
-    )?;
+    let (gm, imc) = cascade_inner(p, p1, p2, b)?;
+    let outer = kaya_atherton_on::<MAX_ORDER>(p, &gm, b, KAYA_CASCADE_PARAMS)?;
     Ok(Box::new(Cascade::new(outer, imc, COMPENSATOR_SIGNALS)))
 }
 
@@ -1057,9 +1065,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: STABLE_INT,
         params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
-        tune: tune_pid,
-        build: build_pid,
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_pid,
+            build: build_pid,
+        },
     },
     Scheme {
         name: "smith",
@@ -1069,9 +1078,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: STABLE_INT,
         params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
-        tune: tune_smith,
-        build: by_order!(build_smith),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_smith,
+            build: by_order!(build_smith),
+        },
     },
     Scheme {
         name: "filtered-smith",
@@ -1081,9 +1091,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: STABLE,
         params: FILTERED_PARAMS,
         design: &["lambda", "alpha", "a", "b"],
-        tune: tune_filtered_smith,
-        build: by_order!(build_filtered_smith),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_filtered_smith,
+            build: by_order!(build_filtered_smith),
+        },
     },
     Scheme {
         name: "huang",
@@ -1093,9 +1104,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: STABLE,
         params: HUANG_PARAMS,
         design: &["lambda", "alpha", "kb", "tb"],
-        tune: tune_huang,
-        build: by_order!(build_huang),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_huang,
+            build: by_order!(build_huang),
+        },
     },
     Scheme {
         name: "watanabe-ito",
@@ -1105,9 +1117,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: INT,
         params: WI_PARAMS,
         design: &["lambda", "alpha"],
-        tune: tune_watanabe_ito,
-        build: by_order!(build_watanabe_ito),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_watanabe_ito,
+            build: by_order!(build_watanabe_ito),
+        },
     },
     Scheme {
         name: "astrom-hang-lim",
@@ -1117,9 +1130,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: INT,
         params: AHL_PARAMS,
         design: &["lambda", "alpha", "a"],
-        tune: tune_astrom_hang_lim,
-        build: by_order!(build_astrom_hang_lim),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_astrom_hang_lim,
+            build: by_order!(build_astrom_hang_lim),
+        },
     },
     Scheme {
         name: "matausek-micic",
@@ -1129,9 +1143,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: INT,
         params: MM_PARAMS,
         design: &["lambda", "alpha", "tr"],
-        tune: tune_matausek_micic,
-        build: by_order!(build_matausek_micic),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_matausek_micic,
+            build: by_order!(build_matausek_micic),
+        },
     },
     Scheme {
         name: "kaya-atherton",
@@ -1141,9 +1156,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: STABLE_INT,
         params: KA_PARAMS,
         design: &["lambda", "alpha"],
-        tune: tune_kaya_atherton,
-        build: by_order!(build_kaya_atherton),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_kaya_atherton,
+            build: by_order!(build_kaya_atherton),
+        },
     },
     Scheme {
         name: "karan-dey",
@@ -1153,9 +1169,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: INT,
         params: KD_PARAMS,
         design: &["lambda", "alpha"],
-        tune: tune_karan_dey,
-        build: by_order!(build_karan_dey),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_karan_dey,
+            build: by_order!(build_karan_dey),
+        },
     },
     Scheme {
         name: "fsp",
@@ -1165,9 +1182,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: ALL,
         params: FSP_PARAMS,
         design: &["lambda", "alpha", "tf"],
-        tune: tune_fsp,
-        build: build_fsp,
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_fsp,
+            build: build_fsp,
+        },
     },
     Scheme {
         name: "disturbance-estimator",
@@ -1177,9 +1195,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: INT,
         params: DE_PARAMS,
         design: &["lambda", "td", "case", "tde", "alpha", "w0"],
-        tune: tune_disturbance_estimator,
-        build: by_order!(build_disturbance_estimator),
-        cascade: None,
+        fns: SchemeFns::Single {
+            tune: tune_disturbance_estimator,
+            build: by_order!(build_disturbance_estimator),
+        },
     },
     Scheme {
         name: "fspcc",
@@ -1189,12 +1208,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: ALL,
         params: FSPCC_PARAMS,
         design: &["lambda", "alpha", "lambda2", "epsilon", "tf", "lead", "lag"],
-        tune: needs_inner,
-        build: needs_inner_build,
-        cascade: Some(CascadeFns {
+        fns: SchemeFns::Cascade {
             tune: tune_fspcc,
             build: build_fspcc,
-        }),
+        },
     },
     Scheme {
         name: "gpcc",
@@ -1204,12 +1221,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: ALL,
         params: GPCC_PARAMS,
         design: &["lambda", "alpha", "lambda2", "epsilon", "tk"],
-        tune: needs_inner,
-        build: needs_inner_build,
-        cascade: Some(CascadeFns {
+        fns: SchemeFns::Cascade {
             tune: tune_gpcc,
             build: build_gpcc,
-        }),
+        },
     },
     Scheme {
         name: "uma",
@@ -1219,12 +1234,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: ALL,
         params: UMA_PARAMS,
         design: &["lambda", "alpha", "lambda2", "epsilon", "lead", "lag", "tf"],
-        tune: needs_inner,
-        build: needs_inner_build,
-        cascade: Some(CascadeFns {
+        fns: SchemeFns::Cascade {
             tune: tune_uma,
             build: build_uma,
-        }),
+        },
     },
     Scheme {
         name: "kaya-cascade",
@@ -1234,12 +1247,10 @@ pub static SCHEMES: &[Scheme] = &[
         plants: STABLE_INT,
         params: KAYA_CASCADE_PARAMS,
         design: &["lambda", "alpha", "lambda2"],
-        tune: needs_inner,
-        build: needs_inner_build,
-        cascade: Some(CascadeFns {
+        fns: SchemeFns::Cascade {
             tune: tune_kaya_cascade,
             build: build_kaya_cascade,
-        }),
+        },
     },
 ];
 
@@ -1293,7 +1304,7 @@ impl Scheme {
 
     /// True for a cascade scheme (it needs the secondary process).
     pub fn is_cascade(&self) -> bool {
-        self.cascade.is_some()
+        matches!(self.fns, SchemeFns::Cascade { .. })
     }
 
     /// Tunes on the primary `model` and, for a cascade process, the secondary
@@ -1308,7 +1319,7 @@ impl Scheme {
         overrides: &[(String, f64)],
     ) -> Result<Params, RegistryError> {
         let whole;
-        let model = match (inner, self.cascade.is_some()) {
+        let model = match (inner, self.is_cascade()) {
             (Some(p2), false) => {
                 whole = model.series(p2)?;
                 &whole
@@ -1336,9 +1347,10 @@ impl Scheme {
                 .cloned()
                 .collect(),
         };
-        let mut params = match (self.cascade, inner) {
-            (Some(c), Some(p2)) => (c.tune)(model, p2, &design)?,
-            _ => (self.tune)(model, &design)?,
+        let mut params = match (self.fns, inner) {
+            (SchemeFns::Cascade { tune, .. }, Some(p2)) => tune(model, p2, &design)?,
+            (SchemeFns::Cascade { .. }, None) => return Err(needs_inner()),
+            (SchemeFns::Single { tune, .. }, _) => tune(model, &design)?,
         };
         for (k, v) in overrides {
             if self.design.contains(&k.as_str()) {
@@ -1376,10 +1388,11 @@ impl Scheme {
         inner: Option<&TransferFunction>,
         b: &Build,
     ) -> Result<DynController, RegistryError> {
-        Ok(match (self.cascade, inner) {
-            (Some(c), Some(p2)) => (c.build)(params, model, p2, b)?,
-            (None, Some(p2)) => (self.build)(params, &model.series(p2)?, b)?,
-            _ => (self.build)(params, model, b)?,
+        Ok(match (self.fns, inner) {
+            (SchemeFns::Cascade { build, .. }, Some(p2)) => build(params, model, p2, b)?,
+            (SchemeFns::Cascade { .. }, None) => return Err(needs_inner()),
+            (SchemeFns::Single { build, .. }, Some(p2)) => build(params, &model.series(p2)?, b)?,
+            (SchemeFns::Single { build, .. }, None) => build(params, model, b)?,
         })
     }
 }
