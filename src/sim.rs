@@ -1252,6 +1252,34 @@ impl Scenario {
         self.build_controller_for(model, None)
     }
 
+    /// The scheme (by name, or by the model's kind — FSPCC for a cascade
+    /// process with the secondary model `inner`) and its tuned parameters, with
+    /// the scenario's `lambda`, `rule` and `set` (`scheme.param` keys apply to
+    /// that scheme only, for `msp compare`).
+    pub fn tune_for(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<(&'static registry::Scheme, Params), RunError> {
+        let scheme = match (&self.controller, inner) {
+            (Some(name), _) => registry::find(name)?,
+            (None, Some(_)) => registry::find("fspcc")?,
+            (None, None) => registry::default_for(model.kind())?,
+        };
+        let overrides: Vec<(String, f64)> = self
+            .set
+            .iter()
+            .filter_map(|(k, v)| match k.split_once('.') {
+                Some((s, name)) => (s == scheme.name || scheme.aliases.contains(&s))
+                    .then(|| (name.to_string(), *v)),
+                None => Some((k.clone(), *v)),
+            })
+            .collect();
+        let params =
+            scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
+        Ok((scheme, params))
+    }
+
     /// [`Scenario::build_controller`] for a cascade process with the secondary
     /// model `inner` (the default scheme is then FSPCC).
     pub fn build_controller_for(
@@ -1259,11 +1287,7 @@ impl Scenario {
         model: &TransferFunction,
         inner: Option<&TransferFunction>,
     ) -> Result<BuiltController, RunError> {
-        let scheme = match (&self.controller, inner) {
-            (Some(name), _) => registry::find(name)?,
-            (None, Some(_)) => registry::find("fspcc")?,
-            (None, None) => registry::default_for(model.kind())?,
-        };
+        let (scheme, params) = self.tune_for(model, inner)?;
         let whole = match inner {
             Some(p2) => model.series(p2)?,
             None => model.clone(),
@@ -1275,18 +1299,6 @@ impl Scenario {
             Some(ts) => (crate::real::positive(ts, "ts")?, false),
             None => (choose_ts(&whole), true),
         };
-        let overrides: Vec<(String, f64)> = self
-            .set
-            .iter()
-            .filter_map(|(k, v)| match k.split_once('.') {
-                // `scheme.param` applies to that scheme only (for `msp compare`)
-                Some((s, name)) => (s == scheme.name || scheme.aliases.contains(&s))
-                    .then(|| (name.to_string(), *v)),
-                None => Some((k.clone(), *v)),
-            })
-            .collect();
-        let params =
-            scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
         let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
         let u_max = self.umax.unwrap_or(f64::INFINITY);
         if u_min.is_nan() {

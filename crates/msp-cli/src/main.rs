@@ -38,6 +38,21 @@ enum Cmd {
     List,
 }
 
+/// How the controller is tuned (shared by every command that tunes one).
+#[derive(Debug, Args)]
+struct DesignArgs {
+    /// Closed-loop time constant for tuning (s).
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
+    #[arg(long)]
+    rule: Option<String>,
+    /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
+    /// SCHEME.KEY=VALUE applies to one scheme only (for compare).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
+    set: Vec<(String, f64)>,
+}
+
 /// Everything that describes a closed-loop scenario (shared by run and compare).
 #[derive(Debug, Args)]
 struct ScenarioArgs {
@@ -57,16 +72,8 @@ struct ScenarioArgs {
     /// The controller's model of the secondary process (default: the inner plant).
     #[arg(long)]
     inner_model: Option<String>,
-    /// Closed-loop time constant for tuning (s).
-    #[arg(long)]
-    lambda: Option<f64>,
-    /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
-    #[arg(long)]
-    rule: Option<String>,
-    /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
-    /// SCHEME.KEY=VALUE applies to one scheme only (for compare).
-    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
-    set: Vec<(String, f64)>,
+    #[command(flatten)]
+    design: DesignArgs,
     /// Sample period (s); chosen from the plant when absent.
     #[arg(long)]
     ts: Option<f64>,
@@ -293,15 +300,8 @@ struct TuneArgs {
     /// Controller name; default by plant kind.
     #[arg(long, short = 'c')]
     controller: Option<String>,
-    /// Closed-loop time constant (s).
-    #[arg(long)]
-    lambda: Option<f64>,
-    /// Tuning rule for `pid` (see `msp list`).
-    #[arg(long)]
-    rule: Option<String>,
-    /// Override a parameter or design value, e.g. --set alpha=0.5.
-    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
-    set: Vec<(String, f64)>,
+    #[command(flatten)]
+    design: DesignArgs,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -365,8 +365,6 @@ fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         model,
         inner_plant,
         inner_model,
-        lambda,
-        rule,
         ts,
         duration,
         noise,
@@ -375,7 +373,13 @@ fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         umax,
         substeps
     );
-    for (k, v) in &a.set {
+    if a.design.lambda.is_some() {
+        sc.lambda = a.design.lambda;
+    }
+    if a.design.rule.is_some() {
+        sc.rule.clone_from(&a.design.rule);
+    }
+    for (k, v) in &a.design.set {
         sc.set.insert(k.clone(), *v);
     }
     if !a.setpoint.is_empty() {
@@ -641,40 +645,22 @@ fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
 }
 
 fn tune(a: &TuneArgs) -> Result<(), CliError> {
-    let plant = parse_plant(&a.plant)
-        .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
-    let inner = a
-        .inner_plant
-        .as_deref()
-        .map(parse_plant)
-        .transpose()
-        .map_err(|e| CliError::Input(format!("invalid inner plant expression: {e}")))?;
-    let scheme = match (&a.controller, &inner) {
-        (Some(n), _) => registry::find(n).map_err(|e| CliError::Input(e.to_string()))?,
-        (None, Some(_)) => registry::find("fspcc").map_err(|e| CliError::Input(e.to_string()))?,
-        (None, None) => {
-            registry::default_for(plant.kind()).map_err(|e| CliError::Input(e.to_string()))?
-        }
+    let sc = Scenario {
+        plant: a.plant.clone(),
+        inner_plant: a.inner_plant.clone(),
+        controller: a.controller.clone(),
+        lambda: a.design.lambda,
+        rule: a.design.rule.clone(),
+        set: a.design.set.iter().cloned().collect(),
+        ts: a.ts,
+        ..Scenario::default()
     };
-    let params = scheme
-        .tune_process(&plant, inner.as_ref(), a.lambda, a.rule.as_deref(), &a.set)
-        .map_err(|e| CliError::Input(e.to_string()))?;
+    let (plant, model) = sc.parse()?;
+    let inner = sc.parse_inner()?.map(|(p2, _)| p2);
+    let (scheme, params) = sc.tune_for(&model, inner.as_ref())?;
     // Eq. 17 on the tuned controller, when asked for
     let robust = match a.uncertainty {
-        Some(u) => {
-            let sc = Scenario {
-                plant: a.plant.clone(),
-                inner_plant: a.inner_plant.clone(),
-                controller: Some(scheme.name.to_string()),
-                lambda: a.lambda,
-                rule: a.rule.clone(),
-                set: a.set.iter().cloned().collect(),
-                ts: a.ts,
-                ..Scenario::default()
-            };
-            let an = msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?;
-            an.robust_peak
-        }
+        Some(u) => msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?.robust_peak,
         None => None,
     };
     if a.json {

@@ -731,15 +731,10 @@ fn tune<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let tf = plant_of(plant)?;
     let inner = inner_plant.map(plant_of).transpose()?;
-    let scheme = match (controller, &inner) {
-        (Some(n), _) => registry::find(&n).map_err(value_err)?,
-        (None, Some(_)) => registry::find("fspcc").map_err(value_err)?,
-        (None, None) => registry::default_for(tf.kind()).map_err(value_err)?,
-    };
-    let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-    let p = scheme
-        .tune_process(&tf, inner.as_ref(), lambda_, rule.as_deref(), &overrides)
-        .map_err(value_err)?;
+    let sc = scenario(
+        controller, params, None, None, None, None, None, None, None, None, lambda_, rule, None,
+    )?;
+    let (scheme, p) = sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
     let d = PyDict::new(py);
     d.set_item("name", scheme.name)?;
     d.set_item("params", params_dict(py, &p)?)?;
