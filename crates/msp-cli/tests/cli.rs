@@ -114,25 +114,33 @@ fn bad_expressions_exit_2_with_the_column_and_no_file() {
     }
 }
 
+/// `msp ARGS…` exits with status 2 and says `says` on standard error.
+fn rejects<I, S>(args: I, says: &str)
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    msp()
+        .args(args)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(says));
+}
+
 #[test]
 fn bad_names_exit_2() {
-    msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "--controller", "nope"])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("unknown controller 'nope'"));
-    msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "--set", "zeta=1"])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("no parameter 'zeta'"));
-    msp()
-        .args(["run", "--plant", "5/(100s-1)*e^-6s", "-c", "smith"])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "cannot control an unstable plant; use one of: fsp",
-        ));
+    rejects(
+        ["run", "--plant", "0.2/s*e^-7.4s", "--controller", "nope"],
+        "unknown controller 'nope'",
+    );
+    rejects(
+        ["run", "--plant", "0.2/s*e^-7.4s", "--set", "zeta=1"],
+        "no parameter 'zeta'",
+    );
+    rejects(
+        ["run", "--plant", "5/(100s-1)*e^-6s", "-c", "smith"],
+        "cannot control an unstable plant; use one of: fsp",
+    );
 }
 
 #[test]
@@ -151,12 +159,14 @@ fn scenario_file_and_unknown_fields() {
         .success();
     let bad = dir.path().join("b.toml");
     std::fs::write(&bad, "plant = \"0.2/s*e^-7.4s\"\nsetpiont = 1\n").unwrap();
-    msp()
-        .args(["run", "--scenario"])
-        .arg(&bad)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("setpiont"));
+    rejects(
+        [
+            std::ffi::OsStr::new("run"),
+            "--scenario".as_ref(),
+            bad.as_os_str(),
+        ],
+        "setpiont",
+    );
 }
 
 #[test]
@@ -422,12 +432,14 @@ fn identify_reads_a_step_test() {
             && (j["t"].as_f64().unwrap() - 5.0).abs() < 0.1
     );
     std::fs::write(&data, "t,u\n0,1\n").unwrap();
-    msp()
-        .args(["identify", "--data"])
-        .arg(&data)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("no column 'y'"));
+    rejects(
+        [
+            std::ffi::OsStr::new("identify"),
+            "--data".as_ref(),
+            data.as_os_str(),
+        ],
+        "no column 'y'",
+    );
 }
 
 mod loader {
