@@ -41,18 +41,11 @@ fn hand_loop(n: usize) -> f64 {
 
 fn cfg(n: usize) -> SimConfig {
     SimConfig {
-        ts: 0.939,
-        duration: 0.939 * (n - 1) as f64,
         setpoint: vec![SetpointStep {
             value: 1.0,
             at: 0.0,
         }],
-        disturbances: vec![],
-        noise: 0.0,
-        seed: 0,
-        u_min: f64::NEG_INFINITY,
-        u_max: f64::INFINITY,
-        substeps: 1,
+        ..SimConfig::new(0.939, 0.939 * (n - 1) as f64)
     }
 }
 

@@ -245,6 +245,24 @@ pub struct SimConfig {
     pub substeps: usize,
 }
 
+impl SimConfig {
+    /// A run of `duration` seconds sampled every `ts`: no set point (add steps
+    /// to `setpoint`), no disturbance, no noise, no limits, no sub-steps.
+    pub fn new(ts: f64, duration: f64) -> Self {
+        SimConfig {
+            ts,
+            duration,
+            setpoint: Vec::new(),
+            disturbances: Vec::new(),
+            noise: 0.0,
+            seed: 0,
+            u_min: f64::NEG_INFINITY,
+            u_max: f64::INFINITY,
+            substeps: 1,
+        }
+    }
+}
+
 /// The signals of a run, one entry per sample.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SimResult {

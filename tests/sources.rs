@@ -2,7 +2,7 @@
 mod common;
 use common::assert_close;
 use msp::poly::TransferFunction;
-use msp::sim::{simulate, Disturbance, Location, Scenario, SetpointStep, Shape, SimConfig};
+use msp::sim::{simulate, Disturbance, Location, Scenario, Shape, SimConfig};
 use msp::{Controller, Pid, PidConfig};
 
 fn run(
@@ -94,18 +94,8 @@ fn simulator_is_exact_for_the_open_loop_step() {
     let plant: TransferFunction = "5.6*e^-93.9s/(40.2s+1)".parse().unwrap();
     for ts in [0.939, 1.0, 0.7] {
         let cfg = SimConfig {
-            ts,
-            duration: 600.0,
-            setpoint: vec![SetpointStep {
-                value: 0.0,
-                at: 0.0,
-            }],
-            disturbances: vec![],
-            noise: 0.0,
-            seed: 0,
-            u_min: f64::NEG_INFINITY,
-            u_max: f64::INFINITY,
             substeps: 3,
+            ..SimConfig::new(ts, 600.0)
         };
         let res = simulate(&plant, &mut Const, &cfg).unwrap();
         for (t, y) in res.t.iter().zip(&res.y) {
@@ -199,17 +189,7 @@ fn substeps_add_exact_intersample_points_and_keep_the_metrics() {
         }
     }
     let u: Vec<f64> = base.result.u.clone();
-    let cfg = SimConfig {
-        ts: 1.3 / 4.0,
-        duration: base.duration,
-        setpoint: vec![],
-        disturbances: vec![],
-        noise: 0.0,
-        seed: 0,
-        u_min: f64::NEG_INFINITY,
-        u_max: f64::INFINITY,
-        substeps: 1,
-    };
+    let cfg = SimConfig::new(1.3 / 4.0, base.duration);
     let replay = simulate(&plant, &mut Replay(u, 0), &cfg).unwrap();
     for (a, b) in fine.result.y.iter().zip(&replay.y) {
         assert!((a - b).abs() < 1e-9, "{a} vs {b}");
