@@ -38,7 +38,9 @@ pub enum Discretization {
     Zoh,
     /// Bilinear (trapezoidal) transformation.
     Tustin,
-    /// Pole-zero matching `z = e^{s Ts}` with the DC gain preserved.
+    /// Pole-zero matching `z = e^{s Ts}` with the DC gain preserved (after the
+    /// roots at the origin are removed); an improper block gets a pole at
+    /// `z = 0` for each excess zero.
     Matched,
 }
 
@@ -853,12 +855,12 @@ impl<T: Real, const N: usize> Lti<T, N> {
         check_coeffs(den, "den")?;
         let num = trim(num);
         let den = trim(den);
-        if num.len() > den.len() {
-            return Err(Error::Improper("num"));
-        }
         let nz = num.len().saturating_sub(1);
         let np = den.len().saturating_sub(1);
-        if np > N || np > MAX_MATCHED {
+        // an improper controller (a PD, a PID with a lead) gets a pole at z = 0
+        // for each excess zero: a backward difference, causal
+        let order = nz.max(np);
+        if order > N || order > MAX_MATCHED {
             return Err(Error::OrderTooHigh("den"));
         }
         let mut zr = [Complex::<T>::default(); MAX_MATCHED];
@@ -880,9 +882,10 @@ impl<T: Real, const N: usize> Lti<T, N> {
         for v in nb.iter_mut() {
             *v = *v * k;
         }
+        // zd is zero beyond its degree: the first order + 1 entries are zd·z^(nz − np)
         Self::from_discrete_tf(
             nb.get(..nz.saturating_add(1)).unwrap_or(&[]),
-            zd.get(..np.saturating_add(1)).unwrap_or(&[]),
+            zd.get(..order.saturating_add(1)).unwrap_or(&[]),
         )
     }
 }

@@ -997,8 +997,7 @@ fn build_uma(
     };
     num = crate::poly::mul(&num, &[lead, 1.0]);
     den = crate::poly::mul(&den, &[lag, 1.0]);
-    let (nz, dz) = cascade::matched(&num, &den, b.ts)?;
-    let gcd = Lti::from_discrete_tf(&nz, &dz)?;
+    let gcd = Lti::from_tf(&num, &den, b.ts, crate::Discretization::Matched)?;
     let tf = p.req("tf")?;
     let err = if tf > 0.0 {
         ErrorPath::Filter(Lti::from_tf(

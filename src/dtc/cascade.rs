@@ -28,7 +28,7 @@ use crate::delay::Delay;
 use crate::delay::DelayStorage;
 use crate::dtc::Controller;
 #[cfg(feature = "alloc")]
-use crate::poly::{mul, poly_roots, trim, TransferFunction};
+use crate::poly::{mul, trim, TransferFunction};
 #[cfg(feature = "alloc")]
 use crate::Discretization;
 use crate::{AntiWindup, Complex, Error, Lti, PidConfig, Real};
@@ -222,7 +222,7 @@ pub fn series_pid<T: Real>(
 
 /// FSPCC's and GPCC's primary controller (`002_…` Sec. 4): Uma et al.'s
 /// `Gcs = (kp + ki/s + kd s)/(τ s + 1)` with the set-point weight `ε`,
-/// pole-zero matched at `ts` ([`matched`]) as `u = K(z)(F(z) r − y)` with
+/// pole-zero matched at `ts` ([`Discretization::Matched`]) as `u = K(z)(F(z) r − y)` with
 /// `K = Gcs` and the prefilter `F = (ε kp s + ki)/(kd s² + kp s + ki)`.
 #[cfg(feature = "alloc")]
 pub fn matched_primary<T: Real>(
@@ -234,13 +234,13 @@ pub fn matched_primary<T: Real>(
     ts: f64,
 ) -> Result<crate::dtc::fsp::Matched2Dof<T>, Error> {
     let tau = crate::real::non_negative(tau, "tau")?;
-    let lti = |(n, d): (Vec<f64>, Vec<f64>)| -> Result<Lti<T, 4>, Error> {
-        let c = |p: &[f64]| -> Vec<T> { p.iter().map(|v| T::of(*v)).collect() };
-        Lti::from_discrete_tf(&c(&n), &c(&d))
+    let c = |p: &[f64]| -> Vec<T> { p.iter().map(|v| T::of(*v)).collect() };
+    let matched = |n: &[f64], d: &[f64]| -> Result<Lti<T, 4>, Error> {
+        Lti::from_tf(&c(n), &c(d), T::of(ts), Discretization::Matched)
     };
     let pid = [kd, kp, ki];
-    let k = lti(matched(&pid, &mul(&[1.0, 0.0], &[tau, 1.0]), ts)?)?;
-    let f = lti(matched(&[epsilon * kp, ki], &pid, ts)?)?;
+    let k = matched(&pid, &mul(&[1.0, 0.0], &[tau, 1.0]))?;
+    let f = matched(&[epsilon * kp, ki], &pid)?;
     Ok(crate::dtc::fsp::Matched2Dof::new(f, k))
 }
 
@@ -355,64 +355,6 @@ fn solve_small(m: &mut [[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
         *xi = row.get(n).copied().unwrap_or(0.0) / row.get(i).copied().unwrap_or(1.0);
     }
     Ok(x)
-}
-
-/// Pole-zero matching `z = e^{s·ts}` of a continuous controller `num/den` that
-/// may be improper (a PD or PID with a lead, like Uma et al.'s `Gcd`): each
-/// excess zero gets a pole at `z = 0` (a backward difference), and the gain is
-/// matched at `s = 0` after removing the roots at the origin. Returns the
-/// discrete numerator and denominator (descending powers of `z`).
-#[cfg(feature = "alloc")]
-pub fn matched(num: &[f64], den: &[f64], ts: f64) -> Result<(Vec<f64>, Vec<f64>), Error> {
-    let ts = crate::real::positive(ts, "ts")?;
-    let strip = |p: &[f64]| -> (Vec<f64>, usize) {
-        let mut p = trim(p);
-        let mut k = 0usize;
-        while p.len() > 1 && p.last().copied() == Some(0.0) {
-            p.pop();
-            k = k.saturating_add(1);
-        }
-        (p, k)
-    };
-    let (ns, nz0) = strip(num);
-    let (ds, dp0) = strip(den);
-    let map = |p: &[f64]| -> Result<Vec<f64>, Error> {
-        let mut out = alloc::vec![1.0];
-        if p.len() > 1 {
-            for (re, im) in poly_roots(p)? {
-                if im.abs() <= 1e-12 {
-                    out = mul(&out, &[1.0, -(re * ts).exp()]);
-                } else if im > 0.0 {
-                    let r = (re * ts).exp();
-                    out = mul(&out, &[1.0, -2.0 * r * (im * ts).cos(), r * r]);
-                }
-            }
-        }
-        Ok(out)
-    };
-    let (mut zn, mut zd) = (map(&ns)?, map(&ds)?);
-    let ev = |p: &[f64]| crate::poly::eval(p, 1.0);
-    // (z − 1)/ts ≈ s near s = 0
-    let cont = ns.last().copied().unwrap_or(1.0) / ds.last().copied().unwrap_or(1.0);
-    let power = i32::try_from(nz0).unwrap_or(0) - i32::try_from(dp0).unwrap_or(0);
-    let disc = ev(&zn) / ev(&zd) * ts.powi(power);
-    if !(disc.is_finite() && disc != 0.0) {
-        return Err(Error::Numerical("pole-zero matching gain"));
-    }
-    let k = cont / disc;
-    for _ in 0..nz0 {
-        zn = mul(&zn, &[1.0, -1.0]);
-    }
-    for _ in 0..dp0 {
-        zd = mul(&zd, &[1.0, -1.0]);
-    }
-    for v in zn.iter_mut() {
-        *v *= k;
-    }
-    while zn.len() > zd.len() {
-        zd.push(0.0);
-    }
-    Ok((zn, zd))
 }
 
 /// Any single-loop outer controller (its "actuator" is the inner set point
@@ -546,18 +488,27 @@ mod tests {
 
     #[test]
     fn matched_discretization_of_garcia_filters() -> Result<(), Error> {
+        let dc = |l: &Lti<f64, 4>| l.response(1e-12).re;
         // 002_… Example 1: γ1 = e^{−T/0.144} = 0.2494, ρ1 = e^{−T/3} = 0.9355
-        let (n, d) = matched(&[3.0, 1.0], &[0.144, 1.0], 0.2)?;
-        assert!((n[1] / n[0] + 0.9355).abs() < 1e-4);
-        assert!((d[1] + 0.2494).abs() < 1e-4);
-        // an improper PD gets a pole at the origin and keeps its DC gain
-        let (n, d) = matched(&[0.5, 1.0], &[1.0], 0.1)?;
-        assert_eq!(d, alloc::vec![1.0, 0.0]);
-        assert!((crate::poly::eval(&n, 1.0) - 1.0).abs() < 1e-12);
-        // an integrator 2/s becomes 2·Ts/(z − 1)
-        let (n, d) = matched(&[2.0], &[1.0, 0.0], 0.1)?;
+        let lead: Lti<f64, 4> =
+            Lti::from_tf(&[3.0, 1.0], &[0.144, 1.0], 0.2, Discretization::Matched)?;
+        let (n, d) = crate::dtc::fsp::model_tf(&lead);
+        let (n, d) = (n.as_slice(), d.as_slice());
         assert!(
-            (n[0] - 0.2).abs() < 1e-12 && d == alloc::vec![1.0, -1.0],
+            (n[1] / n[0] + 0.9355).abs() < 1e-4 && (d[1] + 0.2494).abs() < 1e-4,
+            "{n:?} {d:?}"
+        );
+        assert!((dc(&lead) - 1.0).abs() < 1e-9);
+        // an improper PD gets a pole at the origin and keeps its DC gain
+        let pd: Lti<f64, 4> = Lti::from_tf(&[0.5, 1.0], &[1.0], 0.1, Discretization::Matched)?;
+        let (_, d) = crate::dtc::fsp::model_tf(&pd);
+        assert_eq!(d.as_slice(), &[1.0, 0.0]);
+        assert!((dc(&pd) - 1.0).abs() < 1e-9);
+        // an integrator 2/s becomes 2·Ts/(z − 1): at θ → 0 it tends to 2/(jθ/Ts)
+        let int: Lti<f64, 4> = Lti::from_tf(&[2.0], &[1.0, 0.0], 0.1, Discretization::Matched)?;
+        let (n, d) = crate::dtc::fsp::model_tf(&int);
+        assert!(
+            (n.as_slice()[1] - 0.2).abs() < 1e-12 && d.as_slice() == [1.0, -1.0],
             "{n:?} {d:?}"
         );
         Ok(())
