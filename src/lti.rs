@@ -988,6 +988,26 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Erro
 }
 
 /// Monic polynomial (descending coefficients, real parts) with roots `e^{r·ts}`.
+/// Long division in place of `a` (descending coefficients) by `b`: afterwards
+/// the first `a.len() − b.len() + 1` entries hold the quotient and the rest
+/// the remainder. Returns the quotient's length (0 when `b` is the longer).
+pub(crate) fn divide_in_place<T: Real>(a: &mut [T], b: &[T]) -> usize {
+    let lead = b.first().copied().unwrap_or(T::one());
+    let qlen = a.len().saturating_add(1).saturating_sub(b.len());
+    for i in 0..qlen {
+        let f = a.get(i).copied().unwrap_or(T::zero()) / lead;
+        for (j, bj) in b.iter().enumerate().skip(1) {
+            if let Some(x) = a.get_mut(i.saturating_add(j)) {
+                *x = *x - f * *bj;
+            }
+        }
+        if let Some(x) = a.get_mut(i) {
+            *x = f;
+        }
+    }
+    qlen
+}
+
 fn poly_from_roots<T: Real>(r: &[Complex<T>], ts: T) -> [T; MAX_MATCHED + 1] {
     let mut c = [Complex::<T>::default(); MAX_MATCHED + 1];
     if let Some(c0) = c.first_mut() {

@@ -56,28 +56,16 @@ pub fn trim(p: &[f64]) -> Vec<f64> {
 
 /// Polynomial division `a / b` (descending), quotient and remainder.
 pub fn div(a: &[f64], b: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Error> {
-    let lead = *b.first().ok_or(Error::Numerical("division"))?;
-    if lead == 0.0 {
+    if b.first().copied().unwrap_or(0.0) == 0.0 {
         return Err(Error::Numerical("division"));
     }
     if a.len() < b.len() {
         return Ok((vec![0.0], a.to_vec()));
     }
     let mut r = a.to_vec();
-    let mut q = vec![0.0; a.len().saturating_add(1).saturating_sub(b.len())];
-    for i in 0..q.len() {
-        let f = r.get(i).copied().unwrap_or(0.0) / lead;
-        if let Some(qi) = q.get_mut(i) {
-            *qi = f;
-        }
-        for (j, bj) in b.iter().enumerate() {
-            if let Some(x) = r.get_mut(i.saturating_add(j)) {
-                *x -= f * bj;
-            }
-        }
-    }
-    let rem = r.split_off(q.len());
-    Ok((q, rem))
+    let qlen = crate::lti::divide_in_place(&mut r, b);
+    let rem = r.split_off(qlen);
+    Ok((r, rem))
 }
 
 /// Value of a polynomial at a real point.

@@ -526,26 +526,13 @@ mod design {
             }
         }
         let divisor = dplus.mul(&[1.0, -1.0])?;
-        let dv = divisor.as_slice();
-        let lead = divisor.lead();
-        let qlen = dlen.saturating_add(1).saturating_sub(dv.len());
         let scale = {
             let d = diff.as_ref();
             d.iter().take(dlen).fold(1.0f64, |m, v| m.max(v.abs()))
         };
-        {
-            let d = diff.as_mut();
-            for i in 0..qlen {
-                let f = d.get(i).copied().unwrap_or(0.0) / lead;
-                for (j, b) in dv.iter().enumerate().skip(1) {
-                    if let Some(x) = d.get_mut(i.saturating_add(j)) {
-                        *x -= f * b;
-                    }
-                }
-                if let Some(x) = d.get_mut(i) {
-                    *x = f;
-                }
-            }
+        let qlen = {
+            let d = diff.as_mut().get_mut(..dlen).unwrap_or(&mut []);
+            let qlen = crate::lti::divide_in_place(d, divisor.as_slice());
             if d.iter()
                 .take(dlen)
                 .skip(qlen)
@@ -553,7 +540,8 @@ mod design {
             {
                 return Err(Error::Numerical("robustness filter (Eq. 10 not satisfied)"));
             }
-        }
+            qlen
+        };
         // S = Nm(z − 1)p / (Dm⁻·Dr·z^h), in powers of z^{−1}
         let nm1 = SmallPoly::new(nm.as_slice())?.mul(&[1.0, -1.0])?;
         let a = dminus.mul(dr.as_slice())?;

@@ -73,26 +73,14 @@ fn split_zeros(nm: &[f64]) -> Result<(SmallPoly, SmallPoly, SmallPoly), Error> {
             }
         }
     }
-    // Gn numerator = nm / bad · z^count (synthetic division, the remainder is rounding)
-    let (a, b) = (nm.as_slice(), bad.as_slice());
-    let lead = b.first().copied().unwrap_or(1.0);
-    let qlen = a.len().saturating_add(1).saturating_sub(b.len()).max(1);
-    let mut r = [0.0; SMALL];
-    for (d, v) in r.iter_mut().zip(a) {
+    // Gn numerator = nm / bad · z^count (the remainder is rounding)
+    let mut q = [0.0; SMALL];
+    for (d, v) in q.iter_mut().zip(nm.as_slice()) {
         *d = *v;
     }
-    let mut q = [0.0; SMALL];
-    for i in 0..qlen.min(a.len()) {
-        let f = r.get(i).copied().unwrap_or(0.0) / lead;
-        if let Some(x) = q.get_mut(i) {
-            *x = f;
-        }
-        for (j, bj) in b.iter().enumerate() {
-            if let Some(x) = r.get_mut(i.saturating_add(j)) {
-                *x -= f * bj;
-            }
-        }
-    }
+    let qlen =
+        crate::lti::divide_in_place(q.get_mut(..nm.len()).unwrap_or(&mut []), bad.as_slice())
+            .max(1);
     let mut gn = [0.0; SMALL];
     for (d, v) in gn.iter_mut().zip(q.iter().take(qlen)) {
         *d = *v;
