@@ -420,7 +420,45 @@ pub fn realize<T: Real, const N: usize>(num: &[T], den: &[T]) -> Result<Realizat
     Ok((am, b, c, d, n))
 }
 
+/// Capacity of the coefficient lists the `*_of` constructors convert.
+const CAST: usize = 24;
+
+/// `p` converted to `T`, in a fixed array (its length alongside).
+fn cast_coeffs<T: Real>(p: &[f64]) -> Result<([T; CAST], usize), Error> {
+    if p.len() > CAST {
+        return Err(Error::OrderTooHigh("polynomial"));
+    }
+    let mut o = [T::zero(); CAST];
+    for (d, v) in o.iter_mut().zip(p) {
+        *d = T::of(*v);
+    }
+    Ok((o, p.len()))
+}
+
 impl<T: Real, const N: usize> Lti<T, N> {
+    /// [`Lti::from_tf`] for coefficients designed in `f64` (a block in `f32`
+    /// designed on the host's precision).
+    pub fn from_tf_of(
+        num: &[f64],
+        den: &[f64],
+        ts: f64,
+        method: Discretization,
+    ) -> Result<Self, Error> {
+        let ((n, nl), (d, dl)) = (cast_coeffs::<T>(num)?, cast_coeffs::<T>(den)?);
+        Self::from_tf(
+            n.get(..nl).unwrap_or(&[]),
+            d.get(..dl).unwrap_or(&[]),
+            T::of(ts),
+            method,
+        )
+    }
+
+    /// [`Lti::from_discrete_tf`] for coefficients designed in `f64`.
+    pub fn from_discrete_tf_of(num: &[f64], den: &[f64]) -> Result<Self, Error> {
+        let ((n, nl), (d, dl)) = (cast_coeffs::<T>(num)?, cast_coeffs::<T>(den)?);
+        Self::from_discrete_tf(n.get(..nl).unwrap_or(&[]), d.get(..dl).unwrap_or(&[]))
+    }
+
     /// A static gain `y = k·u` (order 0).
     pub fn gain(k: T) -> Result<Self, Error> {
         Ok(Lti {

@@ -117,14 +117,8 @@ impl<T: Real, S: DelayStorage<T>> Imc<T, S> {
     /// `lambda2`, sampled at `ts`.
     pub fn design(p2: &TransferFunction, lambda2: f64, ts: f64) -> Result<Self, Error> {
         let (qn, qd) = imc_q(p2, lambda2)?;
-        let cast = |p: &[f64]| -> Vec<T> { p.iter().map(|v| T::of(*v)).collect() };
-        let q = Lti::from_tf(&cast(&qn), &cast(&qd), T::of(ts), Discretization::Matched)?;
-        let model = Lti::from_tf(
-            &cast(&p2.num),
-            &cast(&p2.den),
-            T::of(ts),
-            Discretization::Zoh,
-        )?;
+        let q = Lti::from_tf_of(&qn, &qd, ts, Discretization::Matched)?;
+        let model = Lti::from_tf_of(&p2.num, &p2.den, ts, Discretization::Zoh)?;
         Imc::new(q, model, Delay::new_in(T::of(p2.delay_samples(ts)?))?)
     }
 }
@@ -234,9 +228,8 @@ pub fn matched_primary<T: Real>(
     ts: f64,
 ) -> Result<crate::dtc::fsp::Matched2Dof<T>, Error> {
     let tau = crate::real::non_negative(tau, "tau")?;
-    let c = |p: &[f64]| -> Vec<T> { p.iter().map(|v| T::of(*v)).collect() };
     let matched = |n: &[f64], d: &[f64]| -> Result<Lti<T, 4>, Error> {
-        Lti::from_tf(&c(n), &c(d), T::of(ts), Discretization::Matched)
+        Lti::from_tf_of(n, d, ts, Discretization::Matched)
     };
     let pid = [kd, kp, ki];
     let k = matched(&pid, &mul(&[1.0, 0.0], &[tau, 1.0]))?;

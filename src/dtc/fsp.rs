@@ -782,19 +782,8 @@ mod runtime {
     impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
         /// The predictor of a design.
         pub fn new<D: AsRef<[f64]>>(d: &FspDesign<D>) -> Result<Self, Error> {
-            let cast = |p: &[f64]| -> [T; SMALL] {
-                let mut o = [T::zero(); SMALL];
-                for (d, v) in o.iter_mut().zip(p) {
-                    *d = T::of(*v);
-                }
-                o
-            };
-            let (nr, dr) = (cast(d.nr.as_slice()), cast(d.dr.as_slice()));
             Ok(FspPredictor {
-                fr: Lti::from_discrete_tf(
-                    nr.get(..d.nr.len()).unwrap_or(&[]),
-                    dr.get(..d.dr.len()).unwrap_or(&[]),
-                )?,
+                fr: Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?,
                 s: DirectForm::new(d.s_num(), d.s_den.as_slice())?,
                 last_s: T::zero(),
             })

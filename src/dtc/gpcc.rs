@@ -94,20 +94,6 @@ fn split_zeros(nm: &[f64]) -> Result<(SmallPoly, SmallPoly, SmallPoly), Error> {
     Ok((bad, gamma_den, gn))
 }
 
-fn cast<T: Real>(p: &SmallPoly) -> ([T; SMALL], usize) {
-    let mut o = [T::zero(); SMALL];
-    for (d, v) in o.iter_mut().zip(p.as_slice()) {
-        *d = T::of(*v);
-    }
-    (o, p.len())
-}
-
-fn lti_of<T: Real, const M: usize>(num: &SmallPoly, den: &SmallPoly) -> Result<Lti<T, M>, Error> {
-    let (n, nl) = cast::<T>(num);
-    let (d, dl) = cast::<T>(den);
-    Lti::from_discrete_tf(n.get(..nl).unwrap_or(&[]), d.get(..dl).unwrap_or(&[]))
-}
-
 impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
     /// Designs the predictor for the ZOH model `gm` with a dead time of `h`
     /// samples; `tk` is the time constant of `Fk(s) = 1/(tk·s + 1)` (pole-zero
@@ -156,12 +142,12 @@ impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
         ring.as_mut().iter_mut().for_each(|x| *x = T::zero());
         let hn = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
         Ok(GpccPredictor {
-            gamma: lti_of(&gamma_num, &gamma_den)?,
+            gamma: Lti::from_discrete_tf_of(gamma_num.as_slice(), gamma_den.as_slice())?,
             markov,
             ring,
             h,
             newest: 0,
-            f2: lti_of(&num_star, &gn_num)?,
+            f2: Lti::from_discrete_tf_of(num_star.as_slice(), gn_num.as_slice())?,
             fk,
             line: Delay::new_in(T::of(f64::from(hn)))?,
             f1: T::zero(),
