@@ -717,27 +717,41 @@ fn identify<'py>(
     fit_dict(py, &fit)
 }
 
-/// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``.
+/// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``,
+/// with ``robust_peak`` (Eq. 17) when an ``uncertainty`` is given, as ``msp tune``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, inner_plant=None, lambda_=None, rule=None))]
+#[pyo3(signature = (plant, controller=None, params=None, *, inner_plant=None, ts=None, lambda_=None,
+                    rule=None, uncertainty=None))]
+#[allow(clippy::too_many_arguments)]
 fn tune<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
     controller: Option<String>,
     params: Option<BTreeMap<String, f64>>,
     inner_plant: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
     lambda_: Option<f64>,
     rule: Option<String>,
+    uncertainty: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let tf = plant_of(plant)?;
     let inner = inner_plant.map(plant_of).transpose()?;
-    let sc = scenario(
-        controller, params, None, None, None, None, None, None, None, None, lambda_, rule, None,
+    let mut sc = scenario(
+        controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
     )?;
     let (scheme, p) = sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
     let d = PyDict::new(py);
     d.set_item("name", scheme.name)?;
     d.set_item("params", params_dict(py, &p)?)?;
+    if let Some(u) = perturbation_of(uncertainty)? {
+        sc.plant = tf.to_string();
+        sc.inner_plant = inner.map(|i| i.to_string());
+        sc.controller = Some(scheme.name.to_string());
+        let an = py
+            .allow_threads(|| msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u)))
+            .map_err(value_err)?;
+        d.set_item("robust_peak", an.robust_peak)?;
+    }
     Ok(d)
 }
 

@@ -249,6 +249,9 @@ def test_cascade_compare_margins_and_tune() -> None:
         assert json.loads(out)["robust_peak"] == m["robust_peak"]
     t = msp.tune(GARCIA_1["plant"], inner_plant=GARCIA_1["inner_plant"])
     assert t["name"] == "fspcc" and t["params"]["lambda2"] == 2.0
+    r = msp.tune(GARCIA_1["plant"], "gpcc", inner_plant=GARCIA_1["inner_plant"], ts=0.2,
+                 uncertainty={"delay": 0.2, "tau": -0.2})
+    assert r["robust_peak"] == m["robust_peak"]
     with pytest.raises(ValueError, match="inner"):
         msp.run(GARCIA_1["plant"], "fspcc")
 

@@ -370,14 +370,18 @@ def tune(
     *,
     delay: Optional[float] = None,
     inner_plant: Optional[PlantLike] = None,
+    ts: Optional[float] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
+    uncertainty: Union[None, str, Mapping[str, float]] = None,
 ) -> Dict[str, Any]:
     """The tuned parameters, ``{"name": ..., "params": {...}}``, as ``msp tune --json`` prints
-    (``inner_plant`` for a cascade process)."""
+    (``inner_plant`` for a cascade process); with ``uncertainty`` (``"delay=20%,tau=-20%"`` or a
+    dict) also ``robust_peak``, Eq. 17's ``max|T·Δ|`` on the exact discrete loop at ``ts``."""
+    unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None,
                      inner_plant=_plant(inner_plant) if inner_plant is not None else None,
-                     lambda_=lambda_, rule=rule)
+                     ts=ts, lambda_=lambda_, rule=rule, uncertainty=unc)
 
 
 class _Scheme(Controller):

@@ -70,8 +70,10 @@ def tune(
     params: Optional[Mapping[str, float]] = None,
     *,
     inner_plant: Union[str, Plant, None] = None,
+    ts: Optional[float] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
+    uncertainty: Any = None,
 ) -> Dict[str, Any]: ...
 def controllers() -> List[Dict[str, Any]]: ...
 def autotune(
