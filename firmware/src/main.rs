@@ -2,9 +2,11 @@
 //! predictor for an unstable plant (its `Fr` and `S` designed on the device)
 //! in f32 on a Cortex-M4F, each against a simulated plant for 10 000 samples,
 //! checked against the host's f64 run (relative difference below 1e-4, 1e-3
-//! for the unstable plant) with
-//! the instructions per update counted by SysTick (QEMU `-icount shift=0`:
-//! one instruction per tick).
+//! for the unstable plant), with the instructions per update counted by
+//! SysTick (QEMU `-icount shift=0`: one instruction per nanosecond, so one
+//! 25 MHz tick per 40 instructions), read around every call. `scripts/firmware`
+//! checks these figures against an exact count: each update single-stepped
+//! under QEMU's gdb stub (`count.py`).
 #![no_std]
 #![no_main]
 
@@ -142,7 +144,10 @@ fn check(name: &str, got: &[f32], want: &[f64], tol: f64, instructions: f64, ram
 /// An update that does nothing, for the measurement's overhead.
 #[inline(never)]
 fn empty_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, _y: f32) -> f32 {
-    r * 0.0
+    // an empty barrier: the call stays a call
+    // SAFETY: no instructions, no operands
+    unsafe { core::arch::asm!("", options(nomem, nostack, preserves_flags)) };
+    r
 }
 
 /// 64 instructions of work, to check the measurement.
@@ -211,12 +216,40 @@ fn fsp_update(c: &mut msp::dtc::fsp::FilteredSmith<f32, [f32; loops::CAP]>, r: f
     c.update(r, y)
 }
 
-/// SysTick ticks elapsed while `f` runs (the counter counts down from 2^24 − 1).
-fn ticks<R>(f: impl FnOnce() -> R) -> (R, u32) {
-    let t0 = cortex_m::peripheral::SYST::get_current();
-    let r = f();
-    let t1 = cortex_m::peripheral::SYST::get_current();
-    (r, t0.wrapping_sub(t1) & 0x00FF_FFFF)
+/// Mean SysTick ticks per update over a run: the counter is read right before
+/// and right after each call (the counter counts down from 2^24 − 1). A tick is
+/// about 40 instructions, so before each call a spin of 0–40 `nop` iterations
+/// (3 instructions each, coprime to 40) moves the phase of the reads across the
+/// tick: the quantization then averages out instead of biasing every call alike.
+fn per_call<C>(
+    c: &mut C,
+    plant: &mut loops::Plant<f32>,
+    update: impl FnMut(&mut C, f32, f32) -> f32,
+) -> ([f32; loops::CHECKS], f64) {
+    use core::sync::atomic::{compiler_fence, Ordering::SeqCst};
+    let (mut t0, mut sum, mut spin) = (0u32, 0u64, 0u32);
+    let y = loops::run_with(
+        c,
+        plant,
+        |before| {
+            if before {
+                spin = (spin + 1) % 41;
+                for _ in 0..core::hint::black_box(spin) {
+                    cortex_m::asm::nop();
+                }
+                compiler_fence(SeqCst);
+                t0 = cortex_m::peripheral::SYST::get_current();
+                compiler_fence(SeqCst);
+            } else {
+                compiler_fence(SeqCst);
+                let t1 = cortex_m::peripheral::SYST::get_current();
+                compiler_fence(SeqCst);
+                sum += u64::from(t0.wrapping_sub(t1) & 0x00FF_FFFF);
+            }
+        },
+        update,
+    );
+    (y, sum as f64 / loops::SAMPLES as f64)
 }
 
 #[entry]
@@ -230,41 +263,46 @@ fn main() -> ! {
     p.SYST.enable_counter();
     let ipt = instructions_per_tick();
     hprintln!("SysTick: {:.2} instructions per tick", ipt);
-    let n = loops::SAMPLES as f64;
 
     // the loop's own cost (plant, set point, bookkeeping): the same run with an empty update
     let (mut c0, mut plant0) = loops::smith::<f32>();
-    let (_, base) = ticks(|| loops::run_with(&mut c0, &mut plant0, |_| {}, empty_update));
+    let (_, base) = per_call(&mut c0, &mut plant0, empty_update);
 
     let (mut sp, mut plant) = loops::smith::<f32>();
     let ram_sp = core::mem::size_of_val(&sp);
-    let (y_sp, t_sp) = ticks(|| loops::run_with(&mut sp, &mut plant, |_| {}, smith_update));
+    let (y_sp, t_sp) = per_call(&mut sp, &mut plant, smith_update);
 
     let (mut kd, mut plant) = loops::karan_dey::<f32>();
     let ram_kd = core::mem::size_of_val(&kd);
-    let (y_kd, t_kd) = ticks(|| loops::run_with(&mut kd, &mut plant, |_| {}, karan_dey_update));
+    let (y_kd, t_kd) = per_call(&mut kd, &mut plant, karan_dey_update);
 
     let (mut fs, mut plant) = loops::fsp::<f32>();
     let ram_fs = core::mem::size_of_val(&fs);
-    let (y_fs, t_fs) = ticks(|| loops::run_with(&mut fs, &mut plant, |_| {}, fsp_update));
+    let (y_fs, t_fs) = per_call(&mut fs, &mut plant, fsp_update);
 
-    let per = |t: u32| (f64::from(t) - f64::from(base)) * ipt / n;
-    // a known cost through the same harness: 64 nops
+    // instructions from a function's entry to its return, inclusive: the empty
+    // update's own body (push, mov, pop) is 3
+    let per = |t: f64| (t - base) * ipt + 3.0;
+    // known costs through the same harness (64 nops; 64 dependent VFP
+    // multiply-adds), and the PID alone for the Smith predictor's breakdown
     let (mut c1, mut plant1) = loops::smith::<f32>();
-    let (_, t_nop) = ticks(|| loops::run_with(&mut c1, &mut plant1, |_| {}, nop_update));
-    hprintln!(
-        "calibration: a 64-nop update measures {:.0} instructions",
-        per(t_nop)
-    );
+    let (_, t_nop) = per_call(&mut c1, &mut plant1, nop_update);
     let (mut c2, mut plant2) = loops::smith::<f32>();
-    let (_, t_pid) = ticks(|| loops::run_with(&mut c2, &mut plant2, |_| {}, pid_update));
-    hprintln!("breakdown: the PID alone {:.0} instructions", per(t_pid));
+    let (_, t_pid) = per_call(&mut c2, &mut plant2, pid_update);
     let (mut c3, mut plant3) = loops::smith::<f32>();
-    let (_, t_fma) = ticks(|| loops::run_with(&mut c3, &mut plant3, |_| {}, fma_update));
-    hprintln!(
-        "calibration: 64 VFP multiply-adds measure {:.0} instructions",
-        per(t_fma)
-    );
+    let (_, t_fma) = per_call(&mut c3, &mut plant3, fma_update);
+    // one line per function, read by scripts/firmware to compare with the
+    // single-stepped count
+    for (name, t) in [
+        ("nop_update", t_nop),
+        ("fma_update", t_fma),
+        ("pid_update", t_pid),
+        ("smith_update", t_sp),
+        ("karan_dey_update", t_kd),
+        ("fsp_update", t_fs),
+    ] {
+        hprintln!("instructions: {} {:.1}", name, per(t));
+    }
     // the unstable plant amplifies f32 rounding (its own and the predictor's sum of
     // h = 100 products per sample): a tenth of a percent there
     let ok = check("smith", &y_sp, &reference::SMITH, 1e-4, per(t_sp), ram_sp)
