@@ -40,6 +40,11 @@ pub struct Delay<T, S> {
     target: T,
     /// Largest change of the applied delay per sample (samples per sample).
     slew: T,
+    /// A whole delay of at least one sample, not ramping: the short path of
+    /// [`Delay::process`] (derived state: absent from old serialized lines,
+    /// where `false` selects the general path, which is always correct).
+    #[cfg_attr(feature = "serde", serde(default))]
+    whole: bool,
 }
 
 /// A delay line with a fixed capacity of `N` samples, stored inline.
@@ -98,10 +103,9 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
             current: T::zero(),
             target: T::zero(),
             slew: T::one(),
+            whole: false,
         };
-        line.check(delay)?;
-        line.apply(delay);
-        line.target = delay;
+        line.set_delay(delay)?;
         Ok(line)
     }
 
@@ -130,13 +134,21 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         self.k = k.to_usize().unwrap_or(0);
         self.f = delay - k;
         self.current = delay;
+        self.refresh();
+    }
+
+    fn refresh(&mut self) {
+        self.whole = self.current == self.target
+            && self.f == T::zero()
+            && self.k >= 1
+            && self.k <= self.capacity();
     }
 
     /// Changes the delay at once (the output may jump to another point of the history).
     pub fn set_delay(&mut self, delay: T) -> Result<(), Error> {
         self.check(delay)?;
-        self.apply(delay);
         self.target = delay;
+        self.apply(delay);
         Ok(())
     }
 
@@ -147,6 +159,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
     pub fn ramp_delay(&mut self, delay: T) -> Result<(), Error> {
         self.check(delay)?;
         self.target = delay;
+        self.refresh();
         Ok(())
     }
 
@@ -225,14 +238,21 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
     /// Pushes `x[n]` and returns `x[n − d]`.
     #[inline]
     pub fn process(&mut self, x: T) -> T {
-        if self.current != self.target {
-            self.slew_step();
-        }
-        let y = self.peek(x);
-        let n = self.buf.as_ref().len();
-        if let Some(slot) = self.buf.as_mut().get_mut(self.head) {
+        let y = if self.whole {
+            // x[n − k] from the history, nothing to interpolate or ramp
+            self.past(self.k)
+        } else {
+            if self.current != self.target {
+                self.slew_step();
+            }
+            self.peek(x)
+        };
+        let head = self.head;
+        let buf = self.buf.as_mut();
+        let n = buf.len();
+        if let Some(slot) = buf.get_mut(head) {
             *slot = x;
-            let h = self.head.wrapping_add(1);
+            let h = head.wrapping_add(1);
             self.head = if h >= n { 0 } else { h };
         }
         y

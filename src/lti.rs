@@ -684,16 +684,38 @@ impl<T: Real, const N: usize> Lti<T, N> {
             .fold(self.d * u, |s, (c, x)| s + *c * *x)
     }
 
-    /// The output for the current state ignoring the feed-through `D·u`.
+    /// The output for the current state ignoring the feed-through `D·u`: `C x[k]`.
     #[inline(always)]
     pub fn free_output(&self) -> T {
-        self.output(T::zero())
+        match (self.n, self.c.first(), self.x.first()) {
+            (0, _, _) => T::zero(),
+            (1, Some(c), Some(x)) => *c * *x,
+            _ => self
+                .c
+                .iter()
+                .zip(self.x.iter())
+                .take(self.n)
+                .fold(T::zero(), |s, (c, x)| s + *c * *x),
+        }
     }
 
     /// Advances one sample with input `u[k]`: returns `y[k] = C x[k] + D u[k]`
     /// and sets `x[k+1] = Φ x[k] + Γ u[k]`.
     #[inline(always)]
     pub fn step(&mut self, u: T) -> T {
+        if self.n == 1 {
+            // first order: the two multiply-adds, one dispatch
+            if let (Some(x), Some(row), Some(g), Some(c)) = (
+                self.x.first_mut(),
+                self.phi.first(),
+                self.gamma.first(),
+                self.c.first(),
+            ) {
+                let x0 = *x;
+                *x = row.first().copied().unwrap_or(T::zero()) * x0 + *g * u;
+                return *c * x0 + self.d * u;
+            }
+        }
         let y = self.output(u);
         self.advance(u);
         y

@@ -22,8 +22,9 @@
 //! A tracking input replaces `u[k]` by the actuator's real value in the
 //! back-calculation term. In manual mode the output is the manual value and
 //! the integrator tracks `I = u_manual − P − D`, so both transfers are bumpless.
-//! A non-finite set point or measurement never reaches the state: the output
-//! is held and [`Pid::fault`] is raised until valid data returns.
+//! A non-finite set point or measurement (or a difference of the two beyond
+//! the float range) never reaches the state: the output is held and
+//! [`Pid::fault`] is raised until valid data returns.
 
 use crate::real::{finite, non_negative, positive};
 use crate::{Error, Real};
@@ -268,6 +269,9 @@ pub struct Pid<T> {
     has_d: bool,
     has_rate: bool,
     has_limits: bool,
+    /// Auto mode, started, no fault, and nothing but P and I to compute: the
+    /// short path of [`Pid::update`].
+    lean: bool,
     integral: T,
     deriv: T,
     ed_prev: T,
@@ -289,7 +293,7 @@ impl<T: Real> Pid<T> {
             AntiWindup::BackCalculation { tt } => h / tt,
             AntiWindup::None | AntiWindup::Conditional => T::zero(),
         };
-        Ok(Pid {
+        let mut pid = Pid {
             cfg,
             ad: cfg.tf / denom,
             bd: cfg.kd / denom,
@@ -299,6 +303,7 @@ impl<T: Real> Pid<T> {
             has_d: cfg.kd != T::zero(),
             has_rate: cfg.rate_limit.is_finite(),
             has_limits: cfg.u_min.is_finite() || cfg.u_max.is_finite(),
+            lean: false,
             integral: T::zero(),
             deriv: T::zero(),
             ed_prev: T::zero(),
@@ -308,7 +313,19 @@ impl<T: Real> Pid<T> {
             terms: PidTerms::default(),
             fault: false,
             failsafe: None,
-        })
+        };
+        pid.refresh();
+        Ok(pid)
+    }
+
+    /// Recomputes whether the next update may take the short path.
+    fn refresh(&mut self) {
+        self.lean = self.mode == Mode::Auto
+            && self.started
+            && !self.fault
+            && !self.has_d
+            && !self.has_rate
+            && !self.has_limits;
     }
 
     /// The configuration.
@@ -357,6 +374,7 @@ impl<T: Real> Pid<T> {
         self.mode = Mode::Auto;
         self.terms = PidTerms::default();
         self.fault = false;
+        self.refresh();
     }
 
     /// Sets the integral term so that the next output is `u` for zero error
@@ -376,6 +394,7 @@ impl<T: Real> Pid<T> {
     pub fn set_manual(&mut self) {
         self.manual = self.terms.output;
         self.mode = Mode::Manual;
+        self.refresh();
     }
 
     /// Sets the manual output (limited to `[u_min, u_max]`).
@@ -388,6 +407,7 @@ impl<T: Real> Pid<T> {
     /// so the output does not jump (bumpless manual→auto).
     pub fn set_auto(&mut self) {
         self.mode = Mode::Auto;
+        self.refresh();
     }
 
     /// The linear (unsaturated) frequency response at `z = e^{jθ}` as the pair
@@ -415,7 +435,32 @@ impl<T: Real> Pid<T> {
     /// One sample: set point `r`, measurement `y`; returns the output.
     #[inline]
     pub fn update(&mut self, r: T, y: T) -> T {
-        self.step(r, y, None)
+        if self.lean {
+            self.step_pi(r, y)
+        } else {
+            self.step(r, y, None)
+        }
+    }
+
+    /// [`Pid::step`] for a P or PI controller in auto mode with nothing to limit
+    /// (no derivative, output limits or rate limit, no fault to recover from):
+    /// `u = kp·(b·r − y) + I`, `I ← I + ki·h·(r − y)`. The same arithmetic as the
+    /// general path with `D = 0`, in the fewest operations.
+    #[inline(always)]
+    fn step_pi(&mut self, r: T, y: T) -> T {
+        let e = r - y;
+        if !e.is_finite() {
+            return self.hold();
+        }
+        let p = self.cfg.kp * (self.cfg.b * r - y);
+        let i = self.integral;
+        let u = p + i;
+        self.integral = i + self.bi * e;
+        // `started` is already set and `terms.d` is zero (no derivative)
+        self.terms.p = p;
+        self.terms.i = i;
+        self.terms.output = u;
+        u
     }
 
     /// One sample with a tracking input: `u_actual` is the actuator's real value
@@ -430,6 +475,7 @@ impl<T: Real> Pid<T> {
     #[inline(never)]
     fn hold(&mut self) -> T {
         self.fault = true;
+        self.lean = false;
         let held = self.failsafe.unwrap_or(self.terms.output);
         self.terms.output = held;
         held
@@ -437,13 +483,15 @@ impl<T: Real> Pid<T> {
 
     #[inline(always)]
     fn step(&mut self, r: T, y: T, track: Option<T>) -> T {
-        if !(r.is_finite() && y.is_finite()) {
+        let e = r - y;
+        // NaN or ±∞ in r or y (or a difference beyond the float range)
+        if !e.is_finite() {
             return self.hold();
         }
         let recovering = self.fault;
+        let first = !self.started;
         self.fault = false;
         let cfg = &self.cfg;
-        let e = r - y;
         let p = cfg.kp * (cfg.b * r - y);
         let ed = cfg.c * r - y;
         let d = if self.has_d && self.started && !recovering {
@@ -505,6 +553,9 @@ impl<T: Real> Pid<T> {
         self.ed_prev = ed;
         self.started = true;
         self.terms = PidTerms { p, i, d, output: u };
+        if recovering || first {
+            self.refresh();
+        }
         u
     }
 }

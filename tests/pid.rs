@@ -106,3 +106,32 @@ fn nan_measurement_holds_the_output() {
     assert!(c.update(1.0, 0.5).is_finite());
     assert!(!c.fault());
 }
+
+/// An unlimited PI runs a short path; the same PI with limits it never reaches
+/// runs the general one. Both must give the same outputs and terms, through a
+/// sensor fault, a manual period and their recoveries.
+#[test]
+fn the_short_pi_path_equals_the_general_path() {
+    let cfg = PidConfig::isa(1.7, 4.0, 0.0, 0.1).with_weights(0.6, 1.0);
+    let mut short = Pid::new(cfg).unwrap();
+    let mut general = Pid::new(cfg.with_limits(-1e300, 1e300)).unwrap();
+    let mut p: Lti<f64, 1> = Lti::first_order(2.0, 7.0, 0.1).unwrap();
+    for k in 0..600 {
+        let y = p.free_output();
+        let y_meas = if (200..210).contains(&k) { f64::NAN } else { y };
+        let r = if k < 300 { 1.0 } else { -0.5 };
+        if k == 400 {
+            short.set_manual();
+            general.set_manual();
+        }
+        if k == 450 {
+            short.set_auto();
+            general.set_auto();
+        }
+        let (a, b) = (short.update(r, y_meas), general.update(r, y_meas));
+        assert_eq!(a, b, "sample {k}");
+        assert_eq!(short.terms(), general.terms(), "sample {k}");
+        assert_eq!(short.fault(), general.fault(), "sample {k}");
+        p.step(a);
+    }
+}

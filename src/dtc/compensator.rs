@@ -38,6 +38,8 @@ pub const AUX: usize = 4;
 
 /// How the model error enters the primary controller's feedback.
 #[derive(Debug, Clone)]
+// a plain tag byte: the per-sample dispatch is one load and compare
+#[repr(u8)]
 pub enum ErrorPath<T, S> {
     /// `F = 1`: the classic Smith predictor.
     Direct,
@@ -55,8 +57,69 @@ pub enum ErrorPath<T, S> {
     },
 }
 
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> ErrorPath<T, S> {
+    /// `F·ε` for one sample.
+    #[inline(always)]
+    fn step(&mut self, eps: T) -> T {
+        match self {
+            ErrorPath::Direct => eps,
+            ErrorPath::Blocked => T::zero(),
+            ErrorPath::Filter(f) => f.step(eps),
+            ErrorPath::Huang { b, line } => {
+                let f_delayed = line.peek(T::zero());
+                let f = eps + b.free_output();
+                b.step(eps - f_delayed);
+                line.process(f);
+                f
+            }
+        }
+    }
+}
+
+/// The inner (stabilizing) feedback `Gc2` of the model output.
+#[derive(Debug, Clone)]
+// a plain tag byte: the per-sample dispatch is one load and compare
+#[repr(u8)]
+pub enum InnerPath<T> {
+    /// None.
+    Off,
+    /// A proportional gain (Karan–Dey's `β·Kp`): one multiplication per sample.
+    Gain(T),
+    /// A PID acting on `ym` as its set point (Kaya–Atherton's PD).
+    Pid(Pid<T>),
+}
+
+impl<T: Real> InnerPath<T> {
+    /// `Gc2·ym`.
+    #[inline(always)]
+    fn update(&mut self, ym: T) -> T {
+        match self {
+            InnerPath::Off => T::zero(),
+            InnerPath::Gain(k) => *k * ym,
+            InnerPath::Pid(g) => g.update(ym, T::zero()),
+        }
+    }
+
+    fn reset(&mut self) {
+        if let InnerPath::Pid(g) = self {
+            g.reset();
+        }
+    }
+
+    /// `Gc2(e^{jθ})`.
+    fn response(&self, theta: T) -> Complex<T> {
+        match self {
+            InnerPath::Off => Complex::default(),
+            InnerPath::Gain(k) => Complex::real(*k),
+            InnerPath::Pid(g) => g.response(theta).0,
+        }
+    }
+}
+
 /// The disturbance controller on the model error, subtracted at the plant input.
 #[derive(Debug, Clone)]
+// a plain tag byte: the per-sample dispatch is one load and compare
+#[repr(u8)]
 pub enum DisturbancePath<T, S> {
     /// None.
     Off,
@@ -189,7 +252,7 @@ impl<T: Real> ParamList<T> {
 #[derive(Debug, Clone)]
 pub struct Compensator<T, const N: usize, S> {
     gc1: Pid<T>,
-    gc2: Option<Pid<T>>,
+    gc2: InnerPath<T>,
     err: ErrorPath<T, S>,
     dist: DisturbancePath<T, S>,
     corr: Option<Lti<T, AUX>>,
@@ -197,6 +260,8 @@ pub struct Compensator<T, const N: usize, S> {
     delay: Delay<T, S>,
     u_min: T,
     u_max: T,
+    /// A finite actuator limit: the output is clamped.
+    limited: bool,
     params: ParamList<T>,
     ym: T,
     ym_delayed: T,
@@ -223,7 +288,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         }
         Ok(Compensator {
             gc1,
-            gc2: None,
+            gc2: InnerPath::Off,
             err: ErrorPath::Direct,
             dist: DisturbancePath::Off,
             corr: None,
@@ -231,6 +296,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             delay,
             u_min: T::neg_infinity(),
             u_max: T::infinity(),
+            limited: false,
             params,
             ym: T::zero(),
             ym_delayed: T::zero(),
@@ -253,9 +319,21 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         Ok(self)
     }
 
-    /// Inner feedback `Gc2` of the model output (P or PD).
+    /// Inner feedback `Gc2` of the model output (P or PD). A proportional
+    /// controller without limits is kept as its gain `kp·b` (the same output,
+    /// `kp·(b·ym − 0)`, in one multiplication).
     pub fn with_inner(mut self, gc2: Pid<T>) -> Self {
-        self.gc2 = Some(gc2);
+        let c = gc2.config();
+        let plain_p = c.ki == T::zero()
+            && c.kd == T::zero()
+            && !c.u_min.is_finite()
+            && !c.u_max.is_finite()
+            && !c.rate_limit.is_finite();
+        self.gc2 = if plain_p {
+            InnerPath::Gain(c.kp * c.b)
+        } else {
+            InnerPath::Pid(gc2)
+        };
         self
     }
 
@@ -305,6 +383,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         }
         self.u_min = u_min;
         self.u_max = u_max;
+        self.limited = u_min.is_finite() || u_max.is_finite();
         Ok(self)
     }
 
@@ -340,56 +419,53 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Compensator<T, N, S> {
     #[inline]
     fn update(&mut self, r: T, y: T) -> T {
-        if !(r.is_finite() && y.is_finite()) {
+        // NaN or ±∞ in r or y (or a difference beyond the float range)
+        if !(r - y).is_finite() {
             return self.on_fault();
         }
         self.fault = false;
         let ym = self.model.free_output();
         let ym_d = self.delay.process(ym);
         let eps = y - ym_d;
-        let fed = match &mut self.err {
-            ErrorPath::Direct => eps,
-            ErrorPath::Blocked => T::zero(),
-            ErrorPath::Filter(f) => f.step(eps),
-            ErrorPath::Huang { b, line } => {
-                let f_delayed = line.peek(T::zero());
-                let f = eps + b.free_output();
-                b.step(eps - f_delayed);
-                line.process(f);
-                f
-            }
+        // the signals are stored as soon as they are known: fewer live registers
+        self.ym = ym;
+        self.ym_delayed = ym_d;
+        self.eps = eps;
+        let fed = if let ErrorPath::Direct = self.err {
+            eps
+        } else {
+            self.err.step(eps)
         };
-        let corr = self.corr.as_ref().map_or(T::zero(), |c| c.free_output());
-        let inner = match &mut self.gc2 {
-            Some(g) => g.update(ym, T::zero()),
-            None => T::zero(),
+        let feedback = match &self.corr {
+            None => ym + fed,
+            Some(c) => ym + fed - c.free_output(),
         };
-        let u1 = self.gc1.update(r, ym + fed - corr) - inner;
-        let u3 = match &mut self.dist {
-            DisturbancePath::Off => T::zero(),
-            DisturbancePath::Block(b) => b.step(eps),
-            DisturbancePath::AstromHangLim(m) => m.step(eps),
+        let inner = self.gc2.update(ym);
+        let u1 = self.gc1.update(r, feedback) - inner;
+        self.u1 = u1;
+        let (u3, drive_u1) = match &mut self.dist {
+            DisturbancePath::Off => (T::zero(), false),
+            DisturbancePath::Block(b) => (b.step(eps), true),
+            DisturbancePath::AstromHangLim(m) => (m.step(eps), true),
         };
-        let u = crate::real::clamp(u1 - u3, self.u_min, self.u_max);
-        let drive = if self.drives_model_with_u1() { u1 } else { u };
+        self.u3 = u3;
+        let u = if self.limited {
+            crate::real::clamp(u1 - u3, self.u_min, self.u_max)
+        } else {
+            u1 - u3
+        };
+        self.u = u;
+        let drive = if drive_u1 { u1 } else { u };
         self.model.advance(drive);
         if let Some(c) = &mut self.corr {
             c.advance(drive);
         }
-        self.ym = ym;
-        self.ym_delayed = ym_d;
-        self.eps = eps;
-        self.u1 = u1;
-        self.u3 = u3;
-        self.u = u;
         u
     }
 
     fn reset(&mut self) {
         self.gc1.reset();
-        if let Some(g) = &mut self.gc2 {
-            g.reset();
-        }
+        self.gc2.reset();
         match &mut self.err {
             ErrorPath::Filter(f) => f.reset(),
             ErrorPath::Huang { b, line } => {
@@ -423,10 +499,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
     fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
         let one = Complex::real(T::one());
         let (g1r, g1y) = self.gc1.response(theta);
-        let g2 = self
-            .gc2
-            .as_ref()
-            .map_or(Complex::default(), |g| g.response(theta).0);
+        let g2 = self.gc2.response(theta);
         let gm = self.model.response(theta);
         let d = Complex::delay_response(theta, self.delay.delay());
         let f = match &self.err {
@@ -460,10 +533,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
 
     fn inner_response(&self, theta: T) -> Option<Complex<T>> {
         let g1y = self.gc1.response(theta).1;
-        let g2 = self
-            .gc2
-            .as_ref()
-            .map_or(Complex::default(), |g| g.response(theta).0);
+        let g2 = self.gc2.response(theta);
         Some(g1y.add(g2).mul(self.model.response(theta)))
     }
 

@@ -71,21 +71,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S
     }
 }
 
-impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S> {
-    /// A sample with a non-finite input: the PID holds its output (or gives its
-    /// fail-safe value); the model keeps running on what the actuator receives,
-    /// so it still tracks the plant.
-    #[cold]
-    #[inline(never)]
-    fn on_fault(&mut self, r: T) -> T {
-        self.fault = true;
-        let u = self.pid.update(r, T::nan());
-        self.ym = self.model.step(u);
-        self.ym_delayed = self.delay.process(self.ym);
-        u
-    }
-}
-
 impl<T: Real, const N: usize, S: DelayStorage<T>> SmithPredictor<T, N, S> {
     /// A predictor whose model is `model` ZOH-discretized at the controller's period.
     pub fn from_model(pid: PidConfig<T>, model: &ProcessModel<T>, ts: T) -> Result<Self, Error> {
@@ -99,18 +84,22 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
 {
     #[inline]
     fn update(&mut self, r: T, y: T) -> T {
-        if !(r.is_finite() && y.is_finite()) {
-            return self.on_fault(r);
-        }
-        self.fault = false;
         let ym = self.model.free_output();
         let ym_d = self.delay.process(ym);
         let err = y - ym_d;
+        // a non-finite set point or measurement reaches the PID as such (NaN
+        // propagates through `ym + err`): it holds its output (or gives its
+        // fail-safe value), and the model keeps running on what the actuator
+        // receives, so it still tracks the plant
         let u = self.pid.update(r, ym + err);
+        self.fault = self.pid.fault();
         self.model.advance(u);
         self.ym = ym;
         self.ym_delayed = ym_d;
-        self.model_error = err;
+        if !self.fault {
+            // during a fault the error is unknown: the last one stays
+            self.model_error = err;
+        }
         u
     }
 
