@@ -7,7 +7,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use msp::poly::TransferFunction;
-use msp::sim::{simulate, Scenario, SetpointStep, SimConfig};
+use msp::sim::{simulate, simulate_into, Scenario, SetpointStep, SimConfig, SimResult};
 use msp::{Delay, PidConfig, SmithPredictor};
 
 const N: usize = 100_000;
@@ -81,6 +81,18 @@ fn sims(c: &mut Criterion) {
             simulate(&plant, &mut c, &config).expect("sim")
         })
     });
+    // the same run into the buffers of the last one: no fresh pages to fault in
+    let mut reused = SimResult::default();
+    g.bench_function(
+        "msp simulate_into (registry controller, reused buffers)",
+        |b| {
+            b.iter(|| {
+                let mut c = build();
+                simulate_into(&plant, &mut c, &config, &mut reused).expect("sim");
+                reused.y.len()
+            })
+        },
+    );
     let res = {
         let mut c = build();
         simulate(&plant, &mut c, &config).expect("sim")

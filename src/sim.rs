@@ -291,6 +291,48 @@ pub struct SimResult {
     pub substeps: usize,
 }
 
+impl SimResult {
+    /// Empties every column, keeping the allocations.
+    fn clear(&mut self) {
+        for v in [
+            &mut self.t,
+            &mut self.r,
+            &mut self.y,
+            &mut self.u,
+            &mut self.d,
+            &mut self.d_out,
+            &mut self.y2,
+            &mut self.d_inner,
+        ] {
+            v.clear();
+        }
+        for (_, v) in &mut self.signals {
+            v.clear();
+        }
+        self.diverged_at = None;
+    }
+
+    /// Room for `rows` rows of the columns a run records, and one signal
+    /// column per name (reused when the names are those of the last run).
+    fn reserve(&mut self, names: &[&str], rows: usize, cascade: bool) {
+        let mut columns = std::vec![&mut self.t, &mut self.r, &mut self.y, &mut self.u];
+        if cascade {
+            columns.push(&mut self.y2);
+        }
+        for v in columns {
+            v.reserve(rows);
+        }
+        let same = self.signals.len() == names.len()
+            && self.signals.iter().zip(names).all(|((a, _), b)| a == b);
+        if !same {
+            self.signals = names.iter().map(|s| (s.to_string(), Vec::new())).collect();
+        }
+        for (_, v) in &mut self.signals {
+            v.reserve(rows);
+        }
+    }
+}
+
 /// A seeded Gaussian generator (SplitMix64 + Box–Muller), reproducible everywhere.
 #[derive(Debug, Clone)]
 pub struct Noise {
@@ -367,7 +409,9 @@ impl PlantSim {
             a = b;
         }
         let k = kf.to_usize_checked()?;
-        let line = Delay::with_storage(vec_zeros(k.saturating_add(1)), 0.0)?;
+        // the line holds the whole delay `k` (read by `process`); its capacity
+        // `k + 1` keeps `v[n−k−1]` too for a fractional delay
+        let line = Delay::with_storage(vec_zeros(k.saturating_add(1)), kf)?;
         Ok(PlantSim {
             feedthrough: out.output(1.0) - out.free_output(),
             out,
@@ -379,22 +423,26 @@ impl PlantSim {
     }
 
     /// Output at the current instant (before the new input is applied).
+    #[inline]
     fn output(&self) -> f64 {
         self.out.free_output() + self.feedthrough * self.last_in
     }
 
     /// Applies plant input `v[n]` over one period; the outputs at the
     /// intermediate sub-step instants are appended to `sub`.
+    #[inline]
     fn advance(&mut self, v: f64, sub: &mut Vec<f64>) {
-        let now = self.line.peek_back(v, self.k);
-        let before = self.line.peek_back(v, self.k.saturating_add(1));
-        self.line.process(v);
         if self.pieces.len() == 1 {
-            // one piece spanning the period: `out` is that very discretization
+            // one piece spanning the period (a whole delay, no sub-steps):
+            // `out` is that very discretization, driven by `v[n−k]`
+            let now = self.line.process(v);
             self.out.step(now);
             self.last_in = now;
             return;
         }
+        let now = self.line.peek_back(v, self.k);
+        let before = self.line.peek_back(v, self.k.saturating_add(1));
+        self.line.process(v);
         let mut x = *self.out.state();
         for p in &mut self.pieces {
             let input = if p.late { now } else { before };
@@ -681,7 +729,22 @@ pub fn simulate<C: Controller<f64> + ?Sized>(
     controller: &mut C,
     cfg: &SimConfig,
 ) -> Result<SimResult, Error> {
-    simulate_process(plant, None, controller, cfg)
+    let mut res = SimResult::default();
+    simulate_process(plant, None, controller, cfg, &mut res)?;
+    Ok(res)
+}
+
+/// [`simulate`] into the buffers of an earlier result: its columns are
+/// overwritten and keep their allocations, so repeated runs (sweeps, Monte
+/// Carlo, benchmarks) write to memory that is already mapped. On an error
+/// `out` is left empty.
+pub fn simulate_into<C: Controller<f64> + ?Sized>(
+    plant: &TransferFunction,
+    controller: &mut C,
+    cfg: &SimConfig,
+    out: &mut SimResult,
+) -> Result<(), Error> {
+    simulate_process(plant, None, controller, cfg, out)
 }
 
 /// Runs the closed loop of `controller` on the cascade process: primary
@@ -696,7 +759,9 @@ pub fn simulate_cascade<C: Controller<f64> + ?Sized>(
     controller: &mut C,
     cfg: &SimConfig,
 ) -> Result<SimResult, Error> {
-    simulate_process(p1, Some(p2), controller, cfg)
+    let mut res = SimResult::default();
+    simulate_process(p1, Some(p2), controller, cfg, &mut res)?;
+    Ok(res)
 }
 
 fn simulate_process<C: Controller<f64> + ?Sized>(
@@ -704,7 +769,9 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
     inner: Option<&TransferFunction>,
     controller: &mut C,
     cfg: &SimConfig,
-) -> Result<SimResult, Error> {
+    res: &mut SimResult,
+) -> Result<(), Error> {
+    res.clear();
     let ts = crate::real::positive(cfg.ts, "ts")?;
     let duration = crate::real::non_negative(cfg.duration, "duration")?;
     crate::real::non_negative(cfg.noise, "noise")?;
@@ -728,22 +795,8 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
     let mut sub = Vec::with_capacity(m);
     let mut noise = Noise::new(cfg.seed);
     let names = controller.signal_names();
-    let mut res = SimResult {
-        t: Vec::with_capacity(n_rows),
-        r: Vec::with_capacity(n_rows),
-        y: Vec::with_capacity(n_rows),
-        u: Vec::with_capacity(n_rows),
-        d: Vec::with_capacity(n_rows),
-        d_out: Vec::with_capacity(n_rows),
-        y2: Vec::new(),
-        d_inner: Vec::new(),
-        signals: names
-            .iter()
-            .map(|s| (s.to_string(), Vec::with_capacity(n_rows)))
-            .collect(),
-        diverged_at: None,
-        substeps: m,
-    };
+    res.reserve(names, n_rows, cascade);
+    res.substeps = m;
     let pick = |loc: Location| -> Vec<&Disturbance> {
         cfg.disturbances
             .iter()
@@ -773,16 +826,21 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
         .map(|s| s.value.abs())
         .chain(cfg.disturbances.iter().map(|d| d.value.abs()))
         .fold(1.0, f64::max);
-    let mut steps: Vec<SetpointStep> = cfg.setpoint.clone();
-    steps.sort_by(|a, b| a.at.total_cmp(&b.at));
+    // the set point's schedule as sample indices: one integer test per sample
+    let mut steps: Vec<(usize, f64)> = cfg
+        .setpoint
+        .iter()
+        .map(|s| (first_sample_at(s.at, ts), s.value))
+        .collect();
+    steps.sort_by_key(|s| s.0);
     let mut next_step = 0usize;
     let mut r = 0.0;
     let mut sig = std::vec![0.0; names.len()];
     for i in 0..n {
         let t = i as f64 * ts;
-        while let Some(s) = steps.get(next_step) {
-            if s.at <= t + 1e-9 * t.abs().max(1.0) {
-                r = s.value;
+        while let Some(&(k, value)) = steps.get(next_step) {
+            if k <= i {
+                r = value;
                 next_step = next_step.saturating_add(1);
             } else {
                 break;
@@ -862,16 +920,36 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
     }
     let rows = res.y.len();
     let step = ts / m as f64;
-    res.t = (0..rows)
-        .map(|k| (k / m) as f64 * ts + (k % m) as f64 * step)
-        .collect();
+    res.t
+        .extend((0..rows).map(|k| (k / m) as f64 * ts + (k % m) as f64 * step));
     if inputs.is_empty() {
-        res.d = std::vec![0.0; rows];
+        res.d.resize(rows, 0.0);
     }
     if outputs.is_empty() {
-        res.d_out = std::vec![0.0; rows];
+        res.d_out.resize(rows, 0.0);
     }
-    Ok(res)
+    Ok(())
+}
+
+/// The first sample `i` (time `i·ts`) at which an event at time `at` has
+/// happened, with the same tolerance as [`setpoint_at`]: `at ≤ t + 10⁻⁹·max(|t|, 1)`.
+fn first_sample_at(at: f64, ts: f64) -> usize {
+    let reached = |i: usize| {
+        let t = i as f64 * ts;
+        at <= t + 1e-9 * t.abs().max(1.0)
+    };
+    if reached(0) {
+        return 0;
+    }
+    // start near the answer, then settle it exactly with the test itself
+    let mut i = num_traits::ToPrimitive::to_usize(&(at / ts).floor()).unwrap_or(usize::MAX);
+    while i > 0 && reached(i - 1) {
+        i -= 1;
+    }
+    while i < usize::MAX && !reached(i) {
+        i += 1;
+    }
+    i
 }
 
 impl SimResult {
