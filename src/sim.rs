@@ -827,6 +827,7 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
         .chain(cfg.disturbances.iter().map(|d| d.value.abs()))
         .fold(1.0, f64::max);
     // the set point's schedule as sample indices: one integer test per sample
+    let bound = 1e6 * scale;
     let mut steps: Vec<(usize, f64)> = cfg
         .setpoint
         .iter()
@@ -853,7 +854,8 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
             Process::Single(p) => (p.output() + d_out, 0.0),
             Process::Cascade { p2, joint, .. } => (joint.output() + d_out, p2.output() + d_mid),
         };
-        if !y.is_finite() || y.abs() > 1e6 * scale || !y2.is_finite() || y2.abs() > 1e6 * scale {
+        // NaN fails `<=` too: one comparison per output catches NaN, ±∞ and divergence
+        if !(y.abs() <= bound && y2.abs() <= bound) {
             res.diverged_at = Some(t);
             break;
         }
@@ -920,8 +922,12 @@ fn simulate_process<C: Controller<f64> + ?Sized>(
     }
     let rows = res.y.len();
     let step = ts / m as f64;
-    res.t
-        .extend((0..rows).map(|k| (k / m) as f64 * ts + (k % m) as f64 * step));
+    if m == 1 {
+        res.t.extend((0..rows).map(|k| k as f64 * ts));
+    } else {
+        res.t
+            .extend((0..rows).map(|k| (k / m) as f64 * ts + (k % m) as f64 * step));
+    }
     if inputs.is_empty() {
         res.d.resize(rows, 0.0);
     }
