@@ -436,21 +436,31 @@ fn cast_coeffs<T: Real>(p: &[f64]) -> Result<([T; CAST], usize), Error> {
 }
 
 impl<T: Real, const N: usize> Lti<T, N> {
-    /// [`Lti::from_tf`] for coefficients designed in `f64` (a block in `f32`
-    /// designed on the host's precision).
+    /// [`Lti::from_tf`] for coefficients designed in `f64`: the block is
+    /// discretized in `f64` (pole-zero matching finds roots, ZOH takes a
+    /// matrix exponential: in `f32` a pole near `z = 1` would lose most of its
+    /// distance to 1) and then rounded to this precision ([`Lti::of`]).
     pub fn from_tf_of(
         num: &[f64],
         den: &[f64],
         ts: f64,
         method: Discretization,
     ) -> Result<Self, Error> {
-        let ((n, nl), (d, dl)) = (cast_coeffs::<T>(num)?, cast_coeffs::<T>(den)?);
-        Self::from_tf(
-            n.get(..nl).unwrap_or(&[]),
-            d.get(..dl).unwrap_or(&[]),
-            T::of(ts),
-            method,
-        )
+        Ok(Self::of(&Lti::<f64, N>::from_tf(num, den, ts, method)?))
+    }
+
+    /// A block designed (discretized) in `f64`, in this precision: every
+    /// coefficient and state rounded with [`Real::of`].
+    pub fn of(b: &Lti<f64, N>) -> Self {
+        let vec = |v: &[f64; N]| v.map(T::of);
+        Lti {
+            phi: b.phi.map(|row| row.map(T::of)),
+            gamma: vec(&b.gamma),
+            c: vec(&b.c),
+            d: T::of(b.d),
+            x: vec(&b.x),
+            n: b.n,
+        }
     }
 
     /// [`Lti::from_discrete_tf`] for coefficients designed in `f64`.

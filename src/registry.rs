@@ -12,13 +12,17 @@ use crate::delay::Delay;
 use crate::dtc::compensator::ParamList;
 use crate::dtc::{self, Controller, KaranDeyParams, SmithPredictor};
 use crate::poly::{PlantKind, TransferFunction};
-use crate::{tuning, Ipdt, Lti, Pid, PidConfig, ProcessModel};
+use crate::{tuning, Ipdt, Lti, Pid, PidConfig, ProcessModel, Real};
 
 /// Largest model order the registry's controllers hold.
 pub const MAX_ORDER: usize = 8;
 
 /// A controller built by the registry.
-pub type DynController = Box<dyn Controller<f64> + Send + Sync>;
+pub type DynController = DynControllerOf<f64>;
+
+/// A boxed controller in precision `T` (`f64` for the CLI and Python, `f32`
+/// for firmware-like runs and benchmarks).
+pub type DynControllerOf<T> = Box<dyn Controller<T> + Send + Sync>;
 
 /// Why a scheme could not be tuned or built.
 #[derive(Debug, Clone, PartialEq)]
@@ -177,18 +181,54 @@ pub struct Scheme {
 
 /// A single-loop tuning rule: model → parameters.
 pub type TuneFn = fn(&TransferFunction, &Design) -> Result<Params, crate::Error>;
-/// A single-loop construction: parameters + model → controller.
-pub type BuildFn = fn(&Params, &TransferFunction, &Build) -> Result<DynController, crate::Error>;
+/// A single-loop construction: parameters + model → controller in precision `T`.
+pub type BuildFn<T = f64> =
+    fn(&Params, &TransferFunction, &Build) -> Result<DynControllerOf<T>, crate::Error>;
+
+/// A construction in both precisions (the same generic function instantiated twice).
+#[derive(Clone, Copy)]
+pub struct Builders<F64, F32> {
+    /// In `f64`.
+    pub f64: F64,
+    /// In `f32`.
+    pub f32: F32,
+}
+
+/// The precisions a registry controller is built in.
+pub trait Precision: Real {
+    /// This precision's single-loop construction.
+    fn single(b: &Builders<BuildFn<f64>, BuildFn<f32>>) -> BuildFn<Self>;
+    /// This precision's cascade construction.
+    fn cascade(b: &Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>) -> CascadeBuildFn<Self>;
+}
+
+impl Precision for f64 {
+    fn single(b: &Builders<BuildFn<f64>, BuildFn<f32>>) -> BuildFn<f64> {
+        b.f64
+    }
+    fn cascade(b: &Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>) -> CascadeBuildFn<f64> {
+        b.f64
+    }
+}
+
+impl Precision for f32 {
+    fn single(b: &Builders<BuildFn<f64>, BuildFn<f32>>) -> BuildFn<f32> {
+        b.f32
+    }
+    fn cascade(b: &Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>) -> CascadeBuildFn<f32> {
+        b.f32
+    }
+}
 /// A cascade tuning rule: `(P1, P2, design)` → parameters.
 pub type CascadeTuneFn =
     fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::Error>;
 /// A cascade construction: `(parameters, P1, P2, build)` → controller.
-pub type CascadeBuildFn = fn(
+pub type CascadeBuildFn<T = f64> = fn(
     &Params,
     &TransferFunction,
     &TransferFunction,
     &Build,
-) -> Result<DynController, crate::Error>;
+) -> Result<DynControllerOf<T>, crate::Error>;
 
 /// How a scheme is tuned and built: from the plant's model, or — for a cascade
 /// scheme (`002_0ed51b14a8593ff0.txt`) — from the primary and the secondary models.
@@ -198,15 +238,15 @@ pub enum SchemeFns {
     Single {
         /// Tuning rule.
         tune: TuneFn,
-        /// Construction.
-        build: BuildFn,
+        /// Construction, in `f64` and `f32`.
+        build: Builders<BuildFn<f64>, BuildFn<f32>>,
     },
     /// A cascade scheme: it needs the secondary process.
     Cascade {
         /// Tuning rule.
         tune: CascadeTuneFn,
-        /// Construction.
-        build: CascadeBuildFn,
+        /// Construction, in `f64` and `f32`.
+        build: Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>,
     },
 }
 
@@ -216,9 +256,17 @@ impl fmt::Debug for Scheme {
     }
 }
 
-fn pid_cfg(p: &Params, b: &Build) -> Result<PidConfig<f64>, crate::Error> {
+fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {
     let td = p.get("td").unwrap_or(0.0);
-    Ok(PidConfig::isa(p.req("kp")?, p.req("ti")?, td, b.ts).with_limits(b.u_min, b.u_max))
+    Ok(
+        PidConfig::isa(req(p, "kp")?, req(p, "ti")?, T::of(td), T::of(b.ts))
+            .with_limits(T::of(b.u_min), T::of(b.u_max)),
+    )
+}
+
+/// Parameter `name` in precision `T`.
+fn req<T: Real>(p: &Params, name: &'static str) -> Result<T, crate::Error> {
+    Ok(T::of(p.req(name)?))
 }
 
 /// `λ`: given, or `alpha·L`, or `default_factor·L`.
@@ -231,7 +279,7 @@ fn lambda_for(model: &ProcessModel<f64>, d: &Design, default_factor: f64) -> f64
 }
 
 /// A model's delay-free block and its dead-time line.
-type ModelParts<const N: usize> = (Lti<f64, N>, Delay<f64, Vec<f64>>);
+type ModelParts<T, const N: usize> = (Lti<T, N>, Delay<T, Vec<T>>);
 
 /// The case number 1–6 of the disturbance estimator.
 fn case_of(case: f64) -> Result<u8, crate::Error> {
@@ -241,19 +289,22 @@ fn case_of(case: f64) -> Result<u8, crate::Error> {
 }
 
 /// The model's delay-free part at the controller period and its dead time.
-fn model_parts<const N: usize>(
+fn model_parts<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
-) -> Result<ModelParts<N>, crate::Error> {
+) -> Result<ModelParts<T, N>, crate::Error> {
     Ok((
-        model.to_model_lti::<N>(b.ts)?,
-        Delay::new_in(model.delay_samples(b.ts)?)?,
+        Lti::of(&model.to_model_lti::<N>(b.ts)?),
+        Delay::new_in(T::of(model.delay_samples(b.ts)?))?,
     ))
 }
 
 /// The model's dead time in a line of its own (Huang's filter, Åström–Hang–Lim's M, Uma et al.'s model).
-fn delay_again(model: &TransferFunction, b: &Build) -> Result<Delay<f64, Vec<f64>>, crate::Error> {
-    Delay::new_in(model.delay_samples(b.ts)?)
+fn delay_again<T: Real>(
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<Delay<T, Vec<T>>, crate::Error> {
+    Delay::new_in(T::of(model.delay_samples(b.ts)?))
 }
 
 fn integrating_model(
@@ -274,25 +325,38 @@ fn params_of(names: &'static [&'static str], values: &[f64]) -> Params {
 /// holds no more states than it needs (the update cost grows with them).
 macro_rules! by_order {
     ($f:ident) => {{
-        fn dispatch(
+        fn dispatch<T: Real>(
             p: &Params,
             m: &TransferFunction,
             b: &Build,
-        ) -> Result<DynController, crate::Error> {
+        ) -> Result<DynControllerOf<T>, crate::Error> {
             match m.model_order() {
-                0 | 1 => $f::<1>(p, m, b),
-                2 => $f::<2>(p, m, b),
-                3 | 4 => $f::<4>(p, m, b),
-                _ => $f::<MAX_ORDER>(p, m, b),
+                0 | 1 => $f::<T, 1>(p, m, b),
+                2 => $f::<T, 2>(p, m, b),
+                3 | 4 => $f::<T, 4>(p, m, b),
+                _ => $f::<T, MAX_ORDER>(p, m, b),
             }
         }
-        dispatch
+        both!(dispatch)
     }};
 }
 
+/// A generic build function in both precisions.
+macro_rules! both {
+    ($f:ident) => {
+        Builders {
+            f64: $f::<f64>,
+            f32: $f::<f32>,
+        }
+    };
+}
+
 /// The controller's own copy of its parameters, in the scheme's report order.
-fn list(names: &'static [&'static str], p: &Params) -> ParamList<f64> {
-    let values: Vec<f64> = names.iter().map(|n| p.get(n).unwrap_or(f64::NAN)).collect();
+fn list<T: Real>(names: &'static [&'static str], p: &Params) -> ParamList<T> {
+    let values: Vec<T> = names
+        .iter()
+        .map(|n| T::of(p.get(n).unwrap_or(f64::NAN)))
+        .collect();
     ParamList::new(names, &values)
 }
 
@@ -338,7 +402,11 @@ fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
 
 const SCHEMES_PID_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
 
-fn build_pid(p: &Params, _m: &TransferFunction, b: &Build) -> Result<DynController, crate::Error> {
+fn build_pid<T: Real>(
+    p: &Params,
+    _m: &TransferFunction,
+    b: &Build,
+) -> Result<DynControllerOf<T>, crate::Error> {
     Ok(Box::new(Pid::new(pid_cfg(p, b)?)?))
 }
 
@@ -368,12 +436,12 @@ fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
     Ok(params_of(SCHEMES_PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
 }
 
-fn build_smith<const N: usize>(
+fn build_smith<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts::<N>(model, b)?;
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
     Ok(Box::new(SmithPredictor::new(pid_cfg(p, b)?, lti, delay)?))
 }
 
@@ -399,16 +467,16 @@ fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, c
 
 const FILTERED_PARAMS: &[&str] = &["kp", "ti", "td", "a", "b", "lambda"];
 
-fn build_filtered_smith<const N: usize>(
+fn build_filtered_smith<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts::<N>(model, b)?;
-    let f = dtc::filtered_smith::lead_lag_filter(p.req("a")?, p.req("b")?, b.ts)?;
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    let f = dtc::filtered_smith::lead_lag_filter(req(p, "a")?, req(p, "b")?, T::of(b.ts))?;
     Ok(Box::new(
         dtc::filtered_smith::build(pid_cfg(p, b)?, f, lti, delay, list(FILTERED_PARAMS, p))?
-            .with_limits(b.u_min, b.u_max)?,
+            .with_limits(T::of(b.u_min), T::of(b.u_max))?,
     ))
 }
 
@@ -422,23 +490,23 @@ fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
 
 const HUANG_PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb", "lambda"];
 
-fn build_huang<const N: usize>(
+fn build_huang<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts::<N>(model, b)?;
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
     let line = delay_again(model, b)?;
     let c = dtc::huang::build(
         pid_cfg(p, b)?,
-        p.req("kb")?,
-        p.req("tb")?,
+        req(p, "kb")?,
+        req(p, "tb")?,
         lti,
         delay,
         line,
         list(HUANG_PARAMS, p),
     )?;
-    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
 // ---- integrating-plant schemes -------------------------------------------------
@@ -455,22 +523,23 @@ fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate:
 
 const KD_PARAMS: &[&str] = &["kp", "ti", "beta", "gamma", "td", "n", "lambda"];
 
-fn build_karan_dey<const N: usize>(
+fn build_karan_dey<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let params = KaranDeyParams {
-        kp: p.req("kp")?,
-        ti: p.req("ti")?,
-        beta: p.req("beta")?,
-        gamma: p.req("gamma")?,
-        td: p.req("td")?,
-        n: p.req("n")?,
+        kp: req(p, "kp")?,
+        ti: req(p, "ti")?,
+        beta: req(p, "beta")?,
+        gamma: req(p, "gamma")?,
+        td: req(p, "td")?,
+        n: req(p, "n")?,
     };
-    let (lti, delay) = model_parts::<N>(model, b)?;
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
     Ok(Box::new(
-        dtc::karan_dey::build(&params, lti, delay, b.ts)?.with_limits(b.u_min, b.u_max)?,
+        dtc::karan_dey::build(&params, lti, delay, T::of(b.ts))?
+            .with_limits(T::of(b.u_min), T::of(b.u_max))?,
     ))
 }
 
@@ -491,18 +560,25 @@ fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, cra
 
 const WI_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
 
-fn build_watanabe_ito<const N: usize>(
+fn build_watanabe_ito<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let m = integrating_model(
         model,
         "the Watanabe-Ito predictor needs an integrating plant",
     )?;
-    let (lti, delay) = model_parts::<N>(model, b)?;
-    let c = dtc::watanabe_ito::build(pid_cfg(p, b)?, m.k, m.l, lti, delay, list(WI_PARAMS, p))?;
-    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    let c = dtc::watanabe_ito::build(
+        pid_cfg(p, b)?,
+        T::of(m.k),
+        T::of(m.l),
+        lti,
+        delay,
+        list(WI_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
 fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -522,30 +598,30 @@ fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, 
 
 const AHL_PARAMS: &[&str] = &["k", "k1", "k2", "k3", "lambda"];
 
-fn build_astrom_hang_lim<const N: usize>(
+fn build_astrom_hang_lim<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let m = integrating_model(
         model,
         "the Astrom-Hang-Lim predictor needs an integrating plant",
     )?;
-    let (lti, delay) = model_parts::<N>(model, b)?;
-    let line = Delay::new_in(model.delay_samples(b.ts)?.floor())?;
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    let line = Delay::new_in(T::of(model.delay_samples(b.ts)?.floor()))?;
     let c = dtc::astrom_hang_lim::build(
-        p.req("k")?,
-        p.req("k1")?,
-        p.req("k2")?,
-        p.req("k3")?,
-        m.k,
-        b.ts,
+        req(p, "k")?,
+        req(p, "k1")?,
+        req(p, "k2")?,
+        req(p, "k3")?,
+        T::of(m.k),
+        T::of(b.ts),
         lti,
         delay,
         line,
         list(AHL_PARAMS, p),
     )?;
-    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
 fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -564,21 +640,21 @@ fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, c
 
 const MM_PARAMS: &[&str] = &["kr", "k0", "tr"];
 
-fn build_matausek_micic<const N: usize>(
+fn build_matausek_micic<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
-    let (lti, delay) = model_parts::<N>(model, b)?;
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::matausek_micic::build(
-        p.req("kr")?,
-        p.req("k0")?,
-        b.ts,
+        req(p, "kr")?,
+        req(p, "k0")?,
+        T::of(b.ts),
         lti,
         delay,
         list(MM_PARAMS, p),
     )?;
-    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
 fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -614,34 +690,34 @@ fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, cr
 const KA_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda"];
 
 /// Kaya–Atherton's predictor on `model`, reporting `names` (without limits).
-fn kaya_atherton_on<const N: usize>(
+fn kaya_atherton_on<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
     names: &'static [&'static str],
-) -> Result<Compensator<f64, N, Vec<f64>>, crate::Error> {
-    let (lti, delay) = model_parts::<N>(model, b)?;
+) -> Result<Compensator<T, N, Vec<T>>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
     dtc::kaya_atherton::build(
-        p.req("kp")?,
-        p.req("ti")?,
-        p.req("kf")?,
-        p.req("tf")?,
-        p.req("kb")?,
-        p.req("td")?,
-        b.ts,
+        req(p, "kp")?,
+        req(p, "ti")?,
+        req(p, "kf")?,
+        req(p, "tf")?,
+        req(p, "kb")?,
+        req(p, "td")?,
+        T::of(b.ts),
         lti,
         delay,
         list(names, p),
     )
 }
 
-fn build_kaya_atherton<const N: usize>(
+fn build_kaya_atherton<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
-    let c = kaya_atherton_on::<N>(p, model, b, KA_PARAMS)?;
-    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let c = kaya_atherton_on::<T, N>(p, model, b, KA_PARAMS)?;
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
 fn tune_disturbance_estimator(
@@ -684,29 +760,29 @@ fn tune_disturbance_estimator(
 
 const DE_PARAMS: &[&str] = &["kr", "td", "case", "ka", "ta", "tc", "tde", "alpha", "w0"];
 
-fn build_disturbance_estimator<const N: usize>(
+fn build_disturbance_estimator<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let case = case_of(p.req("case")?)?;
     let est = dtc::disturbance_estimator::Estimator::from_case(
         case,
-        p.req("ka")?,
-        p.req("ta")?,
-        p.req("tc")?,
-        p.req("w0")?,
+        req(p, "ka")?,
+        req(p, "ta")?,
+        req(p, "tc")?,
+        req(p, "w0")?,
     )?;
-    let (lti, delay) = model_parts::<N>(model, b)?;
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::disturbance_estimator::build(
-        p.req("kr")?,
+        req(p, "kr")?,
         &est,
-        b.ts,
+        T::of(b.ts),
         lti,
         delay,
         list(DE_PARAMS, p),
     )?;
-    Ok(Box::new(c.with_limits(b.u_min, b.u_max)?))
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
 fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -744,16 +820,17 @@ fn whole_samples(model: &TransferFunction, ts: f64) -> Result<usize, crate::Erro
     num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))
 }
 
-fn build_fsp(
+fn build_fsp<T: Real>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let h = whole_samples(model, b.ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
     let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, p.req("tf")?)?;
-    let k = PidConfig::isa(p.req("kp")?, p.req("ti")?, 0.0, b.ts).with_limits(b.u_min, b.u_max);
-    Ok(Box::new(dtc::fsp::FilteredSmith::<f64, Vec<f64>>::new(
+    let k = PidConfig::isa(req(p, "kp")?, req(p, "ti")?, T::zero(), T::of(b.ts))
+        .with_limits(T::of(b.u_min), T::of(b.u_max));
+    Ok(Box::new(dtc::fsp::FilteredSmith::<T, Vec<T>>::new(
         k,
         &design,
         list(FSP_PARAMS, p),
@@ -763,7 +840,7 @@ fn build_fsp(
 // ---- cascade schemes (002_0ed51b14a8593ff0.txt) -------------------------------
 
 use crate::dtc::cascade::{self, Cascade, Imc};
-use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath};
+use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath, AUX};
 use crate::dtc::fsp::{FrSpec, Predicted};
 use crate::dtc::gpcc::GpccPredictor;
 
@@ -828,36 +905,38 @@ fn cascade_params(
 /// The parts every cascade scheme builds: the primary model `Gm e^{−(L1+L2)s}`,
 /// its ZOH block, its dead time in whole samples, the inner loop and the
 /// primary controller (as Uma et al.'s PID and as FSPCC's matched `K(z)`).
-struct CascadeParts {
+struct CascadeParts<T> {
     model: TransferFunction,
+    /// The primary model's delay-free part, designed in `f64`.
     gm: Lti<f64, MAX_ORDER>,
     h: usize,
-    imc: Imc<f64, Vec<f64>>,
+    imc: Imc<T, Vec<T>>,
     /// Uma et al.'s `Gcs` as a PID (their continuous design, sampled).
-    k: PidConfig<f64>,
+    k: PidConfig<T>,
     /// The same, pole-zero matched (FSPCC's and GPCC's `K(z)`).
-    km: dtc::fsp::Matched2Dof<f64>,
+    km: dtc::fsp::Matched2Dof<T>,
 }
 
 /// The primary model `Gm e^{−(L1+L2)s}` and the inner IMC loop of a cascade
 /// scheme (actuator limits on the inner loop's output, the plant input).
-fn cascade_inner(
+fn cascade_inner<T: Real>(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<(TransferFunction, Imc<f64, Vec<f64>>), crate::Error> {
+) -> Result<(TransferFunction, Imc<T, Vec<T>>), crate::Error> {
     let lambda2 = p.req("lambda2")?;
-    let imc = Imc::<f64, Vec<f64>>::design(p2, lambda2, b.ts)?.with_limits(b.u_min, b.u_max)?;
+    let imc =
+        Imc::<T, Vec<T>>::design(p2, lambda2, b.ts)?.with_limits(T::of(b.u_min), T::of(b.u_max))?;
     Ok((cascade::primary_model(p1, p2, lambda2)?, imc))
 }
 
-fn cascade_parts(
+fn cascade_parts<T: Real>(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<CascadeParts, crate::Error> {
+) -> Result<CascadeParts<T>, crate::Error> {
     let (model, imc) = cascade_inner(p, p1, p2, b)?;
     let (kp, ki, kd, tau) = (p.req("kp")?, p.req("ki")?, p.req("kd")?, p.req("tau")?);
     let epsilon = p.get("epsilon").unwrap_or(1.0);
@@ -866,7 +945,14 @@ fn cascade_parts(
         h: whole_samples(&model, b.ts)?,
         model,
         imc,
-        k: cascade::series_pid(kp, ki, kd, tau, epsilon, b.ts)?,
+        k: cascade::series_pid(
+            T::of(kp),
+            T::of(ki),
+            T::of(kd),
+            T::of(tau),
+            T::of(epsilon),
+            T::of(b.ts),
+        )?,
         km: cascade::matched_primary(kp, ki, kd, tau, epsilon, b.ts)?,
     })
 }
@@ -899,12 +985,12 @@ fn tune_fspcc(
     })
 }
 
-fn build_fspcc(
+fn build_fspcc<T: Real>(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
     let (lead, lag) = (p.req("lead")?, p.req("lag")?);
     let spec = FrSpec {
@@ -917,9 +1003,9 @@ fn build_fspcc(
         biproper: true,
     };
     let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, b.ts, &spec)?;
-    let outer = Predicted::<f64, _, _>::with_primary(
+    let outer = Predicted::<T, _, _>::with_primary(
         c.km,
-        dtc::fsp::FspPredictor::<f64, Vec<f64>>::new(&design)?,
+        dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?,
         list(FSPCC_PARAMS, p),
     );
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
@@ -939,15 +1025,15 @@ fn tune_gpcc(
     })
 }
 
-fn build_gpcc(
+fn build_gpcc<T: Real>(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
-    let pred = GpccPredictor::<f64, Vec<f64>>::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
-    let outer = Predicted::<f64, _, _>::with_primary(c.km, pred, list(GPCC_PARAMS, p));
+    let pred = GpccPredictor::<T, Vec<T>>::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
+    let outer = Predicted::<T, _, _>::with_primary(c.km, pred, list(GPCC_PARAMS, p));
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
@@ -975,12 +1061,12 @@ fn tune_uma(
     })
 }
 
-fn build_uma(
+fn build_uma<T: Real>(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
     let (kpd, kid, kdd) = (p.req("kpd")?, p.req("kid")?, p.req("kdd")?);
     if [kpd, kid, kdd].iter().any(|v| v.is_nan()) {
@@ -997,20 +1083,25 @@ fn build_uma(
     };
     num = crate::poly::mul(&num, &[lead, 1.0]);
     den = crate::poly::mul(&den, &[lag, 1.0]);
-    let gcd = Lti::from_tf(&num, &den, b.ts, crate::Discretization::Matched)?;
+    let gcd = Lti::of(&Lti::<f64, AUX>::from_tf(
+        &num,
+        &den,
+        b.ts,
+        crate::Discretization::Matched,
+    )?);
     let tf = p.req("tf")?;
     let err = if tf > 0.0 {
-        ErrorPath::Filter(Lti::from_tf(
+        ErrorPath::Filter(Lti::of(&Lti::<f64, AUX>::from_tf(
             &[1.0],
             &[tf, 1.0],
             b.ts,
             crate::Discretization::Matched,
-        )?)
+        )?))
     } else {
         ErrorPath::Direct
     };
     let delay = delay_again(&c.model, b)?;
-    let outer = Compensator::new(Pid::new(c.k)?, c.gm, delay, list(UMA_PARAMS, p))?
+    let outer = Compensator::new(Pid::new(c.k)?, Lti::of(&c.gm), delay, list(UMA_PARAMS, p))?
         .with_error_path(err)?
         .with_disturbance(DisturbancePath::Block(gcd));
     Ok(Box::new(Cascade::new(outer, c.imc, COMPENSATOR_SIGNALS)))
@@ -1034,14 +1125,14 @@ fn tune_kaya_cascade(
     Ok(params_of(KAYA_CASCADE_PARAMS, &values))
 }
 
-fn build_kaya_cascade(
+fn build_kaya_cascade<T: Real>(
     p: &Params,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<DynController, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::Error> {
     let (gm, imc) = cascade_inner(p, p1, p2, b)?;
-    let outer = kaya_atherton_on::<MAX_ORDER>(p, &gm, b, KAYA_CASCADE_PARAMS)?;
+    let outer = kaya_atherton_on::<T, MAX_ORDER>(p, &gm, b, KAYA_CASCADE_PARAMS)?;
     Ok(Box::new(Cascade::new(outer, imc, COMPENSATOR_SIGNALS)))
 }
 
@@ -1066,7 +1157,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha"],
         fns: SchemeFns::Single {
             tune: tune_pid,
-            build: build_pid,
+            build: both!(build_pid),
         },
     },
     Scheme {
@@ -1183,7 +1274,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "tf"],
         fns: SchemeFns::Single {
             tune: tune_fsp,
-            build: build_fsp,
+            build: both!(build_fsp),
         },
     },
     Scheme {
@@ -1209,7 +1300,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "lambda2", "epsilon", "tf", "lead", "lag"],
         fns: SchemeFns::Cascade {
             tune: tune_fspcc,
-            build: build_fspcc,
+            build: both!(build_fspcc),
         },
     },
     Scheme {
@@ -1222,7 +1313,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "lambda2", "epsilon", "tk"],
         fns: SchemeFns::Cascade {
             tune: tune_gpcc,
-            build: build_gpcc,
+            build: both!(build_gpcc),
         },
     },
     Scheme {
@@ -1235,7 +1326,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "lambda2", "epsilon", "lead", "lag", "tf"],
         fns: SchemeFns::Cascade {
             tune: tune_uma,
-            build: build_uma,
+            build: both!(build_uma),
         },
     },
     Scheme {
@@ -1248,7 +1339,7 @@ pub static SCHEMES: &[Scheme] = &[
         design: &["lambda", "alpha", "lambda2"],
         fns: SchemeFns::Cascade {
             tune: tune_kaya_cascade,
-            build: build_kaya_cascade,
+            build: both!(build_kaya_cascade),
         },
     },
 ];
@@ -1387,11 +1478,27 @@ impl Scheme {
         inner: Option<&TransferFunction>,
         b: &Build,
     ) -> Result<DynController, RegistryError> {
+        self.build_process_as::<f64>(params, model, inner, b)
+    }
+
+    /// [`Scheme::build_process`] in precision `T` (`f32` for a controller that
+    /// computes as firmware does; the design and discretization run in `f64`).
+    pub fn build_process_as<T: Precision>(
+        &self,
+        params: &Params,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        b: &Build,
+    ) -> Result<DynControllerOf<T>, RegistryError> {
         Ok(match (self.fns, inner) {
-            (SchemeFns::Cascade { build, .. }, Some(p2)) => build(params, model, p2, b)?,
+            (SchemeFns::Cascade { build, .. }, Some(p2)) => {
+                T::cascade(&build)(params, model, p2, b)?
+            }
             (SchemeFns::Cascade { .. }, None) => return Err(needs_inner()),
-            (SchemeFns::Single { build, .. }, Some(p2)) => build(params, &model.series(p2)?, b)?,
-            (SchemeFns::Single { build, .. }, None) => build(params, model, b)?,
+            (SchemeFns::Single { build, .. }, Some(p2)) => {
+                T::single(&build)(params, &model.series(p2)?, b)?
+            }
+            (SchemeFns::Single { build, .. }, None) => T::single(&build)(params, model, b)?,
         })
     }
 }
