@@ -6,6 +6,9 @@
 //! of a real loop is measured, the same for msp and the reference.
 use std::hint::black_box;
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use msp::dtc::karan_dey;
 use msp::poly::TransferFunction;
@@ -110,24 +113,15 @@ fn registry_updates<T: Precision>(c: &mut Criterion, ty: &str) {
     for s in SCHEMES {
         let (plant, inner): (TransferFunction, Option<TransferFunction>) = if s.is_cascade() {
             (
-                "2e^-2s/s".parse().expect("plant"),
-                Some("4e^-2s/(s+1)".parse().expect("inner plant")),
+                common::EXAMPLE2.0.parse().expect("plant"),
+                Some(common::EXAMPLE2.1.parse().expect("inner plant")),
             )
         } else if s.plants.contains(&msp::poly::PlantKind::Integrating) {
             ("0.2/s*e^-7.4s".parse().expect("plant"), None)
         } else {
             ("5.6*e^-93.9s/(40.2s+1)".parse().expect("plant"), None)
         };
-        // Uma et al.'s Gcd has no tuning rule in the sources: a PD from their Example 2
-        let set: Vec<(String, f64)> = if s.name == "uma" {
-            vec![
-                ("kpd".into(), 0.0436),
-                ("kid".into(), 0.0),
-                ("kdd".into(), 0.1206),
-            ]
-        } else {
-            vec![]
-        };
+        let set = common::required_settings(s.name);
         let p = s
             .tune_process(&plant, inner.as_ref(), None, None, &set)
             .expect("tune");

@@ -1,5 +1,6 @@
 //! `update` of every controller allocates nothing (a counting global allocator).
 #![allow(unsafe_code)] // a global allocator is unsafe by nature; test-only
+mod common;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -77,13 +78,8 @@ fn update_allocates_nothing() {
 #[test]
 fn cascade_update_allocates_nothing() {
     // García et al.'s Example 2 (integrating primary)
-    let p1: TransferFunction = "2e^-2s/s".parse().unwrap();
-    let p2: TransferFunction = "4e^-2s/(s+1)".parse().unwrap();
-    let gcd = [
-        ("kpd".to_string(), 0.0436),
-        ("kid".to_string(), 0.0),
-        ("kdd".to_string(), 0.1206),
-    ];
+    let p1: TransferFunction = common::EXAMPLE2.0.parse().unwrap();
+    let p2: TransferFunction = common::EXAMPLE2.1.parse().unwrap();
     let mut checked = 0;
     for scheme in SCHEMES.iter().filter(|s| s.is_cascade()) {
         let params = scheme
@@ -92,7 +88,7 @@ fn cascade_update_allocates_nothing() {
                 Some(&p2),
                 None,
                 None,
-                &gcd[..if scheme.name == "uma" { 3 } else { 0 }],
+                &common::required_settings(scheme.name),
             )
             .unwrap();
         let mut c = scheme

@@ -1,6 +1,8 @@
 //! Every scheme of the registry built in `f32` computes what the `f64` build
 //! computes, to `f32` rounding: the same closed loop (the plant simulated in
 //! `f64`) run with each, sample for sample.
+mod common;
+use common::{required_settings, EXAMPLE2};
 use msp::poly::{PlantKind, TransferFunction};
 use msp::registry::{Build, Scheme, SCHEMES};
 use msp::sim::{CascadeStepper, PlantStepper};
@@ -10,8 +12,8 @@ use msp::sim::{CascadeStepper, PlantStepper};
 fn worst(scheme: &'static Scheme) -> f64 {
     let (p1, p2, ts): (TransferFunction, Option<TransferFunction>, f64) = if scheme.is_cascade() {
         (
-            "2e^-2s/s".parse().unwrap(),
-            Some("4e^-2s/(s+1)".parse().unwrap()),
+            EXAMPLE2.0.parse().unwrap(),
+            Some(EXAMPLE2.1.parse().unwrap()),
             0.1,
         )
     } else if scheme.plants.contains(&PlantKind::Integrating) {
@@ -21,16 +23,7 @@ fn worst(scheme: &'static Scheme) -> f64 {
     } else {
         ("5*e^-6s/(100s-1)".parse().unwrap(), None, 0.06)
     };
-    // Uma et al.'s Gcd has no rule in the sources: a PD from their Example 2
-    let set: Vec<(String, f64)> = if scheme.name == "uma" {
-        vec![
-            ("kpd".into(), 0.0436),
-            ("kid".into(), 0.0),
-            ("kdd".into(), 0.1206),
-        ]
-    } else {
-        vec![]
-    };
+    let set = required_settings(scheme.name);
     let p = scheme
         .tune_process(&p1, p2.as_ref(), None, None, &set)
         .unwrap();

@@ -1,4 +1,5 @@
 //! Bad input, faults and long runs: never a panic, never a silent NaN.
+mod common;
 use msp::dtc::Controller;
 use msp::parse::parse_plant;
 use msp::poly::TransferFunction;
@@ -236,19 +237,10 @@ fn pid_fail_safe_value_and_bumpless_return() {
 /// The same for a cascade scheme on García et al.'s Example 2 (integrating
 /// primary): the primary sensor fails, then the secondary one.
 fn cascade_nan(scheme: &'static msp::registry::Scheme) {
-    let p1: TransferFunction = "2e^-2s/s".parse().unwrap();
-    let p2: TransferFunction = "4e^-2s/(s+1)".parse().unwrap();
+    let p1: TransferFunction = common::EXAMPLE2.0.parse().unwrap();
+    let p2: TransferFunction = common::EXAMPLE2.1.parse().unwrap();
     let ts = 0.1;
-    // Uma et al.'s Gcd has no rule in the sources: a PD from their Example 2
-    let gcd: Vec<(String, f64)> = if scheme.name == "uma" {
-        vec![
-            ("kpd".into(), 0.0436),
-            ("kid".into(), 0.0),
-            ("kdd".into(), 0.1206),
-        ]
-    } else {
-        vec![]
-    };
+    let gcd = common::required_settings(scheme.name);
     let p = scheme
         .tune_process(&p1, Some(&p2), None, None, &gcd)
         .unwrap();

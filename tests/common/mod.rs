@@ -12,3 +12,22 @@ pub fn assert_close(a: f64, b: f64, rtol: f64, atol: f64) {
         "{a} is not within rtol {rtol}, atol {atol} of {b}"
     );
 }
+
+/// García et al.'s Example 2 cascade process (`002_0ed51b14a8593ff0.txt`):
+/// the integrating primary and the secondary.
+pub const EXAMPLE2: (&str, &str) = ("2e^-2s/s", "4e^-2s/(s+1)");
+
+/// The `--set` values a scheme needs beyond its tuning: Uma et al.'s
+/// disturbance controller `Gcd` has no rule in the sources, so it gets the PD
+/// of García et al.'s Example 2; every other scheme none.
+pub fn required_settings(scheme: &str) -> Vec<(String, f64)> {
+    if scheme == "uma" {
+        vec![
+            ("kpd".into(), 0.0436),
+            ("kid".into(), 0.0),
+            ("kdd".into(), 0.1206),
+        ]
+    } else {
+        vec![]
+    }
+}
