@@ -86,7 +86,7 @@ pub mod sweep;
 
 pub use complex::Complex;
 pub use delay::{Delay, DelayLine, DelayLineRef};
-pub use dtc::{Controller, KaranDey, SmithPredictor};
+pub use dtc::{Controller, KaranDey, SmithPredictor, Widened};
 pub use error::Error;
 pub use lti::{Discretization, Lti};
 pub use metrics::IntegralIndices;

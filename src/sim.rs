@@ -1202,6 +1202,9 @@ pub struct Scenario {
     pub umax: Option<f64>,
     /// Plant outputs per controller period in the signals (smooth plots).
     pub substeps: Option<usize>,
+    /// The controller computes in `f32`, as firmware does (designed in `f64`,
+    /// run through [`crate::Widened`]); the plant stays exact in `f64`.
+    pub float32: bool,
 }
 
 /// A tuned and built controller with its sample period.
@@ -1251,6 +1254,8 @@ pub struct RunOutput {
     pub metrics_delayed_reference: Metrics,
     /// The set-point profile used.
     pub setpoint: Vec<SetpointStep>,
+    /// The controller computed in `f32` ([`Scenario::float32`]).
+    pub float32: bool,
 }
 
 impl RunOutput {
@@ -1412,8 +1417,14 @@ impl Scenario {
         if u_min > u_max {
             return Err(RunError::Invalid(Error::InvalidLimits("umin")));
         }
-        let controller =
-            scheme.build_process(&params, model, inner, &Build { ts, u_min, u_max })?;
+        let build = Build { ts, u_min, u_max };
+        let controller: registry::DynController = if self.float32 {
+            Box::new(crate::Widened(
+                scheme.build_process_as::<f32>(&params, model, inner, &build)?,
+            ))
+        } else {
+            scheme.build_process(&params, model, inner, &build)?
+        };
         Ok(BuiltController {
             scheme: scheme.name,
             params,
@@ -1569,6 +1580,7 @@ impl Scenario {
             metrics: m0,
             metrics_delayed_reference: m1,
             setpoint,
+            float32: self.float32,
         })
     }
 }

@@ -97,3 +97,47 @@ fn every_scheme_in_f32_follows_its_f64_build() {
         assert!(w < tol, "{}: f32 differs by {w:e} (relative)", scheme.name);
     }
 }
+
+/// `Scenario::float32` runs the controller in f32 (every actuator value is
+/// an f32 number) against the exact f64 plant, close to the f64 run. The
+/// unstable plant's FSP at h = 100 samples of dead time, as in the firmware:
+/// at the default h = 1000 its S, a sum over the dead time's inputs, drifts
+/// in f32 (README, "Performance").
+#[test]
+fn a_float32_scenario_runs_the_controller_in_f32() {
+    for (plant, ts) in [
+        ("0.2/s*e^-7.4s", None),
+        ("5.6*e^-93.9s/(40.2s+1)", None),
+        ("5*e^-6s/(100s-1)", Some(0.06)),
+    ] {
+        let sc = msp::sim::Scenario {
+            plant: plant.into(),
+            ts,
+            ..Default::default()
+        };
+        let wide = sc.run().unwrap();
+        let narrow = msp::sim::Scenario {
+            float32: true,
+            ..sc.clone()
+        }
+        .run()
+        .unwrap();
+        assert!(narrow.float32 && !wide.float32);
+        assert!(
+            narrow.result.u.iter().all(|u| f64::from(*u as f32) == *u),
+            "{plant}: an actuator value that is not an f32"
+        );
+        assert!(
+            wide.result.u.iter().any(|u| f64::from(*u as f32) != *u),
+            "{plant}: the f64 run should not look like f32"
+        );
+        let scale = wide.result.y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let worst = wide
+            .result
+            .y
+            .iter()
+            .zip(&narrow.result.y)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(worst < 1e-3 * scale, "{plant}: {worst:e}");
+    }
+}

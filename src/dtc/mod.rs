@@ -190,3 +190,57 @@ impl<T: Real> Controller<T> for crate::Pid<T> {
         Some(crate::Pid::response(self, theta))
     }
 }
+
+/// A controller that computes in `f32`, seen as an `f64` one: the set point
+/// and the measurements are rounded to `f32` as a device receives them, the
+/// output widened exactly. The `f64` simulator and analysis then run the
+/// loop a firmware runs (`msp run --float32`).
+#[derive(Debug, Clone)]
+pub struct Widened<C>(pub C);
+
+impl<C: Controller<f32>> Controller<f64> for Widened<C> {
+    #[inline]
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        f64::from(self.0.update(f32::of(r), f32::of(y)))
+    }
+    #[inline]
+    fn update_cascade(&mut self, r: f64, y: f64, y2: f64) -> f64 {
+        f64::from(self.0.update_cascade(f32::of(r), f32::of(y), f32::of(y2)))
+    }
+    fn is_cascade(&self) -> bool {
+        self.0.is_cascade()
+    }
+    fn reset(&mut self) {
+        self.0.reset();
+    }
+    fn signal_names(&self) -> &'static [&'static str] {
+        self.0.signal_names()
+    }
+    fn signal(&self, i: usize) -> f64 {
+        f64::from(self.0.signal(i))
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        self.0.param_names()
+    }
+    fn param(&self, i: usize) -> f64 {
+        f64::from(self.0.param(i))
+    }
+    fn fault(&self) -> bool {
+        self.0.fault()
+    }
+    fn response(&self, theta: f64) -> Option<(crate::Complex<f64>, crate::Complex<f64>)> {
+        self.0
+            .response(f32::of(theta))
+            .map(|(a, b)| (widen(a), widen(b)))
+    }
+    fn inner_response(&self, theta: f64) -> Option<crate::Complex<f64>> {
+        self.0.inner_response(f32::of(theta)).map(widen)
+    }
+}
+
+fn widen(c: crate::Complex<f32>) -> crate::Complex<f64> {
+    crate::Complex {
+        re: f64::from(c.re),
+        im: f64::from(c.im),
+    }
+}

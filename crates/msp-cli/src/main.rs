@@ -102,6 +102,10 @@ struct ScenarioArgs {
     /// Plant outputs per controller period in the CSV (smooth intersample plots).
     #[arg(long)]
     substeps: Option<usize>,
+    /// The controller computes in f32 as firmware does (designed in f64; the
+    /// plant stays exact in f64).
+    #[arg(long)]
+    float32: bool,
 }
 
 #[derive(Debug, Args)]
@@ -386,6 +390,7 @@ fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         sc.setpoint.clone_from(&a.setpoint);
     }
     sc.disturbance.extend(a.disturbance.iter().copied());
+    sc.float32 |= a.float32;
     Ok(sc)
 }
 

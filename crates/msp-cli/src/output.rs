@@ -71,6 +71,7 @@ pub fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
         "duration": out.duration,
         "samples": out.result.t.len(),
         "controller": {"name": out.controller, "params": params},
+        "float32": out.float32,
         "metrics": metrics_json(&out.metrics),
         "metrics_delayed_reference": metrics_json(&out.metrics_delayed_reference),
         "stable": out.result.diverged_at.is_none(),

@@ -60,7 +60,38 @@ fn run_writes_csv_report_and_plot() {
     }
     let iae = j["metrics_delayed_reference"]["iae"].as_f64().unwrap();
     assert!((iae - 0.93).abs() < 0.015, "{iae}");
+    assert_eq!(j["float32"], false);
     assert!(std::fs::read_to_string(&plot).unwrap().contains("<svg"));
+}
+
+#[test]
+fn float32_runs_the_controller_in_f32() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    let out = msp()
+        .args([
+            "run",
+            "-q",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--float32",
+            "--report",
+        ])
+        .arg(&report)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(j["float32"], true);
+    // the actuator column (u, the fourth) holds f32 numbers only
+    let text = String::from_utf8(out).unwrap();
+    for line in text.lines().skip(1) {
+        let u: f64 = line.split(',').nth(3).unwrap().parse().unwrap();
+        assert_eq!(f64::from(u as f32), u, "{line}");
+    }
 }
 
 #[test]

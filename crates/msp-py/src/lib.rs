@@ -233,6 +233,7 @@ fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDi
     c.set_item("name", out.controller)?;
     c.set_item("params", params_dict(py, &out.params)?)?;
     d.set_item("controller", c)?;
+    d.set_item("float32", out.float32)?;
     d.set_item("metrics", metrics_dict(py, &out.metrics)?)?;
     d.set_item(
         "metrics_delayed_reference",
@@ -281,6 +282,7 @@ fn scenario(
     lambda_: Option<f64>,
     rule: Option<String>,
     substeps: Option<usize>,
+    float32: bool,
 ) -> PyResult<Scenario> {
     Ok(Scenario {
         plant: String::new(),
@@ -300,6 +302,7 @@ fn scenario(
         umin,
         umax,
         substeps,
+        float32,
     })
 }
 
@@ -328,7 +331,7 @@ fn inner_of(
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
                     ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
-                    umax=None, lambda_=None, rule=None, substeps=None))]
+                    umax=None, lambda_=None, rule=None, substeps=None, float32=false))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -349,6 +352,7 @@ fn run<'py>(
     lambda_: Option<f64>,
     rule: Option<String>,
     substeps: Option<usize>,
+    float32: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let plant_tf = plant_of(plant)?;
     let model_tf = match model {
@@ -369,6 +373,7 @@ fn run<'py>(
         lambda_,
         rule,
         substeps,
+        float32,
     )?;
     let inner = inner_of(inner_plant, inner_model)?;
     let out = py
@@ -381,7 +386,8 @@ fn run<'py>(
 #[pyfunction]
 #[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
                     inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
-                    seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None))]
+                    seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None,
+                    float32=false))]
 #[allow(clippy::too_many_arguments)]
 fn compare<'py>(
     py: Python<'py>,
@@ -403,6 +409,7 @@ fn compare<'py>(
     lambda_: Option<f64>,
     rule: Option<String>,
     substeps: Option<usize>,
+    float32: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     let mut sc = scenario(
         None,
@@ -418,6 +425,7 @@ fn compare<'py>(
         lambda_,
         rule,
         substeps,
+        float32,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
@@ -475,7 +483,7 @@ fn margins_dict<'py>(py: Python<'py>, m: &msp::analysis::Margins) -> PyResult<Bo
 /// Margins, stability region and robust-stability test (see ``msp.margins``).
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
-                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None))]
+                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None, float32=false))]
 #[allow(clippy::too_many_arguments)]
 fn margins<'py>(
     py: Python<'py>,
@@ -490,9 +498,11 @@ fn margins<'py>(
     rule: Option<String>,
     discrete: bool,
     uncertainty: Option<&Bound<'py, PyAny>>,
+    float32: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut sc = scenario(
         controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
+        float32,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
@@ -534,7 +544,7 @@ fn margins<'py>(
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0),
                     grid=11, samples=0, seed=1, shard=(0, 1), model=None, inner_plant=None, inner_model=None,
-                    ts=None, duration=None, lambda_=None, rule=None))]
+                    ts=None, duration=None, lambda_=None, rule=None, float32=false))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
@@ -555,6 +565,7 @@ fn sweep<'py>(
     duration: Option<f64>,
     lambda_: Option<f64>,
     rule: Option<String>,
+    float32: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     use msp::sweep::{Range, SweepSpec};
     let range = |(lo, hi): (f64, f64), name: &str| -> PyResult<Range> {
@@ -574,6 +585,7 @@ fn sweep<'py>(
     };
     let mut sc = scenario(
         controller, params, ts, duration, None, None, None, None, None, None, lambda_, rule, None,
+        float32,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
@@ -738,6 +750,7 @@ fn tune<'py>(
     let inner = inner_plant.map(plant_of).transpose()?;
     let mut sc = scenario(
         controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
+        false,
     )?;
     let (scheme, p) = sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
     let d = PyDict::new(py);

@@ -36,6 +36,7 @@ def cli_csv(*args: str) -> dict[str, np.ndarray]:
          {"controller": "smith", "params": {"kp": 0.05}, "ts": 0.7, "disturbance": "input:-0.1@300"}),
         ("e^-10s/(s+1)^2", ["--noise", "0.01", "--seed", "7", "--setpoint", "1@0", "--setpoint", "2@50"],
          {"noise": 0.01, "seed": 7, "setpoint": [(1.0, 0.0), (2.0, 50.0)]}),
+        ("0.2/s*e^-7.4s", ["--float32"], {"float32": True}),
     ],
 )
 def test_results_equal_the_cli_bit_for_bit(plant: str, args: list[str], kwargs: dict) -> None:
@@ -45,6 +46,15 @@ def test_results_equal_the_cli_bit_for_bit(plant: str, args: list[str], kwargs: 
         assert np.array_equal(getattr(res, key), ref[key]), key
     for name, values in res.signals.items():
         assert np.array_equal(values, ref[name]), name
+
+
+def test_float32_runs_the_controller_in_float32() -> None:
+    wide = msp.run("0.2/s*e^-7.4s")
+    narrow = msp.run("0.2/s*e^-7.4s", float32=True)
+    assert narrow.float32 and not wide.float32
+    assert np.array_equal(narrow.u.astype(np.float32).astype(np.float64), narrow.u)
+    assert not np.array_equal(wide.u.astype(np.float32).astype(np.float64), wide.u)
+    assert np.max(np.abs(narrow.y - wide.y)) < 1e-4 * np.max(np.abs(wide.y))
 
 
 def test_update_many_equals_a_loop_of_update() -> None:

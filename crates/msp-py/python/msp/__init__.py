@@ -122,10 +122,11 @@ class Result:
     ts: float
     duration: float
     stable: bool
+    float32: bool
 
     def __init__(self, raw: Mapping[str, Any]) -> None:
         for key in ("t", "r", "y", "u", "d", "d_out", "signals", "metrics", "metrics_delayed_reference",
-                    "controller", "plant", "model", "ts", "duration", "stable"):
+                    "controller", "plant", "model", "ts", "duration", "stable", "float32"):
             setattr(self, key, raw[key])
         for key in ("y2", "d_inner", "inner_plant", "inner_model"):
             setattr(self, key, raw.get(key))
@@ -177,6 +178,7 @@ def run(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     substeps: Optional[int] = None,
+    float32: bool = False,
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
 
@@ -197,6 +199,9 @@ def run(
         Dicts have ``location`` ("input"/"output", and "inner" for a cascade's secondary output;
         the paper's ``d2``/``d1``/``d0`` are accepted too), ``value``, ``at``, ``shape``
         ("step", "ramp", "sine") and ``freq`` (Hz).
+    float32 : bool, optional
+        The controller computes in ``float32`` as firmware does (designed in ``float64``; the
+        plant stays exact), like the CLI's ``--float32``.
     """
     p = _plant(plant, delay)
     m = _plant(model) if model is not None else None
@@ -207,7 +212,7 @@ def run(
     raw = _msp.run(p, controller, dict(params) if params else None, model=m, inner_plant=ip, inner_model=im,
                    ts=ts, duration=duration,
                    setpoint=sp, disturbance=dist, noise=noise, seed=seed, umin=umin, umax=umax,
-                   lambda_=lambda_, rule=rule, substeps=substeps)
+                   lambda_=lambda_, rule=rule, substeps=substeps, float32=float32)
     return Result(raw)
 
 
@@ -270,6 +275,7 @@ def margins(
     rule: Optional[str] = None,
     discrete: bool = False,
     uncertainty: Union[None, str, Mapping[str, float], Tuple[float, float]] = None,
+    float32: bool = False,
 ) -> Dict[str, Any]:
     """Margins of the loop at the plant input with the exact dead time, as ``msp margins``.
 
@@ -290,7 +296,8 @@ def margins(
                         model=_plant(model) if model is not None else None,
                         inner_plant=_plant(inner_plant) if inner_plant is not None else None,
                         inner_model=_plant(inner_model) if inner_model is not None else None,
-                        ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, uncertainty=unc)
+                        ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, uncertainty=unc,
+                        float32=float32)
 
 
 def sweep(
@@ -312,6 +319,7 @@ def sweep(
     duration: Optional[float] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
+    float32: bool = False,
 ) -> Dict[str, np.ndarray]:
     """Many closed-loop runs over relative plant perturbations, in parallel, as ``msp sweep``.
 
@@ -325,7 +333,7 @@ def sweep(
                       shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None,
                       inner_plant=_plant(inner_plant) if inner_plant is not None else None,
                       inner_model=_plant(inner_model) if inner_model is not None else None, ts=ts,
-                      duration=duration, lambda_=lambda_, rule=rule)
+                      duration=duration, lambda_=lambda_, rule=rule, float32=float32)
 
 
 def autotune(

@@ -42,6 +42,7 @@ def run(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     substeps: Optional[int] = None,
+    float32: bool = False,
 ) -> Dict[str, Any]: ...
 def compare(
     plant: Union[str, Plant],
@@ -63,6 +64,7 @@ def compare(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     substeps: Optional[int] = None,
+    float32: bool = False,
 ) -> List[Dict[str, Any]]: ...
 def tune(
     plant: Union[str, Plant],
@@ -106,6 +108,7 @@ def margins(
     rule: Optional[str] = None,
     discrete: bool = False,
     uncertainty: Any = None,
+    float32: bool = False,
 ) -> Dict[str, Any]: ...
 def sweep(
     plant: Union[str, Plant],
@@ -126,6 +129,7 @@ def sweep(
     duration: Optional[float] = None,
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
+    float32: bool = False,
 ) -> Dict[str, Any]: ...
 
 @disjoint_base
