@@ -22,6 +22,8 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::poly::{add, mul, trim, TransferFunction};
+#[allow(unused_imports)] // f64 methods under no_std
+use num_traits::Float;
 
 /// A plant expression that could not be parsed.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -11,6 +11,8 @@ use crate::complex::Complex;
 use crate::lti::roots;
 use crate::model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
 use crate::{Discretization, Error, Lti};
+#[allow(unused_imports)] // f64 methods under no_std
+use num_traits::Float;
 
 /// Polynomial product (descending coefficients).
 pub fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {

@@ -843,6 +843,8 @@ use crate::dtc::cascade::{self, Cascade, Imc};
 use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath, AUX};
 use crate::dtc::fsp::{FrSpec, Predicted};
 use crate::dtc::gpcc::GpccPredictor;
+#[allow(unused_imports)] // f64 methods under no_std
+use num_traits::Float;
 
 /// A cascade scheme asked for without the secondary process.
 fn needs_inner() -> RegistryError {

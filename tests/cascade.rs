@@ -607,7 +607,18 @@ mod eq10 {
             let d = design_with::<Vec<f64>, 8>(&gm, h, ts, &spec).unwrap();
             let p: FspPredictor<f64, Vec<f64>> = FspPredictor::new(&d).unwrap();
             let (_, fr1) = p.response(1e-12);
-            prop_assert!((fr1.re - 1.0).abs() < 1e-6 && fr1.im.abs() < 1e-6, "Fr(1) = {:?}", fr1);
+            // Fr(1) = Nr(1)/Dr(1): the rounding of the designed coefficients
+            // (solved to a relative accuracy of about 1e-10 by the Diophantine
+            // system, whose conditioning grows as the poles approach z = 1)
+            // reaches Fr(1) magnified by Σ|coefficients| / |Dr(1)|.
+            let sum = |p: &[f64]| p.iter().map(|c| c.abs()).sum::<f64>();
+            let dr1: f64 = d.dr.as_slice().iter().sum();
+            let cond = (sum(d.nr.as_slice()) + sum(d.dr.as_slice())) / dr1.abs();
+            let tol = 1e-10 * cond.max(1.0);
+            prop_assert!(
+                (fr1.re - 1.0).abs() < tol && fr1.im.abs() < tol,
+                "Fr(1) = {:?}, tolerance {:e}", fr1, tol
+            );
             for theta in [0.01, 0.1, 0.5, 1.5, 3.0] {
                 let (s, fr) = p.response(theta);
                 let g = gm.response(theta);

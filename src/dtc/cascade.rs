@@ -32,6 +32,8 @@ use crate::poly::{mul, trim, TransferFunction};
 #[cfg(feature = "alloc")]
 use crate::Discretization;
 use crate::{AntiWindup, Complex, Error, Lti, PidConfig, Real};
+#[allow(unused_imports)] // f64 methods under no_std
+use num_traits::Float;
 
 /// Order capacity of the inner IMC controller `Q`.
 pub const Q_ORDER: usize = 4;
