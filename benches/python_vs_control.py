@@ -3,7 +3,7 @@
 The loop: P = 5.6 e^(-93.9 s)/(40.2 s + 1) with the Smith predictor and Kaya's PI
 (lambda = L), a unit set-point step. python-control needs a rational delay: a
 5th-order Padé approximation. The exact answer is y = 1 - exp(-(t - L)/lambda) after
-the delay (001_… Eq. 25). Prints the time per call and the largest error of each.
+the delay (Kaya (2003) Eq. 25). Prints the time per call and the largest error of each.
 
 Run: python benches/python_vs_control.py (with msp and control installed).
 """

@@ -1,4 +1,4 @@
-"""Draganović, Stojić & Matijević's disturbance estimator, Cases 1-6 (003_… Figs. 3-7).
+"""Draganović, Stojić & Matijević's disturbance estimator, Cases 1-6 (Draganović et al. (2001) Figs. 3-7).
 
 Plant e^(-5s)/(s(0.9s+1)(0.5s+1)(0.3s+1)(0.1s+1)), model e^(-6.8s)/s, main
 controller Kr = 0.5 (Td = 2 s). Constant loads for Cases 1-3, a ramp for Cases

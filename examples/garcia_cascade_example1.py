@@ -1,4 +1,4 @@
-"""García, Santos, Normey-Rico & Albertos, Example 1 (002_… Figs. 8-9).
+"""García, Santos, Normey-Rico & Albertos, Example 1 (García et al. (2010) Figs. 8-9).
 
 Unstable cascade process: primary e^(-4s)/(20s-1), secondary 2e^(-2s)/(20s+1),
 T = 0.2 s. FSPCC and GPCC against Uma et al. 2009, all with the same primary

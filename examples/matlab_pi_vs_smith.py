@@ -1,4 +1,4 @@
-"""PI control vs the Smith predictor on the MATLAB example plant (004_feaf9f0851109607.txt).
+"""PI control vs the Smith predictor on the MATLAB example plant (the MathWorks Smith predictor example).
 
 P(s) = 5.6 e^(-93.9 s)/(40.2 s + 1); PI with Kp = 0.0501, Ti = 47.3 (the
 example's pidtune design); a step load of -0.1 at the plant input at t = 1000 s.

@@ -1,4 +1,4 @@
-"""The thesis's modified Smith predictor vs the Smith predictor for model 1 (000_… Fig. 5.4).
+"""The thesis's modified Smith predictor vs the Smith predictor for model 1 (Bag (2022) Fig. 5.4).
 
 P(s) = 0.2 e^(-7.4 s)/s; both with Kp = 2/(K λ), Ti = 2λ, λ = θ/4; a step load
 at the plant input at t = 40 s. Writes thesis_msp_vs_smith.png.

@@ -348,7 +348,7 @@ pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
 
 /// The delay margin of the loop with its gain scaled by each factor in
 /// `gains`: the combined gain-and-delay region that keeps the loop stable is
-/// below this curve (`000_3f0725a46e29ef08.txt` Eqs. 4.55–4.57 bound the same
+/// below this curve (Bag (2022) Eqs. 4.55–4.57 bound the same
 /// region through the complementary sensitivity).
 pub fn region(
     controller: &dyn Controller<f64>,
@@ -376,7 +376,7 @@ pub fn region(
 }
 
 /// The robust stability test for a multiplicative uncertainty `Δ(ω)`
-/// (`000_3f0725a46e29ef08.txt` Eq. 4.52, `002_0ed51b14a8593ff0.txt` Eq. 17):
+/// (Bag (2022) Eq. 4.52, García et al. (2010) Eq. 17):
 /// `max_ω |T(jω)·Δ(jω)| < 1`. Returns that peak (the loop is robustly stable
 /// when it is below 1). For a gain error `δk` and a delay error `δθ` the
 /// uncertainty is `Δ = (1 + δk)e^{−jω·δθ} − 1` (Eqs. 4.54–4.57).
@@ -448,7 +448,7 @@ pub type ProcessResponse = Box<dyn Fn(f64) -> Complex<f64>>;
 /// The process seen from the controller's output at `ω` (rad/s): the plant
 /// (sampled-data or discrete view), or for a cascade scheme the primary loop's
 /// process `r2 → y` with the inner IMC loop closed, exactly in the discrete
-/// view (`002_0ed51b14a8593ff0.txt` Sec. 3.3):
+/// view (García et al. (2010) Sec. 3.3):
 /// `P(z) = P12(z)·Q(z)/(1 + Q(z)(P2(z) − P2m(z)))`, `P12` and `P2` the ZOH
 /// equivalents of `P1·P2` and `P2` with their dead times, `Q` and `P2m` the
 /// controller's IMC filter and secondary model.
@@ -494,7 +494,7 @@ pub fn process_response(
 /// for a cascade process, the secondary through its `inner_*` fields): the
 /// multiplicative uncertainty is exact, `Δ(ω) = P_perturbed(jω)/P(jω) − 1`
 /// (for a gain error `δk` and a delay error `δθ` this is
-/// `(1 + δk)e^{−jωθδθ} − 1`, `000_3f0725a46e29ef08.txt` Eqs. 4.54–4.57), and
+/// `(1 + δk)e^{−jωθδθ} − 1`, Bag (2022) Eqs. 4.54–4.57), and
 /// `robust_peak = max_ω |T(jω)·Δ(jω)|` over `ω ∈ (0, π/Ts)`.
 pub fn analyze(
     sc: &crate::sim::Scenario,

@@ -1,7 +1,7 @@
 //! Relay autotuning on the process: a sample-by-sample relay experiment and the
 //! exact identification of a process model from its limit cycle.
 //!
-//! The experiment (`001_8c052250023526e6.txt` Fig. 4, Sec. 3.1): starting from
+//! The experiment (Kaya (2003) Fig. 4, Sec. 3.1): starting from
 //! a steady state `(u0, y0)`, the actuator is switched between `u0 + bias ± h`
 //! by a relay with hysteresis `ε` on `e = y0 − y`; the loop settles into a
 //! limit cycle whose half-periods and extremes identify the process. The

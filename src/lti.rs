@@ -20,7 +20,7 @@
 //! - **Tustin** (bilinear, `s ← 2/Ts · (z−1)/(z+1)`, [`Discretization::Tustin`]);
 //! - **pole-zero matching** (`z = e^{s·Ts}` for every pole and finite zero, the
 //!   gain matched at DC — after removing poles or zeros at the origin — as used
-//!   for the primary controller in `002_0ed51b14a8593ff0.txt` Sec. 3,
+//!   for the primary controller in García et al. (2010) Sec. 3,
 //!   [`Discretization::Matched`]).
 
 use crate::complex::Complex;

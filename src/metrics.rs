@@ -1,7 +1,7 @@
 //! Performance indices: streaming integral indices (no_std, O(1) memory) and,
 //! with `std`, MATLAB-style step information.
 //!
-//! Integral indices (`000_3f0725a46e29ef08.txt` Sec. 3.x, Eqs. for ISE/IAE/ITAE,
+//! Integral indices (Bag (2022) Sec. 3.x, Eqs. for ISE/IAE/ITAE,
 //! and TV of ch. 5): `IAE = ∫|e|dt`, `ISE = ∫e²dt`, `ITAE = ∫t|e|dt`,
 //! `ITSE = ∫t e² dt`, `TV = Σ|u[k] − u[k−1]|`. The integrals use the
 //! trapezoidal rule over the samples; sums are compensated (Kahan), and time

@@ -1,8 +1,8 @@
 //! Process models with dead time, and their conversion to discrete blocks.
 //!
 //! The parameter names (`k`, `t`, `t1`, `t2`, `l`) are the ones reports, the
-//! CLI and Python use. Forms (`000_3f0725a46e29ef08.txt` Eq. 4.1,
-//! `001_8c052250023526e6.txt` Sec. 3):
+//! CLI and Python use. Forms (Bag (2022) Eq. 4.1,
+//! Kaya (2003) Sec. 3):
 //!
 //! | model | transfer function |
 //! | --- | --- |

@@ -1,6 +1,6 @@
 //! The industrial PID controller: P, PI, PD and PID are configurations of one type.
 //!
-//! Continuous law (ISA / standard form, `000_3f0725a46e29ef08.txt` ch. 3, Eq. 3.3
+//! Continuous law (ISA / standard form, Bag (2022) ch. 3, Eq. 3.3
 //! family; Åström & Hägglund's two-degree-of-freedom form):
 //!
 //! `u = Kp·[ (b·r − y) + 1/(Ti·s)·(r − y) + Td·s/(1 + Tf·s)·(c·r − y) ]`, `Tf = Td/N`,

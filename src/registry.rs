@@ -231,7 +231,7 @@ pub type CascadeBuildFn<T = f64> = fn(
 ) -> Result<DynControllerOf<T>, crate::Error>;
 
 /// How a scheme is tuned and built: from the plant's model, or — for a cascade
-/// scheme (`002_0ed51b14a8593ff0.txt`) — from the primary and the secondary models.
+/// scheme (García et al. (2010)) — from the primary and the secondary models.
 #[derive(Clone, Copy)]
 pub enum SchemeFns {
     /// A single-loop scheme.
@@ -455,7 +455,7 @@ fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
 }
 
 fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    // 004_…: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
+    // the MathWorks Smith predictor example: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
     let (g, lambda, m) = primary_gains(plant, d, 1.0 / 7.5)?;
     let b = d.get("b").unwrap_or(0.5 * dominant_lag(&m));
     let a = d.get("a").unwrap_or(0.0);
@@ -481,7 +481,7 @@ fn build_filtered_smith<T: Real, const N: usize>(
 }
 
 fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    // 004_…: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
+    // the MathWorks Smith predictor example: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
     let (g, lambda, m) = primary_gains(plant, d, 0.5)?;
     let kb = d.get("kb").unwrap_or(0.05);
     let tb = d.get("tb").unwrap_or(dominant_lag(&m));
@@ -807,7 +807,7 @@ fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
 
 const FSP_PARAMS: &[&str] = &["kp", "ti", "tf", "lambda"];
 
-/// The dead time of `model` in whole samples: the predictors of `002_…`
+/// The dead time of `model` in whole samples: the predictors of García et al. (2010)
 /// realize `z^{−h}` inside `S` and `F1`, so `h` must be an integer.
 fn whole_samples(model: &TransferFunction, ts: f64) -> Result<usize, crate::Error> {
     let d = model.delay_samples(ts)?;
@@ -837,7 +837,7 @@ fn build_fsp<T: Real>(
     )?))
 }
 
-// ---- cascade schemes (002_0ed51b14a8593ff0.txt) -------------------------------
+// ---- cascade schemes (García et al. (2010)) -------------------------------
 
 use crate::dtc::cascade::{self, Cascade, Imc};
 use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath, AUX};
@@ -1153,7 +1153,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "pid",
         aliases: &["pi"],
         summary: "plain PI/PID feedback, the baseline: IMC-PID (default), SIMC, or an ultimate-cycle rule (--rule)",
-        source: "000_3f0725a46e29ef08.txt Eqs. 3.19-3.27, Tables 3.2-3.3",
+        source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
         plants: STABLE_INT,
         params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
@@ -1166,7 +1166,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "smith",
         aliases: &["sp"],
         summary: "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants",
-        source: "001_8c052250023526e6.txt Eqs. 18-33",
+        source: "Kaya (2003) Eqs. 18-33",
         plants: STABLE_INT,
         params: SCHEMES_PID_PARAMS,
         design: &["lambda", "alpha"],
@@ -1179,7 +1179,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "filtered-smith",
         aliases: &[],
         summary: "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error",
-        source: "004_feaf9f0851109607.txt",
+        source: "the MathWorks Smith predictor example",
         plants: STABLE,
         params: FILTERED_PARAMS,
         design: &["lambda", "alpha", "a", "b"],
@@ -1192,7 +1192,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "huang",
         aliases: &[],
         summary: "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)",
-        source: "004_feaf9f0851109607.txt",
+        source: "the MathWorks Smith predictor example",
         plants: STABLE,
         params: HUANG_PARAMS,
         design: &["lambda", "alpha", "kb", "tb"],
@@ -1205,7 +1205,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "watanabe-ito",
         aliases: &["wi"],
         summary: "Watanabe-Ito predictor for integrating plants: the predictor's static gain removed",
-        source: "000_3f0725a46e29ef08.txt Sec. 4.4.1",
+        source: "Bag (2022) Sec. 4.4.1",
         plants: INT,
         params: WI_PARAMS,
         design: &["lambda", "alpha"],
@@ -1218,7 +1218,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "astrom-hang-lim",
         aliases: &["ahl"],
         summary: "Astrom-Hang-Lim predictor for integrating plants: set-point and load responses decoupled",
-        source: "000_3f0725a46e29ef08.txt Sec. 4.4.2, Eqs. 4.13-4.17",
+        source: "Bag (2022) Sec. 4.4.2, Eqs. 4.13-4.17",
         plants: INT,
         params: AHL_PARAMS,
         design: &["lambda", "alpha", "a"],
@@ -1231,7 +1231,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "matausek-micic",
         aliases: &["mm"],
         summary: "Matausek-Micic predictor for integrating plants: P set point, P load feedback",
-        source: "000_3f0725a46e29ef08.txt Sec. 4.4.3, refs [8], [52]",
+        source: "Bag (2022) Sec. 4.4.3, refs [8], [52]",
         plants: INT,
         params: MM_PARAMS,
         design: &["lambda", "alpha", "tr"],
@@ -1244,7 +1244,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "kaya-atherton",
         aliases: &["ka", "pi-pd"],
         summary: "Kaya-Atherton PI-PD Smith predictor: Gc1 PI, Gc2 P/PD, Gc3 = kb(Td s+1)/(0.1 Td s+1)",
-        source: "000_3f0725a46e29ef08.txt Sec. 4.4.3, Eq. 4.18",
+        source: "Bag (2022) Sec. 4.4.3, Eq. 4.18",
         plants: STABLE_INT,
         params: KA_PARAMS,
         design: &["lambda", "alpha"],
@@ -1257,7 +1257,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "karan-dey",
         aliases: &["msp"],
         summary: "Karan-Dey three-controller modified Smith predictor for integrating plants (lambda = L/4)",
-        source: "000_3f0725a46e29ef08.txt Sec. 4.5",
+        source: "Bag (2022) Sec. 4.5",
         plants: INT,
         params: KD_PARAMS,
         design: &["lambda", "alpha"],
@@ -1270,7 +1270,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "fsp",
         aliases: &["filtered-smith-unstable"],
         summary: "filtered Smith predictor for unstable, integrating and stable plants: Fr(z) from the Diophantine condition",
-        source: "002_0ed51b14a8593ff0.txt Sec. 3, Eq. 10",
+        source: "García et al. (2010) Sec. 3, Eq. 10",
         plants: ALL,
         params: FSP_PARAMS,
         design: &["lambda", "alpha", "tf"],
@@ -1283,7 +1283,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "disturbance-estimator",
         aliases: &["de"],
         summary: "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)",
-        source: "003_8b318e9694d9150f.txt",
+        source: "Draganović et al. (2001)",
         plants: INT,
         params: DE_PARAMS,
         design: &["lambda", "td", "case", "tde", "alpha", "w0"],
@@ -1296,7 +1296,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "fspcc",
         aliases: &[],
         summary: "cascade: filtered Smith predictor (Fr from Eq. 10) outside an IMC inner loop",
-        source: "002_0ed51b14a8593ff0.txt Sec. 3.1, Figs. 5-6, Eq. 10",
+        source: "García et al. (2010) Sec. 3.1, Figs. 5-6, Eq. 10",
         plants: ALL,
         params: FSPCC_PARAMS,
         design: &["lambda", "alpha", "lambda2", "epsilon", "tf", "lead", "lag"],
@@ -1309,7 +1309,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "gpcc",
         aliases: &[],
         summary: "cascade: generalized predictor (F1, F2, Gamma, Fk) outside an IMC inner loop",
-        source: "002_0ed51b14a8593ff0.txt Sec. 3.2, Fig. 7, Eqs. 1-4",
+        source: "García et al. (2010) Sec. 3.2, Fig. 7, Eqs. 1-4",
         plants: ALL,
         params: GPCC_PARAMS,
         design: &["lambda", "alpha", "lambda2", "epsilon", "tk"],
@@ -1322,7 +1322,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "uma",
         aliases: &["uma-2009"],
         summary: "cascade competitor: Uma et al. 2009 modified Smith predictor (Gcs, Gcd, Gf; set Gcd's gains)",
-        source: "002_0ed51b14a8593ff0.txt Sec. 2.3, Fig. 4",
+        source: "García et al. (2010) Sec. 2.3, Fig. 4",
         plants: ALL,
         params: UMA_PARAMS,
         design: &["lambda", "alpha", "lambda2", "epsilon", "lead", "lag", "tf"],
@@ -1335,7 +1335,7 @@ pub static SCHEMES: &[Scheme] = &[
         name: "kaya-cascade",
         aliases: &["kaya-2008"],
         summary: "cascade competitor: Kaya et al. 2008 Smith predictor in the outer loop (Gc1, Gc3, Gd)",
-        source: "002_0ed51b14a8593ff0.txt Sec. 2.2, Fig. 3",
+        source: "García et al. (2010) Sec. 2.2, Fig. 3",
         plants: STABLE_INT,
         params: KAYA_CASCADE_PARAMS,
         design: &["lambda", "alpha", "lambda2"],

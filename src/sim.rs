@@ -33,7 +33,7 @@ pub enum Location {
     /// Added to the plant output.
     Output,
     /// Cascade plants: added to the secondary output `y2`, which is measured
-    /// and drives the primary process (`d0` of `002_0ed51b14a8593ff0.txt`
+    /// and drives the primary process (`d0` of García et al. (2010)
     /// Fig. 1; `input` is its `d2`, `output` its `d1`).
     Inner,
 }
@@ -710,7 +710,7 @@ impl JointSim {
     }
 }
 
-/// The process as simulated: one plant, or a cascade (`002_0ed51b14a8593ff0.txt`
+/// The process as simulated: one plant, or a cascade (García et al. (2010)
 /// Fig. 1). With `v = u + d2` held over each period and `d0` held too,
 /// `y2 = P2 e^{−L2 s}·v + d0` (its own block) and
 /// `y = P1 e^{−L1 s}(P2 e^{−L2 s}·v + d0) + d1` ([`JointSim`]), both sampled exactly.
@@ -1083,7 +1083,7 @@ impl Metrics {
 
 /// Metrics of `res` with the error `e = r(t − shift) − y`, time counted from
 /// `shift` (0 for the plain convention; the model dead time `θm` for the
-/// delayed-reference convention of `000_3f0725a46e29ef08.txt` ch. 5).
+/// delayed-reference convention of Bag (2022) ch. 5).
 pub fn metrics(
     res: &SimResult,
     setpoint: &[SetpointStep],

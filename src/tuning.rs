@@ -24,7 +24,7 @@ impl<T: Real> PidGains<T> {
 }
 
 /// Kaya's IMC tuning of the primary controller of a Smith predictor
-/// (`001_8c052250023526e6.txt` Eqs. 18–33), for a closed-loop (filter) time
+/// (Kaya (2003) Eqs. 18–33), for a closed-loop (filter) time
 /// constant `lambda`:
 ///
 /// - FOPDT `K e^{−Ls}/(T s + 1)`: PI, `Kp = T/(K λ)`, `Ti = T` (Eqs. 20–21);
@@ -70,7 +70,7 @@ pub fn kaya_fopdt<T: Real>(model: &crate::Fopdt<T>, alpha: T) -> Result<PidGains
 }
 
 /// IMC-PI for an integrating model `K/s` with the filter `(2λs + 1)/(λs + 1)²`
-/// (`000_3f0725a46e29ef08.txt` Eqs. 4.25–4.31): `Kp = 2/(K λ)`, `Ti = 2λ`.
+/// (Bag (2022) Eqs. 4.25–4.31): `Kp = 2/(K λ)`, `Ti = 2λ`.
 /// The delay-free loop is then `(2λs + 1)/(λs + 1)²` (13.5 % overshoot).
 pub fn imc_pi_integrating<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<PidGains<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
@@ -82,7 +82,7 @@ pub fn imc_pi_integrating<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<PidGain
 }
 
 /// The Karan–Dey MSP tuning with the single parameter `λ`
-/// (`000_3f0725a46e29ef08.txt` Sec. 4.5.2): `Kp = 2/(K λ)`, `Ti = 2λ`
+/// (Bag (2022) Sec. 4.5.2): `Kp = 2/(K λ)`, `Ti = 2λ`
 /// (Eqs. 4.30–4.31), `β = 1/(K Kp Ti)` (Eq. 4.37, `= 0.25`), `Td = λ` (Eq. 4.44),
 /// `γ = 0.5/(θm K Kp)` (Eq. 4.50, the middle of the Routh range 4.49). The thesis
 /// recommends `λ = θm/4` (Eq. 4.32); then `γ = 1/16` (printed rounded as 0.06 in
@@ -110,7 +110,7 @@ pub fn karan_dey_default_lambda<T: Real>(model: &Ipdt<T>) -> T {
 }
 
 /// IMC-PID for an FOPDT model with a first-order Padé approximation of the
-/// dead time (`000_3f0725a46e29ef08.txt` Eqs. 3.19–3.27):
+/// dead time (Bag (2022) Eqs. 3.19–3.27):
 /// `Kc = (τp + θ/2)/(kp(λ + θ/2))`, `τI = τp + θ/2`, `τD = τp θ/(2τp + θ)`.
 pub fn imc_pid<T: Real>(model: &crate::Fopdt<T>, lambda: T) -> Result<PidGains<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
@@ -186,7 +186,7 @@ macro_rules! rules {
     };
 }
 
-/// The PI rules of `000_3f0725a46e29ef08.txt` Table 3.2 that need only `Ku`
+/// The PI rules of Bag (2022) Table 3.2 that need only `Ku`
 /// and `Tu` (Hwang–Chang also needs a decay measurement and is left out).
 /// Rows without an author in the extracted table carry the previous author's
 /// name and a number.
@@ -201,7 +201,7 @@ pub static PI_RULES: &[UltimateRule] = rules![
     "yu-pi-3", "quarter decay ratio", 0.33, 2.0, 0.0;
 ];
 
-/// The PID rules of `000_3f0725a46e29ef08.txt` Table 3.3 with single values
+/// The PID rules of Bag (2022) Table 3.3 with single values
 /// (for a range, its lower end; Karaboga–Kalinli's ranges are left out).
 pub static PID_RULES: &[UltimateRule] = rules![
     "zn", "Ziegler-Nichols, quarter decay ratio (Kc from [0.6, 1] Ku)", 0.6, 0.5, 0.125;
@@ -246,7 +246,7 @@ pub fn ultimate_cycle<T: Real>(rule: &UltimateRule, ku: T, tu: T) -> Result<PidG
     })
 }
 
-/// Design values of the disturbance estimator (`003_8b318e9694d9150f.txt` Sec. 3).
+/// Design values of the disturbance estimator (Draganović et al. (2001) Sec. 3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EstimatorDesign<T> {
@@ -274,7 +274,7 @@ pub struct EstimatorTuning<T> {
 }
 
 /// The six designs of the disturbance estimator `A(s)/C(s)` for the model
-/// `Kv e^{−Ls}/s` (`003_8b318e9694d9150f.txt` Eqs. 19–66):
+/// `Kv e^{−Ls}/s` (Draganović et al. (2001) Eqs. 19–66):
 ///
 /// 1. P by the M circle: `K_A = 0.5/(Kv L)` (Eq. 22);
 /// 2. PD by the M circle with `T_A = L/2`: `K_A` from Eq. 28 (`≈ 0.927/(Kv L)`, Eq. 30);
@@ -396,7 +396,7 @@ mod tests {
 
     #[test]
     fn kaya_examples_2_and_3() -> Result<(), Box<dyn std::error::Error>> {
-        // 001_… Example 2: FOPDT e^{-10.87s}/(1.27s+1), α = 0.5 → Kc = 0.234, Ti = 1.27
+        // Kaya (2003) Example 2: FOPDT e^{-10.87s}/(1.27s+1), α = 0.5 → Kc = 0.234, Ti = 1.27
         let m = ProcessModel::Fopdt(Fopdt::<f64>::new(1.0, 1.27, 10.87)?);
         let g = kaya_alpha(&m, 0.5)?;
         assert!((g.kp - 0.234).abs() < 5e-4, "{}", g.kp);
@@ -423,7 +423,7 @@ mod tests {
 
     #[test]
     fn disturbance_estimator_matches_the_paper() -> Result<(), Box<dyn std::error::Error>> {
-        // 003_… Sec. 4: Kv = 1, L = 6.8
+        // Draganović et al. (2001) Sec. 4: Kv = 1, L = 6.8
         let d = |case, tde, alpha| EstimatorDesign {
             case,
             tde,
@@ -475,7 +475,7 @@ mod tests {
 
     #[test]
     fn karan_dey_thesis_settings() -> Result<(), Box<dyn std::error::Error>> {
-        // 000_… Sec. 4.5.3: 0.2/s e^{-7.4s} → Kp = 5.4, Ti = 3.70, β = 0.25, Td = 1.85, γ ≈ 0.06
+        // Bag (2022) Sec. 4.5.3: 0.2/s e^{-7.4s} → Kp = 5.4, Ti = 3.70, β = 0.25, Td = 1.85, γ ≈ 0.06
         let m = Ipdt::<f64>::new(0.2, 7.4)?;
         let p = karan_dey(&m, karan_dey_default_lambda(&m))?;
         assert!((p.kp - 5.4).abs() < 0.01, "{}", p.kp);

@@ -96,7 +96,7 @@ fn kaya_example_2_models_and_a_robust_smith_predictor() {
     let ProcessModel::Fopdt(f) = o.fit.model else {
         panic!()
     };
-    // Kaya (001_… Example 2): e^{-10.87s}/(1.27s+1)
+    // Kaya (Kaya (2003) Example 2): e^{-10.87s}/(1.27s+1)
     assert!(
         rel(f.k, 1.0) < 0.02 && rel(f.t, 1.27) < 0.15 && rel(f.l, 10.87) < 0.03,
         "{f:?}"

@@ -1,5 +1,5 @@
 //! Cascade control of unstable dead-time processes: the examples of
-//! `002_0ed51b14a8593ff0.txt` (García, Santos, Normey-Rico & Albertos 2010).
+//! García et al. (2010) (García, Santos, Normey-Rico & Albertos 2010).
 
 use msp::dtc::cascade;
 use msp::dtc::fsp::{design_with, model_tf, FrSpec};

@@ -33,7 +33,7 @@ const IPDT: &str = "0.2/s*e^-7.4s";
 
 #[test]
 fn every_modified_scheme_removes_the_load_offset_of_the_smith_predictor() {
-    // 003_… introduction: the classic SP leaves an offset K·L·d under a constant
+    // Draganović et al. (2001) introduction: the classic SP leaves an offset K·L·d under a constant
     // input load on an integrating plant; every modification removes it.
     let with_load = |sc: &mut Scenario| {
         sc.duration = Some(400.0);
@@ -94,7 +94,7 @@ fn matausek_micic_set_point_is_first_order_with_time_constant_tr() {
 
 #[test]
 fn disturbance_estimator_cases_reject_their_disturbances() {
-    // 003_… Sec. 4: plant e^{-5s}/(s(0.9s+1)(0.5s+1)(0.3s+1)(0.1s+1)), model e^{-6.8s}/s, Kr = 0.5
+    // Draganović et al. (2001) Sec. 4: plant e^{-5s}/(s(0.9s+1)(0.5s+1)(0.3s+1)(0.1s+1)), model e^{-6.8s}/s, Kr = 0.5
     let plant = "e^-5s/(s(0.9s+1)(0.5s+1)(0.3s+1)(0.1s+1))";
     let step = load(-0.1, 70.0);
     let ramp = Disturbance {
@@ -171,7 +171,7 @@ fn disturbance_estimator_cases_reject_their_disturbances() {
 
 #[test]
 fn filtered_smith_and_huang_keep_the_smith_set_point_response() {
-    // 004_…: with a perfect model the filter only acts on loads; with the same PI
+    // the MathWorks Smith predictor example: with a perfect model the filter only acts on loads; with the same PI
     // the set-point response is the Smith predictor's
     let plant = "5.6*e^-93.9s/(40.2s+1)";
     let same_pi = |sc: &mut Scenario| {
@@ -283,7 +283,7 @@ fn compare_runs_every_controller_on_the_perturbed_plant_with_the_nominal_model()
 
 #[test]
 fn kaya_example_3_settings() {
-    // 001_… Example 3, α = 0.5: FOPDT e^{-23.28s}/(3.67s+1) → Kc = 0.315, Ti = 3.670;
+    // Kaya (2003) Example 3, α = 0.5: FOPDT e^{-23.28s}/(3.67s+1) → Kc = 0.315, Ti = 3.670;
     // SOPDT e^{-21.01s}/(2.77s+1)² → Kc = 0.527, Ti = 5.540, Td = 1.385
     let smith = msp::registry::find("smith").unwrap();
     let a = [("alpha".to_string(), 0.5)];

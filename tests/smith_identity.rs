@@ -1,5 +1,5 @@
 //! A Smith predictor with a perfect model equals, sample for sample, the
-//! delay-free closed loop delayed by the dead time (`001_…` Eq. 1).
+//! delay-free closed loop delayed by the dead time (Kaya (2003) Eq. 1).
 mod common;
 
 use msp::{Controller, Delay, Lti, Pid, PidConfig, SmithPredictor};

@@ -21,7 +21,7 @@ fn run(
 
 #[test]
 fn karan_dey_model_1_tables_5_2_and_5_4() {
-    // 000_… Tables 5.2.1/5.4.1: rise 2.04 s, settling 11.0 s, IAE 0.93, ISE 0.46, no overshoot.
+    // Bag (2022) Tables 5.2.1/5.4.1: rise 2.04 s, settling 11.0 s, IAE 0.93, ISE 0.46, no overshoot.
     // The tables are ±1.5 % (seeds README); the sampled loop converges to the
     // continuous design e^{-θs}/(1 + θs/8) linearly in Ts.
     let out = run("0.2/s*e^-7.4s", None, |_| {});
@@ -111,7 +111,7 @@ fn simulator_is_exact_for_the_open_loop_step() {
 
 #[test]
 fn smith_with_kaya_tuning_gives_the_first_order_response() {
-    // 001_… Eq. 24–25: y = 1 − e^{−(t−L)/λ} after the delay, λ = L.
+    // Kaya (2003) Eq. 24–25: y = 1 − e^{−(t−L)/λ} after the delay, λ = L.
     let out = run("5.6*e^-93.9s/(40.2s+1)", None, |sc| sc.ts = Some(0.939));
     assert_eq!(out.controller, "smith");
     let lambda = out.params.get("lambda").unwrap();

@@ -43,7 +43,7 @@ fn panic_model() -> ! {
 }
 
 pub fn smith<T: Real>() -> (SmithPredictor<T, 1, [T; CAP]>, Plant<T>) {
-    // 004_…: 5.6 e^{-93.9 s}/(40.2 s + 1), Kaya's PI, Ts = 0.939 s (100 samples of dead time)
+    // the MathWorks Smith predictor example: 5.6 e^{-93.9 s}/(40.2 s + 1), Kaya's PI, Ts = 0.939 s (100 samples of dead time)
     let ts = T::of(0.939);
     let m: ProcessModel<T> = match msp::Fopdt::new(T::of(5.6), T::of(40.2), T::of(93.9)) {
         Ok(f) => f.into(),
@@ -57,7 +57,7 @@ pub fn smith<T: Real>() -> (SmithPredictor<T, 1, [T; CAP]>, Plant<T>) {
 }
 
 pub fn karan_dey<T: Real>() -> (KaranDey<T, 1, [T; CAP]>, Plant<T>) {
-    // 000_…: 0.2 e^{-7.4 s}/s with lambda = L/4, Ts = 0.074 s (100 samples of dead time)
+    // Bag (2022): 0.2 e^{-7.4 s}/s with lambda = L/4, Ts = 0.074 s (100 samples of dead time)
     let ts = T::of(0.074);
     let ipdt = match msp::Ipdt::new(T::of(0.2), T::of(7.4)) {
         Ok(m) => m,
@@ -75,7 +75,7 @@ pub fn karan_dey<T: Real>() -> (KaranDey<T, 1, [T; CAP]>, Plant<T>) {
 }
 
 pub fn fsp<T: Real>() -> (FilteredSmith<T, [T; CAP]>, Plant<T>) {
-    // 000_…'s unstable benchmark 5 e^{-6 s}/(100 s - 1), Ts = 0.06 s (100 samples of
+    // Bag (2022)'s unstable benchmark 5 e^{-6 s}/(100 s - 1), Ts = 0.06 s (100 samples of
     // dead time); the PI that places a double pole at -1/lambda (lambda = L) and
     // Fr with Tf = L/2, as `msp run` tunes it; Fr and S designed here, in f64
     let (k, t, l, ts) = (5.0, 100.0, 6.0, 0.06);

@@ -1,5 +1,5 @@
 //! Åström, Hang and Lim's Smith predictor for an integrator plus dead time
-//! (`000_3f0725a46e29ef08.txt` Sec. 4.4.2, Eqs. 4.13–4.17; IEEE TAC 39(2), 1994).
+//! (Bag (2022) Sec. 4.4.2, Eqs. 4.13–4.17; IEEE TAC 39(2), 1994).
 //!
 //! The set point acts through a gain on the delay-free model only,
 //! `u1 = kp·(r − ym)` with `kp = k/Kv`, so `y/r = k/(s + k)·e^{−Ls}` (Eq. 4.14);

@@ -1,4 +1,4 @@
-//! Cascade control of dead-time processes (`002_0ed51b14a8593ff0.txt` Fig. 1):
+//! Cascade control of dead-time processes (García et al. (2010) Fig. 1):
 //! a secondary process `P2 e^{−L2 s}` whose output `y2` is measured and feeds
 //! the primary process `P1 e^{−L1 s}`; disturbances `d2` at the plant input,
 //! `d0` at the secondary output (it enters `y2` and `P1`) and `d1` at the
@@ -167,7 +167,7 @@ pub fn primary_model(
     TransferFunction::new(&p1.num, &den, p1.delay + p2.delay)
 }
 
-/// The primary controller of Uma et al. (`002_…` Sec. 4):
+/// The primary controller of Uma et al. (García et al. (2010) Sec. 4):
 /// `Gcs = (kp + ki/s + kd·s)/(τ s + 1)` with the set-point weight `ε` on the
 /// proportional term, as a [`PidConfig`]. The series filter is rewritten as a
 /// parallel PID with the derivative filter `τ`:
@@ -216,7 +216,7 @@ pub fn series_pid<T: Real>(
     Ok(cfg)
 }
 
-/// FSPCC's and GPCC's primary controller (`002_…` Sec. 4): Uma et al.'s
+/// FSPCC's and GPCC's primary controller (García et al. (2010) Sec. 4): Uma et al.'s
 /// `Gcs = (kp + ki/s + kd s)/(τ s + 1)` with the set-point weight `ε`,
 /// pole-zero matched at `ts` ([`Discretization::Matched`]) as `u = K(z)(F(z) r − y)` with
 /// `K = Gcs` and the prefilter `F = (ε kp s + ki)/(kd s² + kp s + ki)`.
@@ -244,7 +244,7 @@ pub fn matched_primary<T: Real>(
 /// `−1/λ`. The characteristic polynomial `s(τ s + 1)d + (kd s² + kp s + ki)n`
 /// is linear in `(τ, kd, kp, ki)`; matching it to `τ·d0·(s + 1/λ)^N`
 /// (`N = deg d + 2`) gives as many equations as unknowns (first order: no
-/// `kd`). Uma et al.'s Example 1 controller of `002_…` is exactly this design
+/// `kd`). Uma et al.'s Example 1 controller of García et al. (2010) is exactly this design
 /// with `λ = 5 s` (`(s + 0.2)^4`), for an overall dead time of 6 s.
 /// When no causal filter achieves that (a slow `λ` against a fast model pole
 /// `−p`, e.g. `2/(s(0.5 s + 1))` with `λ > 2 s`), one closed-loop pole is
@@ -484,7 +484,7 @@ mod tests {
     #[test]
     fn matched_discretization_of_garcia_filters() -> Result<(), Error> {
         let dc = |l: &Lti<f64, 4>| l.response(1e-12).re;
-        // 002_… Example 1: γ1 = e^{−T/0.144} = 0.2494, ρ1 = e^{−T/3} = 0.9355
+        // García et al. (2010) Example 1: γ1 = e^{−T/0.144} = 0.2494, ρ1 = e^{−T/3} = 0.9355
         let lead: Lti<f64, 4> =
             Lti::from_tf(&[3.0, 1.0], &[0.144, 1.0], 0.2, Discretization::Matched)?;
         let (n, d) = crate::dtc::fsp::model_tf(&lead);

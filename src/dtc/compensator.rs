@@ -13,7 +13,7 @@
 //! - `F` — how the model error enters the primary loop: `1` (classic Smith
 //!   predictor, Karan–Dey, Draganović), `0` (Åström–Hang–Lim: set point and
 //!   load responses decoupled), a filter (the filtered Smith predictor of
-//!   `004_feaf9f0851109607.txt`) or Huang's `(1+B)/(1+B e^{−θs})`;
+//!   the MathWorks Smith predictor example) or Huang's `(1+B)/(1+B e^{−θs})`;
 //! - `Gc2` — P or PD feedback of the model output (Karan–Dey `β·Kp`,
 //!   Kaya–Atherton's PD);
 //! - `Gd` — disturbance controller on the model error (Karan–Dey's `Gc3`,
@@ -23,7 +23,7 @@
 //!
 //! With a perfect model and no load, `ε = 0` and the set-point response is
 //! that of the delay-free loop `Gc1·Gm/(1 + Gm(Gc1 + Gc2))`, delayed
-//! (`000_3f0725a46e29ef08.txt` Eq. 4.20); the load response is shaped by `Gd`
+//! (Bag (2022) Eq. 4.20); the load response is shaped by `Gd`
 //! and `F` alone. Each scheme's module documents its configuration and tuning.
 
 use crate::delay::Delay;
@@ -129,7 +129,7 @@ pub enum DisturbancePath<T, S> {
     AstromHangLim(AhlFilter<T, S>),
 }
 
-/// Åström, Hang & Lim's disturbance compensator (`000_3f0725a46e29ef08.txt`
+/// Åström, Hang & Lim's disturbance compensator (Bag (2022)
 /// Eqs. 4.16–4.17, for the model `Kv e^{−Ls}/s`):
 ///
 /// `M(s) = (1/Kv)·(k4 + k3/s) / (1 + k1 + k2/s + k3/s² − (k4/s + k3/s²)·e^{−Ls})`,

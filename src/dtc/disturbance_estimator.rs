@@ -1,5 +1,5 @@
 //! The Smith predictor with a disturbance estimator for integrating plants
-//! (`003_8b318e9694d9150f.txt`, Draganović, Stojić & Matijević; Fig. 1, Eqs. 1–17).
+//! (Draganović et al. (2001), Draganović, Stojić & Matijević; Fig. 1, Eqs. 1–17).
 //!
 //! The figure is missing from the source; the realization follows from Eq. 1:
 //! the classic Smith predictor with the P main controller `Kr` produces `u`
@@ -25,7 +25,7 @@ pub struct Estimator<T> {
 }
 
 impl<T: Real> Estimator<T> {
-    /// `A(s)/C(s)` of case 1–6 from its gains (`003_…` Eqs. 20, 23, 31, 41, 58 —
+    /// `A(s)/C(s)` of case 1–6 from its gains (Draganović et al. (2001) Eqs. 20, 23, 31, 41, 58 —
     /// case 2's PD with a derivative filter `C = T_A/10·s + 1` to make it proper,
     /// case 6 with `C = (s² + ω0²)/ω0`, see [`crate::tuning::disturbance_estimator`]).
     pub fn from_case(case: u8, ka: T, ta: T, tc: T, w0: T) -> Result<Self, Error> {

@@ -1,5 +1,5 @@
 //! The Smith predictor with a filter on the model error
-//! (`004_feaf9f0851109607.txt`, "Smith Predictor" and "Improving Robustness").
+//! (the MathWorks Smith predictor example, "Smith Predictor" and "Improving Robustness").
 //!
 //! `e = r − yp − F·(y − y1)`: the model error `dy = y − y1` passes through
 //! `F` before it corrects the prediction. With a perfect model `dy = 0`, so the

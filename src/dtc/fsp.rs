@@ -1,6 +1,6 @@
 //! The filtered Smith predictor for unstable and integrating plants: the
 //! robustness filter `Fr(z)` that makes the predictor stable
-//! (`002_0ed51b14a8593ff0.txt` Sec. 3.3, Eq. 10).
+//! (García et al. (2010) Sec. 3.3, Eq. 10).
 //!
 //! The predictor `S(z) = Gm(z)(1 − z^{−h}Fr(z))` contains the poles of the model;
 //! with `Gm = Nm/(Dm⁺Dm⁻)` (`Dm⁺` the roots with `|z| ≥ 1`) and `Fr = Nr/Dr`,
@@ -170,7 +170,7 @@ mod tests {
 
     #[test]
     fn garcia_example_1() -> Result<(), Box<dyn std::error::Error>> {
-        // 002_… Example 1: T = 0.2, h = 30, unstable pole e^{0.2/20}; ρ2 = 0.9957, kf = 14.9524
+        // García et al. (2010) Example 1: T = 0.2, h = 30, unstable pole e^{0.2/20}; ρ2 = 0.9957, kf = 14.9524
         let (kf, r2) = second_order(30, (0.2f64 / 20.0).exp(), 0.2494, 0.9945, 0.9355);
         assert!((kf - 14.9524).abs() / 14.9524 < 5e-3, "{kf}");
         assert!((r2 - 0.9957).abs() < 5e-4, "{r2}");
@@ -357,9 +357,9 @@ mod design {
         pub tf: f64,
         /// An optional phase lead `(z − ρ1)/(z − γ1)` given by its zero and pole
         /// time constants `(T_zero, T_pole)`: `ρ1 = e^{−Ts/T_zero}`,
-        /// `γ1 = e^{−Ts/T_pole}` (`002_…` Sec. 4, from the lead of `Gcd`).
+        /// `γ1 = e^{−Ts/T_pole}` (García et al. (2010) Sec. 4, from the lead of `Gcd`).
         pub lead: Option<(f64, f64)>,
-        /// `Nr` of the same degree as `Dr` (the biproper filters of `002_…`
+        /// `Nr` of the same degree as `Dr` (the biproper filters of García et al. (2010)
         /// Sec. 4: `Dr = (z − γ)^{m−1}`), or `Nr` one degree lower
         /// (`Dr = (z − γ)^m`, a strictly proper filter).
         pub biproper: bool,
@@ -627,7 +627,7 @@ mod runtime {
     }
 
     /// A discrete two-degree-of-freedom controller `u = K(z)·(F(z)·r − y)`:
-    /// the pole-zero matched form of a continuous design (`002_…` Sec. 4: the
+    /// the pole-zero matched form of a continuous design (García et al. (2010) Sec. 4: the
     /// primary `K(z)` of FSPCC and GPCC is Uma et al.'s `Gcs` discretized this
     /// way; `F` carries the set-point weight, `F = Gcs,r/Gcs`). One integrator,
     /// in `K`, so nothing grows without bound in steady state.
@@ -769,7 +769,7 @@ mod runtime {
     }
 
     /// The filtered Smith predictor's output predictor `ŷ = S(z)·u + Fr(z)·y`
-    /// (`002_0ed51b14a8593ff0.txt` Fig. 6). `S` is evaluated in direct form over
+    /// (García et al. (2010) Fig. 6). `S` is evaluated in direct form over
     /// the input history (its numerator spans the dead time, so the cost is
     /// proportional to it).
     #[derive(Debug, Clone)]

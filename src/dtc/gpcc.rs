@@ -1,5 +1,5 @@
 //! The generalized predictor (GPCC's prediction structure,
-//! `002_0ed51b14a8593ff0.txt` Sec. 3.2, Fig. 7, Eqs. 1–4; Albertos & García 2009).
+//! García et al. (2010) Sec. 3.2, Fig. 7, Eqs. 1–4; Albertos & García 2009).
 //!
 //! The delay-free model is split as `Gm(z) = Gn(z)·Γ(z)` (Eq. 1): `Γ` holds the
 //! zeros outside or near the unit circle — here every zero with `|z| ≥ 0.8`
@@ -233,7 +233,7 @@ mod tests {
     use super::*;
 
     fn example1() -> Result<Lti<f64, 8>, Error> {
-        // 002_… Example 1's overall model 1/((2s + 1)(20s − 1)), T = 0.2
+        // García et al. (2010) Example 1's overall model 1/((2s + 1)(20s − 1)), T = 0.2
         Lti::from_tf(&[1.0], &[40.0, 18.0, -1.0], 0.2, Discretization::Zoh)
     }
 
@@ -270,7 +270,7 @@ mod tests {
 
     #[test]
     fn gamma_takes_the_sampling_zero() -> Result<(), Error> {
-        // 002_… Example 1: Γ(z) = (z + 0.9704)/z, Gn = 0.00048537 z/((z − 1.01)(z − 0.9048))
+        // García et al. (2010) Example 1: Γ(z) = (z + 0.9704)/z, Gn = 0.00048537 z/((z − 1.01)(z − 0.9048))
         let (nm, _) = model_tf(&example1()?);
         let (g_num, g_den, gn) = split_zeros(nm.as_slice())?;
         assert!((g_num.as_slice()[1] - 0.9704).abs() < 1e-4, "{g_num:?}");

@@ -1,5 +1,5 @@
 //! The Smith predictor with Huang's approximate inverse of dead time
-//! (`004_feaf9f0851109607.txt`, "Improving Disturbance Rejection", after
+//! (the MathWorks Smith predictor example, "Improving Disturbance Rejection", after
 //! Huang et al., AIChE J. 36, 1990).
 //!
 //! The ideal filter on the model error would be `e^{+τs}` (a perfect load

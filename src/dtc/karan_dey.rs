@@ -1,5 +1,5 @@
 //! The Karan–Dey three-controller modified Smith predictor (MSP) for
-//! integrating processes with long dead time (`000_3f0725a46e29ef08.txt` Sec. 4.5).
+//! integrating processes with long dead time (Bag (2022) Sec. 4.5).
 //!
 //! Controllers (Eqs. 4.22–4.24):
 //! `Gc1 = Kp(1 + 1/(Ti s))` (set-point, IMC-PI), `Gc2 = β·Kp` (stabilizing, P),

@@ -1,4 +1,4 @@
-//! Kaya and Atherton's PI-PD Smith predictor (`000_3f0725a46e29ef08.txt`
+//! Kaya and Atherton's PI-PD Smith predictor (Bag (2022)
 //! Sec. 4.4.3, Fig. 4.10, Eq. 4.18; a modification of Matausek & Micic 1996).
 //!
 //! Three controllers around the model: `Gc1` PI on the predicted error, `Gc2`

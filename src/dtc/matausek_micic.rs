@@ -1,5 +1,5 @@
 //! Matausek and Micic's modified Smith predictor for an integrator and long
-//! dead time (`000_3f0725a46e29ef08.txt` Sec. 4.4.3, refs. \[8\], \[52\]; IEEE TAC
+//! dead time (Bag (2022) Sec. 4.4.3, refs. \[8\], \[52\]; IEEE TAC
 //! 41(8), 1996).
 //!
 //! The thesis only names it. Built from the published structure: a classic
@@ -9,7 +9,7 @@
 //! input that rejects constant loads. Its three tuning parameters are those of
 //! the paper's abstract: `L`, `Kv` and `Tr`; `K0 = 1/(2·Kv·L)` makes the load
 //! loop `1 + K0 Kv e^{−Ls}/s` aperiodic (the M-circle condition,
-//! `003_8b318e9694d9150f.txt` Eq. 22). Defining properties (tested): the
+//! Draganović et al. (2001) Eq. 22). Defining properties (tested): the
 //! set-point response `e^{−Ls}/(Tr s + 1)` and zero steady-state error under
 //! a constant load.
 

@@ -33,7 +33,7 @@ use crate::Real;
 pub trait Controller<T: Real> {
     /// One sample: set point `r[k]` and measurement `y[k]` in, actuator value `u[k]` out.
     fn update(&mut self, setpoint: T, measurement: T) -> T;
-    /// One sample of a cascade loop (`002_0ed51b14a8593ff0.txt` Fig. 1): the
+    /// One sample of a cascade loop (García et al. (2010) Fig. 1): the
     /// primary measurement `y[k]` and the secondary (inner) measurement
     /// `y2[k]`. A single-loop controller ignores `y2` and controls `y` from the
     /// plant input directly; a cascade scheme closes its inner loop on it.

@@ -1,6 +1,6 @@
 //! The classic Smith predictor.
 //!
-//! Structure (`001_8c052250023526e6.txt` Fig. 1, `000_3f0725a46e29ef08.txt`
+//! Structure (Kaya (2003) Fig. 1, Bag (2022)
 //! Figs. 4.4–4.5, Eq. 4.5): the primary controller `Gc` acts on
 //!
 //! `e'[k] = r[k] − y_m[k] − (y[k] − y_m[k − d])`,
@@ -8,7 +8,7 @@
 //! where `y_m = G_m·u` is the output of the delay-free model and
 //! `y_m[k − d]` the same output delayed by the model dead time `d` (samples).
 //! With a perfect model the feedback signal is the delay-free model output,
-//! so the closed loop is `Gc·Gm/(1 + Gc·Gm)·e^{−Lm s}` (Eq. 1 of `001_…`): the
+//! so the closed loop is `Gc·Gm/(1 + Gc·Gm)·e^{−Lm s}` (Eq. 1 of Kaya (2003)): the
 //! delay-free loop, delayed. The model is ZOH-discretized, so for an integer
 //! delay this identity holds sample for sample. A fractional delay is read
 //! from the model output by linear interpolation (see [`crate::delay`]).

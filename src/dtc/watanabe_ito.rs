@@ -1,6 +1,6 @@
 //! Watanabe and Ito's process-model control for integrating plants
-//! (`000_3f0725a46e29ef08.txt` Sec. 4.4.1, Fig. 4.8, Eq. 4.12; Watanabe & Ito,
-//! IEEE TAC 26(6), 1981 — ref. \[3\] of `003_8b318e9694d9150f.txt`).
+//! (Bag (2022) Sec. 4.4.1, Fig. 4.8, Eq. 4.12; Watanabe & Ito,
+//! IEEE TAC 26(6), 1981 — ref. \[3\] of Draganović et al. (2001)).
 //!
 //! The thesis names the scheme and its filter `G1(s) = 1/(1 + sL)` but its
 //! figure is missing. Built here from the published idea: the classic

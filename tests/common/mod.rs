@@ -13,7 +13,7 @@ pub fn assert_close(a: f64, b: f64, rtol: f64, atol: f64) {
     );
 }
 
-/// García et al.'s Example 2 cascade process (`002_0ed51b14a8593ff0.txt`):
+/// García et al.'s Example 2 cascade process (García et al. (2010)):
 /// the integrating primary and the secondary.
 pub const EXAMPLE2: (&str, &str) = ("2e^-2s/s", "4e^-2s/(s+1)");
 

@@ -193,7 +193,7 @@ def run(
     setpoint : float, "V@T" or list of (value, time), optional
         Default: a unit step at t = 0.
     inner_plant, inner_model : str, Plant or control.TransferFunction, optional
-        A cascade process (``002_0ed51b14a8593ff0.txt`` Fig. 1): the secondary process, whose
+        A cascade process (García et al. (2010) Fig. 1): the secondary process, whose
         output ``y2`` is measured and drives ``plant``; the default controller is then ``fspcc``.
     disturbance : "input:V@T", dict or list of them, optional
         Dicts have ``location`` ("input"/"output", and "inner" for a cascade's secondary output;
