@@ -7,7 +7,8 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use msp::poly::TransferFunction;
-use msp::sim::{simulate, simulate_into, Scenario, SetpointStep, SimConfig, SimResult};
+use msp::sim::{simulate, simulate_into, SetpointStep, SimConfig, SimResult};
+use msp::study::Scenario;
 use msp::{Delay, PidConfig, SmithPredictor};
 
 const N: usize = 100_000;
@@ -143,7 +144,7 @@ fn whole(c: &mut Criterion) {
         "(0.1251s+1)*e^-0.8s/(2.828s-1)",
     ] {
         g.bench_function(e, |b| {
-            b.iter(|| msp::parse::parse_plant(black_box(e)).expect("parse"))
+            b.iter(|| msp::syntax::parse_plant(black_box(e)).expect("parse"))
         });
     }
     g.finish();

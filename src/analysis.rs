@@ -2,7 +2,7 @@
 //! exact dead time `e^{−jωθ}` (never a Padé approximation).
 //!
 //! The loop is broken at the plant input. The controller's feedback path
-//! `Cy(e^{jωTs})` comes from [`Controller::response`] (every scheme derives it
+//! `Cy(e^{jωTs})` comes from [`FrequencyResponse::response`] (every scheme derives it
 //! from its own blocks; the tests check it against the time domain). Two
 //! views of the plant:
 //!
@@ -28,8 +28,8 @@ use core::ops::{Add, Div, Mul, Sub};
 use std::vec::Vec;
 
 use crate::complex::Complex;
-use crate::dtc::Controller;
 use crate::poly::TransferFunction;
+use crate::FrequencyResponse;
 use crate::{Discretization, Error, Lti};
 
 /// Which plant view the loop uses.
@@ -125,7 +125,7 @@ pub struct LoopResponse {
 
 /// Evaluates `L` at `w` (rad/s).
 pub fn loop_at(
-    controller: &dyn Controller<f64>,
+    controller: &dyn FrequencyResponse<f64>,
     plant: &TransferFunction,
     dplant: Option<&DiscretePlant>,
     ts: f64,
@@ -203,7 +203,7 @@ pub fn grid(plant: &TransferFunction, ts: f64, points: usize) -> Vec<f64> {
 
 /// The loop response on a grid.
 pub fn loop_response(
-    controller: &dyn Controller<f64>,
+    controller: &dyn FrequencyResponse<f64>,
     plant: &TransferFunction,
     ts: f64,
     view: View,
@@ -246,7 +246,7 @@ fn refine(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
 /// Margins of `controller` on `plant` at period `ts` (the nominal closed loop
 /// is assumed stable; see the module documentation).
 pub fn margins(
-    controller: &dyn Controller<f64>,
+    controller: &dyn FrequencyResponse<f64>,
     plant: &TransferFunction,
     ts: f64,
     view: View,
@@ -268,7 +268,7 @@ pub fn margins(
 
 /// Margins of the inner (delay-free model) loop of a multi-loop scheme, if it has one.
 pub fn inner_margins(
-    controller: &dyn Controller<f64>,
+    controller: &dyn FrequencyResponse<f64>,
     plant: &TransferFunction,
     ts: f64,
 ) -> Option<Margins> {
@@ -351,7 +351,7 @@ pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
 /// below this curve (Bag (2022) Eqs. 4.55–4.57 bound the same
 /// region through the complementary sensitivity).
 pub fn region(
-    controller: &dyn Controller<f64>,
+    controller: &dyn FrequencyResponse<f64>,
     plant: &TransferFunction,
     ts: f64,
     view: View,
@@ -381,7 +381,7 @@ pub fn region(
 /// when it is below 1). For a gain error `δk` and a delay error `δθ` the
 /// uncertainty is `Δ = (1 + δk)e^{−jω·δθ} − 1` (Eqs. 4.54–4.57).
 pub fn robust_stability(
-    controller: &dyn Controller<f64>,
+    controller: &dyn FrequencyResponse<f64>,
     plant: &TransferFunction,
     ts: f64,
     view: View,
@@ -497,17 +497,17 @@ pub fn process_response(
 /// `(1 + δk)e^{−jωθδθ} − 1`, Bag (2022) Eqs. 4.54–4.57), and
 /// `robust_peak = max_ω |T(jω)·Δ(jω)|` over `ω ∈ (0, π/Ts)`.
 pub fn analyze(
-    sc: &crate::sim::Scenario,
+    sc: &crate::study::Scenario,
     view: View,
-    uncertainty: Option<crate::sim::Perturbation>,
-) -> Result<Analysis, crate::sim::RunError> {
+    uncertainty: Option<crate::study::Perturbation>,
+) -> Result<Analysis, crate::study::RunError> {
     let (plant, model) = sc.parse()?;
     let inner = sc.parse_inner()?;
     let built = sc.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();
     let ts = built.ts;
     if ctrl.response(0.1).is_none() {
-        return Err(crate::sim::RunError::Invalid(Error::Unsupported(
+        return Err(crate::study::RunError::Invalid(Error::Unsupported(
             "this controller has no frequency response",
         )));
     }
@@ -588,7 +588,7 @@ pub fn analyze(
     // a step of the nominal loop, long enough to show a slow instability
     let mut probe = sc.clone();
     probe.ts = Some(ts);
-    probe.duration = Some(crate::sim::choose_duration(&grid_plant, ts) * 3.0);
+    probe.duration = Some(crate::study::choose_duration(&grid_plant, ts) * 3.0);
     probe.disturbance.clear();
     probe.noise = None;
     let stable = match probe.run_process(plant.clone(), model.clone(), inner.clone()) {

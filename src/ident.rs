@@ -450,7 +450,7 @@ pub struct AutotuneOutput {
     /// The identified model and its fit to the recorded cycles.
     pub fit: Fit,
     /// The closed loop of the tuned controller on the true plant.
-    pub run: crate::sim::RunOutput,
+    pub run: crate::study::RunOutput,
 }
 
 /// Why autotuning failed.
@@ -461,7 +461,7 @@ pub enum AutotuneError {
     /// Identification failed.
     Ident(Error),
     /// Tuning or the closed loop failed.
-    Run(crate::sim::RunError),
+    Run(crate::study::RunError),
 }
 
 impl core::fmt::Display for AutotuneError {
@@ -483,7 +483,7 @@ impl std::error::Error for AutotuneError {}
 pub fn autotune(
     plant: &TransferFunction,
     o: &AutotuneOptions,
-    base: &crate::sim::Scenario,
+    base: &crate::study::Scenario,
 ) -> Result<AutotuneOutput, AutotuneError> {
     let integrating = plant.kind() == crate::poly::PlantKind::Integrating;
     let kind = o.model.unwrap_or(if integrating {
@@ -491,7 +491,7 @@ pub fn autotune(
     } else {
         ModelKind::Fopdt
     });
-    let ts = o.ts.unwrap_or_else(|| crate::sim::choose_ts(plant));
+    let ts = o.ts.unwrap_or_else(|| crate::study::choose_ts(plant));
     let mut cfg = RelayConfig::new(o.amplitude, ts);
     cfg.hysteresis = o.hysteresis.unwrap_or(3.0 * o.noise);
     cfg.bias = o.bias.unwrap_or(if kind == ModelKind::Ipdt {

@@ -24,9 +24,10 @@
 //! ```
 //!
 //! The relay experiment of [`autotune`] runs on the device too. Behind
-//! features: `alloc` adds the plant-expression parser ([`parse`]), transfer
+//! features: `alloc` adds the text grammars ([`syntax`]), transfer
 //! functions ([`poly`]) and the scheme registry ([`registry`]); `std` (default)
-//! adds the exact sampled-data simulator ([`sim`]), step information
+//! adds the exact sampled-data simulator ([`sim`]), the study layer that
+//! tunes, builds, runs and compares scenarios ([`study`]), step information
 //! ([`metrics::step_info`]), frequency-domain analysis ([`analysis`]), sweeps
 //! ([`sweep`], parallel with `parallel`) and identification ([`ident`]).
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
@@ -57,6 +58,7 @@ extern crate alloc;
 
 pub mod autotune;
 pub mod complex;
+mod controller;
 pub mod delay;
 pub mod dtc;
 mod error;
@@ -74,19 +76,24 @@ pub mod analysis;
 #[cfg(feature = "std")]
 pub mod ident;
 #[cfg(feature = "alloc")]
-pub mod parse;
-#[cfg(feature = "alloc")]
 pub mod poly;
 #[cfg(feature = "alloc")]
 pub mod registry;
 #[cfg(feature = "std")]
 pub mod sim;
 #[cfg(feature = "std")]
+pub mod study;
+#[cfg(feature = "std")]
 pub mod sweep;
+#[cfg(feature = "alloc")]
+pub mod syntax;
 
 pub use complex::Complex;
+pub use controller::{
+    CascadeControl, Controller, FrequencyResponse, Introspect, LoopController, Widened,
+};
 pub use delay::{Delay, DelayLine, DelayLineRef};
-pub use dtc::{Controller, KaranDey, SmithPredictor, Widened};
+pub use dtc::{KaranDey, SmithPredictor};
 pub use error::Error;
 pub use lti::{Discretization, Lti};
 pub use metrics::IntegralIndices;

@@ -560,6 +560,55 @@ impl<T: Real> Pid<T> {
     }
 }
 
+/// The plain PID loop is a controller too (the `pid` scheme).
+impl<T: Real> crate::Controller<T> for Pid<T> {
+    #[inline(always)]
+    fn update(&mut self, r: T, y: T) -> T {
+        Pid::update(self, r, y)
+    }
+    fn reset(&mut self) {
+        Pid::reset(self)
+    }
+    fn fault(&self) -> bool {
+        Pid::fault(self)
+    }
+}
+
+impl<T: Real> crate::CascadeControl<T> for Pid<T> {}
+
+impl<T: Real> crate::Introspect<T> for Pid<T> {
+    fn signal_names(&self) -> &'static [&'static str] {
+        &["p", "i", "d"]
+    }
+    fn signal(&self, i: usize) -> T {
+        let t = self.terms();
+        match i {
+            0 => t.p,
+            1 => t.i,
+            2 => t.d,
+            _ => T::nan(),
+        }
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        &["kp", "ti", "td"]
+    }
+    fn param(&self, i: usize) -> T {
+        let c = self.config();
+        match i {
+            0 => c.kp,
+            1 => c.ti(),
+            2 => c.td(),
+            _ => T::nan(),
+        }
+    }
+}
+
+impl<T: Real> crate::FrequencyResponse<T> for Pid<T> {
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        Some(Pid::response(self, theta))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,8 +10,9 @@ use core::fmt;
 
 use crate::delay::Delay;
 use crate::dtc::compensator::ParamList;
-use crate::dtc::{self, Controller, KaranDeyParams, SmithPredictor};
+use crate::dtc::{self, KaranDeyParams, SmithPredictor};
 use crate::poly::{PlantKind, TransferFunction};
+use crate::LoopController;
 use crate::{tuning, Ipdt, Lti, Pid, PidConfig, ProcessModel, Real};
 
 /// Largest model order the registry's controllers hold.
@@ -22,7 +23,7 @@ pub type DynController = DynControllerOf<f64>;
 
 /// A boxed controller in precision `T` (`f64` for the CLI and Python, `f32`
 /// for firmware-like runs and benchmarks).
-pub type DynControllerOf<T> = Box<dyn Controller<T> + Send + Sync>;
+pub type DynControllerOf<T> = Box<dyn LoopController<T> + Send + Sync>;
 
 /// Why a scheme could not be tuned or built.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,7 +4,8 @@
 use std::string::String;
 use std::vec::Vec;
 
-use crate::sim::{choose_duration, choose_ts, Metrics, Noise, RunError, Scenario};
+use crate::sim::Noise;
+use crate::study::{choose_duration, choose_ts, Metrics, RunError, Scenario};
 
 /// A relative range `lo..hi` (e.g. `-0.2..0.2` for −20 % … +20 %).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -23,8 +24,8 @@ impl core::str::FromStr for Range {
         let one = |x: &str| -> Result<f64, String> {
             let x = x.trim();
             match x.strip_suffix('%') {
-                Some(p) => Ok(crate::sim::parse_number(p, "range")? / 100.0),
-                None => crate::sim::parse_number(x, "range"),
+                Some(p) => Ok(crate::syntax::parse_number(p, "range")? / 100.0),
+                None => crate::syntax::parse_number(x, "range"),
             }
         };
         let (lo, hi) = match s.split_once("..") {
@@ -131,7 +132,7 @@ pub fn points(spec: &SweepSpec) -> Vec<(usize, f64, f64, f64)> {
 /// The stability verdict of a run: it did not diverge, and either its last
 /// tenth lies within 2 % of the final set point or its oscillation is still
 /// decaying (the last fifth's swing below 0.9 of the fifth before).
-pub fn stable(out: &crate::sim::RunOutput) -> bool {
+pub fn stable(out: &crate::study::RunOutput) -> bool {
     let y = &out.result.y;
     let n = y.len();
     if out.result.diverged_at.is_some() || n < 10 {

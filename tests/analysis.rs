@@ -4,7 +4,7 @@ use common::assert_close;
 use msp::analysis::{margins, View};
 use msp::poly::TransferFunction;
 use msp::registry::{self, Build};
-use msp::sim::Scenario;
+use msp::study::Scenario;
 
 /// Independent margins of a continuous loop function by scanning and bisection.
 fn margins_of(l: &dyn Fn(f64) -> (f64, f64)) -> (f64, f64, f64, f64) {

@@ -4,7 +4,7 @@ use msp::ident::{
     autotune, identify_step, relay_experiment, AutotuneError, AutotuneOptions, ModelKind,
 };
 use msp::poly::TransferFunction;
-use msp::sim::Scenario;
+use msp::study::Scenario;
 use msp::ProcessModel;
 
 fn rel(a: f64, b: f64) -> f64 {

@@ -4,7 +4,8 @@
 use msp::dtc::cascade;
 use msp::dtc::fsp::{design_with, model_tf, FrSpec};
 use msp::poly::{poly_roots, TransferFunction};
-use msp::sim::{compare, Disturbance, Location, Perturbation, RunOutput, Scenario, Shape};
+use msp::sim::{Disturbance, Location, Shape};
+use msp::study::{compare, Perturbation, RunOutput, Scenario};
 
 type R = Result<(), Box<dyn std::error::Error>>;
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
@@ -41,7 +42,7 @@ const EX3: Example = Example {
 };
 
 fn tf(e: &str) -> Result<TransferFunction, Box<dyn std::error::Error>> {
-    Ok(msp::parse::parse_plant(e)?)
+    Ok(msp::syntax::parse_plant(e)?)
 }
 
 /// The discretized delay-free overall model `Gm(z)` as gain, zero and poles.

@@ -1,6 +1,6 @@
 //! Plant expressions parse to the right transfer function; bad ones name the column.
 mod common;
-use msp::parse::parse_plant;
+use msp::syntax::parse_plant;
 
 fn check(expr: &str, num: &[f64], den: &[f64], delay: f64) {
     let tf = parse_plant(expr).unwrap_or_else(|e| panic!("{expr}: {e}"));

@@ -110,13 +110,13 @@ fn a_float32_scenario_runs_the_controller_in_f32() {
         ("5.6*e^-93.9s/(40.2s+1)", None),
         ("5*e^-6s/(100s-1)", Some(0.06)),
     ] {
-        let sc = msp::sim::Scenario {
+        let sc = msp::study::Scenario {
             plant: plant.into(),
             ts,
             ..Default::default()
         };
         let wide = sc.run().unwrap();
-        let narrow = msp::sim::Scenario {
+        let narrow = msp::study::Scenario {
             float32: true,
             ..sc.clone()
         }

@@ -1,10 +1,10 @@
 //! Bad input, faults and long runs: never a panic, never a silent NaN.
 mod common;
-use msp::dtc::Controller;
-use msp::parse::parse_plant;
 use msp::poly::TransferFunction;
 use msp::registry::{Build, SCHEMES};
+use msp::syntax::parse_plant;
 use msp::{AntiWindup, Delay, Lti, Pid, PidConfig, SmithPredictor};
+use msp::{Controller, Introspect};
 use proptest::prelude::*;
 
 proptest! {

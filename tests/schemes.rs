@@ -1,7 +1,8 @@
 //! The dead-time compensators of the sources: each one's defining property.
 mod common;
 use common::assert_close;
-use msp::sim::{Disturbance, Location, RunOutput, Scenario, SetpointStep, Shape};
+use msp::sim::{Disturbance, Location, SetpointStep, Shape};
+use msp::study::{RunOutput, Scenario};
 
 fn run(plant: &str, controller: &str, f: impl FnOnce(&mut Scenario)) -> RunOutput {
     let mut sc = Scenario {
@@ -264,11 +265,11 @@ fn compare_runs_every_controller_on_the_perturbed_plant_with_the_nominal_model()
         duration: Some(60.0),
         ..Default::default()
     };
-    let p = msp::sim::Perturbation {
+    let p = msp::study::Perturbation {
         delay: 0.1,
         ..Default::default()
     };
-    let runs = msp::sim::compare(&base, &["karan-dey".into(), "smith".into()], p).unwrap();
+    let runs = msp::study::compare(&base, &["karan-dey".into(), "smith".into()], p).unwrap();
     assert_eq!(runs.len(), 2);
     for r in &runs {
         assert_close(r.plant.delay, 8.14, 1e-12, 0.0);

@@ -2,14 +2,15 @@
 mod common;
 use common::assert_close;
 use msp::poly::TransferFunction;
-use msp::sim::{simulate, Disturbance, Location, Scenario, Shape, SimConfig};
-use msp::{Controller, Pid, PidConfig};
+use msp::sim::{simulate, Disturbance, Location, Shape, SimConfig};
+use msp::study::Scenario;
+use msp::{CascadeControl, Controller, Introspect, Pid, PidConfig};
 
 fn run(
     plant: &str,
     controller: Option<&str>,
     f: impl FnOnce(&mut Scenario),
-) -> msp::sim::RunOutput {
+) -> msp::study::RunOutput {
     let mut sc = Scenario {
         plant: plant.into(),
         controller: controller.map(Into::into),
@@ -69,7 +70,7 @@ fn input_load_smith_keeps_an_offset_msp_rejects_it() {
     };
     let smith = run("0.2/s*e^-7.4s", Some("smith"), load);
     let msp = run("0.2/s*e^-7.4s", Some("karan-dey"), load);
-    let last = |o: &msp::sim::RunOutput| *o.result.y.last().unwrap();
+    let last = |o: &msp::study::RunOutput| *o.result.y.last().unwrap();
     assert!((last(&smith) - 1.0).abs() > 0.01, "Smith: {}", last(&smith));
     assert!((last(&msp) - 1.0).abs() < 1e-4, "MSP: {}", last(&msp));
 }
@@ -84,13 +85,9 @@ fn simulator_is_exact_for_the_open_loop_step() {
             1.0
         }
         fn reset(&mut self) {}
-        fn param_names(&self) -> &'static [&'static str] {
-            &[]
-        }
-        fn param(&self, _: usize) -> f64 {
-            f64::NAN
-        }
     }
+    impl CascadeControl<f64> for Const {}
+    impl Introspect<f64> for Const {}
     let plant: TransferFunction = "5.6*e^-93.9s/(40.2s+1)".parse().unwrap();
     for ts in [0.939, 1.0, 0.7] {
         let cfg = SimConfig {
@@ -181,13 +178,9 @@ fn substeps_add_exact_intersample_points_and_keep_the_metrics() {
             u
         }
         fn reset(&mut self) {}
-        fn param_names(&self) -> &'static [&'static str] {
-            &[]
-        }
-        fn param(&self, _: usize) -> f64 {
-            f64::NAN
-        }
     }
+    impl CascadeControl<f64> for Replay {}
+    impl Introspect<f64> for Replay {}
     let u: Vec<f64> = base.result.u.clone();
     let cfg = SimConfig::new(1.3 / 4.0, base.duration);
     let replay = simulate(&plant, &mut Replay(u, 0), &cfg).unwrap();

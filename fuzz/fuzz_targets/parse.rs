@@ -6,12 +6,12 @@ fuzz_target!(|data: &[u8]| {
     let Ok(s) = std::str::from_utf8(data) else {
         return;
     };
-    match msp::parse::parse_plant(s) {
+    match msp::syntax::parse_plant(s) {
         Ok(tf) => {
             assert!(tf.num.iter().chain(&tf.den).all(|c| c.is_finite()));
             assert!(tf.delay >= 0.0 && tf.delay.is_finite());
             // the canonical form parses again
-            let again = msp::parse::parse_plant(&tf.to_string());
+            let again = msp::syntax::parse_plant(&tf.to_string());
             assert!(again.is_ok(), "{} does not parse back", tf);
         }
         Err(e) => {

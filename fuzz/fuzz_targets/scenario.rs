@@ -2,7 +2,7 @@
 //! runs to a result or a typed error.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use msp::sim::Scenario;
+use msp::study::Scenario;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(s) = std::str::from_utf8(data) else {

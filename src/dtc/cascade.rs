@@ -26,12 +26,12 @@ use alloc::vec::Vec;
 use crate::delay::Delay;
 #[cfg(feature = "alloc")]
 use crate::delay::DelayStorage;
-use crate::dtc::Controller;
 #[cfg(feature = "alloc")]
 use crate::poly::{mul, trim, TransferFunction};
 #[cfg(feature = "alloc")]
 use crate::Discretization;
 use crate::{AntiWindup, Complex, Error, Lti, PidConfig, Real};
+use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -405,21 +405,34 @@ impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Ca
         self.fault = self.outer.fault();
         u
     }
-    fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
-        self.step(r, y, Some(y2))
-    }
-    fn is_cascade(&self) -> bool {
-        true
-    }
+
     fn reset(&mut self) {
         self.outer.reset();
         self.inner.reset();
         self.r2 = T::zero();
         self.fault = false;
     }
+
+    fn fault(&self) -> bool {
+        self.fault
+    }
+}
+
+impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T> for Cascade<T, O, S> {
+    fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
+        self.step(r, y, Some(y2))
+    }
+
+    fn is_cascade(&self) -> bool {
+        true
+    }
+}
+
+impl<T: Real, O: Introspect<T>, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Cascade<T, O, S> {
     fn signal_names(&self) -> &'static [&'static str] {
         self.names
     }
+
     fn signal(&self, i: usize) -> T {
         match i {
             0 => self.r2,
@@ -427,20 +440,25 @@ impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Ca
             _ => self.outer.signal(i.saturating_sub(SIGNALS.len())),
         }
     }
+
     fn param_names(&self) -> &'static [&'static str] {
         self.outer.param_names()
     }
+
     fn param(&self, i: usize) -> T {
         self.outer.param(i)
     }
-    fn fault(&self) -> bool {
-        self.fault
-    }
+}
+
+impl<T: Real, O: FrequencyResponse<T>, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
+    for Cascade<T, O, S>
+{
     /// The outer controller's `(Cr, Cy)` with the inner set point `r2` as its
     /// actuator: the loop it closes is `Q·P1·P2` (the inner loop closed, nominal).
     fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
         self.outer.response(theta)
     }
+
     fn inner_response(&self, theta: T) -> Option<Complex<T>> {
         self.outer.inner_response(theta)
     }

@@ -27,9 +27,9 @@
 //! and `F` alone. Each scheme's module documents its configuration and tuning.
 
 use crate::delay::Delay;
-use crate::dtc::Controller;
 use crate::metrics::Sum;
 use crate::real::finite;
+use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Complex, Error, Lti, Pid, Real};
 use core::ops::{Add, Div, Mul, Sub};
 
@@ -493,6 +493,44 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
         self.fault = false;
     }
 
+    fn fault(&self) -> bool {
+        self.fault
+    }
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>
+    for Compensator<T, N, S>
+{
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Compensator<T, N, S> {
+    fn signal_names(&self) -> &'static [&'static str] {
+        &["ym", "ym_delayed", "model_error", "u1", "u3"]
+    }
+
+    fn signal(&self, i: usize) -> T {
+        match i {
+            0 => self.ym,
+            1 => self.ym_delayed,
+            2 => self.eps,
+            3 => self.u1,
+            4 => self.u3,
+            _ => T::nan(),
+        }
+    }
+
+    fn param_names(&self) -> &'static [&'static str] {
+        self.params.names
+    }
+
+    fn param(&self, i: usize) -> T {
+        self.params.values.get(i).copied().unwrap_or(T::nan())
+    }
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
+    for Compensator<T, N, S>
+{
     /// From the structure (module documentation), with `D = z^{−d}`:
     /// `den = 1 + G1y(Gm − F·D·Gm − Mc) + G2·Gm`, `u1 = (G1r·r − G1y·F·y)/den`,
     /// `u = u1(1 + Gd·D·Gm) − Gd·y` (model driven by `u1`; without `Gd`, `u = u1`).
@@ -535,32 +573,5 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
         let g1y = self.gc1.response(theta).1;
         let g2 = self.gc2.response(theta);
         Some(g1y.add(g2).mul(self.model.response(theta)))
-    }
-
-    fn signal_names(&self) -> &'static [&'static str] {
-        &["ym", "ym_delayed", "model_error", "u1", "u3"]
-    }
-
-    fn signal(&self, i: usize) -> T {
-        match i {
-            0 => self.ym,
-            1 => self.ym_delayed,
-            2 => self.eps,
-            3 => self.u1,
-            4 => self.u3,
-            _ => T::nan(),
-        }
-    }
-
-    fn param_names(&self) -> &'static [&'static str] {
-        self.params.names
-    }
-
-    fn param(&self, i: usize) -> T {
-        self.params.values.get(i).copied().unwrap_or(T::nan())
-    }
-
-    fn fault(&self) -> bool {
-        self.fault
     }
 }

@@ -584,7 +584,7 @@ mod runtime {
     use super::design::{buffer, FspDesign, SMALL};
     use crate::delay::DelayStorage;
     use crate::dtc::compensator::ParamList;
-    use crate::dtc::Controller;
+    use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
     use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
 
     /// An output predictor of the predictor-based dead-time compensators:
@@ -880,15 +880,26 @@ mod runtime {
             self.yhat = yhat;
             u
         }
+
         fn reset(&mut self) {
             self.k.reset();
             self.pred.reset();
             self.yhat = T::zero();
             self.fault = false;
         }
+
+        fn fault(&self) -> bool {
+            self.fault
+        }
+    }
+
+    impl<T: Real, P: Predictor<T>, K: Primary<T>> CascadeControl<T> for Predicted<T, P, K> {}
+
+    impl<T: Real, P: Predictor<T>, K: Primary<T>> Introspect<T> for Predicted<T, P, K> {
         fn signal_names(&self) -> &'static [&'static str] {
             &["prediction"]
         }
+
         fn signal(&self, i: usize) -> T {
             if i == 0 {
                 self.yhat
@@ -896,15 +907,17 @@ mod runtime {
                 T::nan()
             }
         }
+
         fn param_names(&self) -> &'static [&'static str] {
             self.params.names()
         }
+
         fn param(&self, i: usize) -> T {
             self.params.get(i)
         }
-        fn fault(&self) -> bool {
-            self.fault
-        }
+    }
+
+    impl<T: Real, P: Predictor<T>, K: Primary<T>> FrequencyResponse<T> for Predicted<T, P, K> {
         fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
             // u = K_r r − K_y(Su u + Sy y) → u = K_r/(1 + K_y Su)·r − K_y Sy/(1 + K_y Su)·y
             let (kr, ky) = self.k.response(theta);

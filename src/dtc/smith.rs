@@ -14,7 +14,7 @@
 //! from the model output by linear interpolation (see [`crate::delay`]).
 
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::Controller;
+use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
 use core::ops::{Add, Div, Mul, Sub};
 
@@ -113,6 +113,19 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
         self.fault = false;
     }
 
+    fn fault(&self) -> bool {
+        self.fault
+    }
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>
+    for SmithPredictor<T, N, S>
+{
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T>
+    for SmithPredictor<T, N, S>
+{
     fn signal_names(&self) -> &'static [&'static str] {
         &["ym", "ym_delayed", "model_error"]
     }
@@ -124,21 +137,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
             2 => self.model_error,
             _ => T::nan(),
         }
-    }
-
-    /// `u = G1r/(1 + G1y·Gm(1 − z^{−d}))·r − G1y/(1 + G1y·Gm(1 − z^{−d}))·y`.
-    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
-        use crate::Complex;
-        let (g1r, g1y) = self.pid.response(theta);
-        let gm = self.model.response(theta);
-        let d = Complex::delay_response(theta, self.delay.delay());
-        let one = Complex::real(T::one());
-        let den = one.add(g1y.mul(gm).mul(one.sub(d)));
-        Some((g1r.div(den), g1y.div(den)))
-    }
-
-    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
-        Some(self.pid.response(theta).1.mul(self.model.response(theta)))
     }
 
     fn write_signals(&self, out: &mut [T]) {
@@ -155,10 +153,25 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     }
 
     fn param(&self, i: usize) -> T {
-        Controller::param(&self.pid, i)
+        Introspect::param(&self.pid, i)
+    }
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
+    for SmithPredictor<T, N, S>
+{
+    /// `u = G1r/(1 + G1y·Gm(1 − z^{−d}))·r − G1y/(1 + G1y·Gm(1 − z^{−d}))·y`.
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        use crate::Complex;
+        let (g1r, g1y) = self.pid.response(theta);
+        let gm = self.model.response(theta);
+        let d = Complex::delay_response(theta, self.delay.delay());
+        let one = Complex::real(T::one());
+        let den = one.add(g1y.mul(gm).mul(one.sub(d)));
+        Some((g1r.div(den), g1y.div(den)))
     }
 
-    fn fault(&self) -> bool {
-        self.fault
+    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+        Some(self.pid.response(theta).1.mul(self.model.response(theta)))
     }
 }

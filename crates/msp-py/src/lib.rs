@@ -4,9 +4,8 @@ use std::collections::BTreeMap;
 
 use msp::poly::TransferFunction;
 use msp::registry::{self, Build, DynController, Params};
-use msp::sim::{
-    Disturbance, Location, Metrics, Perturbation, RunOutput, Scenario, SetpointStep, Shape,
-};
+use msp::sim::{Disturbance, Location, SetpointStep, Shape};
+use msp::study::{Metrics, Perturbation, RunOutput, Scenario};
 use msp::{AntiWindup, Pid, PidConfig};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -74,7 +73,7 @@ impl Plant {
 #[pyfunction]
 fn parse_plant(expr: &str) -> PyResult<Plant> {
     Ok(Plant {
-        inner: msp::parse::parse_plant(expr).map_err(value_err)?,
+        inner: msp::syntax::parse_plant(expr).map_err(value_err)?,
     })
 }
 
@@ -84,7 +83,7 @@ fn plant_of(obj: &Bound<'_, PyAny>) -> PyResult<TransferFunction> {
     }
     if obj.downcast::<PyString>().is_ok() {
         let s: String = obj.extract()?;
-        return msp::parse::parse_plant(&s).map_err(value_err);
+        return msp::syntax::parse_plant(&s).map_err(value_err);
     }
     Err(PyValueError::new_err(
         "a plant is an expression string or an msp.Plant",
@@ -435,7 +434,7 @@ fn compare<'py>(
     }
     let p = perturbation_of(perturb)?.unwrap_or_default();
     let runs = py
-        .allow_threads(|| msp::sim::compare(&sc, &controllers, p))
+        .allow_threads(|| msp::study::compare(&sc, &controllers, p))
         .map_err(value_err)?;
     let out = PyList::empty(py);
     for r in runs {

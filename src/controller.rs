@@ -1,0 +1,236 @@
+//! The traits every controller implements, split by who needs them.
+//!
+//! - [`Controller`]: the per-sample contract firmware uses — `update(r, y)`
+//!   once per sample, `reset`, `fault`. Nothing else is needed to run a loop.
+//! - [`CascadeControl`]: operation with a secondary measurement `y2`
+//!   (García et al. (2010), Fig. 1); a single-loop controller takes the
+//!   defaults and ignores `y2`.
+//! - [`Introspect`]: internal signals and parameters by index and by name,
+//!   for logging, reports and the CLI's `--set`.
+//! - [`FrequencyResponse`]: the linear response at `z = e^{jθ}` for analysis.
+//!
+//! [`LoopController`] is all four at once, object safe: what the simulator,
+//! the analysis and the scheme registry hold behind a pointer. It is
+//! implemented for every type that implements the four.
+
+use crate::{Complex, Real};
+
+/// A sampled controller: call [`Controller::update`] once per sample period.
+pub trait Controller<T: Real> {
+    /// One sample: set point `r[k]` and measurement `y[k]` in, actuator value `u[k]` out.
+    fn update(&mut self, setpoint: T, measurement: T) -> T;
+    /// Returns every state to zero (the delay lines included).
+    fn reset(&mut self);
+    /// True when the last update received a non-finite set point or measurement
+    /// and held its output instead.
+    fn fault(&self) -> bool {
+        false
+    }
+}
+
+/// Operation in a cascade loop (García et al. (2010), Fig. 1).
+pub trait CascadeControl<T: Real>: Controller<T> {
+    /// One sample of a cascade loop: the primary measurement `y[k]` and the
+    /// secondary (inner) measurement `y2[k]`. A single-loop controller ignores
+    /// `y2` and controls `y` from the plant input directly; a cascade scheme
+    /// closes its inner loop on it.
+    fn update_cascade(&mut self, setpoint: T, measurement: T, inner: T) -> T {
+        let _ = inner;
+        self.update(setpoint, measurement)
+    }
+    /// True for a scheme that closes an inner loop on the secondary measurement.
+    fn is_cascade(&self) -> bool {
+        false
+    }
+}
+
+/// Internal signals and parameters, read by index (allocation-free and object
+/// safe) with their names from [`Introspect::signal_names`] and
+/// [`Introspect::param_names`].
+pub trait Introspect<T: Real> {
+    /// Names of the internal signals, e.g. the model output and the model error.
+    fn signal_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Value of internal signal `index` after the last update (NaN if out of range).
+    fn signal(&self, index: usize) -> T {
+        let _ = index;
+        T::nan()
+    }
+    /// Writes every internal signal into `out` (in [`Introspect::signal_names`] order).
+    fn write_signals(&self, out: &mut [T]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.signal(i);
+        }
+    }
+    /// Internal signal by name.
+    fn signal_by_name(&self, name: &str) -> Option<T> {
+        self.signal_names()
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.signal(i))
+    }
+    /// Names of the parameters, as in reports and the CLI's `--set`.
+    fn param_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Value of parameter `index` (NaN if out of range).
+    fn param(&self, index: usize) -> T {
+        let _ = index;
+        T::nan()
+    }
+    /// Parameter by name.
+    fn param_by_name(&self, name: &str) -> Option<T> {
+        self.param_names()
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.param(i))
+    }
+}
+
+/// The linear frequency response of a controller, limits inactive.
+pub trait FrequencyResponse<T: Real> {
+    /// The response at `z = e^{jθ}` (`θ = ω·Ts`) as the pair `(Cr, Cy)` of
+    /// `u = Cr·r − Cy·y`; `None` for a controller that does not provide it.
+    fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        let _ = theta;
+        None
+    }
+    /// The inner (delay-free model) loop `(Gc1 + Gc2)·Gm` at `z = e^{jθ}` of a
+    /// scheme that has one.
+    fn inner_response(&self, theta: T) -> Option<Complex<T>> {
+        let _ = theta;
+        None
+    }
+}
+
+/// A controller as the simulator, the analysis and the registry see it: every
+/// trait of this module, object safe (`Box<dyn LoopController<f64>>`).
+pub trait LoopController<T: Real>:
+    Controller<T> + CascadeControl<T> + Introspect<T> + FrequencyResponse<T>
+{
+}
+
+impl<T: Real, C> LoopController<T> for C where
+    C: Controller<T> + CascadeControl<T> + Introspect<T> + FrequencyResponse<T> + ?Sized
+{
+}
+
+/// A pointer to a controller is a controller (`&mut C`, and `Box<C>` with `alloc`).
+macro_rules! forward {
+    ($($ptr:ty),*) => {$(
+        impl<T: Real, C: Controller<T> + ?Sized> Controller<T> for $ptr {
+            #[inline(always)]
+            fn update(&mut self, r: T, y: T) -> T {
+                (**self).update(r, y)
+            }
+            fn reset(&mut self) {
+                (**self).reset()
+            }
+            fn fault(&self) -> bool {
+                (**self).fault()
+            }
+        }
+        impl<T: Real, C: CascadeControl<T> + ?Sized> CascadeControl<T> for $ptr {
+            #[inline(always)]
+            fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
+                (**self).update_cascade(r, y, y2)
+            }
+            fn is_cascade(&self) -> bool {
+                (**self).is_cascade()
+            }
+        }
+        impl<T: Real, C: Introspect<T> + ?Sized> Introspect<T> for $ptr {
+            fn signal_names(&self) -> &'static [&'static str] {
+                (**self).signal_names()
+            }
+            fn signal(&self, i: usize) -> T {
+                (**self).signal(i)
+            }
+            fn write_signals(&self, out: &mut [T]) {
+                (**self).write_signals(out)
+            }
+            fn param_names(&self) -> &'static [&'static str] {
+                (**self).param_names()
+            }
+            fn param(&self, i: usize) -> T {
+                (**self).param(i)
+            }
+        }
+        impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
+            fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+                (**self).response(theta)
+            }
+            fn inner_response(&self, theta: T) -> Option<Complex<T>> {
+                (**self).inner_response(theta)
+            }
+        }
+    )*};
+}
+
+forward!(&mut C);
+#[cfg(feature = "alloc")]
+forward!(alloc::boxed::Box<C>);
+
+/// A controller that computes in `f32`, seen as an `f64` one: the set point
+/// and the measurements are rounded to `f32` as a device receives them, the
+/// output widened exactly. The `f64` simulator and analysis then run the
+/// loop a firmware runs (`msp run --float32`).
+#[derive(Debug, Clone)]
+pub struct Widened<C>(pub C);
+
+impl<C: Controller<f32>> Controller<f64> for Widened<C> {
+    #[inline]
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        f64::from(self.0.update(f32::of(r), f32::of(y)))
+    }
+    fn reset(&mut self) {
+        self.0.reset();
+    }
+    fn fault(&self) -> bool {
+        self.0.fault()
+    }
+}
+
+impl<C: CascadeControl<f32>> CascadeControl<f64> for Widened<C> {
+    #[inline]
+    fn update_cascade(&mut self, r: f64, y: f64, y2: f64) -> f64 {
+        f64::from(self.0.update_cascade(f32::of(r), f32::of(y), f32::of(y2)))
+    }
+    fn is_cascade(&self) -> bool {
+        self.0.is_cascade()
+    }
+}
+
+impl<C: Introspect<f32>> Introspect<f64> for Widened<C> {
+    fn signal_names(&self) -> &'static [&'static str] {
+        self.0.signal_names()
+    }
+    fn signal(&self, i: usize) -> f64 {
+        f64::from(self.0.signal(i))
+    }
+    fn param_names(&self) -> &'static [&'static str] {
+        self.0.param_names()
+    }
+    fn param(&self, i: usize) -> f64 {
+        f64::from(self.0.param(i))
+    }
+}
+
+impl<C: FrequencyResponse<f32>> FrequencyResponse<f64> for Widened<C> {
+    fn response(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
+        self.0
+            .response(f32::of(theta))
+            .map(|(a, b)| (widen(a), widen(b)))
+    }
+    fn inner_response(&self, theta: f64) -> Option<Complex<f64>> {
+        self.0.inner_response(f32::of(theta)).map(widen)
+    }
+}
+
+fn widen(c: Complex<f32>) -> Complex<f64> {
+    Complex {
+        re: f64::from(c.re),
+        im: f64::from(c.im),
+    }
+}

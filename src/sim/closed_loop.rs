@@ -1,0 +1,319 @@
+//! The closed loop: a controller against the exact sampled process.
+
+use std::vec::Vec;
+
+use super::cascade::JointSim;
+use super::plant::PlantSim;
+use super::schedule::first_sample_at;
+use super::{Disturbance, Location, SetpointStep, SimResult};
+use crate::poly::TransferFunction;
+use crate::Error;
+use crate::{CascadeControl, Introspect};
+
+/// Settings of one closed-loop simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimConfig {
+    /// Sample period (s).
+    pub ts: f64,
+    /// Length of the run (s).
+    pub duration: f64,
+    /// Set-point profile.
+    pub setpoint: Vec<SetpointStep>,
+    /// Disturbances.
+    pub disturbances: Vec<Disturbance>,
+    /// Standard deviation of Gaussian measurement noise.
+    pub noise: f64,
+    /// Seed of the noise generator.
+    pub seed: u64,
+    /// Actuator lower limit.
+    pub u_min: f64,
+    /// Actuator upper limit.
+    pub u_max: f64,
+    /// Plant outputs per controller period (1: at the samples only; more for
+    /// smooth intersample plots).
+    pub substeps: usize,
+}
+
+impl SimConfig {
+    /// A run of `duration` seconds sampled every `ts`: no set point (add steps
+    /// to `setpoint`), no disturbance, no noise, no limits, no sub-steps.
+    pub fn new(ts: f64, duration: f64) -> Self {
+        SimConfig {
+            ts,
+            duration,
+            setpoint: Vec::new(),
+            disturbances: Vec::new(),
+            noise: 0.0,
+            seed: 0,
+            u_min: f64::NEG_INFINITY,
+            u_max: f64::INFINITY,
+            substeps: 1,
+        }
+    }
+}
+
+/// A seeded Gaussian generator (SplitMix64 + Box–Muller), reproducible everywhere.
+#[derive(Debug, Clone)]
+pub struct Noise {
+    state: u64,
+    spare: Option<f64>,
+}
+
+impl Noise {
+    /// A generator with this seed.
+    pub fn new(seed: u64) -> Self {
+        Noise {
+            state: seed,
+            spare: None,
+        }
+    }
+    fn next_u64(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// A uniform sample in (0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        ((self.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    /// A standard normal sample.
+    pub fn gaussian(&mut self) -> f64 {
+        if let Some(s) = self.spare.take() {
+            return s;
+        }
+        let (u1, u2) = (self.uniform(), self.uniform());
+        let r = (-2.0 * u1.ln()).sqrt();
+        let a = core::f64::consts::TAU * u2;
+        self.spare = Some(r * a.sin());
+        r * a.cos()
+    }
+}
+
+/// The process as simulated: one plant, or a cascade (García et al. (2010)
+/// Fig. 1). With `v = u + d2` held over each period and `d0` held too,
+/// `y2 = P2 e^{−L2 s}·v + d0` (its own block) and
+/// `y = P1 e^{−L1 s}(P2 e^{−L2 s}·v + d0) + d1` ([`JointSim`]), both sampled exactly.
+enum Process {
+    Single(PlantSim),
+    Cascade {
+        p2: PlantSim,
+        joint: Box<JointSim>,
+        sub2: Vec<f64>,
+    },
+}
+
+/// Runs the closed loop of `controller` on `plant`.
+pub fn simulate<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+    plant: &TransferFunction,
+    controller: &mut C,
+    cfg: &SimConfig,
+) -> Result<SimResult, Error> {
+    let mut res = SimResult::default();
+    simulate_process(plant, None, controller, cfg, &mut res)?;
+    Ok(res)
+}
+
+/// [`simulate`] into the buffers of an earlier result: its columns are
+/// overwritten and keep their allocations, so repeated runs (sweeps, Monte
+/// Carlo, benchmarks) write to memory that is already mapped. On an error
+/// `out` is left empty.
+pub fn simulate_into<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+    plant: &TransferFunction,
+    controller: &mut C,
+    cfg: &SimConfig,
+    out: &mut SimResult,
+) -> Result<(), Error> {
+    simulate_process(plant, None, controller, cfg, out)
+}
+
+/// Runs the closed loop of `controller` on the cascade process: primary
+/// `p1` (with its dead time `L1`) fed by the secondary `p2` (dead time `L2`),
+/// whose output `y2` the controller also receives
+/// ([`CascadeControl::update_cascade`]). Disturbances at [`Location::Input`] act
+/// at the input of `p2` (`d2`), at [`Location::Inner`] on `y2` (`d0`), at
+/// [`Location::Output`] on `y` (`d1`).
+pub fn simulate_cascade<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+    p1: &TransferFunction,
+    p2: &TransferFunction,
+    controller: &mut C,
+    cfg: &SimConfig,
+) -> Result<SimResult, Error> {
+    let mut res = SimResult::default();
+    simulate_process(p1, Some(p2), controller, cfg, &mut res)?;
+    Ok(res)
+}
+
+fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+    plant: &TransferFunction,
+    inner: Option<&TransferFunction>,
+    controller: &mut C,
+    cfg: &SimConfig,
+    res: &mut SimResult,
+) -> Result<(), Error> {
+    res.clear();
+    let ts = crate::real::positive(cfg.ts, "ts")?;
+    let duration = crate::real::non_negative(cfg.duration, "duration")?;
+    crate::real::non_negative(cfg.noise, "noise")?;
+    if cfg.u_min > cfg.u_max {
+        return Err(Error::InvalidLimits("u_min"));
+    }
+    let steps = num_traits::ToPrimitive::to_usize(&(duration / ts).round())
+        .ok_or(Error::OutOfRange("duration"))?;
+    let n = steps.saturating_add(1);
+    let m = cfg.substeps.max(1);
+    let n_rows = n.saturating_mul(m);
+    let mut process = match inner {
+        None => Process::Single(PlantSim::new(plant, ts, m)?),
+        Some(p2) => Process::Cascade {
+            p2: PlantSim::new(p2, ts, m)?,
+            joint: Box::new(JointSim::new(plant, p2, ts, m)?),
+            sub2: Vec::with_capacity(m),
+        },
+    };
+    let cascade = inner.is_some();
+    let mut sub = Vec::with_capacity(m);
+    let mut noise = Noise::new(cfg.seed);
+    let names = controller.signal_names();
+    res.reserve(names, n_rows, cascade);
+    res.substeps = m;
+    let pick = |loc: Location| -> Vec<&Disturbance> {
+        cfg.disturbances
+            .iter()
+            .filter(|d| d.location == loc)
+            .collect()
+    };
+    let (inputs, outputs, middles) = (
+        pick(Location::Input),
+        pick(Location::Output),
+        pick(Location::Inner),
+    );
+    if !cascade && !middles.is_empty() {
+        return Err(Error::Unsupported(
+            "an 'inner' (d0) disturbance needs a cascade process (an inner plant)",
+        ));
+    }
+    let sum_at = |ds: &[&Disturbance], t: f64| -> f64 {
+        if ds.is_empty() {
+            0.0
+        } else {
+            ds.iter().fold(0.0, |acc, d| acc + d.at_time(t))
+        }
+    };
+    let scale = cfg
+        .setpoint
+        .iter()
+        .map(|s| s.value.abs())
+        .chain(cfg.disturbances.iter().map(|d| d.value.abs()))
+        .fold(1.0, f64::max);
+    // the set point's schedule as sample indices: one integer test per sample
+    let bound = 1e6 * scale;
+    let mut steps: Vec<(usize, f64)> = cfg
+        .setpoint
+        .iter()
+        .map(|s| (first_sample_at(s.at, ts), s.value))
+        .collect();
+    steps.sort_by_key(|s| s.0);
+    let mut next_step = 0usize;
+    let mut r = 0.0;
+    let mut sig = std::vec![0.0; names.len()];
+    for i in 0..n {
+        let t = i as f64 * ts;
+        while let Some(&(k, value)) = steps.get(next_step) {
+            if k <= i {
+                r = value;
+                next_step = next_step.saturating_add(1);
+            } else {
+                break;
+            }
+        }
+        let d_in = sum_at(&inputs, t);
+        let d_out = sum_at(&outputs, t);
+        let d_mid = sum_at(&middles, t);
+        let (y, y2) = match &process {
+            Process::Single(p) => (p.output() + d_out, 0.0),
+            Process::Cascade { p2, joint, .. } => (joint.output() + d_out, p2.output() + d_mid),
+        };
+        // NaN fails `<=` too: one comparison per output catches NaN, ±∞ and divergence
+        if !(y.abs() <= bound && y2.abs() <= bound) {
+            res.diverged_at = Some(t);
+            break;
+        }
+        let y_meas = if cfg.noise > 0.0 {
+            y + cfg.noise * noise.gaussian()
+        } else {
+            y
+        };
+        let u = if cascade {
+            controller.update_cascade(r, y_meas, y2)
+        } else {
+            controller.update(r, y_meas)
+        }
+        .max(cfg.u_min)
+        .min(cfg.u_max);
+        sub.clear();
+        match &mut process {
+            Process::Single(p) => p.advance(u + d_in, &mut sub),
+            Process::Cascade { p2, joint, sub2 } => {
+                sub2.clear();
+                p2.advance(u + d_in, sub2);
+                joint.advance(u + d_in, d_mid, &mut sub);
+            }
+        }
+        if i + 1 == n {
+            sub.clear(); // nothing after the last sample
+        }
+        controller.write_signals(&mut sig);
+        // time and the disturbance columns are filled after the loop when they
+        // follow from the schedule alone: fewer stores per sample
+        macro_rules! push {
+            ($yj:expr, $y2j:expr) => {{
+                res.r.push(r);
+                res.y.push($yj);
+                res.u.push(u);
+                if !inputs.is_empty() {
+                    res.d.push(d_in);
+                }
+                if !outputs.is_empty() {
+                    res.d_out.push(d_out);
+                }
+                if cascade {
+                    res.y2.push($y2j);
+                    if !middles.is_empty() {
+                        res.d_inner.push(d_mid);
+                    }
+                }
+                for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
+                    v.push(*x);
+                }
+            }};
+        }
+        push!(y, y2);
+        let subs2: &[f64] = match &process {
+            Process::Cascade { sub2, .. } => sub2,
+            Process::Single(_) => &[],
+        };
+        for (j, y_sub) in sub.iter().enumerate() {
+            push!(
+                y_sub + d_out,
+                subs2.get(j).copied().unwrap_or(f64::NAN) + d_mid
+            );
+        }
+    }
+    let rows = res.y.len();
+    let step = ts / m as f64;
+    if m == 1 {
+        res.t.extend((0..rows).map(|k| k as f64 * ts));
+    } else {
+        res.t
+            .extend((0..rows).map(|k| (k / m) as f64 * ts + (k % m) as f64 * step));
+    }
+    if inputs.is_empty() {
+        res.d.resize(rows, 0.0);
+    }
+    if outputs.is_empty() {
+        res.d_out.resize(rows, 0.0);
+    }
+    Ok(())
+}

@@ -1,0 +1,171 @@
+//! One plant sampled exactly: ZOH pieces cut at the sub-steps and at the
+//! fractional dead time.
+
+use std::vec::Vec;
+
+use crate::delay::Delay;
+use crate::poly::TransferFunction;
+use crate::registry::MAX_ORDER;
+use crate::{Discretization, Error, Lti};
+
+/// One piece of a sampling period, integrated exactly by its own ZOH discretization.
+pub(super) struct Piece {
+    block: Lti<f64, MAX_ORDER>,
+    /// Input `v[n−k]` (true) or `v[n−k−1]` (false, before the fractional delay has passed).
+    late: bool,
+    /// The piece ends at an intermediate output instant (sub-step).
+    record: bool,
+}
+
+/// The plant as simulated: the period is cut at the sub-step instants and at
+/// the instant `f·Ts` where the delayed input changes.
+pub(super) struct PlantSim {
+    out: Lti<f64, MAX_ORDER>,
+    pieces: Vec<Piece>,
+    line: Delay<f64, Vec<f64>>,
+    k: usize,
+    feedthrough: f64,
+    last_in: f64,
+}
+
+impl PlantSim {
+    pub(super) fn new(plant: &TransferFunction, ts: f64, substeps: usize) -> Result<Self, Error> {
+        let (kf, f) = split_delay(plant.delay_samples(ts)?);
+        let out: Lti<f64, MAX_ORDER> = plant.to_lti(ts)?;
+        let cuts = cuts(substeps, &[f]);
+        let mut pieces = Vec::with_capacity(cuts.len());
+        let mut a = 0.0;
+        for (b, record) in cuts {
+            let block = Lti::from_tf(&plant.num, &plant.den, (b - a) * ts, Discretization::Zoh)?;
+            pieces.push(Piece {
+                block,
+                late: a >= f - 1e-12,
+                record,
+            });
+            a = b;
+        }
+        let k = kf.to_usize_checked()?;
+        // the line holds the whole delay `k` (read by `process`); its capacity
+        // `k + 1` keeps `v[n−k−1]` too for a fractional delay
+        let line = Delay::with_storage(vec_zeros(k.saturating_add(1)), kf)?;
+        Ok(PlantSim {
+            feedthrough: out.output(1.0) - out.free_output(),
+            out,
+            pieces,
+            line,
+            k,
+            last_in: 0.0,
+        })
+    }
+
+    /// Output at the current instant (before the new input is applied).
+    #[inline]
+    pub(super) fn output(&self) -> f64 {
+        self.out.free_output() + self.feedthrough * self.last_in
+    }
+
+    /// Applies plant input `v[n]` over one period; the outputs at the
+    /// intermediate sub-step instants are appended to `sub`.
+    #[inline]
+    pub(super) fn advance(&mut self, v: f64, sub: &mut Vec<f64>) {
+        if self.pieces.len() == 1 {
+            // one piece spanning the period (a whole delay, no sub-steps):
+            // `out` is that very discretization, driven by `v[n−k]`
+            let now = self.line.process(v);
+            self.out.step(now);
+            self.last_in = now;
+            return;
+        }
+        let now = self.line.peek_back(v, self.k);
+        let before = self.line.peek_back(v, self.k.saturating_add(1));
+        self.line.process(v);
+        let mut x = *self.out.state();
+        for p in &mut self.pieces {
+            let input = if p.late { now } else { before };
+            p.block.set_state(&x);
+            p.block.step(input);
+            x = *p.block.state();
+            if p.record {
+                self.out.set_state(&x);
+                sub.push(self.out.free_output() + self.feedthrough * input);
+            }
+        }
+        self.out.set_state(&x);
+        self.last_in = now;
+    }
+}
+
+pub(super) fn vec_zeros(n: usize) -> Vec<f64> {
+    std::vec![0.0; n]
+}
+
+pub(super) trait ToUsize {
+    fn to_usize_checked(self) -> Result<usize, Error>;
+}
+impl ToUsize for f64 {
+    fn to_usize_checked(self) -> Result<usize, Error> {
+        num_traits::ToPrimitive::to_usize(&self).ok_or(Error::DelayTooLong("delay"))
+    }
+}
+
+/// The exact sampled plant, stepped one held input at a time.
+pub struct PlantStepper(PlantSim);
+
+impl PlantStepper {
+    /// The plant at rest, sampled every `ts`.
+    pub fn new(plant: &TransferFunction, ts: f64) -> Result<Self, Error> {
+        Ok(PlantStepper(PlantSim::new(plant, ts, 1)?))
+    }
+    /// The output now.
+    pub fn output(&self) -> f64 {
+        self.0.output()
+    }
+    /// Holds `u` for one period.
+    pub fn advance(&mut self, u: f64) {
+        let mut sub = Vec::new();
+        self.0.advance(u, &mut sub);
+    }
+}
+
+/// The plant's response at the sample instants to the held input `u[k]`
+/// (exact: ZOH discretization and the modified z-transform for the dead time);
+/// `y[k]` is the output at `k·ts`, before `u[k]` acts.
+pub fn open_loop(plant: &TransferFunction, ts: f64, u: &[f64]) -> Result<Vec<f64>, Error> {
+    let mut p = PlantSim::new(plant, ts, 1)?;
+    let mut sub = Vec::new();
+    let mut y = Vec::with_capacity(u.len());
+    for uk in u {
+        y.push(p.output());
+        p.advance(*uk, &mut sub);
+    }
+    Ok(y)
+}
+
+/// The breakpoints of a period as fractions of it: the `m` sub-step instants
+/// (recorded, but for the period's end) and where a delayed input changes
+/// (the fractions `f`).
+pub(super) fn cuts(m: usize, fractions: &[f64]) -> Vec<(f64, bool)> {
+    let m = m.max(1);
+    let mut cuts: Vec<(f64, bool)> = (1..=m).map(|j| (j as f64 / m as f64, j < m)).collect();
+    for f in fractions {
+        if *f > 0.0 && !cuts.iter().any(|(c, _)| (c - f).abs() < 1e-12) {
+            cuts.push((*f, false));
+        }
+    }
+    cuts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    cuts
+}
+
+/// Whole samples and fraction of a delay.
+pub(super) fn split_delay(d: f64) -> (f64, f64) {
+    let mut k = d.floor();
+    let mut f = d - k;
+    if f >= 1.0 - 1e-12 {
+        k += 1.0;
+        f = 0.0;
+    }
+    if f <= 1e-12 {
+        f = 0.0;
+    }
+    (k, f)
+}

@@ -1,0 +1,144 @@
+//! The recorded signals of a run and their CSV form.
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+/// The signals of a run, one entry per sample.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SimResult {
+    /// Time (s).
+    pub t: Vec<f64>,
+    /// Set point.
+    pub r: Vec<f64>,
+    /// Plant output (with output disturbances, without noise).
+    pub y: Vec<f64>,
+    /// Actuator value after the limits.
+    pub u: Vec<f64>,
+    /// Input (load) disturbance.
+    pub d: Vec<f64>,
+    /// Output disturbance (all zero when there is none).
+    pub d_out: Vec<f64>,
+    /// Cascade plants: the secondary output `y2` as measured (empty otherwise).
+    pub y2: Vec<f64>,
+    /// Cascade plants: the disturbance `d0` at the secondary output (empty
+    /// without one).
+    pub d_inner: Vec<f64>,
+    /// Internal signals of the controller, by name.
+    pub signals: Vec<(String, Vec<f64>)>,
+    /// Time at which the run was stopped because the output diverged.
+    pub diverged_at: Option<f64>,
+    /// Rows per controller period (the controller's samples are every `substeps` rows).
+    pub substeps: usize,
+}
+
+impl SimResult {
+    /// Empties every column, keeping the allocations.
+    pub(super) fn clear(&mut self) {
+        for v in [
+            &mut self.t,
+            &mut self.r,
+            &mut self.y,
+            &mut self.u,
+            &mut self.d,
+            &mut self.d_out,
+            &mut self.y2,
+            &mut self.d_inner,
+        ] {
+            v.clear();
+        }
+        for (_, v) in &mut self.signals {
+            v.clear();
+        }
+        self.diverged_at = None;
+    }
+
+    /// Room for `rows` rows of the columns a run records, and one signal
+    /// column per name (reused when the names are those of the last run).
+    pub(super) fn reserve(&mut self, names: &[&str], rows: usize, cascade: bool) {
+        let mut columns = std::vec![&mut self.t, &mut self.r, &mut self.y, &mut self.u];
+        if cascade {
+            columns.push(&mut self.y2);
+        }
+        for v in columns {
+            v.reserve(rows);
+        }
+        let same = self.signals.len() == names.len()
+            && self.signals.iter().zip(names).all(|((a, _), b)| a == b);
+        if !same {
+            self.signals = names.iter().map(|s| (s.to_string(), Vec::new())).collect();
+        }
+        for (_, v) in &mut self.signals {
+            v.reserve(rows);
+        }
+    }
+}
+
+impl SimResult {
+    /// Writes the signals as CSV: `t,r,y,u,d`, then `d_out` when there is an
+    /// output disturbance, `y2` for a cascade process, `d_inner` when it has a
+    /// `d0` disturbance, then the controller's signals (shortest round-trip
+    /// number formatting).
+    pub fn write_csv<W: std::io::Write>(&self, w: &mut W) -> std::io::Result<()> {
+        let with_dout = self.d_out.iter().any(|v| *v != 0.0);
+        let with_y2 = !self.y2.is_empty();
+        let with_dinner = !self.d_inner.is_empty();
+        let mut head = std::string::String::from("t,r,y,u,d");
+        if with_dout {
+            head.push_str(",d_out");
+        }
+        if with_y2 {
+            head.push_str(",y2");
+        }
+        if with_dinner {
+            head.push_str(",d_inner");
+        }
+        for (n, _) in &self.signals {
+            head.push(',');
+            head.push_str(n);
+        }
+        head.push('\n');
+        w.write_all(head.as_bytes())?;
+        let mut buf = ryu::Buffer::new();
+        let mut line: Vec<u8> = Vec::with_capacity(256);
+        let mut num = |line: &mut Vec<u8>, v: f64| {
+            if v == 0.0 && v.is_sign_positive() {
+                // the common value of disturbance columns, without formatting
+                line.push(b'0');
+            } else if v.is_finite() {
+                let s = buf.format_finite(v);
+                // ryu writes integers as "1.0"; keep them as "1" like `{}` does
+                line.extend_from_slice(s.strip_suffix(".0").unwrap_or(s).as_bytes());
+            } else {
+                line.extend_from_slice(std::format!("{v}").as_bytes());
+            }
+        };
+        for i in 0..self.t.len() {
+            line.clear();
+            let get = |v: &Vec<f64>| v.get(i).copied().unwrap_or(f64::NAN);
+            num(&mut line, get(&self.t));
+            for v in [&self.r, &self.y, &self.u, &self.d] {
+                line.push(b',');
+                num(&mut line, get(v));
+            }
+            if with_dout {
+                line.push(b',');
+                num(&mut line, get(&self.d_out));
+            }
+            if with_y2 {
+                line.push(b',');
+                num(&mut line, get(&self.y2));
+            }
+            if with_dinner {
+                line.push(b',');
+                num(&mut line, get(&self.d_inner));
+            }
+            for (_, v) in &self.signals {
+                line.push(b',');
+                num(&mut line, get(v));
+            }
+            line.push(b'\n');
+            w.write_all(&line)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,115 @@
+//! Typed schedules of a run: set-point steps and disturbances.
+
+/// Where a disturbance acts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Location {
+    /// Added to the actuator value at the plant input (a load).
+    Input,
+    /// Added to the plant output.
+    Output,
+    /// Cascade plants: added to the secondary output `y2`, which is measured
+    /// and drives the primary process (`d0` of García et al. (2010)
+    /// Fig. 1; `input` is its `d2`, `output` its `d1`).
+    Inner,
+}
+
+/// The shape of a disturbance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Shape {
+    /// `value` from time `at` on.
+    #[default]
+    Step,
+    /// `value·(t − at)` from time `at` on (value is the slope).
+    Ramp,
+    /// `value·sin(2π·freq·(t − at))` from time `at` on.
+    Sine,
+}
+
+/// A load or output disturbance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct Disturbance {
+    /// Input (load) or output.
+    pub location: Location,
+    /// Step, ramp or sine.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub shape: Shape,
+    /// Step size, ramp slope or sine amplitude.
+    pub value: f64,
+    /// Start time (s).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub at: f64,
+    /// Sine frequency (Hz).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub freq: f64,
+}
+
+impl Disturbance {
+    pub(super) fn at_time(&self, t: f64) -> f64 {
+        if t + 1e-9 * t.abs().max(1.0) < self.at {
+            return 0.0;
+        }
+        let dt = (t - self.at).max(0.0);
+        match self.shape {
+            Shape::Step => self.value,
+            Shape::Ramp => self.value * dt,
+            Shape::Sine => self.value * (core::f64::consts::TAU * self.freq * dt).sin(),
+        }
+    }
+}
+
+/// A set-point step: the set point is `value` from time `at` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct SetpointStep {
+    /// New set point.
+    pub value: f64,
+    /// Time of the step (s).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub at: f64,
+}
+
+/// The set point at time `t` for a profile of steps (zero before the first).
+/// A step counts from its own instant: times within a relative 1e-9 of it are on it
+/// (so `k·Ts` rounding never moves a step by one sample).
+pub fn setpoint_at(steps: &[SetpointStep], t: f64) -> f64 {
+    let t = t + 1e-9 * t.abs().max(1.0);
+    steps
+        .iter()
+        .filter(|s| s.at <= t)
+        .fold((f64::NEG_INFINITY, 0.0), |(ta, v), s| {
+            if s.at >= ta {
+                (s.at, s.value)
+            } else {
+                (ta, v)
+            }
+        })
+        .1
+}
+
+/// The first sample `i` (time `i·ts`) at which an event at time `at` has
+/// happened, with the same tolerance as [`setpoint_at`]: `at ≤ t + 10⁻⁹·max(|t|, 1)`.
+pub(super) fn first_sample_at(at: f64, ts: f64) -> usize {
+    let reached = |i: usize| {
+        let t = i as f64 * ts;
+        at <= t + 1e-9 * t.abs().max(1.0)
+    };
+    if reached(0) {
+        return 0;
+    }
+    // start near the answer, then settle it exactly with the test itself
+    let mut i = num_traits::ToPrimitive::to_usize(&(at / ts).floor()).unwrap_or(usize::MAX);
+    while i > 0 && reached(i - 1) {
+        i -= 1;
+    }
+    while i < usize::MAX && !reached(i) {
+        i += 1;
+    }
+    i
+}

@@ -1,0 +1,63 @@
+//! What a run chooses when the user does not: the sample period and the duration.
+
+use std::string::String;
+
+use crate::poly::{fmt_num, PlantKind, TransferFunction};
+
+/// A sample period for `plant`: at most a tenth of its fastest time constant
+/// and 1/1000 of its dead time. The sampled loop then reproduces the continuous
+/// designs of the sources to better than 1 %: a controller designed for a
+/// closed-loop time constant `τ` and sampled with forward-Euler integration
+/// gives `τ − Ts/2` (e.g. the Karan–Dey MSP's IAE on the delayed reference is
+/// `θ/8 − Ts/2`). The dead time is a whole number of samples, chosen so the dead time is a whole number
+/// of samples (then the delay is exact in the controller's model too).
+pub fn choose_ts(plant: &TransferFunction) -> f64 {
+    let scales = plant.time_scales().unwrap_or_default();
+    let dyn_min = scales
+        .iter()
+        .copied()
+        .filter(|s| (*s - plant.delay).abs() > 0.0 || plant.delay == 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let mut ts = (dyn_min / 10.0).min(if plant.delay > 0.0 {
+        plant.delay / 1000.0
+    } else {
+        f64::INFINITY
+    });
+    if !ts.is_finite() {
+        ts = 0.01;
+    }
+    if plant.delay > 0.0 {
+        let n = (plant.delay / ts).ceil().max(1.0);
+        ts = plant.delay / n;
+    }
+    ts
+}
+
+/// A duration that covers settling: ten dead times or ten of the slowest time
+/// constants, whichever is longer.
+pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
+    let slow = plant
+        .time_scales()
+        .unwrap_or_default()
+        .into_iter()
+        .fold(0.0, f64::max);
+    (10.0 * plant.delay.max(slow)).max(100.0 * ts)
+}
+
+/// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`.
+pub fn describe_ts(plant: &TransferFunction, ts: f64) -> String {
+    if plant.delay > 0.0 {
+        std::format!(
+            "{} s ({} samples of dead time)",
+            fmt_num(ts),
+            fmt_num((plant.delay / ts).round())
+        )
+    } else {
+        std::format!("{} s", fmt_num(ts))
+    }
+}
+
+/// Kind of a plant, for messages.
+pub fn kind_of(plant: &TransferFunction) -> PlantKind {
+    plant.kind()
+}

@@ -1,0 +1,421 @@
+//! The study layer: a typed [`Scenario`] is parsed at its edge, tuned, built,
+//! simulated by the engine ([`crate::sim`]) and measured; [`compare`] runs
+//! several schemes on one plant. Text is read only by [`crate::syntax`].
+
+mod compare;
+mod defaults;
+mod metrics;
+
+pub use compare::{compare, Perturbation};
+pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
+pub use metrics::{metrics, Metrics};
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use crate::poly::TransferFunction;
+use crate::registry::{self, Build, Params, RegistryError, MAX_ORDER};
+use crate::sim::{simulate, simulate_cascade, Disturbance, SetpointStep, SimConfig, SimResult};
+use crate::Error;
+
+/// A complete run description: what `msp run` takes from its flags or from a
+/// TOML/JSON file (`msp run --scenario file.toml`). Unknown fields are rejected by name.
+#[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
+pub struct Scenario {
+    /// Plant expression, e.g. `0.2/s*e^-7.4s`.
+    pub plant: String,
+    /// Model expression (defaults to the plant: a perfect model).
+    pub model: Option<String>,
+    /// Cascade processes: the secondary process `P2 e^{−L2 s}` whose output is
+    /// measured and drives `plant` (then the primary `P1 e^{−L1 s}`).
+    pub inner_plant: Option<String>,
+    /// The controller's model of the secondary process (defaults to `inner_plant`).
+    pub inner_model: Option<String>,
+    /// Controller name from the registry (default: chosen by plant kind).
+    pub controller: Option<String>,
+    /// Closed-loop time constant for tuning (s).
+    pub lambda: Option<f64>,
+    /// A named tuning rule (for `pid`: `imc`, `simc`, or a rule of Tables 3.2/3.3).
+    pub rule: Option<String>,
+    /// Parameter overrides, by the names in the report (`kp = 0.05`).
+    pub set: std::collections::BTreeMap<String, f64>,
+    /// Sample period (s); chosen from the plant when absent.
+    pub ts: Option<f64>,
+    /// Duration (s); chosen from the plant when absent.
+    pub duration: Option<f64>,
+    /// Set-point steps (default: a unit step at t = 0).
+    pub setpoint: Vec<SetpointStep>,
+    /// Disturbances.
+    pub disturbance: Vec<Disturbance>,
+    /// Measurement-noise standard deviation.
+    pub noise: Option<f64>,
+    /// Noise seed.
+    pub seed: Option<u64>,
+    /// Actuator lower limit.
+    pub umin: Option<f64>,
+    /// Actuator upper limit.
+    pub umax: Option<f64>,
+    /// Plant outputs per controller period in the signals (smooth plots).
+    pub substeps: Option<usize>,
+    /// The controller computes in `f32`, as firmware does (designed in `f64`,
+    /// run through [`crate::Widened`]); the plant stays exact in `f64`.
+    pub float32: bool,
+}
+
+/// A tuned and built controller with its sample period.
+pub struct BuiltController {
+    /// The scheme's name.
+    pub scheme: &'static str,
+    /// Its parameters.
+    pub params: Params,
+    /// The controller.
+    pub controller: registry::DynController,
+    /// Sample period.
+    pub ts: f64,
+    /// Whether `ts` was chosen automatically.
+    pub ts_chosen: bool,
+    /// Actuator lower limit.
+    pub u_min: f64,
+    /// Actuator upper limit.
+    pub u_max: f64,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// The plant.
+    pub plant: TransferFunction,
+    /// The controller's model.
+    pub model: TransferFunction,
+    /// Cascade processes: the secondary process and its model.
+    pub inner: Option<(TransferFunction, TransferFunction)>,
+    /// Sample period used.
+    pub ts: f64,
+    /// Whether `ts` was chosen automatically.
+    pub ts_chosen: bool,
+    /// Duration used.
+    pub duration: f64,
+    /// Whether the duration was chosen automatically.
+    pub duration_chosen: bool,
+    /// Controller name.
+    pub controller: &'static str,
+    /// Its parameters.
+    pub params: Params,
+    /// The signals.
+    pub result: SimResult,
+    /// Metrics on `e = r − y`.
+    pub metrics: Metrics,
+    /// Metrics on `e = r(t − θm) − y`, time from `θm`.
+    pub metrics_delayed_reference: Metrics,
+    /// The set-point profile used.
+    pub setpoint: Vec<SetpointStep>,
+    /// The controller computed in `f32` ([`Scenario::float32`]).
+    pub float32: bool,
+}
+
+impl RunOutput {
+    /// The controller's dead time: the model's, plus the secondary model's for
+    /// a cascade process (the delay of the delayed-reference metrics).
+    pub fn model_delay(&self) -> f64 {
+        self.model.delay + self.inner.as_ref().map_or(0.0, |(_, m)| m.delay)
+    }
+    /// The whole model from the plant input: `model`, or `model·inner model`.
+    pub fn whole_model(&self) -> TransferFunction {
+        match &self.inner {
+            Some((_, m2)) => self.model.series(m2).unwrap_or_else(|_| self.model.clone()),
+            None => self.model.clone(),
+        }
+    }
+}
+
+/// Why a scenario could not run.
+#[derive(Debug)]
+pub enum RunError {
+    /// A plant or model expression is wrong.
+    Parse {
+        /// `plant` or `model`.
+        field: &'static str,
+        /// The parser's error.
+        error: crate::syntax::ParseError,
+    },
+    /// A controller or its parameters are wrong.
+    Registry(RegistryError),
+    /// A scenario value is wrong.
+    Invalid(Error),
+}
+
+impl core::fmt::Display for RunError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RunError::Parse { field, error } => write!(f, "invalid {field} expression: {error}"),
+            RunError::Registry(e) => write!(f, "{e}"),
+            RunError::Invalid(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+impl From<Error> for RunError {
+    fn from(e: Error) -> Self {
+        RunError::Invalid(e)
+    }
+}
+impl From<RegistryError> for RunError {
+    fn from(e: RegistryError) -> Self {
+        RunError::Registry(e)
+    }
+}
+
+impl Scenario {
+    /// Chooses the controller (by name or by the model's kind) and the sample
+    /// period, tunes it on `model` and builds it.
+    pub fn build_controller(&self, model: &TransferFunction) -> Result<BuiltController, RunError> {
+        self.build_controller_for(model, None)
+    }
+
+    /// The scheme (by name, or by the model's kind — FSPCC for a cascade
+    /// process with the secondary model `inner`) and its tuned parameters, with
+    /// the scenario's `lambda`, `rule` and `set` (`scheme.param` keys apply to
+    /// that scheme only, for `msp compare`).
+    pub fn tune_for(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<(&'static registry::Scheme, Params), RunError> {
+        let scheme = match (&self.controller, inner) {
+            (Some(name), _) => registry::find(name)?,
+            (None, Some(_)) => registry::find("fspcc")?,
+            (None, None) => registry::default_for(model.kind())?,
+        };
+        let overrides: Vec<(String, f64)> = self
+            .set
+            .iter()
+            .filter_map(|(k, v)| match k.split_once('.') {
+                Some((s, name)) => (s == scheme.name || scheme.aliases.contains(&s))
+                    .then(|| (name.to_string(), *v)),
+                None => Some((k.clone(), *v)),
+            })
+            .collect();
+        let params =
+            scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
+        Ok((scheme, params))
+    }
+
+    /// [`Scenario::build_controller`] for a cascade process with the secondary
+    /// model `inner` (the default scheme is then FSPCC).
+    pub fn build_controller_for(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<BuiltController, RunError> {
+        let (scheme, params) = self.tune_for(model, inner)?;
+        let whole = match inner {
+            Some(p2) => model.series(p2)?,
+            None => model.clone(),
+        };
+        if whole.model_order() > MAX_ORDER {
+            return Err(RunError::Invalid(Error::OrderTooHigh("model")));
+        }
+        let (ts, ts_chosen) = match self.ts {
+            Some(ts) => (crate::real::positive(ts, "ts")?, false),
+            None => (choose_ts(&whole), true),
+        };
+        let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
+        let u_max = self.umax.unwrap_or(f64::INFINITY);
+        if u_min.is_nan() {
+            return Err(RunError::Invalid(Error::NonFinite("umin")));
+        }
+        if u_max.is_nan() {
+            return Err(RunError::Invalid(Error::NonFinite("umax")));
+        }
+        if u_min > u_max {
+            return Err(RunError::Invalid(Error::InvalidLimits("umin")));
+        }
+        let build = Build { ts, u_min, u_max };
+        let controller: registry::DynController = if self.float32 {
+            Box::new(crate::Widened(
+                scheme.build_process_as::<f32>(&params, model, inner, &build)?,
+            ))
+        } else {
+            scheme.build_process(&params, model, inner, &build)?
+        };
+        Ok(BuiltController {
+            scheme: scheme.name,
+            params,
+            controller,
+            ts,
+            ts_chosen,
+            u_min,
+            u_max,
+        })
+    }
+
+    /// The plant and the model, parsed.
+    pub fn parse(&self) -> Result<(TransferFunction, TransferFunction), RunError> {
+        plant_and_model(&self.plant, self.model.as_deref(), ("plant", "model"))
+    }
+
+    /// The secondary process and its model, parsed (cascade scenarios).
+    pub fn parse_inner(&self) -> Result<Option<(TransferFunction, TransferFunction)>, RunError> {
+        let Some(p2) = &self.inner_plant else {
+            if self.inner_model.is_some() {
+                return Err(RunError::Invalid(Error::Unsupported(
+                    "an inner model without an inner plant",
+                )));
+            }
+            return Ok(None);
+        };
+        plant_and_model(
+            p2,
+            self.inner_model.as_deref(),
+            ("inner plant", "inner model"),
+        )
+        .map(Some)
+    }
+
+    /// Parses, tunes, builds and simulates.
+    pub fn run(&self) -> Result<RunOutput, RunError> {
+        let (plant, model) = self.parse()?;
+        let inner = self.parse_inner()?;
+        self.run_process(plant, model, inner)
+    }
+
+    /// Tunes, builds and simulates for an already parsed plant and model (the
+    /// `plant` and `model` strings are ignored).
+    pub fn run_with(
+        &self,
+        plant: TransferFunction,
+        model: TransferFunction,
+    ) -> Result<RunOutput, RunError> {
+        self.run_process(plant, model, None)
+    }
+
+    /// [`Scenario::run_with`] for a cascade process: `inner` holds the
+    /// secondary process and its model.
+    pub fn run_process(
+        &self,
+        plant: TransferFunction,
+        model: TransferFunction,
+        inner: Option<(TransferFunction, TransferFunction)>,
+    ) -> Result<RunOutput, RunError> {
+        let built = self.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
+        let (scheme, params, mut ctrl, ts, ts_chosen) = (
+            built.scheme,
+            built.params,
+            built.controller,
+            built.ts,
+            built.ts_chosen,
+        );
+        let (u_min, u_max) = (built.u_min, built.u_max);
+        let (duration, duration_chosen) = match self.duration {
+            Some(d) => (crate::real::positive(d, "duration")?, false),
+            None => (
+                choose_duration(
+                    &match &inner {
+                        Some((p2, _)) => plant.series(p2)?,
+                        None => plant.clone(),
+                    },
+                    ts,
+                ),
+                true,
+            ),
+        };
+        if duration / ts > 1e8 {
+            return Err(RunError::Invalid(Error::OutOfRange("duration")));
+        }
+        let setpoint = if self.setpoint.is_empty() {
+            std::vec![SetpointStep {
+                value: 1.0,
+                at: 0.0
+            }]
+        } else {
+            self.setpoint.clone()
+        };
+        for s in &setpoint {
+            crate::real::finite(s.value, "setpoint")?;
+            crate::real::non_negative(s.at, "setpoint")?;
+        }
+        for d in &self.disturbance {
+            crate::real::finite(d.value, "disturbance")?;
+            crate::real::non_negative(d.at, "disturbance")?;
+            crate::real::non_negative(d.freq, "disturbance")?;
+        }
+        let cfg = SimConfig {
+            ts,
+            duration,
+            setpoint: setpoint.clone(),
+            disturbances: self.disturbance.clone(),
+            noise: crate::real::non_negative(self.noise.unwrap_or(0.0), "noise")?,
+            seed: self.seed.unwrap_or(0),
+            u_min,
+            u_max,
+            substeps: self.substeps.unwrap_or(1),
+        };
+        if cfg.substeps == 0 || cfg.substeps > 1000 {
+            return Err(RunError::Invalid(Error::OutOfRange("substeps")));
+        }
+        let result = match &inner {
+            Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,
+            None => simulate(&plant, &mut ctrl, &cfg)?,
+        };
+        let model_delay = model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay);
+        // the two conventions are independent passes over the signals
+        let both = || {
+            (
+                metrics(&result, &setpoint, ts, 0.0),
+                metrics(&result, &setpoint, ts, model_delay),
+            )
+        };
+        // two threads only pay off for long runs: waking a worker costs more
+        // than a pass over some hundred thousand samples
+        #[cfg(feature = "parallel")]
+        let (m0, m1) = if result.y.len() > 500_000 {
+            rayon::join(
+                || metrics(&result, &setpoint, ts, 0.0),
+                || metrics(&result, &setpoint, ts, model_delay),
+            )
+        } else {
+            both()
+        };
+        #[cfg(not(feature = "parallel"))]
+        let (m0, m1) = both();
+        let (m0, m1) = (m0?, m1?);
+        Ok(RunOutput {
+            plant,
+            model,
+            inner,
+            ts,
+            ts_chosen,
+            duration,
+            duration_chosen,
+            controller: scheme,
+            params,
+            result,
+            metrics: m0,
+            metrics_delayed_reference: m1,
+            setpoint,
+            float32: self.float32,
+        })
+    }
+}
+
+/// A plant expression and an optional model expression (default: the plant),
+/// parsed; errors name the `fields`.
+fn plant_and_model(
+    plant: &str,
+    model: Option<&str>,
+    fields: (&'static str, &'static str),
+) -> Result<(TransferFunction, TransferFunction), RunError> {
+    let parse = |e: &str, field| {
+        crate::syntax::parse_plant(e).map_err(|error| RunError::Parse { field, error })
+    };
+    let p = parse(plant, fields.0)?;
+    let m = match model {
+        Some(m) => parse(m, fields.1)?,
+        None => p.clone(),
+    };
+    Ok((p, m))
+}

@@ -1,0 +1,13 @@
+//! Every text grammar of `msp`, in one place, used only at the edges (the
+//! command line, scenario files, Python): plant expressions ([`expr`]) and,
+//! with `std`, the schedules and perturbations of a run (`1@0`,
+//! `input:-0.1@300`, `gain=+10%`) as `FromStr` implementations of the typed
+//! values in [`crate::sim`] and [`crate::study`].
+
+pub mod expr;
+#[cfg(feature = "std")]
+mod schedule;
+
+pub use expr::{parse_plant, ParseError};
+#[cfg(feature = "std")]
+pub use schedule::parse_number;

@@ -1,0 +1,150 @@
+//! The text forms of a run's schedules and perturbations, used at the edges
+//! (command-line flags, scenario files, Python keywords): `V@T` set-point
+//! steps, `input:V@T` disturbances and `gain=+10%` perturbations.
+
+use std::string::{String, ToString};
+
+use crate::sim::{Disturbance, Location, SetpointStep, Shape};
+use crate::study::Perturbation;
+
+/// Parses a finite number; the error names `what`.
+pub fn parse_number(s: &str, what: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| std::format!("{what}: '{s}' is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(std::format!("{what}: '{s}' is not a finite number"))
+    }
+}
+
+impl core::str::FromStr for SetpointStep {
+    type Err = String;
+    /// `VALUE[@TIME]`, e.g. `1@0`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (v, at) = match s.split_once('@') {
+            Some((v, t)) => (v, parse_number(t, "time")?),
+            None => (s, 0.0),
+        };
+        if at < 0.0 {
+            return Err("the step time must not be negative".into());
+        }
+        Ok(SetpointStep {
+            value: parse_number(v, "set point")?,
+            at,
+        })
+    }
+}
+
+impl core::str::FromStr for Disturbance {
+    type Err = String;
+    /// `input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ]`, e.g.
+    /// `input:0.1@20`; for cascade plants `d2`, `d1`, `d0` name the same places.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let mut parts = s.splitn(3, ':');
+        let loc = match parts.next().map(str::trim) {
+            Some("input") | Some("load") | Some("d2") => Location::Input,
+            Some("output") | Some("d1") => Location::Output,
+            Some("inner") | Some("d0") => Location::Inner,
+            other => {
+                return Err(std::format!(
+                    "disturbance location must be 'input' (d2), 'output' (d1) or 'inner' (d0), got '{}'",
+                    other.unwrap_or("")
+                ))
+            }
+        };
+        let a = parts.next().ok_or("expected LOCATION:VALUE[@TIME]")?;
+        let (shape, rest) = match a.trim() {
+            "step" => (
+                Shape::Step,
+                parts
+                    .next()
+                    .ok_or("expected a value after the shape")?
+                    .to_string(),
+            ),
+            "ramp" => (
+                Shape::Ramp,
+                parts
+                    .next()
+                    .ok_or("expected a slope after 'ramp'")?
+                    .to_string(),
+            ),
+            "sine" => (
+                Shape::Sine,
+                parts
+                    .next()
+                    .ok_or("expected an amplitude after 'sine'")?
+                    .to_string(),
+            ),
+            _ => (
+                Shape::Step,
+                parts
+                    .next()
+                    .map_or_else(|| a.to_string(), |t| std::format!("{a}:{t}")),
+            ),
+        };
+        let rest = rest.as_str();
+        let (rest, freq) = match rest.split_once('~') {
+            Some((r, f)) => (r, parse_number(f, "frequency")?),
+            None => (rest, 0.0),
+        };
+        if shape == Shape::Sine && freq <= 0.0 {
+            return Err(
+                "a sine disturbance needs a frequency: input:sine:AMPLITUDE@TIME~HZ".into(),
+            );
+        }
+        let (v, at) = match rest.split_once('@') {
+            Some((v, t)) => (v, parse_number(t, "time")?),
+            None => (rest, 0.0),
+        };
+        if at < 0.0 {
+            return Err("the disturbance time must not be negative".into());
+        }
+        Ok(Disturbance {
+            location: loc,
+            shape,
+            value: parse_number(v, "disturbance")?,
+            at,
+            freq,
+        })
+    }
+}
+
+impl core::str::FromStr for Perturbation {
+    type Err = String;
+    /// `gain=+10%,delay=-5%,tau=0.1`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let mut p = Perturbation::default();
+        for part in s.split(',').map(str::trim).filter(|x| !x.is_empty()) {
+            let (k, v) = part
+                .split_once('=')
+                .ok_or_else(|| std::format!("expected KEY=VALUE in '{part}'"))?;
+            let v = v.trim();
+            let value = match v.strip_suffix('%') {
+                Some(pct) => parse_number(pct, k)? / 100.0,
+                None => parse_number(v, k)?,
+            };
+            if value <= -1.0 {
+                return Err(std::format!(
+                    "{k}: a change of {v} leaves nothing of the plant"
+                ));
+            }
+            match k.trim() {
+                "gain" | "k" => p.gain = value,
+                "delay" | "l" | "theta" => p.delay = value,
+                "tau" | "t" => p.tau = value,
+                "inner_gain" => p.inner_gain = value,
+                "inner_delay" => p.inner_delay = value,
+                "inner_tau" => p.inner_tau = value,
+                other => {
+                    return Err(std::format!(
+                        "unknown perturbation '{other}': use gain, delay, tau (or inner_gain, inner_delay, inner_tau for the secondary of a cascade)"
+                    ))
+                }
+            }
+        }
+        Ok(p)
+    }
+}
