@@ -474,7 +474,7 @@ fn identify_reads_a_step_test() {
 }
 
 mod loader {
-    use msp::sim::Scenario;
+    use msp::study::Scenario;
     use proptest::prelude::*;
 
     proptest! {
@@ -553,4 +553,71 @@ fn bad_flags_exit_2_without_a_panic_trace() {
             .code(2)
             .stderr(predicate::str::contains("panicked").not());
     }
+}
+
+/// The path of the `msp` binary built for these tests.
+fn msp_path() -> std::path::PathBuf {
+    assert_cmd::cargo::cargo_bin("msp")
+}
+
+#[test]
+fn a_closed_pipe_ends_quietly() {
+    // the reader takes one line and closes the pipe; msp must neither panic nor complain
+    for _ in 0..5 {
+        let mut child = std::process::Command::new(msp_path())
+            .arg("list")
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = [0u8; 1];
+        use std::io::Read;
+        child.stdout.take().unwrap().read_exact(&mut first).unwrap();
+        // stdout dropped: the pipe is closed
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "status {:?}: {err}", out.status);
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_device_is_an_error_not_a_panic() {
+    for args in [
+        vec!["list"],
+        vec!["tune", "--plant", "5.6*e^-93.9s/(40.2s+1)"],
+        vec!["margins", "--plant", "5.6*e^-93.9s/(40.2s+1)"],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = std::process::Command::new(msp_path())
+            .args(&args)
+            .stdout(full)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains("standard output") && !err.contains("panicked"),
+            "{err}"
+        );
+    }
+    // a full standard error does not stop a run that writes its file
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("run.csv");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = std::process::Command::new(msp_path())
+        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .arg(&csv)
+        .stderr(full)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(csv.exists());
 }

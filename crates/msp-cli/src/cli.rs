@@ -1,0 +1,356 @@
+//! The command line as clap types: every flag, its help text and its parser.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use msp::sim::{Disturbance, SetpointStep};
+use msp::study::Perturbation;
+
+/// Dead-time compensation: Smith predictors and their modifications.
+#[derive(Debug, Parser)]
+#[command(name = "msp", version, about, long_about = None)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) cmd: Cmd,
+}
+
+#[derive(Debug, Subcommand)]
+pub(crate) enum Cmd {
+    /// Tune a controller for a plant, simulate the closed loop, write CSV, report and plot.
+    Run(Box<RunArgs>),
+    /// Run several controllers on the same scenario and print the thesis-style table.
+    Compare(Box<CompareArgs>),
+    /// Print the tuned parameters of a controller for a plant.
+    Tune(TuneArgs),
+    /// Gain, phase and delay margins, sensitivity peaks and the stability region, with the exact delay.
+    Margins(Box<MarginsArgs>),
+    /// Many closed-loop runs over a range of plant perturbations, in parallel.
+    Sweep(Box<SweepArgs>),
+    /// Relay test on the plant, identify a model, tune a controller, run the closed loop.
+    Autotune(Box<AutotuneArgs>),
+    /// Identify a model from recorded step-test data (CSV with columns t, u, y).
+    Identify(IdentifyArgs),
+    /// List the controllers and the tuning rules.
+    List,
+}
+
+/// How the controller is tuned (shared by every command that tunes one).
+#[derive(Debug, Args)]
+pub(crate) struct DesignArgs {
+    /// Closed-loop time constant for tuning (s).
+    #[arg(long)]
+    pub(crate) lambda: Option<f64>,
+    /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
+    #[arg(long)]
+    pub(crate) rule: Option<String>,
+    /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
+    /// SCHEME.KEY=VALUE applies to one scheme only (for compare).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
+    pub(crate) set: Vec<(String, f64)>,
+}
+
+/// Everything that describes a closed-loop scenario (shared by run and compare).
+#[derive(Debug, Args)]
+pub(crate) struct ScenarioArgs {
+    /// Plant transfer function, e.g. "0.2/s*e^-7.4s".
+    #[arg(long, short = 'p')]
+    pub(crate) plant: Option<String>,
+    /// Scenario file (TOML or JSON); flags given as well override its fields.
+    #[arg(long)]
+    pub(crate) scenario: Option<PathBuf>,
+    /// Model used by the controller (default: the plant itself).
+    #[arg(long, short = 'm')]
+    pub(crate) model: Option<String>,
+    /// Cascade process: the secondary process, measured, feeding the plant (the primary),
+    /// e.g. "2e^-2s/(20s+1)"; the default controller is then fspcc.
+    #[arg(long)]
+    pub(crate) inner_plant: Option<String>,
+    /// The controller's model of the secondary process (default: the inner plant).
+    #[arg(long)]
+    pub(crate) inner_model: Option<String>,
+    #[command(flatten)]
+    pub(crate) design: DesignArgs,
+    /// Sample period (s); chosen from the plant when absent.
+    #[arg(long)]
+    pub(crate) ts: Option<f64>,
+    /// Duration (s); chosen from the plant when absent.
+    #[arg(long)]
+    pub(crate) duration: Option<f64>,
+    /// Set-point step VALUE[@TIME] (repeatable); default 1@0.
+    #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>)]
+    pub(crate) setpoint: Vec<SetpointStep>,
+    /// Disturbance input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable);
+    /// for a cascade process d2 = input, d1 = output, d0 = inner (at the secondary output).
+    #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]
+    pub(crate) disturbance: Vec<Disturbance>,
+    /// Measurement-noise standard deviation.
+    #[arg(long)]
+    pub(crate) noise: Option<f64>,
+    /// Noise seed.
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
+    /// Actuator lower limit.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) umin: Option<f64>,
+    /// Actuator upper limit.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) umax: Option<f64>,
+    /// Plant outputs per controller period in the CSV (smooth intersample plots).
+    #[arg(long)]
+    pub(crate) substeps: Option<usize>,
+    /// The controller computes in f32 as firmware does (designed in f64; the
+    /// plant stays exact in f64).
+    #[arg(long)]
+    pub(crate) float32: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct RunArgs {
+    #[command(flatten)]
+    pub(crate) scenario: ScenarioArgs,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    pub(crate) controller: Option<String>,
+    /// CSV output file (default: standard output).
+    #[arg(long, short = 'o')]
+    pub(crate) output: Option<PathBuf>,
+    /// JSON report file.
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+    /// SVG plot of r, y and u.
+    #[arg(long)]
+    pub(crate) plot: Option<PathBuf>,
+    /// No summary on standard error.
+    #[arg(long, short = 'q')]
+    pub(crate) quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct CompareArgs {
+    #[command(flatten)]
+    pub(crate) scenario: ScenarioArgs,
+    /// Controllers to compare, comma separated (e.g. karan-dey,smith).
+    #[arg(long, short = 'c', value_delimiter = ',', required = true)]
+    pub(crate) controllers: Vec<String>,
+    /// Perturbation of the plant, e.g. gain=+10%,delay=+10%,tau=-5% (inner_gain, inner_delay,
+    /// inner_tau for the secondary of a cascade); the controllers keep the nominal model.
+    #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
+    pub(crate) perturb: Option<Perturbation>,
+    /// CSV with a column group per controller.
+    #[arg(long, short = 'o')]
+    pub(crate) output: Option<PathBuf>,
+    /// JSON report: one entry per controller.
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+    /// SVG plot of every controller's y and u.
+    #[arg(long)]
+    pub(crate) plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct MarginsArgs {
+    #[command(flatten)]
+    pub(crate) scenario: ScenarioArgs,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    pub(crate) controller: Option<String>,
+    /// Use the exact discrete equivalent of the plant instead of the continuous plant behind a hold.
+    #[arg(long)]
+    pub(crate) discrete: bool,
+    /// Robust-stability test (Eq. 17, max|T·Δ| < 1) for a plant perturbation, e.g.
+    /// gain=10%,delay=10%,tau=-20% (inner_gain, inner_delay, inner_tau for a cascade's secondary).
+    #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
+    pub(crate) uncertainty: Option<Perturbation>,
+    /// Print JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
+    /// SVG with the Bode and Nyquist plots of the loop at the plant input.
+    #[arg(long)]
+    pub(crate) plot: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct SweepArgs {
+    #[command(flatten)]
+    pub(crate) scenario: ScenarioArgs,
+    /// Controller name (see `msp list`); default by plant kind.
+    #[arg(long, short = 'c')]
+    pub(crate) controller: Option<String>,
+    /// Relative gain range, e.g. -20%..+20%.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = str::parse::<msp::sweep::Range>)]
+    pub(crate) gain: msp::sweep::Range,
+    /// Relative dead-time range.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = str::parse::<msp::sweep::Range>)]
+    pub(crate) delay: msp::sweep::Range,
+    /// Relative time-constant range.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = str::parse::<msp::sweep::Range>)]
+    pub(crate) tau: msp::sweep::Range,
+    /// Points per swept axis.
+    #[arg(long, default_value_t = 11, conflicts_with = "samples")]
+    pub(crate) grid: usize,
+    /// Random points instead of a grid.
+    #[arg(long, default_value_t = 0)]
+    pub(crate) samples: usize,
+    /// Seed of the random points.
+    #[arg(long = "sweep-seed", default_value_t = 1)]
+    pub(crate) sweep_seed: u64,
+    /// Run only shard I of N (runs whose index is I mod N), e.g. 0/4.
+    #[arg(long, value_parser = parse_shard, default_value = "0/1")]
+    pub(crate) shard: (usize, usize),
+    /// Merge shard CSVs into one (no runs): msp sweep --merge a.csv b.csv -o all.csv.
+    #[arg(long, num_args = 1.., conflicts_with = "plant")]
+    pub(crate) merge: Vec<PathBuf>,
+    /// CSV with one row per run (default: standard output).
+    #[arg(long, short = 'o')]
+    pub(crate) output: Option<PathBuf>,
+    /// No progress bar and summary.
+    #[arg(long, short = 'q')]
+    pub(crate) quiet: bool,
+}
+
+pub(crate) fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("shard '{s}': expected I/N, e.g. 0/4"))?;
+    let i: usize = i
+        .trim()
+        .parse()
+        .map_err(|_| format!("shard '{s}': I is not a whole number"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("shard '{s}': N is not a whole number"))?;
+    if n == 0 || i >= n {
+        return Err(format!("shard '{s}': need 0 <= I < N"));
+    }
+    Ok((i, n))
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct AutotuneArgs {
+    /// The (simulated) plant the relay test runs on.
+    #[arg(long, short = 'p')]
+    pub(crate) plant: String,
+    /// Relay amplitude h.
+    #[arg(long, default_value_t = 1.0)]
+    pub(crate) relay_amplitude: f64,
+    /// Relay hysteresis (default: three noise standard deviations).
+    #[arg(long)]
+    pub(crate) hysteresis: Option<f64>,
+    /// Relay bias for the static gain (default: 0 for integrating plants, 0.2 h otherwise).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) bias: Option<f64>,
+    /// Measurement-noise standard deviation.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise: f64,
+    /// Noise seed.
+    #[arg(long, default_value_t = 0)]
+    pub(crate) seed: u64,
+    /// Model to identify: ipdt, fopdt or sopdt (default by plant kind).
+    #[arg(long, value_parser = str::parse::<msp::ident::ModelKind>)]
+    pub(crate) model: Option<msp::ident::ModelKind>,
+    /// Controller to tune (default by the identified model).
+    #[arg(long, short = 'c')]
+    pub(crate) controller: Option<String>,
+    /// Sample period (s).
+    #[arg(long)]
+    pub(crate) ts: Option<f64>,
+    /// Safety band on the output during the relay test.
+    #[arg(long, default_value_t = f64::INFINITY)]
+    pub(crate) band: f64,
+    /// Duration of the closed-loop run (s).
+    #[arg(long)]
+    pub(crate) duration: Option<f64>,
+    /// CSV of the closed-loop run.
+    #[arg(long, short = 'o')]
+    pub(crate) output: Option<PathBuf>,
+    /// JSON report.
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct IdentifyArgs {
+    /// CSV with columns t, u, y (a step in u).
+    #[arg(long)]
+    pub(crate) data: PathBuf,
+    /// Model to fit.
+    #[arg(long, default_value = "fopdt", value_parser = str::parse::<msp::ident::ModelKind>)]
+    pub(crate) model: msp::ident::ModelKind,
+    /// Print JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct TuneArgs {
+    /// Plant (or model) transfer function.
+    #[arg(long, short = 'p')]
+    pub(crate) plant: String,
+    /// Cascade process: the secondary process (the default controller is then fspcc).
+    #[arg(long)]
+    pub(crate) inner_plant: Option<String>,
+    /// Sample period (s) for the robust-stability test; chosen from the plant when absent.
+    #[arg(long)]
+    pub(crate) ts: Option<f64>,
+    /// Also report the robust-stability test (Eq. 17, max|T·Δ| < 1) for this perturbation,
+    /// e.g. delay=20%,tau=-20%.
+    #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
+    pub(crate) uncertainty: Option<Perturbation>,
+    /// Controller name; default by plant kind.
+    #[arg(long, short = 'c')]
+    pub(crate) controller: Option<String>,
+    #[command(flatten)]
+    pub(crate) design: DesignArgs,
+    /// Print JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+pub(crate) fn parse_kv(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
+    Ok((
+        k.trim().to_string(),
+        msp::syntax::parse_number(v, k.trim())?,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+    use msp::sim::{Location, Shape};
+
+    #[test]
+    fn cli_is_well_formed() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn disturbance_syntax() {
+        let d = "input:0.1@20".parse::<Disturbance>().unwrap();
+        assert_eq!(
+            (d.location, d.shape, d.value, d.at),
+            (Location::Input, Shape::Step, 0.1, 20.0)
+        );
+        let d = "output:sine:0.2@5~0.05".parse::<Disturbance>().unwrap();
+        assert_eq!(
+            (d.shape, d.value, d.at, d.freq),
+            (Shape::Sine, 0.2, 5.0, 0.05)
+        );
+        let d = "input:-0.1@30".parse::<Disturbance>().unwrap();
+        assert_eq!(d.value, -0.1);
+        assert!("middle:1@2".parse::<Disturbance>().is_err());
+    }
+
+    #[test]
+    fn perturbation_syntax() {
+        let p = "gain=+10%,delay=-5%,tau=0.2"
+            .parse::<Perturbation>()
+            .unwrap();
+        assert!((p.gain - 0.1).abs() < 1e-12 && (p.delay + 0.05).abs() < 1e-12 && p.tau == 0.2);
+        assert!("mass=1".parse::<Perturbation>().is_err());
+    }
+}

@@ -1,0 +1,58 @@
+//! `msp compare`.
+
+use super::scenario::scenario_from;
+use crate::cli::CompareArgs;
+use crate::error::CliError;
+use crate::export;
+
+pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
+    let sc = scenario_from(&a.scenario)?;
+    let runs = msp::study::compare(&sc, &a.controllers, a.perturb.unwrap_or_default())?;
+    let margins: Vec<Option<msp::analysis::Margins>> = a
+        .controllers
+        .iter()
+        .map(|c| {
+            let mut one = sc.clone();
+            one.controller = Some(c.clone());
+            one.ts = runs.first().map(|r| r.ts);
+            if one.inner_plant.is_some() {
+                // the cascade's loop is broken at the inner set point
+                return msp::analysis::analyze(&one, msp::analysis::View::Discrete, None)
+                    .ok()
+                    .map(|an| an.margins);
+            }
+            let (_, model) = one.parse().ok()?;
+            let plant = runs.first()?.plant.clone();
+            let built = one.build_controller(&model).ok()?;
+            msp::analysis::margins(
+                built.controller.as_ref(),
+                &plant,
+                built.ts,
+                msp::analysis::View::Sampled,
+            )
+            .ok()
+        })
+        .collect();
+    let table = export::text::compare_table(&runs, &margins, a.perturb.unwrap_or_default());
+    let refs: Vec<&msp::study::RunOutput> = runs.iter().collect();
+    if let Some(p) = &a.output {
+        let csv = export::csv::compare_csv(&refs)
+            .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+        export::write_atomic(p, &csv)?;
+    }
+    if let Some(p) = &a.report {
+        let j: Vec<serde_json::Value> = runs
+            .iter()
+            .map(|r| export::json::report_json(r, &export::text::warnings(r)))
+            .collect();
+        let text = serde_json::to_vec_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?;
+        export::write_atomic(p, &text)?;
+    }
+    if let Some(p) = &a.plot {
+        let svg =
+            export::svg::plot_svg(&refs).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        export::write_atomic(p, svg.as_bytes())?;
+    }
+    export::print(table.as_bytes())?;
+    Ok(())
+}

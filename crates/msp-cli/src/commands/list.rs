@@ -1,0 +1,35 @@
+//! `msp list`.
+
+use crate::error::CliError;
+use crate::export;
+use msp::registry;
+
+pub(crate) fn list() -> Result<(), CliError> {
+    export::outln!("controllers:")?;
+    for s in registry::SCHEMES {
+        let aliases = if s.aliases.is_empty() {
+            String::new()
+        } else {
+            format!(" (alias {})", s.aliases.join(", "))
+        };
+        export::outln!("  {:<22}{aliases}  {}", s.name, s.summary)?;
+        export::outln!(
+            "  {:<22}  params: {}; source: {}",
+            "",
+            s.params.join(", "),
+            s.source
+        )?;
+    }
+    export::outln!("tuning rules for `pid` (--rule): imc (IMC-PID, Eqs. 3.25-3.27), simc (Skogestad), and from Ku, Tu:")?;
+    for r in msp::tuning::PI_RULES.iter().chain(msp::tuning::PID_RULES) {
+        export::outln!(
+            "  {:<20} Kc = {} Ku, Ti = {} Tu, Td = {} Tu  ({})",
+            r.name,
+            r.a,
+            r.b,
+            r.c,
+            r.note
+        )?;
+    }
+    Ok(())
+}

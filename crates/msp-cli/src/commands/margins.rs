@@ -1,0 +1,32 @@
+//! `msp margins`.
+
+use super::scenario::scenario_from;
+use crate::cli::MarginsArgs;
+use crate::error::CliError;
+use crate::export;
+
+pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
+    let mut sc = scenario_from(&a.scenario)?;
+    if a.controller.is_some() {
+        sc.controller.clone_from(&a.controller);
+    }
+    let view = if a.discrete {
+        msp::analysis::View::Discrete
+    } else {
+        msp::analysis::View::Sampled
+    };
+    let an = msp::analysis::analyze(&sc, view, a.uncertainty)?;
+    if let Some(p) = &a.plot {
+        let svg =
+            export::svg::bode_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        export::write_atomic(p, svg.as_bytes())?;
+    }
+    if a.json {
+        let text = serde_json::to_string_pretty(&export::json::margins_json(&an))
+            .map_err(|e| CliError::Runtime(e.to_string()))?;
+        export::outln!("{text}")?;
+    } else {
+        export::print(export::text::margins_text(&an).as_bytes())?;
+    }
+    Ok(())
+}

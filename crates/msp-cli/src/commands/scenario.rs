@@ -1,0 +1,69 @@
+//! The scenario of a run from its flags and an optional TOML/JSON file.
+
+use std::path::Path;
+
+use msp::study::Scenario;
+
+use crate::cli::ScenarioArgs;
+use crate::error::CliError;
+
+pub(crate) fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        CliError::Input(format!("cannot read scenario file {}: {e}", path.display()))
+    })?;
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if is_json {
+        serde_json::from_str(&text)
+            .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
+    } else {
+        toml::from_str(&text)
+            .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
+    }
+}
+
+pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
+    let mut sc = match &a.scenario {
+        Some(p) => load_scenario(p)?,
+        None => Scenario::default(),
+    };
+    if let Some(p) = &a.plant {
+        sc.plant.clone_from(p);
+    }
+    if sc.plant.trim().is_empty() && a.plant.is_none() && a.scenario.is_none() {
+        return Err(CliError::Input(
+            "give a plant: --plant \"0.2/s*e^-7.4s\" (or --scenario FILE)".into(),
+        ));
+    }
+    macro_rules! over {
+        ($($f:ident),*) => {$( if a.$f.is_some() { sc.$f = a.$f.clone(); } )*};
+    }
+    over!(
+        model,
+        inner_plant,
+        inner_model,
+        ts,
+        duration,
+        noise,
+        seed,
+        umin,
+        umax,
+        substeps
+    );
+    if a.design.lambda.is_some() {
+        sc.lambda = a.design.lambda;
+    }
+    if a.design.rule.is_some() {
+        sc.rule.clone_from(&a.design.rule);
+    }
+    for (k, v) in &a.design.set {
+        sc.set.insert(k.clone(), *v);
+    }
+    if !a.setpoint.is_empty() {
+        sc.setpoint.clone_from(&a.setpoint);
+    }
+    sc.disturbance.extend(a.disturbance.iter().copied());
+    sc.float32 |= a.float32;
+    Ok(sc)
+}

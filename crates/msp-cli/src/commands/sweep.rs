@@ -1,0 +1,45 @@
+//! `msp sweep`.
+
+use super::scenario::scenario_from;
+use crate::cli::SweepArgs;
+use crate::error::CliError;
+use crate::export;
+
+pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
+    if !a.merge.is_empty() {
+        let csv = export::csv::merge_sweeps(&a.merge)?;
+        return export::write_or_print(a.output.as_ref(), &csv);
+    }
+    let mut sc = scenario_from(&a.scenario)?;
+    if a.controller.is_some() {
+        sc.controller.clone_from(&a.controller);
+    }
+    let spec = msp::sweep::SweepSpec {
+        gain: a.gain,
+        delay: a.delay,
+        tau: a.tau,
+        grid: a.grid,
+        samples: a.samples,
+        seed: a.sweep_seed,
+        shard: a.shard,
+    };
+    let total = msp::sweep::points(&spec).len();
+    use std::io::IsTerminal;
+    let bar = if !a.quiet && std::io::stderr().is_terminal() {
+        indicatif::ProgressBar::new(total as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let rows = msp::sweep::sweep(&sc, &spec, &|_| bar.inc(1))?;
+    bar.finish_and_clear();
+    let csv = export::csv::sweep_csv(&rows)
+        .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
+    export::write_or_print(a.output.as_ref(), &csv)?;
+    if !a.quiet {
+        export::note(format_args!(
+            "{}",
+            export::text::sweep_summary(&rows).trim_end()
+        ));
+    }
+    Ok(())
+}

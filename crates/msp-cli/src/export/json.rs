@@ -1,0 +1,134 @@
+//! The JSON documents: the run report, margins, identification and autotuning.
+
+use msp::study::{Metrics, RunOutput};
+use serde_json::{json, Map, Value};
+
+use super::num;
+use super::text::warnings;
+
+/// The metrics object; a figure that cannot be computed (NaN) becomes null.
+pub(crate) fn metrics_json(m: &Metrics) -> Value {
+    serde_json::to_value(m).unwrap_or(Value::Null)
+}
+
+/// The `--report` document.
+pub(crate) fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
+    let params: Map<String, Value> = out
+        .params
+        .0
+        .iter()
+        .map(|(k, v)| (k.to_string(), num(*v)))
+        .collect();
+    let mut j = json!({
+        "plant": out.plant.to_string(),
+        "plant_kind": out.plant.kind().to_string(),
+        "model": out.model.to_string(),
+        "ts": out.ts,
+        "duration": out.duration,
+        "samples": out.result.t.len(),
+        "controller": {"name": out.controller, "params": params},
+        "float32": out.float32,
+        "metrics": metrics_json(&out.metrics),
+        "metrics_delayed_reference": metrics_json(&out.metrics_delayed_reference),
+        "stable": out.result.diverged_at.is_none(),
+        "warnings": warnings,
+    });
+    if let Some((p2, m2)) = &out.inner {
+        j["inner_plant"] = json!(p2.to_string());
+        j["inner_model"] = json!(m2.to_string());
+    }
+    j
+}
+
+/// The `msp margins --json` document: MATLAB/python-control key names at the top level.
+pub(crate) fn margins_json(an: &msp::analysis::Analysis) -> Value {
+    let mut o = Map::new();
+    o.insert("plant".into(), json!(an.plant.to_string()));
+    o.insert("model".into(), json!(an.model.to_string()));
+    if let Some((p2, m2)) = &an.inner_process {
+        o.insert("inner_plant".into(), json!(p2.to_string()));
+        o.insert("inner_model".into(), json!(m2.to_string()));
+    }
+    o.insert("ts".into(), num(an.ts));
+    let params: Map<String, Value> = an
+        .params
+        .0
+        .iter()
+        .map(|(k, v)| (k.to_string(), num(*v)))
+        .collect();
+    o.insert(
+        "controller".into(),
+        json!({"name": an.controller, "params": params}),
+    );
+    for (k, v) in an.margins.fields() {
+        o.insert(k.into(), num(v));
+    }
+    o.insert("stable".into(), json!(an.stable));
+    if let Some(inner) = &an.inner {
+        let m: Map<String, Value> = inner
+            .fields()
+            .iter()
+            .map(|(k, v)| (k.to_string(), num(*v)))
+            .collect();
+        o.insert("inner".into(), Value::Object(m));
+    }
+    o.insert(
+        "region".into(),
+        Value::Array(
+            an.region
+                .iter()
+                .map(|(k, d)| json!({"gain": num(*k), "dm": num(*d)}))
+                .collect(),
+        ),
+    );
+    if let Some(p) = an.robust_peak {
+        o.insert("robust_peak".into(), num(p));
+        o.insert("robustly_stable".into(), json!(p < 1.0));
+    }
+    Value::Object(o)
+}
+
+/// `{"model": "fopdt", "k": …, "t": …, "l": …, "rmse": …, "r2": …}`.
+pub(crate) fn fit_json(fit: &msp::ident::Fit) -> Value {
+    let mut o = Map::new();
+    o.insert("model".into(), json!(fit.model.kind()));
+    let (ps, n) = fit.model.params();
+    for (k, v) in ps.iter().take(n) {
+        o.insert((*k).into(), num(*v));
+    }
+    o.insert("rmse".into(), num(fit.rmse));
+    o.insert("r2".into(), num(fit.r2));
+    Value::Object(o)
+}
+
+/// The `msp autotune --report` document.
+pub(crate) fn autotune_json(
+    plant: &msp::poly::TransferFunction,
+    out: &msp::ident::AutotuneOutput,
+) -> Value {
+    let r = &out.result;
+    let (ku, tu) = r.ultimate();
+    let mut j = report_json(&out.run, &warnings(&out.run));
+    if let Value::Object(o) = &mut j {
+        o.insert("identified".into(), fit_json(&out.fit));
+        if let Some(m) = plant.exact_model() {
+            let mut t = Map::new();
+            t.insert("model".into(), json!(m.kind()));
+            let (ps, n) = m.params();
+            for (k, v) in ps.iter().take(n) {
+                t.insert((*k).into(), num(*v));
+            }
+            o.insert("true".into(), Value::Object(t));
+        }
+        o.insert(
+            "relay".into(),
+            json!({
+                "amplitude": num(r.amplitude), "hysteresis": num(r.hysteresis), "bias": num(r.bias),
+                "t_up": num(r.t_up), "t_down": num(r.t_down), "period": num(r.period),
+                "a_max": num(r.a_max), "a_min": num(r.a_min), "gain": r.gain().map_or(Value::Null, num),
+                "ku": num(ku), "tu": num(tu), "cycles": r.cycles,
+            }),
+        );
+    }
+    j
+}

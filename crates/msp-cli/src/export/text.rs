@@ -1,0 +1,365 @@
+//! Text for people: run summaries, warnings and tables.
+
+use msp::poly::fmt_num;
+use msp::study::{describe_ts, Metrics, RunOutput};
+
+use super::params_line;
+use super::{fmt_sig, pct};
+
+/// The human summary for standard error.
+pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
+    let mut s = String::new();
+    s.push_str(&format!(
+        "plant       {} ({})\n",
+        out.plant,
+        out.plant.kind()
+    ));
+    if out.model != out.plant {
+        s.push_str(&format!("model       {}\n", out.model));
+    }
+    if let Some((p2, m2)) = &out.inner {
+        s.push_str(&format!("inner plant {} ({})\n", p2, p2.kind()));
+        if m2 != p2 {
+            s.push_str(&format!("inner model {m2}\n"));
+        }
+    }
+    s.push_str(&format!(
+        "ts          {}{}\n",
+        describe_ts(&out.whole_model(), out.ts),
+        if out.ts_chosen {
+            "  [chosen from the plant; --ts to change]"
+        } else {
+            ""
+        }
+    ));
+    s.push_str(&format!(
+        "duration    {} s{}\n",
+        fmt_num(out.duration),
+        if out.duration_chosen {
+            "  [chosen to cover settling; --duration to change]"
+        } else {
+            ""
+        }
+    ));
+    let params = params_line(&out.params);
+    s.push_str(&format!("controller  {}: {}\n", out.controller, params));
+    let m = &out.metrics;
+    let d = &out.metrics_delayed_reference;
+    s.push_str(&format!(
+        "step        rise {} s, settling {} s, overshoot {} %, peak {} at {} s\n",
+        fmt_sig(m.rise_time),
+        fmt_sig(m.settling_time),
+        fmt_sig(m.overshoot),
+        fmt_sig(m.peak),
+        fmt_sig(m.peak_time)
+    ));
+    s.push_str(&format!(
+        "indices     IAE {}  ISE {}  ITAE {}  ITSE {}  TV {}\n",
+        fmt_sig(m.iae),
+        fmt_sig(m.ise),
+        fmt_sig(m.itae),
+        fmt_sig(m.itse),
+        fmt_sig(m.tv)
+    ));
+    s.push_str(&format!(
+        "delayed ref IAE {}  ISE {}  ITAE {}  ITSE {}  (e = r(t-θm) - y, t from θm = {} s)",
+        fmt_sig(d.iae),
+        fmt_sig(d.ise),
+        fmt_sig(d.itae),
+        fmt_sig(d.itse),
+        fmt_num(out.model_delay())
+    ));
+    for w in warnings {
+        s.push_str(&format!("\nwarning: {w}"));
+    }
+    s
+}
+
+/// Warnings about a run (an unstable loop).
+pub(crate) fn warnings(out: &RunOutput) -> Vec<String> {
+    out.result
+        .diverged_at
+        .map(|t| {
+            format!(
+                "the closed loop with {} is unstable: the output diverged at t = {} s; the data stop there",
+                out.controller,
+                fmt_num(t)
+            )
+        })
+        .into_iter()
+        .collect()
+}
+
+pub(crate) const ROWS: &[(&str, &str)] = &[
+    ("Rise Time (s)", "rise_time"),
+    ("Settling Time (s)", "settling_time"),
+    ("Settling Min", "settling_min"),
+    ("Settling Max", "settling_max"),
+    ("Overshoot (%)", "overshoot"),
+    ("Undershoot (%)", "undershoot"),
+    ("Peak", "peak"),
+    ("Peak Time (s)", "peak_time"),
+    ("ISE", "ise"),
+    ("IAE", "iae"),
+    ("ITSE", "itse"),
+    ("ITAE", "itae"),
+    ("TV", "tv"),
+];
+
+pub(crate) fn metric(m: &Metrics, key: &str) -> f64 {
+    m.fields()
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or(f64::NAN, |(_, v)| *v)
+}
+
+/// The thesis-style table: a row per figure, a column per controller.
+pub(crate) fn compare_table(
+    runs: &[RunOutput],
+    margins: &[Option<msp::analysis::Margins>],
+    p: msp::study::Perturbation,
+) -> String {
+    let mut s = String::new();
+    if let Some(first) = runs.first() {
+        s.push_str(&format!(
+            "plant {}  model {}  ts {} s",
+            first.plant,
+            first.model,
+            fmt_num(first.ts)
+        ));
+        if let Some((p2, m2)) = &first.inner {
+            s.push_str(&format!("\ninner plant {p2}  inner model {m2}"));
+        }
+        if p != msp::study::Perturbation::default() {
+            s.push_str(&format!(
+                "  (perturbed: gain {}%, delay {}%, tau {}%",
+                pct(p.gain),
+                pct(p.delay),
+                pct(p.tau)
+            ));
+            if first.inner.is_some() {
+                s.push_str(&format!(
+                    "; inner gain {}%, delay {}%, tau {}%",
+                    pct(p.inner_gain),
+                    pct(p.inner_delay),
+                    pct(p.inner_tau)
+                ));
+            }
+            s.push(')');
+        }
+        s.push('\n');
+    }
+    let w = runs
+        .iter()
+        .map(|r| r.controller.len())
+        .max()
+        .unwrap_or(8)
+        .max(10)
+        + 2;
+    let head = |s: &mut String, title: &str| {
+        s.push_str(&format!("{title:<30}"));
+        for r in runs {
+            s.push_str(&format!("{:>w$}", r.controller));
+        }
+        s.push('\n');
+    };
+    head(&mut s, "e = r - y");
+    for (label, key) in ROWS {
+        s.push_str(&format!("{label:<30}"));
+        for r in runs {
+            s.push_str(&format!("{:>w$}", fmt_sig(metric(&r.metrics, key))));
+        }
+        s.push('\n');
+    }
+    head(&mut s, "frequency domain (loop at the controller output)");
+    type Figure = fn(&msp::analysis::Margins) -> f64;
+    let freq: [(&str, Figure); 4] = [
+        ("Gm (dB)", |m| m.gm_db),
+        ("Pm (Degrees)", |m| m.pm),
+        ("Wco (rad/s)", |m| m.wcg),
+        ("Wpm (rad/s)", |m| m.wcp),
+    ];
+    for (label, f) in freq {
+        s.push_str(&format!("{label:<30}"));
+        for m in margins.iter().take(runs.len()) {
+            s.push_str(&format!(
+                "{:>w$}",
+                m.as_ref().map_or("-".to_string(), |m| fmt_sig(f(m)))
+            ));
+        }
+        s.push('\n');
+    }
+    head(&mut s, "e = r(t - θm) - y, t from θm");
+    for (label, key) in ROWS
+        .iter()
+        .filter(|(_, k)| ["ise", "iae", "itse", "itae", "rise_time", "settling_time"].contains(k))
+    {
+        s.push_str(&format!("{label:<30}"));
+        for r in runs {
+            s.push_str(&format!(
+                "{:>w$}",
+                fmt_sig(metric(&r.metrics_delayed_reference, key))
+            ));
+        }
+        s.push('\n');
+    }
+    for r in runs {
+        for w in warnings(r) {
+            s.push_str(&format!("warning: {w}\n"));
+        }
+    }
+    s
+}
+
+/// The human `msp margins` report.
+pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
+    let m = &an.margins;
+    let mut s = String::new();
+    s.push_str(&format!("plant       {}\n", an.plant));
+    if an.model != an.plant {
+        s.push_str(&format!("model       {}\n", an.model));
+    }
+    let params = params_line(&an.params);
+    s.push_str(&format!(
+        "controller  {}: {}  (ts {} s)\n",
+        an.controller,
+        params,
+        fmt_num(an.ts)
+    ));
+    s.push_str(&format!(
+        "gain margin   gm = {} ({} dB) at wcg = {} rad/s\n",
+        fmt_sig(m.gm),
+        fmt_sig(m.gm_db),
+        fmt_sig(m.wcg)
+    ));
+    s.push_str(&format!(
+        "phase margin  pm = {} deg at wcp = {} rad/s\n",
+        fmt_sig(m.pm),
+        fmt_sig(m.wcp)
+    ));
+    s.push_str(&format!("delay margin  dm = {} s\n", fmt_sig(m.dm)));
+    s.push_str(&format!(
+        "peaks         ms = {}, mt = {}\n",
+        fmt_sig(m.ms),
+        fmt_sig(m.mt)
+    ));
+    if m.gm_lower > 0.0 {
+        s.push_str(&format!("lower gain limit {}\n", fmt_sig(m.gm_lower)));
+    }
+    if let Some(i) = &an.inner {
+        s.push_str(&format!(
+            "inner loop    gm = {} pm = {} deg at {} rad/s\n",
+            fmt_sig(i.gm),
+            fmt_sig(i.pm),
+            fmt_sig(i.wcp)
+        ));
+    }
+    s.push_str(&format!(
+        "nominal loop  {}\n",
+        if an.stable {
+            "stable (simulated)"
+        } else {
+            "NOT stable in simulation: the margins are not limits"
+        }
+    ));
+    s.push_str("stability region: gain factor -> delay margin (s)\n");
+    for (k, d) in &an.region {
+        s.push_str(&format!("  {:>8} -> {}\n", fmt_sig(*k), fmt_sig(*d)));
+    }
+    if let Some(p) = an.robust_peak {
+        s.push_str(&format!(
+            "robust stability max|T·Δ| = {} ({})\n",
+            fmt_sig(p),
+            if p < 1.0 {
+                "robustly stable"
+            } else {
+                "not guaranteed"
+            }
+        ));
+    }
+    s
+}
+
+/// The worst cases of a sweep.
+pub(crate) fn sweep_summary(rows: &[msp::sweep::SweepRow]) -> String {
+    let unstable = rows.iter().filter(|r| !r.stable).count();
+    let mut s = format!("{} runs, {} unstable\n", rows.len(), unstable);
+    let worst = |name: &str, key: fn(&msp::sweep::SweepRow) -> f64| -> String {
+        match rows
+            .iter()
+            .filter(|r| key(r).is_finite())
+            .max_by(|a, b| key(a).total_cmp(&key(b)))
+        {
+            Some(r) => format!(
+                "worst {name:<14} {:>10}  at gain {}%, delay {}%, tau {}% (index {})\n",
+                fmt_sig(key(r)),
+                pct(r.gain),
+                pct(r.delay),
+                pct(r.tau),
+                r.index
+            ),
+            None => String::new(),
+        }
+    };
+    s.push_str(&worst("iae", |r| r.metrics.iae));
+    s.push_str(&worst("overshoot (%)", |r| r.metrics.overshoot));
+    s.push_str(&worst("settling (s)", |r| r.metrics.settling_time));
+    s.push_str(&worst("max |u|", |r| r.max_abs_u));
+    for r in rows.iter().filter(|r| !r.stable).take(5) {
+        s.push_str(&format!(
+            "unstable: gain {}%, delay {}%, tau {}%\n",
+            pct(r.gain),
+            pct(r.delay),
+            pct(r.tau)
+        ));
+    }
+    s
+}
+
+/// The human autotune summary.
+pub(crate) fn autotune_text(
+    plant: &msp::poly::TransferFunction,
+    out: &msp::ident::AutotuneOutput,
+) -> String {
+    let r = &out.result;
+    let (ku, tu) = r.ultimate();
+    let mut s = String::new();
+    s.push_str(&format!("plant       {plant}\n"));
+    s.push_str(&format!(
+        "relay       h {} eps {} bias {}: period {} s (up {} s, down {} s), output {}..{}, {} cycles\n",
+        fmt_sig(r.amplitude),
+        fmt_sig(r.hysteresis),
+        fmt_sig(r.bias),
+        fmt_sig(r.period),
+        fmt_sig(r.t_up),
+        fmt_sig(r.t_down),
+        fmt_sig(r.a_min),
+        fmt_sig(r.a_max),
+        r.cycles
+    ));
+    s.push_str(&format!(
+        "            Ku {} Tu {} s (describing function)\n",
+        fmt_sig(ku),
+        fmt_sig(tu)
+    ));
+    s.push_str(&format!(
+        "identified  {}  (rmse {}, r2 {})\n",
+        msp::poly::TransferFunction::from_model(&out.fit.model),
+        fmt_sig(out.fit.rmse),
+        fmt_sig(out.fit.r2)
+    ));
+    let params = params_line(&out.run.params);
+    s.push_str(&format!("controller  {}: {}\n", out.run.controller, params));
+    let m = &out.run.metrics;
+    s.push_str(&format!(
+        "closed loop rise {} s, settling {} s, overshoot {} %, IAE {}\n",
+        fmt_sig(m.rise_time),
+        fmt_sig(m.settling_time),
+        fmt_sig(m.overshoot),
+        fmt_sig(m.iae)
+    ));
+    for w in warnings(&out.run) {
+        s.push_str(&format!("warning: {w}\n"));
+    }
+    s
+}
