@@ -1,0 +1,125 @@
+//! What the schemes' tuning and construction share: parameter access, λ,
+//! the model's parts, and the build dispatch on the model order.
+
+use alloc::vec::Vec;
+
+use super::{Build, Design, Params};
+use crate::delay::Delay;
+use crate::dtc::compensator::ParamList;
+use crate::poly::{PlantKind, TransferFunction};
+use crate::{Ipdt, Lti, PidConfig, ProcessModel, Real};
+
+pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {
+    let td = p.get("td").unwrap_or(0.0);
+    Ok(
+        PidConfig::isa(req(p, "kp")?, req(p, "ti")?, T::of(td), T::of(b.ts))
+            .with_limits(T::of(b.u_min), T::of(b.u_max)),
+    )
+}
+
+/// Parameter `name` in precision `T`.
+pub(super) fn req<T: Real>(p: &Params, name: &'static str) -> Result<T, crate::Error> {
+    Ok(T::of(p.req(name)?))
+}
+
+/// `λ`: given, or `alpha·L`, or `default_factor·L`.
+pub(super) fn lambda_for(model: &ProcessModel<f64>, d: &Design, default_factor: f64) -> f64 {
+    match (d.lambda.or_else(|| d.get("lambda")), d.get("alpha")) {
+        (Some(l), _) => l,
+        (None, Some(a)) => a * model.delay(),
+        (None, None) => default_factor * model.delay(),
+    }
+}
+
+/// A model's delay-free block and its dead-time line.
+pub(super) type ModelParts<T, const N: usize> = (Lti<T, N>, Delay<T, Vec<T>>);
+
+/// The case number 1–6 of the disturbance estimator.
+pub(super) fn case_of(case: f64) -> Result<u8, crate::Error> {
+    (1u8..=6)
+        .find(|c| f64::from(*c) == case)
+        .ok_or(crate::Error::OutOfRange("case"))
+}
+
+/// The model's delay-free part at the controller period and its dead time.
+pub(super) fn model_parts<T: Real, const N: usize>(
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<ModelParts<T, N>, crate::Error> {
+    Ok((
+        Lti::of(&model.to_model_lti::<N>(b.ts)?),
+        Delay::new_in(T::of(model.delay_samples(b.ts)?))?,
+    ))
+}
+
+/// The model's dead time in a line of its own (Huang's filter, Åström–Hang–Lim's M, Uma et al.'s model).
+pub(super) fn delay_again<T: Real>(
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<Delay<T, Vec<T>>, crate::Error> {
+    Delay::new_in(T::of(model.delay_samples(b.ts)?))
+}
+
+pub(super) fn integrating_model(
+    plant: &TransferFunction,
+    scheme: &'static str,
+) -> Result<Ipdt<f64>, crate::Error> {
+    match plant.reduce(false)? {
+        ProcessModel::Ipdt(m) => Ok(m),
+        _ => Err(crate::Error::Unsupported(scheme)),
+    }
+}
+
+pub(super) fn params_of(names: &'static [&'static str], values: &[f64]) -> Params {
+    Params(names.iter().copied().zip(values.iter().copied()).collect())
+}
+
+/// A build function dispatched on the model order, so that the model block
+/// holds no more states than it needs (the update cost grows with them).
+macro_rules! by_order {
+    ($f:ident) => {{
+        pub(super) fn dispatch<T: Real>(
+            p: &Params,
+            m: &TransferFunction,
+            b: &Build,
+        ) -> Result<DynControllerOf<T>, crate::Error> {
+            match m.model_order() {
+                0 | 1 => $f::<T, 1>(p, m, b),
+                2 => $f::<T, 2>(p, m, b),
+                3 | 4 => $f::<T, 4>(p, m, b),
+                _ => $f::<T, MAX_ORDER>(p, m, b),
+            }
+        }
+        both!(dispatch)
+    }};
+}
+
+/// A generic build function in both precisions.
+macro_rules! both {
+    ($f:ident) => {
+        Builders {
+            f64: $f::<f64>,
+            f32: $f::<f32>,
+        }
+    };
+}
+
+/// The controller's own copy of its parameters, in the scheme's report order.
+pub(super) fn list<T: Real>(names: &'static [&'static str], p: &Params) -> ParamList<T> {
+    let values: Vec<T> = names
+        .iter()
+        .map(|n| T::of(p.get(n).unwrap_or(f64::NAN)))
+        .collect();
+    ParamList::new(names, &values)
+}
+
+pub(super) const STABLE: &[PlantKind] = &[PlantKind::Stable];
+pub(super) const ALL: &[PlantKind] = &[
+    PlantKind::Stable,
+    PlantKind::Integrating,
+    PlantKind::Unstable,
+];
+pub(super) const STABLE_INT: &[PlantKind] = &[PlantKind::Stable, PlantKind::Integrating];
+pub(super) const INT: &[PlantKind] = &[PlantKind::Integrating];
+
+pub(super) use {both, by_order};

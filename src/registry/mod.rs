@@ -1,0 +1,449 @@
+//! The scheme registry: name → tuning rule + construction + parameter names.
+//!
+//! The CLI and Python read this one table. A scheme is one module here (its
+//! tuning, its construction from the model and its [`Scheme`] entry) plus one
+//! line in [`SCHEMES`].
+
+mod cascade;
+mod common;
+mod disturbance_estimator;
+mod fsp;
+mod integrating;
+mod pid;
+mod smith;
+
+use alloc::boxed::Box;
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::poly::{PlantKind, TransferFunction};
+use crate::LoopController;
+use crate::Real;
+
+/// Largest model order the registry's controllers hold.
+pub const MAX_ORDER: usize = 8;
+
+/// A controller built by the registry.
+pub type DynController = DynControllerOf<f64>;
+
+/// A boxed controller in precision `T` (`f64` for the CLI and Python, `f32`
+/// for firmware-like runs and benchmarks).
+pub type DynControllerOf<T> = Box<dyn LoopController<T> + Send + Sync>;
+
+/// Why a scheme could not be tuned or built.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RegistryError {
+    /// A parameter or model was rejected by the core.
+    Core(crate::Error),
+    /// No scheme has this name.
+    UnknownScheme(String),
+    /// `--set` named a parameter the scheme does not have.
+    UnknownParam {
+        /// The scheme.
+        scheme: &'static str,
+        /// The name given.
+        name: String,
+        /// The names it accepts.
+        allowed: Vec<&'static str>,
+    },
+    /// The scheme cannot control this kind of plant.
+    PlantKind {
+        /// The scheme.
+        scheme: &'static str,
+        /// The plant's kind.
+        kind: PlantKind,
+        /// Schemes that can.
+        alternatives: Vec<&'static str>,
+    },
+}
+
+impl From<crate::Error> for RegistryError {
+    fn from(e: crate::Error) -> Self {
+        RegistryError::Core(e)
+    }
+}
+
+impl fmt::Display for RegistryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RegistryError::Core(e) => write!(f, "{e}"),
+            RegistryError::UnknownScheme(n) => {
+                write!(
+                    f,
+                    "unknown controller '{n}'; available: {}",
+                    names().join(", ")
+                )
+            }
+            RegistryError::UnknownParam {
+                scheme,
+                name,
+                allowed,
+            } => {
+                write!(
+                    f,
+                    "controller '{scheme}' has no parameter '{name}'; it has: {}",
+                    allowed.join(", ")
+                )
+            }
+            RegistryError::PlantKind {
+                scheme,
+                kind,
+                alternatives,
+            } => {
+                if alternatives.is_empty() {
+                    write!(f, "controller '{scheme}' cannot control an {kind} plant, and no controller in msp can yet")
+                } else {
+                    write!(
+                        f,
+                        "controller '{scheme}' cannot control an {kind} plant; use one of: {}",
+                        alternatives.join(", ")
+                    )
+                }
+            }
+        }
+    }
+}
+
+impl core::error::Error for RegistryError {}
+
+/// Named parameter values, in the scheme's order.
+#[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Params(pub Vec<(&'static str, f64)>);
+
+impl Params {
+    /// The value of `name`.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.0.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
+    }
+    fn req(&self, name: &'static str) -> Result<f64, crate::Error> {
+        self.get(name).ok_or(crate::Error::Unsupported(name))
+    }
+    /// Sets an existing parameter; false when the name is unknown.
+    pub fn set(&mut self, name: &str, v: f64) -> bool {
+        match self.0.iter_mut().find(|(n, _)| *n == name) {
+            Some(slot) => {
+                slot.1 = v;
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+/// Design-time options for a tuning rule (from `--lambda`, `--rule` and the
+/// design keys of `--set`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Design {
+    /// Closed-loop time constant `λ` (s).
+    pub lambda: Option<f64>,
+    /// A named rule (`pid`: `imc`, `simc` or an ultimate-cycle rule).
+    pub rule: Option<String>,
+    /// Design values by name (`alpha`, `case`, `tde`, …).
+    pub values: Vec<(String, f64)>,
+}
+
+impl Design {
+    /// A design value.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.values
+            .iter()
+            .rev()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| *v)
+    }
+}
+
+/// Options for building a controller.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Build {
+    /// Sample period (s).
+    pub ts: f64,
+    /// Actuator lower limit.
+    pub u_min: f64,
+    /// Actuator upper limit.
+    pub u_max: f64,
+}
+
+/// One dead-time compensation scheme.
+pub struct Scheme {
+    /// Name on the command line and in Python.
+    pub name: &'static str,
+    /// Other accepted names.
+    pub aliases: &'static [&'static str],
+    /// One line for `--help` and listings.
+    pub summary: &'static str,
+    /// Seed file and section the scheme comes from.
+    pub source: &'static str,
+    /// Plant kinds it can control.
+    pub plants: &'static [PlantKind],
+    /// Names of the tuned parameters, in report order.
+    pub params: &'static [&'static str],
+    /// Design keys accepted by `--set` before tuning.
+    pub design: &'static [&'static str],
+    /// Tuning and construction.
+    pub fns: SchemeFns,
+}
+
+/// A single-loop tuning rule: model → parameters.
+pub type TuneFn = fn(&TransferFunction, &Design) -> Result<Params, crate::Error>;
+/// A single-loop construction: parameters + model → controller in precision `T`.
+pub type BuildFn<T = f64> =
+    fn(&Params, &TransferFunction, &Build) -> Result<DynControllerOf<T>, crate::Error>;
+
+/// A construction in both precisions (the same generic function instantiated twice).
+#[derive(Clone, Copy)]
+pub struct Builders<F64, F32> {
+    /// In `f64`.
+    pub f64: F64,
+    /// In `f32`.
+    pub f32: F32,
+}
+
+/// The precisions a registry controller is built in.
+pub trait Precision: Real {
+    /// This precision's single-loop construction.
+    fn single(b: &Builders<BuildFn<f64>, BuildFn<f32>>) -> BuildFn<Self>;
+    /// This precision's cascade construction.
+    fn cascade(b: &Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>) -> CascadeBuildFn<Self>;
+}
+
+impl Precision for f64 {
+    fn single(b: &Builders<BuildFn<f64>, BuildFn<f32>>) -> BuildFn<f64> {
+        b.f64
+    }
+    fn cascade(b: &Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>) -> CascadeBuildFn<f64> {
+        b.f64
+    }
+}
+
+impl Precision for f32 {
+    fn single(b: &Builders<BuildFn<f64>, BuildFn<f32>>) -> BuildFn<f32> {
+        b.f32
+    }
+    fn cascade(b: &Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>) -> CascadeBuildFn<f32> {
+        b.f32
+    }
+}
+/// A cascade tuning rule: `(P1, P2, design)` → parameters.
+pub type CascadeTuneFn =
+    fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::Error>;
+/// A cascade construction: `(parameters, P1, P2, build)` → controller.
+pub type CascadeBuildFn<T = f64> = fn(
+    &Params,
+    &TransferFunction,
+    &TransferFunction,
+    &Build,
+) -> Result<DynControllerOf<T>, crate::Error>;
+
+/// How a scheme is tuned and built: from the plant's model, or — for a cascade
+/// scheme (García et al. (2010)) — from the primary and the secondary models.
+#[derive(Clone, Copy)]
+pub enum SchemeFns {
+    /// A single-loop scheme.
+    Single {
+        /// Tuning rule.
+        tune: TuneFn,
+        /// Construction, in `f64` and `f32`.
+        build: Builders<BuildFn<f64>, BuildFn<f32>>,
+    },
+    /// A cascade scheme: it needs the secondary process.
+    Cascade {
+        /// Tuning rule.
+        tune: CascadeTuneFn,
+        /// Construction, in `f64` and `f32`.
+        build: Builders<CascadeBuildFn<f64>, CascadeBuildFn<f32>>,
+    },
+}
+
+impl fmt::Debug for Scheme {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Scheme").field("name", &self.name).finish()
+    }
+}
+
+/// Every scheme, in listing order.
+pub static SCHEMES: &[Scheme] = &[
+    pid::PID,
+    smith::SMITH,
+    smith::FILTERED_SMITH,
+    smith::HUANG,
+    integrating::WATANABE_ITO,
+    integrating::ASTROM_HANG_LIM,
+    integrating::MATAUSEK_MICIC,
+    integrating::KAYA_ATHERTON,
+    integrating::KARAN_DEY,
+    fsp::FSP,
+    disturbance_estimator::DISTURBANCE_ESTIMATOR,
+    cascade::FSPCC,
+    cascade::GPCC,
+    cascade::UMA,
+    cascade::KAYA_CASCADE,
+];
+
+/// All scheme names.
+pub fn names() -> Vec<&'static str> {
+    SCHEMES.iter().map(|s| s.name).collect()
+}
+
+/// The scheme called `name` (or one of its aliases).
+pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
+    let key = name.trim().to_ascii_lowercase().replace('_', "-");
+    SCHEMES
+        .iter()
+        .find(|s| s.name == key || s.aliases.contains(&key.as_str()))
+        .ok_or_else(|| RegistryError::UnknownScheme(name.to_string()))
+}
+
+/// The default scheme for a plant: the Karan–Dey MSP for integrating plants,
+/// the Smith predictor (Kaya tuning) for stable ones, the filtered Smith
+/// predictor for unstable ones.
+pub fn default_for(kind: PlantKind) -> Result<&'static Scheme, RegistryError> {
+    match kind {
+        PlantKind::Integrating => find("karan-dey"),
+        PlantKind::Stable => find("smith"),
+        PlantKind::Unstable => find("fsp"),
+    }
+}
+
+impl Scheme {
+    /// Tunes on `model`, applying `overrides` (design keys before tuning,
+    /// parameter names after). Unknown names are an error naming the valid ones.
+    pub fn tune_with(
+        &'static self,
+        model: &TransferFunction,
+        lambda: Option<f64>,
+        overrides: &[(String, f64)],
+    ) -> Result<Params, RegistryError> {
+        self.tune_rule(model, lambda, None, overrides)
+    }
+
+    /// [`Scheme::tune_with`] with a named rule (`--rule`).
+    pub fn tune_rule(
+        &'static self,
+        model: &TransferFunction,
+        lambda: Option<f64>,
+        rule: Option<&str>,
+        overrides: &[(String, f64)],
+    ) -> Result<Params, RegistryError> {
+        self.tune_process(model, None, lambda, rule, overrides)
+    }
+
+    /// True for a cascade scheme (it needs the secondary process).
+    pub fn is_cascade(&self) -> bool {
+        matches!(self.fns, SchemeFns::Cascade { .. })
+    }
+
+    /// Tunes on the primary `model` and, for a cascade process, the secondary
+    /// `inner` model. A single-loop scheme on a cascade process controls the
+    /// whole series `P1·P2` from the plant input (the secondary measurement unused).
+    pub fn tune_process(
+        &'static self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        lambda: Option<f64>,
+        rule: Option<&str>,
+        overrides: &[(String, f64)],
+    ) -> Result<Params, RegistryError> {
+        let whole;
+        let model = match (inner, self.is_cascade()) {
+            (Some(p2), false) => {
+                whole = model.series(p2)?;
+                &whole
+            }
+            _ => model,
+        };
+        let kind = model.kind();
+        if !self.plants.contains(&kind) {
+            return Err(RegistryError::PlantKind {
+                scheme: self.name,
+                kind,
+                alternatives: SCHEMES
+                    .iter()
+                    .filter(|s| s.plants.contains(&kind))
+                    .map(|s| s.name)
+                    .collect(),
+            });
+        }
+        let design = Design {
+            lambda,
+            rule: rule.map(ToString::to_string),
+            values: overrides
+                .iter()
+                .filter(|(k, _)| self.design.contains(&k.as_str()))
+                .cloned()
+                .collect(),
+        };
+        let mut params = match (self.fns, inner) {
+            (SchemeFns::Cascade { tune, .. }, Some(p2)) => tune(model, p2, &design)?,
+            (SchemeFns::Cascade { .. }, None) => return Err(needs_inner()),
+            (SchemeFns::Single { tune, .. }, _) => tune(model, &design)?,
+        };
+        for (k, v) in overrides {
+            if self.design.contains(&k.as_str()) {
+                continue;
+            }
+            if !params.set(k, *v) {
+                let mut allowed: Vec<&'static str> = self.params.to_vec();
+                allowed.extend(self.design.iter().filter(|d| !self.params.contains(d)));
+                return Err(RegistryError::UnknownParam {
+                    scheme: self.name,
+                    name: k.clone(),
+                    allowed,
+                });
+            }
+        }
+        Ok(params)
+    }
+
+    /// Builds the controller.
+    pub fn build_with(
+        &self,
+        params: &Params,
+        model: &TransferFunction,
+        b: &Build,
+    ) -> Result<DynController, RegistryError> {
+        self.build_process(params, model, None, b)
+    }
+
+    /// Builds the controller for the primary `model` and, for a cascade
+    /// process, the secondary `inner` model.
+    pub fn build_process(
+        &self,
+        params: &Params,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        b: &Build,
+    ) -> Result<DynController, RegistryError> {
+        self.build_process_as::<f64>(params, model, inner, b)
+    }
+
+    /// [`Scheme::build_process`] in precision `T` (`f32` for a controller that
+    /// computes as firmware does; the design and discretization run in `f64`).
+    pub fn build_process_as<T: Precision>(
+        &self,
+        params: &Params,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        b: &Build,
+    ) -> Result<DynControllerOf<T>, RegistryError> {
+        Ok(match (self.fns, inner) {
+            (SchemeFns::Cascade { build, .. }, Some(p2)) => {
+                T::cascade(&build)(params, model, p2, b)?
+            }
+            (SchemeFns::Cascade { .. }, None) => return Err(needs_inner()),
+            (SchemeFns::Single { build, .. }, Some(p2)) => {
+                T::single(&build)(params, &model.series(p2)?, b)?
+            }
+            (SchemeFns::Single { build, .. }, None) => T::single(&build)(params, model, b)?,
+        })
+    }
+}
+
+/// A cascade scheme asked for without the secondary process.
+fn needs_inner() -> RegistryError {
+    RegistryError::Core(crate::Error::Unsupported(
+        "a cascade scheme needs the secondary process (--inner-plant)",
+    ))
+}

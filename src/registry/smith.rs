@@ -1,0 +1,149 @@
+//! `smith`, `filtered-smith`, `huang`: the Smith predictor and its filters on
+//! the model error (Kaya (2003); the MathWorks Smith predictor example).
+
+use alloc::boxed::Box;
+
+use super::common::*;
+use super::pid::PID_PARAMS;
+use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use crate::dtc::{self, SmithPredictor};
+use crate::poly::TransferFunction;
+use crate::{tuning, ProcessModel, Real};
+
+/// Kaya's PI/PID for a stable model, the thesis's IMC-PI for an integrating one.
+fn primary_gains(
+    plant: &TransferFunction,
+    d: &Design,
+    stable_factor: f64,
+) -> Result<(tuning::PidGains<f64>, f64, ProcessModel<f64>), crate::Error> {
+    let m = plant.reduce(plant.order() >= 2)?;
+    Ok(match m {
+        ProcessModel::Ipdt(i) => {
+            let lambda = lambda_for(&m, d, 0.25);
+            (tuning::imc_pi_integrating(&i, lambda)?, lambda, m)
+        }
+        _ => {
+            let lambda = lambda_for(&m, d, stable_factor);
+            (tuning::kaya(&m, lambda)?, lambda, m)
+        }
+    })
+}
+
+fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let (g, lambda, _) = primary_gains(plant, d, 1.0)?;
+    Ok(params_of(PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
+}
+
+fn build_smith<T: Real, const N: usize>(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    Ok(Box::new(SmithPredictor::new(pid_cfg(p, b)?, lti, delay)?))
+}
+
+/// The dominant time constant of a stable model (for filter defaults).
+fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
+    match *m {
+        ProcessModel::Fopdt(f) => f.t,
+        ProcessModel::Sopdt(s) => s.t1.max(s.t2),
+        _ => m.delay(),
+    }
+}
+
+fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    // the MathWorks Smith predictor example: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
+    let (g, lambda, m) = primary_gains(plant, d, 1.0 / 7.5)?;
+    let b = d.get("b").unwrap_or(0.5 * dominant_lag(&m));
+    let a = d.get("a").unwrap_or(0.0);
+    Ok(params_of(
+        FILTERED_PARAMS,
+        &[g.kp, g.ti, g.td, a, b, lambda],
+    ))
+}
+
+const FILTERED_PARAMS: &[&str] = &["kp", "ti", "td", "a", "b", "lambda"];
+
+fn build_filtered_smith<T: Real, const N: usize>(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    let f = dtc::filtered_smith::lead_lag_filter(req(p, "a")?, req(p, "b")?, T::of(b.ts))?;
+    Ok(Box::new(
+        dtc::filtered_smith::build(pid_cfg(p, b)?, f, lti, delay, list(FILTERED_PARAMS, p))?
+            .with_limits(T::of(b.u_min), T::of(b.u_max))?,
+    ))
+}
+
+fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    // the MathWorks Smith predictor example: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
+    let (g, lambda, m) = primary_gains(plant, d, 0.5)?;
+    let kb = d.get("kb").unwrap_or(0.05);
+    let tb = d.get("tb").unwrap_or(dominant_lag(&m));
+    Ok(params_of(HUANG_PARAMS, &[g.kp, g.ti, g.td, kb, tb, lambda]))
+}
+
+const HUANG_PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb", "lambda"];
+
+fn build_huang<T: Real, const N: usize>(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    let line = delay_again(model, b)?;
+    let c = dtc::huang::build(
+        pid_cfg(p, b)?,
+        req(p, "kb")?,
+        req(p, "tb")?,
+        lti,
+        delay,
+        line,
+        list(HUANG_PARAMS, p),
+    )?;
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+}
+
+pub(super) const SMITH: Scheme = Scheme {
+    name: "smith",
+    aliases: &["sp"],
+    summary:
+        "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants",
+    source: "Kaya (2003) Eqs. 18-33",
+    plants: STABLE_INT,
+    params: PID_PARAMS,
+    design: &["lambda", "alpha"],
+    fns: SchemeFns::Single {
+        tune: tune_smith,
+        build: by_order!(build_smith),
+    },
+};
+pub(super) const FILTERED_SMITH: Scheme = Scheme {
+    name: "filtered-smith",
+    aliases: &[],
+    summary: "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error",
+    source: "the MathWorks Smith predictor example",
+    plants: STABLE,
+    params: FILTERED_PARAMS,
+    design: &["lambda", "alpha", "a", "b"],
+    fns: SchemeFns::Single {
+        tune: tune_filtered_smith,
+        build: by_order!(build_filtered_smith),
+    },
+};
+pub(super) const HUANG: Scheme = Scheme {
+    name: "huang",
+    aliases: &[],
+    summary: "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)",
+    source: "the MathWorks Smith predictor example",
+    plants: STABLE,
+    params: HUANG_PARAMS,
+    design: &["lambda", "alpha", "kb", "tb"],
+    fns: SchemeFns::Single {
+        tune: tune_huang,
+        build: by_order!(build_huang),
+    },
+};
