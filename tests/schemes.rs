@@ -371,3 +371,16 @@ fn fsp_handles_a_biproper_model() {
     }
     assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-3);
 }
+
+/// `Scenario::FIELDS`, which the CLI and Python are checked against, is the
+/// serde form of the scenario exactly (scenario files and reports).
+#[test]
+fn scenario_fields_are_the_serde_fields() {
+    let v = serde_json::to_value(msp::study::Scenario::default()).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    let mut want: Vec<&str> = msp::study::Scenario::FIELDS.to_vec();
+    let mut got = keys.clone();
+    want.sort_unstable();
+    got.sort_unstable();
+    assert_eq!(got, want);
+}

@@ -170,6 +170,31 @@ impl From<RegistryError> for RunError {
 }
 
 impl Scenario {
+    /// The scenario's fields, by the names of the scenario file and the report.
+    /// The CLI's flags and Python's keyword arguments are checked against this
+    /// list by the test suites (`--inner-plant` for `inner_plant`; Python writes
+    /// `params` for `set` and `lambda_` for `lambda`).
+    pub const FIELDS: &'static [&'static str] = &[
+        "plant",
+        "model",
+        "inner_plant",
+        "inner_model",
+        "controller",
+        "lambda",
+        "rule",
+        "set",
+        "ts",
+        "duration",
+        "setpoint",
+        "disturbance",
+        "noise",
+        "seed",
+        "umin",
+        "umax",
+        "substeps",
+        "float32",
+    ];
+
     /// Chooses the controller (by name or by the model's kind) and the sample
     /// period, tunes it on `model` and builds it.
     pub fn build_controller(&self, model: &TransferFunction) -> Result<BuiltController, RunError> {
@@ -190,6 +215,12 @@ impl Scenario {
             (None, Some(_)) => registry::find("fspcc")?,
             (None, None) => registry::default_for(model.kind())?,
         };
+        // a `scheme.` prefix must name a scheme, even one that is not running
+        for k in self.set.keys() {
+            if let Some((prefix, _)) = k.split_once('.') {
+                registry::find(prefix)?;
+            }
+        }
         let overrides: Vec<(String, f64)> = self
             .set
             .iter()

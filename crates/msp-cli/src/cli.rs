@@ -328,6 +328,34 @@ mod tests {
         Cli::command().debug_assert();
     }
 
+    /// Every field of a scenario file is a flag of `msp run` and `msp compare`
+    /// (`inner_plant` as `--inner-plant`), so the two ways in cannot diverge.
+    #[test]
+    fn run_and_compare_take_every_scenario_field() {
+        let cmd = Cli::command();
+        for sub in ["run", "compare"] {
+            let sub = cmd.find_subcommand(sub).unwrap();
+            let flags: Vec<String> = sub
+                .get_arguments()
+                .filter_map(|a| a.get_long())
+                .map(|l| l.replace('-', "_"))
+                .collect();
+            for field in msp::study::Scenario::FIELDS {
+                // compare names its schemes with --controllers
+                let field = if sub.get_name() == "compare" && *field == "controller" {
+                    "controllers"
+                } else {
+                    field
+                };
+                assert!(
+                    flags.iter().any(|f| f == field),
+                    "msp {} has no flag for the scenario field '{field}'",
+                    sub.get_name()
+                );
+            }
+        }
+    }
+
     #[test]
     fn disturbance_syntax() {
         let d = "input:0.1@20".parse::<Disturbance>().unwrap();

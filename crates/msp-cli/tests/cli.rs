@@ -172,6 +172,29 @@ fn bad_names_exit_2() {
         ["run", "--plant", "5/(100s-1)*e^-6s", "-c", "smith"],
         "cannot control an unstable plant; use one of: fsp",
     );
+    // a scheme prefix names a scheme, or the run stops and lists them
+    rejects(
+        [
+            "run",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--set",
+            "nosuchscheme.kp=5",
+        ],
+        "unknown controller 'nosuchscheme'; available: pid, smith",
+    );
+    rejects(
+        [
+            "compare",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--controllers",
+            "karan-dey,smith",
+            "--set",
+            "smith.zeta=1",
+        ],
+        "no parameter 'zeta'",
+    );
 }
 
 #[test]

@@ -1085,5 +1085,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identify, m)?)?;
     m.add_function(wrap_pyfunction!(controllers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // the scenario's fields as the library defines them (tests check the keyword arguments)
+    m.add("SCENARIO_FIELDS", msp::study::Scenario::FIELDS.to_vec())?;
     Ok(())
 }

@@ -4,8 +4,9 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "sweep", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "SCENARIO_FIELDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "sweep", "tune"]
 __version__: str
+SCENARIO_FIELDS: List[str]
 
 @final
 class Plant:
