@@ -7,7 +7,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use msp::poly::TransferFunction;
-use msp::sim::{simulate, simulate_into, SetpointStep, SimConfig, SimResult};
+use msp::sim::{
+    simulate, simulate_into, Disturbance, Location, Record, SetpointStep, Shape, SimConfig,
+    SimResult,
+};
 use msp::study::Scenario;
 use msp::{Delay, PidConfig, SmithPredictor};
 
@@ -90,6 +93,45 @@ fn sims(c: &mut Criterion) {
             b.iter(|| {
                 let mut c = build();
                 simulate_into(&plant, &mut c, &config, &mut reused).expect("sim");
+                reused.y.len()
+            })
+        },
+    );
+    // only t, y and u recorded: the loop itself, beside the hand-written one
+    let lean = SimConfig {
+        record: Record::OutputAndInput,
+        ..config.clone()
+    };
+    let mut reused_lean = SimResult::default();
+    g.bench_function(
+        "msp simulate_into (registry controller, reused buffers, only y and u)",
+        |b| {
+            b.iter(|| {
+                let mut c = build();
+                simulate_into(&plant, &mut c, &lean, &mut reused_lean).expect("sim");
+                reused_lean.y.len()
+            })
+        },
+    );
+    // a schedule of one load step per sample: linear in the number of events
+    let busy = SimConfig {
+        disturbances: (0..N)
+            .map(|k| Disturbance {
+                location: Location::Input,
+                shape: Shape::Step,
+                value: if k % 2 == 0 { 1e-3 } else { -1e-3 },
+                at: k as f64 * 0.939,
+                freq: 0.0,
+            })
+            .collect(),
+        ..config.clone()
+    };
+    g.bench_function(
+        "msp simulate_into (registry controller, one disturbance step per sample)",
+        |b| {
+            b.iter(|| {
+                let mut c = build();
+                simulate_into(&plant, &mut c, &busy, &mut reused).expect("sim");
                 reused.y.len()
             })
         },

@@ -54,13 +54,20 @@ impl SimResult {
 
     /// Room for `rows` rows of the columns a run records, and one signal
     /// column per name (reused when the names are those of the last run).
-    pub(super) fn reserve(&mut self, names: &[&str], rows: usize, cascade: bool) {
-        let mut columns = std::vec![&mut self.t, &mut self.r, &mut self.y, &mut self.u];
+    pub(super) fn reserve(&mut self, names: &[&str], rows: usize, cascade: bool, all: bool) {
+        let mut columns = std::vec![&mut self.t, &mut self.y, &mut self.u];
         if cascade {
             columns.push(&mut self.y2);
         }
+        if all {
+            columns.push(&mut self.r);
+        }
         for v in columns {
             v.reserve(rows);
+        }
+        if !all {
+            self.signals.clear();
+            return;
         }
         let same = self.signals.len() == names.len()
             && self.signals.iter().zip(names).all(|((a, _), b)| a == b);

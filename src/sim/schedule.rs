@@ -1,5 +1,7 @@
 //! Typed schedules of a run: set-point steps and disturbances.
 
+use std::vec::Vec;
+
 /// Where a disturbance acts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -112,4 +114,57 @@ pub(super) fn first_sample_at(at: f64, ts: f64) -> usize {
         i += 1;
     }
     i
+}
+
+/// The disturbances of one location as events: each starts at its first
+/// sample ([`first_sample_at`]); steps then add to a running sum, ramps and
+/// sines are evaluated from then on. The cost per sample is one comparison
+/// plus the started ramps and sines, whatever the number of steps.
+pub(super) struct Track<'a> {
+    /// `(first sample, disturbance)`, by first sample (stable: ties keep their order).
+    events: Vec<(usize, &'a Disturbance)>,
+    next: usize,
+    steps: f64,
+    moving: Vec<&'a Disturbance>,
+}
+
+impl<'a> Track<'a> {
+    pub(super) fn new(ds: impl Iterator<Item = &'a Disturbance>, ts: f64) -> Self {
+        let mut events: Vec<(usize, &'a Disturbance)> =
+            ds.map(|d| (first_sample_at(d.at, ts), d)).collect();
+        events.sort_by_key(|e| e.0);
+        Track {
+            events,
+            next: 0,
+            steps: 0.0,
+            moving: Vec::new(),
+        }
+    }
+
+    /// No disturbance at this location.
+    pub(super) fn is_empty(&self) -> bool {
+        self.events.is_empty()
+    }
+
+    /// The sum of the disturbances at sample `i` (time `t = i·Ts`); `i` never decreases.
+    #[inline]
+    pub(super) fn at(&mut self, i: usize, t: f64) -> f64 {
+        while let Some(&(k, d)) = self.events.get(self.next) {
+            if k > i {
+                break;
+            }
+            match d.shape {
+                Shape::Step => self.steps += d.value,
+                Shape::Ramp | Shape::Sine => self.moving.push(d),
+            }
+            self.next = self.next.saturating_add(1);
+        }
+        if self.moving.is_empty() {
+            self.steps
+        } else {
+            self.moving
+                .iter()
+                .fold(self.steps, |acc, d| acc + d.at_time(t))
+        }
+    }
 }

@@ -384,6 +384,7 @@ impl Scenario {
             u_min,
             u_max,
             substeps: self.substeps.unwrap_or(1),
+            record: crate::sim::Record::All,
         };
         if cfg.substeps == 0 || cfg.substeps > 1000 {
             return Err(RunError::Invalid(Error::OutOfRange("substeps")));
