@@ -644,3 +644,49 @@ fn a_full_device_is_an_error_not_a_panic() {
     assert!(out.status.success());
     assert!(csv.exists());
 }
+
+#[test]
+fn outputs_are_all_or_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let keep = dir.path().join("keep.csv");
+    std::fs::write(&keep, "old").unwrap();
+    // the report's directory is missing: nothing is written, keep.csv stays
+    msp()
+        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .arg(&keep)
+        .arg("--report")
+        .arg(dir.path().join("missing_dir/r.json"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("does not exist"));
+    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
+    // two outputs on one path
+    msp()
+        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .arg(&keep)
+        .arg("--report")
+        .arg(&keep)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("name the same file"));
+    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
+    // a run that succeeds leaves its files and no temporary beside them
+    msp()
+        .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .arg(&keep)
+        .arg("--report")
+        .arg(dir.path().join("r.json"))
+        .arg("--plot")
+        .arg(dir.path().join("p.svg"))
+        .assert()
+        .success();
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["keep.csv", "p.svg", "r.json"]);
+    assert!(std::fs::read_to_string(&keep)
+        .unwrap()
+        .starts_with("t,r,y,u"));
+}

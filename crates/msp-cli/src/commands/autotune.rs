@@ -35,16 +35,21 @@ pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
         other => CliError::Runtime(other.to_string()),
     })?;
     let report = export::json::autotune_json(&plant, &out);
+    let mut files = export::Outputs::plan(&[
+        ("--output", a.output.as_ref()),
+        ("--report", a.report.as_ref()),
+    ])?;
     if let Some(p) = &a.output {
         let csv = export::csv::csv_bytes(&out.run)
             .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
-        export::write_atomic(p, &csv)?;
+        files.add(p, csv);
     }
     if let Some(p) = &a.report {
         let text =
             serde_json::to_vec_pretty(&report).map_err(|e| CliError::Runtime(e.to_string()))?;
-        export::write_atomic(p, &text)?;
+        files.add(p, text);
     }
+    files.commit()?;
     export::print(export::text::autotune_text(&plant, &out).as_bytes())?;
     Ok(())
 }

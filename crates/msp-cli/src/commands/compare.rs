@@ -7,6 +7,11 @@ use crate::export;
 
 pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
     let sc = scenario_from(&a.scenario)?;
+    let mut files = export::Outputs::plan(&[
+        ("--output", a.output.as_ref()),
+        ("--report", a.report.as_ref()),
+        ("--plot", a.plot.as_ref()),
+    ])?;
     let runs = msp::study::compare(&sc, &a.controllers, a.perturb.unwrap_or_default())?;
     let margins: Vec<Option<msp::analysis::Margins>> = a
         .controllers
@@ -38,7 +43,7 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
     if let Some(p) = &a.output {
         let csv = export::csv::compare_csv(&refs)
             .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
-        export::write_atomic(p, &csv)?;
+        files.add(p, csv);
     }
     if let Some(p) = &a.report {
         let j: Vec<serde_json::Value> = runs
@@ -46,13 +51,14 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
             .map(|r| export::json::report_json(r, &export::text::warnings(r)))
             .collect();
         let text = serde_json::to_vec_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?;
-        export::write_atomic(p, &text)?;
+        files.add(p, text);
     }
     if let Some(p) = &a.plot {
         let svg =
             export::svg::plot_svg(&refs).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
-        export::write_atomic(p, svg.as_bytes())?;
+        files.add(p, svg.into_bytes());
     }
+    files.commit()?;
     export::print(table.as_bytes())?;
     Ok(())
 }

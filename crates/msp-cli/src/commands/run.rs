@@ -10,22 +10,32 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);
     }
+    // every output path is checked before the run
+    let mut files = export::Outputs::plan(&[
+        ("--output", a.output.as_ref()),
+        ("--report", a.report.as_ref()),
+        ("--plot", a.plot.as_ref()),
+    ])?;
     let out = sc.run()?;
     let warnings = export::text::warnings(&out);
-    // everything is computed: now write, each file atomically
     let csv =
         export::csv::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
-    export::write_or_print(a.output.as_ref(), &csv)?;
     if let Some(p) = &a.report {
         let text = serde_json::to_vec_pretty(&export::json::report_json(&out, &warnings))
             .map_err(|e| CliError::Runtime(e.to_string()))?;
-        export::write_atomic(p, &text)?;
+        files.add(p, text);
     }
     if let Some(p) = &a.plot {
         let svg =
             export::svg::plot_svg(&[&out]).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
-        export::write_atomic(p, svg.as_bytes())?;
+        files.add(p, svg.into_bytes());
     }
+    match &a.output {
+        Some(p) => files.add(p, csv),
+        None => export::print(&csv)?,
+    }
+    // everything is computed: now the files, all or none
+    files.commit()?;
     if !a.quiet {
         export::noteln!("{}", export::text::summary(&out, &warnings));
     }

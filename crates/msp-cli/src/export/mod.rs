@@ -14,27 +14,94 @@ pub(crate) mod json;
 pub(crate) mod svg;
 pub(crate) mod text;
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and
-/// a rename, so a failure never leaves a truncated file behind.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let dir = match path.parent() {
+/// The files one command writes: all of them or none.
+///
+/// [`Outputs::plan`] checks every path before anything is computed (no two
+/// the same, each directory present); [`Outputs::commit`] writes each file
+/// to a temporary created exclusively beside it (an unpredictable name,
+/// `O_EXCL`, no symlink followed) and only when every one is written renames
+/// them into place. A failure leaves the old files as they were and no
+/// temporary behind.
+pub(crate) struct Outputs {
+    files: Vec<(PathBuf, Vec<u8>)>,
+}
+
+impl Outputs {
+    /// Checks the paths of a command's outputs (`None` for one not asked for).
+    pub(crate) fn plan(paths: &[(&str, Option<&PathBuf>)]) -> Result<Self, CliError> {
+        let mut seen: Vec<(PathBuf, &str)> = Vec::new();
+        for (flag, path) in paths {
+            let Some(path) = path else { continue };
+            let dir = parent(path);
+            if !dir.is_dir() {
+                return Err(CliError::Input(format!(
+                    "{flag} {}: the directory {} does not exist",
+                    path.display(),
+                    dir.display()
+                )));
+            }
+            if path.is_dir() {
+                return Err(CliError::Input(format!(
+                    "{flag} {}: is a directory",
+                    path.display()
+                )));
+            }
+            let key = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+            if let Some((_, other)) = seen.iter().find(|(k, _)| *k == key) {
+                return Err(CliError::Input(format!(
+                    "{other} and {flag} name the same file {}",
+                    path.display()
+                )));
+            }
+            seen.push((key, flag));
+        }
+        Ok(Outputs { files: Vec::new() })
+    }
+
+    /// Adds a file to write.
+    pub(crate) fn add(&mut self, path: &Path, bytes: Vec<u8>) {
+        self.files.push((path.to_path_buf(), bytes));
+    }
+
+    /// Writes every file: all to temporaries first, then the renames.
+    pub(crate) fn commit(self) -> Result<(), CliError> {
+        let mut staged = Vec::with_capacity(self.files.len());
+        for (path, bytes) in &self.files {
+            let fail = |e: std::io::Error| {
+                CliError::Runtime(format!("cannot write {}: {e}", path.display()))
+            };
+            let mut tmp = tempfile::Builder::new()
+                .prefix(".msp-")
+                .suffix(".tmp")
+                .tempfile_in(parent(path))
+                .map_err(fail)?;
+            tmp.write_all(bytes).map_err(fail)?;
+            tmp.as_file().sync_all().map_err(fail)?;
+            staged.push((tmp, path));
+        }
+        // every file is written: now the renames (a dropped temporary deletes itself)
+        for (tmp, path) in staged {
+            tmp.persist(path).map_err(|e| {
+                CliError::Runtime(format!("cannot write {}: {}", path.display(), e.error))
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// The directory a file is written in.
+fn parent(path: &Path) -> PathBuf {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let fail = |e: std::io::Error| {
-        let _ = std::fs::remove_file(&tmp);
-        CliError::Runtime(format!("cannot write {}: {e}", path.display()))
-    };
-    let mut f = std::fs::File::create(&tmp).map_err(fail)?;
-    f.write_all(bytes).map_err(fail)?;
-    f.sync_all().map_err(fail)?;
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(fail)
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Writes one file as an [`Outputs`] set of one.
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    let mut out = Outputs::plan(&[("output", Some(&path.to_path_buf()))])?;
+    out.add(path, bytes.to_vec());
+    out.commit()
 }
 
 /// Writes `bytes` to the file `path` (atomically) or to standard output.
