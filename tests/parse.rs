@@ -80,12 +80,16 @@ fn bad_expressions_name_the_problem_and_column() {
     bad("", 1, "empty");
     bad("   ", 1, "empty");
     bad("1/(s+1)+e^-2s/(s+2)", 8, "different delays");
+    // juxtaposed numbers are not a product
+    bad("2 3*e^-1s/(s+1)", 3, "a number after another factor");
+    bad("(s+1)2", 6, "a number after another factor");
 }
 
 #[test]
 fn fuzz_findings_stay_fixed() {
     // a canonical form with a power above the old limit of 64 must parse back
-    let tf = parse_plant("ssss^\u{c}-31s4ss^\u{c}-31sss^\u{c}-31s4ss4s4s^4s4").unwrap();
+    // (found with `s4` for `s*4`, which is now refused: see below)
+    let tf = parse_plant("ssss^\u{c}-31s*4ss^\u{c}-31sss^\u{c}-31s*4ss*4s*4s^4s*4").unwrap();
     let again = parse_plant(&tf.to_string()).unwrap();
     assert_eq!(again.to_string(), tf.to_string());
     // powers that would build enormous polynomials are refused, not computed
@@ -103,4 +107,30 @@ fn sums_cannot_build_polynomials_beyond_the_limit_either() {
         Ok(tf) => assert!(parse_plant(&tf.to_string()).is_ok()),
         Err(e) => assert!(e.message.contains("degree above 256"), "{e}"),
     }
+}
+
+#[test]
+fn deep_and_long_inputs_are_refused_not_crashed() {
+    use msp::syntax::expr::{MAX_DEPTH, MAX_INPUT};
+    // as deep as allowed parses; one level more is an error at that parenthesis
+    let ok = format!("{}1{}/(s+1)", "(".repeat(MAX_DEPTH), ")".repeat(MAX_DEPTH));
+    assert!(parse_plant(&ok).is_ok(), "{ok}");
+    let deep = format!("{}1{}", "(".repeat(2000), ")".repeat(2000));
+    let e = parse_plant(&deep).unwrap_err();
+    assert!(e.message.contains("nested more than"), "{e}");
+    assert_eq!(e.column, MAX_DEPTH + 1);
+    // a huge input is refused by its length, and the error shows a window of it
+    let long = format!("1/(s+1){}", "+0".repeat(25_000_000));
+    let e = parse_plant(&long).unwrap_err();
+    assert!(e.message.contains("the limit is"), "{}", e.message);
+    assert!(e.to_string().len() < 300, "{} bytes", e.to_string().len());
+    // a long but valid-length input with an error far in: the caret is under it
+    let far = format!("{}x", "1*".repeat(1000));
+    let e = parse_plant(&far).unwrap_err();
+    let shown = e.to_string();
+    let lines: Vec<&str> = shown.lines().collect();
+    let caret = lines[2].find('^').unwrap();
+    assert_eq!(lines[1].chars().nth(caret), Some('x'), "{shown}");
+    assert!(shown.len() < 300);
+    assert!(deep.len() < MAX_INPUT);
 }

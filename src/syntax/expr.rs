@@ -36,11 +36,29 @@ pub struct ParseError {
     pub input: String,
 }
 
+/// The longest expression accepted (characters).
+pub const MAX_INPUT: usize = 4096;
+/// The deepest nesting of parentheses (and `exp(…)`, `e^(…)`) accepted: the
+/// parser recurses once per level.
+pub const MAX_DEPTH: usize = 64;
+/// Characters of the input shown on each side of the caret in an error.
+const WINDOW: usize = 30;
+
 impl fmt::Display for ParseError {
+    /// The message, then the input with a caret under the column; a long
+    /// input is shown as a window of it around the caret.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{} at column {}", self.message, self.column)?;
-        writeln!(f, "  {}", self.input)?;
-        write!(f, "  {}^", " ".repeat(self.column.saturating_sub(1)))
+        let chars: Vec<char> = self.input.chars().collect();
+        let at = self.column.saturating_sub(1).min(chars.len());
+        let from = at.saturating_sub(WINDOW);
+        let to = at.saturating_add(WINDOW).min(chars.len());
+        let head = if from > 0 { "…" } else { "" };
+        let tail = if to < chars.len() { "…" } else { "" };
+        let shown: String = chars.get(from..to).unwrap_or(&[]).iter().collect();
+        writeln!(f, "  {head}{shown}{tail}")?;
+        let pad = at.saturating_sub(from).saturating_add(head.chars().count());
+        write!(f, "  {}^", " ".repeat(pad))
     }
 }
 
@@ -207,11 +225,27 @@ impl Val {
 struct Parser<'a> {
     toks: &'a [(Tok, usize)],
     pos: usize,
+    /// Current nesting of parentheses.
+    depth: usize,
 }
 
 type PResult<T> = Result<T, (String, usize)>;
 
 impl Parser<'_> {
+    /// An expression inside the parenthesis at column `col`, one level deeper.
+    fn nested(&mut self, col: usize) -> PResult<Val> {
+        if self.depth >= MAX_DEPTH {
+            return Err((
+                alloc::format!("parentheses nested more than {MAX_DEPTH} deep"),
+                col,
+            ));
+        }
+        self.depth = self.depth.saturating_add(1);
+        let v = self.expr();
+        self.depth = self.depth.saturating_sub(1);
+        v
+    }
+
     fn peek(&self) -> (Tok, usize) {
         self.toks.get(self.pos).copied().unwrap_or((Tok::End, 0))
     }
@@ -297,7 +331,14 @@ impl Parser<'_> {
                         .ok_or_else(|| ("division by zero".to_string(), rcol))?;
                     acc = acc.mul(&inv);
                 }
-                Tok::Num(_) | Tok::S | Tok::E | Tok::Exp | Tok::LParen => {
+                Tok::Num(_) => {
+                    // `2 3` or `(s+1)2`: a number is never multiplied implicitly
+                    return Err((
+                        "a number after another factor: write '*' between them".into(),
+                        col,
+                    ));
+                }
+                Tok::S | Tok::E | Tok::Exp | Tok::LParen => {
                     acc = acc.mul(&self.power()?);
                     check_degree(&acc, col)?;
                 }
@@ -367,7 +408,7 @@ impl Parser<'_> {
             Tok::Num(v) => Ok(Val::constant(v)),
             Tok::S => Ok(Val::s()),
             Tok::LParen => {
-                let v = self.expr()?;
+                let v = self.nested(col)?;
                 self.expect_rparen(col)?;
                 Ok(v)
             }
@@ -376,7 +417,7 @@ impl Parser<'_> {
                 if t2 != Tok::LParen {
                     return Err(("expected '(' after 'exp'".into(), c2));
                 }
-                let v = self.expr()?;
+                let v = self.nested(c2)?;
                 self.expect_rparen(c2)?;
                 delay_of(&v, c2.saturating_add(1))
             }
@@ -391,7 +432,7 @@ impl Parser<'_> {
                 let (t3, c3) = self.peek();
                 if t3 == Tok::LParen {
                     self.bump();
-                    let v = self.expr()?;
+                    let v = self.nested(c3)?;
                     self.expect_rparen(c3)?;
                     return delay_of(&v, c3.saturating_add(1));
                 }
@@ -500,10 +541,20 @@ pub fn parse_plant(input: &str) -> Result<TransferFunction, ParseError> {
     if input.trim().is_empty() {
         return Err(err(("empty expression".into(), 1)));
     }
+    if input.chars().nth(MAX_INPUT).is_some() {
+        return Err(err((
+            alloc::format!(
+                "the expression is {} characters long; the limit is {MAX_INPUT}",
+                input.chars().count()
+            ),
+            MAX_INPUT.saturating_add(1),
+        )));
+    }
     let lexed = lex(input).map_err(err)?;
     let mut p = Parser {
         toks: &lexed.toks,
         pos: 0,
+        depth: 0,
     };
     let v = p.expr().map_err(err)?;
     let (t, col) = p.peek();

@@ -287,3 +287,23 @@ def test_run_takes_every_scenario_field() -> None:
     # compare passes every other keyword to the library's scenario: an unknown one fails
     runs = msp.compare("0.2/s*e^-7.4s", ["karan-dey"], duration=20.0, noise=0.0, umax=10.0)
     assert len(runs) == 1
+
+
+def test_hostile_expressions_raise_not_crash() -> None:
+    """Deeply nested and huge expressions raise ValueError; the interpreter survives
+    (run in a subprocess so that a crash would show as its exit status)."""
+    code = (
+        "import msp\n"
+        "for expr in ['(' * 6000 + '1' + ')' * 6000, '(' * 2000 + '1' + ')' * 2000,\n"
+        "             '1/(s+1)' + '+0' * 5_000_000, '2 3*e^-1s/(s+1)']:\n"
+        "    try:\n"
+        "        msp.run(expr)\n"
+        "    except ValueError as e:\n"
+        "        assert len(str(e)) < 400, len(str(e))\n"
+        "    else:\n"
+        "        raise SystemExit('accepted: ' + expr[:20])\n"
+        "print('ok')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.strip() == "ok"
