@@ -17,38 +17,6 @@ pub struct Range {
     pub hi: f64,
 }
 
-impl core::str::FromStr for Range {
-    type Err = String;
-    /// `-20%..+20%` or `-0.2..0.2`; a single value is a range of one point.
-    fn from_str(s: &str) -> Result<Self, String> {
-        let one = |x: &str| -> Result<f64, String> {
-            let x = x.trim();
-            match x.strip_suffix('%') {
-                Some(p) => Ok(crate::syntax::parse_number(p, "range")? / 100.0),
-                None => crate::syntax::parse_number(x, "range"),
-            }
-        };
-        let (lo, hi) = match s.split_once("..") {
-            Some((a, b)) => (one(a)?, one(b)?),
-            None => {
-                let v = one(s)?;
-                (v, v)
-            }
-        };
-        if lo > hi {
-            return Err(std::format!(
-                "range '{s}': the lower end is above the upper end"
-            ));
-        }
-        if lo <= -1.0 {
-            return Err(std::format!(
-                "range '{s}': a change of -100 % or less leaves nothing of the plant"
-            ));
-        }
-        Ok(Range { lo, hi })
-    }
-}
-
 /// What to sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepSpec {
@@ -96,8 +64,52 @@ fn axis(r: Range, n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The most runs one sweep may ask for (a grid of 215 points per axis, or
+/// 10⁷ random samples); beyond it a sweep is refused before any allocation.
+pub const MAX_RUNS: usize = 10_000_000;
+
+impl SweepSpec {
+    /// The number of runs of the whole sweep (all shards), or why it cannot run:
+    /// no points, more than [`MAX_RUNS`], or a shard that does not exist.
+    pub fn runs(&self) -> Result<usize, RunError> {
+        let limit = |what: &str, n: String| {
+            RunError::Limit(std::format!(
+                "{what} asks for {n} runs; the limit is {MAX_RUNS}"
+            ))
+        };
+        if self.shard.1 == 0 || self.shard.0 >= self.shard.1 {
+            return Err(RunError::Limit(std::format!(
+                "shard {}/{}: the shard index must be below the number of shards",
+                self.shard.0,
+                self.shard.1
+            )));
+        }
+        if self.samples > 0 {
+            if self.samples > MAX_RUNS {
+                return Err(limit("samples", self.samples.to_string()));
+            }
+            return Ok(self.samples);
+        }
+        if self.grid == 0 {
+            return Err(RunError::Limit(
+                "grid 0: a grid needs at least one point per axis".into(),
+            ));
+        }
+        let axes = [self.gain, self.delay, self.tau]
+            .iter()
+            .filter(|r| r.lo != r.hi)
+            .count();
+        let total = u32::try_from(axes)
+            .ok()
+            .and_then(|a| self.grid.checked_pow(a))
+            .filter(|t| *t <= MAX_RUNS);
+        total.ok_or_else(|| limit("grid", std::format!("{}^{axes}", self.grid)))
+    }
+}
+
 /// Every point of the sweep as `(index, gain, delay, tau)`, this shard only.
-pub fn points(spec: &SweepSpec) -> Vec<(usize, f64, f64, f64)> {
+pub fn points(spec: &SweepSpec) -> Result<Vec<(usize, f64, f64, f64)>, RunError> {
+    spec.runs()?;
     let (i, n) = (spec.shard.0, spec.shard.1.max(1));
     let all: Vec<(f64, f64, f64)> = if spec.samples > 0 {
         let mut rng = Noise::new(spec.seed);
@@ -122,11 +134,12 @@ pub fn points(spec: &SweepSpec) -> Vec<(usize, f64, f64, f64)> {
         }
         v
     };
-    all.into_iter()
+    Ok(all
+        .into_iter()
         .enumerate()
         .filter(|(k, _)| k % n == i)
         .map(|(k, (g, d, t))| (k, g, d, t))
-        .collect()
+        .collect())
 }
 
 /// The stability verdict of a run: it did not diverge, and either its last
@@ -169,9 +182,7 @@ pub fn sweep(
     spec: &SweepSpec,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<SweepRow>, RunError> {
-    if spec.shard.1 == 0 || spec.shard.0 >= spec.shard.1 {
-        return Err(RunError::Invalid(crate::Error::OutOfRange("shard")));
-    }
+    spec.runs()?;
     let (nominal, model) = base.parse()?;
     let inner = base.parse_inner()?;
     let whole =
@@ -197,7 +208,7 @@ pub fn sweep(
         sc.set.entry((*k).into()).or_insert(*v);
     }
     sc.controller = Some(built.scheme.into());
-    let pts = points(spec);
+    let pts = points(spec)?;
     let done = core::sync::atomic::AtomicUsize::new(0);
     let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
         let plant = nominal.perturbed(gain, delay, tau)?;

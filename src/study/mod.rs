@@ -144,6 +144,8 @@ pub enum RunError {
     Registry(RegistryError),
     /// A scenario value is wrong.
     Invalid(Error),
+    /// A requested size is beyond a limit (the message names both).
+    Limit(String),
 }
 
 impl core::fmt::Display for RunError {
@@ -152,6 +154,7 @@ impl core::fmt::Display for RunError {
             RunError::Parse { field, error } => write!(f, "invalid {field} expression: {error}"),
             RunError::Registry(e) => write!(f, "{e}"),
             RunError::Invalid(e) => write!(f, "{e}"),
+            RunError::Limit(m) => f.write_str(m),
         }
     }
 }

@@ -6,6 +6,7 @@ use std::string::{String, ToString};
 
 use crate::sim::{Disturbance, Location, SetpointStep, Shape};
 use crate::study::Perturbation;
+use crate::sweep::Range;
 
 /// Parses a finite number; the error names `what`.
 pub fn parse_number(s: &str, what: &str) -> Result<f64, String> {
@@ -117,6 +118,9 @@ impl core::str::FromStr for Perturbation {
     /// `gain=+10%,delay=-5%,tau=0.1`.
     fn from_str(s: &str) -> Result<Self, String> {
         let mut p = Perturbation::default();
+        if s.split(',').all(|x| x.trim().is_empty()) {
+            return Err("an empty list: give KEY=VALUE pairs, e.g. gain=+10%,delay=-10%".into());
+        }
         for part in s.split(',').map(str::trim).filter(|x| !x.is_empty()) {
             let (k, v) = part
                 .split_once('=')
@@ -146,5 +150,42 @@ impl core::str::FromStr for Perturbation {
             }
         }
         Ok(p)
+    }
+}
+
+impl core::str::FromStr for Range {
+    type Err = String;
+    /// `-20%..+20%` or `-0.2..0.2`; a single value is a range of one point.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let one = |x: &str| -> Result<f64, String> {
+            let x = x.trim();
+            match x.strip_suffix('%') {
+                Some(p) => Ok(parse_number(p, "range")? / 100.0),
+                None => parse_number(x, "range"),
+            }
+        };
+        if s.contains("...") || s.matches("..").count() > 1 {
+            return Err(std::format!(
+                "range '{s}': write it as LOW..HIGH, e.g. -20%..+20%"
+            ));
+        }
+        let (lo, hi) = match s.split_once("..") {
+            Some((a, b)) => (one(a)?, one(b)?),
+            None => {
+                let v = one(s)?;
+                (v, v)
+            }
+        };
+        if lo > hi {
+            return Err(std::format!(
+                "range '{s}': the lower end is above the upper end"
+            ));
+        }
+        if lo <= -1.0 {
+            return Err(std::format!(
+                "range '{s}': a change of -100 % or less leaves nothing of the plant"
+            ));
+        }
+        Ok(Range { lo, hi })
     }
 }

@@ -690,3 +690,126 @@ fn outputs_are_all_or_nothing() {
         .unwrap()
         .starts_with("t,r,y,u"));
 }
+
+#[test]
+fn wrong_inputs_that_were_accepted() {
+    // juxtaposed numbers are not a product
+    rejects(
+        ["run", "--plant", "2 3*e^-1s/(s+1)"],
+        "a number after another factor",
+    );
+    // a range is LOW..HIGH exactly
+    rejects(
+        [
+            "sweep",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--gain=-20%...20%",
+        ],
+        "write it as LOW..HIGH",
+    );
+    // an empty uncertainty list is not a robustness verdict
+    rejects(
+        [
+            "margins",
+            "--plant",
+            "5.6*e^-93.9s/(40.2s+1)",
+            "--uncertainty",
+            "",
+        ],
+        "an empty list",
+    );
+    // counts are checked before anything is allocated
+    rejects(
+        [
+            "sweep",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--gain",
+            "-20%..20%",
+            "--grid",
+            "18446744073709551615",
+        ],
+        "the limit is 10000000",
+    );
+    rejects(
+        [
+            "sweep",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--grid",
+            "0",
+        ],
+        "at least one point per axis",
+    );
+    rejects(
+        [
+            "sweep",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--samples",
+            "18446744073709551615",
+        ],
+        "the limit is",
+    );
+}
+
+#[test]
+fn merging_a_shard_twice_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a.csv");
+    msp()
+        .args([
+            "sweep",
+            "-q",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--gain",
+            "-10%..10%",
+            "--grid",
+            "3",
+            "--duration",
+            "30",
+            "--shard",
+            "0/2",
+            "-o",
+        ])
+        .arg(&a)
+        .assert()
+        .success();
+    msp()
+        .args(["sweep", "--merge"])
+        .arg(&a)
+        .arg(&a)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("is a shard given twice"));
+}
+
+#[test]
+fn a_json_scenario_may_start_with_a_byte_order_mark() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("s.json");
+    std::fs::write(
+        &f,
+        "\u{feff}{\"plant\": \"0.2/s*e^-7.4s\", \"duration\": 20}",
+    )
+    .unwrap();
+    msp()
+        .args(["run", "-q", "--scenario"])
+        .arg(&f)
+        .arg("-o")
+        .arg(dir.path().join("o.csv"))
+        .assert()
+        .success();
+}

@@ -11,14 +11,16 @@ pub(crate) fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         CliError::Input(format!("cannot read scenario file {}: {e}", path.display()))
     })?;
+    // a byte-order mark (as some editors write) is not part of the document
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_json {
-        serde_json::from_str(&text)
+        serde_json::from_str(text)
             .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
     } else {
-        toml::from_str(&text)
+        toml::from_str(text)
             .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
     }
 }

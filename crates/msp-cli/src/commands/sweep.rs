@@ -23,7 +23,7 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
         seed: a.sweep_seed,
         shard: a.shard,
     };
-    let total = msp::sweep::points(&spec).len();
+    let total = msp::sweep::points(&spec)?.len();
     use std::io::IsTerminal;
     let bar = if !a.quiet && std::io::stderr().is_terminal() {
         indicatif::ProgressBar::new(total as u64)

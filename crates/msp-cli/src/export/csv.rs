@@ -82,6 +82,9 @@ pub(crate) fn sweep_csv(rows: &[msp::sweep::SweepRow]) -> Result<Vec<u8>, csv::E
 pub(crate) fn merge_sweeps(paths: &[std::path::PathBuf]) -> Result<Vec<u8>, CliError> {
     let mut header: Option<csv::StringRecord> = None;
     let mut rows: Vec<(usize, csv::StringRecord)> = Vec::new();
+    // which file each run index came from: a shard given twice is an error
+    let mut from: std::collections::HashMap<usize, &std::path::Path> =
+        std::collections::HashMap::new();
     for p in paths {
         let mut r = csv::Reader::from_path(p)
             .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?;
@@ -104,6 +107,13 @@ pub(crate) fn merge_sweeps(paths: &[std::path::PathBuf]) -> Result<Vec<u8>, CliE
             let idx: usize = rec.get(0).and_then(|x| x.parse().ok()).ok_or_else(|| {
                 CliError::Input(format!("{}: a row without an index", p.display()))
             })?;
+            if let Some(first) = from.insert(idx, p) {
+                return Err(CliError::Input(format!(
+                    "run {idx} is in both {} and {}: is a shard given twice?",
+                    first.display(),
+                    p.display()
+                )));
+            }
             rows.push((idx, rec));
         }
     }
