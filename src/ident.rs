@@ -509,6 +509,15 @@ pub fn autotune(
     let budget = num_traits::ToPrimitive::to_u32(&(200.0 * slow / ts).clamp(1000.0, 2e7))
         .unwrap_or(20_000_000);
     cfg.max_samples = budget;
+    // the experiment's plant line and its recorded samples, before they are allocated
+    base.within_budget(
+        (plant.delay / ts) * 16.0 + f64::from(budget) * 32.0,
+        &std::format!(
+            "a relay experiment of up to {budget} samples at ts = {} s",
+            crate::poly::fmt_num(ts)
+        ),
+    )
+    .map_err(AutotuneError::Run)?;
     let run = relay_experiment(plant, cfg, o.noise, o.seed).map_err(AutotuneError::Ident)?;
     let result = match run.state {
         RelayState::Done(r) => r,

@@ -62,6 +62,38 @@ pub struct Scenario {
     /// The controller computes in `f32`, as firmware does (designed in `f64`,
     /// run through [`crate::Widened`]); the plant stays exact in `f64`.
     pub float32: bool,
+    /// The memory a run may take (bytes; default [`DEFAULT_MAX_MEMORY`]):
+    /// the delay lines and the recorded signals are estimated before anything
+    /// is allocated, and a run that needs more is refused.
+    pub max_memory: Option<u64>,
+}
+
+/// The memory a run may take unless the scenario says otherwise: 1 GiB.
+pub const DEFAULT_MAX_MEMORY: u64 = 1 << 30;
+
+/// Bytes per sample of the controller's dead time: a scheme holds up to four
+/// lines of it (the model's, a filter's or a second model's) in `f64`.
+const CONTROLLER_BYTES_PER_SAMPLE: f64 = 32.0;
+/// Bytes per sample of the plant's dead time in the simulator (two lines).
+const PLANT_BYTES_PER_SAMPLE: f64 = 16.0;
+/// Bytes per recorded row: up to 16 columns of `f64`.
+const BYTES_PER_ROW: f64 = 128.0;
+
+/// `bytes` as people read it: `1.5 GiB`, `12 MiB`.
+fn human(bytes: f64) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut v = bytes;
+    let mut u = 0usize;
+    while v >= 1024.0 && u + 1 < units.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    let unit = units.get(u).copied().unwrap_or("bytes");
+    if v.is_finite() {
+        std::format!("{} {unit}", crate::poly::fmt_num((v * 10.0).round() / 10.0))
+    } else {
+        "an unbounded amount".into()
+    }
 }
 
 /// A tuned and built controller with its sample period.
@@ -173,6 +205,22 @@ impl From<RegistryError> for RunError {
 }
 
 impl Scenario {
+    /// Refuses a run whose estimated memory (`bytes`, described by `what`)
+    /// is above the scenario's budget.
+    pub(crate) fn within_budget(&self, bytes: f64, what: &str) -> Result<(), RunError> {
+        let limit = self.max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
+        #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
+        let limit_f = limit as f64;
+        if bytes.is_nan() || bytes > limit_f {
+            return Err(RunError::Limit(std::format!(
+                "the run needs about {} ({what}); the limit is {}: raise it with --max-memory (Python: max_memory=)",
+                human(bytes),
+                human(limit_f)
+            )));
+        }
+        Ok(())
+    }
+
     /// The scenario's fields, by the names of the scenario file and the report.
     /// The CLI's flags and Python's keyword arguments are checked against this
     /// list by the test suites (`--inner-plant` for `inner_plant`; Python writes
@@ -196,6 +244,7 @@ impl Scenario {
         "umax",
         "substeps",
         "float32",
+        "max_memory",
     ];
 
     /// Chooses the controller (by name or by the model's kind) and the sample
@@ -245,7 +294,6 @@ impl Scenario {
         model: &TransferFunction,
         inner: Option<&TransferFunction>,
     ) -> Result<BuiltController, RunError> {
-        let (scheme, params) = self.tune_for(model, inner)?;
         let whole = match inner {
             Some(p2) => model.series(p2)?,
             None => model.clone(),
@@ -257,14 +305,26 @@ impl Scenario {
             Some(ts) => (crate::real::positive(ts, "ts")?, false),
             None => (choose_ts(&whole), true),
         };
-        let u_min = self.umin.unwrap_or(f64::NEG_INFINITY);
-        let u_max = self.umax.unwrap_or(f64::INFINITY);
-        if u_min.is_nan() {
-            return Err(RunError::Invalid(Error::NonFinite("umin")));
-        }
-        if u_max.is_nan() {
-            return Err(RunError::Invalid(Error::NonFinite("umax")));
-        }
+        // the controller's delay lines, before tuning or building allocates them
+        let samples = whole.delay / ts;
+        self.within_budget(
+            samples * CONTROLLER_BYTES_PER_SAMPLE,
+            &std::format!(
+                "{} samples of the model's dead time at ts = {} s",
+                crate::poly::fmt_num(samples.ceil()),
+                crate::poly::fmt_num(ts)
+            ),
+        )?;
+        let (scheme, params) = self.tune_for(model, inner)?;
+        // a limit that is given is a number; absent, there is none
+        let u_min = match self.umin {
+            Some(v) => crate::real::finite(v, "umin")?,
+            None => f64::NEG_INFINITY,
+        };
+        let u_max = match self.umax {
+            Some(v) => crate::real::finite(v, "umax")?,
+            None => f64::INFINITY,
+        };
         if u_min > u_max {
             return Err(RunError::Invalid(Error::InvalidLimits("umin")));
         }
@@ -357,9 +417,32 @@ impl Scenario {
                 true,
             ),
         };
-        if duration / ts > 1e8 {
-            return Err(RunError::Invalid(Error::OutOfRange("duration")));
+        let substeps = self.substeps.unwrap_or(1);
+        if substeps == 0 || substeps > 1000 {
+            return Err(RunError::Invalid(Error::OutOfRange("substeps")));
         }
+        // the plant's delay lines and the recorded signals, before they are allocated
+        let model_samples = (model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay)) / ts;
+        let plant_samples = (plant.delay + inner.as_ref().map_or(0.0, |(p, _)| p.delay)) / ts;
+        #[allow(clippy::cast_precision_loss)] // at most 1000
+        let rows = (duration / ts + 1.0) * substeps as f64;
+        self.within_budget(
+            model_samples * CONTROLLER_BYTES_PER_SAMPLE
+                + plant_samples * PLANT_BYTES_PER_SAMPLE
+                + rows * BYTES_PER_ROW,
+            &std::format!(
+                "{} recorded rows ({} s at ts = {} s{}) and {} samples of dead time",
+                crate::poly::fmt_num(rows.ceil()),
+                crate::poly::fmt_num(duration),
+                crate::poly::fmt_num(ts),
+                if substeps > 1 {
+                    std::format!(", {substeps} substeps")
+                } else {
+                    String::new()
+                },
+                crate::poly::fmt_num(plant_samples.ceil())
+            ),
+        )?;
         let setpoint = if self.setpoint.is_empty() {
             std::vec![SetpointStep {
                 value: 1.0,
@@ -386,12 +469,9 @@ impl Scenario {
             seed: self.seed.unwrap_or(0),
             u_min,
             u_max,
-            substeps: self.substeps.unwrap_or(1),
+            substeps,
             record: crate::sim::Record::All,
         };
-        if cfg.substeps == 0 || cfg.substeps > 1000 {
-            return Err(RunError::Invalid(Error::OutOfRange("substeps")));
-        }
         let result = match &inner {
             Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,
             None => simulate(&plant, &mut ctrl, &cfg)?,

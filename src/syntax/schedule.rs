@@ -189,3 +189,32 @@ impl core::str::FromStr for Range {
         Ok(Range { lo, hi })
     }
 }
+
+/// A size in bytes: `1073741824`, `512M`, `2G`, `1.5GiB` (K, M, G, T are
+/// powers of 1024; a trailing `B` or `iB` is allowed).
+pub fn parse_bytes(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let t = t
+        .strip_suffix("iB")
+        .or_else(|| t.strip_suffix('B'))
+        .unwrap_or(t);
+    let (num, scale) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let p = match c.to_ascii_uppercase() {
+                'K' => 1,
+                'M' => 2,
+                'G' => 3,
+                'T' => 4,
+                _ => return Err(std::format!("size '{s}': the unit must be K, M, G or T")),
+            };
+            (t.get(..i).unwrap_or(""), 1024f64.powi(p))
+        }
+        _ => (t, 1.0),
+    };
+    let v = parse_number(num, "size")? * scale;
+    if !(v >= 1.0) || v > 1.8e19 {
+        return Err(std::format!("size '{s}': give a number of bytes from 1 up"));
+    }
+    num_traits::ToPrimitive::to_u64(&v.round())
+        .ok_or_else(|| std::format!("size '{s}' is too large"))
+}

@@ -102,6 +102,10 @@ pub(crate) struct ScenarioArgs {
     /// plant stays exact in f64).
     #[arg(long)]
     pub(crate) float32: bool,
+    /// The memory a run may take, e.g. 4G (default 1G): a run whose delay lines and
+    /// recorded signals would need more is refused before anything is allocated.
+    #[arg(long, value_name = "BYTES", value_parser = msp::syntax::parse_bytes)]
+    pub(crate) max_memory: Option<u64>,
 }
 
 #[derive(Debug, Args)]

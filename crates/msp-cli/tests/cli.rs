@@ -813,3 +813,91 @@ fn a_json_scenario_may_start_with_a_byte_order_mark() {
         .assert()
         .success();
 }
+
+/// Runs `msp` under a 4 GiB address-space limit: an allocation the budget
+/// check missed would abort the process instead of exiting 2.
+#[cfg(target_os = "linux")]
+fn limited(args: &[&str]) -> std::process::Output {
+    let mut cmd = String::from("ulimit -v 4194304; exec \"$0\"");
+    for (i, _) in args.iter().enumerate() {
+        cmd.push_str(&format!(" \"${}\"", i + 1));
+    }
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(cmd)
+        .arg(msp_path())
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn runs_that_ask_for_too_much_memory_are_refused_before_allocating() {
+    let plant = "0.2/s*e^-7.4s";
+    for args in [
+        vec!["run", "--plant", plant, "--ts", "1e-12"],
+        vec!["run", "--plant", "e^-1e9s/(s+1)"],
+        vec!["run", "--plant", "e^-1e6s/(s+1)"],
+        vec!["run", "--plant", "e^-1s/(1e-9*s+1)"],
+        vec!["run", "--plant", "e^-1s/(s+1)", "--model", "e^-1e9s/(s+1)"],
+        vec![
+            "run",
+            "--plant",
+            plant,
+            "--substeps",
+            "1000",
+            "--duration",
+            "7400",
+        ],
+        vec!["margins", "--plant", plant, "--ts", "1e-12"],
+        vec![
+            "compare",
+            "--plant",
+            plant,
+            "--controllers",
+            "karan-dey,smith",
+            "--ts",
+            "1e-12",
+        ],
+        vec![
+            "sweep",
+            "--plant",
+            plant,
+            "-c",
+            "karan-dey",
+            "--ts",
+            "1e-12",
+        ],
+        vec!["autotune", "--plant", "2*e^-4s/(5s+1)", "--ts", "1e-12"],
+    ] {
+        let out = limited(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("the limit is") && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+    }
+    // the flag moves the limit both ways
+    let out = limited(&["run", "--plant", plant, "--max-memory", "1K"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("the limit is 1 KiB"));
+    let out = limited(&[
+        "run",
+        "-q",
+        "--plant",
+        plant,
+        "--duration",
+        "10",
+        "--max-memory",
+        "2G",
+        "-o",
+        "/dev/null",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -282,6 +282,7 @@ fn scenario(
     rule: Option<String>,
     substeps: Option<usize>,
     float32: bool,
+    max_memory: Option<u64>,
 ) -> PyResult<Scenario> {
     Ok(Scenario {
         plant: String::new(),
@@ -302,6 +303,7 @@ fn scenario(
         umax,
         substeps,
         float32,
+        max_memory,
     })
 }
 
@@ -330,7 +332,7 @@ fn inner_of(
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
                     ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
-                    umax=None, lambda_=None, rule=None, substeps=None, float32=false))]
+                    umax=None, lambda_=None, rule=None, substeps=None, float32=false, max_memory=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -352,6 +354,7 @@ fn run<'py>(
     rule: Option<String>,
     substeps: Option<usize>,
     float32: bool,
+    max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let plant_tf = plant_of(plant)?;
     let model_tf = match model {
@@ -373,6 +376,7 @@ fn run<'py>(
         rule,
         substeps,
         float32,
+        max_memory,
     )?;
     let inner = inner_of(inner_plant, inner_model)?;
     let out = py
@@ -386,7 +390,7 @@ fn run<'py>(
 #[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
                     inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
                     seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None,
-                    float32=false))]
+                    float32=false, max_memory=None))]
 #[allow(clippy::too_many_arguments)]
 fn compare<'py>(
     py: Python<'py>,
@@ -409,6 +413,7 @@ fn compare<'py>(
     rule: Option<String>,
     substeps: Option<usize>,
     float32: bool,
+    max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyList>> {
     let mut sc = scenario(
         None,
@@ -425,6 +430,7 @@ fn compare<'py>(
         rule,
         substeps,
         float32,
+        max_memory,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
@@ -482,7 +488,7 @@ fn margins_dict<'py>(py: Python<'py>, m: &msp::analysis::Margins) -> PyResult<Bo
 /// Margins, stability region and robust-stability test (see ``msp.margins``).
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
-                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None, float32=false))]
+                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None, float32=false, max_memory=None))]
 #[allow(clippy::too_many_arguments)]
 fn margins<'py>(
     py: Python<'py>,
@@ -498,10 +504,11 @@ fn margins<'py>(
     discrete: bool,
     uncertainty: Option<&Bound<'py, PyAny>>,
     float32: bool,
+    max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut sc = scenario(
         controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
-        float32,
+        float32, max_memory,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
@@ -543,7 +550,7 @@ fn margins<'py>(
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0),
                     grid=11, samples=0, seed=1, shard=(0, 1), model=None, inner_plant=None, inner_model=None,
-                    ts=None, duration=None, lambda_=None, rule=None, float32=false))]
+                    ts=None, duration=None, lambda_=None, rule=None, float32=false, max_memory=None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
@@ -565,6 +572,7 @@ fn sweep<'py>(
     lambda_: Option<f64>,
     rule: Option<String>,
     float32: bool,
+    max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use msp::sweep::{Range, SweepSpec};
     let range = |(lo, hi): (f64, f64), name: &str| -> PyResult<Range> {
@@ -584,7 +592,7 @@ fn sweep<'py>(
     };
     let mut sc = scenario(
         controller, params, ts, duration, None, None, None, None, None, None, lambda_, rule, None,
-        float32,
+        float32, max_memory,
     )?;
     sc.plant = plant_of(plant)?.to_string();
     sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
@@ -749,7 +757,7 @@ fn tune<'py>(
     let inner = inner_plant.map(plant_of).transpose()?;
     let mut sc = scenario(
         controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
-        false,
+        false, None,
     )?;
     let (scheme, p) = sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
     let d = PyDict::new(py);

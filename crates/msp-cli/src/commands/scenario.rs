@@ -51,7 +51,8 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         seed,
         umin,
         umax,
-        substeps
+        substeps,
+        max_memory
     );
     if a.design.lambda.is_some() {
         sc.lambda = a.design.lambda;

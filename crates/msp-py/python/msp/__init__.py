@@ -179,6 +179,7 @@ def run(
     rule: Optional[str] = None,
     substeps: Optional[int] = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
 
@@ -202,6 +203,9 @@ def run(
     float32 : bool, optional
         The controller computes in ``float32`` as firmware does (designed in ``float64``; the
         plant stays exact), like the CLI's ``--float32``.
+    max_memory : int, optional
+        The memory the run may take in bytes (default 1 GiB), like the CLI's ``--max-memory``:
+        a run whose delay lines and signals would need more raises ``ValueError``.
     """
     p = _plant(plant, delay)
     m = _plant(model) if model is not None else None
@@ -212,7 +216,8 @@ def run(
     raw = _msp.run(p, controller, dict(params) if params else None, model=m, inner_plant=ip, inner_model=im,
                    ts=ts, duration=duration,
                    setpoint=sp, disturbance=dist, noise=noise, seed=seed, umin=umin, umax=umax,
-                   lambda_=lambda_, rule=rule, substeps=substeps, float32=float32)
+                   lambda_=lambda_, rule=rule, substeps=substeps, float32=float32,
+                   max_memory=max_memory)
     return Result(raw)
 
 
@@ -276,6 +281,7 @@ def margins(
     discrete: bool = False,
     uncertainty: Union[None, str, Mapping[str, float], Tuple[float, float]] = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> Dict[str, Any]:
     """Margins of the loop at the plant input with the exact dead time, as ``msp margins``.
 
@@ -297,7 +303,7 @@ def margins(
                         inner_plant=_plant(inner_plant) if inner_plant is not None else None,
                         inner_model=_plant(inner_model) if inner_model is not None else None,
                         ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, uncertainty=unc,
-                        float32=float32)
+                        float32=float32, max_memory=max_memory)
 
 
 def sweep(
@@ -320,6 +326,7 @@ def sweep(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> Dict[str, np.ndarray]:
     """Many closed-loop runs over relative plant perturbations, in parallel, as ``msp sweep``.
 
@@ -333,7 +340,8 @@ def sweep(
                       shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None,
                       inner_plant=_plant(inner_plant) if inner_plant is not None else None,
                       inner_model=_plant(inner_model) if inner_model is not None else None, ts=ts,
-                      duration=duration, lambda_=lambda_, rule=rule, float32=float32)
+                      duration=duration, lambda_=lambda_, rule=rule, float32=float32,
+                      max_memory=max_memory)
 
 
 def autotune(

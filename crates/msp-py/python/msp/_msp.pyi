@@ -44,6 +44,7 @@ def run(
     rule: Optional[str] = None,
     substeps: Optional[int] = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> Dict[str, Any]: ...
 def compare(
     plant: Union[str, Plant],
@@ -66,6 +67,7 @@ def compare(
     rule: Optional[str] = None,
     substeps: Optional[int] = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> List[Dict[str, Any]]: ...
 def tune(
     plant: Union[str, Plant],
@@ -110,6 +112,7 @@ def margins(
     discrete: bool = False,
     uncertainty: Any = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> Dict[str, Any]: ...
 def sweep(
     plant: Union[str, Plant],
@@ -131,6 +134,7 @@ def sweep(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     float32: bool = False,
+    max_memory: Optional[int] = None,
 ) -> Dict[str, Any]: ...
 
 @disjoint_base
