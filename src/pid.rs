@@ -578,7 +578,7 @@ impl<T: Real> crate::CascadeControl<T> for Pid<T> {}
 
 impl<T: Real> crate::Introspect<T> for Pid<T> {
     fn signal_names(&self) -> &'static [&'static str] {
-        &["p", "i", "d"]
+        &["p_term", "i_term", "d_term"]
     }
     fn signal(&self, i: usize) -> T {
         let t = self.terms();

@@ -384,3 +384,46 @@ fn scenario_fields_are_the_serde_fields() {
     got.sort_unstable();
     assert_eq!(got, want);
 }
+
+/// Every scheme's CSV has unique column names: its internal signals never
+/// take the name of a column of the run (`d`, the disturbance, was also the
+/// PID's derivative term).
+#[test]
+fn csv_columns_are_unique_for_every_scheme() {
+    use msp::poly::PlantKind;
+    for s in msp::registry::SCHEMES {
+        let mut sc = msp::study::Scenario {
+            controller: Some(s.name.to_string()),
+            duration: Some(5.0),
+            ..Default::default()
+        };
+        if s.is_cascade() {
+            sc.plant = if s.plants.contains(&PlantKind::Unstable) {
+                "e^-4s/(20s-1)"
+            } else {
+                "e^-4s/(20s+1)"
+            }
+            .into();
+            sc.inner_plant = Some("2e^-2s/(20s+1)".into());
+            sc.ts = Some(0.2);
+            sc.set = common::required_settings(s.name).into_iter().collect();
+        } else {
+            sc.plant = match s.plants.first() {
+                Some(PlantKind::Integrating) => "0.2/s*e^-7.4s",
+                Some(PlantKind::Unstable) => "5*e^-6s/(100s-1)",
+                _ => "5.6*e^-93.9s/(40.2s+1)",
+            }
+            .into();
+            sc.ts = Some(0.1);
+        }
+        let out = sc.run().unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        let mut csv = Vec::new();
+        out.result.write_csv(&mut csv).unwrap();
+        let head = String::from_utf8(csv).unwrap();
+        let names: Vec<&str> = head.lines().next().unwrap().split(',').collect();
+        let mut sorted = names.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), names.len(), "{}: {names:?}", s.name);
+    }
+}
