@@ -31,6 +31,11 @@ pub enum Error {
     Unsupported(&'static str),
     /// A numerical design step failed (singular matrix, non-converging iteration).
     Numerical(&'static str),
+    /// A column of data is not finite at a row (0-based).
+    NonFiniteAt(&'static str, usize),
+    /// A column of data does not increase at a row (0-based): a time that is
+    /// not after the one before.
+    NotIncreasing(&'static str, usize),
 }
 
 impl Error {
@@ -46,7 +51,9 @@ impl Error {
             | Error::OrderTooHigh(f)
             | Error::Improper(f)
             | Error::Unsupported(f)
-            | Error::Numerical(f) => f,
+            | Error::Numerical(f)
+            | Error::NonFiniteAt(f, _)
+            | Error::NotIncreasing(f, _) => f,
         }
     }
 }
@@ -71,6 +78,14 @@ impl fmt::Display for Error {
             ),
             Error::Unsupported(n) => write!(f, "not supported: {n}"),
             Error::Numerical(n) => write!(f, "numerical failure in {n}"),
+            Error::NonFiniteAt(n, row) => {
+                write!(f, "`{n}` is not a finite number at data row {}", row.saturating_add(1))
+            }
+            Error::NotIncreasing(n, row) => write!(
+                f,
+                "`{n}` must increase: data row {} is not after the row before",
+                row.saturating_add(1)
+            ),
         }
     }
 }

@@ -313,9 +313,17 @@ pub fn identify_step(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result
     if t.len() != u.len() || t.len() != y.len() || t.len() < 10 {
         return Err(Error::OutOfRange("data"));
     }
+    for (name, col) in [("time", t), ("input", u), ("output", y)] {
+        if let Some(row) = col.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFiniteAt(name, row));
+        }
+    }
+    if let Some(row) = t.windows(2).position(|w| w.get(1) <= w.first()) {
+        return Err(Error::NotIncreasing("time", row.saturating_add(1)));
+    }
     let ts = match (t.first(), t.get(1)) {
-        (Some(a), Some(b)) if b > a => b - a,
-        _ => return Err(Error::NotPositive("ts")),
+        (Some(a), Some(b)) => b - a,
+        _ => return Err(Error::OutOfRange("data")),
     };
     let (u0, y0) = (*u.first().unwrap_or(&0.0), *y.first().unwrap_or(&0.0));
     let start: ProcessModel<f64> = match kind {

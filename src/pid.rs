@@ -103,6 +103,22 @@ impl<T: Real> PidConfig<T> {
         }
     }
 
+    /// [`PidConfig::isa`] with its own arguments checked, so that an error names
+    /// the value the caller gave: `ti` must be greater than zero (infinite
+    /// turns the integral off), `td` must not be negative, `kp` and `ts` finite.
+    pub fn try_isa(kp: T, ti: T, td: T, ts: T) -> Result<Self, Error> {
+        finite(kp, "kp")?;
+        if ti.is_nan() {
+            return Err(Error::NonFinite("ti"));
+        }
+        if !(ti > T::zero()) {
+            return Err(Error::NotPositive("ti"));
+        }
+        non_negative(td, "td")?;
+        positive(ts, "ts")?;
+        Ok(Self::isa(kp, ti, td, ts))
+    }
+
     /// Parallel form `kp + ki/s + kd s` (with the same defaults as [`PidConfig::isa`];
     /// the filter is `Tf = kd/(10·kp)` when `kp > 0`).
     pub fn parallel(kp: T, ki: T, kd: T, ts: T) -> Self {

@@ -12,7 +12,7 @@ use crate::{Ipdt, Lti, PidConfig, ProcessModel, Real};
 pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {
     let td = p.get("td").unwrap_or(0.0);
     Ok(
-        PidConfig::isa(req(p, "kp")?, req(p, "ti")?, T::of(td), T::of(b.ts))
+        PidConfig::try_isa(req(p, "kp")?, req(p, "ti")?, T::of(td), T::of(b.ts))?
             .with_limits(T::of(b.u_min), T::of(b.u_max)),
     )
 }

@@ -901,3 +901,25 @@ fn runs_that_ask_for_too_much_memory_are_refused_before_allocating() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn identify_names_a_time_that_does_not_increase() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("step.csv");
+    let mut text = String::from("t,u,y\n");
+    for i in 0..50 {
+        let t = if i == 20 { 9.5 } else { i as f64 * 0.5 };
+        let u = if i >= 10 { 1.0 } else { 0.0 };
+        let y = 2.0 * (1.0 - (-(t - 7.0f64).max(0.0) / 10.0).exp());
+        text.push_str(&format!("{t},{u},{y}\n"));
+    }
+    std::fs::write(&f, text).unwrap();
+    msp()
+        .args(["identify", "--data"])
+        .arg(&f)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "`time` must increase: data row 21",
+        ));
+}

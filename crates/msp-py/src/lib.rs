@@ -979,7 +979,8 @@ impl PyPid {
         tt: Option<f64>,
         rate_limit: f64,
     ) -> PyResult<Self> {
-        let mut cfg = PidConfig::isa(kp, ti, td, ts)
+        let mut cfg = PidConfig::try_isa(kp, ti, td, ts)
+            .map_err(value_err)?
             .with_filter(n)
             .with_weights(b, c)
             .with_limits(umin, umax)

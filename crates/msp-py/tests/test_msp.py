@@ -321,3 +321,19 @@ def test_hostile_expressions_raise_not_crash() -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.strip() == "ok"
+
+
+def test_errors_name_what_the_user_gave() -> None:
+    with pytest.raises(ValueError, match="`ti` must be greater than zero"):
+        msp.Pid(kp=1.0, ti=0.0, td=0.0, ts=0.1)
+    t = np.arange(200) * 0.5
+    u = np.where(t >= 5, 1.0, 0.0)
+    y = 2.0 * (1 - np.exp(-np.maximum(t - 7, 0) / 10))
+    bad = y.copy()
+    bad[40] = np.nan
+    with pytest.raises(ValueError, match="`output` is not a finite number at data row 41"):
+        msp.identify(t, u, bad, "fopdt")
+    back = t.copy()
+    back[100] = back[99]
+    with pytest.raises(ValueError, match="`time` must increase: data row 101"):
+        msp.identify(back, u, y, "fopdt")
