@@ -333,6 +333,9 @@ pub fn identify_step(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result
     least_squares(kind, ts, u, y, u0, y0, &start)
 }
 
+/// Bytes a relay experiment records per sample: `u` and `y` in `f64` ([`RelayRun`]).
+const RELAY_BYTES_PER_SAMPLE: f64 = 16.0;
+
 /// A relay experiment on a simulated plant, with measurement noise.
 #[derive(Debug, Clone)]
 pub struct RelayRun {
@@ -519,7 +522,8 @@ pub fn autotune(
     cfg.max_samples = budget;
     // the experiment's plant line and its recorded samples, before they are allocated
     base.within_budget(
-        (plant.delay / ts) * 16.0 + f64::from(budget) * 32.0,
+        (plant.delay / ts) * crate::study::PLANT_BYTES_PER_SAMPLE
+            + f64::from(budget) * RELAY_BYTES_PER_SAMPLE,
         &std::format!(
             "a relay experiment of up to {budget} samples at ts = {} s",
             crate::poly::fmt_num(ts)

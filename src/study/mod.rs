@@ -75,7 +75,7 @@ pub const DEFAULT_MAX_MEMORY: u64 = 1 << 30;
 /// lines of it (the model's, a filter's or a second model's) in `f64`.
 const CONTROLLER_BYTES_PER_SAMPLE: f64 = 32.0;
 /// Bytes per sample of the plant's dead time in the simulator (two lines).
-const PLANT_BYTES_PER_SAMPLE: f64 = 16.0;
+pub(crate) const PLANT_BYTES_PER_SAMPLE: f64 = 16.0;
 /// Bytes per recorded row: up to 16 columns of `f64`.
 const BYTES_PER_ROW: f64 = 128.0;
 

@@ -21,6 +21,15 @@ pub fn parse_number(s: &str, what: &str) -> Result<f64, String> {
     }
 }
 
+/// A relative change: `+10%` or `0.1` (the same); the error names `what`.
+fn parse_fraction(s: &str, what: &str) -> Result<f64, String> {
+    let s = s.trim();
+    match s.strip_suffix('%') {
+        Some(pct) => Ok(parse_number(pct, what)? / 100.0),
+        None => parse_number(s, what),
+    }
+}
+
 impl core::str::FromStr for SetpointStep {
     type Err = String;
     /// `VALUE[@TIME]`, e.g. `1@0`.
@@ -126,10 +135,7 @@ impl core::str::FromStr for Perturbation {
                 .split_once('=')
                 .ok_or_else(|| std::format!("expected KEY=VALUE in '{part}'"))?;
             let v = v.trim();
-            let value = match v.strip_suffix('%') {
-                Some(pct) => parse_number(pct, k)? / 100.0,
-                None => parse_number(v, k)?,
-            };
+            let value = parse_fraction(v, k)?;
             if value <= -1.0 {
                 return Err(std::format!(
                     "{k}: a change of {v} leaves nothing of the plant"
@@ -157,13 +163,7 @@ impl core::str::FromStr for Range {
     type Err = String;
     /// `-20%..+20%` or `-0.2..0.2`; a single value is a range of one point.
     fn from_str(s: &str) -> Result<Self, String> {
-        let one = |x: &str| -> Result<f64, String> {
-            let x = x.trim();
-            match x.strip_suffix('%') {
-                Some(p) => Ok(parse_number(p, "range")? / 100.0),
-                None => parse_number(x, "range"),
-            }
-        };
+        let one = |x: &str| parse_fraction(x, "range");
         if s.contains("...") || s.matches("..").count() > 1 {
             return Err(std::format!(
                 "range '{s}': write it as LOW..HIGH, e.g. -20%..+20%"
