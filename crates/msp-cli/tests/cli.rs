@@ -211,6 +211,20 @@ fn scenario_file_and_unknown_fields() {
         .arg(&good)
         .assert()
         .success();
+    // JSON too, even behind a byte-order mark (as some editors write it)
+    let json = dir.path().join("s.json");
+    std::fs::write(
+        &json,
+        "\u{feff}{\"plant\": \"0.2/s*e^-7.4s\", \"duration\": 20}",
+    )
+    .unwrap();
+    msp()
+        .args(["run", "-q", "--scenario"])
+        .arg(&json)
+        .arg("-o")
+        .arg(dir.path().join("o.csv"))
+        .assert()
+        .success();
     let bad = dir.path().join("b.toml");
     std::fs::write(&bad, "plant = \"0.2/s*e^-7.4s\"\nsetpiont = 1\n").unwrap();
     rejects(
@@ -698,18 +712,14 @@ fn wrong_inputs_that_were_accepted() {
         ["run", "--plant", "2 3*e^-1s/(s+1)"],
         "a number after another factor",
     );
+    // a sweep of the headline loop with `extra` flags
+    let sweep = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = vec!["sweep", "--plant", "0.2/s*e^-7.4s", "-c", "karan-dey"];
+        v.extend_from_slice(extra);
+        v
+    };
     // a range is LOW..HIGH exactly
-    rejects(
-        [
-            "sweep",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey",
-            "--gain=-20%...20%",
-        ],
-        "write it as LOW..HIGH",
-    );
+    rejects(sweep(&["--gain=-20%...20%"]), "write it as LOW..HIGH");
     // an empty uncertainty list is not a robustness verdict
     rejects(
         [
@@ -722,43 +732,17 @@ fn wrong_inputs_that_were_accepted() {
         "an empty list",
     );
     // counts are checked before anything is allocated
+    let huge = "18446744073709551615";
     rejects(
-        [
-            "sweep",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey",
-            "--gain",
-            "-20%..20%",
-            "--grid",
-            "18446744073709551615",
-        ],
+        sweep(&["--gain", "-20%..20%", "--grid", huge]),
         "the limit is 10000000",
     );
+    rejects(sweep(&["--grid", "0"]), "at least one point per axis");
+    rejects(sweep(&["--samples", huge]), "the limit is");
+    // the output path is checked before the sweep runs
     rejects(
-        [
-            "sweep",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey",
-            "--grid",
-            "0",
-        ],
-        "at least one point per axis",
-    );
-    rejects(
-        [
-            "sweep",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey",
-            "--samples",
-            "18446744073709551615",
-        ],
-        "the limit is",
+        sweep(&["--grid", "5", "-o", "/nonexistent-dir/runs.csv"]),
+        "does not exist",
     );
 }
 
@@ -794,24 +778,6 @@ fn merging_a_shard_twice_is_an_error() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains("is a shard given twice"));
-}
-
-#[test]
-fn a_json_scenario_may_start_with_a_byte_order_mark() {
-    let dir = tempfile::tempdir().unwrap();
-    let f = dir.path().join("s.json");
-    std::fs::write(
-        &f,
-        "\u{feff}{\"plant\": \"0.2/s*e^-7.4s\", \"duration\": 20}",
-    )
-    .unwrap();
-    msp()
-        .args(["run", "-q", "--scenario"])
-        .arg(&f)
-        .arg("-o")
-        .arg(dir.path().join("o.csv"))
-        .assert()
-        .success();
 }
 
 /// Runs `msp` under a 4 GiB address-space limit: an allocation the budget

@@ -7,6 +7,10 @@ use msp::study::Scenario;
 use msp::syntax::parse_plant;
 
 pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
+    let mut files = export::Outputs::plan(&[
+        ("--output", a.output.as_ref()),
+        ("--report", a.report.as_ref()),
+    ])?;
     let plant = parse_plant(&a.plant)
         .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
     let o = msp::ident::AutotuneOptions {
@@ -35,10 +39,6 @@ pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
         other => CliError::Runtime(other.to_string()),
     })?;
     let report = export::json::autotune_json(&plant, &out);
-    let mut files = export::Outputs::plan(&[
-        ("--output", a.output.as_ref()),
-        ("--report", a.report.as_ref()),
-    ])?;
     if let Some(p) = &a.output {
         let csv = export::csv::csv_bytes(&out.run)
             .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;

@@ -6,6 +6,7 @@ use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
+    let mut files = export::Outputs::plan(&[("--plot", a.plot.as_ref())])?;
     let mut sc = scenario_from(&a.scenario)?;
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);
@@ -19,8 +20,9 @@ pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
     if let Some(p) = &a.plot {
         let svg =
             export::svg::bode_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
-        export::write_atomic(p, svg.as_bytes())?;
+        files.add(p, svg.into_bytes());
     }
+    files.commit()?;
     if a.json {
         let text = serde_json::to_string_pretty(&export::json::margins_json(&an))
             .map_err(|e| CliError::Runtime(e.to_string()))?;

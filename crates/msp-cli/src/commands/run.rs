@@ -30,10 +30,7 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
             export::svg::plot_svg(&[&out]).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         files.add(p, svg.into_bytes());
     }
-    match &a.output {
-        Some(p) => files.add(p, csv),
-        None => export::print(&csv)?,
-    }
+    files.add_or_print(a.output.as_ref(), csv)?;
     // everything is computed: now the files, all or none
     files.commit()?;
     if !a.quiet {

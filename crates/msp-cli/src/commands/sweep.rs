@@ -6,9 +6,12 @@ use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
+    // the output path is checked before a sweep that may take minutes
+    let mut files = export::Outputs::plan(&[("--output", a.output.as_ref())])?;
     if !a.merge.is_empty() {
         let csv = export::csv::merge_sweeps(&a.merge)?;
-        return export::write_or_print(a.output.as_ref(), &csv);
+        files.add_or_print(a.output.as_ref(), csv)?;
+        return files.commit();
     }
     let mut sc = scenario_from(&a.scenario)?;
     if a.controller.is_some() {
@@ -34,7 +37,8 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     let csv = export::csv::sweep_csv(&rows)
         .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
-    export::write_or_print(a.output.as_ref(), &csv)?;
+    files.add_or_print(a.output.as_ref(), csv)?;
+    files.commit()?;
     if !a.quiet {
         export::note(format_args!(
             "{}",

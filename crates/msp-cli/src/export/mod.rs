@@ -63,6 +63,22 @@ impl Outputs {
         self.files.push((path.to_path_buf(), bytes));
     }
 
+    /// Adds a file to write, or prints `bytes` now when no path was given
+    /// (`-o` absent: the CSV goes to standard output).
+    pub(crate) fn add_or_print(
+        &mut self,
+        path: Option<&PathBuf>,
+        bytes: Vec<u8>,
+    ) -> Result<(), CliError> {
+        match path {
+            Some(p) => {
+                self.add(p, bytes);
+                Ok(())
+            }
+            None => print(&bytes),
+        }
+    }
+
     /// Writes every file: all to temporaries first, then the renames.
     pub(crate) fn commit(self) -> Result<(), CliError> {
         let mut staged = Vec::with_capacity(self.files.len());
@@ -94,21 +110,6 @@ fn parent(path: &Path) -> PathBuf {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
-    }
-}
-
-/// Writes one file as an [`Outputs`] set of one.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let mut out = Outputs::plan(&[("output", Some(&path.to_path_buf()))])?;
-    out.add(path, bytes.to_vec());
-    out.commit()
-}
-
-/// Writes `bytes` to the file `path` (atomically) or to standard output.
-pub(crate) fn write_or_print(path: Option<&PathBuf>, bytes: &[u8]) -> Result<(), CliError> {
-    match path {
-        Some(p) => write_atomic(p, bytes),
-        None => print(bytes),
     }
 }
 
