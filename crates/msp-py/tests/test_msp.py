@@ -272,21 +272,21 @@ def test_cascade_sweep_perturbs_the_primary() -> None:
     assert list(cols["delay"]) == [-0.2, 0.0, 0.2] and cols["stable"].all()
 
 
-def test_run_takes_every_scenario_field() -> None:
+def test_run_and_compare_take_every_scenario_field() -> None:
     """The scenario's fields are defined once, in the library: ``run`` takes each
-    as a keyword (``set`` as ``params``, ``lambda`` as ``lambda_``), and so
-    does ``compare`` through ``run``'s keywords."""
+    as a keyword (``set`` as ``params``, ``lambda`` as ``lambda_``), and so does
+    the compiled ``compare`` that ``msp.compare`` hands its keywords to (with
+    ``controllers`` for ``controller``)."""
     import inspect
 
     from msp import _msp
 
-    python_name = {"set": "params", "lambda": "lambda_"}
-    run_params = inspect.signature(msp.run).parameters
-    missing = [f for f in _msp.SCENARIO_FIELDS if python_name.get(f, f) not in run_params]
-    assert not missing, f"msp.run lacks the scenario fields {missing}"
-    # compare passes every other keyword to the library's scenario: an unknown one fails
-    runs = msp.compare("0.2/s*e^-7.4s", ["karan-dey"], duration=20.0, noise=0.0, umax=10.0)
-    assert len(runs) == 1
+    renamed = {"set": "params", "lambda": "lambda_"}
+    for fn, extra in ((msp.run, {}), (_msp.compare, {"controller": "controllers"})):
+        names = {**renamed, **extra}
+        params = inspect.signature(fn).parameters
+        missing = [f for f in _msp.SCENARIO_FIELDS if names.get(f, f) not in params]
+        assert not missing, f"{fn.__name__} lacks the scenario fields {missing}"
 
 
 def test_hostile_expressions_raise_not_crash() -> None:
