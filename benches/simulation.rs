@@ -85,34 +85,11 @@ fn sims(c: &mut Criterion) {
             simulate(&plant, &mut c, &config).expect("sim")
         })
     });
-    // the same run into the buffers of the last one: no fresh pages to fault in
-    let mut reused = SimResult::default();
-    g.bench_function(
-        "msp simulate_into (registry controller, reused buffers)",
-        |b| {
-            b.iter(|| {
-                let mut c = build();
-                simulate_into(&plant, &mut c, &config, &mut reused).expect("sim");
-                reused.y.len()
-            })
-        },
-    );
     // only t, y and u recorded: the loop itself, beside the hand-written one
     let lean = SimConfig {
         record: Record::OutputAndInput,
         ..config.clone()
     };
-    let mut reused_lean = SimResult::default();
-    g.bench_function(
-        "msp simulate_into (registry controller, reused buffers, only y and u)",
-        |b| {
-            b.iter(|| {
-                let mut c = build();
-                simulate_into(&plant, &mut c, &lean, &mut reused_lean).expect("sim");
-                reused_lean.y.len()
-            })
-        },
-    );
     // a schedule of one load step per sample: linear in the number of events
     let busy = SimConfig {
         disturbances: (0..N)
@@ -126,16 +103,24 @@ fn sims(c: &mut Criterion) {
             .collect(),
         ..config.clone()
     };
-    g.bench_function(
-        "msp simulate_into (registry controller, one disturbance step per sample)",
-        |b| {
-            b.iter(|| {
-                let mut c = build();
-                simulate_into(&plant, &mut c, &busy, &mut reused).expect("sim");
-                reused.y.len()
-            })
-        },
-    );
+    // each run into the buffers of the last one: no fresh pages to fault in
+    let mut reused = SimResult::default();
+    for (what, cfg) in [
+        ("reused buffers", &config),
+        ("reused buffers, only y and u", &lean),
+        ("one disturbance step per sample", &busy),
+    ] {
+        g.bench_function(
+            format!("msp simulate_into (registry controller, {what})"),
+            |b| {
+                b.iter(|| {
+                    let mut c = build();
+                    simulate_into(&plant, &mut c, cfg, &mut reused).expect("sim");
+                    reused.y.len()
+                })
+            },
+        );
+    }
     let res = {
         let mut c = build();
         simulate(&plant, &mut c, &config).expect("sim")
