@@ -267,21 +267,19 @@ impl Scenario {
             (None, Some(_)) => registry::find("fspcc")?,
             (None, None) => registry::default_for(model.kind())?,
         };
-        // a `scheme.` prefix must name a scheme, even one that is not running
-        for k in self.set.keys() {
-            if let Some((prefix, _)) = k.split_once('.') {
-                registry::find(prefix)?;
+        let mut overrides: Vec<(String, f64)> = Vec::with_capacity(self.set.len());
+        for (k, v) in &self.set {
+            match k.split_once('.') {
+                // a `scheme.` prefix (name or alias) must name a scheme, even
+                // one that is not running; it applies to that scheme only
+                Some((prefix, name)) => {
+                    if registry::find(prefix)?.name == scheme.name {
+                        overrides.push((name.to_string(), *v));
+                    }
+                }
+                None => overrides.push((k.clone(), *v)),
             }
         }
-        let overrides: Vec<(String, f64)> = self
-            .set
-            .iter()
-            .filter_map(|(k, v)| match k.split_once('.') {
-                Some((s, name)) => (s == scheme.name || scheme.aliases.contains(&s))
-                    .then(|| (name.to_string(), *v)),
-                None => Some((k.clone(), *v)),
-            })
-            .collect();
         let params =
             scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
         Ok((scheme, params))
