@@ -65,6 +65,7 @@ mod error;
 pub mod lti;
 pub mod metrics;
 pub mod model;
+pub mod params;
 pub mod pid;
 mod real;
 #[cfg(test)]
@@ -98,5 +99,6 @@ pub use error::Error;
 pub use lti::{Discretization, Lti};
 pub use metrics::IntegralIndices;
 pub use model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
+pub use params::{ParamList, ParamSet};
 pub use pid::{AntiWindup, Pid, PidConfig, PidTerms};
 pub use real::Real;

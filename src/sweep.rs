@@ -204,8 +204,8 @@ pub fn sweep(
     }
     // tune once: every run gets the same controller settings
     let built = sc.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
-    for (k, v) in &built.params.0 {
-        sc.set.entry((*k).into()).or_insert(*v);
+    for (k, v) in built.params.iter() {
+        sc.set.entry(k.into()).or_insert(v);
     }
     sc.controller = Some(built.scheme.into());
     let pts = points(spec)?;

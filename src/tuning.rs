@@ -4,16 +4,17 @@ use crate::dtc::KaranDeyParams;
 use crate::real::positive;
 use crate::{Error, Ipdt, ProcessModel, Real};
 
-/// PID settings in ISA form `Kp(1 + 1/(Ti s) + Td s)`; `td = 0` for PI.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct PidGains<T> {
-    /// Proportional gain `Kp`.
-    pub kp: T,
-    /// Integral time `Ti` (s).
-    pub ti: T,
-    /// Derivative time `Td` (s).
-    pub td: T,
+crate::params::param_struct! {
+    /// PID settings in ISA form `Kp(1 + 1/(Ti s) + Td s)`; `td = 0` for PI.
+    /// The parameters of the `pid`, `smith` and `watanabe-ito` schemes.
+    pub struct PidGains {
+        /// Proportional gain `Kp`.
+        kp: Finite,
+        /// Integral time `Ti` (s).
+        ti: Positive,
+        /// Derivative time `Td` (s).
+        td: NonNegative,
+    }
 }
 
 impl<T: Real> PidGains<T> {

@@ -491,9 +491,9 @@ fn example1_control_effort() -> R {
 /// buffers), in `f64` and in `f32`.
 #[test]
 fn outer_loops_equal_the_delayed_delay_free_loop() -> R {
-    use msp::dtc::compensator::ParamList;
     use msp::dtc::fsp::{FilteredSmith, Predicted};
     use msp::dtc::gpcc::GpccPredictor;
+    use msp::ParamList;
     use msp::{Controller, Delay, Pid};
     let ts = 0.2;
     let h = 30;
@@ -505,7 +505,7 @@ fn outer_loops_equal_the_delayed_delay_free_loop() -> R {
         biproper: true,
     };
     let design = design_with::<[f64; 48], 8>(&gm, h, ts, &spec)?;
-    let none = || ParamList::new(&[], &[]);
+    let none = ParamList::default;
     let fsp = FilteredSmith::<f64, [f64; 48]>::new(k, &design, none())?;
     let gpcc = Predicted::with_predictor(
         k,
@@ -514,11 +514,11 @@ fn outer_loops_equal_the_delayed_delay_free_loop() -> R {
     )?;
     // the same controllers in f32
     let k32 = cascade::series_pid(4.6571f32, 0.1829, 12.2857, 2.8571, 0.3, 0.2)?;
-    let fsp32 = FilteredSmith::<f32, [f32; 48]>::new(k32, &design, ParamList::new(&[], &[]))?;
+    let fsp32 = FilteredSmith::<f32, [f32; 48]>::new(k32, &design, ParamList::default())?;
     let gpcc32 = Predicted::with_predictor(
         k32,
         GpccPredictor::<f32, [f32; 48]>::design(&gm, h, ts, 36.0)?,
-        ParamList::new(&[], &[]),
+        ParamList::default(),
     )?;
     let run32 = |c: &mut dyn Controller<f32>| -> Result<Vec<f64>, msp::Error> {
         let mut plant = gm;

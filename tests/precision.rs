@@ -2,27 +2,14 @@
 //! computes, to `f32` rounding: the same closed loop (the plant simulated in
 //! `f64`) run with each, sample for sample.
 mod common;
-use common::{required_settings, EXAMPLE2};
-use msp::poly::{PlantKind, TransferFunction};
+use common::{plant_for, required_settings};
 use msp::registry::{Build, Scheme, SCHEMES};
 use msp::sim::{CascadeStepper, PlantStepper};
 
 /// The largest difference of the plant outputs of the f32 and f64 loops,
 /// relative to the largest output of the f64 loop.
 fn worst(scheme: &'static Scheme) -> f64 {
-    let (p1, p2, ts): (TransferFunction, Option<TransferFunction>, f64) = if scheme.is_cascade() {
-        (
-            EXAMPLE2.0.parse().unwrap(),
-            Some(EXAMPLE2.1.parse().unwrap()),
-            0.1,
-        )
-    } else if scheme.plants.contains(&PlantKind::Integrating) {
-        ("0.2/s*e^-7.4s".parse().unwrap(), None, 0.074)
-    } else if scheme.plants.contains(&PlantKind::Stable) {
-        ("5.6*e^-93.9s/(40.2s+1)".parse().unwrap(), None, 0.939)
-    } else {
-        ("5*e^-6s/(100s-1)".parse().unwrap(), None, 0.06)
-    };
+    let (p1, p2, ts) = plant_for(scheme);
     let set = required_settings(scheme.name);
     let p = scheme
         .tune_process(&p1, p2.as_ref(), None, None, &set)

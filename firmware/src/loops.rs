@@ -2,7 +2,7 @@
 // included by build.rs): the controller against an exactly discretized plant
 // with its dead time in a delay line.
 
-use msp::dtc::compensator::ParamList;
+use msp::ParamList;
 use msp::dtc::fsp::{design, FilteredSmith};
 use msp::dtc::karan_dey::{self, KaranDey};
 use msp::{Controller, Delay, DelayLine, Lti, PidConfig, ProcessModel, Real, SmithPredictor};
@@ -94,7 +94,7 @@ pub fn fsp<T: Real>() -> (FilteredSmith<T, [T; CAP]>, Plant<T>) {
         Err(_) => panic_model(),
     };
     let pi = PidConfig::isa(T::of(kp), T::of(ti), T::zero(), T::of(ts));
-    let c = match FilteredSmith::new(pi, &d, ParamList::new(&[], &[])) {
+    let c = match FilteredSmith::new(pi, &d, ParamList::default()) {
         Ok(c) => c,
         Err(_) => panic_model(),
     };

@@ -9,32 +9,39 @@
 //! set-point response (tested).
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{AhlFilter, Compensator, DisturbancePath, ErrorPath, ParamList};
+use crate::dtc::compensator::{AhlFilter, Compensator, DisturbancePath, ErrorPath};
+use crate::params::{param_struct, ParamList};
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
 pub use crate::dtc::compensator::AhlFilter as DisturbanceCompensator;
 
-/// Parameter names: set-point pole `k` (1/s) and `M(s)`'s `k1`, `k2`, `k3`.
-pub const PARAMS: &[&str] = &["k", "k1", "k2", "k3"];
+param_struct! {
+    /// Parameters of the Åström–Hang–Lim predictor (Bag (2022) Eqs. 4.14–4.17).
+    pub struct AstromHangLimParams {
+        /// Set-point pole `k` (1/s): `y/r = k/(s + k)·e^{−Ls}`.
+        k: Positive,
+        /// `M(s)`'s `k1`.
+        k1: Finite,
+        /// `M(s)`'s `k2`.
+        k2: Finite,
+        /// `M(s)`'s `k3`.
+        k3: Finite,
+    }
+}
 
 /// The compensator for the model `kv·e^{−Ls}/s`; `line` holds `L` again for `M(s)`.
-#[allow(clippy::too_many_arguments)]
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    k: T,
-    k1: T,
-    k2: T,
-    k3: T,
+    p: &AstromHangLimParams<T>,
     kv: T,
     ts: T,
     model: Lti<T, N>,
     delay: Delay<T, S>,
     line: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
-    let k = crate::real::positive(k, "k")?;
+    let k = crate::real::positive(p.k, "k")?;
     let gc1 = Pid::new(PidConfig::parallel(k / kv, T::zero(), T::zero(), ts))?;
-    let m = AhlFilter::new(k1, k2, k3, kv, ts, line)?;
-    Ok(Compensator::new(gc1, model, delay, params)?
+    let m = AhlFilter::new(p.k1, p.k2, p.k3, kv, ts, line)?;
+    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
         .with_error_path(ErrorPath::Blocked)?
         .with_disturbance(DisturbancePath::AstromHangLim(m)))
 }

@@ -35,6 +35,128 @@ use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
+crate::params::param_struct! {
+    /// What every cascade scheme of García et al. (2010) shares: the primary
+    /// series PID `(kp + ki/s + kd s)/(τ s + 1)` with set-point weight `ε`,
+    /// and the inner IMC filter time constant `λ2`.
+    pub struct CascadePrimary {
+        /// Proportional gain of the primary PID.
+        kp: Finite,
+        /// Integral gain of the primary PID (1/s).
+        ki: Finite,
+        /// Derivative gain of the primary PID (s).
+        kd: Finite,
+        /// Filter time constant `τ` of the primary PID (s).
+        tau: NonNegative,
+        /// Set-point weight `ε` of the proportional term.
+        epsilon: Finite,
+        /// Inner IMC filter time constant `λ2` (s).
+        lambda2: Positive,
+    }
+}
+
+crate::params::param_struct! {
+    /// Parameters of FSPCC (García et al. (2010) Sec. 3.1): [`CascadePrimary`]
+    /// and the robustness filter `Fr` (`tf`, an optional lead-lag `lead`/`lag`).
+    pub struct FspccParams {
+        /// Proportional gain of the primary PID.
+        kp: Finite,
+        /// Integral gain of the primary PID (1/s).
+        ki: Finite,
+        /// Derivative gain of the primary PID (s).
+        kd: Finite,
+        /// Filter time constant `τ` of the primary PID (s).
+        tau: NonNegative,
+        /// Set-point weight `ε`.
+        epsilon: Finite,
+        /// Inner IMC filter time constant `λ2` (s).
+        lambda2: Positive,
+        /// Robustness filter time constant `Tf` (s).
+        tf: Positive,
+        /// Lead time constant of `Fr`'s lead-lag (s); 0: none.
+        lead: NonNegative,
+        /// Lag time constant of `Fr`'s lead-lag (s); 0: none.
+        lag: NonNegative,
+    }
+}
+
+crate::params::param_struct! {
+    /// Parameters of GPCC (García et al. (2010) Sec. 3.2): [`CascadePrimary`]
+    /// and the time constant of the predictor's filter `Fk`.
+    pub struct GpccParams {
+        /// Proportional gain of the primary PID.
+        kp: Finite,
+        /// Integral gain of the primary PID (1/s).
+        ki: Finite,
+        /// Derivative gain of the primary PID (s).
+        kd: Finite,
+        /// Filter time constant `τ` of the primary PID (s).
+        tau: NonNegative,
+        /// Set-point weight `ε`.
+        epsilon: Finite,
+        /// Inner IMC filter time constant `λ2` (s).
+        lambda2: Positive,
+        /// Time constant of `Fk` (s); 0: `Fk = 1`.
+        tk: NonNegative,
+    }
+}
+
+crate::params::param_struct! {
+    /// Parameters of Uma et al.'s scheme (García et al. (2010) Sec. 2.3):
+    /// [`CascadePrimary`] as `Gcs`, the disturbance controller
+    /// `Gcd = (kpd + kid/s + kdd s)(lead s + 1)/(lag s + 1)` and the filter
+    /// `Gf = 1/(tf s + 1)`. The sources give no rule for `Gcd`: its gains are
+    /// NaN until set.
+    pub struct UmaParams {
+        /// Proportional gain of the primary PID.
+        kp: Finite,
+        /// Integral gain of the primary PID (1/s).
+        ki: Finite,
+        /// Derivative gain of the primary PID (s).
+        kd: Finite,
+        /// Filter time constant `τ` of the primary PID (s).
+        tau: NonNegative,
+        /// Set-point weight `ε`.
+        epsilon: Finite,
+        /// Inner IMC filter time constant `λ2` (s).
+        lambda2: Positive,
+        /// Proportional gain of `Gcd`.
+        kpd: Any,
+        /// Integral gain of `Gcd` (1/s).
+        kid: Any,
+        /// Derivative gain of `Gcd` (s).
+        kdd: Any,
+        /// Lead time constant of `Gcd` (s).
+        lead: NonNegative,
+        /// Lag time constant of `Gcd` (s).
+        lag: NonNegative,
+        /// Time constant of `Gf` (s); 0: no filter.
+        tf: NonNegative,
+    }
+}
+
+crate::params::param_struct! {
+    /// Parameters of Kaya et al.'s cascade (García et al. (2010) Sec. 2.2): the
+    /// PI-PD Smith predictor's ([`crate::dtc::kaya_atherton::KayaAthertonParams`])
+    /// outside the inner IMC loop with filter `λ2`.
+    pub struct KayaCascadeParams {
+        /// Proportional gain of `Gc1`.
+        kp: Finite,
+        /// Integral time of `Gc1` (s).
+        ti: Positive,
+        /// Gain of `Gc2`.
+        kf: Finite,
+        /// Derivative time of `Gc2` (s).
+        tf: NonNegative,
+        /// Gain of `Gc3`.
+        kb: Finite,
+        /// Lead time of `Gc3` (s).
+        td: NonNegative,
+        /// Inner IMC filter time constant `λ2` (s).
+        lambda2: Positive,
+    }
+}
+
 /// Order capacity of the inner IMC controller `Q`.
 pub const Q_ORDER: usize = 4;
 /// Order capacity of the inner model `P2m`.

@@ -28,6 +28,7 @@
 
 use crate::delay::Delay;
 use crate::metrics::Sum;
+use crate::params::ParamList;
 use crate::real::finite;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Complex, Error, Lti, Pid, Real};
@@ -222,32 +223,6 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     }
 }
 
-/// Parameter names and values a scheme reports (up to 16).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ParamList<T> {
-    names: &'static [&'static str],
-    values: [T; 16],
-}
-
-impl<T: Real> ParamList<T> {
-    /// Pairs `names[i]` with `values[i]` (extra names read as NaN).
-    pub fn new(names: &'static [&'static str], values: &[T]) -> Self {
-        let mut v = [T::nan(); 16];
-        for (d, s) in v.iter_mut().zip(values) {
-            *d = *s;
-        }
-        ParamList { names, values: v }
-    }
-    /// The names.
-    pub fn names(&self) -> &'static [&'static str] {
-        self.names
-    }
-    /// Value `i` (NaN if out of range).
-    pub fn get(&self, i: usize) -> T {
-        self.values.get(i).copied().unwrap_or(T::nan())
-    }
-}
-
 /// The general modified Smith predictor (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct Compensator<T, const N: usize, S> {
@@ -387,6 +362,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         Ok(self)
     }
 
+    /// Reports `params` instead of the parameters given at construction (a
+    /// scheme that builds this compensator as part of a larger one).
+    pub fn with_params(mut self, params: ParamList<T>) -> Self {
+        self.params = params;
+        self
+    }
+
     /// The primary controller.
     pub fn primary(&self) -> &Pid<T> {
         &self.gc1
@@ -520,11 +502,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Comp
     }
 
     fn param_names(&self) -> &'static [&'static str] {
-        self.params.names
+        self.params.names()
     }
 
     fn param(&self, i: usize) -> T {
-        self.params.values.get(i).copied().unwrap_or(T::nan())
+        self.params.value(i)
     }
 }
 

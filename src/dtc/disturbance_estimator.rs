@@ -11,8 +11,41 @@
 //! The six designs of `A/C` are in [`crate::tuning::disturbance_estimator`].
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList, AUX};
+use crate::dtc::compensator::{Compensator, DisturbancePath, AUX};
+use crate::params::{param_struct, ParamList};
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+
+param_struct! {
+    /// Parameters of the predictor with a disturbance estimator
+    /// (Draganović et al. (2001)): the main gain, the case and its design.
+    pub struct DisturbanceEstimatorParams {
+        /// Main gain `Kr` (`Kr = 1/(Kν·Td)`, Eq. 15).
+        kr: Finite,
+        /// Set-point time constant `Td` (s) `Kr` was tuned for.
+        td: Any,
+        /// Estimator design, case 1–6.
+        case: Finite,
+        /// Estimator gain `K_A`.
+        ka: Finite,
+        /// Estimator time constant `T_A` (s).
+        ta: NonNegative,
+        /// Estimator filter time constant `T_C` (s).
+        tc: NonNegative,
+        /// Design: the estimator's dominant time constant `T_de` (s).
+        tde: Any,
+        /// Design: the damping or pole ratio `α` of the case.
+        alpha: Any,
+        /// Resonance `ω0` of case 6 (rad/s).
+        w0: Finite,
+    }
+}
+
+/// The case number 1–6 of a real value; the error names `case`.
+pub fn case_number<T: Real>(case: T) -> Result<u8, Error> {
+    (1u8..=6)
+        .find(|c| T::of(f64::from(*c)) == case)
+        .ok_or(Error::OutOfRange("case"))
+}
 
 /// The estimator `A(s)/C(s)` in descending powers of `s` (degree ≤ 2).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,16 +96,17 @@ impl<T: Real> Estimator<T> {
     }
 }
 
-/// The predictor with main gain `kr` and estimator `est`, sampled every `ts`.
+/// The predictor with main gain `p.kr` and the estimator of case `p.case`,
+/// sampled every `ts`.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    kr: T,
-    est: &Estimator<T>,
+    p: &DisturbanceEstimatorParams<T>,
     ts: T,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
-    let gc1 = Pid::new(PidConfig::parallel(kr, T::zero(), T::zero(), ts))?;
+    let est = Estimator::from_case(case_number(p.case)?, p.ka, p.ta, p.tc, p.w0)?;
+    let gc1 = Pid::new(PidConfig::parallel(p.kr, T::zero(), T::zero(), ts))?;
     let ac: Lti<T, AUX> = Lti::from_tf(&est.a, &est.c, ts, Discretization::Zoh)?;
-    Ok(Compensator::new(gc1, model, delay, params)?.with_disturbance(DisturbancePath::Block(ac)))
+    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
+        .with_disturbance(DisturbancePath::Block(ac)))
 }

@@ -11,11 +11,26 @@
 //! `5.6/(40.2s + 1)` and `λ = 12.5 s` it gives the example's `Kp = 0.574`, `Ti = 40.2`).
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, ErrorPath, ParamList, AUX};
+use crate::dtc::compensator::{Compensator, ErrorPath, AUX};
+use crate::params::{param_struct, ParamList};
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-/// Parameter names: the PID and the lead-lag filter `F = (1 + a·s)/(1 + b·s)`.
-pub const PARAMS: &[&str] = &["kp", "ti", "td", "a", "b"];
+param_struct! {
+    /// Parameters of the filtered Smith predictor: the PID and the lead-lag
+    /// filter `F = (1 + a·s)/(1 + b·s)` on the model error.
+    pub struct FilteredSmithParams {
+        /// Proportional gain `Kp`.
+        kp: Finite,
+        /// Integral time `Ti` (s).
+        ti: Positive,
+        /// Derivative time `Td` (s).
+        td: NonNegative,
+        /// Lead time constant `a` of `F` (s).
+        a: NonNegative,
+        /// Lag time constant `b` of `F` (s); `a = b = 0`: no filter.
+        b: NonNegative,
+    }
+}
 
 /// The filter `F = (1 + a·s)/(1 + b·s)` ZOH-discretized (`a = 0`: first order `1/(b s + 1)`;
 /// `b = 0`: no filter).
@@ -31,13 +46,15 @@ pub fn lead_lag_filter<T: Real>(a: T, b: T, ts: T) -> Result<Lti<T, AUX>, Error>
     )
 }
 
-/// The filtered Smith predictor with primary `pid` and filter `f` (any block).
+/// The filtered Smith predictor with primary `pid` (its gains `p.kp`, `p.ti`,
+/// `p.td`; it carries the period and limits) and the filter `F` of `p`.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     pid: PidConfig<T>,
-    f: Lti<T, AUX>,
+    p: &FilteredSmithParams<T>,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
-    Compensator::new(Pid::new(pid)?, model, delay, params)?.with_error_path(ErrorPath::Filter(f))
+    let f = lead_lag_filter(p.a, p.b, pid.ts)?;
+    Compensator::new(Pid::new(pid)?, model, delay, ParamList::of(p))?
+        .with_error_path(ErrorPath::Filter(f))
 }

@@ -208,6 +208,19 @@ pub use self::runtime::{
     DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
 };
 
+crate::params::param_struct! {
+    /// Parameters of the filtered Smith predictor: the PI primary controller
+    /// and the time constant `Tf` of the robustness filter `Fr`.
+    pub struct FspParams {
+        /// Proportional gain `Kp` of the PI.
+        kp: Finite,
+        /// Integral time `Ti` of the PI (s).
+        ti: Positive,
+        /// Robustness filter time constant `Tf` (s), García et al. (2010) Eq. 10.
+        tf: Positive,
+    }
+}
+
 /// The design of `Fr` and `S` without allocation: model-sized polynomials in
 /// fixed arrays, the dead-time-sized ones (`z^h·Dr`, `p`, the numerator of
 /// `S`) in storage the caller's type provides ([`DelayStorage`]: a `Vec` on a
@@ -405,13 +418,13 @@ mod design {
     /// On a device, with arrays for the dead-time-sized buffers:
     ///
     /// ```
-    /// use msp::dtc::{compensator::ParamList, fsp::{design, FilteredSmith}};
+    /// use msp::dtc::fsp::{design, FilteredSmith};
     /// use msp::Controller;
     /// // 5 e^{-6s}/(100s - 1) at Ts = 0.06 s: h = 100 samples; buffers of 128
     /// let (gm, _) = msp::ProcessModel::from(msp::Ufopdt::new(5.0, 100.0, 6.0)?).discretize::<1>(0.06)?;
     /// let d = design::<[f64; 128], 1>(&gm, 100, 0.06, 3.0)?; // Fr with Tf = 3 s, S stable
     /// let mut fsp: FilteredSmith<f32, [f32; 128]> =
-    ///     FilteredSmith::new(msp::PidConfig::isa(6.87, 12.36, 0.0, 0.06), &d, ParamList::new(&[], &[]))?;
+    ///     FilteredSmith::new(msp::PidConfig::isa(6.87, 12.36, 0.0, 0.06), &d, Default::default())?;
     /// assert!(fsp.update(1.0, 0.0) > 0.0);
     /// # Ok::<(), msp::Error>(())
     /// ```
@@ -583,7 +596,7 @@ mod design {
 mod runtime {
     use super::design::{buffer, FspDesign, SMALL};
     use crate::delay::DelayStorage;
-    use crate::dtc::compensator::ParamList;
+    use crate::params::ParamList;
     use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
     use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
 
@@ -913,7 +926,7 @@ mod runtime {
         }
 
         fn param(&self, i: usize) -> T {
-            self.params.get(i)
+            self.params.value(i)
         }
     }
 

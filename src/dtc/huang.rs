@@ -14,29 +14,41 @@
 //! `Ti = 40.1`).
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, ErrorPath, ParamList};
+use crate::dtc::compensator::{Compensator, ErrorPath};
+use crate::params::{param_struct, ParamList};
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-/// Parameter names: the PID and `B = kb/(tb·s + 1)`.
-pub const PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb"];
+param_struct! {
+    /// Parameters of Huang's predictor: the PID and `B = kb/(tb·s + 1)`.
+    pub struct HuangParams {
+        /// Proportional gain `Kp`.
+        kp: Finite,
+        /// Integral time `Ti` (s).
+        ti: Positive,
+        /// Derivative time `Td` (s).
+        td: NonNegative,
+        /// Gain of `B`.
+        kb: Finite,
+        /// Time constant of `B` (s).
+        tb: Positive,
+    }
+}
 
 /// The predictor with `B = kb/(tb s + 1)`; `line` holds the model dead time
 /// again (it delays `f`), at least one sample.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     pid: PidConfig<T>,
-    kb: T,
-    tb: T,
+    p: &HuangParams<T>,
     model: Lti<T, N>,
     delay: Delay<T, S>,
     line: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
     let b = Lti::from_tf(
-        &[crate::real::finite(kb, "kb")?],
-        &[crate::real::positive(tb, "tb")?, T::one()],
+        &[crate::real::finite(p.kb, "kb")?],
+        &[crate::real::positive(p.tb, "tb")?, T::one()],
         pid.ts,
         Discretization::Zoh,
     )?;
-    Compensator::new(Pid::new(pid)?, model, delay, params)?
+    Compensator::new(Pid::new(pid)?, model, delay, ParamList::of(p))?
         .with_error_path(ErrorPath::Huang { b, line })
 }

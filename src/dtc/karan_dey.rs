@@ -27,47 +27,32 @@
 //! drives `ym → r − ε`, so `y → r` (zero steady-state error) and `u → −d`.
 
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList};
-use crate::real::{finite, non_negative, positive};
+use crate::dtc::compensator::{Compensator, DisturbancePath};
+use crate::params::{param_struct, ParamList, ParamSet};
+use crate::real::finite;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, ProcessModel, Real};
 
-/// Tuned parameters of the Karan–Dey MSP (names as in reports and `--set`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct KaranDeyParams<T> {
-    /// Proportional gain `Kp` shared by the three controllers.
-    pub kp: T,
-    /// Integral time `Ti` of `Gc1` (s).
-    pub ti: T,
-    /// Weight `β` of `Gc2 = β·Kp`.
-    pub beta: T,
-    /// Weight `γ` of `Gc3 = γ·Kp(1 + Td s)`.
-    pub gamma: T,
-    /// Derivative time `Td` of `Gc3` (s).
-    pub td: T,
-    /// Derivative filter ratio `N` of `Gc3` (`Tf = Td/N`).
-    pub n: T,
-}
-
-impl<T: Real> KaranDeyParams<T> {
-    /// Checks every field.
-    pub fn validate(&self) -> Result<(), Error> {
-        positive(self.kp, "kp")?;
-        positive(self.ti, "ti")?;
-        non_negative(self.beta, "beta")?;
-        non_negative(self.gamma, "gamma")?;
-        non_negative(self.td, "td")?;
-        positive(self.n, "n")?;
-        Ok(())
+param_struct! {
+    /// Tuned parameters of the Karan–Dey MSP (names as in reports and `--set`).
+    pub struct KaranDeyParams {
+        /// Proportional gain `Kp` shared by the three controllers.
+        kp: Positive,
+        /// Integral time `Ti` of `Gc1` (s).
+        ti: Positive,
+        /// Weight `β` of `Gc2 = β·Kp`.
+        beta: NonNegative,
+        /// Weight `γ` of `Gc3 = γ·Kp(1 + Td s)`.
+        gamma: NonNegative,
+        /// Derivative time `Td` of `Gc3` (s).
+        td: NonNegative,
+        /// Derivative filter ratio `N` of `Gc3` (`Tf = Td/N`).
+        n: Positive,
     }
 }
 
 /// The Karan–Dey MSP: the general [`Compensator`] configured with `Gc1` (PI),
 /// `Gc2 = β·Kp` on the model output and `Gc3` on the model error.
 pub type KaranDey<T, const N: usize, S> = Compensator<T, N, S>;
-
-/// Parameter names, as in reports and `--set`.
-pub const PARAMS: &[&str] = &["kp", "ti", "beta", "gamma", "td", "n"];
 
 /// Builds the MSP around the delay-free model `Gm` (strictly proper) and its
 /// dead time, sampled every `ts`. `Gc3 = γKp(1 + Td s/(1 + (Td/N)s))` is the
@@ -93,8 +78,7 @@ pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     } else {
         Lti::gain(gk)?
     };
-    let list = ParamList::new(PARAMS, &[p.kp, p.ti, p.beta, p.gamma, p.td, p.n]);
-    Ok(Compensator::new(gc1, model, delay, list)?
+    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
         .with_inner(gc2)
         .with_disturbance(DisturbancePath::Block(gc3)))
 }

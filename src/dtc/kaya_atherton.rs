@@ -10,26 +10,44 @@
 //! ([`crate::dtc::compensator`]), which the thesis derives from it.
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList};
+use crate::dtc::compensator::{Compensator, DisturbancePath};
+use crate::params::{param_struct, ParamList};
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-/// Parameter names: `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = kf(1 + tf s)`, `Gc3 = kb(td s + 1)/(0.1 td s + 1)`.
-pub const PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td"];
+param_struct! {
+    /// Parameters of the PI-PD Smith predictor: `Gc1 = kp(1 + 1/(ti s))`,
+    /// `Gc2 = kf(1 + tf s)`, `Gc3 = kb(td s + 1)/(0.1 td s + 1)`.
+    pub struct KayaAthertonParams {
+        /// Proportional gain of `Gc1`.
+        kp: Finite,
+        /// Integral time of `Gc1` (s).
+        ti: Positive,
+        /// Gain of `Gc2`.
+        kf: Finite,
+        /// Derivative time of `Gc2` (s).
+        tf: NonNegative,
+        /// Gain of `Gc3`.
+        kb: Finite,
+        /// Lead time of `Gc3` (s).
+        td: NonNegative,
+    }
+}
 
 /// The PI-PD Smith predictor.
-#[allow(clippy::too_many_arguments)]
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    kp: T,
-    ti: T,
-    kf: T,
-    tf: T,
-    kb: T,
-    td: T,
+    p: &KayaAthertonParams<T>,
     ts: T,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
+    let KayaAthertonParams {
+        kp,
+        ti,
+        kf,
+        tf,
+        kb,
+        td,
+    } = *p;
     let gc1 = Pid::new(PidConfig::isa(kp, ti, T::zero(), ts))?;
     let gc2 = Pid::new(PidConfig::parallel(kf, T::zero(), kf * tf, ts))?;
     let td = crate::real::non_negative(td, "td")?;
@@ -43,7 +61,7 @@ pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     } else {
         Lti::gain(kb)?
     };
-    Ok(Compensator::new(gc1, model, delay, params)?
+    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
         .with_inner(gc2)
         .with_disturbance(DisturbancePath::Block(gc3)))
 }

@@ -14,22 +14,30 @@
 //! a constant load.
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, DisturbancePath, ParamList};
+use crate::dtc::compensator::{Compensator, DisturbancePath};
+use crate::params::{param_struct, ParamList};
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
-/// Parameter names.
-pub const PARAMS: &[&str] = &["kr", "k0", "tr"];
+param_struct! {
+    /// Parameters of the Matausek–Micić predictor.
+    pub struct MatausekMicicParams {
+        /// Set-point gain `kr` (`kr = 1/(Kv·tr)`).
+        kr: Finite,
+        /// Load feedback gain `k0`.
+        k0: Finite,
+        /// Set-point time constant `tr` (s) the gain `kr` was tuned for.
+        tr: Any,
+    }
+}
 
-/// The predictor with set-point gain `kr` and load feedback `k0`.
+/// The predictor with set-point gain `p.kr` and load feedback `p.k0`.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    kr: T,
-    k0: T,
+    p: &MatausekMicicParams<T>,
     ts: T,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
-    let gc1 = Pid::new(PidConfig::parallel(kr, T::zero(), T::zero(), ts))?;
-    Ok(Compensator::new(gc1, model, delay, params)?
-        .with_disturbance(DisturbancePath::Block(Lti::gain(k0)?)))
+    let gc1 = Pid::new(PidConfig::parallel(p.kr, T::zero(), T::zero(), ts))?;
+    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
+        .with_disturbance(DisturbancePath::Block(Lti::gain(p.k0)?)))
 }

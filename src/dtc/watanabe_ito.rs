@@ -16,20 +16,20 @@
 //! set-point response no longer exactly the delay-free one.
 
 use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, ParamList};
+use crate::dtc::compensator::Compensator;
+use crate::params::ParamList;
+use crate::tuning::PidGains;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-/// Parameter names.
-pub const PARAMS: &[&str] = &["kp", "ti", "td"];
-
-/// The compensator for an integrating model with velocity gain `kv` and dead time `l` (s).
+/// The compensator for an integrating model with velocity gain `kv` and dead
+/// time `l` (s); `pid` (gains `p`) carries the period and limits.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     pid: PidConfig<T>,
+    p: &PidGains<T>,
     kv: T,
     l: T,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    params: ParamList<T>,
 ) -> Result<Compensator<T, N, S>, Error> {
     let l = crate::real::positive(l, "l")?;
     let m = Lti::from_tf(
@@ -38,5 +38,5 @@ pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
         pid.ts,
         Discretization::Zoh,
     )?;
-    Compensator::new(Pid::new(pid)?, model, delay, params)?.with_correction(m)
+    Compensator::new(Pid::new(pid)?, model, delay, ParamList::of(p))?.with_correction(m)
 }

@@ -6,13 +6,15 @@ use alloc::vec::Vec;
 
 use super::common::*;
 use super::fsp::whole_samples;
-use super::integrating::{kaya_atherton_on, tune_kaya_atherton, KA_PARAMS};
+use super::integrating::{kaya_atherton_on, kaya_atherton_settings};
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
 use crate::poly::TransferFunction;
-use crate::{Lti, Pid, PidConfig, Real};
+use crate::{Lti, ParamList, ParamSet, Pid, PidConfig, Real};
 
-use crate::dtc::cascade::{self, Cascade, Imc};
+use crate::dtc::cascade::{
+    self, Cascade, CascadePrimary, FspccParams, GpccParams, Imc, KayaCascadeParams, UmaParams,
+};
 use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath, AUX};
 use crate::dtc::fsp::{FrSpec, Predicted};
 use crate::dtc::gpcc::GpccPredictor;
@@ -53,21 +55,24 @@ fn cascade_primary(
     Ok((lambda2, lambda, k, gm))
 }
 
-/// A cascade scheme's parameters: the primary PID `kp, ki, kd, tau`, the
-/// set-point weight (0.3, the paper's examples), `lambda2`, then the scheme's
-/// own values from `tail(Gm)`, then `lambda`.
-fn cascade_params(
-    names: &'static [&'static str],
+/// The primary PID of a cascade scheme (`kp, ki, kd, tau`), the set-point
+/// weight (0.3, the paper's examples) and `lambda2`, with the primary model
+/// `Gm` and `λ`.
+fn cascade_primary_params(
     p1: &TransferFunction,
     p2: &TransferFunction,
     d: &Design,
-    tail: impl FnOnce(&TransferFunction) -> Vec<f64>,
-) -> Result<Params, crate::Error> {
+) -> Result<(CascadePrimary, TransferFunction, f64), crate::Error> {
     let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, d)?;
-    let mut v = alloc::vec![kp, ki, kd, tau, d.get("epsilon").unwrap_or(0.3), lambda2];
-    v.extend(tail(&gm));
-    v.push(lambda);
-    Ok(params_of(names, &v))
+    let primary = CascadePrimary {
+        kp,
+        ki,
+        kd,
+        tau,
+        epsilon: d.get("epsilon").unwrap_or(0.3),
+        lambda2,
+    };
+    Ok((primary, gm, lambda))
 }
 
 /// The parts every cascade scheme builds: the primary model `Gm e^{−(L1+L2)s}`,
@@ -88,12 +93,11 @@ struct CascadeParts<T> {
 /// The primary model `Gm e^{−(L1+L2)s}` and the inner IMC loop of a cascade
 /// scheme (actuator limits on the inner loop's output, the plant input).
 fn cascade_inner<T: Real>(
-    p: &Params,
+    lambda2: f64,
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
 ) -> Result<(TransferFunction, Imc<T, Vec<T>>), crate::Error> {
-    let lambda2 = p.req("lambda2")?;
     let imc =
         Imc::<T, Vec<T>>::design(p2, lambda2, b.ts)?.with_limits(T::of(b.u_min), T::of(b.u_max))?;
     Ok((cascade::primary_model(p1, p2, lambda2)?, imc))
@@ -105,29 +109,25 @@ fn cascade_parts<T: Real>(
     p2: &TransferFunction,
     b: &Build,
 ) -> Result<CascadeParts<T>, crate::Error> {
-    let (model, imc) = cascade_inner(p, p1, p2, b)?;
-    let (kp, ki, kd, tau) = (p.req("kp")?, p.req("ki")?, p.req("kd")?, p.req("tau")?);
-    let epsilon = p.get("epsilon").unwrap_or(1.0);
+    let c: CascadePrimary = p.typed()?;
+    let (model, imc) = cascade_inner(c.lambda2, p1, p2, b)?;
     Ok(CascadeParts {
         gm: model.to_model_lti::<MAX_ORDER>(b.ts)?,
         h: whole_samples(&model, b.ts)?,
         model,
         imc,
         k: cascade::series_pid(
-            T::of(kp),
-            T::of(ki),
-            T::of(kd),
-            T::of(tau),
-            T::of(epsilon),
+            T::of(c.kp),
+            T::of(c.ki),
+            T::of(c.kd),
+            T::of(c.tau),
+            T::of(c.epsilon),
             T::of(b.ts),
         )?,
-        km: cascade::matched_primary(kp, ki, kd, tau, epsilon, b.ts)?,
+        km: cascade::matched_primary(c.kp, c.ki, c.kd, c.tau, c.epsilon, b.ts)?,
     })
 }
 
-const FSPCC_PARAMS: &[&str] = &[
-    "kp", "ki", "kd", "tau", "epsilon", "lambda2", "tf", "lead", "lag", "lambda",
-];
 const PREDICTED_SIGNALS: &[&str] = &["r2", "inner_error", "prediction"];
 const COMPENSATOR_SIGNALS: &[&str] = &[
     "r2",
@@ -144,13 +144,19 @@ fn tune_fspcc(
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<Params, crate::Error> {
-    cascade_params(FSPCC_PARAMS, p1, p2, d, |gm| {
-        alloc::vec![
-            d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9)),
-            d.get("lead").unwrap_or(0.0),
-            d.get("lag").unwrap_or(0.0),
-        ]
-    })
+    let (c, gm, lambda) = cascade_primary_params(p1, p2, d)?;
+    let p = FspccParams {
+        kp: c.kp,
+        ki: c.ki,
+        kd: c.kd,
+        tau: c.tau,
+        epsilon: c.epsilon,
+        lambda2: c.lambda2,
+        tf: d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9)),
+        lead: d.get("lead").unwrap_or(0.0),
+        lag: d.get("lag").unwrap_or(0.0),
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
 
 fn build_fspcc<T: Real>(
@@ -160,11 +166,11 @@ fn build_fspcc<T: Real>(
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
-    let (lead, lag) = (p.req("lead")?, p.req("lag")?);
+    let f: FspccParams = p.typed()?;
     let spec = FrSpec {
-        tf: p.req("tf")?,
-        lead: if lead > 0.0 && lag > 0.0 {
-            Some((lead, lag))
+        tf: f.tf,
+        lead: if f.lead > 0.0 && f.lag > 0.0 {
+            Some((f.lead, f.lag))
         } else {
             None
         },
@@ -174,23 +180,27 @@ fn build_fspcc<T: Real>(
     let outer = Predicted::<T, _, _>::with_primary(
         c.km,
         dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?,
-        list(FSPCC_PARAMS, p),
+        ParamList::of(&f.cast::<T>()),
     );
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
-
-const GPCC_PARAMS: &[&str] = &[
-    "kp", "ki", "kd", "tau", "epsilon", "lambda2", "tk", "lambda",
-];
 
 fn tune_gpcc(
     p1: &TransferFunction,
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<Params, crate::Error> {
-    cascade_params(GPCC_PARAMS, p1, p2, d, |_| {
-        alloc::vec![d.get("tk").unwrap_or(0.0)]
-    })
+    let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
+    let p = GpccParams {
+        kp: c.kp,
+        ki: c.ki,
+        kd: c.kd,
+        tau: c.tau,
+        epsilon: c.epsilon,
+        lambda2: c.lambda2,
+        tk: d.get("tk").unwrap_or(0.0),
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
 
 fn build_gpcc<T: Real>(
@@ -200,15 +210,11 @@ fn build_gpcc<T: Real>(
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
-    let pred = GpccPredictor::<T, Vec<T>>::design(&c.gm, c.h, b.ts, p.req("tk")?)?;
-    let outer = Predicted::<T, _, _>::with_primary(c.km, pred, list(GPCC_PARAMS, p));
+    let g: GpccParams = p.typed()?;
+    let pred = GpccPredictor::<T, Vec<T>>::design(&c.gm, c.h, b.ts, g.tk)?;
+    let outer = Predicted::<T, _, _>::with_primary(c.km, pred, ParamList::of(&g.cast::<T>()));
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
-
-const UMA_PARAMS: &[&str] = &[
-    "kp", "ki", "kd", "tau", "epsilon", "lambda2", "kpd", "kid", "kdd", "lead", "lag", "tf",
-    "lambda",
-];
 
 fn tune_uma(
     p1: &TransferFunction,
@@ -217,16 +223,22 @@ fn tune_uma(
 ) -> Result<Params, crate::Error> {
     // Gcd: Uma et al. tune it on a Padé approximation of the dead time, a rule
     // the sources do not give: its gains are left to --set (NaN until then)
-    cascade_params(UMA_PARAMS, p1, p2, d, |_| {
-        alloc::vec![
-            f64::NAN,
-            f64::NAN,
-            f64::NAN,
-            d.get("lead").unwrap_or(0.0),
-            d.get("lag").unwrap_or(0.0),
-            d.get("tf").unwrap_or(0.0),
-        ]
-    })
+    let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
+    let p = UmaParams {
+        kp: c.kp,
+        ki: c.ki,
+        kd: c.kd,
+        tau: c.tau,
+        epsilon: c.epsilon,
+        lambda2: c.lambda2,
+        kpd: f64::NAN,
+        kid: f64::NAN,
+        kdd: f64::NAN,
+        lead: d.get("lead").unwrap_or(0.0),
+        lag: d.get("lag").unwrap_or(0.0),
+        tf: d.get("tf").unwrap_or(0.0),
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
 
 fn build_uma<T: Real>(
@@ -236,32 +248,30 @@ fn build_uma<T: Real>(
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
-    let (kpd, kid, kdd) = (p.req("kpd")?, p.req("kid")?, p.req("kdd")?);
-    if [kpd, kid, kdd].iter().any(|v| v.is_nan()) {
+    let u: UmaParams = p.typed()?;
+    if [u.kpd, u.kid, u.kdd].iter().any(|v| v.is_nan()) {
         return Err(crate::Error::Unsupported(
             "uma: the disturbance controller Gcd has no tuning rule in the sources; set kpd, kid and kdd (and lead, lag) with --set",
         ));
     }
-    let (lead, lag) = (p.req("lead")?, p.req("lag")?);
     // Gcd = (kpd + kid/s + kdd s)(lead s + 1)/(lag s + 1), pole-zero matched
-    let (mut num, mut den) = if kid != 0.0 {
-        (alloc::vec![kdd, kpd, kid], alloc::vec![1.0, 0.0])
+    let (mut num, mut den) = if u.kid != 0.0 {
+        (alloc::vec![u.kdd, u.kpd, u.kid], alloc::vec![1.0, 0.0])
     } else {
-        (alloc::vec![kdd, kpd], alloc::vec![1.0])
+        (alloc::vec![u.kdd, u.kpd], alloc::vec![1.0])
     };
-    num = crate::poly::mul(&num, &[lead, 1.0]);
-    den = crate::poly::mul(&den, &[lag, 1.0]);
+    num = crate::poly::mul(&num, &[u.lead, 1.0]);
+    den = crate::poly::mul(&den, &[u.lag, 1.0]);
     let gcd = Lti::of(&Lti::<f64, AUX>::from_tf(
         &num,
         &den,
         b.ts,
         crate::Discretization::Matched,
     )?);
-    let tf = p.req("tf")?;
-    let err = if tf > 0.0 {
+    let err = if u.tf > 0.0 {
         ErrorPath::Filter(Lti::of(&Lti::<f64, AUX>::from_tf(
             &[1.0],
-            &[tf, 1.0],
+            &[u.tf, 1.0],
             b.ts,
             crate::Discretization::Matched,
         )?))
@@ -269,13 +279,16 @@ fn build_uma<T: Real>(
         ErrorPath::Direct
     };
     let delay = delay_again(&c.model, b)?;
-    let outer = Compensator::new(Pid::new(c.k)?, Lti::of(&c.gm), delay, list(UMA_PARAMS, p))?
-        .with_error_path(err)?
-        .with_disturbance(DisturbancePath::Block(gcd));
+    let outer = Compensator::new(
+        Pid::new(c.k)?,
+        Lti::of(&c.gm),
+        delay,
+        ParamList::of(&u.cast::<T>()),
+    )?
+    .with_error_path(err)?
+    .with_disturbance(DisturbancePath::Block(gcd));
     Ok(Box::new(Cascade::new(outer, c.imc, COMPENSATOR_SIGNALS)))
 }
-
-const KAYA_CASCADE_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda2", "lambda"];
 
 fn tune_kaya_cascade(
     p1: &TransferFunction,
@@ -284,13 +297,17 @@ fn tune_kaya_cascade(
 ) -> Result<Params, crate::Error> {
     let lambda2 = lambda2_for(p2, d)?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
-    let single = tune_kaya_atherton(&gm, d)?;
-    let mut values: Vec<f64> = KA_PARAMS
-        .iter()
-        .map(|n| single.get(n).unwrap_or(f64::NAN))
-        .collect();
-    values.insert(6, lambda2);
-    Ok(params_of(KAYA_CASCADE_PARAMS, &values))
+    let (k, lambda) = kaya_atherton_settings(&gm, d)?;
+    let p = KayaCascadeParams {
+        kp: k.kp,
+        ti: k.ti,
+        kf: k.kf,
+        tf: k.tf,
+        kb: k.kb,
+        td: k.td,
+        lambda2,
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
 
 fn build_kaya_cascade<T: Real>(
@@ -299,8 +316,9 @@ fn build_kaya_cascade<T: Real>(
     p2: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let (gm, imc) = cascade_inner(p, p1, p2, b)?;
-    let outer = kaya_atherton_on::<T, MAX_ORDER>(p, &gm, b, KAYA_CASCADE_PARAMS)?;
+    let k: KayaCascadeParams<T> = p.typed()?;
+    let (gm, imc) = cascade_inner(k.lambda2.f64(), p1, p2, b)?;
+    let outer = kaya_atherton_on::<T, MAX_ORDER>(p, &gm, b)?.with_params(ParamList::of(&k));
     Ok(Box::new(Cascade::new(outer, imc, COMPENSATOR_SIGNALS)))
 }
 
@@ -310,7 +328,7 @@ pub(super) const FSPCC: Scheme = Scheme {
     summary: "cascade: filtered Smith predictor (Fr from Eq. 10) outside an IMC inner loop",
     source: "García et al. (2010) Sec. 3.1, Figs. 5-6, Eq. 10",
     plants: ALL,
-    params: FSPCC_PARAMS,
+    params: FspccParams::<f64>::NAMES,
     design: &["lambda", "alpha", "lambda2", "epsilon", "tf", "lead", "lag"],
     fns: SchemeFns::Cascade {
         tune: tune_fspcc,
@@ -323,7 +341,7 @@ pub(super) const GPCC: Scheme = Scheme {
     summary: "cascade: generalized predictor (F1, F2, Gamma, Fk) outside an IMC inner loop",
     source: "García et al. (2010) Sec. 3.2, Fig. 7, Eqs. 1-4",
     plants: ALL,
-    params: GPCC_PARAMS,
+    params: GpccParams::<f64>::NAMES,
     design: &["lambda", "alpha", "lambda2", "epsilon", "tk"],
     fns: SchemeFns::Cascade {
         tune: tune_gpcc,
@@ -336,7 +354,7 @@ pub(super) const UMA: Scheme = Scheme {
     summary: "cascade competitor: Uma et al. 2009 modified Smith predictor (Gcs, Gcd, Gf; set Gcd's gains)",
     source: "García et al. (2010) Sec. 2.3, Fig. 4",
     plants: ALL,
-    params: UMA_PARAMS,
+    params: UmaParams::<f64>::NAMES,
     design: &["lambda", "alpha", "lambda2", "epsilon", "lead", "lag", "tf"],
     fns: SchemeFns::Cascade {
         tune: tune_uma,
@@ -350,7 +368,7 @@ pub(super) const KAYA_CASCADE: Scheme = Scheme {
         "cascade competitor: Kaya et al. 2008 Smith predictor in the outer loop (Gc1, Gc3, Gd)",
     source: "García et al. (2010) Sec. 2.2, Fig. 3",
     plants: STABLE_INT,
-    params: KAYA_CASCADE_PARAMS,
+    params: KayaCascadeParams::<f64>::NAMES,
     design: &["lambda", "alpha", "lambda2"],
     fns: SchemeFns::Cascade {
         tune: tune_kaya_cascade,

@@ -1,25 +1,22 @@
 //! What the schemes' tuning and construction share: parameter access, λ,
 //! the model's parts, and the build dispatch on the model order.
 
+use alloc::boxed::Box;
 use alloc::vec::Vec;
 
-use super::{Build, Design, Params};
+use super::{Build, Design, DynControllerOf, Params};
 use crate::delay::Delay;
-use crate::dtc::compensator::ParamList;
+use crate::dtc::Compensator;
 use crate::poly::{PlantKind, TransferFunction};
+use crate::tuning::PidGains;
 use crate::{Ipdt, Lti, PidConfig, ProcessModel, Real};
 
+/// The PID of a scheme's parameters (its `kp`, `ti`, `td`) with the build's
+/// period and actuator limits.
 pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {
-    let td = p.get("td").unwrap_or(0.0);
-    Ok(
-        PidConfig::try_isa(req(p, "kp")?, req(p, "ti")?, T::of(td), T::of(b.ts))?
-            .with_limits(T::of(b.u_min), T::of(b.u_max)),
-    )
-}
-
-/// Parameter `name` in precision `T`.
-pub(super) fn req<T: Real>(p: &Params, name: &'static str) -> Result<T, crate::Error> {
-    Ok(T::of(p.req(name)?))
+    let g: PidGains<T> = p.typed()?;
+    Ok(PidConfig::try_isa(g.kp, g.ti, g.td, T::of(b.ts))?
+        .with_limits(T::of(b.u_min), T::of(b.u_max)))
 }
 
 /// `λ`: given, or `alpha·L`, or `default_factor·L`.
@@ -33,13 +30,6 @@ pub(super) fn lambda_for(model: &ProcessModel<f64>, d: &Design, default_factor: 
 
 /// A model's delay-free block and its dead-time line.
 pub(super) type ModelParts<T, const N: usize> = (Lti<T, N>, Delay<T, Vec<T>>);
-
-/// The case number 1–6 of the disturbance estimator.
-pub(super) fn case_of(case: f64) -> Result<u8, crate::Error> {
-    (1u8..=6)
-        .find(|c| f64::from(*c) == case)
-        .ok_or(crate::Error::OutOfRange("case"))
-}
 
 /// The model's delay-free part at the controller period and its dead time.
 pub(super) fn model_parts<T: Real, const N: usize>(
@@ -60,6 +50,16 @@ pub(super) fn delay_again<T: Real>(
     Delay::new_in(T::of(model.delay_samples(b.ts)?))
 }
 
+/// A compensator with the build's actuator limits, boxed.
+pub(super) fn limited<T: Real, const N: usize>(
+    c: Compensator<T, N, Vec<T>>,
+    b: &Build,
+) -> Result<DynControllerOf<T>, crate::Error> {
+    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+}
+
+/// The integrating model `K e^{−Ls}/s` of `plant`; `scheme` names the scheme
+/// in the error for any other plant.
 pub(super) fn integrating_model(
     plant: &TransferFunction,
     scheme: &'static str,
@@ -68,10 +68,6 @@ pub(super) fn integrating_model(
         ProcessModel::Ipdt(m) => Ok(m),
         _ => Err(crate::Error::Unsupported(scheme)),
     }
-}
-
-pub(super) fn params_of(names: &'static [&'static str], values: &[f64]) -> Params {
-    Params(names.iter().copied().zip(values.iter().copied()).collect())
 }
 
 /// A build function dispatched on the model order, so that the model block
@@ -102,15 +98,6 @@ macro_rules! both {
             f32: $f::<f32>,
         }
     };
-}
-
-/// The controller's own copy of its parameters, in the scheme's report order.
-pub(super) fn list<T: Real>(names: &'static [&'static str], p: &Params) -> ParamList<T> {
-    let values: Vec<T> = names
-        .iter()
-        .map(|n| T::of(p.get(n).unwrap_or(f64::NAN)))
-        .collect();
-    ParamList::new(names, &values)
 }
 
 pub(super) const STABLE: &[PlantKind] = &[PlantKind::Stable];

@@ -1,12 +1,11 @@
 //! `disturbance-estimator`: Draganović et al. (2001), Cases 1–6.
 
-use alloc::boxed::Box;
-
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
+use crate::dtc::disturbance_estimator::{case_number, DisturbanceEstimatorParams};
 use crate::poly::TransferFunction;
-use crate::{tuning, Real};
+use crate::{tuning, ParamSet, Real};
 
 fn tune_disturbance_estimator(
     plant: &TransferFunction,
@@ -20,9 +19,8 @@ fn tune_disturbance_estimator(
         .get("td")
         .unwrap_or_else(|| lambda_for(&m.into(), d, 0.25));
     let case = d.get("case").unwrap_or(1.0);
-    let case_n = case_of(case)?;
     let design = tuning::EstimatorDesign {
-        case: case_n,
+        case: case_number(case)?,
         tde: d.get("tde").unwrap_or(0.55 * m.l),
         alpha: d
             .get("alpha")
@@ -30,47 +28,29 @@ fn tune_disturbance_estimator(
         w0: d.get("w0").unwrap_or(0.05),
     };
     let t = tuning::disturbance_estimator(m.k, m.l, &design)?;
-    Ok(params_of(
-        DE_PARAMS,
-        &[
-            1.0 / (m.k * td),
-            td,
-            case,
-            t.ka,
-            t.ta,
-            t.tc,
-            design.tde,
-            design.alpha,
-            design.w0,
-        ],
-    ))
+    Ok(Params::of(&DisturbanceEstimatorParams {
+        kr: 1.0 / (m.k * td),
+        td,
+        case,
+        ka: t.ka,
+        ta: t.ta,
+        tc: t.tc,
+        tde: design.tde,
+        alpha: design.alpha,
+        w0: design.w0,
+    }))
 }
-
-const DE_PARAMS: &[&str] = &["kr", "td", "case", "ka", "ta", "tc", "tde", "alpha", "w0"];
 
 fn build_disturbance_estimator<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let case = case_of(p.req("case")?)?;
-    let est = dtc::disturbance_estimator::Estimator::from_case(
-        case,
-        req(p, "ka")?,
-        req(p, "ta")?,
-        req(p, "tc")?,
-        req(p, "w0")?,
-    )?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    let c = dtc::disturbance_estimator::build(
-        req(p, "kr")?,
-        &est,
-        T::of(b.ts),
-        lti,
-        delay,
-        list(DE_PARAMS, p),
-    )?;
-    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+    limited(
+        dtc::disturbance_estimator::build(&p.typed()?, T::of(b.ts), lti, delay)?,
+        b,
+    )
 }
 
 pub(super) const DISTURBANCE_ESTIMATOR: Scheme = Scheme {
@@ -79,7 +59,7 @@ pub(super) const DISTURBANCE_ESTIMATOR: Scheme = Scheme {
     summary: "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)",
     source: "Draganović et al. (2001)",
     plants: INT,
-    params: DE_PARAMS,
+    params: DisturbanceEstimatorParams::<f64>::NAMES,
     design: &["lambda", "td", "case", "tde", "alpha", "w0"],
     fns: SchemeFns::Single {
         tune: tune_disturbance_estimator,

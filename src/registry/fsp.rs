@@ -7,8 +7,9 @@ use alloc::vec::Vec;
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
+use crate::dtc::fsp::FspParams;
 use crate::poly::TransferFunction;
-use crate::{tuning, PidConfig, ProcessModel, Real};
+use crate::{tuning, ParamList, ParamSet, PidConfig, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -29,10 +30,8 @@ fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
         }
     };
     let tf = d.get("tf").unwrap_or(0.5 * m.delay().max(1e-9));
-    Ok(params_of(FSP_PARAMS, &[kp, ti, tf, lambda]))
+    Ok(Params::of(&FspParams { kp, ti, tf }).with_lambda(lambda))
 }
-
-const FSP_PARAMS: &[&str] = &["kp", "ti", "tf", "lambda"];
 
 /// The dead time of `model` in whole samples: the predictors of García et al. (2010)
 /// realize `z^{−h}` inside `S` and `F1`, so `h` must be an integer.
@@ -52,15 +51,16 @@ fn build_fsp<T: Real>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
+    let fp: FspParams<T> = p.typed()?;
     let h = whole_samples(model, b.ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
-    let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, p.req("tf")?)?;
-    let k = PidConfig::isa(req(p, "kp")?, req(p, "ti")?, T::zero(), T::of(b.ts))
+    let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, fp.tf.f64())?;
+    let k = PidConfig::isa(fp.kp, fp.ti, T::zero(), T::of(b.ts))
         .with_limits(T::of(b.u_min), T::of(b.u_max));
     Ok(Box::new(dtc::fsp::FilteredSmith::<T, Vec<T>>::new(
         k,
         &design,
-        list(FSP_PARAMS, p),
+        ParamList::of(&fp),
     )?))
 }
 
@@ -70,7 +70,7 @@ pub(super) const FSP: Scheme = Scheme {
     summary: "filtered Smith predictor for unstable, integrating and stable plants: Fr(z) from the Diophantine condition",
     source: "García et al. (2010) Sec. 3, Eq. 10",
     plants: ALL,
-    params: FSP_PARAMS,
+    params: FspParams::<f64>::NAMES,
     design: &["lambda", "alpha", "tf"],
     fns: SchemeFns::Single {
         tune: tune_fsp,

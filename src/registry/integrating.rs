@@ -1,129 +1,100 @@
 //! The predictors for integrating plants of Bag (2022), Sec. 4.4–4.5:
 //! Karan–Dey, Watanabe–Ito, Åström–Hang–Lim, Matausek–Micić, Kaya–Atherton.
 
-use alloc::boxed::Box;
 use alloc::vec::Vec;
 
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::delay::Delay;
+use crate::dtc::astrom_hang_lim::AstromHangLimParams;
+use crate::dtc::kaya_atherton::KayaAthertonParams;
+use crate::dtc::matausek_micic::MatausekMicicParams;
 use crate::dtc::{self, Compensator, KaranDeyParams};
 use crate::poly::TransferFunction;
-use crate::{tuning, Ipdt, ProcessModel, Real};
+use crate::tuning::PidGains;
+use crate::{tuning, Ipdt, ParamSet, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
 fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     let m = integrating_model(plant, "the Karan-Dey MSP needs an integrating plant")?;
     let lambda = lambda_for(&m.into(), d, 0.25);
-    let k = tuning::karan_dey(&m, lambda)?;
-    Ok(params_of(
-        KD_PARAMS,
-        &[k.kp, k.ti, k.beta, k.gamma, k.td, k.n, lambda],
-    ))
+    Ok(Params::of(&tuning::karan_dey(&m, lambda)?).with_lambda(lambda))
 }
-
-const KD_PARAMS: &[&str] = &["kp", "ti", "beta", "gamma", "td", "n", "lambda"];
 
 fn build_karan_dey<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let params = KaranDeyParams {
-        kp: req(p, "kp")?,
-        ti: req(p, "ti")?,
-        beta: req(p, "beta")?,
-        gamma: req(p, "gamma")?,
-        td: req(p, "td")?,
-        n: req(p, "n")?,
-    };
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    Ok(Box::new(
-        dtc::karan_dey::build(&params, lti, delay, T::of(b.ts))?
-            .with_limits(T::of(b.u_min), T::of(b.u_max))?,
-    ))
+    limited(
+        dtc::karan_dey::build(&p.typed()?, lti, delay, T::of(b.ts))?,
+        b,
+    )
 }
 
 fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     // The W-I loop is 1 + C·Kv/(s(1 + Ls)) (see dtc::watanabe_ito): SIMC PI for
     // an integrator with the lag L folded into the delay, τc = λ (default L/2).
-    let m = integrating_model(
-        plant,
-        "the Watanabe-Ito predictor needs an integrating plant",
-    )?;
+    let m = integrating_model(plant, WI_PLANT)?;
     let lambda = lambda_for(&m.into(), d, 0.5);
     let s = lambda + m.l;
-    Ok(params_of(
-        WI_PARAMS,
-        &[1.0 / (m.k * s), 4.0 * s, 0.0, lambda],
-    ))
+    let g = PidGains {
+        kp: 1.0 / (m.k * s),
+        ti: 4.0 * s,
+        td: 0.0,
+    };
+    Ok(Params::of(&g).with_lambda(lambda))
 }
 
-const WI_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
+const WI_PLANT: &str = "the Watanabe-Ito predictor needs an integrating plant";
 
 fn build_watanabe_ito<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let m = integrating_model(
-        model,
-        "the Watanabe-Ito predictor needs an integrating plant",
-    )?;
+    let m = integrating_model(model, WI_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::watanabe_ito::build(
         pid_cfg(p, b)?,
+        &p.typed()?,
         T::of(m.k),
         T::of(m.l),
         lti,
         delay,
-        list(WI_PARAMS, p),
     )?;
-    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+    limited(c, b)
 }
+
+const AHL_PLANT: &str = "the Astrom-Hang-Lim predictor needs an integrating plant";
 
 fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     // set point k/(s + k) with k = 1/λ (λ = L/4 by default); load loop
     // (1 + k1)s² + k2 s + k3 = (s + a)² with a = 1/L.
-    let m = integrating_model(
-        plant,
-        "the Astrom-Hang-Lim predictor needs an integrating plant",
-    )?;
+    let m = integrating_model(plant, AHL_PLANT)?;
     let lambda = lambda_for(&m.into(), d, 0.25);
     let a = d.get("a").unwrap_or(1.0 / m.l);
-    Ok(params_of(
-        AHL_PARAMS,
-        &[1.0 / lambda, 0.0, 2.0 * a, a * a, lambda],
-    ))
+    let p = AstromHangLimParams {
+        k: 1.0 / lambda,
+        k1: 0.0,
+        k2: 2.0 * a,
+        k3: a * a,
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
-
-const AHL_PARAMS: &[&str] = &["k", "k1", "k2", "k3", "lambda"];
 
 fn build_astrom_hang_lim<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let m = integrating_model(
-        model,
-        "the Astrom-Hang-Lim predictor needs an integrating plant",
-    )?;
+    let m = integrating_model(model, AHL_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let line = Delay::new_in(T::of(model.delay_samples(b.ts)?.floor()))?;
-    let c = dtc::astrom_hang_lim::build(
-        req(p, "k")?,
-        req(p, "k1")?,
-        req(p, "k2")?,
-        req(p, "k3")?,
-        T::of(m.k),
-        T::of(b.ts),
-        lti,
-        delay,
-        line,
-        list(AHL_PARAMS, p),
-    )?;
-    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+    let c = dtc::astrom_hang_lim::build(&p.typed()?, T::of(m.k), T::of(b.ts), lti, delay, line)?;
+    limited(c, b)
 }
 
 fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -134,13 +105,12 @@ fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, c
     let tr = d
         .get("tr")
         .unwrap_or_else(|| lambda_for(&m.into(), d, 0.25));
-    Ok(params_of(
-        MM_PARAMS,
-        &[1.0 / (m.k * tr), 0.5 / (m.k * m.l), tr],
-    ))
+    Ok(Params::of(&MatausekMicicParams {
+        kr: 1.0 / (m.k * tr),
+        k0: 0.5 / (m.k * m.l),
+        tr,
+    }))
 }
-
-const MM_PARAMS: &[&str] = &["kr", "k0", "tr"];
 
 fn build_matausek_micic<T: Real, const N: usize>(
     p: &Params,
@@ -148,72 +118,73 @@ fn build_matausek_micic<T: Real, const N: usize>(
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    let c = dtc::matausek_micic::build(
-        req(p, "kr")?,
-        req(p, "k0")?,
-        T::of(b.ts),
-        lti,
-        delay,
-        list(MM_PARAMS, p),
-    )?;
-    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+    limited(
+        dtc::matausek_micic::build(&p.typed()?, T::of(b.ts), lti, delay)?,
+        b,
+    )
 }
 
-pub(super) fn tune_kaya_atherton(
+/// Kaya–Atherton's settings for `plant` and the `λ` they were tuned for.
+pub(super) fn kaya_atherton_settings(
     plant: &TransferFunction,
     d: &Design,
-) -> Result<Params, crate::Error> {
+) -> Result<(KayaAthertonParams, f64), crate::Error> {
     let m = match plant.reduce(false)? {
         // an integrator with a lag T acts at low frequency as K/s with T more dead time
         ProcessModel::Foipdt(f) => ProcessModel::Ipdt(Ipdt::new(f.k, f.l + f.t)?),
         other => other,
     };
-    let values = match m {
+    Ok(match m {
         ProcessModel::Ipdt(i) => {
             // the Karan-Dey settings: Gc2 = beta·Kp (P), Gc3 from gamma·Kp with Td = λ
             let lambda = lambda_for(&m, d, 0.25);
             let k = tuning::karan_dey(&i, lambda)?;
-            [k.kp, k.ti, k.beta * k.kp, 0.0, k.gamma * k.kp, k.td, lambda]
+            let p = KayaAthertonParams {
+                kp: k.kp,
+                ti: k.ti,
+                kf: k.beta * k.kp,
+                tf: 0.0,
+                kb: k.gamma * k.kp,
+                td: k.td,
+            };
+            (p, lambda)
         }
         ProcessModel::Fopdt(_) | ProcessModel::Sopdt(_) => {
             // Kaya's PI on the model loop; a proportional Gc3 with loop gain 1/2,
             // stable for any dead time by the small-gain theorem
             let lambda = lambda_for(&m, d, 1.0);
             let g = tuning::kaya(&m, lambda)?;
-            let k = plant.gain();
-            [g.kp, g.ti, 0.0, 0.0, 0.5 / k, 0.0, lambda]
+            let p = KayaAthertonParams {
+                kp: g.kp,
+                ti: g.ti,
+                kf: 0.0,
+                tf: 0.0,
+                kb: 0.5 / plant.gain(),
+                td: 0.0,
+            };
+            (p, lambda)
         }
         _ => {
             return Err(crate::Error::Unsupported(
                 "the Kaya-Atherton predictor needs a stable or integrating plant",
             ))
         }
-    };
-    Ok(params_of(KA_PARAMS, &values))
+    })
 }
 
-pub(super) const KA_PARAMS: &[&str] = &["kp", "ti", "kf", "tf", "kb", "td", "lambda"];
+fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let (p, lambda) = kaya_atherton_settings(plant, d)?;
+    Ok(Params::of(&p).with_lambda(lambda))
+}
 
-/// Kaya–Atherton's predictor on `model`, reporting `names` (without limits).
+/// Kaya–Atherton's predictor on `model` (without limits).
 pub(super) fn kaya_atherton_on<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-    names: &'static [&'static str],
 ) -> Result<Compensator<T, N, Vec<T>>, crate::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    dtc::kaya_atherton::build(
-        req(p, "kp")?,
-        req(p, "ti")?,
-        req(p, "kf")?,
-        req(p, "tf")?,
-        req(p, "kb")?,
-        req(p, "td")?,
-        T::of(b.ts),
-        lti,
-        delay,
-        list(names, p),
-    )
+    dtc::kaya_atherton::build(&p.typed()?, T::of(b.ts), lti, delay)
 }
 
 fn build_kaya_atherton<T: Real, const N: usize>(
@@ -221,8 +192,7 @@ fn build_kaya_atherton<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let c = kaya_atherton_on::<T, N>(p, model, b, KA_PARAMS)?;
-    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+    limited(kaya_atherton_on::<T, N>(p, model, b)?, b)
 }
 
 pub(super) const WATANABE_ITO: Scheme = Scheme {
@@ -231,7 +201,7 @@ pub(super) const WATANABE_ITO: Scheme = Scheme {
     summary: "Watanabe-Ito predictor for integrating plants: the predictor's static gain removed",
     source: "Bag (2022) Sec. 4.4.1",
     plants: INT,
-    params: WI_PARAMS,
+    params: PidGains::<f64>::NAMES,
     design: &["lambda", "alpha"],
     fns: SchemeFns::Single {
         tune: tune_watanabe_ito,
@@ -245,7 +215,7 @@ pub(super) const ASTROM_HANG_LIM: Scheme = Scheme {
         "Astrom-Hang-Lim predictor for integrating plants: set-point and load responses decoupled",
     source: "Bag (2022) Sec. 4.4.2, Eqs. 4.13-4.17",
     plants: INT,
-    params: AHL_PARAMS,
+    params: AstromHangLimParams::<f64>::NAMES,
     design: &["lambda", "alpha", "a"],
     fns: SchemeFns::Single {
         tune: tune_astrom_hang_lim,
@@ -258,7 +228,7 @@ pub(super) const MATAUSEK_MICIC: Scheme = Scheme {
     summary: "Matausek-Micic predictor for integrating plants: P set point, P load feedback",
     source: "Bag (2022) Sec. 4.4.3, refs [8], [52]",
     plants: INT,
-    params: MM_PARAMS,
+    params: MatausekMicicParams::<f64>::NAMES,
     design: &["lambda", "alpha", "tr"],
     fns: SchemeFns::Single {
         tune: tune_matausek_micic,
@@ -271,7 +241,7 @@ pub(super) const KAYA_ATHERTON: Scheme = Scheme {
     summary: "Kaya-Atherton PI-PD Smith predictor: Gc1 PI, Gc2 P/PD, Gc3 = kb(Td s+1)/(0.1 Td s+1)",
     source: "Bag (2022) Sec. 4.4.3, Eq. 4.18",
     plants: STABLE_INT,
-    params: KA_PARAMS,
+    params: KayaAthertonParams::<f64>::NAMES,
     design: &["lambda", "alpha"],
     fns: SchemeFns::Single {
         tune: tune_kaya_atherton,
@@ -285,7 +255,7 @@ pub(super) const KARAN_DEY: Scheme = Scheme {
         "Karan-Dey three-controller modified Smith predictor for integrating plants (lambda = L/4)",
     source: "Bag (2022) Sec. 4.5",
     plants: INT,
-    params: KD_PARAMS,
+    params: KaranDeyParams::<f64>::NAMES,
     design: &["lambda", "alpha"],
     fns: SchemeFns::Single {
         tune: tune_karan_dey,

@@ -17,6 +17,7 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
+use crate::params::{ParamList, ParamSet};
 use crate::poly::{PlantKind, TransferFunction};
 use crate::LoopController;
 use crate::Real;
@@ -107,28 +108,66 @@ impl fmt::Display for RegistryError {
 
 impl core::error::Error for RegistryError {}
 
-/// Named parameter values, in the scheme's order.
+/// A scheme's tuned parameters: the names and values of its typed struct
+/// (a [`ParamSet`], in `f64`) and the closed-loop time constant `lambda` the
+/// tuning aimed for (reported after them; `--set lambda=` re-tunes).
+///
+/// The names come from the struct's fields only, so `--set` can change a
+/// value the type has and no other.
 #[derive(Debug, Clone, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Params(pub Vec<(&'static str, f64)>);
+pub struct Params {
+    list: ParamList<f64>,
+    lambda: Option<f64>,
+}
 
 impl Params {
-    /// The value of `name`.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        self.0.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
-    }
-    fn req(&self, name: &'static str) -> Result<f64, crate::Error> {
-        self.get(name).ok_or(crate::Error::Unsupported(name))
-    }
-    /// Sets an existing parameter; false when the name is unknown.
-    pub fn set(&mut self, name: &str, v: f64) -> bool {
-        match self.0.iter_mut().find(|(n, _)| *n == name) {
-            Some(slot) => {
-                slot.1 = v;
-                true
-            }
-            None => false,
+    /// The parameters of a typed struct.
+    pub fn of<P: ParamSet<f64>>(p: &P) -> Self {
+        Params {
+            list: ParamList::of(p),
+            lambda: None,
         }
+    }
+    /// The same, tuned for the closed-loop time constant `lambda`.
+    pub fn with_lambda(mut self, lambda: f64) -> Self {
+        self.lambda = Some(lambda);
+        self
+    }
+    /// The typed struct `P` in precision `T` (every field of `P` read by name;
+    /// `P` may be a part of the scheme's struct, the PID of a predictor).
+    pub fn typed<T: Real, P: ParamSet<T>>(&self) -> Result<P, crate::Error> {
+        P::from_list(&self.list)
+    }
+    /// The value of `name` (`lambda` included).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        match (name, self.lambda) {
+            ("lambda", Some(l)) => Some(l),
+            _ => self.list.get(name),
+        }
+    }
+    /// Sets a parameter of the scheme's type; false when the type has no such field.
+    pub fn set(&mut self, name: &str, v: f64) -> bool {
+        self.list.set(name, v)
+    }
+    /// The closed-loop time constant the tuning aimed for.
+    pub fn lambda(&self) -> Option<f64> {
+        self.lambda
+    }
+    /// `(name, value)` pairs in report order: the struct's fields, then `lambda`.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        self.list.iter().chain(self.lambda.map(|l| ("lambda", l)))
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for Params {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        for (k, v) in self.iter() {
+            m.serialize_entry(k, &v)?;
+        }
+        m.end()
     }
 }
 
@@ -178,7 +217,8 @@ pub struct Scheme {
     pub source: &'static str,
     /// Plant kinds it can control.
     pub plants: &'static [PlantKind],
-    /// Names of the tuned parameters, in report order.
+    /// Names of the tuned parameters, in report order: the fields of the
+    /// scheme's [`ParamSet`] (`lambda`, a design key, follows in reports).
     pub params: &'static [&'static str],
     /// Design keys accepted by `--set` before tuning.
     pub design: &'static [&'static str],

@@ -5,8 +5,9 @@ use alloc::boxed::Box;
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns};
 use crate::poly::TransferFunction;
+use crate::tuning::PidGains;
 use crate::Pid;
-use crate::{tuning, ProcessModel, Real};
+use crate::{tuning, ParamSet, ProcessModel, Real};
 
 fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     let m = plant.reduce(true)?;
@@ -43,10 +44,13 @@ fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
             (tuning::ultimate_cycle(r, ku, tu)?, f64::NAN)
         }
     };
-    Ok(params_of(PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
+    let p = Params::of(&g);
+    Ok(if lambda.is_nan() {
+        p
+    } else {
+        p.with_lambda(lambda)
+    })
 }
-
-pub(super) const PID_PARAMS: &[&str] = &["kp", "ti", "td", "lambda"];
 
 fn build_pid<T: Real>(
     p: &Params,
@@ -62,7 +66,7 @@ pub(super) const PID: Scheme = Scheme {
     summary: "plain PI/PID feedback, the baseline: IMC-PID (default), SIMC, or an ultimate-cycle rule (--rule)",
     source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
     plants: STABLE_INT,
-    params: PID_PARAMS,
+    params: PidGains::<f64>::NAMES,
     design: &["lambda", "alpha"],
     fns: SchemeFns::Single {
         tune: tune_pid,

@@ -4,11 +4,13 @@
 use alloc::boxed::Box;
 
 use super::common::*;
-use super::pid::PID_PARAMS;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use crate::dtc::filtered_smith::FilteredSmithParams;
+use crate::dtc::huang::HuangParams;
 use crate::dtc::{self, SmithPredictor};
 use crate::poly::TransferFunction;
-use crate::{tuning, ProcessModel, Real};
+use crate::tuning::PidGains;
+use crate::{tuning, ParamSet, ProcessModel, Real};
 
 /// Kaya's PI/PID for a stable model, the thesis's IMC-PI for an integrating one.
 fn primary_gains(
@@ -31,7 +33,7 @@ fn primary_gains(
 
 fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     let (g, lambda, _) = primary_gains(plant, d, 1.0)?;
-    Ok(params_of(PID_PARAMS, &[g.kp, g.ti, g.td, lambda]))
+    Ok(Params::of(&g).with_lambda(lambda))
 }
 
 fn build_smith<T: Real, const N: usize>(
@@ -57,13 +59,15 @@ fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, c
     let (g, lambda, m) = primary_gains(plant, d, 1.0 / 7.5)?;
     let b = d.get("b").unwrap_or(0.5 * dominant_lag(&m));
     let a = d.get("a").unwrap_or(0.0);
-    Ok(params_of(
-        FILTERED_PARAMS,
-        &[g.kp, g.ti, g.td, a, b, lambda],
-    ))
+    let p = FilteredSmithParams {
+        kp: g.kp,
+        ti: g.ti,
+        td: g.td,
+        a,
+        b,
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
-
-const FILTERED_PARAMS: &[&str] = &["kp", "ti", "td", "a", "b", "lambda"];
 
 fn build_filtered_smith<T: Real, const N: usize>(
     p: &Params,
@@ -71,11 +75,8 @@ fn build_filtered_smith<T: Real, const N: usize>(
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    let f = dtc::filtered_smith::lead_lag_filter(req(p, "a")?, req(p, "b")?, T::of(b.ts))?;
-    Ok(Box::new(
-        dtc::filtered_smith::build(pid_cfg(p, b)?, f, lti, delay, list(FILTERED_PARAMS, p))?
-            .with_limits(T::of(b.u_min), T::of(b.u_max))?,
-    ))
+    let c = dtc::filtered_smith::build(pid_cfg(p, b)?, &p.typed()?, lti, delay)?;
+    limited(c, b)
 }
 
 fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -83,10 +84,15 @@ fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
     let (g, lambda, m) = primary_gains(plant, d, 0.5)?;
     let kb = d.get("kb").unwrap_or(0.05);
     let tb = d.get("tb").unwrap_or(dominant_lag(&m));
-    Ok(params_of(HUANG_PARAMS, &[g.kp, g.ti, g.td, kb, tb, lambda]))
+    let p = HuangParams {
+        kp: g.kp,
+        ti: g.ti,
+        td: g.td,
+        kb,
+        tb,
+    };
+    Ok(Params::of(&p).with_lambda(lambda))
 }
-
-const HUANG_PARAMS: &[&str] = &["kp", "ti", "td", "kb", "tb", "lambda"];
 
 fn build_huang<T: Real, const N: usize>(
     p: &Params,
@@ -95,16 +101,8 @@ fn build_huang<T: Real, const N: usize>(
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let line = delay_again(model, b)?;
-    let c = dtc::huang::build(
-        pid_cfg(p, b)?,
-        req(p, "kb")?,
-        req(p, "tb")?,
-        lti,
-        delay,
-        line,
-        list(HUANG_PARAMS, p),
-    )?;
-    Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
+    let c = dtc::huang::build(pid_cfg(p, b)?, &p.typed()?, lti, delay, line)?;
+    limited(c, b)
 }
 
 pub(super) const SMITH: Scheme = Scheme {
@@ -114,7 +112,7 @@ pub(super) const SMITH: Scheme = Scheme {
         "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants",
     source: "Kaya (2003) Eqs. 18-33",
     plants: STABLE_INT,
-    params: PID_PARAMS,
+    params: PidGains::<f64>::NAMES,
     design: &["lambda", "alpha"],
     fns: SchemeFns::Single {
         tune: tune_smith,
@@ -127,7 +125,7 @@ pub(super) const FILTERED_SMITH: Scheme = Scheme {
     summary: "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error",
     source: "the MathWorks Smith predictor example",
     plants: STABLE,
-    params: FILTERED_PARAMS,
+    params: FilteredSmithParams::<f64>::NAMES,
     design: &["lambda", "alpha", "a", "b"],
     fns: SchemeFns::Single {
         tune: tune_filtered_smith,
@@ -140,7 +138,7 @@ pub(super) const HUANG: Scheme = Scheme {
     summary: "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)",
     source: "the MathWorks Smith predictor example",
     plants: STABLE,
-    params: HUANG_PARAMS,
+    params: HuangParams::<f64>::NAMES,
     design: &["lambda", "alpha", "kb", "tb"],
     fns: SchemeFns::Single {
         tune: tune_huang,

@@ -31,3 +31,27 @@ pub fn required_settings(scheme: &str) -> Vec<(String, f64)> {
         vec![]
     }
 }
+
+/// A plant the scheme can control, its secondary process for a cascade
+/// scheme, and a sample period: García et al.'s Example 2 for a cascade, the
+/// thesis's integrating plant (Bag (2022)), the MathWorks example's stable
+/// plant, García et al.'s unstable plant.
+pub fn plant_for(
+    scheme: &msp::registry::Scheme,
+) -> (
+    msp::poly::TransferFunction,
+    Option<msp::poly::TransferFunction>,
+    f64,
+) {
+    use msp::poly::PlantKind;
+    let tf = |s: &str| s.parse::<msp::poly::TransferFunction>().unwrap();
+    if scheme.is_cascade() {
+        (tf(EXAMPLE2.0), Some(tf(EXAMPLE2.1)), 0.1)
+    } else if scheme.plants.contains(&PlantKind::Integrating) {
+        (tf("0.2/s*e^-7.4s"), None, 0.074)
+    } else if scheme.plants.contains(&PlantKind::Stable) {
+        (tf("5.6*e^-93.9s/(40.2s+1)"), None, 0.939)
+    } else {
+        (tf("5*e^-6s/(100s-1)"), None, 0.06)
+    }
+}

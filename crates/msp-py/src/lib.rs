@@ -208,8 +208,8 @@ fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<'py, PyDict
 
 fn params_dict<'py>(py: Python<'py>, p: &Params) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    for (k, v) in &p.0 {
-        d.set_item(*k, *v)?;
+    for (k, v) in p.iter() {
+        d.set_item(k, v)?;
     }
     Ok(d)
 }

@@ -25,11 +25,7 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         None => None,
     };
     if a.json {
-        let p: serde_json::Map<String, serde_json::Value> = params
-            .0
-            .iter()
-            .map(|(k, v)| (k.to_string(), export::num(*v)))
-            .collect();
+        let p = export::json::params_json(&params);
         let mut j = serde_json::json!({"plant": plant.to_string(), "controller": {"name": scheme.name, "params": p}});
         if let Some(i) = &inner {
             j["inner_plant"] = serde_json::json!(i.to_string());
@@ -48,8 +44,8 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
             export::outln!("inner plant {} ({})", i, i.kind())?;
         }
         export::outln!("controller  {}  [{}]", scheme.name, scheme.source)?;
-        for (k, v) in &params.0 {
-            export::outln!("  {k:<8} = {}", export::fmt_sig(*v))?;
+        for (k, v) in params.iter() {
+            export::outln!("  {k:<8} = {}", export::fmt_sig(v))?;
         }
         if let Some(r) = robust {
             export::outln!(

@@ -11,14 +11,14 @@ pub(crate) fn metrics_json(m: &Metrics) -> Value {
     serde_json::to_value(m).unwrap_or(Value::Null)
 }
 
+/// A scheme's parameters by name; a value that is not set (NaN) becomes null.
+pub(crate) fn params_json(p: &msp::registry::Params) -> Map<String, Value> {
+    p.iter().map(|(k, v)| (k.to_string(), num(v))).collect()
+}
+
 /// The `--report` document.
 pub(crate) fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
-    let params: Map<String, Value> = out
-        .params
-        .0
-        .iter()
-        .map(|(k, v)| (k.to_string(), num(*v)))
-        .collect();
+    let params = params_json(&out.params);
     let mut j = json!({
         "plant": out.plant.to_string(),
         "plant_kind": out.plant.kind().to_string(),
@@ -50,12 +50,7 @@ pub(crate) fn margins_json(an: &msp::analysis::Analysis) -> Value {
         o.insert("inner_model".into(), json!(m2.to_string()));
     }
     o.insert("ts".into(), num(an.ts));
-    let params: Map<String, Value> = an
-        .params
-        .0
-        .iter()
-        .map(|(k, v)| (k.to_string(), num(*v)))
-        .collect();
+    let params = params_json(&an.params);
     o.insert(
         "controller".into(),
         json!({"name": an.controller, "params": params}),

@@ -161,8 +161,8 @@ pub(crate) fn num(v: f64) -> Value {
 
 /// `kp=0.0764 ti=40.2 …` for summaries.
 pub(crate) fn params_line(p: &msp::registry::Params) -> String {
-    p.0.iter()
-        .map(|(k, v)| format!("{k}={}", fmt_sig(*v)))
+    p.iter()
+        .map(|(k, v)| format!("{k}={}", fmt_sig(v)))
         .collect::<Vec<_>>()
         .join(" ")
 }

@@ -1,0 +1,283 @@
+//! A scheme's parameters as a type.
+//!
+//! Each scheme declares one struct with the crate's `param_struct!` macro: its field names are
+//! the parameter names everywhere (reports, `--set`, Python's `params` dict),
+//! because [`ParamSet::NAMES`] is generated from the fields and serde derives
+//! its keys from the same fields. There is no second list of names to keep in
+//! step. [`ParamList`] is the fixed-size, allocation-free copy a controller
+//! keeps of its own parameters for [`crate::Introspect`]; it is built from a
+//! typed struct only.
+
+use crate::{Error, Real};
+
+/// Most parameters one scheme has.
+pub const MAX_PARAMS: usize = 16;
+
+/// A scheme's typed parameter struct (implemented by the `param_struct!` macro).
+pub trait ParamSet<T: Real>: Copy + Default + PartialEq + core::fmt::Debug {
+    /// The field names, in declaration (report) order.
+    const NAMES: &'static [&'static str];
+    /// The value of field `i` of [`ParamSet::NAMES`] (NaN past the end).
+    fn value(&self, i: usize) -> T;
+    /// Sets field `i`; false past the end.
+    fn set_value(&mut self, i: usize, v: T) -> bool;
+    /// Checks every field against its declared range; the error names the field.
+    fn validate(&self) -> Result<(), Error>;
+
+    /// The value of the field called `name`.
+    fn get(&self, name: &str) -> Option<T> {
+        Self::NAMES
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.value(i))
+    }
+    /// Sets the field called `name`; false if the type has no such field.
+    fn set(&mut self, name: &str, v: T) -> bool {
+        match Self::NAMES.iter().position(|n| *n == name) {
+            Some(i) => self.set_value(i, v),
+            None => false,
+        }
+    }
+    /// Reads every field of `Self` by name from another parameter set (the
+    /// fields `Self` shares with a larger struct, a cascade's primary PID for
+    /// instance), converting the precision. The error names a missing field.
+    fn from_list<U: Real>(list: &ParamList<U>) -> Result<Self, Error> {
+        let mut p = Self::default();
+        for (i, name) in Self::NAMES.iter().enumerate() {
+            let v = list.get(name).ok_or(Error::Unsupported(name))?;
+            p.set_value(i, T::of(v.f64()));
+        }
+        Ok(p)
+    }
+}
+
+/// A check on one field of a `param_struct!`: `positive`, `non_negative`,
+/// `finite`, or `any` (NaN allowed: a value that is reported, or left unset
+/// for the user, and checked where it is used).
+#[doc(hidden)]
+#[inline]
+pub fn check<T: Real>(kind: Check, x: T, field: &'static str) -> Result<(), Error> {
+    match kind {
+        Check::Positive => crate::real::positive(x, field).map(|_| ()),
+        Check::NonNegative => crate::real::non_negative(x, field).map(|_| ()),
+        Check::Finite => crate::real::finite(x, field).map(|_| ()),
+        Check::Any => Ok(()),
+    }
+}
+
+/// The range a field of a `param_struct!` must lie in.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Check {
+    /// Finite and above zero.
+    Positive,
+    /// Finite and not below zero.
+    NonNegative,
+    /// Finite.
+    Finite,
+    /// Anything, NaN included.
+    Any,
+}
+
+/// Declares a scheme's parameter struct, generic over the precision `T`
+/// (default `f64`), with serde derived (feature `serde`, unknown keys refused)
+/// and [`ParamSet`] implemented from the field list:
+///
+/// ```text
+/// param_struct! {
+///     /// Tuned parameters of …
+///     pub struct HuangParams {
+///         /// Proportional gain.
+///         kp: Positive,
+///         /// Gain of `B`.
+///         kb: NonNegative,
+///     }
+/// }
+/// ```
+macro_rules! param_struct {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $( $(#[$fmeta:meta])* $field:ident : $check:ident ),+ $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Default)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+        #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+        pub struct $name<T = f64> {
+            $( $(#[$fmeta])* pub $field: T, )+
+        }
+
+        impl<T: $crate::Real> $crate::params::ParamSet<T> for $name<T> {
+            const NAMES: &'static [&'static str] = &[$(stringify!($field)),+];
+            #[allow(unused_assignments)]
+            fn value(&self, i: usize) -> T {
+                let mut k = 0usize;
+                $(
+                    if i == k {
+                        return self.$field;
+                    }
+                    k = k.wrapping_add(1);
+                )+
+                T::nan()
+            }
+            #[allow(unused_assignments)]
+            fn set_value(&mut self, i: usize, v: T) -> bool {
+                let mut k = 0usize;
+                $(
+                    if i == k {
+                        self.$field = v;
+                        return true;
+                    }
+                    k = k.wrapping_add(1);
+                )+
+                false
+            }
+            fn validate(&self) -> Result<(), $crate::Error> {
+                $(
+                    $crate::params::check(
+                        $crate::params::Check::$check,
+                        self.$field,
+                        stringify!($field),
+                    )?;
+                )+
+                Ok(())
+            }
+        }
+
+        impl<T: $crate::Real> $name<T> {
+            /// The same parameters in precision `U`.
+            pub fn cast<U: $crate::Real>(&self) -> $name<U> {
+                $name { $( $field: U::of(self.$field.f64()), )+ }
+            }
+        }
+    };
+}
+pub(crate) use param_struct;
+
+/// Parameter names and values (up to [`MAX_PARAMS`]): the erased form of a
+/// [`ParamSet`], which a controller keeps for [`crate::Introspect`] and the
+/// registry hands between tuning, `--set` and construction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamList<T> {
+    names: &'static [&'static str],
+    values: [T; MAX_PARAMS],
+}
+
+impl<T: Real> Default for ParamList<T> {
+    fn default() -> Self {
+        ParamList {
+            names: &[],
+            values: [T::nan(); MAX_PARAMS],
+        }
+    }
+}
+
+impl<T: Real> ParamList<T> {
+    /// The names and values of a typed parameter struct.
+    pub fn of<P: ParamSet<T>>(p: &P) -> Self {
+        let mut values = [T::nan(); MAX_PARAMS];
+        for (i, v) in values.iter_mut().enumerate() {
+            *v = p.value(i);
+        }
+        ParamList {
+            names: P::NAMES,
+            values,
+        }
+    }
+    /// The same list in precision `U`.
+    pub fn cast<U: Real>(&self) -> ParamList<U> {
+        let mut values = [U::nan(); MAX_PARAMS];
+        for (d, s) in values.iter_mut().zip(self.values.iter()) {
+            *d = U::of(s.f64());
+        }
+        ParamList {
+            names: self.names,
+            values,
+        }
+    }
+    /// The typed struct `P` (every field of `P` read by name).
+    pub fn typed<P: ParamSet<T>>(&self) -> Result<P, Error> {
+        P::from_list(self)
+    }
+    /// The names.
+    pub fn names(&self) -> &'static [&'static str] {
+        self.names
+    }
+    /// Value `i` (NaN if out of range).
+    pub fn value(&self, i: usize) -> T {
+        self.values.get(i).copied().unwrap_or(T::nan())
+    }
+    /// The value called `name`.
+    pub fn get(&self, name: &str) -> Option<T> {
+        self.names
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.value(i))
+    }
+    /// Sets the value called `name`; false if the list has no such name.
+    pub fn set(&mut self, name: &str, v: T) -> bool {
+        match self.names.iter().position(|n| *n == name) {
+            Some(i) => match self.values.get_mut(i) {
+                Some(slot) => {
+                    *slot = v;
+                    true
+                }
+                None => false,
+            },
+            None => false,
+        }
+    }
+    /// `(name, value)` pairs in order.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static str, T)> + '_ {
+        self.names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (*n, self.value(i)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    param_struct! {
+        /// A test set.
+        pub struct Two {
+            /// First.
+            kp: Positive,
+            /// Second.
+            td: NonNegative,
+        }
+    }
+
+    #[test]
+    fn names_come_from_the_fields() {
+        assert_eq!(Two::<f64>::NAMES, &["kp", "td"]);
+        let mut p = Two { kp: 2.0, td: 0.5 };
+        assert_eq!(p.get("td"), Some(0.5));
+        assert!(!p.set("ti", 1.0));
+        assert!(p.set("kp", 3.0));
+        assert_eq!(p.kp, 3.0);
+        let l = ParamList::of(&p);
+        assert_eq!(l.iter().collect::<Vec<_>>(), vec![("kp", 3.0), ("td", 0.5)]);
+        let back: Two<f32> = l.typed().unwrap();
+        assert_eq!(
+            back,
+            Two {
+                kp: 3.0f32,
+                td: 0.5
+            }
+        );
+        assert_eq!(back, p.cast::<f32>());
+        assert_eq!(
+            Two { kp: 0.0, td: 1.0 }.validate(),
+            Err(Error::NotPositive("kp"))
+        );
+        assert_eq!(
+            Two { kp: 1.0, td: -1.0 }.validate(),
+            Err(Error::Negative("td"))
+        );
+    }
+}

@@ -1,0 +1,143 @@
+//! A scheme's parameters are its type's fields: the names the registry lists,
+//! reports and accepts in `--set` are exactly the serde keys of the scheme's
+//! parameter struct, and a name the type does not have is refused.
+mod common;
+use common::{plant_for, required_settings};
+use msp::dtc::astrom_hang_lim::AstromHangLimParams;
+use msp::dtc::cascade::{FspccParams, GpccParams, KayaCascadeParams, UmaParams};
+use msp::dtc::disturbance_estimator::DisturbanceEstimatorParams;
+use msp::dtc::filtered_smith::FilteredSmithParams;
+use msp::dtc::fsp::FspParams;
+use msp::dtc::huang::HuangParams;
+use msp::dtc::kaya_atherton::KayaAthertonParams;
+use msp::dtc::matausek_micic::MatausekMicicParams;
+use msp::dtc::KaranDeyParams;
+use msp::registry::{RegistryError, SCHEMES};
+use msp::tuning::PidGains;
+use serde::{de::DeserializeOwned, Serialize};
+
+/// The serde keys of `P`, in order.
+fn keys<P: Default + Serialize>() -> Vec<String> {
+    match serde_json::to_value(P::default()).unwrap() {
+        serde_json::Value::Object(m) => m.keys().cloned().collect(),
+        v => panic!("not a struct: {v}"),
+    }
+}
+
+/// Deserializes a JSON object into a parameter struct.
+type Deserialize = fn(serde_json::Value) -> Result<(), String>;
+
+/// The scheme's typed struct, by the scheme's name: its serde keys, and a
+/// check that a scheme's reported parameters deserialize into it.
+fn typed(scheme: &str) -> (Vec<String>, Deserialize) {
+    fn de<P: DeserializeOwned>(v: serde_json::Value) -> Result<(), String> {
+        serde_json::from_value::<P>(v)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+    macro_rules! of {
+        ($t:ty) => {
+            (keys::<$t>(), de::<$t>)
+        };
+    }
+    match scheme {
+        "pid" | "smith" | "watanabe-ito" => of!(PidGains),
+        "filtered-smith" => of!(FilteredSmithParams),
+        "huang" => of!(HuangParams),
+        "astrom-hang-lim" => of!(AstromHangLimParams),
+        "matausek-micic" => of!(MatausekMicicParams),
+        "kaya-atherton" => of!(KayaAthertonParams),
+        "karan-dey" => of!(KaranDeyParams),
+        "fsp" => of!(FspParams),
+        "disturbance-estimator" => of!(DisturbanceEstimatorParams),
+        "fspcc" => of!(FspccParams),
+        "gpcc" => of!(GpccParams),
+        "uma" => of!(UmaParams),
+        "kaya-cascade" => of!(KayaCascadeParams),
+        other => panic!("scheme {other} has no entry here: add its parameter struct"),
+    }
+}
+
+#[test]
+fn every_scheme_lists_exactly_its_types_fields() {
+    let mut sorted: Vec<&str> = SCHEMES.iter().map(|s| s.name).collect();
+    sorted.sort_unstable();
+    sorted.dedup();
+    assert_eq!(sorted.len(), SCHEMES.len(), "scheme names are unique");
+    for s in SCHEMES {
+        let (fields, _) = typed(s.name);
+        let mut listed: Vec<String> = s.params.iter().map(|n| n.to_string()).collect();
+        listed.sort_unstable();
+        assert_eq!(listed, fields, "{}", s.name);
+    }
+}
+
+#[test]
+fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
+    for s in SCHEMES {
+        let (p1, p2, ts) = plant_for(s);
+        let set = required_settings(s.name);
+        let tuned = s
+            .tune_process(&p1, p2.as_ref(), None, None, &set)
+            .unwrap_or_else(|e| panic!("{}: {e}", s.name));
+
+        // the report's parameters (without the design value lambda) are the struct
+        let mut report = serde_json::to_value(&tuned).unwrap();
+        let lambda = report.as_object_mut().unwrap().remove("lambda");
+        assert_eq!(lambda.is_some(), tuned.lambda().is_some(), "{}", s.name);
+        let (_, de) = typed(s.name);
+        // NaN (an unset gain) is written as null, which the struct does not take
+        let finite = report.as_object().unwrap().values().all(|v| !v.is_null());
+        if finite {
+            de(report.clone()).unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        }
+        let mut extra = report.clone();
+        extra["not_a_field"] = 1.0.into();
+        assert!(
+            de(extra).is_err(),
+            "{}: an unknown key was accepted",
+            s.name
+        );
+
+        // every field can be set after tuning, and the controller reports it
+        for (i, name) in s.params.iter().enumerate() {
+            if s.design.contains(name) {
+                continue; // a design key re-tunes: checked by its own scheme tests
+            }
+            let v = tuned.get(name).unwrap();
+            let mut over = set.clone();
+            over.push((name.to_string(), v));
+            let p = s
+                .tune_process(&p1, p2.as_ref(), None, None, &over)
+                .unwrap_or_else(|e| panic!("{} {name}: {e}", s.name));
+            assert_eq!(p.get(name).map(f64::to_bits), Some(v.to_bits()));
+            let b = msp::registry::Build {
+                ts,
+                u_min: f64::NEG_INFINITY,
+                u_max: f64::INFINITY,
+            };
+            let c = s.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
+            if !c.param_names().is_empty() {
+                assert_eq!(c.param_names().get(i), Some(name), "{}", s.name);
+            }
+        }
+
+        // a name of another scheme's type, or none, is refused with the type's names
+        for bogus in ["not_a_field", "kb", "beta", "k3", "tk", "lambda2"] {
+            if s.params.contains(&bogus) || s.design.contains(&bogus) {
+                continue;
+            }
+            let mut over = set.clone();
+            over.push((bogus.to_string(), 1.0));
+            match s.tune_process(&p1, p2.as_ref(), None, None, &over) {
+                Err(RegistryError::UnknownParam { name, allowed, .. }) => {
+                    assert_eq!(name, bogus);
+                    for f in s.params {
+                        assert!(allowed.contains(f), "{}: {f} not offered", s.name);
+                    }
+                }
+                other => panic!("{} accepted {bogus}: {other:?}", s.name),
+            }
+        }
+    }
+}
