@@ -38,6 +38,14 @@ pub trait ParamSet<T: Real>: Copy + Default + PartialEq + core::fmt::Debug {
             None => false,
         }
     }
+    /// `self` with the fields it shares with `other` (by name) taken from
+    /// `other`: a scheme's struct filled from the PID or primary it extends.
+    fn with_fields_of<U: Real, Q: ParamSet<U>>(mut self, other: &Q) -> Self {
+        for (i, name) in Q::NAMES.iter().enumerate() {
+            self.set(name, T::of(other.value(i).f64()));
+        }
+        self
+    }
     /// Reads every field of `Self` by name from another parameter set (the
     /// fields `Self` shares with a larger struct, a cascade's primary PID for
     /// instance), converting the precision. The error names a missing field.

@@ -4,17 +4,30 @@ use crate::dtc::KaranDeyParams;
 use crate::real::positive;
 use crate::{Error, Ipdt, ProcessModel, Real};
 
-crate::params::param_struct! {
+/// Declares a parameter struct with the fields of [`PidGains`] first (a
+/// predictor around an ISA PID), then its own.
+macro_rules! pid_params {
+    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
+        crate::params::param_struct! {
+            $(#[$meta])*
+            pub struct $name {
+                /// Proportional gain `Kp`.
+                kp: Finite,
+                /// Integral time `Ti` (s).
+                ti: Positive,
+                /// Derivative time `Td` (s).
+                td: NonNegative,
+                $($rest)*
+            }
+        }
+    };
+}
+pub(crate) use pid_params;
+
+pid_params! {
     /// PID settings in ISA form `Kp(1 + 1/(Ti s) + Td s)`; `td = 0` for PI.
     /// The parameters of the `pid`, `smith` and `watanabe-ito` schemes.
-    pub struct PidGains {
-        /// Proportional gain `Kp`.
-        kp: Finite,
-        /// Integral time `Ti` (s).
-        ti: Positive,
-        /// Derivative time `Td` (s).
-        td: NonNegative,
-    }
+    pub struct PidGains {}
 }
 
 impl<T: Real> PidGains<T> {

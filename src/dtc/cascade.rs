@@ -35,42 +35,42 @@ use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
-crate::params::param_struct! {
+/// Declares a cascade scheme's parameter struct: the fields of
+/// [`CascadePrimary`] first, then the scheme's own.
+macro_rules! cascade_params {
+    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
+        crate::params::param_struct! {
+            $(#[$meta])*
+            pub struct $name {
+                /// Proportional gain of the primary PID.
+                kp: Finite,
+                /// Integral gain of the primary PID (1/s).
+                ki: Finite,
+                /// Derivative gain of the primary PID (s).
+                kd: Finite,
+                /// Filter time constant `τ` of the primary PID (s).
+                tau: NonNegative,
+                /// Set-point weight `ε` of the proportional term.
+                epsilon: Finite,
+                /// Inner IMC filter time constant `λ2` (s).
+                lambda2: Positive,
+                $($rest)*
+            }
+        }
+    };
+}
+
+cascade_params! {
     /// What every cascade scheme of García et al. (2010) shares: the primary
     /// series PID `(kp + ki/s + kd s)/(τ s + 1)` with set-point weight `ε`,
     /// and the inner IMC filter time constant `λ2`.
-    pub struct CascadePrimary {
-        /// Proportional gain of the primary PID.
-        kp: Finite,
-        /// Integral gain of the primary PID (1/s).
-        ki: Finite,
-        /// Derivative gain of the primary PID (s).
-        kd: Finite,
-        /// Filter time constant `τ` of the primary PID (s).
-        tau: NonNegative,
-        /// Set-point weight `ε` of the proportional term.
-        epsilon: Finite,
-        /// Inner IMC filter time constant `λ2` (s).
-        lambda2: Positive,
-    }
+    pub struct CascadePrimary {}
 }
 
-crate::params::param_struct! {
+cascade_params! {
     /// Parameters of FSPCC (García et al. (2010) Sec. 3.1): [`CascadePrimary`]
     /// and the robustness filter `Fr` (`tf`, an optional lead-lag `lead`/`lag`).
     pub struct FspccParams {
-        /// Proportional gain of the primary PID.
-        kp: Finite,
-        /// Integral gain of the primary PID (1/s).
-        ki: Finite,
-        /// Derivative gain of the primary PID (s).
-        kd: Finite,
-        /// Filter time constant `τ` of the primary PID (s).
-        tau: NonNegative,
-        /// Set-point weight `ε`.
-        epsilon: Finite,
-        /// Inner IMC filter time constant `λ2` (s).
-        lambda2: Positive,
         /// Robustness filter time constant `Tf` (s).
         tf: Positive,
         /// Lead time constant of `Fr`'s lead-lag (s); 0: none.
@@ -80,46 +80,22 @@ crate::params::param_struct! {
     }
 }
 
-crate::params::param_struct! {
+cascade_params! {
     /// Parameters of GPCC (García et al. (2010) Sec. 3.2): [`CascadePrimary`]
     /// and the time constant of the predictor's filter `Fk`.
     pub struct GpccParams {
-        /// Proportional gain of the primary PID.
-        kp: Finite,
-        /// Integral gain of the primary PID (1/s).
-        ki: Finite,
-        /// Derivative gain of the primary PID (s).
-        kd: Finite,
-        /// Filter time constant `τ` of the primary PID (s).
-        tau: NonNegative,
-        /// Set-point weight `ε`.
-        epsilon: Finite,
-        /// Inner IMC filter time constant `λ2` (s).
-        lambda2: Positive,
         /// Time constant of `Fk` (s); 0: `Fk = 1`.
         tk: NonNegative,
     }
 }
 
-crate::params::param_struct! {
+cascade_params! {
     /// Parameters of Uma et al.'s scheme (García et al. (2010) Sec. 2.3):
     /// [`CascadePrimary`] as `Gcs`, the disturbance controller
     /// `Gcd = (kpd + kid/s + kdd s)(lead s + 1)/(lag s + 1)` and the filter
     /// `Gf = 1/(tf s + 1)`. The sources give no rule for `Gcd`: its gains are
     /// NaN until set.
     pub struct UmaParams {
-        /// Proportional gain of the primary PID.
-        kp: Finite,
-        /// Integral gain of the primary PID (1/s).
-        ki: Finite,
-        /// Derivative gain of the primary PID (s).
-        kd: Finite,
-        /// Filter time constant `τ` of the primary PID (s).
-        tau: NonNegative,
-        /// Set-point weight `ε`.
-        epsilon: Finite,
-        /// Inner IMC filter time constant `λ2` (s).
-        lambda2: Positive,
         /// Proportional gain of `Gcd`.
         kpd: Any,
         /// Integral gain of `Gcd` (1/s).
@@ -135,23 +111,11 @@ crate::params::param_struct! {
     }
 }
 
-crate::params::param_struct! {
+crate::dtc::kaya_atherton::kaya_atherton_params! {
     /// Parameters of Kaya et al.'s cascade (García et al. (2010) Sec. 2.2): the
     /// PI-PD Smith predictor's ([`crate::dtc::kaya_atherton::KayaAthertonParams`])
     /// outside the inner IMC loop with filter `λ2`.
     pub struct KayaCascadeParams {
-        /// Proportional gain of `Gc1`.
-        kp: Finite,
-        /// Integral time of `Gc1` (s).
-        ti: Positive,
-        /// Gain of `Gc2`.
-        kf: Finite,
-        /// Derivative time of `Gc2` (s).
-        tf: NonNegative,
-        /// Gain of `Gc3`.
-        kb: Finite,
-        /// Lead time of `Gc3` (s).
-        td: NonNegative,
         /// Inner IMC filter time constant `λ2` (s).
         lambda2: Positive,
     }

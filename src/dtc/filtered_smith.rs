@@ -12,19 +12,13 @@
 
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, ErrorPath, AUX};
-use crate::params::{param_struct, ParamList};
+use crate::params::ParamList;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-param_struct! {
+crate::tuning::pid_params! {
     /// Parameters of the filtered Smith predictor: the PID and the lead-lag
     /// filter `F = (1 + a·s)/(1 + b·s)` on the model error.
     pub struct FilteredSmithParams {
-        /// Proportional gain `Kp`.
-        kp: Finite,
-        /// Integral time `Ti` (s).
-        ti: Positive,
-        /// Derivative time `Td` (s).
-        td: NonNegative,
         /// Lead time constant `a` of `F` (s).
         a: NonNegative,
         /// Lag time constant `b` of `F` (s); `a = b = 0`: no filter.

@@ -15,18 +15,12 @@
 
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, ErrorPath};
-use crate::params::{param_struct, ParamList};
+use crate::params::ParamList;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-param_struct! {
+crate::tuning::pid_params! {
     /// Parameters of Huang's predictor: the PID and `B = kb/(tb·s + 1)`.
     pub struct HuangParams {
-        /// Proportional gain `Kp`.
-        kp: Finite,
-        /// Integral time `Ti` (s).
-        ti: Positive,
-        /// Derivative time `Td` (s).
-        td: NonNegative,
         /// Gain of `B`.
         kb: Finite,
         /// Time constant of `B` (s).

@@ -11,26 +11,39 @@
 
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, DisturbancePath};
-use crate::params::{param_struct, ParamList};
+use crate::params::ParamList;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-param_struct! {
+/// Declares a parameter struct with the fields of [`KayaAthertonParams`]
+/// first (a scheme built around this predictor), then its own.
+macro_rules! kaya_atherton_params {
+    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
+        crate::params::param_struct! {
+            $(#[$meta])*
+            pub struct $name {
+                /// Proportional gain of `Gc1`.
+                kp: Finite,
+                /// Integral time of `Gc1` (s).
+                ti: Positive,
+                /// Gain of `Gc2`.
+                kf: Finite,
+                /// Derivative time of `Gc2` (s).
+                tf: NonNegative,
+                /// Gain of `Gc3`.
+                kb: Finite,
+                /// Lead time of `Gc3` (s).
+                td: NonNegative,
+                $($rest)*
+            }
+        }
+    };
+}
+pub(crate) use kaya_atherton_params;
+
+kaya_atherton_params! {
     /// Parameters of the PI-PD Smith predictor: `Gc1 = kp(1 + 1/(ti s))`,
     /// `Gc2 = kf(1 + tf s)`, `Gc3 = kb(td s + 1)/(0.1 td s + 1)`.
-    pub struct KayaAthertonParams {
-        /// Proportional gain of `Gc1`.
-        kp: Finite,
-        /// Integral time of `Gc1` (s).
-        ti: Positive,
-        /// Gain of `Gc2`.
-        kf: Finite,
-        /// Derivative time of `Gc2` (s).
-        tf: NonNegative,
-        /// Gain of `Gc3`.
-        kb: Finite,
-        /// Lead time of `Gc3` (s).
-        td: NonNegative,
-    }
+    pub struct KayaAthertonParams {}
 }
 
 /// The PI-PD Smith predictor.

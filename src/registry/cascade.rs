@@ -146,16 +146,12 @@ fn tune_fspcc(
 ) -> Result<Params, crate::Error> {
     let (c, gm, lambda) = cascade_primary_params(p1, p2, d)?;
     let p = FspccParams {
-        kp: c.kp,
-        ki: c.ki,
-        kd: c.kd,
-        tau: c.tau,
-        epsilon: c.epsilon,
-        lambda2: c.lambda2,
         tf: d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9)),
         lead: d.get("lead").unwrap_or(0.0),
         lag: d.get("lag").unwrap_or(0.0),
-    };
+        ..Default::default()
+    }
+    .with_fields_of(&c);
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
@@ -192,14 +188,10 @@ fn tune_gpcc(
 ) -> Result<Params, crate::Error> {
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
     let p = GpccParams {
-        kp: c.kp,
-        ki: c.ki,
-        kd: c.kd,
-        tau: c.tau,
-        epsilon: c.epsilon,
-        lambda2: c.lambda2,
         tk: d.get("tk").unwrap_or(0.0),
-    };
+        ..Default::default()
+    }
+    .with_fields_of(&c);
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
@@ -225,19 +217,15 @@ fn tune_uma(
     // the sources do not give: its gains are left to --set (NaN until then)
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
     let p = UmaParams {
-        kp: c.kp,
-        ki: c.ki,
-        kd: c.kd,
-        tau: c.tau,
-        epsilon: c.epsilon,
-        lambda2: c.lambda2,
         kpd: f64::NAN,
         kid: f64::NAN,
         kdd: f64::NAN,
         lead: d.get("lead").unwrap_or(0.0),
         lag: d.get("lag").unwrap_or(0.0),
         tf: d.get("tf").unwrap_or(0.0),
-    };
+        ..Default::default()
+    }
+    .with_fields_of(&c);
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
@@ -299,14 +287,10 @@ fn tune_kaya_cascade(
     let gm = cascade::primary_model(p1, p2, lambda2)?;
     let (k, lambda) = kaya_atherton_settings(&gm, d)?;
     let p = KayaCascadeParams {
-        kp: k.kp,
-        ti: k.ti,
-        kf: k.kf,
-        tf: k.tf,
-        kb: k.kb,
-        td: k.td,
         lambda2,
-    };
+        ..Default::default()
+    }
+    .with_fields_of(&k);
     Ok(Params::of(&p).with_lambda(lambda))
 }
 

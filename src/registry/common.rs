@@ -9,7 +9,7 @@ use crate::delay::Delay;
 use crate::dtc::Compensator;
 use crate::poly::{PlantKind, TransferFunction};
 use crate::tuning::PidGains;
-use crate::{Ipdt, Lti, PidConfig, ProcessModel, Real};
+use crate::{Ipdt, Lti, ParamSet, PidConfig, ProcessModel, Real};
 
 /// The PID of a scheme's parameters (its `kp`, `ti`, `td`) with the build's
 /// period and actuator limits.
@@ -48,6 +48,23 @@ pub(super) fn delay_again<T: Real>(
     b: &Build,
 ) -> Result<Delay<T, Vec<T>>, crate::Error> {
     Delay::new_in(T::of(model.delay_samples(b.ts)?))
+}
+
+/// A compensator's construction from its typed parameters, the period and
+/// the model's parts (the `build` of most `dtc` modules).
+pub(super) type CompensatorFn<T, P, const N: usize> =
+    fn(&P, T, Lti<T, N>, Delay<T, Vec<T>>) -> Result<Compensator<T, N, Vec<T>>, crate::Error>;
+
+/// The compensator `f` builds from the scheme's parameters and the model's
+/// parts, with the build's actuator limits, boxed.
+pub(super) fn compensator<T: Real, P: ParamSet<T>, const N: usize>(
+    p: &Params,
+    model: &TransferFunction,
+    b: &Build,
+    f: CompensatorFn<T, P, N>,
+) -> Result<DynControllerOf<T>, crate::Error> {
+    let (lti, delay) = model_parts::<T, N>(model, b)?;
+    limited(f(&p.typed()?, T::of(b.ts), lti, delay)?, b)
 }
 
 /// A compensator with the build's actuator limits, boxed.

@@ -46,11 +46,7 @@ fn build_disturbance_estimator<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let (lti, delay) = model_parts::<T, N>(model, b)?;
-    limited(
-        dtc::disturbance_estimator::build(&p.typed()?, T::of(b.ts), lti, delay)?,
-        b,
-    )
+    compensator::<T, _, N>(p, model, b, dtc::disturbance_estimator::build)
 }
 
 pub(super) const DISTURBANCE_ESTIMATOR: Scheme = Scheme {

@@ -27,11 +27,9 @@ fn build_karan_dey<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let (lti, delay) = model_parts::<T, N>(model, b)?;
-    limited(
-        dtc::karan_dey::build(&p.typed()?, lti, delay, T::of(b.ts))?,
-        b,
-    )
+    compensator::<T, _, N>(p, model, b, |p, ts, lti, delay| {
+        dtc::karan_dey::build(p, lti, delay, ts)
+    })
 }
 
 fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
@@ -117,11 +115,7 @@ fn build_matausek_micic<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    let (lti, delay) = model_parts::<T, N>(model, b)?;
-    limited(
-        dtc::matausek_micic::build(&p.typed()?, T::of(b.ts), lti, delay)?,
-        b,
-    )
+    compensator::<T, _, N>(p, model, b, dtc::matausek_micic::build)
 }
 
 /// Kaya–Atherton's settings for `plant` and the `λ` they were tuned for.
@@ -192,7 +186,7 @@ fn build_kaya_atherton<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    limited(kaya_atherton_on::<T, N>(p, model, b)?, b)
+    compensator::<T, _, N>(p, model, b, dtc::kaya_atherton::build)
 }
 
 pub(super) const WATANABE_ITO: Scheme = Scheme {

@@ -60,12 +60,11 @@ fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, c
     let b = d.get("b").unwrap_or(0.5 * dominant_lag(&m));
     let a = d.get("a").unwrap_or(0.0);
     let p = FilteredSmithParams {
-        kp: g.kp,
-        ti: g.ti,
-        td: g.td,
         a,
         b,
-    };
+        ..Default::default()
+    }
+    .with_fields_of(&g);
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
@@ -85,12 +84,11 @@ fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
     let kb = d.get("kb").unwrap_or(0.05);
     let tb = d.get("tb").unwrap_or(dominant_lag(&m));
     let p = HuangParams {
-        kp: g.kp,
-        ti: g.ti,
-        td: g.td,
         kb,
         tb,
-    };
+        ..Default::default()
+    }
+    .with_fields_of(&g);
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
