@@ -1,0 +1,367 @@
+//! The design of `Fr` and `S` without allocation: model-sized polynomials in
+//! fixed arrays, the dead-time-sized ones (`z^h·Dr`, `p`, the numerator of
+//! `S`) in storage the caller's type provides ([`DelayStorage`]: a `Vec` on a
+//! host, `[f64; C]` on a device, `C` at least `h` plus twice the model order
+//! plus 8).
+
+use super::{solve, MAX_CONDITIONS};
+use crate::complex::Complex;
+use crate::delay::DelayStorage;
+use crate::{Error, Lti};
+#[allow(unused_imports)] // f64 methods under no_std
+use num_traits::Float;
+
+/// Capacity of [`SmallPoly`].
+pub const SMALL: usize = 24;
+
+/// A polynomial of degree below [`SMALL`] (descending coefficients).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmallPoly {
+    c: [f64; SMALL],
+    len: usize,
+}
+
+impl SmallPoly {
+    /// `p` with its leading zeros dropped (at least one coefficient kept).
+    pub fn new(p: &[f64]) -> Result<Self, Error> {
+        let first = p
+            .iter()
+            .position(|v| *v != 0.0)
+            .unwrap_or(p.len().saturating_sub(1));
+        let p = p.get(first..).unwrap_or(&[]);
+        if p.len() > SMALL {
+            return Err(Error::OrderTooHigh("polynomial"));
+        }
+        let mut c = [0.0; SMALL];
+        for (d, v) in c.iter_mut().zip(p) {
+            *d = *v;
+        }
+        Ok(SmallPoly {
+            c,
+            len: p.len().max(1),
+        })
+    }
+    /// The coefficients.
+    pub fn as_slice(&self) -> &[f64] {
+        self.c.get(..self.len).unwrap_or(&[])
+    }
+    /// The product with `b`.
+    pub fn mul(&self, b: &[f64]) -> Result<Self, Error> {
+        let n = self.len.saturating_add(b.len()).saturating_sub(1);
+        if n > SMALL {
+            return Err(Error::OrderTooHigh("polynomial"));
+        }
+        let mut c = [0.0; SMALL];
+        for (i, x) in self.as_slice().iter().enumerate() {
+            for (j, y) in b.iter().enumerate() {
+                if let Some(o) = c.get_mut(i.saturating_add(j)) {
+                    *o += x * y;
+                }
+            }
+        }
+        Ok(SmallPoly { c, len: n.max(1) })
+    }
+    /// Number of coefficients.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+    /// Always false: a polynomial keeps one coefficient.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+    fn lead(&self) -> f64 {
+        self.c.first().copied().unwrap_or(1.0)
+    }
+}
+
+/// Numerator and denominator (descending powers of `z`, the numerator with
+/// as many coefficients as the denominator) of a discrete block, by
+/// Faddeev–LeVerrier on its realization.
+pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
+    let n = b.order().min(N);
+    let at = |m: &[[f64; N]; N], i: usize, j: usize| {
+        m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
+    };
+    let mut den = [0.0; SMALL];
+    if let Some(d0) = den.first_mut() {
+        *d0 = 1.0;
+    }
+    let mut m = [[0.0; N]; N];
+    for (i, row) in m.iter_mut().enumerate() {
+        if let Some(x) = row.get_mut(i) {
+            *x = 1.0;
+        }
+    }
+    let mut ms = [[[0.0; N]; N]; N];
+    for k in 1..=n {
+        // A·M_{k−1}
+        let mut am = [[0.0; N]; N];
+        for (i, row) in am.iter_mut().enumerate().take(n) {
+            for (j, x) in row.iter_mut().enumerate().take(n) {
+                *x = (0..n).map(|q| b.phi_entry(i, q) * at(&m, q, j)).sum();
+            }
+        }
+        let tr: f64 = (0..n).map(|i| at(&am, i, i)).sum();
+        let ck = -tr / f64::from(u32::try_from(k).unwrap_or(u32::MAX));
+        if let Some(slot) = ms.get_mut(k - 1) {
+            *slot = m;
+        }
+        if let Some(d) = den.get_mut(k) {
+            *d = ck;
+        }
+        for (i, row) in am.iter_mut().enumerate() {
+            if let Some(x) = row.get_mut(i) {
+                *x += ck;
+            }
+        }
+        m = am;
+    }
+    // numerator: C·M_k·Γ for k = 0..n−1 (the coefficient of z^{n−1−k}), plus D·den
+    let (cv, g, d) = (b.output_vector(), b.input_vector(), b.feedthrough());
+    let mut num = [0.0; SMALL];
+    for (k, mk) in ms.iter().enumerate().take(n) {
+        let v: f64 = (0..n)
+            .map(|i| {
+                cv.get(i).copied().unwrap_or(0.0)
+                    * (0..n)
+                        .map(|j| at(mk, i, j) * g.get(j).copied().unwrap_or(0.0))
+                        .sum::<f64>()
+            })
+            .sum();
+        if let Some(x) = num.get_mut(k + 1) {
+            *x = v;
+        }
+    }
+    for (x, ck) in num.iter_mut().zip(den.iter()).take(n + 1) {
+        *x += d * ck;
+    }
+    let len = n + 1;
+    (SmallPoly { c: num, len }, SmallPoly { c: den, len })
+}
+
+/// The shape of the robustness filter `Fr = Nr/Dr` whose free coefficients
+/// Eq. 10 fixes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrSpec {
+    /// Time constant `Tf` of the filter poles `γ = e^{−Ts/Tf}` (s).
+    pub tf: f64,
+    /// An optional phase lead `(z − ρ1)/(z − γ1)` given by its zero and pole
+    /// time constants `(T_zero, T_pole)`: `ρ1 = e^{−Ts/T_zero}`,
+    /// `γ1 = e^{−Ts/T_pole}` (García et al. (2010) Sec. 4, from the lead of `Gcd`).
+    pub lead: Option<(f64, f64)>,
+    /// `Nr` of the same degree as `Dr` (the biproper filters of García et al. (2010)
+    /// Sec. 4: `Dr = (z − γ)^{m−1}`), or `Nr` one degree lower
+    /// (`Dr = (z − γ)^m`, a strictly proper filter).
+    pub biproper: bool,
+}
+
+/// The designed predictor: `ŷ = S(z)·u + Fr(z)·y` with `S = Gm(1 − z^{−h}Fr)`
+/// realized without the unstable poles, `S = z^{−h}·Nm(z − 1)p/(Dm⁻·Dr)`.
+#[derive(Debug, Clone)]
+pub struct FspDesign<S> {
+    /// `Fr = Nr/Dr` (descending powers of z).
+    pub nr: SmallPoly,
+    /// Its denominator.
+    pub dr: SmallPoly,
+    /// Numerator of `S` in powers of `z^{−1}` (starting at `z^{−delay}`):
+    /// the first [`FspDesign::s_len`] entries.
+    pub s_num: S,
+    /// Length of the numerator of `S`.
+    pub s_len: usize,
+    /// Denominator of `S` in powers of `z^{−1}` (monic).
+    pub s_den: SmallPoly,
+}
+
+impl<S: AsRef<[f64]>> FspDesign<S> {
+    /// The numerator of `S`.
+    pub fn s_num(&self) -> &[f64] {
+        self.s_num.as_ref().get(..self.s_len).unwrap_or(&[])
+    }
+}
+
+/// Storage of at least `len` values.
+pub(crate) fn buffer<T: crate::Real, S: DelayStorage<T>>(len: usize) -> Result<S, Error> {
+    let n = u32::try_from(len).map_err(|_| Error::DelayTooLong("predictor storage"))?;
+    let s = S::for_delay(T::of(f64::from(n)))?;
+    if s.as_ref().len() < len {
+        return Err(Error::DelayTooLong("predictor storage"));
+    }
+    Ok(s)
+}
+
+/// Designs the filter `Fr = Nr/(z − α)^m` (`α = e^{−Ts/Tf}`) and the stable predictor
+/// `S` for the ZOH model `gm` with a dead time of `h` samples.
+///
+/// On a device, with arrays for the dead-time-sized buffers:
+///
+/// ```
+/// use msp::dtc::fsp::{design, FilteredSmith};
+/// use msp::Controller;
+/// // 5 e^{-6s}/(100s - 1) at Ts = 0.06 s: h = 100 samples; buffers of 128
+/// let (gm, _) = msp::ProcessModel::from(msp::Ufopdt::new(5.0, 100.0, 6.0)?).discretize::<1>(0.06)?;
+/// let d = design::<[f64; 128], 1>(&gm, 100, 0.06, 3.0)?; // Fr with Tf = 3 s, S stable
+/// let mut fsp: FilteredSmith<f32, [f32; 128]> =
+///     FilteredSmith::new(msp::PidConfig::isa(6.87, 12.36, 0.0, 0.06), &d, Default::default())?;
+/// assert!(fsp.update(1.0, 0.0) > 0.0);
+/// # Ok::<(), msp::Error>(())
+/// ```
+pub fn design<S: DelayStorage<f64>, const N: usize>(
+    gm: &Lti<f64, N>,
+    h: usize,
+    ts: f64,
+    tf: f64,
+) -> Result<FspDesign<S>, Error> {
+    design_with(
+        gm,
+        h,
+        ts,
+        &FrSpec {
+            tf,
+            lead: None,
+            biproper: false,
+        },
+    )
+}
+
+/// Designs `Fr` of the shape `spec` and the stable predictor `S` for the ZOH
+/// model `gm` (strictly proper) with a dead time of `h` samples: FSPCC's
+/// `Fr = kf (z − ρ1)(z − ρ2)/((z − γ1)(z − γ2))` is
+/// `FrSpec { tf, lead: Some((T_zero, T_pole)), biproper: true }`.
+pub fn design_with<S: DelayStorage<f64>, const N: usize>(
+    gm: &Lti<f64, N>,
+    h: usize,
+    ts: f64,
+    spec: &FrSpec,
+) -> Result<FspDesign<S>, Error> {
+    if gm.feedthrough() != 0.0 {
+        return Err(Error::Unsupported(
+            "fsp needs a strictly proper model (TransferFunction::to_model_lti gives one)",
+        ));
+    }
+    let (nm, dm) = model_tf(gm);
+    let deg = dm.len().saturating_sub(1);
+    let mut rts = [Complex::<f64>::default(); SMALL];
+    crate::lti::roots(dm.as_slice(), &mut rts)?;
+    let (mut dplus, mut dminus) = (SmallPoly::new(&[1.0])?, SmallPoly::new(&[1.0])?);
+    // the roots of Dm⁺(z)(z − 1) with multiplicities (clustered within 1e-6)
+    let mut cond = [(0.0f64, 0usize); MAX_CONDITIONS];
+    let mut count = 0usize;
+    let mut add = |x: f64, cond: &mut [(f64, usize); MAX_CONDITIONS]| -> Result<(), Error> {
+        if let Some(c) = cond
+            .iter_mut()
+            .take(count)
+            .find(|(r, _)| (*r - x).abs() < 1e-6)
+        {
+            c.1 = c.1.saturating_add(1);
+            return Ok(());
+        }
+        let slot = cond.get_mut(count).ok_or(Error::OutOfRange("roots"))?;
+        *slot = (x, 1);
+        count = count.saturating_add(1);
+        Ok(())
+    };
+    add(1.0, &mut cond)?;
+    for r in rts.iter().take(deg) {
+        let (re, im) = (r.re, r.im);
+        if re.hypot(im) >= 1.0 - 1e-9 {
+            if im.abs() > 1e-9 {
+                return Err(Error::Unsupported(
+                    "complex unstable poles in the filtered Smith predictor",
+                ));
+            }
+            add(re, &mut cond)?;
+            dplus = dplus.mul(&[1.0, -re])?;
+        } else if im.abs() <= 1e-12 {
+            dminus = dminus.mul(&[1.0, -re])?;
+        } else if im > 0.0 {
+            dminus = dminus.mul(&[1.0, -2.0 * re, re * re + im * im])?;
+        }
+    }
+    let cond = cond.get(..count).unwrap_or(&[]);
+    let m: usize = cond.iter().map(|c| c.1).sum();
+    let pole = |t: f64| -> Result<f64, Error> { Ok((-ts / crate::real::positive(t, "tf")?).exp()) };
+    let alpha = pole(spec.tf)?;
+    let mut dr = SmallPoly::new(&[1.0])?;
+    for _ in 0..(if spec.biproper {
+        m.saturating_sub(1)
+    } else {
+        m
+    }) {
+        dr = dr.mul(&[1.0, -alpha])?;
+    }
+    let q = match spec.lead {
+        Some((t_zero, t_pole)) => {
+            dr = dr.mul(&[1.0, -pole(t_pole)?])?;
+            SmallPoly::new(&[1.0, -pole(t_zero)?])?
+        }
+        None => SmallPoly::new(&[1.0])?,
+    };
+    let (c, k) = solve(h, dr.as_slice(), q.as_slice(), cond)?;
+    let nr = q.mul(c.get(..k).unwrap_or(&[]))?;
+    // diff = z^h·Dr − Nr, then p = diff/(Dm⁺(z − 1)) in place (quotient in front)
+    let dlen = h.saturating_add(dr.len());
+    let mut diff: S = buffer(dlen)?;
+    {
+        let d = diff.as_mut();
+        d.iter_mut().for_each(|v| *v = 0.0);
+        for (x, v) in d.iter_mut().zip(dr.as_slice()) {
+            *x = *v;
+        }
+        let off = dlen.saturating_sub(nr.len());
+        for (i, v) in nr.as_slice().iter().enumerate() {
+            if let Some(x) = d.get_mut(off.saturating_add(i)) {
+                *x -= v;
+            }
+        }
+    }
+    let divisor = dplus.mul(&[1.0, -1.0])?;
+    let scale = {
+        let d = diff.as_ref();
+        d.iter().take(dlen).fold(1.0f64, |m, v| m.max(v.abs()))
+    };
+    let qlen = {
+        let d = diff.as_mut().get_mut(..dlen).unwrap_or(&mut []);
+        let qlen = crate::lti::divide_in_place(d, divisor.as_slice());
+        if d.iter()
+            .take(dlen)
+            .skip(qlen)
+            .any(|r| r.abs() > 1e-6 * scale)
+        {
+            return Err(Error::Numerical("robustness filter (Eq. 10 not satisfied)"));
+        }
+        qlen
+    };
+    // S = Nm(z − 1)p / (Dm⁻·Dr·z^h), in powers of z^{−1}
+    let nm1 = SmallPoly::new(nm.as_slice())?.mul(&[1.0, -1.0])?;
+    let a = dminus.mul(dr.as_slice())?;
+    let a_lead = a.lead();
+    let da = a.len().saturating_sub(1).saturating_add(h);
+    let blen = qlen.saturating_add(nm1.len()).saturating_sub(1);
+    let db = blen.saturating_sub(1);
+    let s_len = da.saturating_add(1);
+    let off = da.saturating_sub(db);
+    let mut s_num: S = buffer(s_len)?;
+    {
+        let p = diff.as_ref();
+        let out = s_num.as_mut();
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for (i, ni) in nm1.as_slice().iter().enumerate() {
+            for (j, pj) in p.iter().take(qlen).enumerate() {
+                if let Some(x) = out.get_mut(off.saturating_add(i).saturating_add(j)) {
+                    *x += ni * pj / a_lead;
+                }
+            }
+        }
+    }
+    let mut s_den = [0.0; SMALL];
+    for (d, v) in s_den.iter_mut().zip(a.as_slice()) {
+        *d = v / a_lead;
+    }
+    Ok(FspDesign {
+        nr,
+        dr,
+        s_num,
+        s_len,
+        s_den: SmallPoly::new(s_den.get(..a.len()).unwrap_or(&[1.0]))?,
+    })
+}

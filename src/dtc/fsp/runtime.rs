@@ -1,0 +1,343 @@
+//! The controllers: generic over `f32`/`f64` and over the storage of the
+//! dead-time-sized buffers (`Vec` on a host, arrays on a device).
+
+use super::design::{buffer, FspDesign, SMALL};
+use crate::delay::DelayStorage;
+use crate::params::ParamList;
+use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
+use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
+
+/// An output predictor of the predictor-based dead-time compensators:
+/// `ŷ[k] = Su(z)·u[k] + Sy(z)·y[k]`, with `Su` strictly proper (it sees
+/// the past inputs only). The filtered Smith predictor's `S`, `Fr` and the
+/// GPCC's `F1`, `F2`, `Fk` ([`crate::dtc::gpcc`]) are two such predictors.
+pub trait Predictor<T: Real> {
+    /// The prediction at this sample from the past inputs and the measurement `y`.
+    fn predict(&mut self, y: T) -> T;
+    /// A sample whose measurement is missing: the part driven by the inputs only.
+    fn predict_held(&mut self) -> T;
+    /// Records the input `u[k]` applied at this sample.
+    fn commit(&mut self, u: T);
+    /// Zeroes every state.
+    fn reset(&mut self);
+    /// `(Su, Sy)` at `z = e^{jθ}`.
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+}
+
+/// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`.
+pub trait Primary<T: Real> {
+    /// One sample (a non-finite `y` holds the output).
+    fn update(&mut self, r: T, y: T) -> T;
+    /// Zeroes every state.
+    fn reset(&mut self);
+    /// `(Cr, Cy)` at `z = e^{jθ}`.
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+}
+
+impl<T: Real> Primary<T> for Pid<T> {
+    fn update(&mut self, r: T, y: T) -> T {
+        Pid::update(self, r, y)
+    }
+    fn reset(&mut self) {
+        Pid::reset(self)
+    }
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        Pid::response(self, theta)
+    }
+}
+
+/// A discrete two-degree-of-freedom controller `u = K(z)·(F(z)·r − y)`:
+/// the pole-zero matched form of a continuous design (García et al. (2010) Sec. 4: the
+/// primary `K(z)` of FSPCC and GPCC is Uma et al.'s `Gcs` discretized this
+/// way; `F` carries the set-point weight, `F = Gcs,r/Gcs`). One integrator,
+/// in `K`, so nothing grows without bound in steady state.
+#[derive(Debug, Clone)]
+pub struct Matched2Dof<T> {
+    f: Lti<T, 4>,
+    k: Lti<T, 4>,
+    u: T,
+}
+
+impl<T: Real> Matched2Dof<T> {
+    /// From the discrete prefilter `f` and controller `k`.
+    pub fn new(f: Lti<T, 4>, k: Lti<T, 4>) -> Self {
+        Matched2Dof { f, k, u: T::zero() }
+    }
+}
+
+impl<T: Real> Primary<T> for Matched2Dof<T> {
+    fn update(&mut self, r: T, y: T) -> T {
+        if !(r.is_finite() && y.is_finite()) {
+            return self.u;
+        }
+        let rf = self.f.step(r);
+        self.u = self.k.step(rf - y);
+        self.u
+    }
+    fn reset(&mut self) {
+        self.f.reset();
+        self.k.reset();
+        self.u = T::zero();
+    }
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        let k = self.k.response(theta);
+        (k * self.f.response(theta), k)
+    }
+}
+
+/// A direct-form filter over a ring of past inputs and outputs:
+/// `s[n] = Σ_{k≥1} b_k u[n−k] − Σ_{k≥1} a_k s[n−k]` (strictly proper,
+/// `a_0 = 1`). The numerator (as long as the dead time) and the input
+/// history live in storage `S`; the denominator is model-sized.
+#[derive(Debug, Clone)]
+pub struct DirectForm<T, S> {
+    num: S,
+    nlen: usize,
+    den: [T; SMALL],
+    dlen: usize,
+    u_hist: S,
+    s_hist: [T; SMALL],
+    uh: usize,
+    sh: usize,
+}
+
+impl<T: Real, S: DelayStorage<T>> DirectForm<T, S> {
+    /// The filter `num/den` in powers of `z^{−1}` (`num[0]` is ignored: strictly proper).
+    pub fn new(num: &[f64], den: &[f64]) -> Result<Self, Error> {
+        if den.len() > SMALL {
+            return Err(Error::OrderTooHigh("predictor denominator"));
+        }
+        let nlen = num.len().max(1);
+        let mut nb: S = buffer(nlen)?;
+        nb.as_mut().iter_mut().for_each(|v| *v = T::zero());
+        for (d, v) in nb.as_mut().iter_mut().zip(num) {
+            *d = T::of(*v);
+        }
+        let mut u_hist: S = buffer(nlen)?;
+        u_hist.as_mut().iter_mut().for_each(|v| *v = T::zero());
+        let mut dn = [T::zero(); SMALL];
+        for (d, v) in dn.iter_mut().zip(den) {
+            *d = T::of(*v);
+        }
+        Ok(DirectForm {
+            num: nb,
+            nlen,
+            den: dn,
+            dlen: den.len().max(1),
+            u_hist,
+            s_hist: [T::zero(); SMALL],
+            uh: 0,
+            sh: 0,
+        })
+    }
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
+    /// The output at this sample from the history.
+    pub fn output(&self) -> T {
+        let (n, m) = (self.nlen, self.dlen);
+        let num = self.num.as_ref().get(1..n).unwrap_or(&[]);
+        let uh = self.u_hist.as_ref().get(..n).unwrap_or(&[]);
+        // u[n − k] for k = 1, 2, … runs backwards from u_hist[uh] and wraps:
+        // two contiguous pieces, no index arithmetic per term
+        let (front, back) = uh.split_at((self.uh + 1).min(uh.len()));
+        let mut acc = T::zero();
+        let mut coeffs = num.iter();
+        // (the history first in the zip: it is the one that runs out)
+        for (u, b) in front.iter().rev().zip(coeffs.by_ref()) {
+            acc = acc + *b * *u;
+        }
+        for (u, b) in back.iter().rev().zip(coeffs) {
+            acc = acc + *b * *u;
+        }
+        for (k, a) in self.den.iter().enumerate().take(m).skip(1) {
+            let idx = (self.sh + m - ((k - 1) % m)) % m;
+            acc = acc - *a * self.s_hist.get(idx).copied().unwrap_or(T::zero());
+        }
+        acc
+    }
+    /// Stores `u[n]` and the output `s[n]` as the newest history entries.
+    pub fn push(&mut self, u: T, s: T) {
+        self.uh = (self.uh + 1) % self.nlen.max(1);
+        self.sh = (self.sh + 1) % self.dlen.max(1);
+        if let Some(x) = self.u_hist.as_mut().get_mut(self.uh) {
+            *x = u;
+        }
+        if let Some(x) = self.s_hist.get_mut(self.sh) {
+            *x = s;
+        }
+    }
+    /// Zeroes the history.
+    pub fn reset(&mut self) {
+        self.u_hist.as_mut().iter_mut().for_each(|v| *v = T::zero());
+        self.s_hist.iter_mut().for_each(|v| *v = T::zero());
+        self.uh = 0;
+        self.sh = 0;
+    }
+    /// The response at `z = e^{jθ}`.
+    pub fn response(&self, theta: T) -> Complex<T> {
+        let zi = |k: usize| Complex::cis(-theta * T::of(f64::from(u32::try_from(k).unwrap_or(0))));
+        let sum = |p: &[T]| {
+            p.iter()
+                .enumerate()
+                .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b))
+        };
+        sum(self.num.as_ref().get(..self.nlen).unwrap_or(&[]))
+            / sum(self.den.get(..self.dlen).unwrap_or(&[]))
+    }
+}
+
+/// The filtered Smith predictor's output predictor `ŷ = S(z)·u + Fr(z)·y`
+/// (García et al. (2010) Fig. 6). `S` is evaluated in direct form over
+/// the input history (its numerator spans the dead time, so the cost is
+/// proportional to it).
+#[derive(Debug, Clone)]
+pub struct FspPredictor<T, S> {
+    fr: Lti<T, 8>,
+    s: DirectForm<T, S>,
+    last_s: T,
+}
+
+impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
+    /// The predictor of a design.
+    pub fn new<D: AsRef<[f64]>>(d: &FspDesign<D>) -> Result<Self, Error> {
+        Ok(FspPredictor {
+            fr: Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?,
+            s: DirectForm::new(d.s_num(), d.s_den.as_slice())?,
+            last_s: T::zero(),
+        })
+    }
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
+    fn predict(&mut self, y: T) -> T {
+        self.last_s = self.s.output();
+        self.last_s + self.fr.step(y)
+    }
+    fn predict_held(&mut self) -> T {
+        self.last_s = self.s.output();
+        self.last_s
+    }
+    fn commit(&mut self, u: T) {
+        self.s.push(u, self.last_s);
+    }
+    fn reset(&mut self) {
+        self.fr.reset();
+        self.s.reset();
+        self.last_s = T::zero();
+    }
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        (self.s.response(theta), self.fr.response(theta))
+    }
+}
+
+/// A primary controller `K` around an output predictor: `u = K(r − ŷ)`.
+/// With [`FspPredictor`] this is the filtered Smith predictor for unstable,
+/// integrating and stable plants; with [`crate::dtc::gpcc::GpccPredictor`]
+/// the generalized predictor.
+#[derive(Debug, Clone)]
+pub struct Predicted<T, P, K = Pid<T>> {
+    k: K,
+    pred: P,
+    params: ParamList<T>,
+    yhat: T,
+    fault: bool,
+}
+
+/// The filtered Smith predictor (with a PID primary controller).
+pub type FilteredSmith<T, S> = Predicted<T, FspPredictor<T, S>>;
+
+impl<T: Real, S: DelayStorage<T>> FilteredSmith<T, S> {
+    /// The controller `k` around the designed predictor.
+    pub fn new<D: AsRef<[f64]>>(
+        k: PidConfig<T>,
+        d: &FspDesign<D>,
+        params: ParamList<T>,
+    ) -> Result<Self, Error> {
+        Predicted::with_predictor(k, FspPredictor::new(d)?, params)
+    }
+}
+
+impl<T: Real, P: Predictor<T>> Predicted<T, P> {
+    /// The PID `k` around `pred`, reporting `params`.
+    pub fn with_predictor(k: PidConfig<T>, pred: P, params: ParamList<T>) -> Result<Self, Error> {
+        Ok(Predicted::with_primary(Pid::new(k)?, pred, params))
+    }
+}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
+    /// Any primary controller `k` around `pred`, reporting `params`.
+    pub fn with_primary(k: K, pred: P, params: ParamList<T>) -> Self {
+        Predicted {
+            k,
+            pred,
+            params,
+            yhat: T::zero(),
+            fault: false,
+        }
+    }
+}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, K> {
+    fn update(&mut self, r: T, y: T) -> T {
+        if !(r.is_finite() && y.is_finite()) {
+            // the output is held; the predictor keeps following the actuator
+            self.fault = true;
+            self.pred.predict_held();
+            let u = self.k.update(r, T::nan());
+            self.pred.commit(u);
+            return u;
+        }
+        self.fault = false;
+        let yhat = self.pred.predict(y);
+        let u = self.k.update(r, yhat);
+        self.pred.commit(u);
+        self.yhat = yhat;
+        u
+    }
+
+    fn reset(&mut self) {
+        self.k.reset();
+        self.pred.reset();
+        self.yhat = T::zero();
+        self.fault = false;
+    }
+
+    fn fault(&self) -> bool {
+        self.fault
+    }
+}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> CascadeControl<T> for Predicted<T, P, K> {}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> Introspect<T> for Predicted<T, P, K> {
+    fn signal_names(&self) -> &'static [&'static str] {
+        &["prediction"]
+    }
+
+    fn signal(&self, i: usize) -> T {
+        if i == 0 {
+            self.yhat
+        } else {
+            T::nan()
+        }
+    }
+
+    fn param_names(&self) -> &'static [&'static str] {
+        self.params.names()
+    }
+
+    fn param(&self, i: usize) -> T {
+        self.params.value(i)
+    }
+}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> FrequencyResponse<T> for Predicted<T, P, K> {
+    fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        // u = K_r r − K_y(Su u + Sy y) → u = K_r/(1 + K_y Su)·r − K_y Sy/(1 + K_y Su)·y
+        let (kr, ky) = self.k.response(theta);
+        let (su, sy) = self.pred.response(theta);
+        let d = Complex::real(T::one()) + ky * su;
+        Some((kr / d, ky * sy / d))
+    }
+}

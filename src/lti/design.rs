@@ -1,0 +1,517 @@
+//! Construction and discretization of [`Lti`] blocks: realization,
+//! ZOH, Tustin and pole-zero matching.
+
+use super::matrix::{expm_and_integral, Mat};
+use super::{Discretization, Lti};
+use crate::complex::Complex;
+use crate::real::{finite, positive};
+use crate::{Error, Real};
+use core::ops::{Add, Div, Mul, Sub};
+
+/// Strips leading zeros of a descending coefficient slice.
+fn trim<T: Real>(c: &[T]) -> &[T] {
+    let first = c.iter().position(|v| *v != T::zero()).unwrap_or(c.len());
+    c.get(first..).unwrap_or(&[])
+}
+
+fn check_coeffs<T: Real>(c: &[T], field: &'static str) -> Result<(), Error> {
+    for v in c {
+        finite(*v, field)?;
+    }
+    Ok(())
+}
+
+/// The normalized companion data of `b(s)/a(s)`: monic denominator tail `a₁…aₙ`,
+/// strictly-proper numerator `c₁…cₙ` and feed-through `d`.
+fn companion<T: Real, const N: usize>(
+    num: &[T],
+    den: &[T],
+) -> Result<([T; N], [T; N], T, usize), Error> {
+    check_coeffs(num, "num")?;
+    check_coeffs(den, "den")?;
+    let den = trim(den);
+    let num = trim(num);
+    let lead = *den.first().ok_or(Error::Improper("den"))?;
+    let n = den.len().saturating_sub(1);
+    if num.len() > den.len() {
+        return Err(Error::Improper("num"));
+    }
+    if n > N {
+        return Err(Error::OrderTooHigh("den"));
+    }
+    let mut a = [T::zero(); N];
+    for (ai, di) in a.iter_mut().zip(den.iter().skip(1)) {
+        *ai = *di / lead;
+    }
+    // numerator padded to n+1 coefficients, normalized by the denominator's lead
+    let pad = den.len().saturating_sub(num.len());
+    let b = |i: usize| -> T {
+        if i < pad {
+            T::zero()
+        } else {
+            num.get(i.wrapping_sub(pad)).copied().unwrap_or(T::zero()) / lead
+        }
+    };
+    let d = b(0);
+    let mut c = [T::zero(); N];
+    for (i, ci) in c.iter_mut().enumerate().take(n) {
+        let ai = a.get(i).copied().unwrap_or(T::zero());
+        *ci = b(i.wrapping_add(1)) - d * ai;
+    }
+    Ok((a, c, d, n))
+}
+
+/// A continuous realization `(A, b, c, d, n)` of `num(s)/den(s)` in
+/// controllable canonical form (`ẋ = Ax + b·u`, `y = c·x + d·u`, order `n ≤ N`).
+pub type Realization<T, const N: usize> = ([[T; N]; N], [T; N], [T; N], T, usize);
+
+/// The controllable canonical realization of the continuous `num(s)/den(s)`
+/// (descending coefficients), the one [`Lti::from_tf`] discretizes.
+pub fn realize<T: Real, const N: usize>(num: &[T], den: &[T]) -> Result<Realization<T, N>, Error> {
+    let (a, c, d, n) = companion::<T, N>(num, den)?;
+    let mut am = [[T::zero(); N]; N];
+    if let Some(row) = am.first_mut() {
+        for (x, aj) in row.iter_mut().zip(a.iter()).take(n) {
+            *x = -*aj;
+        }
+    }
+    for i in 1..n {
+        if let Some(v) = am.get_mut(i).and_then(|r| r.get_mut(i.wrapping_sub(1))) {
+            *v = T::one();
+        }
+    }
+    let mut b = [T::zero(); N];
+    if n > 0 {
+        if let Some(b0) = b.first_mut() {
+            *b0 = T::one();
+        }
+    }
+    Ok((am, b, c, d, n))
+}
+
+/// Capacity of the coefficient lists the `*_of` constructors convert.
+const CAST: usize = 24;
+
+/// `p` converted to `T`, in a fixed array (its length alongside).
+fn cast_coeffs<T: Real>(p: &[f64]) -> Result<([T; CAST], usize), Error> {
+    if p.len() > CAST {
+        return Err(Error::OrderTooHigh("polynomial"));
+    }
+    let mut o = [T::zero(); CAST];
+    for (d, v) in o.iter_mut().zip(p) {
+        *d = T::of(*v);
+    }
+    Ok((o, p.len()))
+}
+
+impl<T: Real, const N: usize> Lti<T, N> {
+    /// [`Lti::from_tf`] for coefficients designed in `f64`: the block is
+    /// discretized in `f64` (pole-zero matching finds roots, ZOH takes a
+    /// matrix exponential: in `f32` a pole near `z = 1` would lose most of its
+    /// distance to 1) and then rounded to this precision ([`Lti::of`]).
+    pub fn from_tf_of(
+        num: &[f64],
+        den: &[f64],
+        ts: f64,
+        method: Discretization,
+    ) -> Result<Self, Error> {
+        Ok(Self::of(&Lti::<f64, N>::from_tf(num, den, ts, method)?))
+    }
+
+    /// A block designed (discretized) in `f64`, in this precision: every
+    /// coefficient and state rounded with [`Real::of`].
+    pub fn of(b: &Lti<f64, N>) -> Self {
+        let vec = |v: &[f64; N]| v.map(T::of);
+        Lti {
+            phi: b.phi.map(|row| row.map(T::of)),
+            gamma: vec(&b.gamma),
+            c: vec(&b.c),
+            d: T::of(b.d),
+            x: vec(&b.x),
+            n: b.n,
+        }
+    }
+
+    /// [`Lti::from_discrete_tf`] for coefficients designed in `f64`.
+    pub fn from_discrete_tf_of(num: &[f64], den: &[f64]) -> Result<Self, Error> {
+        let ((n, nl), (d, dl)) = (cast_coeffs::<T>(num)?, cast_coeffs::<T>(den)?);
+        Self::from_discrete_tf(n.get(..nl).unwrap_or(&[]), d.get(..dl).unwrap_or(&[]))
+    }
+
+    /// A static gain `y = k·u` (order 0).
+    pub fn gain(k: T) -> Result<Self, Error> {
+        Ok(Lti {
+            phi: [[T::zero(); N]; N],
+            gamma: [T::zero(); N],
+            c: [T::zero(); N],
+            d: finite(k, "k")?,
+            x: [T::zero(); N],
+            n: 0,
+        })
+    }
+
+    /// A continuous transfer function `num(s)/den(s)` (coefficients in descending
+    /// powers of `s`) discretized at `ts` by `method`.
+    pub fn from_tf(num: &[T], den: &[T], ts: T, method: Discretization) -> Result<Self, Error> {
+        let ts = positive(ts, "ts")?;
+        match method {
+            Discretization::Matched => return Self::matched(num, den, ts),
+            Discretization::Zoh | Discretization::Tustin => {}
+        }
+        let (a, c, d, n) = companion::<T, N>(num, den)?;
+        let mut am = Mat::<T, N>::zeros(n);
+        for (j, aj) in a.iter().enumerate().take(n) {
+            am.set(0, j, -*aj);
+        }
+        for i in 1..n {
+            am.set(i, i.wrapping_sub(1), T::one());
+        }
+        let mut b = [T::zero(); N];
+        if let Some(b0) = b.first_mut() {
+            *b0 = T::one();
+        }
+        Self::from_state_space_mat(&am, &b, &c, d, ts, method)
+    }
+
+    /// A continuous state-space system `(A, B, C, D)` of order `n ≤ N` (only the
+    /// leading `n×n` block of `a` is used) discretized at `ts` by ZOH or Tustin.
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_state_space(
+        a: &[[T; N]; N],
+        b: &[T; N],
+        c: &[T; N],
+        d: T,
+        n: usize,
+        ts: T,
+        method: Discretization,
+    ) -> Result<Self, Error> {
+        if n > N {
+            return Err(Error::OrderTooHigh("n"));
+        }
+        for row in a {
+            check_coeffs(row, "a")?;
+        }
+        check_coeffs(b, "b")?;
+        check_coeffs(c, "c")?;
+        finite(d, "d")?;
+        let ts = positive(ts, "ts")?;
+        if method == Discretization::Matched {
+            return Err(Error::Unsupported(
+                "pole-zero matching of a state-space model",
+            ));
+        }
+        Self::from_state_space_mat(&Mat { a: *a, n }, b, c, d, ts, method)
+    }
+
+    fn from_state_space_mat(
+        a: &Mat<T, N>,
+        b: &[T; N],
+        c: &[T; N],
+        d: T,
+        ts: T,
+        method: Discretization,
+    ) -> Result<Self, Error> {
+        let n = a.n;
+        let (phi, gamma, c, d) = match method {
+            Discretization::Zoh | Discretization::Matched => {
+                let (e, p) = expm_and_integral(a, ts);
+                (e, p.mul_vec(b), *c, d)
+            }
+            Discretization::Tustin => {
+                // scipy's bilinear form: M = I − A h/2,
+                // Φ = M⁻¹(I + A h/2), Γ = M⁻¹ B h, C_d = C M⁻¹, D_d = D + C Γ / 2.
+                let ah2 = a.scale(ts * T::half());
+                let m = Mat::eye(n).add(&ah2.scale(-T::one()));
+                let minv = m.solve(&Mat::eye(n))?;
+                let phi = minv.mul(&Mat::eye(n).add(&ah2));
+                let g0 = minv.mul_vec(b);
+                let mut gamma = [T::zero(); N];
+                for (g, v) in gamma.iter_mut().zip(g0.iter()) {
+                    *g = *v * ts;
+                }
+                let mut cd = [T::zero(); N];
+                for (j, cj) in cd.iter_mut().enumerate().take(n) {
+                    let mut s = T::zero();
+                    for (k, ck) in c.iter().enumerate().take(n) {
+                        s = s + *ck * minv.get(k, j);
+                    }
+                    *cj = s;
+                }
+                let cg = c
+                    .iter()
+                    .zip(gamma.iter())
+                    .take(n)
+                    .fold(T::zero(), |s, (a, b)| s + *a * *b);
+                (phi, gamma, cd, d + cg * T::half())
+            }
+        };
+        let out = Lti {
+            phi: phi.a,
+            gamma,
+            c,
+            d,
+            x: [T::zero(); N],
+            n,
+        };
+        out.check_finite()
+    }
+
+    pub(super) fn check_finite(self) -> Result<Self, Error> {
+        let ok = self.phi.iter().flatten().all(|v| v.is_finite())
+            && self.gamma.iter().all(|v| v.is_finite())
+            && self.c.iter().all(|v| v.is_finite())
+            && self.d.is_finite();
+        if ok {
+            Ok(self)
+        } else {
+            Err(Error::Numerical(
+                "discretization (overflow: sample period too long for an unstable pole?)",
+            ))
+        }
+    }
+
+    /// A discrete transfer function `num(z)/den(z)` (descending powers of `z`),
+    /// realized in controllable canonical form.
+    pub fn from_discrete_tf(num: &[T], den: &[T]) -> Result<Self, Error> {
+        // the same canonical form as the continuous one, read as Φ and Γ
+        let (phi, gamma, c, d, n) = realize::<T, N>(num, den)?;
+        Lti {
+            phi,
+            gamma,
+            c,
+            d,
+            x: [T::zero(); N],
+            n,
+        }
+        .check_finite()
+    }
+
+    /// First-order lag `k/(τ s + 1)`, ZOH-discretized: `y[k+1] = a y[k] + k(1−a) u[k]`,
+    /// `a = e^{−Ts/τ}`. A negative `τ` gives the unstable `k/(τ s + 1)` pole at `−1/τ`.
+    pub fn first_order(k: T, tau: T, ts: T) -> Result<Self, Error> {
+        let tau = finite(tau, "tau")?;
+        if tau == T::zero() {
+            return Err(Error::NotPositive("tau"));
+        }
+        Self::from_tf(
+            &[finite(k, "k")?],
+            &[tau, T::one()],
+            ts,
+            Discretization::Zoh,
+        )
+    }
+
+    /// Integrator `k/s`, ZOH-discretized: `y[k+1] = y[k] + k·Ts·u[k]`.
+    pub fn integrator(k: T, ts: T) -> Result<Self, Error> {
+        Self::from_tf(
+            &[finite(k, "k")?],
+            &[T::one(), T::zero()],
+            ts,
+            Discretization::Zoh,
+        )
+    }
+
+    /// Lead-lag `k(a s + 1)/(b s + 1)`, ZOH-discretized.
+    pub fn lead_lag(k: T, a: T, b: T, ts: T) -> Result<Self, Error> {
+        let b = positive(b, "b")?;
+        Self::from_tf(
+            &[finite(k, "k")? * finite(a, "a")?, k],
+            &[b, T::one()],
+            ts,
+            Discretization::Zoh,
+        )
+    }
+
+    /// Second-order block `k ωₙ²/(s² + 2ζωₙ s + ωₙ²)`, ZOH-discretized.
+    pub fn second_order(k: T, wn: T, zeta: T, ts: T) -> Result<Self, Error> {
+        let wn = positive(wn, "wn")?;
+        let zeta = finite(zeta, "zeta")?;
+        Self::from_tf(
+            &[finite(k, "k")? * wn * wn],
+            &[T::one(), T::two() * zeta * wn, wn * wn],
+            ts,
+            Discretization::Zoh,
+        )
+    }
+
+    fn matched(num: &[T], den: &[T], ts: T) -> Result<Self, Error> {
+        check_coeffs(num, "num")?;
+        check_coeffs(den, "den")?;
+        let num = trim(num);
+        let den = trim(den);
+        let nz = num.len().saturating_sub(1);
+        let np = den.len().saturating_sub(1);
+        // an improper controller (a PD, a PID with a lead) gets a pole at z = 0
+        // for each excess zero: a backward difference, causal
+        let order = nz.max(np);
+        if order > N || order > MAX_MATCHED {
+            return Err(Error::OrderTooHigh("den"));
+        }
+        let mut zr = [Complex::<T>::default(); MAX_MATCHED];
+        let mut pr = [Complex::<T>::default(); MAX_MATCHED];
+        roots(num, &mut zr)?;
+        roots(den, &mut pr)?;
+        let zn = poly_from_roots(zr.get(..nz).unwrap_or(&[]), ts);
+        let zd = poly_from_roots(pr.get(..np).unwrap_or(&[]), ts);
+        // DC match after removing roots at the origin: lim s^m·b/a at s = 0
+        // against lim ((z−1)/Ts)^m·b_d/a_d at z = 1.
+        let cont = strip_origin_value(num) / strip_origin_value(den);
+        let disc = strip_one_value(&zn, nz.saturating_add(1), ts)
+            / strip_one_value(&zd, np.saturating_add(1), ts);
+        if !(disc.is_finite() && disc != T::zero()) {
+            return Err(Error::Numerical("pole-zero matching gain"));
+        }
+        let k = cont / disc;
+        let mut nb = zn;
+        for v in nb.iter_mut() {
+            *v = *v * k;
+        }
+        // zd is zero beyond its degree: the first order + 1 entries are zd·z^(nz − np)
+        Self::from_discrete_tf(
+            nb.get(..nz.saturating_add(1)).unwrap_or(&[]),
+            zd.get(..order.saturating_add(1)).unwrap_or(&[]),
+        )
+    }
+}
+
+/// Largest order pole-zero matching handles.
+const MAX_MATCHED: usize = 16;
+
+/// Value at `s = 0` of a polynomial with its roots at the origin removed (lowest
+/// non-zero coefficient), descending coefficients.
+fn strip_origin_value<T: Real>(p: &[T]) -> T {
+    p.iter()
+        .rev()
+        .find(|v| **v != T::zero())
+        .copied()
+        .unwrap_or(T::one())
+}
+
+/// Value at `z = 1` of `p(z)/((z−1)/ts)^m` where `m` is the multiplicity of the root
+/// at 1, for monic descending coefficients `p[..len]`.
+fn strip_one_value<T: Real>(p: &[T], len: usize, ts: T) -> T {
+    let mut c = [T::zero(); MAX_MATCHED + 1];
+    for (d, s) in c.iter_mut().zip(p.iter().take(len)) {
+        *d = *s;
+    }
+    let mut len = len;
+    loop {
+        let v: T = c.iter().take(len).fold(T::zero(), |s, x| s + *x);
+        if v.abs() > T::of(1e-9) * c.iter().take(len).fold(T::zero(), |s, x| s + x.abs())
+            || len <= 1
+        {
+            return v;
+        }
+        // synthetic division by (z − 1), then scale by ts
+        let mut acc = T::zero();
+        for x in c.iter_mut().take(len.saturating_sub(1)) {
+            acc = acc + *x;
+            *x = acc * ts;
+        }
+        len = len.saturating_sub(1);
+    }
+}
+
+/// Roots of a real polynomial (descending coefficients) by the Durand–Kerner
+/// iteration; `out` receives `deg` roots.
+pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Error> {
+    let deg = p.len().saturating_sub(1);
+    if deg == 0 {
+        return Ok(());
+    }
+    if deg > out.len() {
+        return Err(Error::OrderTooHigh("polynomial"));
+    }
+    let lead = p.first().copied().unwrap_or(T::one());
+    let eval = |z: Complex<T>| -> Complex<T> {
+        p.iter().fold(Complex::default(), |acc, c| {
+            acc.mul(z).add(Complex::new(*c / lead, T::zero()))
+        })
+    };
+    let seed = Complex::new(T::of(0.4), T::of(0.9));
+    // radius bound: 1 + max |a_i / a_0|
+    let r = p
+        .iter()
+        .skip(1)
+        .fold(T::zero(), |m, c| m.max((*c / lead).abs()))
+        + T::one();
+    let mut z = Complex::new(T::one(), T::zero());
+    for o in out.iter_mut().take(deg) {
+        *o = z.mul(Complex::new(r, T::zero()));
+        z = z.mul(seed);
+    }
+    for _ in 0..500 {
+        let mut delta = T::zero();
+        for i in 0..deg {
+            let zi = out.get(i).copied().unwrap_or_default();
+            let mut den = Complex::new(T::one(), T::zero());
+            for (j, zj) in out.iter().enumerate().take(deg) {
+                if j != i {
+                    den = den.mul(zi.sub(*zj));
+                }
+            }
+            let step = eval(zi).div(den);
+            if let Some(o) = out.get_mut(i) {
+                *o = zi.sub(step);
+            }
+            delta = delta.max(step.abs());
+        }
+        if delta < T::epsilon() * T::of(16.0) * r {
+            break;
+        }
+    }
+    for o in out.iter_mut().take(deg) {
+        if o.im.abs() < T::of(1e-9) * (T::one() + o.re.abs()) {
+            o.im = T::zero();
+        }
+        if !(o.re.is_finite() && o.im.is_finite()) {
+            return Err(Error::Numerical("polynomial roots"));
+        }
+    }
+    Ok(())
+}
+
+/// Monic polynomial (descending coefficients, real parts) with roots `e^{r·ts}`.
+/// Long division in place of `a` (descending coefficients) by `b`: afterwards
+/// the first `a.len() − b.len() + 1` entries hold the quotient and the rest
+/// the remainder. Returns the quotient's length (0 when `b` is the longer).
+pub(crate) fn divide_in_place<T: Real>(a: &mut [T], b: &[T]) -> usize {
+    let lead = b.first().copied().unwrap_or(T::one());
+    let qlen = a.len().saturating_add(1).saturating_sub(b.len());
+    for i in 0..qlen {
+        let f = a.get(i).copied().unwrap_or(T::zero()) / lead;
+        for (j, bj) in b.iter().enumerate().skip(1) {
+            if let Some(x) = a.get_mut(i.saturating_add(j)) {
+                *x = *x - f * *bj;
+            }
+        }
+        if let Some(x) = a.get_mut(i) {
+            *x = f;
+        }
+    }
+    qlen
+}
+
+fn poly_from_roots<T: Real>(r: &[Complex<T>], ts: T) -> [T; MAX_MATCHED + 1] {
+    let mut c = [Complex::<T>::default(); MAX_MATCHED + 1];
+    if let Some(c0) = c.first_mut() {
+        *c0 = Complex::new(T::one(), T::zero());
+    }
+    let mut len = 1usize;
+    for root in r.iter().take(MAX_MATCHED) {
+        let z = root.exp_scaled(ts);
+        // multiply by (x − z): c'[i] = c[i] − z·c[i−1]
+        let mut prev = Complex::default();
+        for ci in c.iter_mut().take(len.saturating_add(1)) {
+            let cur = *ci;
+            *ci = cur.sub(z.mul(prev));
+            prev = cur;
+        }
+        len = len.saturating_add(1);
+    }
+    let mut out = [T::zero(); MAX_MATCHED + 1];
+    for (o, v) in out.iter_mut().zip(c.iter()) {
+        *o = v.re;
+    }
+    out
+}

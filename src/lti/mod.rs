@@ -1,0 +1,335 @@
+//! Discrete linear time-invariant blocks and the discretization of continuous ones.
+//!
+//! Every block is one type, [`Lti`]: a single-input single-output state-space
+//! system of order `n ≤ N` (the const capacity),
+//!
+//! `x[k+1] = Φ·x[k] + Γ·u[k]`,  `y[k] = C·x[k] + D·u[k]`,
+//!
+//! stored inline (no heap). First-order lags, integrators, lead-lags,
+//! second-order blocks and general rational transfer functions are
+//! constructors of this type; nothing assumes stability, so integrating and
+//! unstable poles work.
+//!
+//! A continuous block `G(s) = b(s)/a(s)` is realized in controllable canonical
+//! form and discretized at the sample period `Ts` by one of:
+//! - **zero-order hold** (the default, [`Discretization::Zoh`]):
+//!   `Φ = e^{A·Ts}`, `Γ = ∫₀^Ts e^{A·τ} dτ · B` — exact at the sample instants for
+//!   an input held constant over each period, which is what a sampled
+//!   controller's actuator does; computed by scaling and squaring of the
+//!   Taylor series of both integrals (valid for singular `A`, i.e. integrators);
+//! - **Tustin** (bilinear, `s ← 2/Ts · (z−1)/(z+1)`, [`Discretization::Tustin`]);
+//! - **pole-zero matching** (`z = e^{s·Ts}` for every pole and finite zero, the
+//!   gain matched at DC — after removing poles or zeros at the origin — as used
+//!   for the primary controller in García et al. (2010) Sec. 3,
+//!   [`Discretization::Matched`]).
+
+use crate::complex::Complex;
+use crate::{Error, Real};
+use core::ops::{Add, Div, Mul, Sub};
+
+/// How a continuous block is turned into a discrete one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Discretization {
+    /// Zero-order hold: exact for piecewise-constant inputs.
+    #[default]
+    Zoh,
+    /// Bilinear (trapezoidal) transformation.
+    Tustin,
+    /// Pole-zero matching `z = e^{s Ts}` with the DC gain preserved (after the
+    /// roots at the origin are removed); an improper block gets a pole at
+    /// `z = 0` for each excess zero.
+    Matched,
+}
+
+/// A discrete SISO state-space block of order at most `N`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "T: serde::Serialize",
+        deserialize = "T: serde::Deserialize<'de> + Default + Copy"
+    ))
+)]
+pub struct Lti<T, const N: usize> {
+    #[cfg_attr(feature = "serde", serde(with = "serde_mat"))]
+    phi: [[T; N]; N],
+    #[cfg_attr(feature = "serde", serde(with = "serde_vec"))]
+    gamma: [T; N],
+    #[cfg_attr(feature = "serde", serde(with = "serde_vec"))]
+    c: [T; N],
+    d: T,
+    #[cfg_attr(feature = "serde", serde(with = "serde_vec"))]
+    x: [T; N],
+    n: usize,
+}
+
+mod design;
+mod matrix;
+#[cfg(feature = "serde")]
+mod serde_arrays;
+
+pub(crate) use design::{divide_in_place, roots};
+pub use design::{realize, Realization};
+use matrix::Mat;
+#[cfg(feature = "serde")]
+use serde_arrays::{serde_mat, serde_vec};
+
+impl<T: Real, const N: usize> Lti<T, N> {
+    /// The order `n` of the block.
+    #[inline]
+    pub fn order(&self) -> usize {
+        self.n
+    }
+
+    /// The state vector (its first `order()` entries are meaningful).
+    #[inline]
+    pub fn state(&self) -> &[T; N] {
+        &self.x
+    }
+
+    /// The output the block would give for input `u` now, without advancing it.
+    #[inline(always)]
+    pub fn output(&self, u: T) -> T {
+        if self.n <= 1 {
+            let cx = match (self.c.first(), self.x.first()) {
+                (Some(c), Some(x)) if self.n == 1 => *c * *x,
+                _ => T::zero(),
+            };
+            return cx + self.d * u;
+        }
+        self.c
+            .iter()
+            .zip(self.x.iter())
+            .take(self.n)
+            .fold(self.d * u, |s, (c, x)| s + *c * *x)
+    }
+
+    /// The output for the current state ignoring the feed-through `D·u`: `C x[k]`.
+    #[inline(always)]
+    pub fn free_output(&self) -> T {
+        match (self.n, self.c.first(), self.x.first()) {
+            (0, _, _) => T::zero(),
+            (1, Some(c), Some(x)) => *c * *x,
+            _ => self
+                .c
+                .iter()
+                .zip(self.x.iter())
+                .take(self.n)
+                .fold(T::zero(), |s, (c, x)| s + *c * *x),
+        }
+    }
+
+    /// Advances one sample with input `u[k]`: returns `y[k] = C x[k] + D u[k]`
+    /// and sets `x[k+1] = Φ x[k] + Γ u[k]`.
+    #[inline(always)]
+    pub fn step(&mut self, u: T) -> T {
+        if self.n == 1 {
+            // first order: the two multiply-adds, one dispatch
+            if let (Some(x), Some(row), Some(g), Some(c)) = (
+                self.x.first_mut(),
+                self.phi.first(),
+                self.gamma.first(),
+                self.c.first(),
+            ) {
+                let x0 = *x;
+                *x = row.first().copied().unwrap_or(T::zero()) * x0 + *g * u;
+                return *c * x0 + self.d * u;
+            }
+        }
+        let y = self.output(u);
+        self.advance(u);
+        y
+    }
+
+    /// `x[k+1] = Φ x[k] + Γ u[k]` without computing the output.
+    #[inline(always)]
+    pub fn advance(&mut self, u: T) {
+        if self.n == 1 {
+            // first order: one multiply-add, no loops
+            if let (Some(x), Some(row), Some(g)) =
+                (self.x.first_mut(), self.phi.first(), self.gamma.first())
+            {
+                *x = row.first().copied().unwrap_or(T::zero()) * *x + *g * u;
+            }
+            return;
+        }
+        let mut next = [T::zero(); N];
+        for ((xn, row), g) in next
+            .iter_mut()
+            .zip(self.phi.iter())
+            .zip(self.gamma.iter())
+            .take(self.n)
+        {
+            *xn = row
+                .iter()
+                .zip(self.x.iter())
+                .take(self.n)
+                .fold(*g * u, |s, (p, x)| s + *p * *x);
+        }
+        self.x = next;
+    }
+
+    /// Sets the state vector.
+    #[inline]
+    pub fn set_state(&mut self, x: &[T; N]) {
+        self.x = *x;
+    }
+
+    /// The frequency response `C(zI − Φ)⁻¹Γ + D` at `z = e^{jθ}` (`θ = ω·Ts`).
+    pub fn response(&self, theta: T) -> Complex<T> {
+        let n = self.n;
+        let z = Complex::cis(theta);
+        // augmented system [zI − Φ | Γ], complex Gaussian elimination
+        let mut a = [[Complex::<T>::default(); N]; N];
+        let mut b = [Complex::<T>::default(); N];
+        for i in 0..n {
+            for j in 0..n {
+                let phi = self
+                    .phi
+                    .get(i)
+                    .and_then(|r| r.get(j))
+                    .copied()
+                    .unwrap_or(T::zero());
+                let v = if i == j {
+                    z.sub(Complex::real(phi))
+                } else {
+                    Complex::real(-phi)
+                };
+                if let Some(x) = a.get_mut(i).and_then(|r| r.get_mut(j)) {
+                    *x = v;
+                }
+            }
+            if let Some(x) = b.get_mut(i) {
+                *x = Complex::real(self.gamma.get(i).copied().unwrap_or(T::zero()));
+            }
+        }
+        let at = |a: &[[Complex<T>; N]; N], i: usize, j: usize| {
+            a.get(i).and_then(|r| r.get(j)).copied().unwrap_or_default()
+        };
+        for col in 0..n {
+            let mut piv = col;
+            for r in col..n {
+                if at(&a, r, col).abs() > at(&a, piv, col).abs() {
+                    piv = r;
+                }
+            }
+            a.swap(col, piv);
+            b.swap(col, piv);
+            let p = at(&a, col, col);
+            if p.abs() == T::zero() {
+                return Complex::new(T::infinity(), T::zero());
+            }
+            for r in 0..n {
+                if r != col {
+                    let f = at(&a, r, col).div(p);
+                    for c in 0..n {
+                        let v = at(&a, r, c).sub(f.mul(at(&a, col, c)));
+                        if let Some(x) = a.get_mut(r).and_then(|row| row.get_mut(c)) {
+                            *x = v;
+                        }
+                    }
+                    let bc = b.get(col).copied().unwrap_or_default();
+                    if let Some(x) = b.get_mut(r) {
+                        *x = x.sub(f.mul(bc));
+                    }
+                }
+            }
+        }
+        let mut y = Complex::real(self.d);
+        for i in 0..n {
+            let xi = b.get(i).copied().unwrap_or_default().div(at(&a, i, i));
+            y = y.add(xi.scale(self.c.get(i).copied().unwrap_or(T::zero())));
+        }
+        y
+    }
+
+    /// `Φ[i][j]` (0 outside the order).
+    pub fn phi_entry(&self, i: usize, j: usize) -> T {
+        self.phi
+            .get(i)
+            .and_then(|r| r.get(j))
+            .copied()
+            .unwrap_or(T::zero())
+    }
+
+    /// The output vector `C`.
+    pub fn output_vector(&self) -> [T; N] {
+        self.c
+    }
+
+    /// The feed-through `D`.
+    pub fn feedthrough(&self) -> T {
+        self.d
+    }
+
+    /// The input vector `Γ`.
+    pub fn input_vector(&self) -> [T; N] {
+        self.gamma
+    }
+
+    /// `Φ·v`.
+    pub fn propagate(&self, v: &[T; N]) -> [T; N] {
+        Mat {
+            a: self.phi,
+            n: self.n,
+        }
+        .mul_vec(v)
+    }
+
+    /// The same block with another input vector `Γ`.
+    pub fn with_input(&self, gamma: &[T; N]) -> Result<Self, Error> {
+        Lti {
+            gamma: *gamma,
+            ..*self
+        }
+        .check_finite()
+    }
+
+    /// Zeroes the state.
+    pub fn reset(&mut self) {
+        self.x = [T::zero(); N];
+    }
+
+    /// Sets the state to the equilibrium for a constant input `u` (bumpless
+    /// start): `x = (I − Φ)⁻¹ Γ u`. Fails for a block with a pole at `z = 1`
+    /// (an integrator has no equilibrium for `u ≠ 0`); use [`Lti::set_output`] then.
+    pub fn set_steady(&mut self, u: T) -> Result<(), Error> {
+        let n = self.n;
+        let m = Mat::eye(n).add(&Mat { a: self.phi, n }.scale(-T::one()));
+        let mut g = Mat::<T, N>::zeros(n);
+        for (i, gi) in self.gamma.iter().enumerate().take(n) {
+            g.set(i, 0, *gi * u);
+        }
+        let x = m.solve(&g)?;
+        for (i, xi) in self.x.iter_mut().enumerate().take(n) {
+            *xi = x.get(i, 0);
+        }
+        Ok(())
+    }
+
+    /// Sets the state so that the free output is `y` while an integrating block
+    /// stays at rest for zero input: the state is scaled along `C`'s direction
+    /// (least-norm state giving output `y`).
+    pub fn set_output(&mut self, y: T) {
+        let cc = self
+            .c
+            .iter()
+            .take(self.n)
+            .fold(T::zero(), |s, c| s + *c * *c);
+        if cc > T::zero() {
+            for (x, c) in self.x.iter_mut().zip(self.c.iter()).take(self.n) {
+                *x = *c * y / cc;
+            }
+        }
+    }
+
+    /// The DC gain `C (I − Φ)⁻¹ Γ + D`, or an error for a pole at `z = 1`.
+    pub fn dc_gain(&self) -> Result<T, Error> {
+        let mut probe = *self;
+        probe.set_steady(T::one())?;
+        Ok(probe.output(T::one()))
+    }
+}
