@@ -1,0 +1,295 @@
+//! Per-sample controller objects: any registry scheme, and the PID.
+
+use std::collections::BTreeMap;
+
+use crate::convert::params_dict;
+use crate::plant::plant_of;
+use crate::value_err;
+use msp::registry::{self, Build, DynController, Params};
+use msp::{AntiWindup, Pid, PidConfig};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pub(crate) fn loop_many<'py>(
+    py: Python<'py>,
+    r: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    mut f: impl FnMut(f64, f64) -> f64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (r, y) = (r.as_slice()?, y.as_slice()?);
+    if r.len() != y.len() {
+        return Err(PyValueError::new_err(format!(
+            "r has {} samples but y has {}",
+            r.len(),
+            y.len()
+        )));
+    }
+    let u: Vec<f64> = r.iter().zip(y).map(|(r, y)| f(*r, *y)).collect();
+    Ok(u.into_pyarray(py))
+}
+
+/// A per-sample controller of any registered scheme, tuned for a plant.
+#[pyclass(subclass, module = "msp._msp")]
+pub struct Controller {
+    inner: DynController,
+    name: &'static str,
+    params: Params,
+}
+
+#[pymethods]
+impl Controller {
+    /// Tunes scheme ``name`` for ``plant`` (model), builds it at period ``ts``.
+    #[new]
+    #[pyo3(signature = (name, plant, ts, params=None, *, inner_plant=None, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        name: &str,
+        plant: &Bound<'_, PyAny>,
+        ts: f64,
+        params: Option<BTreeMap<String, f64>>,
+        inner_plant: Option<&Bound<'_, PyAny>>,
+        umin: f64,
+        umax: f64,
+        lambda_: Option<f64>,
+        rule: Option<String>,
+    ) -> PyResult<Self> {
+        let tf = plant_of(plant)?;
+        let p2 = inner_plant.map(plant_of).transpose()?;
+        let scheme = registry::find(name).map_err(value_err)?;
+        let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let p = scheme
+            .tune_process(&tf, p2.as_ref(), lambda_, rule.as_deref(), &overrides)
+            .map_err(value_err)?;
+        let inner = scheme
+            .build_process(
+                &p,
+                &tf,
+                p2.as_ref(),
+                &Build {
+                    ts,
+                    u_min: umin,
+                    u_max: umax,
+                },
+            )
+            .map_err(value_err)?;
+        Ok(Controller {
+            inner,
+            name: scheme.name,
+            params: p,
+        })
+    }
+    /// One sample: set point and measurement in, actuator value out; ``y2`` is
+    /// the secondary measurement of a cascade (ignored by single-loop schemes).
+    #[pyo3(signature = (r, y, y2=None))]
+    fn update(&mut self, r: f64, y: f64, y2: Option<f64>) -> f64 {
+        match y2 {
+            Some(y2) => self.inner.update_cascade(r, y, y2),
+            None => self.inner.update(r, y),
+        }
+    }
+    /// ``update`` over arrays of set points and measurements (and secondary
+    /// measurements), looped in Rust.
+    #[pyo3(signature = (r, y, y2=None))]
+    fn update_many<'py>(
+        &mut self,
+        py: Python<'py>,
+        r: PyReadonlyArray1<'py, f64>,
+        y: PyReadonlyArray1<'py, f64>,
+        y2: Option<PyReadonlyArray1<'py, f64>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let c = &mut self.inner;
+        match y2 {
+            None => loop_many(py, r, y, |r, y| c.update(r, y)),
+            Some(y2) => {
+                let y2 = y2.as_slice()?;
+                if y2.len() != y.len()? {
+                    return Err(PyValueError::new_err(format!(
+                        "y has {} samples but y2 has {}",
+                        y.len()?,
+                        y2.len()
+                    )));
+                }
+                let mut k = 0usize;
+                loop_many(py, r, y, |r, y| {
+                    let u = c.update_cascade(r, y, y2.get(k).copied().unwrap_or(f64::NAN));
+                    k += 1;
+                    u
+                })
+            }
+        }
+    }
+    /// True for a cascade scheme (pass ``y2`` to ``update``).
+    #[getter]
+    fn is_cascade(&self) -> bool {
+        self.inner.is_cascade()
+    }
+    /// Zeroes every state.
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+    /// The scheme's name.
+    #[getter]
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    /// Tuned parameters.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        params_dict(py, &self.params)
+    }
+    /// Names of the internal signals.
+    #[getter]
+    fn signal_names(&self) -> Vec<&'static str> {
+        self.inner.signal_names().to_vec()
+    }
+    /// Internal signals after the last update.
+    #[getter]
+    fn signals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (i, n) in self.inner.signal_names().iter().enumerate() {
+            d.set_item(*n, self.inner.signal(i))?;
+        }
+        Ok(d)
+    }
+    /// One internal signal by name.
+    fn signal(&self, name: &str) -> PyResult<f64> {
+        self.inner.signal_by_name(name).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "no signal '{name}'; signals: {}",
+                self.inner.signal_names().join(", ")
+            ))
+        })
+    }
+    /// True when the last update got a non-finite input and held its output.
+    #[getter]
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+}
+
+/// The industrial PID controller (ISA form ``Kp(1 + 1/(Ti s) + Td s)``).
+#[pyclass(module = "msp._msp", name = "Pid")]
+pub struct PyPid {
+    inner: Pid<f64>,
+}
+
+#[pymethods]
+impl PyPid {
+    #[new]
+    #[pyo3(signature = (kp, ti=f64::INFINITY, td=0.0, ts=1.0, *, n=10.0, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
+                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        kp: f64,
+        ti: f64,
+        td: f64,
+        ts: f64,
+        n: f64,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = PidConfig::try_isa(kp, ti, td, ts)
+            .map_err(value_err)?
+            .with_filter(n)
+            .with_weights(b, c)
+            .with_limits(umin, umax)
+            .with_rate_limit(rate_limit);
+        cfg.anti_windup = match (anti_windup, cfg.anti_windup) {
+            (_, AntiWindup::None) if ti.is_infinite() => AntiWindup::None,
+            ("back-calculation", AntiWindup::BackCalculation { tt: d }) => {
+                AntiWindup::BackCalculation {
+                    tt: tt.unwrap_or(d),
+                }
+            }
+            ("back-calculation", _) => AntiWindup::BackCalculation {
+                tt: tt.unwrap_or(ti),
+            },
+            ("conditional", _) => AntiWindup::Conditional,
+            ("none", _) => AntiWindup::None,
+            (o, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "anti_windup '{o}': use back-calculation, conditional or none"
+                )))
+            }
+        };
+        Ok(PyPid {
+            inner: Pid::new(cfg).map_err(value_err)?,
+        })
+    }
+    /// One sample.
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        self.inner.update(r, y)
+    }
+    /// One sample with the actuator's real value for the integrator to track.
+    fn update_tracking(&mut self, r: f64, y: f64, u_actual: f64) -> f64 {
+        self.inner.update_tracking(r, y, u_actual)
+    }
+    /// ``update`` over arrays, looped in Rust.
+    fn update_many<'py>(
+        &mut self,
+        py: Python<'py>,
+        r: PyReadonlyArray1<'py, f64>,
+        y: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let c = &mut self.inner;
+        loop_many(py, r, y, |r, y| c.update(r, y))
+    }
+    /// Zeroes the state, back to auto mode.
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+    /// Manual mode holding the last output.
+    fn set_manual(&mut self) {
+        self.inner.set_manual();
+    }
+    /// Manual output value.
+    fn set_manual_output(&mut self, u: f64) -> PyResult<()> {
+        self.inner.set_manual_output(u).map_err(value_err)
+    }
+    /// Back to auto mode (bumpless).
+    fn set_auto(&mut self) {
+        self.inner.set_auto();
+    }
+    /// Proportional term of the last update.
+    #[getter]
+    fn p(&self) -> f64 {
+        self.inner.terms().p
+    }
+    /// Integral term of the last update.
+    #[getter]
+    fn i(&self) -> f64 {
+        self.inner.terms().i
+    }
+    /// Derivative term of the last update.
+    #[getter]
+    fn d(&self) -> f64 {
+        self.inner.terms().d
+    }
+    /// Last output.
+    #[getter]
+    fn output(&self) -> f64 {
+        self.inner.output()
+    }
+    /// True when the last update got a non-finite input.
+    #[getter]
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+    /// Parameters ``kp``, ``ti``, ``td``.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.config();
+        let d = PyDict::new(py);
+        d.set_item("kp", c.kp)?;
+        d.set_item("ti", c.ti())?;
+        d.set_item("td", c.td())?;
+        Ok(d)
+    }
+}

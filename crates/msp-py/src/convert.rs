@@ -1,0 +1,306 @@
+//! Python arguments to the library's typed values, and its results to dicts.
+
+use std::collections::BTreeMap;
+
+use crate::plant::plant_of;
+use crate::value_err;
+use msp::poly::TransferFunction;
+use msp::registry::Params;
+use msp::sim::{Disturbance, Location, SetpointStep, Shape};
+use msp::study::{Metrics, Perturbation, RunOutput, Scenario};
+use numpy::IntoPyArray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+pub(crate) fn setpoints(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<SetpointStep>> {
+    let Some(obj) = obj else {
+        return Ok(Vec::new());
+    };
+    if let Ok(v) = obj.extract::<f64>() {
+        return Ok(vec![SetpointStep { value: v, at: 0.0 }]);
+    }
+    if let Ok(s) = obj.extract::<String>() {
+        return Ok(vec![s.parse().map_err(value_err)?]);
+    }
+    let list = obj.downcast::<PyList>().map_err(|_| {
+        PyValueError::new_err(
+            "setpoint: a number, 'V@T', or a list of (value, time) pairs or 'V@T' strings",
+        )
+    })?;
+    let mut out = Vec::new();
+    for item in list.iter() {
+        if let Ok((value, at)) = item.extract::<(f64, f64)>() {
+            out.push(SetpointStep { value, at });
+        } else if let Ok(s) = item.extract::<String>() {
+            out.push(s.parse().map_err(value_err)?);
+        } else if let Ok(v) = item.extract::<f64>() {
+            out.push(SetpointStep { value: v, at: 0.0 });
+        } else {
+            return Err(PyValueError::new_err(
+                "setpoint: each step is (value, time) or 'V@T'",
+            ));
+        }
+    }
+    Ok(out)
+}
+
+pub(crate) fn disturbances(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Disturbance>> {
+    let Some(obj) = obj else {
+        return Ok(Vec::new());
+    };
+    let items: Vec<Bound<'_, PyAny>> = if obj.downcast::<PyList>().is_ok() {
+        obj.downcast::<PyList>()?.iter().collect()
+    } else {
+        vec![obj.clone()]
+    };
+    let mut out = Vec::new();
+    for item in items {
+        if let Ok(s) = item.extract::<String>() {
+            out.push(s.parse().map_err(value_err)?);
+            continue;
+        }
+        let d = item.downcast::<PyDict>().map_err(|_| {
+            PyValueError::new_err(
+                "disturbance: 'input:V@T' or a dict with location, value, at, shape, freq",
+            )
+        })?;
+        let get = |k: &str| -> PyResult<Option<Bound<'_, PyAny>>> { d.get_item(k) };
+        for key in d.keys() {
+            let k: String = key.extract()?;
+            if !["location", "value", "at", "shape", "freq"].contains(&k.as_str()) {
+                return Err(PyValueError::new_err(format!(
+                    "disturbance: unknown field '{k}'"
+                )));
+            }
+        }
+        let location = match get("location")?
+            .map(|v| v.extract::<String>())
+            .transpose()?
+            .as_deref()
+        {
+            Some("input") | Some("load") | Some("d2") | None => Location::Input,
+            Some("output") | Some("d1") => Location::Output,
+            Some("inner") | Some("d0") => Location::Inner,
+            Some(o) => {
+                return Err(PyValueError::new_err(format!(
+                    "disturbance location '{o}': use 'input' (d2), 'output' (d1) or 'inner' (d0)"
+                )))
+            }
+        };
+        let shape = match get("shape")?
+            .map(|v| v.extract::<String>())
+            .transpose()?
+            .as_deref()
+        {
+            Some("step") | None => Shape::Step,
+            Some("ramp") => Shape::Ramp,
+            Some("sine") => Shape::Sine,
+            Some(o) => {
+                return Err(PyValueError::new_err(format!(
+                    "disturbance shape '{o}': use step, ramp or sine"
+                )))
+            }
+        };
+        let num = |k: &str, default: Option<f64>| -> PyResult<f64> {
+            match get(k)? {
+                Some(v) => v.extract::<f64>(),
+                None => default.ok_or_else(|| {
+                    PyValueError::new_err(format!("disturbance: '{k}' is required"))
+                }),
+            }
+        };
+        out.push(Disturbance {
+            location,
+            shape,
+            value: num("value", None)?,
+            at: num("at", Some(0.0))?,
+            freq: num("freq", Some(0.0))?,
+        });
+    }
+    Ok(out)
+}
+
+pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in m.fields() {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
+pub(crate) fn params_dict<'py>(py: Python<'py>, p: &Params) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in p.iter() {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
+pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("plant", out.plant.to_string())?;
+    d.set_item("model", out.model.to_string())?;
+    d.set_item(
+        "inner_plant",
+        out.inner.as_ref().map(|(p, _)| p.to_string()),
+    )?;
+    d.set_item(
+        "inner_model",
+        out.inner.as_ref().map(|(_, m)| m.to_string()),
+    )?;
+    d.set_item("ts", out.ts)?;
+    d.set_item("duration", out.duration)?;
+    let c = PyDict::new(py);
+    c.set_item("name", out.controller)?;
+    c.set_item("params", params_dict(py, &out.params)?)?;
+    d.set_item("controller", c)?;
+    d.set_item("float32", out.float32)?;
+    d.set_item("metrics", metrics_dict(py, &out.metrics)?)?;
+    d.set_item(
+        "metrics_delayed_reference",
+        metrics_dict(py, &out.metrics_delayed_reference)?,
+    )?;
+    d.set_item("stable", out.result.diverged_at.is_none())?;
+    d.set_item("diverged_at", out.result.diverged_at)?;
+    let r = out.result;
+    let signals = PyDict::new(py);
+    for (name, v) in r.signals {
+        signals.set_item(name, v.into_pyarray(py))?;
+    }
+    d.set_item("t", r.t.into_pyarray(py))?;
+    d.set_item("r", r.r.into_pyarray(py))?;
+    d.set_item("y", r.y.into_pyarray(py))?;
+    d.set_item("u", r.u.into_pyarray(py))?;
+    d.set_item("d", r.d.into_pyarray(py))?;
+    d.set_item("d_out", r.d_out.into_pyarray(py))?;
+    if !r.y2.is_empty() {
+        let rows = r.y2.len();
+        d.set_item("y2", r.y2.into_pyarray(py))?;
+        let d0 = if r.d_inner.is_empty() {
+            vec![0.0; rows]
+        } else {
+            r.d_inner
+        };
+        d.set_item("d_inner", d0.into_pyarray(py))?;
+    }
+    d.set_item("signals", signals)?;
+    Ok(d)
+}
+
+/// The scenario keywords shared by ``run`` and ``compare``.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn scenario(
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    setpoint: Option<&Bound<'_, PyAny>>,
+    disturbance: Option<&Bound<'_, PyAny>>,
+    noise: Option<f64>,
+    seed: Option<u64>,
+    umin: Option<f64>,
+    umax: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    substeps: Option<usize>,
+    float32: bool,
+    max_memory: Option<u64>,
+) -> PyResult<Scenario> {
+    Ok(Scenario {
+        plant: String::new(),
+        model: None,
+        inner_plant: None,
+        inner_model: None,
+        controller,
+        lambda: lambda_,
+        rule,
+        set: params.unwrap_or_default(),
+        ts,
+        duration,
+        setpoint: setpoints(setpoint)?,
+        disturbance: disturbances(disturbance)?,
+        noise,
+        seed,
+        umin,
+        umax,
+        substeps,
+        float32,
+        max_memory,
+    })
+}
+
+/// The secondary process and its model of a cascade scenario.
+pub(crate) fn inner_of(
+    plant: Option<&Bound<'_, PyAny>>,
+    model: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<(TransferFunction, TransferFunction)>> {
+    match (plant, model) {
+        (None, None) => Ok(None),
+        (None, Some(_)) => Err(PyValueError::new_err(
+            "inner_model needs inner_plant (the secondary process)",
+        )),
+        (Some(p), m) => {
+            let p2 = plant_of(p)?;
+            let m2 = match m {
+                Some(m) => plant_of(m)?,
+                None => p2.clone(),
+            };
+            Ok(Some((p2, m2)))
+        }
+    }
+}
+
+/// A perturbation from ``"delay=20%,tau=-20%"`` or ``{"delay": 0.2, "tau": -0.2}``.
+pub(crate) fn perturbation_of(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Perturbation>> {
+    let Some(obj) = obj else {
+        return Ok(None);
+    };
+    if let Ok(s) = obj.extract::<String>() {
+        return s.parse().map(Some).map_err(value_err);
+    }
+    let d: BTreeMap<String, f64> = obj.extract()?;
+    let mut p = Perturbation::default();
+    for (k, v) in d {
+        match k.as_str() {
+            "gain" => p.gain = v,
+            "delay" => p.delay = v,
+            "tau" => p.tau = v,
+            "inner_gain" => p.inner_gain = v,
+            "inner_delay" => p.inner_delay = v,
+            "inner_tau" => p.inner_tau = v,
+            o => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown perturbation '{o}': use gain, delay, tau, inner_gain, inner_delay or inner_tau"
+                )))
+            }
+        }
+    }
+    Ok(Some(p))
+}
+
+pub(crate) fn margins_dict<'py>(
+    py: Python<'py>,
+    m: &msp::analysis::Margins,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in m.fields() {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
+pub(crate) fn fit_dict<'py>(
+    py: Python<'py>,
+    fit: &msp::ident::Fit,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("model", fit.model.kind())?;
+    let (ps, n) = fit.model.params();
+    for (k, v) in ps.iter().take(n) {
+        d.set_item(*k, *v)?;
+    }
+    d.set_item("rmse", fit.rmse)?;
+    d.set_item("r2", fit.r2)?;
+    Ok(d)
+}

@@ -1,0 +1,435 @@
+//! The study functions: run, compare, margins, sweep, autotune, identify, tune, controllers.
+
+use std::collections::BTreeMap;
+
+use crate::convert::{
+    fit_dict, inner_of, margins_dict, output_dict, params_dict, perturbation_of, scenario,
+};
+use crate::plant::plant_of;
+use crate::value_err;
+use msp::registry;
+use msp::study::Scenario;
+use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+/// Simulates the closed loop (see ``msp.run``); returns a dict of arrays and figures.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
+                    ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
+                    umax=None, lambda_=None, rule=None, substeps=None, float32=false, max_memory=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    setpoint: Option<&Bound<'py, PyAny>>,
+    disturbance: Option<&Bound<'py, PyAny>>,
+    noise: Option<f64>,
+    seed: Option<u64>,
+    umin: Option<f64>,
+    umax: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    substeps: Option<usize>,
+    float32: bool,
+    max_memory: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let plant_tf = plant_of(plant)?;
+    let model_tf = match model {
+        Some(m) => plant_of(m)?,
+        None => plant_tf.clone(),
+    };
+    let sc = scenario(
+        controller,
+        params,
+        ts,
+        duration,
+        setpoint,
+        disturbance,
+        noise,
+        seed,
+        umin,
+        umax,
+        lambda_,
+        rule,
+        substeps,
+        float32,
+        max_memory,
+    )?;
+    let inner = inner_of(inner_plant, inner_model)?;
+    let out = py
+        .allow_threads(|| sc.run_process(plant_tf, model_tf, inner))
+        .map_err(value_err)?;
+    output_dict(py, out)
+}
+
+/// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.
+#[pyfunction]
+#[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
+                    inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
+                    seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None,
+                    float32=false, max_memory=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn compare<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controllers: Vec<String>,
+    perturb: Option<&Bound<'py, PyAny>>,
+    params: Option<BTreeMap<String, f64>>,
+    model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    setpoint: Option<&Bound<'py, PyAny>>,
+    disturbance: Option<&Bound<'py, PyAny>>,
+    noise: Option<f64>,
+    seed: Option<u64>,
+    umin: Option<f64>,
+    umax: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    substeps: Option<usize>,
+    float32: bool,
+    max_memory: Option<u64>,
+) -> PyResult<Bound<'py, PyList>> {
+    let mut sc = scenario(
+        None,
+        params,
+        ts,
+        duration,
+        setpoint,
+        disturbance,
+        noise,
+        seed,
+        umin,
+        umax,
+        lambda_,
+        rule,
+        substeps,
+        float32,
+        max_memory,
+    )?;
+    sc.plant = plant_of(plant)?.to_string();
+    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
+        sc.inner_plant = Some(p2.to_string());
+        sc.inner_model = Some(m2.to_string());
+    }
+    let p = perturbation_of(perturb)?.unwrap_or_default();
+    let runs = py
+        .allow_threads(|| msp::study::compare(&sc, &controllers, p))
+        .map_err(value_err)?;
+    let out = PyList::empty(py);
+    for r in runs {
+        out.append(output_dict(py, r)?)?;
+    }
+    Ok(out)
+}
+
+/// Margins, stability region and robust-stability test (see ``msp.margins``).
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
+                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None, float32=false, max_memory=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn margins<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    discrete: bool,
+    uncertainty: Option<&Bound<'py, PyAny>>,
+    float32: bool,
+    max_memory: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut sc = scenario(
+        controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
+        float32, max_memory,
+    )?;
+    sc.plant = plant_of(plant)?.to_string();
+    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
+        sc.inner_plant = Some(p2.to_string());
+        sc.inner_model = Some(m2.to_string());
+    }
+    let uncertainty = perturbation_of(uncertainty)?;
+    let view = if discrete {
+        msp::analysis::View::Discrete
+    } else {
+        msp::analysis::View::Sampled
+    };
+    let an = py
+        .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
+        .map_err(value_err)?;
+    let d = margins_dict(py, &an.margins)?;
+    d.set_item("plant", an.plant.to_string())?;
+    d.set_item("model", an.model.to_string())?;
+    d.set_item("ts", an.ts)?;
+    let c = PyDict::new(py);
+    c.set_item("name", an.controller)?;
+    c.set_item("params", params_dict(py, &an.params)?)?;
+    d.set_item("controller", c)?;
+    d.set_item("stable", an.stable)?;
+    if let Some(i) = &an.inner {
+        d.set_item("inner", margins_dict(py, i)?)?;
+    }
+    d.set_item("region", an.region.clone())?;
+    d.set_item("robust_peak", an.robust_peak)?;
+    d.set_item("w", an.response.w.clone().into_pyarray(py))?;
+    let l: Vec<f64> = an.response.l.iter().flat_map(|c| [c.re, c.im]).collect();
+    let arr = l.into_pyarray(py).reshape([an.response.w.len(), 2])?;
+    d.set_item("l", arr)?;
+    Ok(d)
+}
+
+/// A sweep of plant perturbations (see ``msp.sweep``): a dict of numpy columns.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0),
+                    grid=11, samples=0, seed=1, shard=(0, 1), model=None, inner_plant=None, inner_model=None,
+                    ts=None, duration=None, lambda_=None, rule=None, float32=false, max_memory=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sweep<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    gain: (f64, f64),
+    delay: (f64, f64),
+    tau: (f64, f64),
+    grid: usize,
+    samples: usize,
+    seed: u64,
+    shard: (usize, usize),
+    model: Option<&Bound<'py, PyAny>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    inner_model: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    float32: bool,
+    max_memory: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    use msp::sweep::{Range, SweepSpec};
+    let range = |(lo, hi): (f64, f64), name: &str| -> PyResult<Range> {
+        if lo.is_nan() || hi.is_nan() || lo > hi || lo <= -1.0 {
+            return Err(PyValueError::new_err(format!("{name}: need -1 < lo <= hi")));
+        }
+        Ok(Range { lo, hi })
+    };
+    let spec = SweepSpec {
+        gain: range(gain, "gain")?,
+        delay: range(delay, "delay")?,
+        tau: range(tau, "tau")?,
+        grid,
+        samples,
+        seed,
+        shard,
+    };
+    let mut sc = scenario(
+        controller, params, ts, duration, None, None, None, None, None, None, lambda_, rule, None,
+        float32, max_memory,
+    )?;
+    sc.plant = plant_of(plant)?.to_string();
+    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
+    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
+        sc.inner_plant = Some(p2.to_string());
+        sc.inner_model = Some(m2.to_string());
+    }
+    let rows = py
+        .allow_threads(|| msp::sweep::sweep(&sc, &spec, &|_| {}))
+        .map_err(value_err)?;
+    let col = |f: &dyn Fn(&msp::sweep::SweepRow) -> f64| {
+        rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py)
+    };
+    let d = PyDict::new(py);
+    d.set_item(
+        "index",
+        rows.iter()
+            .map(|r| r.index)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item("gain", col(&|r| r.gain))?;
+    d.set_item("delay", col(&|r| r.delay))?;
+    d.set_item("tau", col(&|r| r.tau))?;
+    d.set_item(
+        "stable",
+        rows.iter()
+            .map(|r| r.stable)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    if let Some(first) = rows.first() {
+        for (i, (k, _)) in first.metrics.fields().iter().enumerate() {
+            let metric = col(&|r| r.metrics.fields().get(i).map_or(f64::NAN, |f| f.1));
+            d.set_item(*k, metric)?;
+        }
+    }
+    d.set_item("max_abs_u", col(&|r| r.max_abs_u))?;
+    Ok(d)
+}
+
+/// Relay test, identification, tuning and closed loop (see ``msp.autotune``).
+#[pyfunction]
+#[pyo3(signature = (plant, *, relay_amplitude=1.0, hysteresis=None, bias=None, noise=0.0, seed=0, model=None,
+                    controller=None, ts=None, band=f64::INFINITY, duration=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn autotune<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    relay_amplitude: f64,
+    hysteresis: Option<f64>,
+    bias: Option<f64>,
+    noise: f64,
+    seed: u64,
+    model: Option<String>,
+    controller: Option<String>,
+    ts: Option<f64>,
+    band: f64,
+    duration: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tf = plant_of(plant)?;
+    let model = model
+        .map(|m| m.parse::<msp::ident::ModelKind>())
+        .transpose()
+        .map_err(PyValueError::new_err)?;
+    let o = msp::ident::AutotuneOptions {
+        amplitude: relay_amplitude,
+        hysteresis,
+        bias,
+        noise,
+        seed,
+        model,
+        controller,
+        ts,
+        band,
+    };
+    let base = Scenario {
+        duration,
+        ..Default::default()
+    };
+    let out = py
+        .allow_threads(|| msp::ident::autotune(&tf, &o, &base))
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let d = PyDict::new(py);
+    d.set_item("identified", fit_dict(py, &out.fit)?)?;
+    let r = &out.result;
+    let (ku, tu) = r.ultimate();
+    let relay = PyDict::new(py);
+    for (k, v) in [
+        ("amplitude", r.amplitude),
+        ("hysteresis", r.hysteresis),
+        ("bias", r.bias),
+        ("t_up", r.t_up),
+        ("t_down", r.t_down),
+        ("period", r.period),
+        ("a_max", r.a_max),
+        ("a_min", r.a_min),
+        ("ku", ku),
+        ("tu", tu),
+    ] {
+        relay.set_item(k, v)?;
+    }
+    relay.set_item("gain", r.gain())?;
+    relay.set_item("cycles", r.cycles)?;
+    d.set_item("relay", relay)?;
+    d.set_item("run", output_dict(py, out.run)?)?;
+    Ok(d)
+}
+
+/// Step-test identification from samples (see ``msp.identify``).
+#[pyfunction]
+#[pyo3(signature = (t, u, y, model="fopdt"))]
+pub(crate) fn identify<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    u: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    model: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let kind: msp::ident::ModelKind = model.parse().map_err(PyValueError::new_err)?;
+    let (t, u, y) = (
+        t.as_slice()?.to_vec(),
+        u.as_slice()?.to_vec(),
+        y.as_slice()?.to_vec(),
+    );
+    let fit = py
+        .allow_threads(|| msp::ident::identify_step(kind, &t, &u, &y))
+        .map_err(value_err)?;
+    fit_dict(py, &fit)
+}
+
+/// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``,
+/// with ``robust_peak`` (Eq. 17) when an ``uncertainty`` is given, as ``msp tune``.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, params=None, *, inner_plant=None, ts=None, lambda_=None,
+                    rule=None, uncertainty=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn tune<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controller: Option<String>,
+    params: Option<BTreeMap<String, f64>>,
+    inner_plant: Option<&Bound<'py, PyAny>>,
+    ts: Option<f64>,
+    lambda_: Option<f64>,
+    rule: Option<String>,
+    uncertainty: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tf = plant_of(plant)?;
+    let inner = inner_plant.map(plant_of).transpose()?;
+    let mut sc = scenario(
+        controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
+        false, None,
+    )?;
+    let (scheme, p) = sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
+    let d = PyDict::new(py);
+    d.set_item("name", scheme.name)?;
+    d.set_item("params", params_dict(py, &p)?)?;
+    if let Some(u) = perturbation_of(uncertainty)? {
+        sc.plant = tf.to_string();
+        sc.inner_plant = inner.map(|i| i.to_string());
+        sc.controller = Some(scheme.name.to_string());
+        let an = py
+            .allow_threads(|| msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u)))
+            .map_err(value_err)?;
+        d.set_item("robust_peak", an.robust_peak)?;
+    }
+    Ok(d)
+}
+
+/// Every controller of the registry: name, aliases, summary, source, params, plants.
+#[pyfunction]
+pub(crate) fn controllers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let out = PyList::empty(py);
+    for s in registry::SCHEMES {
+        let d = PyDict::new(py);
+        d.set_item("name", s.name)?;
+        d.set_item("aliases", s.aliases.to_vec())?;
+        d.set_item("summary", s.summary)?;
+        d.set_item("source", s.source)?;
+        d.set_item("params", s.params.to_vec())?;
+        d.set_item("cascade", s.is_cascade())?;
+        d.set_item(
+            "plants",
+            s.plants.iter().map(|k| k.to_string()).collect::<Vec<_>>(),
+        )?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
