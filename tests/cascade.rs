@@ -478,7 +478,11 @@ fn example1_control_effort() -> R {
                 peak(uma),
                 peak(r)
             );
-            assert!(uma.metrics.tv > 10.0 * r.metrics.tv, "{}", r.controller);
+            assert!(
+                uma.metrics.indices.tv > 10.0 * r.metrics.indices.tv,
+                "{}",
+                r.controller
+            );
         }
     }
     Ok(())

@@ -89,8 +89,8 @@ fn matausek_micic_set_point_is_first_order_with_time_constant_tr() {
         set(sc, &[("tr", 2.0)]);
     });
     assert_close(o.params.get("kr").unwrap(), 1.0 / (0.2 * 2.0), 1e-12, 0.0);
-    assert_close(o.metrics.rise_time, 2.0 * 9f64.ln(), 0.01, 0.0);
-    assert!(o.metrics.overshoot < 1e-9);
+    assert_close(o.metrics.step.rise_time, 2.0 * 9f64.ln(), 0.01, 0.0);
+    assert!(o.metrics.step.overshoot < 1e-9);
 }
 
 #[test]

@@ -33,27 +33,27 @@ fn karan_dey_model_1_tables_5_2_and_5_4() {
     assert_close(p.get("td").unwrap(), 1.85, 1e-9, 0.0);
     assert_close(p.get("gamma").unwrap(), 0.06, 0.05, 0.0);
     let m = out.metrics;
-    assert!(m.overshoot < 1e-6, "{}", m.overshoot);
-    assert_close(m.rise_time, 2.04, 0.015, 0.0);
-    assert_close(m.settling_time, 11.0, 0.015, 0.0);
+    assert!(m.step.overshoot < 1e-6, "{}", m.step.overshoot);
+    assert_close(m.step.rise_time, 2.04, 0.015, 0.0);
+    assert_close(m.step.settling_time, 11.0, 0.015, 0.0);
     let d = out.metrics_delayed_reference;
-    assert_close(d.iae, 0.93, 0.015, 0.0);
-    assert_close(d.ise, 0.46, 0.015, 0.0);
+    assert_close(d.indices.iae, 0.93, 0.015, 0.0);
+    assert_close(d.indices.ise, 0.46, 0.015, 0.0);
 }
 
 #[test]
 fn karan_dey_model_2() {
     let out = run("0.05/s*e^-6s", Some("msp"), |_| {});
     assert_close(out.params.get("kp").unwrap(), 26.67, 0.001, 0.0);
-    assert_close(out.metrics.rise_time, 1.66, 0.03, 0.0);
-    assert_close(out.metrics.settling_time, 8.99, 0.015, 0.0);
+    assert_close(out.metrics.step.rise_time, 1.66, 0.03, 0.0);
+    assert_close(out.metrics.step.settling_time, 8.99, 0.015, 0.0);
 }
 
 #[test]
 fn smith_with_the_same_pi_overshoots_13_5_percent() {
     // Table 5.2.1: the Smith predictor with the MSP's PI: (2λs+1)/(λs+1)² → 13.5 %
     let out = run("0.2/s*e^-7.4s", Some("smith"), |_| {});
-    assert_close(out.metrics.overshoot, 13.5, 0.05, 0.0);
+    assert_close(out.metrics.step.overshoot, 13.5, 0.05, 0.0);
 }
 
 #[test]
@@ -159,11 +159,11 @@ fn substeps_add_exact_intersample_points_and_keep_the_metrics() {
     }
     let (a, b) = (base.metrics, fine.metrics);
     for (x, y) in [
-        (a.iae, b.iae),
-        (a.ise, b.ise),
-        (a.itae, b.itae),
-        (a.rise_time, b.rise_time),
-        (a.settling_time, b.settling_time),
+        (a.indices.iae, b.indices.iae),
+        (a.indices.ise, b.indices.ise),
+        (a.indices.itae, b.indices.itae),
+        (a.step.rise_time, b.step.rise_time),
+        (a.step.settling_time, b.step.settling_time),
     ] {
         assert_close(x, y, 1e-9, 0.0);
     }

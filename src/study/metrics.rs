@@ -2,59 +2,41 @@
 
 use std::vec::Vec;
 
-use crate::metrics::{step_info, IntegralIndices, StepInfo};
+use crate::metrics::{step_info, Indices, IntegralIndices, StepInfo};
 use crate::sim::{SetpointStep, SimResult};
 use crate::Error;
 
-/// The metrics of a run, with the key names of the JSON report and Python.
+/// The metrics of a run, with the key names of the JSON report and Python:
+/// the integral indices of the error and the step information of the
+/// response, one flat object (`iae`, …, `tv`, `rise_time`, …, `peak_time`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Metrics {
-    /// Integral of the absolute error.
-    pub iae: f64,
-    /// Integral of the squared error.
-    pub ise: f64,
-    /// Integral of time times the absolute error.
-    pub itae: f64,
-    /// Integral of time times the squared error.
-    pub itse: f64,
-    /// Total variation of the control signal.
-    pub tv: f64,
-    /// Rise time 10 → 90 % (s).
-    pub rise_time: f64,
-    /// Settling time, 2 % band (s).
-    pub settling_time: f64,
-    /// Minimum after the rise.
-    pub settling_min: f64,
-    /// Maximum after the rise.
-    pub settling_max: f64,
-    /// Overshoot (%).
-    pub overshoot: f64,
-    /// Undershoot (%).
-    pub undershoot: f64,
-    /// Peak of |y|.
-    pub peak: f64,
-    /// Time of the peak (s).
-    pub peak_time: f64,
+    /// IAE, ISE, ITAE, ITSE and TV.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub indices: Indices<f64>,
+    /// Rise and settling times, overshoot, peak (as MATLAB's `stepinfo`).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub step: StepInfo,
 }
 
 impl Metrics {
     /// Every figure with its report name, in report order.
     pub fn fields(&self) -> [(&'static str, f64); 13] {
         [
-            ("iae", self.iae),
-            ("ise", self.ise),
-            ("itae", self.itae),
-            ("itse", self.itse),
-            ("tv", self.tv),
-            ("rise_time", self.rise_time),
-            ("settling_time", self.settling_time),
-            ("settling_min", self.settling_min),
-            ("settling_max", self.settling_max),
-            ("overshoot", self.overshoot),
-            ("undershoot", self.undershoot),
-            ("peak", self.peak),
-            ("peak_time", self.peak_time),
+            ("iae", self.indices.iae),
+            ("ise", self.indices.ise),
+            ("itae", self.indices.itae),
+            ("itse", self.indices.itse),
+            ("tv", self.indices.tv),
+            ("rise_time", self.step.rise_time),
+            ("settling_time", self.step.settling_time),
+            ("settling_min", self.step.settling_min),
+            ("settling_max", self.step.settling_max),
+            ("overshoot", self.step.overshoot),
+            ("undershoot", self.step.undershoot),
+            ("peak", self.step.peak),
+            ("peak_time", self.step.peak_time),
         ]
     }
 }
@@ -107,7 +89,7 @@ pub fn metrics(
         }
         ind.push(r - y, *u);
     }
-    let v = ind.value();
+    let indices = ind.value();
     let y0 = yy.first().copied().unwrap_or(0.0);
     let y_final = steps.last().map_or(0.0, |s| s.value);
     let first_step = steps.first().map_or(0.0, |s| s.at.max(0.0));
@@ -122,19 +104,5 @@ pub fn metrics(
         y_final,
         shift,
     );
-    Ok(Metrics {
-        iae: v.iae,
-        ise: v.ise,
-        itae: v.itae,
-        itse: v.itse,
-        tv: v.tv,
-        rise_time: s.rise_time,
-        settling_time: s.settling_time,
-        settling_min: s.settling_min,
-        settling_max: s.settling_max,
-        overshoot: s.overshoot,
-        undershoot: s.undershoot,
-        peak: s.peak,
-        peak_time: s.peak_time,
-    })
+    Ok(Metrics { indices, step: s })
 }

@@ -5,10 +5,12 @@
 mod compare;
 mod defaults;
 mod metrics;
+mod report;
 
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use metrics::{metrics, Metrics};
+pub use report::{ControllerReport, Report};
 
 use std::string::{String, ToString};
 use std::vec::Vec;

@@ -7,7 +7,7 @@ use crate::value_err;
 use msp::poly::TransferFunction;
 use msp::registry::Params;
 use msp::sim::{Disturbance, Location, SetpointStep, Shape};
-use msp::study::{Metrics, Perturbation, RunOutput, Scenario};
+use msp::study::{Perturbation, RunOutput, Scenario};
 use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -121,48 +121,14 @@ pub(crate) fn disturbances(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Distu
     Ok(out)
 }
 
-pub(crate) fn metrics_dict<'py>(py: Python<'py>, m: &Metrics) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    for (k, v) in m.fields() {
-        d.set_item(k, v)?;
-    }
-    Ok(d)
-}
-
+/// A scheme's parameters as a dict (the serde form the JSON report prints).
 pub(crate) fn params_dict<'py>(py: Python<'py>, p: &Params) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    for (k, v) in p.iter() {
-        d.set_item(k, v)?;
-    }
-    Ok(d)
+    Ok(pythonize::pythonize(py, p)?.downcast_into::<PyDict>()?)
 }
 
 pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("plant", out.plant.to_string())?;
-    d.set_item("model", out.model.to_string())?;
-    d.set_item(
-        "inner_plant",
-        out.inner.as_ref().map(|(p, _)| p.to_string()),
-    )?;
-    d.set_item(
-        "inner_model",
-        out.inner.as_ref().map(|(_, m)| m.to_string()),
-    )?;
-    d.set_item("ts", out.ts)?;
-    d.set_item("duration", out.duration)?;
-    let c = PyDict::new(py);
-    c.set_item("name", out.controller)?;
-    c.set_item("params", params_dict(py, &out.params)?)?;
-    d.set_item("controller", c)?;
-    d.set_item("float32", out.float32)?;
-    d.set_item("metrics", metrics_dict(py, &out.metrics)?)?;
-    d.set_item(
-        "metrics_delayed_reference",
-        metrics_dict(py, &out.metrics_delayed_reference)?,
-    )?;
-    d.set_item("stable", out.result.diverged_at.is_none())?;
-    d.set_item("diverged_at", out.result.diverged_at)?;
+    // the library's report (the keys of `msp run --report`), then the signals
+    let d = pythonize::pythonize(py, &out.report())?.downcast_into::<PyDict>()?;
     let r = out.result;
     let signals = PyDict::new(py);
     for (name, v) in r.signals {

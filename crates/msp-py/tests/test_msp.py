@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import math
 import os
 import pathlib
@@ -46,6 +47,34 @@ def test_results_equal_the_cli_bit_for_bit(plant: str, args: list[str], kwargs: 
         assert np.array_equal(getattr(res, key), ref[key]), key
     for name, values in res.signals.items():
         assert np.array_equal(values, ref[name]), name
+
+
+def _same(py: object, cli: object, where: str = "") -> None:
+    """``py`` equals the JSON value ``cli``: NaN where the JSON has null, floats bit for bit."""
+    if isinstance(cli, dict):
+        assert isinstance(py, dict) and set(py) == set(cli), (where, py, cli)
+        for k in cli:
+            _same(py[k], cli[k], f"{where}.{k}")
+    elif isinstance(cli, list):
+        assert isinstance(py, list) and len(py) == len(cli), where
+        for i, (a, b) in enumerate(zip(py, cli)):
+            _same(a, b, f"{where}[{i}]")
+    elif cli is None and isinstance(py, float):
+        assert math.isnan(py), where
+    else:
+        assert py == cli, (where, py, cli)
+
+
+@pytest.mark.skipif(not pathlib.Path(MSP_BIN).exists(), reason="the msp binary is not built")
+@pytest.mark.parametrize("plant, args", [("0.2/s*e^-7.4s", []), ("5*e^-6s/(100s-1)", ["--duration", "60"])])
+def test_the_run_report_is_the_clis(plant: str, args: list[str], tmp_path: pathlib.Path) -> None:
+    path = tmp_path / "report.json"
+    subprocess.run([MSP_BIN, "run", "-q", "--plant", plant, *args, "--report", str(path),
+                    "--output", str(tmp_path / "run.csv")], check=True)
+    cli = json.loads(path.read_text())
+    res = msp.run(plant, duration=60.0) if args else msp.run(plant)
+    _same(res.report(), cli)
+    assert res.metrics["iae"] == cli["metrics"]["iae"] and res.plant_kind == cli["plant_kind"]
 
 
 def test_float32_runs_the_controller_in_float32() -> None:

@@ -46,10 +46,7 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
         files.add(p, csv);
     }
     if let Some(p) = &a.report {
-        let j: Vec<serde_json::Value> = runs
-            .iter()
-            .map(|r| export::json::report_json(r, &export::text::warnings(r)))
-            .collect();
+        let j: Vec<serde_json::Value> = runs.iter().map(export::json::report_json).collect();
         let text = serde_json::to_vec_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?;
         files.add(p, text);
     }

@@ -17,11 +17,11 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         ("--plot", a.plot.as_ref()),
     ])?;
     let out = sc.run()?;
-    let warnings = export::text::warnings(&out);
+    let warnings = out.warnings();
     let csv =
         export::csv::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
     if let Some(p) = &a.report {
-        let text = serde_json::to_vec_pretty(&export::json::report_json(&out, &warnings))
+        let text = serde_json::to_vec_pretty(&export::json::report_json(&out))
             .map_err(|e| CliError::Runtime(e.to_string()))?;
         files.add(p, text);
     }

@@ -1,43 +1,18 @@
 //! The JSON documents: the run report, margins, identification and autotuning.
 
-use msp::study::{Metrics, RunOutput};
+use msp::study::RunOutput;
 use serde_json::{json, Map, Value};
 
 use super::num;
-use super::text::warnings;
-
-/// The metrics object; a figure that cannot be computed (NaN) becomes null.
-pub(crate) fn metrics_json(m: &Metrics) -> Value {
-    serde_json::to_value(m).unwrap_or(Value::Null)
-}
 
 /// A scheme's parameters by name; a value that is not set (NaN) becomes null.
 pub(crate) fn params_json(p: &msp::registry::Params) -> Map<String, Value> {
     p.iter().map(|(k, v)| (k.to_string(), num(v))).collect()
 }
 
-/// The `--report` document.
-pub(crate) fn report_json(out: &RunOutput, warnings: &[String]) -> Value {
-    let params = params_json(&out.params);
-    let mut j = json!({
-        "plant": out.plant.to_string(),
-        "plant_kind": out.plant.kind().to_string(),
-        "model": out.model.to_string(),
-        "ts": out.ts,
-        "duration": out.duration,
-        "samples": out.result.t.len(),
-        "controller": {"name": out.controller, "params": params},
-        "float32": out.float32,
-        "metrics": metrics_json(&out.metrics),
-        "metrics_delayed_reference": metrics_json(&out.metrics_delayed_reference),
-        "stable": out.result.diverged_at.is_none(),
-        "warnings": warnings,
-    });
-    if let Some((p2, m2)) = &out.inner {
-        j["inner_plant"] = json!(p2.to_string());
-        j["inner_model"] = json!(m2.to_string());
-    }
-    j
+/// The `--report` document: the library's [`msp::study::Report`].
+pub(crate) fn report_json(out: &RunOutput) -> Value {
+    serde_json::to_value(out.report()).unwrap_or(Value::Null)
 }
 
 /// The `msp margins --json` document: MATLAB/python-control key names at the top level.
@@ -103,7 +78,7 @@ pub(crate) fn autotune_json(
 ) -> Value {
     let r = &out.result;
     let (ku, tu) = r.ultimate();
-    let mut j = report_json(&out.run, &warnings(&out.run));
+    let mut j = report_json(&out.run);
     if let Value::Object(o) = &mut j {
         o.insert("identified".into(), fit_json(&out.fit));
         if let Some(m) = plant.exact_model() {

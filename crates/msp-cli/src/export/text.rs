@@ -47,47 +47,32 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
     let d = &out.metrics_delayed_reference;
     s.push_str(&format!(
         "step        rise {} s, settling {} s, overshoot {} %, peak {} at {} s\n",
-        fmt_sig(m.rise_time),
-        fmt_sig(m.settling_time),
-        fmt_sig(m.overshoot),
-        fmt_sig(m.peak),
-        fmt_sig(m.peak_time)
+        fmt_sig(m.step.rise_time),
+        fmt_sig(m.step.settling_time),
+        fmt_sig(m.step.overshoot),
+        fmt_sig(m.step.peak),
+        fmt_sig(m.step.peak_time)
     ));
     s.push_str(&format!(
         "indices     IAE {}  ISE {}  ITAE {}  ITSE {}  TV {}\n",
-        fmt_sig(m.iae),
-        fmt_sig(m.ise),
-        fmt_sig(m.itae),
-        fmt_sig(m.itse),
-        fmt_sig(m.tv)
+        fmt_sig(m.indices.iae),
+        fmt_sig(m.indices.ise),
+        fmt_sig(m.indices.itae),
+        fmt_sig(m.indices.itse),
+        fmt_sig(m.indices.tv)
     ));
     s.push_str(&format!(
         "delayed ref IAE {}  ISE {}  ITAE {}  ITSE {}  (e = r(t-θm) - y, t from θm = {} s)",
-        fmt_sig(d.iae),
-        fmt_sig(d.ise),
-        fmt_sig(d.itae),
-        fmt_sig(d.itse),
+        fmt_sig(d.indices.iae),
+        fmt_sig(d.indices.ise),
+        fmt_sig(d.indices.itae),
+        fmt_sig(d.indices.itse),
         fmt_num(out.model_delay())
     ));
     for w in warnings {
         s.push_str(&format!("\nwarning: {w}"));
     }
     s
-}
-
-/// Warnings about a run (an unstable loop).
-pub(crate) fn warnings(out: &RunOutput) -> Vec<String> {
-    out.result
-        .diverged_at
-        .map(|t| {
-            format!(
-                "the closed loop with {} is unstable: the output diverged at t = {} s; the data stop there",
-                out.controller,
-                fmt_num(t)
-            )
-        })
-        .into_iter()
-        .collect()
 }
 
 pub(crate) const ROWS: &[(&str, &str)] = &[
@@ -204,7 +189,7 @@ pub(crate) fn compare_table(
         s.push('\n');
     }
     for r in runs {
-        for w in warnings(r) {
+        for w in r.warnings() {
             s.push_str(&format!("warning: {w}\n"));
         }
     }
@@ -301,9 +286,9 @@ pub(crate) fn sweep_summary(rows: &[msp::sweep::SweepRow]) -> String {
             None => String::new(),
         }
     };
-    s.push_str(&worst("iae", |r| r.metrics.iae));
-    s.push_str(&worst("overshoot (%)", |r| r.metrics.overshoot));
-    s.push_str(&worst("settling (s)", |r| r.metrics.settling_time));
+    s.push_str(&worst("iae", |r| r.metrics.indices.iae));
+    s.push_str(&worst("overshoot (%)", |r| r.metrics.step.overshoot));
+    s.push_str(&worst("settling (s)", |r| r.metrics.step.settling_time));
     s.push_str(&worst("max |u|", |r| r.max_abs_u));
     for r in rows.iter().filter(|r| !r.stable).take(5) {
         s.push_str(&format!(
@@ -353,12 +338,12 @@ pub(crate) fn autotune_text(
     let m = &out.run.metrics;
     s.push_str(&format!(
         "closed loop rise {} s, settling {} s, overshoot {} %, IAE {}\n",
-        fmt_sig(m.rise_time),
-        fmt_sig(m.settling_time),
-        fmt_sig(m.overshoot),
-        fmt_sig(m.iae)
+        fmt_sig(m.step.rise_time),
+        fmt_sig(m.step.settling_time),
+        fmt_sig(m.step.overshoot),
+        fmt_sig(m.indices.iae)
     ));
-    for w in warnings(&out.run) {
+    for w in out.run.warnings() {
         s.push_str(&format!("warning: {w}\n"));
     }
     s

@@ -101,6 +101,9 @@ class Result:
         ``r(t - θm) - y`` with time counted from ``θm``.
     controller : dict
         ``{"name": ..., "params": {...}}``.
+    plant, plant_kind, model, ts, duration, samples, float32, stable, diverged_at, warnings
+        The rest of the run report: the same keys and values as
+        ``msp run --report`` writes (:meth:`report` returns them as one dict).
     """
 
     t: np.ndarray
@@ -118,18 +121,27 @@ class Result:
     metrics_delayed_reference: Dict[str, float]
     controller: Dict[str, Any]
     plant: str
+    plant_kind: str
     model: str
     ts: float
     duration: float
+    samples: int
     stable: bool
+    diverged_at: Optional[float]
     float32: bool
+    warnings: List[str]
+
+    _ARRAYS = ("t", "r", "y", "u", "d", "d_out", "y2", "d_inner", "signals")
 
     def __init__(self, raw: Mapping[str, Any]) -> None:
-        for key in ("t", "r", "y", "u", "d", "d_out", "signals", "metrics", "metrics_delayed_reference",
-                    "controller", "plant", "model", "ts", "duration", "stable", "float32"):
-            setattr(self, key, raw[key])
-        for key in ("y2", "d_inner", "inner_plant", "inner_model"):
-            setattr(self, key, raw.get(key))
+        self.y2 = self.d_inner = None
+        for key, value in raw.items():
+            setattr(self, key, value)
+        self._report = {k: v for k, v in raw.items() if k not in self._ARRAYS}
+
+    def report(self) -> Dict[str, Any]:
+        """The run report: the keys and values ``msp run --report`` writes (NaN where it writes null)."""
+        return dict(self._report)
 
     def __getattr__(self, name: str) -> np.ndarray:
         signals = self.__dict__.get("signals", {})

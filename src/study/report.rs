@@ -1,0 +1,96 @@
+//! The run report: one serde type that `msp run --report` writes and Python's
+//! `run` returns (beside the signal arrays), so that both print the same keys.
+
+use std::format;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use super::{Metrics, RunOutput};
+use crate::registry::Params;
+
+/// The controller of a report: the scheme's name and its parameters.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ControllerReport {
+    /// The scheme's name.
+    pub name: &'static str,
+    /// Its tuned (and `--set`) parameters, by name.
+    pub params: Params,
+}
+
+/// What a run did and how it performed.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Report {
+    /// The plant simulated.
+    pub plant: String,
+    /// Its kind: stable, integrating or unstable.
+    pub plant_kind: String,
+    /// The controller's model.
+    pub model: String,
+    /// The secondary process of a cascade.
+    pub inner_plant: Option<String>,
+    /// The model of the secondary process.
+    pub inner_model: Option<String>,
+    /// Sample period (s).
+    pub ts: f64,
+    /// Simulated time (s).
+    pub duration: f64,
+    /// Rows of the signals.
+    pub samples: usize,
+    /// The controller.
+    pub controller: ControllerReport,
+    /// The controller computed in `f32`.
+    pub float32: bool,
+    /// Metrics on `e = r − y`.
+    pub metrics: Metrics,
+    /// Metrics on `e = r(t − θm) − y`, time from `θm` (Bag (2022) ch. 5).
+    pub metrics_delayed_reference: Metrics,
+    /// False when the output diverged.
+    pub stable: bool,
+    /// When the output diverged (s); the signals stop there.
+    pub diverged_at: Option<f64>,
+    /// What the user should know about the run.
+    pub warnings: Vec<String>,
+}
+
+impl RunOutput {
+    /// The report of this run.
+    pub fn report(&self) -> Report {
+        Report {
+            plant: self.plant.to_string(),
+            plant_kind: self.plant.kind().to_string(),
+            model: self.model.to_string(),
+            inner_plant: self.inner.as_ref().map(|(p, _)| p.to_string()),
+            inner_model: self.inner.as_ref().map(|(_, m)| m.to_string()),
+            ts: self.ts,
+            duration: self.duration,
+            samples: self.result.t.len(),
+            controller: ControllerReport {
+                name: self.controller,
+                params: self.params.clone(),
+            },
+            float32: self.float32,
+            metrics: self.metrics,
+            metrics_delayed_reference: self.metrics_delayed_reference,
+            stable: self.result.diverged_at.is_none(),
+            diverged_at: self.result.diverged_at,
+            warnings: self.warnings(),
+        }
+    }
+
+    /// Warnings about the run (an unstable loop).
+    pub fn warnings(&self) -> Vec<String> {
+        self.result
+            .diverged_at
+            .map(|t| {
+                format!(
+                    "the closed loop with {} is unstable: the output diverged at t = {} s; the data stop there",
+                    self.controller,
+                    crate::poly::fmt_num(t)
+                )
+            })
+            .into_iter()
+            .collect()
+    }
+}
