@@ -503,7 +503,8 @@ pub fn analyze(
 ) -> Result<Analysis, crate::study::RunError> {
     let (plant, model) = sc.parse()?;
     let inner = sc.parse_inner()?;
-    let built = sc.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
+    let tuned = sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+    let built = sc.build_tuned(&tuned, &model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();
     let ts = built.ts;
     if ctrl.response(0.1).is_none() {
@@ -591,7 +592,7 @@ pub fn analyze(
     probe.duration = Some(crate::study::choose_duration(&grid_plant, ts) * 3.0);
     probe.disturbance.clear();
     probe.noise = None;
-    let stable = match probe.run_process(plant.clone(), model.clone(), inner.clone()) {
+    let stable = match probe.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone()) {
         Ok(out) => {
             let y = &out.result.y;
             let n = y.len();

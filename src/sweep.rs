@@ -202,17 +202,13 @@ pub fn sweep(
             ts,
         ));
     }
-    // tune once: every run gets the same controller settings
-    let built = sc.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
-    for (k, v) in built.params.iter() {
-        sc.set.entry(k.into()).or_insert(v);
-    }
-    sc.controller = Some(built.scheme.into());
+    // tune once on the model: every run builds the same controller from it
+    let tuned = sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
     let pts = points(spec)?;
     let done = core::sync::atomic::AtomicUsize::new(0);
     let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
         let plant = nominal.perturbed(gain, delay, tau)?;
-        let out = sc.run_process(plant, model.clone(), inner.clone())?;
+        let out = sc.run_tuned(&tuned, plant, model.clone(), inner.clone())?;
         let max_abs_u = out.result.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
         progress(done.fetch_add(1, core::sync::atomic::Ordering::Relaxed) + 1);
         Ok(SweepRow {

@@ -98,6 +98,16 @@ fn human(bytes: f64) -> String {
     }
 }
 
+/// A scheme and its tuned parameters: the typed value the study hands from
+/// tuning to construction (a sweep tunes once and builds every run from it).
+#[derive(Debug, Clone)]
+pub struct Tuned {
+    /// The scheme.
+    pub scheme: &'static registry::Scheme,
+    /// Its parameters (tuned, then `--set`).
+    pub params: Params,
+}
+
 /// A tuned and built controller with its sample period.
 pub struct BuiltController {
     /// The scheme's name.
@@ -263,7 +273,7 @@ impl Scenario {
         &self,
         model: &TransferFunction,
         inner: Option<&TransferFunction>,
-    ) -> Result<(&'static registry::Scheme, Params), RunError> {
+    ) -> Result<Tuned, RunError> {
         let scheme = match (&self.controller, inner) {
             (Some(name), _) => registry::find(name)?,
             (None, Some(_)) => registry::find("fspcc")?,
@@ -284,7 +294,7 @@ impl Scenario {
         }
         let params =
             scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
-        Ok((scheme, params))
+        Ok(Tuned { scheme, params })
     }
 
     /// [`Scenario::build_controller`] for a cascade process with the secondary
@@ -294,6 +304,19 @@ impl Scenario {
         model: &TransferFunction,
         inner: Option<&TransferFunction>,
     ) -> Result<BuiltController, RunError> {
+        self.check_size(model, inner)?;
+        let tuned = self.tune_for(model, inner)?;
+        self.build_tuned(&tuned, model, inner)
+    }
+
+    /// The sample period (given or chosen) and whether it was chosen, after
+    /// the model's order and the controller's delay lines are checked
+    /// against the capacity and the memory budget.
+    fn check_size(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<(f64, bool), RunError> {
         let whole = match inner {
             Some(p2) => model.series(p2)?,
             None => model.clone(),
@@ -315,7 +338,19 @@ impl Scenario {
                 crate::poly::fmt_num(ts)
             ),
         )?;
-        let (scheme, params) = self.tune_for(model, inner)?;
+        Ok((ts, ts_chosen))
+    }
+
+    /// Builds the controller of `tuned` for `model` (and the secondary model
+    /// `inner`) with the scenario's period and actuator limits.
+    pub fn build_tuned(
+        &self,
+        tuned: &Tuned,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<BuiltController, RunError> {
+        let (ts, ts_chosen) = self.check_size(model, inner)?;
+        let Tuned { scheme, params } = tuned;
         // a limit that is given is a number; absent, there is none
         let u_min = match self.umin {
             Some(v) => crate::real::finite(v, "umin")?,
@@ -331,14 +366,14 @@ impl Scenario {
         let build = Build { ts, u_min, u_max };
         let controller: registry::DynController = if self.float32 {
             Box::new(crate::Widened(
-                scheme.build_process_as::<f32>(&params, model, inner, &build)?,
+                scheme.build_process_as::<f32>(params, model, inner, &build)?,
             ))
         } else {
-            scheme.build_process(&params, model, inner, &build)?
+            scheme.build_process(params, model, inner, &build)?
         };
         Ok(BuiltController {
             scheme: scheme.name,
-            params,
+            params: params.clone(),
             controller,
             ts,
             ts_chosen,
@@ -395,7 +430,22 @@ impl Scenario {
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
     ) -> Result<RunOutput, RunError> {
-        let built = self.build_controller_for(&model, inner.as_ref().map(|(_, m)| m))?;
+        let inner_model = inner.as_ref().map(|(_, m)| m);
+        self.check_size(&model, inner_model)?;
+        let tuned = self.tune_for(&model, inner_model)?;
+        self.run_tuned(&tuned, plant, model, inner)
+    }
+
+    /// [`Scenario::run_process`] with a controller already tuned (`tuned`):
+    /// the scenario's `controller`, `lambda`, `rule` and `set` are not read.
+    pub fn run_tuned(
+        &self,
+        tuned: &Tuned,
+        plant: TransferFunction,
+        model: TransferFunction,
+        inner: Option<(TransferFunction, TransferFunction)>,
+    ) -> Result<RunOutput, RunError> {
+        let built = self.build_tuned(tuned, &model, inner.as_ref().map(|(_, m)| m))?;
         let (scheme, params, mut ctrl, ts, ts_chosen) = (
             built.scheme,
             built.params,

@@ -397,7 +397,8 @@ pub(crate) fn tune<'py>(
         controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
         false, None,
     )?;
-    let (scheme, p) = sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
+    let msp::study::Tuned { scheme, params: p } =
+        sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
     let d = PyDict::new(py);
     d.set_item("name", scheme.name)?;
     d.set_item("params", params_dict(py, &p)?)?;

@@ -16,22 +16,26 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
     let margins: Vec<Option<msp::analysis::Margins>> = a
         .controllers
         .iter()
-        .map(|c| {
+        .zip(&runs)
+        .map(|(c, run)| {
             let mut one = sc.clone();
             one.controller = Some(c.clone());
-            one.ts = runs.first().map(|r| r.ts);
+            one.ts = Some(run.ts);
             if one.inner_plant.is_some() {
                 // the cascade's loop is broken at the inner set point
                 return msp::analysis::analyze(&one, msp::analysis::View::Discrete, None)
                     .ok()
                     .map(|an| an.margins);
             }
-            let (_, model) = one.parse().ok()?;
-            let plant = runs.first()?.plant.clone();
-            let built = one.build_controller(&model).ok()?;
+            // the controller of the run, as it was tuned for it
+            let tuned = msp::study::Tuned {
+                scheme: msp::registry::find(run.controller).ok()?,
+                params: run.params.clone(),
+            };
+            let built = one.build_tuned(&tuned, &run.model, None).ok()?;
             msp::analysis::margins(
                 built.controller.as_ref(),
-                &plant,
+                &run.plant,
                 built.ts,
                 msp::analysis::View::Sampled,
             )

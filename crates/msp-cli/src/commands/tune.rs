@@ -18,7 +18,7 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     };
     let (plant, model) = sc.parse()?;
     let inner = sc.parse_inner()?.map(|(p2, _)| p2);
-    let (scheme, params) = sc.tune_for(&model, inner.as_ref())?;
+    let msp::study::Tuned { scheme, params } = sc.tune_for(&model, inner.as_ref())?;
     // Eq. 17 on the tuned controller, when asked for
     let robust = match a.uncertainty {
         Some(u) => msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?.robust_peak,
