@@ -120,15 +120,16 @@ impl<T: Real> PidConfig<T> {
     }
 
     /// Parallel form `kp + ki/s + kd s` (with the same defaults as [`PidConfig::isa`];
-    /// the filter is `Tf = kd/(10·kp)` when `kp > 0`).
+    /// the filter is `Tf = kd/(10·kp)` when `kp ≠ 0`). A reverse-acting
+    /// controller (for a plant of negative gain) has all three gains negative.
     pub fn parallel(kp: T, ki: T, kd: T, ts: T) -> Self {
-        let tf = if kp > T::zero() {
-            kd / (kp * T::of(10.0))
+        let tf = if kp != T::zero() {
+            (kd / (kp * T::of(10.0))).abs()
         } else {
             T::zero()
         };
-        let tt = if ki > T::zero() && kp > T::zero() {
-            kp / ki
+        let tt = if ki != T::zero() && kp != T::zero() {
+            (kp / ki).abs()
         } else {
             ts
         };
@@ -209,8 +210,19 @@ impl<T: Real> PidConfig<T> {
     /// Checks every field; the error names the first one that is wrong.
     pub fn validate(&self) -> Result<(), Error> {
         finite(self.kp, "kp")?;
-        non_negative(self.ki, "ki")?;
-        non_negative(self.kd, "kd")?;
+        // direct acting: kp, ki, kd ≥ 0; reverse acting (a plant of negative
+        // gain): all ≤ 0. A term of the other sign would act against the others.
+        if self.kp < T::zero() {
+            if finite(self.ki, "ki")? > T::zero() {
+                return Err(Error::OutOfRange("ki"));
+            }
+            if finite(self.kd, "kd")? > T::zero() {
+                return Err(Error::OutOfRange("kd"));
+            }
+        } else {
+            non_negative(self.ki, "ki")?;
+            non_negative(self.kd, "kd")?;
+        }
         non_negative(self.tf, "tf")?;
         finite(self.b, "b")?;
         finite(self.c, "c")?;

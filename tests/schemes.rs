@@ -427,3 +427,57 @@ fn csv_columns_are_unique_for_every_scheme() {
         assert_eq!(sorted.len(), names.len(), "{}: {names:?}", s.name);
     }
 }
+
+#[test]
+fn every_scheme_controls_a_reverse_acting_plant_as_its_mirror() {
+    // A plant of negative gain (a cooling process) under the controller tuned
+    // for it is the mirror of the positive plant's loop: the controller's
+    // gains change sign, so y is the same and u changes sign.
+    for s in msp::registry::SCHEMES {
+        let (p1, p2, ts) = common::plant_for(s);
+        let negated = format!("-({p1})");
+        let base = |plant: &str| {
+            let mut sc = Scenario {
+                plant: plant.into(),
+                inner_plant: p2.as_ref().map(|p| p.to_string()),
+                controller: Some(s.name.into()),
+                ts: Some(ts),
+                ..Default::default()
+            };
+            // Uma et al.'s Gcd is set by hand: mirrored with the plant
+            let sign = if plant == negated { -1.0 } else { 1.0 };
+            sc.set = common::required_settings(s.name)
+                .into_iter()
+                .map(|(k, v)| (k, sign * v))
+                .collect();
+            sc
+        };
+        let pos = base(&p1.to_string()).run();
+        let neg = base(&negated).run();
+        let (pos, neg) = match (pos, neg) {
+            (Ok(a), Ok(b)) => (a, b),
+            (a, b) => panic!(
+                "{}: {:?} / {:?}",
+                s.name,
+                a.err(),
+                b.err().map(|e| e.to_string())
+            ),
+        };
+        let scale = pos.result.y.iter().fold(1.0f64, |m, y| m.max(y.abs()));
+        for (k, (a, b)) in pos.result.y.iter().zip(&neg.result.y).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-9 * scale,
+                "{}: y[{k}] {a} vs {b}",
+                s.name
+            );
+        }
+        let uscale = pos.result.u.iter().fold(1.0f64, |m, u| m.max(u.abs()));
+        for (k, (a, b)) in pos.result.u.iter().zip(&neg.result.u).enumerate() {
+            assert!(
+                (a + b).abs() <= 1e-9 * uscale,
+                "{}: u[{k}] {a} vs {b}",
+                s.name
+            );
+        }
+    }
+}

@@ -273,15 +273,21 @@ pub fn series_pid<T: Real>(
     let tau = crate::real::non_negative(tau, "tau")?;
     let p = kp - ki * tau;
     let kdp = kd - p * tau;
-    if kdp < -T::of(1e-12) * kd.abs().max(T::one()) {
+    // the gains share the sign of kp (negative for a reverse-acting loop)
+    let sign = if kp < T::zero() { -T::one() } else { T::one() };
+    if kdp * sign < -T::of(1e-12) * kd.abs().max(T::one()) {
         return Err(Error::OutOfRange(
-            "kd (the series-filtered PID needs kd >= (kp - ki*tau)*tau)",
+            "kd (the series-filtered PID needs |kd| >= |kp - ki*tau|*tau, with the sign of kp)",
         ));
     }
-    let kdp = kdp.max(T::zero());
+    let kdp = if kdp * sign > T::zero() {
+        kdp
+    } else {
+        T::zero()
+    };
     let bp = epsilon * kp - ki * tau;
     let b = if p != T::zero() { bp / p } else { T::one() };
-    let c = if kdp > T::zero() {
+    let c = if kdp != T::zero() {
         -bp * tau / kdp
     } else {
         T::zero()

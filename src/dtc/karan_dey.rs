@@ -35,8 +35,9 @@ use crate::{Discretization, Error, Lti, Pid, PidConfig, ProcessModel, Real};
 param_struct! {
     /// Tuned parameters of the Karan–Dey MSP (names as in reports and `--set`).
     pub struct KaranDeyParams {
-        /// Proportional gain `Kp` shared by the three controllers.
-        kp: Positive,
+        /// Proportional gain `Kp` shared by the three controllers (negative
+        /// for a plant of negative gain).
+        kp: Finite,
         /// Integral time `Ti` of `Gc1` (s).
         ti: Positive,
         /// Weight `β` of `Gc2 = β·Kp`.

@@ -53,20 +53,20 @@ pub(crate) struct DesignArgs {
 #[derive(Debug, Args)]
 pub(crate) struct ScenarioArgs {
     /// Plant transfer function, e.g. "0.2/s*e^-7.4s".
-    #[arg(long, short = 'p')]
+    #[arg(long, short = 'p', allow_hyphen_values = true)]
     pub(crate) plant: Option<String>,
     /// Scenario file (TOML or JSON); flags given as well override its fields.
     #[arg(long)]
     pub(crate) scenario: Option<PathBuf>,
     /// Model used by the controller (default: the plant itself).
-    #[arg(long, short = 'm')]
+    #[arg(long, short = 'm', allow_hyphen_values = true)]
     pub(crate) model: Option<String>,
     /// Cascade process: the secondary process, measured, feeding the plant (the primary),
     /// e.g. "2e^-2s/(20s+1)"; the default controller is then fspcc.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) inner_plant: Option<String>,
     /// The controller's model of the secondary process (default: the inner plant).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) inner_model: Option<String>,
     #[command(flatten)]
     pub(crate) design: DesignArgs,
@@ -233,7 +233,7 @@ pub(crate) fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 #[derive(Debug, Args)]
 pub(crate) struct AutotuneArgs {
     /// The (simulated) plant the relay test runs on.
-    #[arg(long, short = 'p')]
+    #[arg(long, short = 'p', allow_hyphen_values = true)]
     pub(crate) plant: String,
     /// Relay amplitude h.
     #[arg(long, default_value_t = 1.0)]
@@ -289,10 +289,10 @@ pub(crate) struct IdentifyArgs {
 #[derive(Debug, Args)]
 pub(crate) struct TuneArgs {
     /// Plant (or model) transfer function.
-    #[arg(long, short = 'p')]
+    #[arg(long, short = 'p', allow_hyphen_values = true)]
     pub(crate) plant: String,
     /// Cascade process: the secondary process (the default controller is then fspcc).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) inner_plant: Option<String>,
     /// Sample period (s) for the robust-stability test; chosen from the plant when absent.
     #[arg(long)]

@@ -786,7 +786,8 @@ fn merging_a_shard_twice_is_an_error() {
 fn limited(args: &[&str]) -> std::process::Output {
     let mut cmd = String::from("ulimit -v 4194304; exec \"$0\"");
     for (i, _) in args.iter().enumerate() {
-        cmd.push_str(&format!(" \"${}\"", i + 1));
+        // braces: `$10` would be `$1` followed by a 0
+        cmd.push_str(&format!(" \"${{{}}}\"", i + 1));
     }
     std::process::Command::new("sh")
         .arg("-c")
@@ -888,4 +889,31 @@ fn identify_names_a_time_that_does_not_increase() {
         .stderr(predicate::str::contains(
             "`time` must increase: data row 21",
         ));
+}
+
+#[test]
+fn a_reverse_acting_plant_is_tuned_with_negative_gains() {
+    // a plant of negative gain, written as a user types it (the leading minus
+    // is the plant's, not an option)
+    for cmd in [["run", "-q"], ["tune", "--json"]] {
+        let out = msp()
+            .args(cmd)
+            .args(["--plant", "-2*e^-3s/(5s+1)"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let text = String::from_utf8(out).unwrap();
+        if cmd[0] == "tune" {
+            let j: serde_json::Value = serde_json::from_str(&text).unwrap();
+            let kp = j["controller"]["params"]["kp"].as_f64().unwrap();
+            assert!(kp < 0.0, "kp = {kp}");
+        } else {
+            // the output reaches the set point
+            let last = text.lines().last().unwrap();
+            let y: f64 = last.split(',').nth(2).unwrap().parse().unwrap();
+            assert!((y - 1.0).abs() < 1e-3, "y = {y}");
+        }
+    }
 }

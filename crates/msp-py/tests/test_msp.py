@@ -366,3 +366,10 @@ def test_errors_name_what_the_user_gave() -> None:
     back[100] = back[99]
     with pytest.raises(ValueError, match="`time` must increase: data row 101"):
         msp.identify(back, u, y, "fopdt")
+
+
+def test_a_reverse_acting_plant_is_the_mirror_of_its_positive_twin() -> None:
+    pos = msp.run("2*e^-3s/(5s+1)")
+    neg = msp.run("-2*e^-3s/(5s+1)")
+    assert neg.controller["params"]["kp"] == -pos.controller["params"]["kp"] < 0
+    assert np.allclose(neg.y, pos.y, rtol=0, atol=1e-12) and np.allclose(neg.u, -pos.u, rtol=0, atol=1e-12)
