@@ -41,7 +41,7 @@ fn typed(scheme: &str) -> (Vec<String>, Deserialize) {
         };
     }
     match scheme {
-        "pid" | "smith" | "watanabe-ito" => of!(PidGains),
+        "pid" | "pi" | "smith" | "watanabe-ito" => of!(PidGains),
         "filtered-smith" => of!(FilteredSmithParams),
         "huang" => of!(HuangParams),
         "astrom-hang-lim" => of!(AstromHangLimParams),

@@ -481,3 +481,41 @@ fn every_scheme_controls_a_reverse_acting_plant_as_its_mirror() {
         }
     }
 }
+
+#[test]
+fn pi_is_a_pi_tuned_by_simc_on_the_first_order_model() {
+    // Skogestad (2003): K e^{-θs}/(τ1 s + 1) → kp = τ1/(K(τc + θ)), ti = min(τ1, 4(τc + θ)),
+    // τc = θ by default; a second lag τ2 goes half to τ1, half to θ; K/s → τ1 → ∞.
+    let scheme = msp::registry::find("pi").unwrap();
+    let cases = [
+        ("5.6*e^-93.9s/(40.2s+1)", 5.6, 40.2, 93.9),
+        ("e^-10s/(s+1)^2", 1.0, 1.5, 10.5),
+        ("2*e^-1s/((10s+1)*(2s+1))", 2.0, 11.0, 2.0),
+    ];
+    for (plant, k, t1, theta) in cases {
+        let tf: msp::poly::TransferFunction = plant.parse().unwrap();
+        let p = scheme.tune_with(&tf, None, &[]).unwrap();
+        let tc = theta;
+        assert_close(p.get("kp").unwrap(), t1 / (k * (tc + theta)), 1e-12, 0.0);
+        assert_close(p.get("ti").unwrap(), t1.min(4.0 * (tc + theta)), 1e-12, 0.0);
+        assert_eq!(p.get("td"), Some(0.0), "{plant}");
+        // pid on the same plant keeps its derivative where the model has a second lag
+        let pid = msp::registry::find("pid").unwrap();
+        let q = pid.tune_with(&tf, None, &[]).unwrap();
+        if plant.contains("(2s+1)") || plant.contains("^2") {
+            assert!(q.get("td").unwrap() > 0.0, "{plant}");
+        }
+    }
+    // integrating: kp = 1/(K(τc + θ)), ti = 4(τc + θ)
+    let p = scheme
+        .tune_with(&"0.2/s*e^-7.4s".parse().unwrap(), None, &[])
+        .unwrap();
+    assert_close(p.get("kp").unwrap(), 1.0 / (0.2 * 14.8), 1e-12, 0.0);
+    assert_close(p.get("ti").unwrap(), 4.0 * 14.8, 1e-12, 0.0);
+    // a PID rule is refused by name, not silently stripped
+    let zn = scheme.tune_rule(&"e^-10s/(s+1)^2".parse().unwrap(), None, Some("zn"), &[]);
+    assert!(zn.is_err());
+    assert!(scheme
+        .tune_rule(&"e^-10s/(s+1)^2".parse().unwrap(), None, Some("zn-pi"), &[])
+        .is_ok());
+}

@@ -306,6 +306,7 @@ impl fmt::Debug for Scheme {
 /// Every scheme, in listing order.
 pub static SCHEMES: &[Scheme] = &[
     pid::PID,
+    pid::PI,
     smith::SMITH,
     smith::FILTERED_SMITH,
     smith::HUANG,

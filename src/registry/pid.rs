@@ -7,17 +7,41 @@ use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns}
 use crate::poly::TransferFunction;
 use crate::tuning::PidGains;
 use crate::Pid;
-use crate::{tuning, ParamSet, ProcessModel, Real};
+use crate::{tuning, Fopdt, ParamSet, ProcessModel, Real};
 
 fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    let m = plant.reduce(true)?;
-    let default_rule = if matches!(plant.reduce(false)?, ProcessModel::Fopdt(_)) {
+    tune(plant, d, false)
+}
+
+fn tune_pi(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    tune(plant, d, true)
+}
+
+/// The PID (or, `pi_only`, the PI: `td = 0` by the rule, never by dropping a
+/// tuned derivative) of the named or default rule.
+fn tune(plant: &TransferFunction, d: &Design, pi_only: bool) -> Result<Params, crate::Error> {
+    // a PI is tuned on the first-order model (SIMC's half rule: the smaller
+    // lag's half to the larger one and half to the dead time, Skogestad
+    // (2003)), a PID on the second-order one
+    let m = match plant.reduce(!pi_only)? {
+        ProcessModel::Sopdt(s) if pi_only => {
+            let (big, small) = (s.t1.max(s.t2), s.t1.min(s.t2));
+            ProcessModel::Fopdt(Fopdt::new(s.k, big + small / 2.0, s.l + small / 2.0)?)
+        }
+        other => other,
+    };
+    let default_rule = if !pi_only && matches!(plant.reduce(false)?, ProcessModel::Fopdt(_)) {
         "imc"
     } else {
         "simc"
     };
     let rule = d.rule.as_deref().unwrap_or(default_rule);
     let (g, lambda) = match rule {
+        "imc" | "imc-pid" if pi_only => {
+            return Err(crate::Error::Unsupported(
+                "IMC-PID is a PID: use --controller pid, or --rule simc for a PI",
+            ))
+        }
         "imc" | "imc-pid" => {
             let f = match plant.reduce(false)? {
                 ProcessModel::Fopdt(f) => f,
@@ -38,6 +62,11 @@ fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
             let r = tuning::ultimate_rule(name).ok_or(crate::Error::Unsupported(
                 "unknown tuning rule (see `msp list`)",
             ))?;
+            if pi_only && r.c != 0.0 {
+                return Err(crate::Error::Unsupported(
+                    "this ultimate-cycle rule gives a PID: use --controller pid, or a PI rule (see `msp list`)",
+                ));
+            }
             let (ku, tu) = plant
                 .ultimate()
                 .ok_or(crate::Error::Unsupported("the plant has no ultimate point"))?;
@@ -62,7 +91,7 @@ fn build_pid<T: Real>(
 
 pub(super) const PID: Scheme = Scheme {
     name: "pid",
-    aliases: &["pi"],
+    aliases: &[],
     summary: "plain PI/PID feedback, the baseline: IMC-PID (default), SIMC, or an ultimate-cycle rule (--rule)",
     source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
     plants: STABLE_INT,
@@ -70,6 +99,19 @@ pub(super) const PID: Scheme = Scheme {
     design: &["lambda", "alpha"],
     fns: SchemeFns::Single {
         tune: tune_pid,
+        build: both!(build_pid),
+    },
+};
+pub(super) const PI: Scheme = Scheme {
+    name: "pi",
+    aliases: &[],
+    summary: "plain PI feedback (td = 0): SIMC on the first-order model (default), or a PI ultimate-cycle rule (--rule)",
+    source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
+    plants: STABLE_INT,
+    params: PidGains::<f64>::NAMES,
+    design: &["lambda", "alpha"],
+    fns: SchemeFns::Single {
+        tune: tune_pi,
         build: both!(build_pid),
     },
 };

@@ -181,7 +181,7 @@ fn bad_names_exit_2() {
             "--set",
             "nosuchscheme.kp=5",
         ],
-        "unknown controller 'nosuchscheme'; available: pid, smith",
+        "unknown controller 'nosuchscheme'; available: pid, pi, smith",
     );
     rejects(
         [

@@ -373,3 +373,9 @@ def test_a_reverse_acting_plant_is_the_mirror_of_its_positive_twin() -> None:
     neg = msp.run("-2*e^-3s/(5s+1)")
     assert neg.controller["params"]["kp"] == -pos.controller["params"]["kp"] < 0
     assert np.allclose(neg.y, pos.y, rtol=0, atol=1e-12) and np.allclose(neg.u, -pos.u, rtol=0, atol=1e-12)
+
+
+def test_pi_means_a_pi() -> None:
+    res = msp.run("e^-10s/(s+1)^2", controller="pi")
+    assert res.controller["name"] == "pi" and res.controller["params"]["td"] == 0.0
+    assert msp.run("e^-10s/(s+1)^2", controller="pid").controller["params"]["td"] > 0.0

@@ -35,6 +35,7 @@ __all__ = [
     "KayaCascade",
     "MatausekMicic",
     "Pid",
+    "PiLoop",
     "PidLoop",
     "Plant",
     "Result",
@@ -442,6 +443,12 @@ class PidLoop(_Scheme):
     scheme = "pid"
 
 
+class PiLoop(_Scheme):
+    """Plain PI feedback tuned for the plant, ``td = 0`` (scheme ``pi``)."""
+
+    scheme = "pi"
+
+
 class SmithPredictor(_Scheme):
     """The classic Smith predictor with Kaya's tuning (scheme ``smith``)."""
 
@@ -527,7 +534,7 @@ class KayaCascade(_Scheme):
     scheme = "kaya-cascade"
 
 
-_SCHEME_CLASSES = (PidLoop, SmithPredictor, FilteredSmith, Huang, WatanabeIto, AstromHangLim, MatausekMicic,
+_SCHEME_CLASSES = (PidLoop, PiLoop, SmithPredictor, FilteredSmith, Huang, WatanabeIto, AstromHangLim, MatausekMicic,
                    KayaAtherton, KaranDey, DisturbanceEstimator, FilteredSmithUnstable, Fspcc, Gpcc, Uma,
                    KayaCascade)
 
