@@ -94,27 +94,25 @@ fn float32_runs_the_controller_in_f32() {
     }
 }
 
+/// What a successful command printed on stdout.
+fn stdout_of(cmd: &mut Command) -> String {
+    String::from_utf8(cmd.assert().success().get_output().stdout.clone()).unwrap()
+}
+
 #[test]
 fn csv_goes_to_stdout_and_set_overrides() {
-    let out = msp()
-        .args([
-            "run",
-            "--plant",
-            "5.6*e^-93.9s/(40.2s+1)",
-            "--controller",
-            "smith",
-            "--set",
-            "kp=0.05",
-            "--ts",
-            "1",
-            "-q",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let text = String::from_utf8(out).unwrap();
+    let text = stdout_of(msp().args([
+        "run",
+        "--plant",
+        "5.6*e^-93.9s/(40.2s+1)",
+        "--controller",
+        "smith",
+        "--set",
+        "kp=0.05",
+        "--ts",
+        "1",
+        "-q",
+    ]));
     assert!(text.starts_with("t,r,y,u,d,ym,ym_delayed,model_error"));
     // u[0] = kp·(r − y) = 0.05
     let second = text.lines().nth(1).unwrap();
@@ -896,15 +894,7 @@ fn a_reverse_acting_plant_is_tuned_with_negative_gains() {
     // a plant of negative gain, written as a user types it (the leading minus
     // is the plant's, not an option)
     for cmd in [["run", "-q"], ["tune", "--json"]] {
-        let out = msp()
-            .args(cmd)
-            .args(["--plant", "-2*e^-3s/(5s+1)"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
-        let text = String::from_utf8(out).unwrap();
+        let text = stdout_of(msp().args(cmd).args(["--plant", "-2*e^-3s/(5s+1)"]));
         if cmd[0] == "tune" {
             let j: serde_json::Value = serde_json::from_str(&text).unwrap();
             let kp = j["controller"]["params"]["kp"].as_f64().unwrap();
