@@ -10,4 +10,4 @@ mod schedule;
 
 pub use expr::{parse_plant, ParseError};
 #[cfg(feature = "std")]
-pub use schedule::{parse_bytes, parse_number};
+pub use schedule::{parse_bytes, parse_number, parse_setting};

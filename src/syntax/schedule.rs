@@ -21,6 +21,16 @@ pub fn parse_number(s: &str, what: &str) -> Result<f64, String> {
     }
 }
 
+/// A parameter value for `--set`: a finite number, or `inf` (a time
+/// constant that switches its action off, `ti=inf` for no integral action);
+/// the error names `what`.
+pub fn parse_setting(s: &str, what: &str) -> Result<f64, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "inf" | "+inf" | "infinity" | "+infinity" => Ok(f64::INFINITY),
+        _ => parse_number(s, what),
+    }
+}
+
 /// A relative change: `+10%` or `0.1` (the same); the error names `what`.
 fn parse_fraction(s: &str, what: &str) -> Result<f64, String> {
     let s = s.trim();

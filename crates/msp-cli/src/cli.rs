@@ -317,7 +317,7 @@ pub(crate) fn parse_kv(s: &str) -> Result<(String, f64), String> {
         .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
     Ok((
         k.trim().to_string(),
-        msp::syntax::parse_number(v, k.trim())?,
+        msp::syntax::parse_setting(v, k.trim())?,
     ))
 }
 

@@ -907,3 +907,38 @@ fn a_reverse_acting_plant_is_tuned_with_negative_gains() {
         }
     }
 }
+
+#[test]
+fn ti_inf_switches_the_integral_off() {
+    // P-only on e^{-s}/(s+1) with kp = 1: y settles at K·kp/(1 + K·kp) = 1/2
+    let text = stdout_of(msp().args([
+        "run",
+        "-q",
+        "--plant",
+        "e^-1s/(s+1)",
+        "--controller",
+        "pi",
+        "--set",
+        "kp=1",
+        "--set",
+        "ti=inf",
+        "--duration",
+        "40",
+    ]));
+    let y: f64 = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((y - 0.5).abs() < 1e-9, "y = {y}");
+    // a gain of inf is still refused, by name
+    msp()
+        .args(["run", "--plant", "e^-1s/(s+1)", "--set", "kp=inf"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("kp"));
+}

@@ -379,3 +379,8 @@ def test_pi_means_a_pi() -> None:
     res = msp.run("e^-10s/(s+1)^2", controller="pi")
     assert res.controller["name"] == "pi" and res.controller["params"]["td"] == 0.0
     assert msp.run("e^-10s/(s+1)^2", controller="pid").controller["params"]["td"] > 0.0
+
+
+def test_ti_inf_switches_the_integral_off() -> None:
+    res = msp.run("e^-1s/(s+1)", controller="pi", params={"kp": 1.0, "ti": math.inf}, duration=40.0)
+    assert abs(res.y[-1] - 0.5) < 1e-9  # K·kp/(1 + K·kp)
