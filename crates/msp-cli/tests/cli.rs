@@ -942,3 +942,18 @@ fn ti_inf_switches_the_integral_off() {
         .code(2)
         .stderr(predicate::str::contains("kp"));
 }
+
+#[cfg(unix)]
+#[test]
+fn output_to_a_device_writes_into_it_and_leaves_it_a_device() {
+    use std::os::unix::fs::FileTypeExt;
+    // an atomic write renames a temporary over its target: over /dev/null
+    // that would replace the device by a regular file (as root)
+    msp()
+        .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "--duration", "10"])
+        .args(["-o", "/dev/null"])
+        .assert()
+        .success();
+    let t = std::fs::metadata("/dev/null").unwrap().file_type();
+    assert!(t.is_char_device(), "/dev/null is no longer a device");
+}

@@ -82,10 +82,17 @@ impl Outputs {
     /// Writes every file: all to temporaries first, then the renames.
     pub(crate) fn commit(self) -> Result<(), CliError> {
         let mut staged = Vec::with_capacity(self.files.len());
+        let mut devices = Vec::new();
         for (path, bytes) in &self.files {
             let fail = |e: std::io::Error| {
                 CliError::Runtime(format!("cannot write {}: {e}", path.display()))
             };
+            // a device or pipe (`-o /dev/null`, a FIFO) is written in place:
+            // renaming a temporary over it would replace the device by a file
+            if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+                devices.push((path, bytes));
+                continue;
+            }
             let mut tmp = tempfile::Builder::new()
                 .prefix(".msp-")
                 .suffix(".tmp")
@@ -94,6 +101,13 @@ impl Outputs {
             tmp.write_all(bytes).map_err(fail)?;
             tmp.as_file().sync_all().map_err(fail)?;
             staged.push((tmp, path));
+        }
+        for (path, bytes) in devices {
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .and_then(|mut f| f.write_all(bytes))
+                .map_err(|e| CliError::Runtime(format!("cannot write {}: {e}", path.display())))?;
         }
         // every file is written: now the renames (a dropped temporary deletes itself)
         for (tmp, path) in staged {
