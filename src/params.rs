@@ -261,7 +261,7 @@ mod tests {
     }
 
     #[test]
-    fn names_come_from_the_fields() {
+    fn names_come_from_the_fields() -> Result<(), Error> {
         assert_eq!(Two::<f64>::NAMES, &["kp", "td"]);
         let mut p = Two { kp: 2.0, td: 0.5 };
         assert_eq!(p.get("td"), Some(0.5));
@@ -270,7 +270,7 @@ mod tests {
         assert_eq!(p.kp, 3.0);
         let l = ParamList::of(&p);
         assert_eq!(l.iter().collect::<Vec<_>>(), vec![("kp", 3.0), ("td", 0.5)]);
-        let back: Two<f32> = l.typed().unwrap();
+        let back: Two<f32> = l.typed()?;
         assert_eq!(
             back,
             Two {
@@ -287,5 +287,12 @@ mod tests {
             Two { kp: 1.0, td: -1.0 }.validate(),
             Err(Error::Negative("td"))
         );
+        // a struct with a field the list lacks is refused by that field's name
+        let short = ParamList::of(&Two { kp: 1.0, td: 0.0 });
+        assert_eq!(
+            short.typed::<crate::tuning::PidGains<f64>>(),
+            Err(Error::Unsupported("ti"))
+        );
+        Ok(())
     }
 }
