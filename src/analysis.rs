@@ -517,7 +517,10 @@ pub fn analyze(
     let imc = match (&inner, cascade) {
         (Some((_, m2)), true) => Some(crate::dtc::cascade::Imc::<f64, Vec<f64>>::design(
             m2,
-            built.params.get("lambda2").unwrap_or(f64::NAN),
+            tuned
+                .params
+                .typed::<f64, crate::dtc::cascade::CascadePrimary>()?
+                .lambda2,
             ts,
         )?),
         _ => None,

@@ -60,9 +60,9 @@ pub type KaranDey<T, const N: usize, S> = Compensator<T, N, S>;
 /// lead-lag `γKp(1 + (Td + Td/N)s)/(1 + (Td/N)s)`, ZOH-discretized.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     p: &KaranDeyParams<T>,
+    ts: T,
     model: Lti<T, N>,
     delay: Delay<T, S>,
-    ts: T,
 ) -> Result<KaranDey<T, N, S>, Error> {
     p.validate()?;
     let gc1 = Pid::new(PidConfig::isa(p.kp, p.ti, T::zero(), ts))?;
@@ -91,5 +91,5 @@ pub fn from_model<T: Real, const N: usize, S: DelayStorage<T>>(
     ts: T,
 ) -> Result<KaranDey<T, N, S>, Error> {
     let (block, d) = model.discretize::<N>(finite(ts, "ts")?)?;
-    build(p, block, Delay::new_in(d)?, ts)
+    build(p, ts, block, Delay::new_in(d)?)
 }

@@ -75,6 +75,12 @@ fn cascade_primary_params(
     Ok((primary, gm, lambda))
 }
 
+/// A cascade scheme's parameters: its own fields `own`, the primary's from
+/// `c`, tuned for `lambda`.
+fn tuned<P: ParamSet<f64>>(own: P, c: &CascadePrimary, lambda: f64) -> Params {
+    Params::of(&own.with_fields_of(c)).with_lambda(lambda)
+}
+
 /// The parts every cascade scheme builds: the primary model `Gm e^{−(L1+L2)s}`,
 /// its ZOH block, its dead time in whole samples, the inner loop and the
 /// primary controller (as Uma et al.'s PID and as FSPCC's matched `K(z)`).
@@ -150,9 +156,8 @@ fn tune_fspcc(
         lead: d.get("lead").unwrap_or(0.0),
         lag: d.get("lag").unwrap_or(0.0),
         ..Default::default()
-    }
-    .with_fields_of(&c);
-    Ok(Params::of(&p).with_lambda(lambda))
+    };
+    Ok(tuned(p, &c, lambda))
 }
 
 fn build_fspcc<T: Real>(
@@ -190,9 +195,8 @@ fn tune_gpcc(
     let p = GpccParams {
         tk: d.get("tk").unwrap_or(0.0),
         ..Default::default()
-    }
-    .with_fields_of(&c);
-    Ok(Params::of(&p).with_lambda(lambda))
+    };
+    Ok(tuned(p, &c, lambda))
 }
 
 fn build_gpcc<T: Real>(
@@ -224,9 +228,8 @@ fn tune_uma(
         lag: d.get("lag").unwrap_or(0.0),
         tf: d.get("tf").unwrap_or(0.0),
         ..Default::default()
-    }
-    .with_fields_of(&c);
-    Ok(Params::of(&p).with_lambda(lambda))
+    };
+    Ok(tuned(p, &c, lambda))
 }
 
 fn build_uma<T: Real>(

@@ -27,9 +27,7 @@ fn build_karan_dey<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<DynControllerOf<T>, crate::Error> {
-    compensator::<T, _, N>(p, model, b, |p, ts, lti, delay| {
-        dtc::karan_dey::build(p, lti, delay, ts)
-    })
+    compensator::<T, _, N>(p, model, b, dtc::karan_dey::build)
 }
 
 fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {

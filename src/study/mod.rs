@@ -304,7 +304,6 @@ impl Scenario {
         model: &TransferFunction,
         inner: Option<&TransferFunction>,
     ) -> Result<BuiltController, RunError> {
-        self.check_size(model, inner)?;
         let tuned = self.tune_for(model, inner)?;
         self.build_tuned(&tuned, model, inner)
     }
@@ -430,9 +429,7 @@ impl Scenario {
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
     ) -> Result<RunOutput, RunError> {
-        let inner_model = inner.as_ref().map(|(_, m)| m);
-        self.check_size(&model, inner_model)?;
-        let tuned = self.tune_for(&model, inner_model)?;
+        let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
         self.run_tuned(&tuned, plant, model, inner)
     }
 
