@@ -53,20 +53,23 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         fmt_sig(m.step.peak),
         fmt_sig(m.step.peak_time)
     ));
+    let ints = |i: &msp::metrics::Indices<f64>| {
+        format!(
+            "IAE {}  ISE {}  ITAE {}  ITSE {}",
+            fmt_sig(i.iae),
+            fmt_sig(i.ise),
+            fmt_sig(i.itae),
+            fmt_sig(i.itse)
+        )
+    };
     s.push_str(&format!(
-        "indices     IAE {}  ISE {}  ITAE {}  ITSE {}  TV {}\n",
-        fmt_sig(m.indices.iae),
-        fmt_sig(m.indices.ise),
-        fmt_sig(m.indices.itae),
-        fmt_sig(m.indices.itse),
+        "indices     {}  TV {}\n",
+        ints(&m.indices),
         fmt_sig(m.indices.tv)
     ));
     s.push_str(&format!(
-        "delayed ref IAE {}  ISE {}  ITAE {}  ITSE {}  (e = r(t-θm) - y, t from θm = {} s)",
-        fmt_sig(d.indices.iae),
-        fmt_sig(d.indices.ise),
-        fmt_sig(d.indices.itae),
-        fmt_sig(d.indices.itse),
+        "delayed ref {}  (e = r(t-θm) - y, t from θm = {} s)",
+        ints(&d.indices),
         fmt_num(out.model_delay())
     ));
     for w in warnings {
