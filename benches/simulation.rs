@@ -153,7 +153,7 @@ fn whole(c: &mut Criterion) {
     g.bench_function("0.2/s*e^-7.4s (parse, tune, simulate, metrics, CSV)", |b| {
         b.iter(|| {
             let out = Scenario {
-                plant: "0.2/s*e^-7.4s".into(),
+                plant: Some("0.2/s*e^-7.4s".parse().unwrap()),
                 ..Default::default()
             }
             .run()

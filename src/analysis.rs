@@ -501,8 +501,8 @@ pub fn analyze(
     view: View,
     uncertainty: Option<crate::study::Perturbation>,
 ) -> Result<Analysis, crate::study::RunError> {
-    let (plant, model) = sc.parse()?;
-    let inner = sc.parse_inner()?;
+    let (plant, model) = sc.plant_and_model()?;
+    let inner = sc.inner_process()?;
     let tuned = sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
     let built = sc.build_tuned(&tuned, &model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();

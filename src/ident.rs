@@ -541,14 +541,13 @@ pub fn autotune(
     let fit =
         identify_relay(&run, &result, kind, &cfg, o.noise > 0.0).map_err(AutotuneError::Ident)?;
     let mut sc = base.clone();
-    sc.plant = plant.to_string();
-    sc.model = Some(TransferFunction::from_model(&fit.model).to_string());
+    sc.plant = Some(plant.clone());
+    sc.model = Some(TransferFunction::from_model(&fit.model));
+    // the relay experiment saw the plant alone
+    (sc.inner_plant, sc.inner_model) = (None, None);
     sc.controller = o.controller.clone().or(sc.controller);
     sc.ts = Some(ts);
-    let model_tf = TransferFunction::from_model(&fit.model);
-    let out = sc
-        .run_with(plant.clone(), model_tf)
-        .map_err(AutotuneError::Run)?;
+    let out = sc.run().map_err(AutotuneError::Run)?;
     Ok(AutotuneOutput {
         relay: cfg,
         result,

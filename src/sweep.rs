@@ -183,8 +183,8 @@ pub fn sweep(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<SweepRow>, RunError> {
     spec.runs()?;
-    let (nominal, model) = base.parse()?;
-    let inner = base.parse_inner()?;
+    let (nominal, model) = base.plant_and_model()?;
+    let inner = base.inner_process()?;
     let whole =
         |p: &crate::poly::TransferFunction, i: Option<&crate::poly::TransferFunction>| match i {
             Some(i) => p.series(i),

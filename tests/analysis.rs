@@ -106,8 +106,8 @@ fn pi_and_smith_margins_of_the_matlab_example_agree_with_closed_forms() {
 
 fn settles(plant: &str, model: &str, controller: &str, duration: f64) -> bool {
     let sc = Scenario {
-        plant: plant.into(),
-        model: Some(model.into()),
+        plant: Some(plant.parse().unwrap()),
+        model: Some(model.parse().unwrap()),
         controller: Some(controller.into()),
         ts: Some(0.0939),
         duration: Some(duration),
@@ -155,8 +155,12 @@ fn karan_dey_limits_are_confirmed_by_simulation() {
     assert!(m.gm > 1.0 && m.dm > 0.0, "{m:?}");
     let run = |k: f64, extra: f64| {
         let sc = Scenario {
-            plant: format!("{}/s*e^-{}s", 0.2 * k, 7.4 + extra),
-            model: Some(ipdt.into()),
+            plant: Some(
+                format!("{}/s*e^-{}s", 0.2 * k, 7.4 + extra)
+                    .parse()
+                    .unwrap(),
+            ),
+            model: Some(ipdt.parse().unwrap()),
             controller: Some("karan-dey".into()),
             ts: Some(ts),
             duration: Some(600.0),

@@ -120,9 +120,9 @@ fn kaya_example_2_models_and_a_robust_smith_predictor() {
         "{m:?}"
     );
     // the autotuned Smith predictor stays stable with +30 % dead time
-    let model = TransferFunction::from_model(&o.fit.model).to_string();
+    let model = TransferFunction::from_model(&o.fit.model);
     let sc = Scenario {
-        plant: "e^-13s/(s+1)^2".into(),
+        plant: Some("e^-13s/(s+1)^2".parse().unwrap()),
         model: Some(model),
         controller: Some("smith".into()),
         ts: Some(0.02),

@@ -227,8 +227,8 @@ fn scenario(
     duration: f64,
 ) -> Scenario {
     Scenario {
-        plant: ex.p1.into(),
-        inner_plant: Some(ex.p2.into()),
+        plant: Some(ex.p1.parse().unwrap()),
+        inner_plant: Some(ex.p2.parse().unwrap()),
         ts: Some(ex.ts),
         duration: Some(duration),
         set: set.iter().map(|(k, v)| (k.to_string(), *v)).collect(),

@@ -98,7 +98,7 @@ fn a_float32_scenario_runs_the_controller_in_f32() {
         ("5*e^-6s/(100s-1)", Some(0.06)),
     ] {
         let sc = msp::study::Scenario {
-            plant: plant.into(),
+            plant: Some(plant.parse().unwrap()),
             ts,
             ..Default::default()
         };

@@ -12,7 +12,7 @@ fn run(
     f: impl FnOnce(&mut Scenario),
 ) -> msp::study::RunOutput {
     let mut sc = Scenario {
-        plant: plant.into(),
+        plant: Some(plant.parse().unwrap()),
         controller: controller.map(Into::into),
         ..Default::default()
     };

@@ -34,9 +34,9 @@ pub fn compare(
     controllers: &[String],
     perturb: Perturbation,
 ) -> Result<Vec<RunOutput>, RunError> {
-    let (nominal, model) = base.parse()?;
+    let (nominal, model) = base.plant_and_model()?;
     let plant = nominal.perturbed(perturb.gain, perturb.delay, perturb.tau)?;
-    let inner = match base.parse_inner()? {
+    let inner = match base.inner_process()? {
         Some((p2, m2)) => Some((
             p2.perturbed(perturb.inner_gain, perturb.inner_delay, perturb.inner_tau)?,
             m2,
@@ -70,7 +70,8 @@ pub fn compare(
         .map(|c| {
             let mut one = sc.clone();
             one.controller = Some(c.clone());
-            one.run_process(plant.clone(), model.clone(), inner.clone())
+            let tuned = one.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+            one.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone())
         })
         .collect()
 }

@@ -21,20 +21,28 @@ use crate::sim::{simulate, simulate_cascade, Disturbance, SetpointStep, SimConfi
 use crate::Error;
 
 /// A complete run description: what `msp run` takes from its flags or from a
-/// TOML/JSON file (`msp run --scenario file.toml`). Unknown fields are rejected by name.
+/// TOML/JSON file (`msp run --scenario file.toml`), and Python's `run` from
+/// its keyword arguments. The plants are typed: expressions are parsed at the
+/// edge (a flag, a file's field) and never again. Unknown fields are rejected
+/// by name.
 #[derive(Debug, Clone, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct Scenario {
-    /// Plant expression, e.g. `0.2/s*e^-7.4s`.
-    pub plant: String,
-    /// Model expression (defaults to the plant: a perfect model).
-    pub model: Option<String>,
+    /// The plant (required to run); a scenario file writes it as an
+    /// expression, e.g. `plant = "0.2/s*e^-7.4s"`.
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::expr::as_expression"))]
+    pub plant: Option<TransferFunction>,
+    /// The controller's model (defaults to the plant: a perfect model).
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::expr::as_expression"))]
+    pub model: Option<TransferFunction>,
     /// Cascade processes: the secondary process `P2 e^{−L2 s}` whose output is
     /// measured and drives `plant` (then the primary `P1 e^{−L1 s}`).
-    pub inner_plant: Option<String>,
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::expr::as_expression"))]
+    pub inner_plant: Option<TransferFunction>,
     /// The controller's model of the secondary process (defaults to `inner_plant`).
-    pub inner_model: Option<String>,
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::expr::as_expression"))]
+    pub inner_model: Option<TransferFunction>,
     /// Controller name from the registry (default: chosen by plant kind).
     pub controller: Option<String>,
     /// Closed-loop time constant for tuning (s).
@@ -177,13 +185,8 @@ impl RunOutput {
 /// Why a scenario could not run.
 #[derive(Debug)]
 pub enum RunError {
-    /// A plant or model expression is wrong.
-    Parse {
-        /// `plant` or `model`.
-        field: &'static str,
-        /// The parser's error.
-        error: crate::syntax::ParseError,
-    },
+    /// A required field of the scenario is absent (`plant`).
+    Missing(&'static str),
     /// A controller or its parameters are wrong.
     Registry(RegistryError),
     /// A scenario value is wrong.
@@ -195,7 +198,7 @@ pub enum RunError {
 impl core::fmt::Display for RunError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            RunError::Parse { field, error } => write!(f, "invalid {field} expression: {error}"),
+            RunError::Missing(field) => write!(f, "the scenario has no {field}"),
             RunError::Registry(e) => write!(f, "{e}"),
             RunError::Invalid(e) => write!(f, "{e}"),
             RunError::Limit(m) => f.write_str(m),
@@ -381,60 +384,35 @@ impl Scenario {
         })
     }
 
-    /// The plant and the model, parsed.
-    pub fn parse(&self) -> Result<(TransferFunction, TransferFunction), RunError> {
-        plant_and_model(&self.plant, self.model.as_deref(), ("plant", "model"))
+    /// The plant and the controller's model (the plant when no model is given).
+    pub fn plant_and_model(&self) -> Result<(TransferFunction, TransferFunction), RunError> {
+        let plant = self.plant.clone().ok_or(RunError::Missing("plant"))?;
+        let model = self.model.clone().unwrap_or_else(|| plant.clone());
+        Ok((plant, model))
     }
 
-    /// The secondary process and its model, parsed (cascade scenarios).
-    pub fn parse_inner(&self) -> Result<Option<(TransferFunction, TransferFunction)>, RunError> {
-        let Some(p2) = &self.inner_plant else {
-            if self.inner_model.is_some() {
-                return Err(RunError::Invalid(Error::Unsupported(
-                    "an inner model without an inner plant",
-                )));
-            }
-            return Ok(None);
-        };
-        plant_and_model(
-            p2,
-            self.inner_model.as_deref(),
-            ("inner plant", "inner model"),
-        )
-        .map(Some)
+    /// The secondary process and its model (cascade scenarios).
+    pub fn inner_process(&self) -> Result<Option<(TransferFunction, TransferFunction)>, RunError> {
+        match (&self.inner_plant, &self.inner_model) {
+            (None, None) => Ok(None),
+            (None, Some(_)) => Err(RunError::Invalid(Error::Unsupported(
+                "an inner model without an inner plant",
+            ))),
+            (Some(p2), m2) => Ok(Some((p2.clone(), m2.clone().unwrap_or_else(|| p2.clone())))),
+        }
     }
 
-    /// Parses, tunes, builds and simulates.
+    /// Tunes, builds and simulates.
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        let (plant, model) = self.parse()?;
-        let inner = self.parse_inner()?;
-        self.run_process(plant, model, inner)
-    }
-
-    /// Tunes, builds and simulates for an already parsed plant and model (the
-    /// `plant` and `model` strings are ignored).
-    pub fn run_with(
-        &self,
-        plant: TransferFunction,
-        model: TransferFunction,
-    ) -> Result<RunOutput, RunError> {
-        self.run_process(plant, model, None)
-    }
-
-    /// [`Scenario::run_with`] for a cascade process: `inner` holds the
-    /// secondary process and its model.
-    pub fn run_process(
-        &self,
-        plant: TransferFunction,
-        model: TransferFunction,
-        inner: Option<(TransferFunction, TransferFunction)>,
-    ) -> Result<RunOutput, RunError> {
+        let (plant, model) = self.plant_and_model()?;
+        let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
         self.run_tuned(&tuned, plant, model, inner)
     }
 
-    /// [`Scenario::run_process`] with a controller already tuned (`tuned`):
-    /// the scenario's `controller`, `lambda`, `rule` and `set` are not read.
+    /// [`Scenario::run`] with a controller already tuned (`tuned`) and the
+    /// processes given: the scenario's plants, `controller`, `lambda`, `rule`
+    /// and `set` are not read.
     pub fn run_tuned(
         &self,
         tuned: &Tuned,
@@ -562,22 +540,4 @@ impl Scenario {
             float32: self.float32,
         })
     }
-}
-
-/// A plant expression and an optional model expression (default: the plant),
-/// parsed; errors name the `fields`.
-fn plant_and_model(
-    plant: &str,
-    model: Option<&str>,
-    fields: (&'static str, &'static str),
-) -> Result<(TransferFunction, TransferFunction), RunError> {
-    let parse = |e: &str, field| {
-        crate::syntax::parse_plant(e).map_err(|error| RunError::Parse { field, error })
-    };
-    let p = parse(plant, fields.0)?;
-    let m = match model {
-        Some(m) => parse(m, fields.1)?,
-        None => p.clone(),
-    };
-    Ok((p, m))
 }

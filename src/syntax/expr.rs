@@ -610,3 +610,33 @@ impl core::str::FromStr for TransferFunction {
         parse_plant(s)
     }
 }
+
+/// serde for an optional transfer function written as a plant expression
+/// (`plant = "0.2/s*e^-7.4s"` in a scenario file): serialized by its
+/// [`Display`](core::fmt::Display) form, read by [`parse_plant`], whose error
+/// (message, column, caret) becomes the deserializer's.
+#[cfg(feature = "serde")]
+pub mod as_expression {
+    use super::{parse_plant, TransferFunction};
+    use alloc::string::{String, ToString};
+
+    /// Writes `Some(tf)` as its expression, `None` as nothing.
+    pub fn serialize<S: serde::Serializer>(
+        tf: &Option<TransferFunction>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        match tf {
+            Some(tf) => s.serialize_some(&tf.to_string()),
+            None => s.serialize_none(),
+        }
+    }
+
+    /// Reads an expression into a transfer function.
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<TransferFunction>, D::Error> {
+        let text: Option<String> = serde::Deserialize::deserialize(d)?;
+        text.map(|t| parse_plant(&t).map_err(serde::de::Error::custom))
+            .transpose()
+    }
+}

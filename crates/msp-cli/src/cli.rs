@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
+use msp::poly::TransferFunction;
 use msp::sim::{Disturbance, SetpointStep};
 use msp::study::Perturbation;
 
@@ -21,7 +22,7 @@ pub(crate) enum Cmd {
     /// Run several controllers on the same scenario and print the thesis-style table.
     Compare(Box<CompareArgs>),
     /// Print the tuned parameters of a controller for a plant.
-    Tune(TuneArgs),
+    Tune(Box<TuneArgs>),
     /// Gain, phase and delay margins, sensitivity peaks and the stability region, with the exact delay.
     Margins(Box<MarginsArgs>),
     /// Many closed-loop runs over a range of plant perturbations, in parallel.
@@ -29,7 +30,7 @@ pub(crate) enum Cmd {
     /// Relay test on the plant, identify a model, tune a controller, run the closed loop.
     Autotune(Box<AutotuneArgs>),
     /// Identify a model from recorded step-test data (CSV with columns t, u, y).
-    Identify(IdentifyArgs),
+    Identify(Box<IdentifyArgs>),
     /// List the controllers and the tuning rules.
     List,
 }
@@ -53,21 +54,21 @@ pub(crate) struct DesignArgs {
 #[derive(Debug, Args)]
 pub(crate) struct ScenarioArgs {
     /// Plant transfer function, e.g. "0.2/s*e^-7.4s".
-    #[arg(long, short = 'p', allow_hyphen_values = true)]
-    pub(crate) plant: Option<String>,
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) plant: Option<TransferFunction>,
     /// Scenario file (TOML or JSON); flags given as well override its fields.
     #[arg(long)]
     pub(crate) scenario: Option<PathBuf>,
     /// Model used by the controller (default: the plant itself).
-    #[arg(long, short = 'm', allow_hyphen_values = true)]
-    pub(crate) model: Option<String>,
+    #[arg(long, short = 'm', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) model: Option<TransferFunction>,
     /// Cascade process: the secondary process, measured, feeding the plant (the primary),
     /// e.g. "2e^-2s/(20s+1)"; the default controller is then fspcc.
-    #[arg(long, allow_hyphen_values = true)]
-    pub(crate) inner_plant: Option<String>,
+    #[arg(long, allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) inner_plant: Option<TransferFunction>,
     /// The controller's model of the secondary process (default: the inner plant).
-    #[arg(long, allow_hyphen_values = true)]
-    pub(crate) inner_model: Option<String>,
+    #[arg(long, allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) inner_model: Option<TransferFunction>,
     #[command(flatten)]
     pub(crate) design: DesignArgs,
     /// Sample period (s); chosen from the plant when absent.
@@ -233,8 +234,8 @@ pub(crate) fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 #[derive(Debug, Args)]
 pub(crate) struct AutotuneArgs {
     /// The (simulated) plant the relay test runs on.
-    #[arg(long, short = 'p', allow_hyphen_values = true)]
-    pub(crate) plant: String,
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) plant: TransferFunction,
     /// Relay amplitude h.
     #[arg(long, default_value_t = 1.0)]
     pub(crate) relay_amplitude: f64,
@@ -289,11 +290,11 @@ pub(crate) struct IdentifyArgs {
 #[derive(Debug, Args)]
 pub(crate) struct TuneArgs {
     /// Plant (or model) transfer function.
-    #[arg(long, short = 'p', allow_hyphen_values = true)]
-    pub(crate) plant: String,
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) plant: TransferFunction,
     /// Cascade process: the secondary process (the default controller is then fspcc).
-    #[arg(long, allow_hyphen_values = true)]
-    pub(crate) inner_plant: Option<String>,
+    #[arg(long, allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) inner_plant: Option<TransferFunction>,
     /// Sample period (s) for the robust-stability test; chosen from the plant when absent.
     #[arg(long)]
     pub(crate) ts: Option<f64>,

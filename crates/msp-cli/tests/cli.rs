@@ -99,6 +99,12 @@ fn stdout_of(cmd: &mut Command) -> String {
     String::from_utf8(cmd.assert().success().get_output().stdout.clone()).unwrap()
 }
 
+/// Standard error of `msp ARGS…`, which must exit with `status`.
+fn stderr_of<const N: usize>(args: [&str; N], status: i32) -> String {
+    let out = msp().args(args).assert().code(status).get_output().clone();
+    String::from_utf8(out.stderr).unwrap()
+}
+
 #[test]
 fn csv_goes_to_stdout_and_set_overrides() {
     let text = stdout_of(msp().args([
@@ -233,6 +239,23 @@ fn scenario_file_and_unknown_fields() {
         ],
         "setpiont",
     );
+    // a plant expression in a file is read by the same parser as --plant:
+    // the error names the field, the problem and the column
+    let typo = dir.path().join("t.toml");
+    std::fs::write(&typo, "plant = \"0.2/x*e^-7.4s\"\n").unwrap();
+    let err = stderr_of(["run", "--scenario", typo.to_str().unwrap()], 2);
+    assert!(err.contains("plant") && err.contains("column 5"), "{err}");
+    // a file without a plant, and no --plant: said so, by name
+    let none = dir.path().join("n.toml");
+    std::fs::write(&none, "duration = 10\n").unwrap();
+    let err = stderr_of(["run", "--scenario", none.to_str().unwrap()], 2);
+    assert!(err.contains("has no plant"), "{err}");
+    // --plant given with the file supplies it
+    msp()
+        .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "--scenario"])
+        .arg(&none)
+        .assert()
+        .success();
 }
 
 #[test]

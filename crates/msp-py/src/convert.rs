@@ -4,7 +4,6 @@ use std::collections::BTreeMap;
 
 use crate::plant::plant_of;
 use crate::value_err;
-use msp::poly::TransferFunction;
 use msp::registry::Params;
 use msp::sim::{Disturbance, Location, SetpointStep, Shape};
 use msp::study::{Perturbation, RunOutput, Scenario};
@@ -154,9 +153,19 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Boun
     Ok(d)
 }
 
-/// The scenario keywords shared by ``run`` and ``compare``.
+/// The processes of a scenario: the plant, the controller's model, and the
+/// secondary process and its model of a cascade (each a ``Plant`` or an expression).
+pub(crate) struct Processes<'a, 'py> {
+    pub(crate) plant: &'a Bound<'py, PyAny>,
+    pub(crate) model: Option<&'a Bound<'py, PyAny>>,
+    pub(crate) inner_plant: Option<&'a Bound<'py, PyAny>>,
+    pub(crate) inner_model: Option<&'a Bound<'py, PyAny>>,
+}
+
+/// The scenario keywords shared by ``run``, ``compare``, ``margins`` and ``sweep``.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn scenario(
+    processes: &Processes<'_, '_>,
     controller: Option<String>,
     params: Option<BTreeMap<String, f64>>,
     ts: Option<f64>,
@@ -173,11 +182,16 @@ pub(crate) fn scenario(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Scenario> {
+    if processes.inner_model.is_some() && processes.inner_plant.is_none() {
+        return Err(PyValueError::new_err(
+            "inner_model needs inner_plant (the secondary process)",
+        ));
+    }
     Ok(Scenario {
-        plant: String::new(),
-        model: None,
-        inner_plant: None,
-        inner_model: None,
+        plant: Some(plant_of(processes.plant)?),
+        model: processes.model.map(plant_of).transpose()?,
+        inner_plant: processes.inner_plant.map(plant_of).transpose()?,
+        inner_model: processes.inner_model.map(plant_of).transpose()?,
         controller,
         lambda: lambda_,
         rule,
@@ -194,27 +208,6 @@ pub(crate) fn scenario(
         float32,
         max_memory,
     })
-}
-
-/// The secondary process and its model of a cascade scenario.
-pub(crate) fn inner_of(
-    plant: Option<&Bound<'_, PyAny>>,
-    model: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Option<(TransferFunction, TransferFunction)>> {
-    match (plant, model) {
-        (None, None) => Ok(None),
-        (None, Some(_)) => Err(PyValueError::new_err(
-            "inner_model needs inner_plant (the secondary process)",
-        )),
-        (Some(p), m) => {
-            let p2 = plant_of(p)?;
-            let m2 = match m {
-                Some(m) => plant_of(m)?,
-                None => p2.clone(),
-            };
-            Ok(Some((p2, m2)))
-        }
-    }
 }
 
 /// A perturbation from ``"delay=20%,tau=-20%"`` or ``{"delay": 0.2, "tau": -0.2}``.

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use crate::convert::{
-    fit_dict, inner_of, margins_dict, output_dict, params_dict, perturbation_of, scenario,
+    fit_dict, margins_dict, output_dict, params_dict, perturbation_of, scenario, Processes,
 };
 use crate::plant::plant_of;
 use crate::value_err;
@@ -42,12 +42,14 @@ pub(crate) fn run<'py>(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let plant_tf = plant_of(plant)?;
-    let model_tf = match model {
-        Some(m) => plant_of(m)?,
-        None => plant_tf.clone(),
+    let processes = Processes {
+        plant,
+        model,
+        inner_plant,
+        inner_model,
     };
     let sc = scenario(
+        &processes,
         controller,
         params,
         ts,
@@ -64,10 +66,7 @@ pub(crate) fn run<'py>(
         float32,
         max_memory,
     )?;
-    let inner = inner_of(inner_plant, inner_model)?;
-    let out = py
-        .allow_threads(|| sc.run_process(plant_tf, model_tf, inner))
-        .map_err(value_err)?;
+    let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
     output_dict(py, out)
 }
 
@@ -101,7 +100,14 @@ pub(crate) fn compare<'py>(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyList>> {
-    let mut sc = scenario(
+    let processes = Processes {
+        plant,
+        model,
+        inner_plant,
+        inner_model,
+    };
+    let sc = scenario(
+        &processes,
         None,
         params,
         ts,
@@ -118,12 +124,6 @@ pub(crate) fn compare<'py>(
         float32,
         max_memory,
     )?;
-    sc.plant = plant_of(plant)?.to_string();
-    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
-    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
-        sc.inner_plant = Some(p2.to_string());
-        sc.inner_model = Some(m2.to_string());
-    }
     let p = perturbation_of(perturb)?.unwrap_or_default();
     let runs = py
         .allow_threads(|| msp::study::compare(&sc, &controllers, p))
@@ -156,16 +156,16 @@ pub(crate) fn margins<'py>(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut sc = scenario(
-        controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
-        float32, max_memory,
+    let processes = Processes {
+        plant,
+        model,
+        inner_plant,
+        inner_model,
+    };
+    let sc = scenario(
+        &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
+        rule, None, float32, max_memory,
     )?;
-    sc.plant = plant_of(plant)?.to_string();
-    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
-    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
-        sc.inner_plant = Some(p2.to_string());
-        sc.inner_model = Some(m2.to_string());
-    }
     let uncertainty = perturbation_of(uncertainty)?;
     let view = if discrete {
         msp::analysis::View::Discrete
@@ -240,16 +240,16 @@ pub(crate) fn sweep<'py>(
         seed,
         shard,
     };
-    let mut sc = scenario(
-        controller, params, ts, duration, None, None, None, None, None, None, lambda_, rule, None,
-        float32, max_memory,
+    let processes = Processes {
+        plant,
+        model,
+        inner_plant,
+        inner_model,
+    };
+    let sc = scenario(
+        &processes, controller, params, ts, duration, None, None, None, None, None, None, lambda_,
+        rule, None, float32, max_memory,
     )?;
-    sc.plant = plant_of(plant)?.to_string();
-    sc.model = model.map(plant_of).transpose()?.map(|m| m.to_string());
-    if let Some((p2, m2)) = inner_of(inner_plant, inner_model)? {
-        sc.inner_plant = Some(p2.to_string());
-        sc.inner_model = Some(m2.to_string());
-    }
     let rows = py
         .allow_threads(|| msp::sweep::sweep(&sc, &spec, &|_| {}))
         .map_err(value_err)?;
@@ -391,20 +391,25 @@ pub(crate) fn tune<'py>(
     rule: Option<String>,
     uncertainty: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let tf = plant_of(plant)?;
-    let inner = inner_plant.map(plant_of).transpose()?;
+    let processes = Processes {
+        plant,
+        model: None,
+        inner_plant,
+        inner_model: None,
+    };
     let mut sc = scenario(
-        controller, params, ts, None, None, None, None, None, None, None, lambda_, rule, None,
-        false, None,
+        &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
+        rule, None, false, None,
     )?;
-    let msp::study::Tuned { scheme, params: p } =
-        sc.tune_for(&tf, inner.as_ref()).map_err(value_err)?;
+    let (_, model) = sc.plant_and_model().map_err(value_err)?;
+    let inner = sc.inner_process().map_err(value_err)?;
+    let msp::study::Tuned { scheme, params: p } = sc
+        .tune_for(&model, inner.as_ref().map(|(_, m)| m))
+        .map_err(value_err)?;
     let d = PyDict::new(py);
     d.set_item("name", scheme.name)?;
     d.set_item("params", params_dict(py, &p)?)?;
     if let Some(u) = perturbation_of(uncertainty)? {
-        sc.plant = tf.to_string();
-        sc.inner_plant = inner.map(|i| i.to_string());
         sc.controller = Some(scheme.name.to_string());
         let an = py
             .allow_threads(|| msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u)))

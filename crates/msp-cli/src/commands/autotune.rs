@@ -4,15 +4,13 @@ use crate::cli::AutotuneArgs;
 use crate::error::CliError;
 use crate::export;
 use msp::study::Scenario;
-use msp::syntax::parse_plant;
 
 pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
     let mut files = export::Outputs::plan(&[
         ("--output", a.output.as_ref()),
         ("--report", a.report.as_ref()),
     ])?;
-    let plant = parse_plant(&a.plant)
-        .map_err(|e| CliError::Input(format!("invalid plant expression: {e}")))?;
+    let plant = &a.plant;
     let o = msp::ident::AutotuneOptions {
         amplitude: a.relay_amplitude,
         hysteresis: a.hysteresis,
@@ -28,7 +26,7 @@ pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
         duration: a.duration,
         ..Default::default()
     };
-    let out = msp::ident::autotune(&plant, &o, &base).map_err(|e| match e {
+    let out = msp::ident::autotune(plant, &o, &base).map_err(|e| match e {
         msp::ident::AutotuneError::Run(r) => CliError::from(r),
         msp::ident::AutotuneError::Ident(
             msp::Error::NotPositive(_)
@@ -38,7 +36,7 @@ pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
         ) => CliError::Input(e.to_string()),
         other => CliError::Runtime(other.to_string()),
     })?;
-    let report = export::json::autotune_json(&plant, &out);
+    let report = export::json::autotune_json(plant, &out);
     if let Some(p) = &a.output {
         let csv = export::csv::csv_bytes(&out.run)
             .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
@@ -50,6 +48,6 @@ pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
         files.add(p, text);
     }
     files.commit()?;
-    export::print(export::text::autotune_text(&plant, &out).as_bytes())?;
+    export::print(export::text::autotune_text(plant, &out).as_bytes())?;
     Ok(())
 }

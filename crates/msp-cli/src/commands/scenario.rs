@@ -30,18 +30,11 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         Some(p) => load_scenario(p)?,
         None => Scenario::default(),
     };
-    if let Some(p) = &a.plant {
-        sc.plant.clone_from(p);
-    }
-    if sc.plant.trim().is_empty() && a.plant.is_none() && a.scenario.is_none() {
-        return Err(CliError::Input(
-            "give a plant: --plant \"0.2/s*e^-7.4s\" (or --scenario FILE)".into(),
-        ));
-    }
     macro_rules! over {
         ($($f:ident),*) => {$( if a.$f.is_some() { sc.$f = a.$f.clone(); } )*};
     }
     over!(
+        plant,
         model,
         inner_plant,
         inner_model,
@@ -68,5 +61,14 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     }
     sc.disturbance.extend(a.disturbance.iter().copied());
     sc.float32 |= a.float32;
+    if sc.plant.is_none() {
+        return Err(CliError::Input(match &a.scenario {
+            Some(p) => format!(
+                "scenario file {} has no plant: add plant = \"0.2/s*e^-7.4s\" or give --plant",
+                p.display()
+            ),
+            None => "give a plant: --plant \"0.2/s*e^-7.4s\" (or --scenario FILE)".into(),
+        }));
+    }
     Ok(sc)
 }

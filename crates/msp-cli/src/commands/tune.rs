@@ -7,7 +7,7 @@ use msp::study::Scenario;
 
 pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     let sc = Scenario {
-        plant: a.plant.clone(),
+        plant: Some(a.plant.clone()),
         inner_plant: a.inner_plant.clone(),
         controller: a.controller.clone(),
         lambda: a.design.lambda,
@@ -16,8 +16,8 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         ts: a.ts,
         ..Scenario::default()
     };
-    let (plant, model) = sc.parse()?;
-    let inner = sc.parse_inner()?.map(|(p2, _)| p2);
+    let (plant, model) = sc.plant_and_model()?;
+    let inner = sc.inner_process()?.map(|(p2, _)| p2);
     let msp::study::Tuned { scheme, params } = sc.tune_for(&model, inner.as_ref())?;
     // Eq. 17 on the tuned controller, when asked for
     let robust = match a.uncertainty {
