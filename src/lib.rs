@@ -99,6 +99,6 @@ pub use error::Error;
 pub use lti::{Discretization, Lti};
 pub use metrics::IntegralIndices;
 pub use model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
-pub use params::{ParamList, ParamSet};
+pub use params::{DesignSet, ParamList, ParamSet};
 pub use pid::{AntiWindup, Pid, PidConfig, PidTerms};
 pub use real::Real;

@@ -164,6 +164,78 @@ macro_rules! param_struct {
 }
 pub(crate) use param_struct;
 
+/// A scheme's design inputs: what its tuning rule reads besides the model
+/// (implemented by the crate's `design_struct!` macro). Every scheme has the
+/// closed-loop time constant `lambda` and its ratio to the dead time `alpha`;
+/// the rest are the scheme's own (a filter's time constant, a case number…).
+/// An absent input is `None`: the rule then uses its published default.
+/// [`DesignSet::NAMES`] — generated from the fields — are the design keys
+/// `--set` accepts before tuning.
+pub trait DesignSet: Copy + Default + PartialEq + core::fmt::Debug {
+    /// The field names, `lambda` and `alpha` first.
+    const NAMES: &'static [&'static str];
+    /// Sets the input called `name`; false if the type has no such field.
+    fn set(&mut self, name: &str, v: f64) -> bool;
+    /// The closed-loop time constant `λ` (s), if given.
+    fn lambda(&self) -> Option<f64>;
+    /// `λ/θ`, if given.
+    fn alpha(&self) -> Option<f64>;
+}
+
+/// Declares a scheme's design-input struct: `lambda` and `alpha`, then the
+/// listed fields, each an `Option<f64>` (serde with unknown keys refused):
+///
+/// ```text
+/// design_struct! {
+///     /// Design inputs of …
+///     pub struct HuangTuning {
+///         /// Gain of `B` (default 0.05).
+///         kb,
+///     }
+/// }
+/// ```
+macro_rules! design_struct {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $( $(#[$fmeta:meta])* $field:ident ),* $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Default)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+        #[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
+        pub struct $name {
+            /// Closed-loop time constant `λ` (s); default `alpha·θ`.
+            pub lambda: Option<f64>,
+            /// `λ/θ` when `lambda` is not given (the scheme's default ratio otherwise).
+            pub alpha: Option<f64>,
+            $( $(#[$fmeta])* pub $field: Option<f64>, )*
+        }
+
+        impl $crate::params::DesignSet for $name {
+            const NAMES: &'static [&'static str] = &["lambda", "alpha" $(, stringify!($field))*];
+            fn set(&mut self, name: &str, v: f64) -> bool {
+                let slot = match name {
+                    "lambda" => &mut self.lambda,
+                    "alpha" => &mut self.alpha,
+                    $( stringify!($field) => &mut self.$field, )*
+                    _ => return false,
+                };
+                *slot = Some(v);
+                true
+            }
+            fn lambda(&self) -> Option<f64> {
+                self.lambda
+            }
+            fn alpha(&self) -> Option<f64> {
+                self.alpha
+            }
+        }
+    };
+}
+pub(crate) use design_struct;
+
 /// Parameter names and values (up to [`MAX_PARAMS`]): the erased form of a
 /// [`ParamSet`], which a controller keeps for [`crate::Introspect`] and the
 /// registry hands between tuning, `--set` and construction.

@@ -260,6 +260,12 @@ pub fn ultimate_cycle<T: Real>(rule: &UltimateRule, ku: T, tu: T) -> Result<PidG
     })
 }
 
+crate::params::design_struct! {
+    /// Design inputs of a scheme tuned by `λ` alone (PID, PI, the Smith
+    /// predictor, Karan–Dey, Watanabe–Ito, Kaya–Atherton).
+    pub struct LambdaTuning {}
+}
+
 /// Design values of the disturbance estimator (Draganović et al. (2001) Sec. 3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -141,3 +141,35 @@ fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
         }
     }
 }
+
+/// Every design key a scheme lists (its typed design struct's fields) reaches
+/// its tuning: setting it changes the tuned parameters. A field declared but
+/// never read by the rule fails here.
+#[test]
+fn every_design_key_is_read_by_its_tuning() {
+    for s in SCHEMES {
+        let (p1, p2, _) = plant_for(s);
+        let set = required_settings(s.name);
+        let base = s
+            .tune_process(&p1, p2.as_ref(), None, None, &set)
+            .unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        let bits = |p: &msp::registry::Params| -> Vec<u64> {
+            p.iter()
+                .map(|(_, v)| v.to_bits())
+                .chain(p.lambda().map(f64::to_bits))
+                .collect()
+        };
+        assert_eq!(&s.design[..2], &["lambda", "alpha"], "{}", s.name);
+        for key in s.design {
+            // a value no default takes: case 2 of the estimator, else 0.37 or 3.7
+            let candidates: &[f64] = if *key == "case" { &[2.0] } else { &[0.37, 3.7] };
+            let changed = candidates.iter().any(|v| {
+                let mut over = set.clone();
+                over.push((key.to_string(), *v));
+                s.tune_process(&p1, p2.as_ref(), None, None, &over)
+                    .is_ok_and(|p| bits(&p) != bits(&base))
+            });
+            assert!(changed, "{}: --set {key}=… changes nothing", s.name);
+        }
+    }
+}

@@ -29,6 +29,14 @@ param_struct! {
     }
 }
 
+crate::params::design_struct! {
+    /// Design inputs of the Åström–Hang–Lim predictor.
+    pub struct AstromHangLimTuning {
+        /// The load loop's double pole `−a` (1/s); default `1/L`.
+        a,
+    }
+}
+
 /// The compensator for the model `kv·e^{−Ls}/s`; `line` holds `L` again for `M(s)`.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     p: &AstromHangLimParams<T>,

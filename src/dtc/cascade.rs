@@ -121,6 +121,72 @@ crate::dtc::kaya_atherton::kaya_atherton_params! {
     }
 }
 
+/// Declares a cascade scheme's design inputs: `lambda`, `alpha` (of the
+/// primary loop: default `λ = 0.8·L`), the inner filter's `lambda2` and the
+/// set-point weight `epsilon`, then the scheme's own.
+macro_rules! cascade_tuning {
+    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
+        crate::params::design_struct! {
+            $(#[$meta])*
+            pub struct $name {
+                /// Inner IMC filter time constant `λ2` (s); default the
+                /// secondary dead time `L2`.
+                lambda2,
+                /// Set-point weight `ε`; default 0.3 (the paper's examples).
+                epsilon,
+                $($rest)*
+            }
+        }
+    };
+}
+
+cascade_tuning! {
+    /// The design inputs every cascade scheme of García et al. (2010) shares
+    /// (read by each one's primary design).
+    pub struct CascadePrimaryTuning {}
+}
+
+cascade_tuning! {
+    /// Design inputs of FSPCC.
+    pub struct FspccTuning {
+        /// Robustness filter time constant `Tf` (s); default half the primary model's dead time.
+        tf,
+        /// Lead of `Fr` (s); default none.
+        lead,
+        /// Lag of `Fr` (s); default none.
+        lag,
+    }
+}
+
+cascade_tuning! {
+    /// Design inputs of GPCC.
+    pub struct GpccTuning {
+        /// Time constant of `Fk` (s); default 0 (`Fk = 1`).
+        tk,
+    }
+}
+
+cascade_tuning! {
+    /// Design inputs of Uma et al.'s scheme.
+    pub struct UmaTuning {
+        /// Lead of `Gcd` (s); default none.
+        lead,
+        /// Lag of `Gcd` (s); default none.
+        lag,
+        /// Time constant of `Gf` (s); default none.
+        tf,
+    }
+}
+
+crate::params::design_struct! {
+    /// Design inputs of Kaya et al.'s cascade (the primary's `λ` as for
+    /// Kaya–Atherton's predictor).
+    pub struct KayaCascadeTuning {
+        /// Inner IMC filter time constant `λ2` (s); default the secondary dead time `L2`.
+        lambda2,
+    }
+}
+
 /// Order capacity of the inner IMC controller `Q`.
 pub const Q_ORDER: usize = 4;
 /// Order capacity of the inner model `P2m`.

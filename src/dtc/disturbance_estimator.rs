@@ -40,6 +40,22 @@ param_struct! {
     }
 }
 
+crate::params::design_struct! {
+    /// Design inputs of the disturbance estimator (Draganović et al. (2001)).
+    /// `alpha` is the case's damping or pole ratio here (default 0.5; 0.95
+    /// for Case 6), and also sets `td = alpha·L` when `td` and `lambda` are absent.
+    pub struct DisturbanceEstimatorTuning {
+        /// Set-point time constant `Td` (s); default `λ` (`L/4`).
+        td,
+        /// The case, 1–6; default 1.
+        case,
+        /// The estimator's dominant time constant `T_de` (s); default `0.55·L`.
+        tde,
+        /// Frequency of the sine disturbance of Case 6 (rad/s); default 0.05.
+        w0,
+    }
+}
+
 /// The case number 1–6 of a real value; the error names `case`.
 pub fn case_number<T: Real>(case: T) -> Result<u8, Error> {
     (1u8..=6)

@@ -26,6 +26,17 @@ crate::tuning::pid_params! {
     }
 }
 
+crate::params::design_struct! {
+    /// Design inputs of the filtered Smith predictor (Normey-Rico & Camacho's
+    /// filter on the model error; defaults of the MathWorks example).
+    pub struct FilteredSmithTuning {
+        /// Lead `a` of `F` (s); default 0.
+        a,
+        /// Lag `b` of `F` (s); default half the model's dominant lag.
+        b,
+    }
+}
+
 /// The filter `F = (1 + a·s)/(1 + b·s)` ZOH-discretized (`a = 0`: first order `1/(b s + 1)`;
 /// `b = 0`: no filter).
 pub fn lead_lag_filter<T: Real>(a: T, b: T, ts: T) -> Result<Lti<T, AUX>, Error> {

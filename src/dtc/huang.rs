@@ -28,6 +28,17 @@ crate::tuning::pid_params! {
     }
 }
 
+crate::params::design_struct! {
+    /// Design inputs of Huang's predictor (defaults of the MathWorks example:
+    /// `B = 0.05/(40 s + 1)` for the 40.2 s lag).
+    pub struct HuangTuning {
+        /// Gain of `B`; default 0.05.
+        kb,
+        /// Time constant of `B` (s); default the model's dominant lag.
+        tb,
+    }
+}
+
 /// The predictor with `B = kb/(tb s + 1)`; `line` holds the model dead time
 /// again (it delays `f`), at least one sample.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(

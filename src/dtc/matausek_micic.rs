@@ -30,6 +30,14 @@ param_struct! {
     }
 }
 
+crate::params::design_struct! {
+    /// Design inputs of the Matausek–Micić predictor.
+    pub struct MatausekMicicTuning {
+        /// Set-point time constant `Tr` (s); default `λ`.
+        tr,
+    }
+}
+
 /// The predictor with set-point gain `p.kr` and load feedback `p.k0`.
 pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     p: &MatausekMicicParams<T>,

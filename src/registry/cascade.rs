@@ -10,10 +10,11 @@ use super::integrating::{kaya_atherton_on, kaya_atherton_settings};
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
 use crate::poly::TransferFunction;
-use crate::{Lti, ParamList, ParamSet, Pid, PidConfig, Real};
+use crate::{DesignSet, Lti, ParamList, ParamSet, Pid, PidConfig, Real};
 
 use crate::dtc::cascade::{
-    self, Cascade, CascadePrimary, FspccParams, GpccParams, Imc, KayaCascadeParams, UmaParams,
+    self, Cascade, CascadePrimary, CascadePrimaryTuning, FspccParams, FspccTuning, GpccParams,
+    GpccTuning, Imc, KayaCascadeParams, KayaCascadeTuning, UmaParams, UmaTuning,
 };
 use crate::dtc::compensator::{Compensator, DisturbancePath, ErrorPath, AUX};
 use crate::dtc::fsp::{FrSpec, Predicted};
@@ -24,8 +25,8 @@ use num_traits::Float;
 /// The inner IMC filter time constant: given, or the secondary dead time
 /// (the paper's examples: λ2 = L2 = 2 s in Example 1), or a tenth of the
 /// secondary's slowest time scale when it has no dead time.
-fn lambda2_for(p2: &TransferFunction, d: &Design) -> Result<f64, crate::Error> {
-    if let Some(l) = d.get("lambda2") {
+fn lambda2_for(p2: &TransferFunction, lambda2: Option<f64>) -> Result<f64, crate::Error> {
+    if let Some(l) = lambda2 {
         return Ok(l);
     }
     if p2.delay > 0.0 {
@@ -41,11 +42,11 @@ fn lambda2_for(p2: &TransferFunction, d: &Design) -> Result<f64, crate::Error> {
 fn cascade_primary(
     p1: &TransferFunction,
     p2: &TransferFunction,
-    d: &Design,
+    d: &CascadePrimaryTuning,
 ) -> Result<(f64, f64, [f64; 4], TransferFunction), crate::Error> {
-    let lambda2 = lambda2_for(p2, d)?;
+    let lambda2 = lambda2_for(p2, d.lambda2)?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
-    let lambda = match (d.lambda.or_else(|| d.get("lambda")), d.get("alpha")) {
+    let lambda = match (d.lambda, d.alpha) {
         (Some(l), _) => l,
         (None, Some(a)) => a * gm.delay,
         (None, None) if gm.delay > 0.0 => 0.8 * gm.delay,
@@ -63,13 +64,14 @@ fn cascade_primary_params(
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<(CascadePrimary, TransferFunction, f64), crate::Error> {
-    let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, d)?;
+    let d: CascadePrimaryTuning = d.typed();
+    let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, &d)?;
     let primary = CascadePrimary {
         kp,
         ki,
         kd,
         tau,
-        epsilon: d.get("epsilon").unwrap_or(0.3),
+        epsilon: d.epsilon.unwrap_or(0.3),
         lambda2,
     };
     Ok((primary, gm, lambda))
@@ -151,10 +153,11 @@ fn tune_fspcc(
     d: &Design,
 ) -> Result<Params, crate::Error> {
     let (c, gm, lambda) = cascade_primary_params(p1, p2, d)?;
+    let t: FspccTuning = d.typed();
     let p = FspccParams {
-        tf: d.get("tf").unwrap_or(0.5 * gm.delay.max(1e-9)),
-        lead: d.get("lead").unwrap_or(0.0),
-        lag: d.get("lag").unwrap_or(0.0),
+        tf: t.tf.unwrap_or(0.5 * gm.delay.max(1e-9)),
+        lead: t.lead.unwrap_or(0.0),
+        lag: t.lag.unwrap_or(0.0),
         ..Default::default()
     };
     Ok(tuned(p, &c, lambda))
@@ -193,7 +196,7 @@ fn tune_gpcc(
 ) -> Result<Params, crate::Error> {
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
     let p = GpccParams {
-        tk: d.get("tk").unwrap_or(0.0),
+        tk: d.typed::<GpccTuning>().tk.unwrap_or(0.0),
         ..Default::default()
     };
     Ok(tuned(p, &c, lambda))
@@ -220,13 +223,14 @@ fn tune_uma(
     // Gcd: Uma et al. tune it on a Padé approximation of the dead time, a rule
     // the sources do not give: its gains are left to --set (NaN until then)
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
+    let t: UmaTuning = d.typed();
     let p = UmaParams {
         kpd: f64::NAN,
         kid: f64::NAN,
         kdd: f64::NAN,
-        lead: d.get("lead").unwrap_or(0.0),
-        lag: d.get("lag").unwrap_or(0.0),
-        tf: d.get("tf").unwrap_or(0.0),
+        lead: t.lead.unwrap_or(0.0),
+        lag: t.lag.unwrap_or(0.0),
+        tf: t.tf.unwrap_or(0.0),
         ..Default::default()
     };
     Ok(tuned(p, &c, lambda))
@@ -286,9 +290,10 @@ fn tune_kaya_cascade(
     p2: &TransferFunction,
     d: &Design,
 ) -> Result<Params, crate::Error> {
-    let lambda2 = lambda2_for(p2, d)?;
+    let t: KayaCascadeTuning = d.typed();
+    let lambda2 = lambda2_for(p2, t.lambda2)?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
-    let (k, lambda) = kaya_atherton_settings(&gm, d)?;
+    let (k, lambda) = kaya_atherton_settings(&gm, &t)?;
     let p = KayaCascadeParams {
         lambda2,
         ..Default::default()
@@ -316,7 +321,7 @@ pub(super) const FSPCC: Scheme = Scheme {
     source: "García et al. (2010) Sec. 3.1, Figs. 5-6, Eq. 10",
     plants: ALL,
     params: FspccParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "lambda2", "epsilon", "tf", "lead", "lag"],
+    design: FspccTuning::NAMES,
     fns: SchemeFns::Cascade {
         tune: tune_fspcc,
         build: both!(build_fspcc),
@@ -329,7 +334,7 @@ pub(super) const GPCC: Scheme = Scheme {
     source: "García et al. (2010) Sec. 3.2, Fig. 7, Eqs. 1-4",
     plants: ALL,
     params: GpccParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "lambda2", "epsilon", "tk"],
+    design: GpccTuning::NAMES,
     fns: SchemeFns::Cascade {
         tune: tune_gpcc,
         build: both!(build_gpcc),
@@ -342,7 +347,7 @@ pub(super) const UMA: Scheme = Scheme {
     source: "García et al. (2010) Sec. 2.3, Fig. 4",
     plants: ALL,
     params: UmaParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "lambda2", "epsilon", "lead", "lag", "tf"],
+    design: UmaTuning::NAMES,
     fns: SchemeFns::Cascade {
         tune: tune_uma,
         build: both!(build_uma),
@@ -356,7 +361,7 @@ pub(super) const KAYA_CASCADE: Scheme = Scheme {
     source: "García et al. (2010) Sec. 2.2, Fig. 3",
     plants: STABLE_INT,
     params: KayaCascadeParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "lambda2"],
+    design: KayaCascadeTuning::NAMES,
     fns: SchemeFns::Cascade {
         tune: tune_kaya_cascade,
         build: both!(build_kaya_cascade),

@@ -4,12 +4,12 @@
 use alloc::boxed::Box;
 use alloc::vec::Vec;
 
-use super::{Build, Design, DynControllerOf, Params};
+use super::{Build, DynControllerOf, Params};
 use crate::delay::Delay;
 use crate::dtc::Compensator;
 use crate::poly::{PlantKind, TransferFunction};
 use crate::tuning::PidGains;
-use crate::{Ipdt, Lti, ParamSet, PidConfig, ProcessModel, Real};
+use crate::{DesignSet, Ipdt, Lti, ParamSet, PidConfig, ProcessModel, Real};
 
 /// The PID of a scheme's parameters (its `kp`, `ti`, `td`) with the build's
 /// period and actuator limits.
@@ -20,8 +20,12 @@ pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, cr
 }
 
 /// `λ`: given, or `alpha·L`, or `default_factor·L`.
-pub(super) fn lambda_for(model: &ProcessModel<f64>, d: &Design, default_factor: f64) -> f64 {
-    match (d.lambda.or_else(|| d.get("lambda")), d.get("alpha")) {
+pub(super) fn lambda_for<D: DesignSet>(
+    model: &ProcessModel<f64>,
+    d: &D,
+    default_factor: f64,
+) -> f64 {
+    match (d.lambda(), d.alpha()) {
         (Some(l), _) => l,
         (None, Some(a)) => a * model.delay(),
         (None, None) => default_factor * model.delay(),

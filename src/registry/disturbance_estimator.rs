@@ -3,9 +3,11 @@
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
-use crate::dtc::disturbance_estimator::{case_number, DisturbanceEstimatorParams};
+use crate::dtc::disturbance_estimator::{
+    case_number, DisturbanceEstimatorParams, DisturbanceEstimatorTuning,
+};
 use crate::poly::TransferFunction;
-use crate::{tuning, ParamSet, Real};
+use crate::{tuning, DesignSet, ParamSet, Real};
 
 fn tune_disturbance_estimator(
     plant: &TransferFunction,
@@ -15,17 +17,14 @@ fn tune_disturbance_estimator(
         plant,
         "the disturbance estimator needs an integrating plant",
     )?;
-    let td = d
-        .get("td")
-        .unwrap_or_else(|| lambda_for(&m.into(), d, 0.25));
-    let case = d.get("case").unwrap_or(1.0);
+    let t: DisturbanceEstimatorTuning = d.typed();
+    let td = t.td.unwrap_or_else(|| lambda_for(&m.into(), &t, 0.25));
+    let case = t.case.unwrap_or(1.0);
     let design = tuning::EstimatorDesign {
         case: case_number(case)?,
-        tde: d.get("tde").unwrap_or(0.55 * m.l),
-        alpha: d
-            .get("alpha")
-            .unwrap_or(if case == 6.0 { 0.95 } else { 0.5 }),
-        w0: d.get("w0").unwrap_or(0.05),
+        tde: t.tde.unwrap_or(0.55 * m.l),
+        alpha: t.alpha.unwrap_or(if case == 6.0 { 0.95 } else { 0.5 }),
+        w0: t.w0.unwrap_or(0.05),
     };
     let t = tuning::disturbance_estimator(m.k, m.l, &design)?;
     Ok(Params::of(&DisturbanceEstimatorParams {
@@ -56,7 +55,7 @@ pub(super) const DISTURBANCE_ESTIMATOR: Scheme = Scheme {
     source: "Draganović et al. (2001)",
     plants: INT,
     params: DisturbanceEstimatorParams::<f64>::NAMES,
-    design: &["lambda", "td", "case", "tde", "alpha", "w0"],
+    design: DisturbanceEstimatorTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_disturbance_estimator,
         build: by_order!(build_disturbance_estimator),

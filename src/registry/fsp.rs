@@ -7,15 +7,16 @@ use alloc::vec::Vec;
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
-use crate::dtc::fsp::FspParams;
+use crate::dtc::fsp::{FspParams, FspTuning};
 use crate::poly::TransferFunction;
-use crate::{tuning, ParamList, ParamSet, PidConfig, ProcessModel, Real};
+use crate::{tuning, DesignSet, ParamList, ParamSet, PidConfig, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
 fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+    let t: FspTuning = d.typed();
     let m = plant.reduce(false)?;
-    let lambda = lambda_for(&m, d, 1.0);
+    let lambda = lambda_for(&m, &t, 1.0);
     let (kp, ti) = match m {
         // K/(T s − 1): the delay-free loop with a PI gets the double pole −1/λ
         ProcessModel::Ufopdt(u) => {
@@ -29,7 +30,7 @@ fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
             (g.kp, g.ti)
         }
     };
-    let tf = d.get("tf").unwrap_or(0.5 * m.delay().max(1e-9));
+    let tf = t.tf.unwrap_or(0.5 * m.delay().max(1e-9));
     Ok(Params::of(&FspParams { kp, ti, tf }).with_lambda(lambda))
 }
 
@@ -71,7 +72,7 @@ pub(super) const FSP: Scheme = Scheme {
     source: "García et al. (2010) Sec. 3, Eq. 10",
     plants: ALL,
     params: FspParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "tf"],
+    design: FspTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_fsp,
         build: both!(build_fsp),

@@ -6,19 +6,19 @@ use alloc::vec::Vec;
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::delay::Delay;
-use crate::dtc::astrom_hang_lim::AstromHangLimParams;
+use crate::dtc::astrom_hang_lim::{AstromHangLimParams, AstromHangLimTuning};
 use crate::dtc::kaya_atherton::KayaAthertonParams;
-use crate::dtc::matausek_micic::MatausekMicicParams;
+use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
 use crate::dtc::{self, Compensator, KaranDeyParams};
 use crate::poly::TransferFunction;
-use crate::tuning::PidGains;
-use crate::{tuning, Ipdt, ParamSet, ProcessModel, Real};
+use crate::tuning::{LambdaTuning, PidGains};
+use crate::{tuning, DesignSet, Ipdt, ParamSet, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
 fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     let m = integrating_model(plant, "the Karan-Dey MSP needs an integrating plant")?;
-    let lambda = lambda_for(&m.into(), d, 0.25);
+    let lambda = lambda_for(&m.into(), &d.typed::<LambdaTuning>(), 0.25);
     Ok(Params::of(&tuning::karan_dey(&m, lambda)?).with_lambda(lambda))
 }
 
@@ -34,7 +34,7 @@ fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, cra
     // The W-I loop is 1 + C·Kv/(s(1 + Ls)) (see dtc::watanabe_ito): SIMC PI for
     // an integrator with the lag L folded into the delay, τc = λ (default L/2).
     let m = integrating_model(plant, WI_PLANT)?;
-    let lambda = lambda_for(&m.into(), d, 0.5);
+    let lambda = lambda_for(&m.into(), &d.typed::<LambdaTuning>(), 0.5);
     let s = lambda + m.l;
     let g = PidGains {
         kp: 1.0 / (m.k * s),
@@ -70,8 +70,9 @@ fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, 
     // set point k/(s + k) with k = 1/λ (λ = L/4 by default); load loop
     // (1 + k1)s² + k2 s + k3 = (s + a)² with a = 1/L.
     let m = integrating_model(plant, AHL_PLANT)?;
-    let lambda = lambda_for(&m.into(), d, 0.25);
-    let a = d.get("a").unwrap_or(1.0 / m.l);
+    let t: AstromHangLimTuning = d.typed();
+    let lambda = lambda_for(&m.into(), &t, 0.25);
+    let a = t.a.unwrap_or(1.0 / m.l);
     let p = AstromHangLimParams {
         k: 1.0 / lambda,
         k1: 0.0,
@@ -98,9 +99,8 @@ fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, c
         plant,
         "the Matausek-Micic predictor needs an integrating plant",
     )?;
-    let tr = d
-        .get("tr")
-        .unwrap_or_else(|| lambda_for(&m.into(), d, 0.25));
+    let t: MatausekMicicTuning = d.typed();
+    let tr = t.tr.unwrap_or_else(|| lambda_for(&m.into(), &t, 0.25));
     Ok(Params::of(&MatausekMicicParams {
         kr: 1.0 / (m.k * tr),
         k0: 0.5 / (m.k * m.l),
@@ -117,9 +117,9 @@ fn build_matausek_micic<T: Real, const N: usize>(
 }
 
 /// Kaya–Atherton's settings for `plant` and the `λ` they were tuned for.
-pub(super) fn kaya_atherton_settings(
+pub(super) fn kaya_atherton_settings<D: DesignSet>(
     plant: &TransferFunction,
-    d: &Design,
+    d: &D,
 ) -> Result<(KayaAthertonParams, f64), crate::Error> {
     let m = match plant.reduce(false)? {
         // an integrator with a lag T acts at low frequency as K/s with T more dead time
@@ -165,7 +165,7 @@ pub(super) fn kaya_atherton_settings(
 }
 
 fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    let (p, lambda) = kaya_atherton_settings(plant, d)?;
+    let (p, lambda) = kaya_atherton_settings(plant, &d.typed::<LambdaTuning>())?;
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
@@ -194,7 +194,7 @@ pub(super) const WATANABE_ITO: Scheme = Scheme {
     source: "Bag (2022) Sec. 4.4.1",
     plants: INT,
     params: PidGains::<f64>::NAMES,
-    design: &["lambda", "alpha"],
+    design: LambdaTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_watanabe_ito,
         build: by_order!(build_watanabe_ito),
@@ -208,7 +208,7 @@ pub(super) const ASTROM_HANG_LIM: Scheme = Scheme {
     source: "Bag (2022) Sec. 4.4.2, Eqs. 4.13-4.17",
     plants: INT,
     params: AstromHangLimParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "a"],
+    design: AstromHangLimTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_astrom_hang_lim,
         build: by_order!(build_astrom_hang_lim),
@@ -221,7 +221,7 @@ pub(super) const MATAUSEK_MICIC: Scheme = Scheme {
     source: "Bag (2022) Sec. 4.4.3, refs [8], [52]",
     plants: INT,
     params: MatausekMicicParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "tr"],
+    design: MatausekMicicTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_matausek_micic,
         build: by_order!(build_matausek_micic),
@@ -234,7 +234,7 @@ pub(super) const KAYA_ATHERTON: Scheme = Scheme {
     source: "Bag (2022) Sec. 4.4.3, Eq. 4.18",
     plants: STABLE_INT,
     params: KayaAthertonParams::<f64>::NAMES,
-    design: &["lambda", "alpha"],
+    design: LambdaTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_kaya_atherton,
         build: by_order!(build_kaya_atherton),
@@ -248,7 +248,7 @@ pub(super) const KARAN_DEY: Scheme = Scheme {
     source: "Bag (2022) Sec. 4.5",
     plants: INT,
     params: KaranDeyParams::<f64>::NAMES,
-    design: &["lambda", "alpha"],
+    design: LambdaTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_karan_dey,
         build: by_order!(build_karan_dey),

@@ -17,7 +17,7 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
-use crate::params::{ParamList, ParamSet};
+use crate::params::{DesignSet, ParamList, ParamSet};
 use crate::poly::{PlantKind, TransferFunction};
 use crate::LoopController;
 use crate::Real;
@@ -179,18 +179,24 @@ pub struct Design {
     pub lambda: Option<f64>,
     /// A named rule (`pid`: `imc`, `simc` or an ultimate-cycle rule).
     pub rule: Option<String>,
-    /// Design values by name (`alpha`, `case`, `tde`, …).
+    /// Design values by name (`alpha`, `case`, `tde`, …): the keys of the
+    /// scheme's [`DesignSet`], read back with [`Design::typed`].
     pub values: Vec<(String, f64)>,
 }
 
 impl Design {
-    /// A design value.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        self.values
-            .iter()
-            .rev()
-            .find(|(k, _)| k == name)
-            .map(|(_, v)| *v)
+    /// The scheme's typed design inputs: every value by its field name (a name
+    /// the type lacks is skipped: the registry passes only the scheme's
+    /// [`DesignSet::NAMES`]), `--lambda` over `--set lambda=`.
+    pub fn typed<D: DesignSet>(&self) -> D {
+        let mut d = D::default();
+        for (k, v) in &self.values {
+            d.set(k, *v);
+        }
+        if let Some(l) = self.lambda {
+            d.set("lambda", l);
+        }
+        d
     }
 }
 

@@ -5,9 +5,9 @@ use alloc::boxed::Box;
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns};
 use crate::poly::TransferFunction;
-use crate::tuning::PidGains;
+use crate::tuning::{LambdaTuning, PidGains};
 use crate::Pid;
-use crate::{tuning, Fopdt, ParamSet, ProcessModel, Real};
+use crate::{tuning, DesignSet, Fopdt, ParamSet, ProcessModel, Real};
 
 fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     tune(plant, d, false)
@@ -36,6 +36,7 @@ fn tune(plant: &TransferFunction, d: &Design, pi_only: bool) -> Result<Params, c
         "simc"
     };
     let rule = d.rule.as_deref().unwrap_or(default_rule);
+    let t: LambdaTuning = d.typed();
     let (g, lambda) = match rule {
         "imc" | "imc-pid" if pi_only => {
             return Err(crate::Error::Unsupported(
@@ -51,11 +52,11 @@ fn tune(plant: &TransferFunction, d: &Design, pi_only: bool) -> Result<Params, c
                     ))
                 }
             };
-            let lambda = lambda_for(&f.into(), d, 1.0);
+            let lambda = lambda_for(&f.into(), &t, 1.0);
             (tuning::imc_pid(&f, lambda)?, lambda)
         }
         "simc" => {
-            let lambda = lambda_for(&m, d, 1.0);
+            let lambda = lambda_for(&m, &t, 1.0);
             (tuning::simc(&m, lambda)?, lambda)
         }
         name => {
@@ -96,7 +97,7 @@ pub(super) const PID: Scheme = Scheme {
     source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
     plants: STABLE_INT,
     params: PidGains::<f64>::NAMES,
-    design: &["lambda", "alpha"],
+    design: LambdaTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_pid,
         build: both!(build_pid),
@@ -109,7 +110,7 @@ pub(super) const PI: Scheme = Scheme {
     source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
     plants: STABLE_INT,
     params: PidGains::<f64>::NAMES,
-    design: &["lambda", "alpha"],
+    design: LambdaTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_pi,
         build: both!(build_pid),

@@ -5,17 +5,17 @@ use alloc::boxed::Box;
 
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
-use crate::dtc::filtered_smith::FilteredSmithParams;
-use crate::dtc::huang::HuangParams;
+use crate::dtc::filtered_smith::{FilteredSmithParams, FilteredSmithTuning};
+use crate::dtc::huang::{HuangParams, HuangTuning};
 use crate::dtc::{self, SmithPredictor};
 use crate::poly::TransferFunction;
-use crate::tuning::PidGains;
-use crate::{tuning, ParamSet, ProcessModel, Real};
+use crate::tuning::{LambdaTuning, PidGains};
+use crate::{tuning, DesignSet, ParamSet, ProcessModel, Real};
 
 /// Kaya's PI/PID for a stable model, the thesis's IMC-PI for an integrating one.
-fn primary_gains(
+fn primary_gains<D: DesignSet>(
     plant: &TransferFunction,
-    d: &Design,
+    d: &D,
     stable_factor: f64,
 ) -> Result<(tuning::PidGains<f64>, f64, ProcessModel<f64>), crate::Error> {
     let m = plant.reduce(plant.order() >= 2)?;
@@ -32,7 +32,7 @@ fn primary_gains(
 }
 
 fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    let (g, lambda, _) = primary_gains(plant, d, 1.0)?;
+    let (g, lambda, _) = primary_gains(plant, &d.typed::<LambdaTuning>(), 1.0)?;
     Ok(Params::of(&g).with_lambda(lambda))
 }
 
@@ -56,9 +56,10 @@ fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
 
 fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     // the MathWorks Smith predictor example: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
-    let (g, lambda, m) = primary_gains(plant, d, 1.0 / 7.5)?;
-    let b = d.get("b").unwrap_or(0.5 * dominant_lag(&m));
-    let a = d.get("a").unwrap_or(0.0);
+    let t: FilteredSmithTuning = d.typed();
+    let (g, lambda, m) = primary_gains(plant, &t, 1.0 / 7.5)?;
+    let b = t.b.unwrap_or(0.5 * dominant_lag(&m));
+    let a = t.a.unwrap_or(0.0);
     let p = FilteredSmithParams {
         a,
         b,
@@ -80,9 +81,10 @@ fn build_filtered_smith<T: Real, const N: usize>(
 
 fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     // the MathWorks Smith predictor example: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
-    let (g, lambda, m) = primary_gains(plant, d, 0.5)?;
-    let kb = d.get("kb").unwrap_or(0.05);
-    let tb = d.get("tb").unwrap_or(dominant_lag(&m));
+    let t: HuangTuning = d.typed();
+    let (g, lambda, m) = primary_gains(plant, &t, 0.5)?;
+    let kb = t.kb.unwrap_or(0.05);
+    let tb = t.tb.unwrap_or(dominant_lag(&m));
     let p = HuangParams {
         kb,
         tb,
@@ -111,7 +113,7 @@ pub(super) const SMITH: Scheme = Scheme {
     source: "Kaya (2003) Eqs. 18-33",
     plants: STABLE_INT,
     params: PidGains::<f64>::NAMES,
-    design: &["lambda", "alpha"],
+    design: LambdaTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_smith,
         build: by_order!(build_smith),
@@ -124,7 +126,7 @@ pub(super) const FILTERED_SMITH: Scheme = Scheme {
     source: "the MathWorks Smith predictor example",
     plants: STABLE,
     params: FilteredSmithParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "a", "b"],
+    design: FilteredSmithTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_filtered_smith,
         build: by_order!(build_filtered_smith),
@@ -137,7 +139,7 @@ pub(super) const HUANG: Scheme = Scheme {
     source: "the MathWorks Smith predictor example",
     plants: STABLE,
     params: HuangParams::<f64>::NAMES,
-    design: &["lambda", "alpha", "kb", "tb"],
+    design: HuangTuning::NAMES,
     fns: SchemeFns::Single {
         tune: tune_huang,
         build: by_order!(build_huang),

@@ -223,3 +223,11 @@ crate::params::param_struct! {
         tf: Positive,
     }
 }
+
+crate::params::design_struct! {
+    /// Design inputs of the filtered Smith predictor of García et al. (2010).
+    pub struct FspTuning {
+        /// Robustness filter time constant `Tf` (s); default `L/2`.
+        tf,
+    }
+}
