@@ -75,10 +75,30 @@ pub fn eval(p: &[f64], x: f64) -> f64 {
     p.iter().fold(0.0, |acc, c| acc * x + c)
 }
 
-/// Complex roots `(re, im)` of a polynomial.
+/// Complex roots `(re, im)` of a polynomial: the eigenvalues of its companion
+/// matrix (as MATLAB's `roots`), fixed-size up to degree 16, on the heap beyond.
 pub fn poly_roots(p: &[f64]) -> Result<Vec<(f64, f64)>, Error> {
     let p = trim(p);
     let deg = p.len().saturating_sub(1);
+    if deg > 16 {
+        let lead = p.first().copied().unwrap_or(1.0);
+        let c = nalgebra::DMatrix::<f64>::from_fn(deg, deg, |i, j| {
+            if i == 0 {
+                -p.get(j.wrapping_add(1)).copied().unwrap_or(0.0) / lead
+            } else if j.wrapping_add(1) == i {
+                1.0
+            } else {
+                0.0
+            }
+        });
+        let schur = nalgebra::linalg::Schur::try_new(c, f64::EPSILON, 100_000)
+            .ok_or(Error::Numerical("polynomial roots"))?;
+        return Ok(schur
+            .complex_eigenvalues()
+            .iter()
+            .map(|z| (z.re, z.im))
+            .collect());
+    }
     let mut out = vec![Complex::<f64>::default(); deg];
     roots(&p, &mut out)?;
     Ok(out.into_iter().map(|c| (c.re, c.im)).collect())

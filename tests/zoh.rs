@@ -74,3 +74,62 @@ fn tustin_and_matched_keep_dc_gain() {
         assert_close(a.step(1.0), c.step(1.0), 1e-12, 1e-12);
     }
 }
+
+/// The companion-matrix roots against polynomials built from known roots:
+/// simple roots to rounding, a triple root to the `ε^{1/3}` a perturbation
+/// of a triple root allows, and degrees on both sides of the size switch (4/16).
+#[test]
+fn polynomial_roots_are_the_companion_eigenvalues() {
+    use msp::poly::{mul, poly_roots};
+    fn from_roots(rs: &[(f64, f64)]) -> Vec<f64> {
+        let mut p = vec![1.0];
+        for &(re, im) in rs {
+            if im == 0.0 {
+                p = mul(&p, &[1.0, -re]);
+            } else if im > 0.0 {
+                // the conjugate pair as one real quadratic
+                p = mul(&p, &[1.0, -2.0 * re, re * re + im * im]);
+            }
+        }
+        p
+    }
+    let check = |rs: &[(f64, f64)], tol: f64| {
+        let p = from_roots(rs);
+        let found = poly_roots(&p).unwrap();
+        assert_eq!(found.len(), rs.len(), "{rs:?}");
+        for r in rs {
+            let nearest = found
+                .iter()
+                .map(|f| (f.0 - r.0).hypot(f.1 - r.1))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < tol * (1.0 + r.0.hypot(r.1)), "{r:?} in {found:?}");
+        }
+    };
+    check(
+        &[(-1.0, 0.0), (-2.0, 0.0), (-1.0, 2.0), (-1.0, -2.0)],
+        1e-12,
+    );
+    check(&[(0.0, 0.0), (-1.0 / 40.2, 0.0)], 1e-12);
+    check(&[(0.5, 0.0), (-3.0, 0.0), (-0.1, 0.0)], 1e-12);
+    check(&[(-1.0, 0.0); 3], 1e-4);
+    let ten: Vec<(f64, f64)> = (1..=10).map(|k| (-f64::from(k) / 4.0, 0.0)).collect();
+    check(&ten, 1e-6);
+    // a constant has none; beyond degree 16 the companion matrix is on the heap
+    assert!(poly_roots(&[3.0]).unwrap().is_empty());
+    // the poles of an 18th-order Butterworth filter (well conditioned)
+    let butterworth: Vec<(f64, f64)> = (0..18)
+        .map(|k| {
+            let phi = std::f64::consts::PI * (2.0 * f64::from(k) + 19.0) / 36.0;
+            (phi.cos(), phi.sin())
+        })
+        .collect();
+    // its coefficients reach ~1e4, so rounding them moves the roots by ~1e-9
+    check(&butterworth, 1e-7);
+    assert_eq!(
+        "e^-2s/(s+1)^17"
+            .parse::<msp::poly::TransferFunction>()
+            .unwrap()
+            .kind(),
+        msp::poly::PlantKind::Stable
+    );
+}

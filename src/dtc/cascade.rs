@@ -464,7 +464,7 @@ fn place(gm: &TransferFunction, a: f64, b: Option<f64>) -> Result<[f64; 4], Erro
             row[3] = rhs;
         }
     }
-    let x = solve_small(&mut m, unknowns)?;
+    let x = solve_small(&m, unknowns)?;
     let (tau, kp, ki) = (x[0], x[1], x[2]);
     let kd = if unknowns == 4 { x[3] } else { 0.0 };
     if !(tau >= 0.0) {
@@ -475,39 +475,23 @@ fn place(gm: &TransferFunction, a: f64, b: Option<f64>) -> Result<[f64; 4], Erro
     Ok([kp, ki, kd, tau])
 }
 
-/// Gauss–Jordan elimination on an `n×(n+1)` augmented system (`n ≤ 4`).
+/// Solves the `n×(n+1)` augmented system `m` (`n ≤ 4`) by LU with partial
+/// pivoting (nalgebra).
 #[cfg(feature = "alloc")]
-fn solve_small(m: &mut [[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
-    for col in 0..n {
-        let piv = (col..n)
-            .max_by(|a, b| {
-                let va = m.get(*a).and_then(|r| r.get(col)).map_or(0.0, |v| v.abs());
-                let vb = m.get(*b).and_then(|r| r.get(col)).map_or(0.0, |v| v.abs());
-                va.total_cmp(&vb)
-            })
-            .unwrap_or(col);
-        m.swap(col, piv);
-        let prow = m.get(col).copied().unwrap_or([0.0; 5]);
-        let p = prow.get(col).copied().unwrap_or(0.0);
-        if p.abs() < 1e-300 {
-            return Err(Error::Numerical("pole placement (singular equations)"));
-        }
-        for (r, row) in m.iter_mut().enumerate().take(n) {
-            if r == col {
-                continue;
-            }
-            let f = row.get(col).copied().unwrap_or(0.0) / p;
-            for (v, pv) in row.iter_mut().zip(prow.iter()) {
-                *v -= f * pv;
-            }
-        }
+fn solve_small(m: &[[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
+    let at = |i: usize, j: usize| m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0);
+    let a = nalgebra::DMatrix::from_fn(n, n, at);
+    let b = nalgebra::DVector::from_fn(n, |i, _| at(i, n));
+    let x = a
+        .lu()
+        .solve(&b)
+        .filter(|x| x.iter().all(|v| v.is_finite()))
+        .ok_or(Error::Numerical("pole placement (singular equations)"))?;
+    let mut out = [0.0; 4];
+    for (o, v) in out.iter_mut().zip(x.iter()) {
+        *o = *v;
     }
-    let mut x = [0.0; 4];
-    for (i, xi) in x.iter_mut().enumerate().take(n) {
-        let row = m.get(i).copied().unwrap_or([0.0; 5]);
-        *xi = row.get(n).copied().unwrap_or(0.0) / row.get(i).copied().unwrap_or(1.0);
-    }
-    Ok(x)
+    Ok(out)
 }
 
 /// Any single-loop outer controller (its "actuator" is the inner set point

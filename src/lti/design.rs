@@ -1,12 +1,12 @@
 //! Construction and discretization of [`Lti`] blocks: realization,
 //! ZOH, Tustin and pole-zero matching.
 
-use super::matrix::{expm_and_integral, Mat};
+use super::matrix::{array_of, expm_and_integral, inverse, mat_of, rows_of, vector_of, Mat};
 use super::{Discretization, Lti};
 use crate::complex::Complex;
 use crate::real::{finite, positive};
 use crate::{Error, Real};
-use core::ops::{Add, Div, Mul, Sub};
+use core::ops::{Mul, Sub};
 
 /// Strips leading zeros of a descending coefficient slice.
 fn trim<T: Real>(c: &[T]) -> &[T] {
@@ -158,19 +158,18 @@ impl<T: Real, const N: usize> Lti<T, N> {
             Discretization::Matched => return Self::matched(num, den, ts),
             Discretization::Zoh | Discretization::Tustin => {}
         }
+        // the controllable canonical form: first row −a, ones below the diagonal
         let (a, c, d, n) = companion::<T, N>(num, den)?;
-        let mut am = Mat::<T, N>::zeros(n);
-        for (j, aj) in a.iter().enumerate().take(n) {
-            am.set(0, j, -*aj);
-        }
-        for i in 1..n {
-            am.set(i, i.wrapping_sub(1), T::one());
-        }
+        let am = Mat::<N>::from_fn(|i, j| match (i, j) {
+            (0, j) if j < n => -a.get(j).map_or(0.0, |x| x.f64()),
+            (i, j) if i < n && j.wrapping_add(1) == i => 1.0,
+            _ => 0.0,
+        });
         let mut b = [T::zero(); N];
         if let Some(b0) = b.first_mut() {
             *b0 = T::one();
         }
-        Self::from_state_space_mat(&am, &b, &c, d, ts, method)
+        Self::from_state_space_mat(&am, n, &b, &c, d, ts, method)
     }
 
     /// A continuous state-space system `(A, B, C, D)` of order `n ≤ N` (only the
@@ -200,56 +199,43 @@ impl<T: Real, const N: usize> Lti<T, N> {
                 "pole-zero matching of a state-space model",
             ));
         }
-        Self::from_state_space_mat(&Mat { a: *a, n }, b, c, d, ts, method)
+        Self::from_state_space_mat(&mat_of(a, n), n, b, c, d, ts, method)
     }
 
+    /// Discretizes `(A, B, C, D)` (order `n`, `A` in the leading block), in `f64`.
     fn from_state_space_mat(
-        a: &Mat<T, N>,
+        a: &Mat<N>,
+        n: usize,
         b: &[T; N],
         c: &[T; N],
         d: T,
         ts: T,
         method: Discretization,
     ) -> Result<Self, Error> {
-        let n = a.n;
+        let (b, c, d, h) = (vector_of(b, n), vector_of(c, n), d.f64(), ts.f64());
         let (phi, gamma, c, d) = match method {
+            // Φ = e^{Ah}, Γ = ∫₀^h e^{Aτ}dτ·B (Franklin, Powell & Workman,
+            // Digital Control of Dynamic Systems, Sec. 4.3)
             Discretization::Zoh | Discretization::Matched => {
-                let (e, p) = expm_and_integral(a, ts);
-                (e, p.mul_vec(b), *c, d)
+                let (e, p) = expm_and_integral(a, h);
+                (e, p * b, c, d)
             }
             Discretization::Tustin => {
                 // scipy's bilinear form: M = I − A h/2,
                 // Φ = M⁻¹(I + A h/2), Γ = M⁻¹ B h, C_d = C M⁻¹, D_d = D + C Γ / 2.
-                let ah2 = a.scale(ts * T::half());
-                let m = Mat::eye(n).add(&ah2.scale(-T::one()));
-                let minv = m.solve(&Mat::eye(n))?;
-                let phi = minv.mul(&Mat::eye(n).add(&ah2));
-                let g0 = minv.mul_vec(b);
-                let mut gamma = [T::zero(); N];
-                for (g, v) in gamma.iter_mut().zip(g0.iter()) {
-                    *g = *v * ts;
-                }
-                let mut cd = [T::zero(); N];
-                for (j, cj) in cd.iter_mut().enumerate().take(n) {
-                    let mut s = T::zero();
-                    for (k, ck) in c.iter().enumerate().take(n) {
-                        s = s + *ck * minv.get(k, j);
-                    }
-                    *cj = s;
-                }
-                let cg = c
-                    .iter()
-                    .zip(gamma.iter())
-                    .take(n)
-                    .fold(T::zero(), |s, (a, b)| s + *a * *b);
-                (phi, gamma, cd, d + cg * T::half())
+                let ah2 = a * (h * 0.5);
+                let eye = Mat::<N>::identity();
+                let minv = inverse(&(eye - ah2), n)?;
+                let gamma = minv * b * h;
+                let cd = (c.transpose() * minv).transpose();
+                (minv * (eye + ah2), gamma, cd, d + c.dot(&gamma) * 0.5)
             }
         };
         let out = Lti {
-            phi: phi.a,
-            gamma,
-            c,
-            d,
+            phi: rows_of(&phi, n),
+            gamma: array_of(&gamma, n),
+            c: array_of(&c, n),
+            d: T::of(d),
             x: [T::zero(); N],
             n,
         };
@@ -412,9 +398,11 @@ fn strip_one_value<T: Real>(p: &[T], len: usize, ts: T) -> T {
     }
 }
 
-/// Roots of a real polynomial (descending coefficients) by the Durand–Kerner
-/// iteration; `out` receives `deg` roots.
+/// Roots of a real polynomial (descending coefficients): the eigenvalues of
+/// its companion matrix (nalgebra's real Schur decomposition, as MATLAB's and
+/// numpy's `roots`); `out` receives `deg` roots. Degrees up to 16.
 pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Error> {
+    let p = trim(p);
     let deg = p.len().saturating_sub(1);
     if deg == 0 {
         return Ok(());
@@ -422,54 +410,81 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Erro
     if deg > out.len() {
         return Err(Error::OrderTooHigh("polynomial"));
     }
-    let lead = p.first().copied().unwrap_or(T::one());
-    let eval = |z: Complex<T>| -> Complex<T> {
-        p.iter().fold(Complex::default(), |acc, c| {
-            acc.mul(z).add(Complex::new(*c / lead, T::zero()))
-        })
+    let lead = p.first().map_or(1.0, |x| x.f64());
+    let mut monic = [0.0f64; 17];
+    for (m, c) in monic.iter_mut().zip(p.iter()) {
+        *m = c.f64() / lead;
+    }
+    let (found, k) = if deg <= 4 {
+        companion_roots_4(&monic, deg)?
+    } else if deg <= 16 {
+        companion_roots_16(&monic, deg)?
+    } else {
+        return Err(Error::OrderTooHigh("polynomial"));
     };
-    let seed = Complex::new(T::of(0.4), T::of(0.9));
-    // radius bound: 1 + max |a_i / a_0|
-    let r = p
-        .iter()
-        .skip(1)
-        .fold(T::zero(), |m, c| m.max((*c / lead).abs()))
-        + T::one();
-    let mut z = Complex::new(T::one(), T::zero());
-    for o in out.iter_mut().take(deg) {
-        *o = z.mul(Complex::new(r, T::zero()));
-        z = z.mul(seed);
+    if k != deg {
+        return Err(Error::Numerical("polynomial roots"));
     }
-    for _ in 0..500 {
-        let mut delta = T::zero();
-        for i in 0..deg {
-            let zi = out.get(i).copied().unwrap_or_default();
-            let mut den = Complex::new(T::one(), T::zero());
-            for (j, zj) in out.iter().enumerate().take(deg) {
-                if j != i {
-                    den = den.mul(zi.sub(*zj));
-                }
-            }
-            let step = eval(zi).div(den);
-            if let Some(o) = out.get_mut(i) {
-                *o = zi.sub(step);
-            }
-            delta = delta.max(step.abs());
-        }
-        if delta < T::epsilon() * T::of(16.0) * r {
-            break;
-        }
-    }
-    for o in out.iter_mut().take(deg) {
-        if o.im.abs() < T::of(1e-9) * (T::one() + o.re.abs()) {
-            o.im = T::zero();
-        }
-        if !(o.re.is_finite() && o.im.is_finite()) {
+    for (o, (re, im)) in out.iter_mut().zip(found.iter()).take(deg) {
+        if !(re.is_finite() && im.is_finite()) {
             return Err(Error::Numerical("polynomial roots"));
         }
+        // a pair split by rounding from a double real root is real
+        let im = if im.abs() < 1e-9 * (1.0 + re.abs()) {
+            0.0
+        } else {
+            *im
+        };
+        *o = Complex::new(T::of(*re), T::of(im));
     }
     Ok(())
 }
+
+/// The roots of the monic polynomial `monic[..=deg]` at a fixed matrix size
+/// `M ≥ deg`: the companion matrix in the leading block, a sentinel beyond
+/// every root (Cauchy's bound) on the rest of the diagonal. The blocks are
+/// decoupled by a zero on the subdiagonal, so the sentinels come back exactly
+/// and are dropped. Returns the roots `(re, im)` and their count.
+macro_rules! companion_roots {
+    ($name:ident, $m:literal) => {
+        fn $name(monic: &[f64; 17], deg: usize) -> Result<([(f64, f64); 16], usize), Error> {
+            let bound = monic
+                .iter()
+                .skip(1)
+                .take(deg)
+                .fold(0.0f64, |m, c| m.max(c.abs()))
+                + 1.0;
+            let sentinel = 2.0 * bound + 1.0;
+            let c = nalgebra::SMatrix::<f64, $m, $m>::from_fn(|i, j| {
+                if i == 0 && j < deg {
+                    -monic.get(j.wrapping_add(1)).copied().unwrap_or(0.0)
+                } else if i < deg && j.wrapping_add(1) == i {
+                    1.0
+                } else if i >= deg && i == j {
+                    sentinel
+                } else {
+                    0.0
+                }
+            });
+            let schur = nalgebra::linalg::Schur::try_new(c, f64::EPSILON, 10_000)
+                .ok_or(Error::Numerical("polynomial roots"))?;
+            let mut out = [(0.0, 0.0); 16];
+            let mut k = 0usize;
+            for z in schur.complex_eigenvalues().iter() {
+                if z.im == 0.0 && z.re == sentinel {
+                    continue;
+                }
+                if let Some(o) = out.get_mut(k) {
+                    *o = (z.re, z.im);
+                }
+                k = k.saturating_add(1);
+            }
+            Ok((out, k))
+        }
+    };
+}
+companion_roots!(companion_roots_4, 4);
+companion_roots!(companion_roots_16, 16);
 
 /// Monic polynomial (descending coefficients, real parts) with roots `e^{r·ts}`.
 /// Long division in place of `a` (descending coefficients) by `b`: afterwards

@@ -67,13 +67,13 @@ pub struct Lti<T, const N: usize> {
 }
 
 mod design;
-mod matrix;
+pub(crate) mod matrix;
 #[cfg(feature = "serde")]
 mod serde_arrays;
 
 pub(crate) use design::{divide_in_place, roots};
 pub use design::{realize, Realization};
-use matrix::Mat;
+use matrix::{array_of, mat_of, vector_of};
 #[cfg(feature = "serde")]
 use serde_arrays::{serde_mat, serde_vec};
 
@@ -272,11 +272,7 @@ impl<T: Real, const N: usize> Lti<T, N> {
 
     /// `Φ·v`.
     pub fn propagate(&self, v: &[T; N]) -> [T; N] {
-        Mat {
-            a: self.phi,
-            n: self.n,
-        }
-        .mul_vec(v)
+        array_of(&(mat_of(&self.phi, self.n) * vector_of(v, self.n)), self.n)
     }
 
     /// The same block with another input vector `Γ`.
@@ -298,15 +294,9 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// (an integrator has no equilibrium for `u ≠ 0`); use [`Lti::set_output`] then.
     pub fn set_steady(&mut self, u: T) -> Result<(), Error> {
         let n = self.n;
-        let m = Mat::eye(n).add(&Mat { a: self.phi, n }.scale(-T::one()));
-        let mut g = Mat::<T, N>::zeros(n);
-        for (i, gi) in self.gamma.iter().enumerate().take(n) {
-            g.set(i, 0, *gi * u);
-        }
-        let x = m.solve(&g)?;
-        for (i, xi) in self.x.iter_mut().enumerate().take(n) {
-            *xi = x.get(i, 0);
-        }
+        let m = matrix::Mat::<N>::identity() - mat_of(&self.phi, n);
+        let x = matrix::solve(&m, &(vector_of(&self.gamma, n) * u.f64()), n)?;
+        self.x = array_of(&x, n);
         Ok(())
     }
 

@@ -77,76 +77,29 @@ pub fn solve<T: Real>(
     if m == 0 || m > MAX_CONDITIONS {
         return Err(Error::OutOfRange("roots"));
     }
-    let mut a = [[T::zero(); MAX_CONDITIONS]; MAX_CONDITIONS];
-    let mut b = [T::zero(); MAX_CONDITIONS];
+    let mut a = crate::lti::matrix::Mat::<MAX_CONDITIONS>::zeros();
+    let mut b = crate::lti::matrix::Vector::<MAX_CONDITIONS>::zeros();
     let mut row = 0usize;
     for (x, mu) in roots {
         for j in 0..*mu {
             // Σ_i c_i · d^j[z^(m−1−i) Q(z)](x) = d^j[z^h Dr(z)](x)
-            if let Some(r) = a.get_mut(row) {
-                for (i, v) in r.iter_mut().enumerate().take(m) {
-                    *v = shifted_derivative(m.saturating_sub(1).saturating_sub(i), q, j, *x);
+            for i in 0..m {
+                let v = shifted_derivative(m.saturating_sub(1).saturating_sub(i), q, j, *x);
+                if let Some(e) = a.get_mut((row, i)) {
+                    *e = v.f64();
                 }
             }
-            if let Some(v) = b.get_mut(row) {
-                *v = shifted_derivative(h, dr, j, *x);
+            if let Some(e) = b.get_mut(row) {
+                *e = shifted_derivative(h, dr, j, *x).f64();
             }
             row = row.saturating_add(1);
         }
     }
-    // Gaussian elimination with partial pivoting on the m×m system
-    for col in 0..m {
-        let piv = (col..m)
-            .max_by(|p, q| {
-                let ap = a
-                    .get(*p)
-                    .and_then(|r| r.get(col))
-                    .map_or(T::zero(), |v| v.abs());
-                let aq = a
-                    .get(*q)
-                    .and_then(|r| r.get(col))
-                    .map_or(T::zero(), |v| v.abs());
-                ap.partial_cmp(&aq).unwrap_or(core::cmp::Ordering::Equal)
-            })
-            .unwrap_or(col);
-        a.swap(col, piv);
-        b.swap(col, piv);
-        let p = a
-            .get(col)
-            .and_then(|r| r.get(col))
-            .copied()
-            .unwrap_or(T::zero());
-        if p.abs() <= T::epsilon() {
-            return Err(Error::Numerical(
-                "robustness filter (the conditions are dependent)",
-            ));
-        }
-        let pivot_row = a.get(col).copied().unwrap_or([T::zero(); MAX_CONDITIONS]);
-        let bc = b.get(col).copied().unwrap_or(T::zero());
-        for r in 0..m {
-            if r == col {
-                continue;
-            }
-            let f = a
-                .get(r)
-                .and_then(|x| x.get(col))
-                .copied()
-                .unwrap_or(T::zero())
-                / p;
-            if let Some(rr) = a.get_mut(r) {
-                for (v, pv) in rr.iter_mut().zip(pivot_row.iter()) {
-                    *v = *v - f * *pv;
-                }
-            }
-            if let Some(v) = b.get_mut(r) {
-                *v = *v - f * bc;
-            }
-        }
-    }
+    let x = crate::lti::matrix::solve(&a, &b, m)
+        .map_err(|_| Error::Numerical("robustness filter (the conditions are dependent)"))?;
     let mut c = [T::zero(); MAX_CONDITIONS];
     for (i, ci) in c.iter_mut().enumerate().take(m) {
-        let d = a.get(i).and_then(|r| r.get(i)).copied().unwrap_or(T::one());
-        *ci = b.get(i).copied().unwrap_or(T::zero()) / d;
+        *ci = T::of(x.get(i).copied().unwrap_or(0.0));
     }
     if c.iter().any(|v| !v.is_finite()) {
         return Err(Error::Numerical("robustness filter"));
