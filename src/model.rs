@@ -168,6 +168,17 @@ impl<T: Real> ProcessModel<T> {
         }
     }
 
+    /// The largest time constant of the delay-free part (0 for an IPDT model).
+    pub fn largest_lag(&self) -> T {
+        match *self {
+            ProcessModel::Fopdt(m) => m.t,
+            ProcessModel::Sopdt(m) => m.t1.max(m.t2),
+            ProcessModel::Ipdt(_) => T::zero(),
+            ProcessModel::Foipdt(m) => m.t,
+            ProcessModel::Ufopdt(m) => m.t,
+        }
+    }
+
     /// True for a pole at the origin.
     pub fn is_integrating(&self) -> bool {
         matches!(self, ProcessModel::Ipdt(_) | ProcessModel::Foipdt(_))

@@ -521,3 +521,75 @@ fn pi_is_a_pi_tuned_by_simc_on_the_first_order_model() {
         .tune_rule(&"e^-10s/(s+1)^2".parse().unwrap(), None, Some("zn-pi"), &[])
         .is_ok());
 }
+
+/// `msp run --plant EXPR` with nothing else, for plants a process engineer
+/// meets every day: integrating plants with lags or zeros, and plants without
+/// dead time. The default loop settles on the set point and rejects an input
+/// load with zero steady error (a sampled loop with integral action on an
+/// integrating plant: the error of the final samples is at rounding level).
+#[test]
+fn the_defaults_control_everyday_plants() {
+    for (plant, scheme) in [
+        ("e^-1.5s/(s*(s+1))", "matausek-micic"),
+        ("2/(s*(10s+1))*e^-1s", "matausek-micic"),
+        ("e^-1.5s*(2s+1)/(s*(s+1)*(0.5s+1))", "matausek-micic"),
+        ("0.5/(s*(2s+1)^2)*e^-3s", "matausek-micic"),
+        ("1/(s*(s+1))", "matausek-micic"),
+        ("0.2/s*e^-7.4s", "karan-dey"),
+        ("1/(s+1)^2", "smith"),
+        ("2/(5s+1)", "smith"),
+    ] {
+        let sc = Scenario {
+            plant: Some(plant.parse().unwrap()),
+            duration: Some(900.0),
+            disturbance: vec![load(-0.1, 450.0)],
+            ..Default::default()
+        };
+        let o = sc.run().unwrap_or_else(|e| panic!("{plant}: {e}"));
+        assert_eq!(o.controller, scheme, "{plant}");
+        let y = &o.result.y;
+        let settled = |to: usize| y[to - 50..to].iter().all(|v| (v - 1.0).abs() < 1e-6);
+        let before_load = (450.0 / o.ts) as usize;
+        assert!(
+            settled(before_load),
+            "{plant}: y = {} before the load",
+            y[before_load]
+        );
+        assert!(
+            settled(y.len()),
+            "{plant}: y = {} at the end",
+            y[y.len() - 1]
+        );
+    }
+    // a delay-free plant needs no --lambda: λ is half the largest time constant
+    let o = run("1/(s+1)^2", "pid", |_| {});
+    assert_eq!(o.params.lambda(), Some(0.5));
+}
+
+/// The Karan–Dey MSP is designed for an IPDT model: on an integrating plant
+/// with a lag it says so and names the scheme that takes the whole model.
+#[test]
+fn karan_dey_names_the_scheme_for_an_integrating_plant_with_lags() {
+    let sc = Scenario {
+        plant: Some("2/(s*(3s+1))*e^-1s".parse().unwrap()),
+        controller: Some("karan-dey".into()),
+        ..Default::default()
+    };
+    let e = sc.run().unwrap_err().to_string();
+    assert!(e.contains("IPDT") && e.contains("matausek-micic"), "{e}");
+}
+
+/// `pi` is a PI on every plant: on an integrator with a lag SIMC's rule gives
+/// a PID (`td = T`), so the PI is tuned on the IPDT with the lag in the delay.
+#[test]
+fn pi_has_no_derivative_on_an_integrator_with_a_lag() {
+    let o = run("2/(s*(3s+1))*e^-1s", "pi", |sc| {
+        sc.duration = Some(1000.0);
+    });
+    assert_eq!(o.params.get("td"), Some(0.0));
+    let pid = run("2/(s*(3s+1))*e^-1s", "pid", |sc| {
+        sc.duration = Some(300.0);
+    });
+    assert!(pid.params.get("td").unwrap() > 0.0);
+    assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-6);
+}

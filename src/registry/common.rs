@@ -19,16 +19,32 @@ pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, cr
         .with_limits(T::of(b.u_min), T::of(b.u_max)))
 }
 
-/// `λ`: given, or `alpha·L`, or `default_factor·L`.
+/// `λ`: given, or `alpha·L`, or `default_factor·L`; for a model without dead
+/// time, [`delay_free_lambda`].
 pub(super) fn lambda_for<D: DesignSet>(
     model: &ProcessModel<f64>,
     d: &D,
     default_factor: f64,
 ) -> f64 {
+    let l = model.delay();
     match (d.lambda(), d.alpha()) {
-        (Some(l), _) => l,
-        (None, Some(a)) => a * model.delay(),
-        (None, None) => default_factor * model.delay(),
+        (Some(lambda), _) => lambda,
+        (None, Some(a)) if l > 0.0 => a * l,
+        (None, None) if l > 0.0 => default_factor * l,
+        _ => delay_free_lambda(model),
+    }
+}
+
+/// `λ` for a model without dead time, where the rules' `λ = α·L` is zero:
+/// half the largest time constant (the closed loop twice as fast as the
+/// open loop, as SIMC's `τc` may be chosen freely when `θ = 0`, Skogestad
+/// (2003)), or 1 s for a pure integrator, which has no time scale of its own.
+pub(crate) fn delay_free_lambda(model: &ProcessModel<f64>) -> f64 {
+    let lag = model.largest_lag();
+    if lag > 0.0 {
+        0.5 * lag
+    } else {
+        1.0
     }
 }
 
@@ -87,6 +103,10 @@ pub(super) fn integrating_model(
 ) -> Result<Ipdt<f64>, crate::Error> {
     match plant.reduce(false)? {
         ProcessModel::Ipdt(m) => Ok(m),
+        // an integrator with a lag T acts at low frequency as K/s with T more
+        // dead time (Skogestad's half rule puts every lag of an integrating
+        // plant into the delay); the predictor still holds the whole model
+        ProcessModel::Foipdt(f) => Ipdt::new(f.k, f.l + f.t),
         _ => Err(crate::Error::Unsupported(scheme)),
     }
 }

@@ -12,12 +12,22 @@ use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
 use crate::dtc::{self, Compensator, KaranDeyParams};
 use crate::poly::TransferFunction;
 use crate::tuning::{LambdaTuning, PidGains};
-use crate::{tuning, DesignSet, Ipdt, ParamSet, ProcessModel, Real};
+use crate::{tuning, DesignSet, ParamSet, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
 fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
-    let m = integrating_model(plant, "the Karan-Dey MSP needs an integrating plant")?;
+    // the MSP's three controllers are designed for K·e^{−θs}/s; its set-point
+    // PI ignores a lag, which the predictor then keeps in the loop
+    let m = match plant.exact_model() {
+        Some(ProcessModel::Ipdt(m)) => m,
+        _ if plant.kind() == crate::poly::PlantKind::Integrating => {
+            return Err(crate::Error::Unsupported(
+                "the Karan-Dey MSP is designed for an IPDT model K*e^(-θs)/s; for an integrating plant with lags or zeros use matausek-micic (the default for it), or give --model as an IPDT",
+            ))
+        }
+        _ => return Err(crate::Error::Unsupported("the Karan-Dey MSP needs an integrating plant")),
+    };
     let lambda = lambda_for(&m.into(), &d.typed::<LambdaTuning>(), 0.25);
     Ok(Params::of(&tuning::karan_dey(&m, lambda)?).with_lambda(lambda))
 }
@@ -116,15 +126,18 @@ fn build_matausek_micic<T: Real, const N: usize>(
     compensator::<T, _, N>(p, model, b, dtc::matausek_micic::build)
 }
 
+const KA_PLANT: &str = "the Kaya-Atherton predictor needs a stable or integrating plant";
+
 /// Kaya–Atherton's settings for `plant` and the `λ` they were tuned for.
 pub(super) fn kaya_atherton_settings<D: DesignSet>(
     plant: &TransferFunction,
     d: &D,
 ) -> Result<(KayaAthertonParams, f64), crate::Error> {
-    let m = match plant.reduce(false)? {
-        // an integrator with a lag T acts at low frequency as K/s with T more dead time
-        ProcessModel::Foipdt(f) => ProcessModel::Ipdt(Ipdt::new(f.k, f.l + f.t)?),
-        other => other,
+    let m = match plant.kind() {
+        crate::poly::PlantKind::Integrating => {
+            ProcessModel::Ipdt(integrating_model(plant, KA_PLANT)?)
+        }
+        _ => plant.reduce(false)?,
     };
     Ok(match m {
         ProcessModel::Ipdt(i) => {
@@ -156,11 +169,7 @@ pub(super) fn kaya_atherton_settings<D: DesignSet>(
             };
             (p, lambda)
         }
-        _ => {
-            return Err(crate::Error::Unsupported(
-                "the Kaya-Atherton predictor needs a stable or integrating plant",
-            ))
-        }
+        _ => return Err(crate::Error::Unsupported(KA_PLANT)),
     })
 }
 

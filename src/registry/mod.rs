@@ -343,12 +343,17 @@ pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
         .ok_or_else(|| RegistryError::UnknownScheme(name.to_string()))
 }
 
-/// The default scheme for a plant: the Karan–Dey MSP for integrating plants,
-/// the Smith predictor (Kaya tuning) for stable ones, the filtered Smith
-/// predictor for unstable ones.
-pub fn default_for(kind: PlantKind) -> Result<&'static Scheme, RegistryError> {
-    match kind {
-        PlantKind::Integrating => find("karan-dey"),
+/// The default scheme for a model: the Karan–Dey MSP for an IPDT model (the
+/// integrating case of Bag (2022)), the Matausek–Micić predictor for any other
+/// integrating model (tuned on its half-rule IPDT, it holds the whole model
+/// in its predictor), the Smith predictor (Kaya tuning) for stable ones, the
+/// filtered Smith predictor for unstable ones.
+pub fn default_for(model: &TransferFunction) -> Result<&'static Scheme, RegistryError> {
+    match model.kind() {
+        PlantKind::Integrating => match model.exact_model() {
+            Some(crate::ProcessModel::Ipdt(_)) => find("karan-dey"),
+            _ => find("matausek-micic"),
+        },
         PlantKind::Stable => find("smith"),
         PlantKind::Unstable => find("fsp"),
     }

@@ -7,7 +7,7 @@ use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns}
 use crate::poly::TransferFunction;
 use crate::tuning::{LambdaTuning, PidGains};
 use crate::Pid;
-use crate::{tuning, DesignSet, Fopdt, ParamSet, ProcessModel, Real};
+use crate::{tuning, DesignSet, Fopdt, Ipdt, ParamSet, ProcessModel, Real};
 
 fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
     tune(plant, d, false)
@@ -28,6 +28,9 @@ fn tune(plant: &TransferFunction, d: &Design, pi_only: bool) -> Result<Params, c
             let (big, small) = (s.t1.max(s.t2), s.t1.min(s.t2));
             ProcessModel::Fopdt(Fopdt::new(s.k, big + small / 2.0, s.l + small / 2.0)?)
         }
+        // an integrator with a lag: SIMC's PI is tuned on the IPDT with the
+        // lag in the delay (its PID would cancel the lag with td = T)
+        ProcessModel::Foipdt(f) if pi_only => ProcessModel::Ipdt(Ipdt::new(f.k, f.l + f.t)?),
         other => other,
     };
     let default_rule = if !pi_only && matches!(plant.reduce(false)?, ProcessModel::Fopdt(_)) {

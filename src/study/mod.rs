@@ -280,7 +280,7 @@ impl Scenario {
         let scheme = match (&self.controller, inner) {
             (Some(name), _) => registry::find(name)?,
             (None, Some(_)) => registry::find("fspcc")?,
-            (None, None) => registry::default_for(model.kind())?,
+            (None, None) => registry::default_for(model)?,
         };
         let mut overrides: Vec<(String, f64)> = Vec::with_capacity(self.set.len());
         for (k, v) in &self.set {
