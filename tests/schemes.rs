@@ -593,3 +593,21 @@ fn pi_has_no_derivative_on_an_integrator_with_a_lag() {
     assert!(pid.params.get("td").unwrap() > 0.0);
     assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-6);
 }
+
+/// The automatic duration covers settling for a chain of lags, whose slowest
+/// single time constant (10 s) is a quarter of what it takes (their sum, 40 s).
+#[test]
+fn the_chosen_duration_covers_a_chain_of_lags() {
+    let sc = Scenario {
+        plant: Some("2*e^-5s/(10s+1)^4".parse().unwrap()),
+        ..Default::default()
+    };
+    let o = sc.run().unwrap();
+    assert!(o.duration_chosen);
+    let settle = o.metrics.step.settling_time;
+    assert!(
+        settle.is_finite() && settle < 0.5 * o.duration,
+        "settling {settle} in {} s",
+        o.duration
+    );
+}

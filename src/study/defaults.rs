@@ -33,15 +33,35 @@ pub fn choose_ts(plant: &TransferFunction) -> f64 {
     ts
 }
 
-/// A duration that covers settling: ten dead times or ten of the slowest time
-/// constants, whichever is longer.
+/// A duration that covers settling: ten dead times, ten of the slowest time
+/// constants, or ten times the sum of the lags, whichever is longest. The sum
+/// of the lags is exact from the coefficients (`a₁/a₀` of the denominator
+/// without its integrators, minus `b₁/b₀` of the numerator: the lags of
+/// `∏(τᵢs + 1)` add up to the coefficient of `s`), and it is what a chain of
+/// lags such as `(10s + 1)^4` takes to settle, where its slowest single time
+/// constant (10 s) is not.
 pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
     let slow = plant
         .time_scales()
         .unwrap_or_default()
         .into_iter()
         .fold(0.0, f64::max);
-    (10.0 * plant.delay.max(slow)).max(100.0 * ts)
+    let ratio = |p: &[f64]| -> f64 {
+        let p = crate::poly::trim(p);
+        // drop the trailing zeros (integrators, differentiators)
+        let end = p.iter().rposition(|c| *c != 0.0).map_or(0, |i| i + 1);
+        match p.get(..end) {
+            Some([.., a1, a0]) if *a0 != 0.0 => a1 / a0,
+            _ => 0.0,
+        }
+    };
+    let lags = (ratio(&plant.den) - ratio(&plant.num)).abs();
+    let d = 10.0
+        * plant
+            .delay
+            .max(slow)
+            .max(if lags.is_finite() { lags } else { 0.0 });
+    (d).max(100.0 * ts)
 }
 
 /// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`.
