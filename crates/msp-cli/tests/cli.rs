@@ -980,3 +980,50 @@ fn output_to_a_device_writes_into_it_and_leaves_it_a_device() {
     let t = std::fs::metadata("/dev/null").unwrap().file_type();
     assert!(t.is_char_device(), "/dev/null is no longer a device");
 }
+
+/// Files written atomically get the mode a plain `File::create` gives (0666
+/// less the umask), as any other tool's output, not a temporary's 0600; a
+/// file that is replaced keeps its mode.
+#[cfg(unix)]
+#[test]
+fn outputs_have_the_usual_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference");
+    std::fs::File::create(&reference).unwrap();
+    let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let csv = dir.path().join("run.csv");
+    let report = dir.path().join("report.json");
+    msp()
+        .args([
+            "run",
+            "-q",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--duration",
+            "10",
+            "-o",
+        ])
+        .arg(&csv)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    assert_eq!(mode(&csv), mode(&reference));
+    assert_eq!(mode(&report), mode(&reference));
+    std::fs::set_permissions(&csv, std::fs::Permissions::from_mode(0o640)).unwrap();
+    msp()
+        .args([
+            "run",
+            "-q",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--duration",
+            "10",
+            "-o",
+        ])
+        .arg(&csv)
+        .assert()
+        .success();
+    assert_eq!(mode(&csv), 0o640);
+}

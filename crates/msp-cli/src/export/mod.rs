@@ -93,11 +93,18 @@ impl Outputs {
                 devices.push((path, bytes));
                 continue;
             }
-            let mut tmp = tempfile::Builder::new()
-                .prefix(".msp-")
-                .suffix(".tmp")
-                .tempfile_in(parent(path))
-                .map_err(fail)?;
+            let mut builder = tempfile::Builder::new();
+            builder.prefix(".msp-").suffix(".tmp");
+            // the file gets the mode `File::create` would give it (0666 less
+            // the umask), or keeps the mode of the file it replaces, not the
+            // temporary's private 0600
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::PermissionsExt;
+                let mode = std::fs::metadata(path).map_or(0o666, |m| m.permissions().mode());
+                builder.permissions(std::fs::Permissions::from_mode(mode & 0o7777));
+            }
+            let mut tmp = builder.tempfile_in(parent(path)).map_err(fail)?;
             tmp.write_all(bytes).map_err(fail)?;
             tmp.as_file().sync_all().map_err(fail)?;
             staged.push((tmp, path));
