@@ -994,36 +994,20 @@ fn outputs_have_the_usual_permissions() {
     let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
     let csv = dir.path().join("run.csv");
     let report = dir.path().join("report.json");
-    msp()
-        .args([
-            "run",
-            "-q",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "--duration",
-            "10",
-            "-o",
-        ])
-        .arg(&csv)
-        .arg("--report")
-        .arg(&report)
-        .assert()
-        .success();
+    let run = || {
+        msp()
+            .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "--duration", "10"])
+            .arg("-o")
+            .arg(&csv)
+            .arg("--report")
+            .arg(&report)
+            .assert()
+            .success();
+    };
+    run();
     assert_eq!(mode(&csv), mode(&reference));
     assert_eq!(mode(&report), mode(&reference));
     std::fs::set_permissions(&csv, std::fs::Permissions::from_mode(0o640)).unwrap();
-    msp()
-        .args([
-            "run",
-            "-q",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "--duration",
-            "10",
-            "-o",
-        ])
-        .arg(&csv)
-        .assert()
-        .success();
+    run();
     assert_eq!(mode(&csv), 0o640);
 }

@@ -162,6 +162,23 @@ pub(crate) struct Processes<'a, 'py> {
     pub(crate) inner_model: Option<&'a Bound<'py, PyAny>>,
 }
 
+impl<'a, 'py> Processes<'a, 'py> {
+    /// The keyword arguments of the same names.
+    pub(crate) fn of(
+        plant: &'a Bound<'py, PyAny>,
+        model: Option<&'a Bound<'py, PyAny>>,
+        inner_plant: Option<&'a Bound<'py, PyAny>>,
+        inner_model: Option<&'a Bound<'py, PyAny>>,
+    ) -> Self {
+        Processes {
+            plant,
+            model,
+            inner_plant,
+            inner_model,
+        }
+    }
+}
+
 /// The scenario keywords shared by ``run``, ``compare``, ``margins`` and ``sweep``.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn scenario(

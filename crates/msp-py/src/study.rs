@@ -42,12 +42,7 @@ pub(crate) fn run<'py>(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let processes = Processes {
-        plant,
-        model,
-        inner_plant,
-        inner_model,
-    };
+    let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
         &processes,
         controller,
@@ -100,12 +95,7 @@ pub(crate) fn compare<'py>(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyList>> {
-    let processes = Processes {
-        plant,
-        model,
-        inner_plant,
-        inner_model,
-    };
+    let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
         &processes,
         None,
@@ -156,12 +146,7 @@ pub(crate) fn margins<'py>(
     float32: bool,
     max_memory: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let processes = Processes {
-        plant,
-        model,
-        inner_plant,
-        inner_model,
-    };
+    let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
         &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
         rule, None, float32, max_memory,
@@ -240,12 +225,7 @@ pub(crate) fn sweep<'py>(
         seed,
         shard,
     };
-    let processes = Processes {
-        plant,
-        model,
-        inner_plant,
-        inner_model,
-    };
+    let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
         &processes, controller, params, ts, duration, None, None, None, None, None, None, lambda_,
         rule, None, float32, max_memory,
@@ -391,12 +371,7 @@ pub(crate) fn tune<'py>(
     rule: Option<String>,
     uncertainty: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let processes = Processes {
-        plant,
-        model: None,
-        inner_plant,
-        inner_model: None,
-    };
+    let processes = Processes::of(plant, None, inner_plant, None);
     let mut sc = scenario(
         &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
         rule, None, false, None,
