@@ -82,14 +82,9 @@ pub fn poly_roots(p: &[f64]) -> Result<Vec<(f64, f64)>, Error> {
     let deg = p.len().saturating_sub(1);
     if deg > 16 {
         let lead = p.first().copied().unwrap_or(1.0);
+        let monic: Vec<f64> = p.iter().map(|c| c / lead).collect();
         let c = nalgebra::DMatrix::<f64>::from_fn(deg, deg, |i, j| {
-            if i == 0 {
-                -p.get(j.wrapping_add(1)).copied().unwrap_or(0.0) / lead
-            } else if j.wrapping_add(1) == i {
-                1.0
-            } else {
-                0.0
-            }
+            crate::lti::companion_entry(monic.get(1..).unwrap_or(&[]), deg, i, j)
         });
         let schur = nalgebra::linalg::Schur::try_new(c, f64::EPSILON, 100_000)
             .ok_or(Error::Numerical("polynomial roots"))?;

@@ -95,6 +95,27 @@ pub fn imc_pi_integrating<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<PidGain
     })
 }
 
+/// IMC-PID for an integrating model with a lag `K/(s(Ts + 1))`: the IMC-PI of
+/// `K/s` ([`imc_pi_integrating`], Bag (2022) Eqs. 4.25–4.31) in series with
+/// the lead `Ts + 1` that cancels the lag, so the delay-free loop of a Smith
+/// predictor is the IMC-PI's. The series PID `Kc(1 + 1/(Ti s))(1 + T s)` is
+/// written in ISA form: `Kp = Kc(Ti + T)/Ti`, `Ti' = Ti + T`,
+/// `Td = Ti·T/(Ti + T)` (the interacting-to-ISA conversion of Åström &
+/// Hägglund (2006), Sec. 3.4).
+pub fn imc_pid_integrating_lag<T: Real>(
+    model: &crate::Foipdt<T>,
+    lambda: T,
+) -> Result<PidGains<T>, Error> {
+    // the integrator and dead time of the model: the PI of K/s reads only K
+    let pi = imc_pi_integrating(&Ipdt::new(model.k, model.l)?, lambda)?;
+    let ti = pi.ti + model.t;
+    Ok(PidGains {
+        kp: pi.kp * ti / pi.ti,
+        ti,
+        td: pi.ti * model.t / ti,
+    })
+}
+
 /// The Karan–Dey MSP tuning with the single parameter `λ`
 /// (Bag (2022) Sec. 4.5.2): `Kp = 2/(K λ)`, `Ti = 2λ`
 /// (Eqs. 4.30–4.31), `β = 1/(K Kp Ti)` (Eq. 4.37, `= 0.25`), `Td = λ` (Eq. 4.44),

@@ -135,3 +135,31 @@ fn the_short_pi_path_equals_the_general_path() {
         p.step(a);
     }
 }
+
+/// The IMC-PID of `K/(s(Ts + 1))` is the IMC-PI of `K/s` in series with the
+/// lead `Ts + 1`: its ISA form has the same frequency response as that series
+/// product at every frequency, and with the lag it gives the IMC-PI's loop.
+#[test]
+fn imc_pid_for_an_integrator_with_a_lag_is_the_series_form() {
+    let m = msp::Foipdt::new(2.0, 3.0, 1.0).unwrap();
+    let lambda = 0.25;
+    let g = msp::tuning::imc_pid_integrating_lag(&m, lambda).unwrap();
+    // the IMC-PI of K/s: Kp = 2/(Kλ), Ti = 2λ (Bag (2022) Eqs. 4.30-4.31)
+    let (kc, ti): (f64, f64) = (2.0 / (m.k * lambda), 2.0 * lambda);
+    for w in [0.01f64, 0.1, 1.0, 10.0] {
+        // ISA: Kp(1 + 1/(jω Ti) + jω Td)
+        let isa = (g.kp, g.kp * (w * g.td - 1.0 / (w * g.ti)));
+        // series: Kc(1 + 1/(jω Ti))(1 + jω T)
+        let (a, b) = (1.0, -1.0 / (w * ti));
+        let (c, d) = (1.0, w * m.t);
+        let series = (kc * (a * c - b * d), kc * (a * d + b * c));
+        assert!(
+            (isa.0 - series.0).abs() < 1e-12 * series.0.abs().max(1.0),
+            "{w}"
+        );
+        assert!(
+            (isa.1 - series.1).abs() < 1e-12 * series.1.abs().max(1.0),
+            "{w}"
+        );
+    }
+}

@@ -611,3 +611,15 @@ fn the_chosen_duration_covers_a_chain_of_lags() {
         o.duration
     );
 }
+
+/// The Smith predictor on an integrator with a lag: its PID cancels the lag,
+/// so the loop is the IMC-PI's on `K/s` (13.5 % overshoot, less with the
+/// derivative filter) and settles; tuned for the half-rule IPDT instead (the
+/// lag folded into the delay the predictor removes) it diverged.
+#[test]
+fn smith_cancels_the_lag_of_an_integrating_plant() {
+    let o = run("2/(s*(3s+1))*e^-1s", "smith", |sc| sc.duration = Some(40.0));
+    let over = o.metrics.step.overshoot;
+    assert!(over > 0.0 && over < 13.5, "overshoot {over} %");
+    assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-4);
+}

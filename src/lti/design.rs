@@ -160,11 +160,8 @@ impl<T: Real, const N: usize> Lti<T, N> {
         }
         // the controllable canonical form: first row −a, ones below the diagonal
         let (a, c, d, n) = companion::<T, N>(num, den)?;
-        let am = Mat::<N>::from_fn(|i, j| match (i, j) {
-            (0, j) if j < n => -a.get(j).map_or(0.0, |x| x.f64()),
-            (i, j) if i < n && j.wrapping_add(1) == i => 1.0,
-            _ => 0.0,
-        });
+        let tail = a.map(|x| x.f64());
+        let am = Mat::<N>::from_fn(|i, j| companion_entry(&tail, n, i, j));
         let mut b = [T::zero(); N];
         if let Some(b0) = b.first_mut() {
             *b0 = T::one();
@@ -440,6 +437,21 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Erro
     Ok(())
 }
 
+/// Entry `(i, j)` of the companion matrix of the monic polynomial
+/// `sᵈ + a₁sᵈ⁻¹ + … + a_d` with `tail = [a₁, …, a_d]`: `−a₁ … −a_d` in the
+/// first row, ones below the diagonal, zero outside the leading `d×d` block.
+/// It is the controllable canonical form's `A`, and its eigenvalues are the
+/// polynomial's roots.
+pub(crate) fn companion_entry(tail: &[f64], deg: usize, i: usize, j: usize) -> f64 {
+    if i == 0 && j < deg {
+        -tail.get(j).copied().unwrap_or(0.0)
+    } else if i < deg && j.wrapping_add(1) == i {
+        1.0
+    } else {
+        0.0
+    }
+}
+
 /// The roots of the monic polynomial `monic[..=deg]` at a fixed matrix size
 /// `M ≥ deg`: the companion matrix in the leading block, a sentinel beyond
 /// every root (Cauchy's bound) on the rest of the diagonal. The blocks are
@@ -456,14 +468,10 @@ macro_rules! companion_roots {
                 + 1.0;
             let sentinel = 2.0 * bound + 1.0;
             let c = nalgebra::SMatrix::<f64, $m, $m>::from_fn(|i, j| {
-                if i == 0 && j < deg {
-                    -monic.get(j.wrapping_add(1)).copied().unwrap_or(0.0)
-                } else if i < deg && j.wrapping_add(1) == i {
-                    1.0
-                } else if i >= deg && i == j {
+                if i >= deg && i == j {
                     sentinel
                 } else {
-                    0.0
+                    companion_entry(monic.get(1..).unwrap_or(&[]), deg, i, j)
                 }
             });
             let schur = nalgebra::linalg::Schur::try_new(c, f64::EPSILON, 10_000)

@@ -122,7 +122,8 @@ where
     }))
 }
 
-/// `e^{A h}` and `∫₀^h e^{A τ} dτ` by scaling and squaring of their Taylor
+/// `e^{A h}` and `∫₀^h e^{A τ} dτ` (Moler & Van Loan (2003), method 3) by
+/// scaling and squaring of their Taylor
 /// series (the integral is what ZOH needs for `Γ`, and it exists for a
 /// singular `A`: integrators).
 pub(super) fn expm_and_integral<const N: usize>(a: &Mat<N>, h: f64) -> (Mat<N>, Mat<N>) {

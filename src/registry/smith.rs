@@ -21,17 +21,8 @@ fn primary_gains<D: DesignSet>(
     let m = plant.reduce(plant.order() >= 2)?;
     Ok(match m {
         ProcessModel::Foipdt(f) => {
-            // K/(s(Ts + 1)): the IMC-PI of K/s in series with the lead (Ts + 1)
-            // that cancels the lag, written in ISA form
             let lambda = lambda_for(&m, d, 0.25);
-            let g = tuning::imc_pi_integrating(&crate::Ipdt::new(f.k, f.l.max(f.t))?, lambda)?;
-            let ti = g.ti + f.t;
-            let gains = tuning::PidGains {
-                kp: g.kp * ti / g.ti,
-                ti,
-                td: g.ti * f.t / ti,
-            };
-            (gains, lambda, m)
+            (tuning::imc_pid_integrating_lag(&f, lambda)?, lambda, m)
         }
         ProcessModel::Ipdt(i) => {
             let lambda = lambda_for(&m, d, 0.25);

@@ -46,22 +46,17 @@ pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
         .unwrap_or_default()
         .into_iter()
         .fold(0.0, f64::max);
+    // a₁/a₀ of a polynomial without its roots at the origin
     let ratio = |p: &[f64]| -> f64 {
-        let p = crate::poly::trim(p);
-        // drop the trailing zeros (integrators, differentiators)
         let end = p.iter().rposition(|c| *c != 0.0).map_or(0, |i| i + 1);
         match p.get(..end) {
-            Some([.., a1, a0]) if *a0 != 0.0 => a1 / a0,
+            Some([.., a1, a0]) => a1 / a0,
             _ => 0.0,
         }
     };
     let lags = (ratio(&plant.den) - ratio(&plant.num)).abs();
-    let d = 10.0
-        * plant
-            .delay
-            .max(slow)
-            .max(if lags.is_finite() { lags } else { 0.0 });
-    (d).max(100.0 * ts)
+    let lags = if lags.is_finite() { lags } else { 0.0 };
+    (10.0 * plant.delay.max(slow).max(lags)).max(100.0 * ts)
 }
 
 /// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`.
