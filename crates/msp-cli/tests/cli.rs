@@ -1011,3 +1011,14 @@ fn outputs_have_the_usual_permissions() {
     run();
     assert_eq!(mode(&csv), 0o640);
 }
+
+/// `msp list` names each scheme's design keys (the fields of its typed
+/// design inputs), which `--set` accepts before tuning.
+#[test]
+fn list_names_the_design_keys() {
+    let text = stdout_of(msp().arg("list"));
+    for s in msp::registry::SCHEMES {
+        let line = format!("design (--set before tuning): {};", s.design.join(", "));
+        assert!(text.contains(&line), "{}: {line}", s.name);
+    }
+}

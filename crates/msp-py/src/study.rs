@@ -394,7 +394,7 @@ pub(crate) fn tune<'py>(
     Ok(d)
 }
 
-/// Every controller of the registry: name, aliases, summary, source, params, plants.
+/// Every controller of the registry: name, aliases, summary, source, params, design keys, plants.
 #[pyfunction]
 pub(crate) fn controllers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let out = PyList::empty(py);
@@ -405,6 +405,7 @@ pub(crate) fn controllers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         d.set_item("summary", s.summary)?;
         d.set_item("source", s.source)?;
         d.set_item("params", s.params.to_vec())?;
+        d.set_item("design", s.design.to_vec())?;
         d.set_item("cascade", s.is_cascade())?;
         d.set_item(
             "plants",

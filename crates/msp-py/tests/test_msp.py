@@ -116,6 +116,16 @@ def test_every_registry_scheme_has_a_class() -> None:
     assert msp._check_classes() == []
 
 
+def test_controllers_list_their_design_keys() -> None:
+    # a design key changes the tuning: lambda of the default Smith predictor
+    by_name = {c["name"]: c for c in msp.controllers()}
+    assert by_name["filtered-smith"]["design"] == ["lambda", "alpha", "a", "b"]
+    assert by_name["smith"]["design"][:2] == ["lambda", "alpha"]
+    base = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith")["params"]
+    tuned = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith", params={"b": 7.0})["params"]
+    assert tuned["b"] == 7.0 and base["b"] != 7.0
+
+
 def test_errors_are_value_errors_naming_the_column() -> None:
     with pytest.raises(ValueError, match="column 5"):
         msp.run("0.2/x*e^-7.4s")

@@ -14,9 +14,10 @@ pub(crate) fn list() -> Result<(), CliError> {
         };
         export::outln!("  {:<22}{aliases}  {}", s.name, s.summary)?;
         export::outln!(
-            "  {:<22}  params: {}; source: {}",
+            "  {:<22}  params: {}; design (--set before tuning): {}; source: {}",
             "",
             s.params.join(", "),
+            s.design.join(", "),
             s.source
         )?;
     }
