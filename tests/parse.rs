@@ -134,3 +134,47 @@ fn deep_and_long_inputs_are_refused_not_crashed() {
     assert!(shown.len() < 300);
     assert!(deep.len() < MAX_INPUT);
 }
+
+/// A plant prints as an engineer factors it (time-constant form, repeated
+/// factors as powers, integrators as `s^m`), and the printed form parses
+/// back to the same coefficients; a polynomial without a clean factorization
+/// stays expanded.
+#[test]
+fn plants_print_factored_and_parse_back() {
+    for (expr, shown) in [
+        ("2*e^-5s/(10s+1)^4", "2*e^(-5s)/(10s + 1)^4"),
+        ("e^-1.5s/(s*(s+1))", "e^(-1.5s)/(s(s + 1))"),
+        ("0.2/s^2*e^-1s/(s+1)", "0.2*e^(-s)/(s^2(s + 1))"),
+        ("1/(s^2+3s+2)", "0.5/((s + 1)(0.5s + 1))"),
+        ("(2s+1)^2/((s+1)^3(5s+1))", "(2s + 1)^2/((5s + 1)(s + 1)^3)"),
+        ("1/(s^2+s+1)^2", "1/(s^2 + s + 1)^2"),
+        ("-1/((s-1)(2s+1))", "-1/((2s + 1)(s - 1))"),
+        ("1/(s+1)^8", "1/(s + 1)^8"),
+        ("1/((s+1)(1.001s+1))", "1/((1.001s + 1)(s + 1))"),
+        (
+            "1/(s^2+2.3456789s+1.1)",
+            "0.909090909091/(0.909090909091s^2 + 2.13243536364s + 1)",
+        ),
+        ("5.6*e^-93.9s/(40.2s+1)", "5.6*e^(-93.9s)/(40.2s + 1)"),
+        ("e^-1e-6s/(1e-9s+1)", "e^(-1e-6s)/(1e-9s + 1)"),
+    ] {
+        let tf = parse_plant(expr).unwrap();
+        assert_eq!(tf.to_string(), shown, "{expr}");
+        let again = parse_plant(shown).unwrap();
+        // the same coefficients, both normalised by their largest denominator one
+        let big = |p: &[f64]| p.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let (a, b) = (big(&again.den), big(&tf.den));
+        for (p, q) in again
+            .den
+            .iter()
+            .zip(&tf.den)
+            .chain(again.num.iter().zip(&tf.num))
+        {
+            assert!(
+                (p / a - q / b).abs() <= 1e-11,
+                "{expr}: {again:?} vs {tf:?}"
+            );
+        }
+        assert_eq!(again.delay, tf.delay);
+    }
+}

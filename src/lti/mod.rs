@@ -71,7 +71,9 @@ pub(crate) mod matrix;
 #[cfg(feature = "serde")]
 mod serde_arrays;
 
-pub(crate) use design::{companion_entry, divide_in_place, roots};
+#[cfg(feature = "alloc")]
+pub(crate) use design::companion_entry;
+pub(crate) use design::{divide_in_place, roots};
 pub use design::{realize, Realization};
 use matrix::{array_of, mat_of, vector_of};
 #[cfg(feature = "serde")]
