@@ -20,11 +20,13 @@
 //! measure the distance to the first imaginary-axis crossing of the
 //! closed-loop poles as the loop gain or delay grows from nominal, so they are
 //! the loop's gain and delay limits provided the nominal loop is stable —
-//! which [`Analysis::stable`] reports from a simulation of the loop (the Smith
+//! which [`Analysis::stable`] reports from a simulation of the loop: bounded
+//! and coming to rest, wherever it rests (the Smith
 //! predictor's controller is itself unstable on an integrating model, so
 //! the open-loop Nyquist count alone would not settle it).
 
 use core::ops::{Add, Div, Mul, Sub};
+use std::string::String;
 use std::vec::Vec;
 
 use crate::complex::Complex;
@@ -425,8 +427,12 @@ pub struct Analysis {
     pub margins: Margins,
     /// Margins of the inner (model) loop, for schemes that have one.
     pub inner: Option<Margins>,
-    /// Whether a simulation of the nominal loop settles (see the module documentation).
-    pub stable: bool,
+    /// Whether a simulation of the nominal loop comes to rest (bounded and
+    /// settling, wherever it settles; [`crate::sweep::stable`]), or `None`
+    /// when that simulation could not run ([`Analysis::probe_note`] says why).
+    pub stable: Option<bool>,
+    /// Why the stability probe could not run, when it could not.
+    pub probe_note: Option<String>,
     /// `(gain factor, delay margin)` pairs: the combined gain/delay stability region.
     pub region: Vec<(f64, f64)>,
     /// `max|T·Δ|` (Eq. 17) for the given perturbation, if one was given.
@@ -595,19 +601,14 @@ pub fn analyze(
     probe.duration = Some(crate::study::choose_duration(&grid_plant, ts) * 3.0);
     probe.disturbance.clear();
     probe.noise = None;
-    let stable = match probe.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone()) {
-        Ok(out) => {
-            let y = &out.result.y;
-            let n = y.len();
-            let target = out.setpoint.last().map_or(0.0, |s| s.value);
-            out.result.diverged_at.is_none()
-                && y.get(n * 9 / 10..).is_some_and(|t| {
-                    t.iter()
-                        .all(|v| (v - target).abs() < 0.02 * target.abs().max(1e-3))
-                })
-        }
-        Err(_) => false,
-    };
+    let (stable, probe_note) =
+        match probe.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone()) {
+            Ok(out) => (Some(crate::sweep::stable(&out)), None),
+            Err(e) => (
+                None,
+                Some(std::format!("the probe simulation could not run: {e}")),
+            ),
+        };
     Ok(Analysis {
         plant,
         model,
@@ -618,6 +619,7 @@ pub fn analyze(
         margins: m,
         inner: inner_m,
         stable,
+        probe_note,
         region: reg,
         robust_peak,
         response,

@@ -264,6 +264,25 @@ impl TransferFunction {
         Ok((lags, inverse))
     }
 
+    /// Refuses, in words a user reads, the plants that no scheme of msp can
+    /// control: a zero at the origin (no static gain: a differentiating plant
+    /// such as `s/(s+1)`) and more than one integrator (`1/s^2`).
+    pub fn check_controllable(&self) -> Result<(), Error> {
+        let at_origin = |p: &[f64]| trim(p).iter().rev().take_while(|c| **c == 0.0).count();
+        let (zeros, poles) = (at_origin(&self.num), at_origin(&self.den));
+        if zeros > poles {
+            return Err(Error::Unsupported(
+                "plants with a zero at the origin (a differentiating plant such as s/(s+1)) have no static gain, so no controller can hold a set point on them; msp's schemes need a plant with a non-zero (or integrating) static gain",
+            ));
+        }
+        if poles > zeros.saturating_add(1) {
+            return Err(Error::Unsupported(
+                "plants with more than one integrator (such as 1/s^2): msp's schemes and rules control stable plants and plants with one integrator or one unstable pole, each with a dead time; close an inner loop around one integrator first (e.g. a velocity loop) and control that loop",
+            ));
+        }
+        Ok(())
+    }
+
     /// A low-order model for tuning: the exact one when the plant is one,
     /// otherwise by Skogestad's half rule (SIMC, 2003): the largest time constant
     /// is kept, half of the next is added to it and the other half to the dead
@@ -272,6 +291,7 @@ impl TransferFunction {
     /// a plant with one RHP pole a UFOPDT model. `second_order` asks for SOPDT
     /// (T1 = τ1, T2 = τ2 + τ3/2) for stable plants.
     pub fn reduce(&self, second_order: bool) -> Result<ProcessModel<f64>, Error> {
+        self.check_controllable()?;
         if let Some(m) = self.exact_model() {
             if !second_order || !matches!(m, ProcessModel::Fopdt(_)) {
                 return Ok(m);
@@ -282,9 +302,6 @@ impl TransferFunction {
         let delay = self.delay + inverse;
         match self.kind() {
             PlantKind::Integrating => {
-                if self.integrators() > 1 {
-                    return Err(Error::Unsupported("plants with more than one integrator"));
-                }
                 Ipdt::new(k, delay + lags.iter().sum::<f64>()).map(Into::into)
             }
             PlantKind::Unstable => {
@@ -313,6 +330,21 @@ impl TransferFunction {
                 }
             }
         }
+    }
+
+    /// Skogestad's half rule (SIMC, 2003) for an integrating plant, `(θ, T)` of
+    /// `K·e^{−θs}/(s(Ts + 1))`: the largest lag plus half of the next is `T`,
+    /// the other half, the smaller lags and the inverse-response time
+    /// constants join the dead time. `None` for a plant that is not
+    /// integrating with one integrator.
+    pub fn integrating_half_rule(&self) -> Option<(f64, f64)> {
+        if self.kind() != PlantKind::Integrating || self.integrators() != 1 {
+            return None;
+        }
+        let (lags, inverse) = self.lags().ok()?;
+        let t = |i: usize| lags.get(i).copied().unwrap_or(0.0);
+        let rest = lags.iter().skip(2).sum::<f64>();
+        Some((self.delay + inverse + t(1) / 2.0 + rest, t(0) + t(1) / 2.0))
     }
 
     /// The frequency response `G(jω)` with the exact delay, as `(re, im)`.

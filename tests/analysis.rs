@@ -222,3 +222,31 @@ fn discrete_plant_is_the_transform_of_the_simulated_pulse_response() {
         }
     }
 }
+
+/// The verdict on the nominal loop comes from boundedness, not from where the
+/// output settles: a P-only loop on `1/(s+1)` settles at `k/(1 + k)` and is
+/// stable; with a dead time of one time constant its ultimate gain is
+/// `≈ 2.26` (ω tan-free: `ω = −tan ω`, `k_u = √(1 + ω²)`), so `k = 3` is
+/// unstable; a probe that cannot run is reported as such, not as unstable.
+#[test]
+fn stability_verdicts_are_true() {
+    let verdict = |plant: &str, kp: &str, max_memory: Option<u64>| {
+        let mut sc = Scenario {
+            plant: Some(plant.parse().unwrap()),
+            controller: Some("pid".into()),
+            ..Default::default()
+        };
+        for (k, v) in [("kp", kp), ("ti", "inf"), ("td", "0")] {
+            sc.set.insert(k.into(), v.parse().unwrap());
+        }
+        sc.max_memory = max_memory;
+        let an = msp::analysis::analyze(&sc, View::Sampled, None).unwrap();
+        (an.stable, an.probe_note)
+    };
+    assert_eq!(verdict("1/(s+1)", "1", None), (Some(true), None));
+    assert_eq!(verdict("e^-1s/(s+1)", "2", None), (Some(true), None));
+    assert_eq!(verdict("e^-1s/(s+1)", "3", None), (Some(false), None));
+    let (stable, note) = verdict("e^-1s/(s+1)", "1", Some(100_000));
+    assert_eq!(stable, None);
+    assert!(note.unwrap().contains("could not run"));
+}

@@ -524,17 +524,22 @@ fn pi_is_a_pi_tuned_by_simc_on_the_first_order_model() {
 
 /// `msp run --plant EXPR` with nothing else, for plants a process engineer
 /// meets every day: integrating plants with lags or zeros, and plants without
-/// dead time. The default loop settles on the set point and rejects an input
+/// dead time. A dead-time-dominant integrating plant gets the Matausek–Micić
+/// predictor, a lag-dominant or delay-free one the SIMC PID (the predictor
+/// tuned on `θ + T` destabilises the delay-free `2/(s(2s + 1)^2)`). The default loop settles on the set point and rejects an input
 /// load with zero steady error (a sampled loop with integral action on an
 /// integrating plant: the error of the final samples is at rounding level).
 #[test]
 fn the_defaults_control_everyday_plants() {
     for (plant, scheme) in [
         ("e^-1.5s/(s*(s+1))", "matausek-micic"),
-        ("2/(s*(10s+1))*e^-1s", "matausek-micic"),
+        ("2/(s*(10s+1))*e^-1s", "pid"),
         ("e^-1.5s*(2s+1)/(s*(s+1)*(0.5s+1))", "matausek-micic"),
         ("0.5/(s*(2s+1)^2)*e^-3s", "matausek-micic"),
-        ("1/(s*(s+1))", "matausek-micic"),
+        ("2/(s*(2s+1)^2)*e^-1s", "pid"),
+        ("1/(s*(s+1))", "pid"),
+        ("2/(s*(2s+1)^2)", "pid"),
+        ("1/s", "pid"),
         ("0.2/s*e^-7.4s", "karan-dey"),
         ("1/(s+1)^2", "smith"),
         ("2/(5s+1)", "smith"),
@@ -622,4 +627,29 @@ fn smith_cancels_the_lag_of_an_integrating_plant() {
     let over = o.metrics.step.overshoot;
     assert!(over > 0.0 && over < 13.5, "overshoot {over} %");
     assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-4);
+}
+
+/// A plant no scheme can control gets a message that says so in those words
+/// and names what would work, never a field the user did not set.
+#[test]
+fn uncontrollable_plants_are_named_as_such() {
+    for (plant, controller, words) in [
+        ("1/s^2", None, "more than one integrator"),
+        ("e^-2s/(s^2*(s+1))", None, "inner loop"),
+        ("s/(s+1)", None, "zero at the origin"),
+        ("s^2/(s+1)^2", Some("pid"), "no static gain"),
+        ("1/s", Some("karan-dey"), "use pid"),
+        ("1/s", Some("matausek-micic"), "use pid"),
+    ] {
+        let sc = Scenario {
+            plant: Some(plant.parse().unwrap()),
+            controller: controller.map(Into::into),
+            ..Default::default()
+        };
+        let e = sc.run().unwrap_err().to_string();
+        assert!(e.contains(words), "{plant}: {e}");
+        for field in ["`k`", "`ki`", "`l`", "`lambda`", "`t`"] {
+            assert!(!e.contains(field), "{plant}: {e}");
+        }
+    }
 }

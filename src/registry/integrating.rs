@@ -20,10 +20,15 @@ fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate:
     // the MSP's three controllers are designed for K·e^{−θs}/s; its set-point
     // PI ignores a lag, which the predictor then keeps in the loop
     let m = match plant.exact_model() {
+        Some(ProcessModel::Ipdt(m)) if m.l <= 0.0 => {
+            return Err(crate::Error::Unsupported(
+                "the Karan-Dey MSP compensates a dead time, and this integrator has none; use pid (the default for it)",
+            ))
+        }
         Some(ProcessModel::Ipdt(m)) => m,
         _ if plant.kind() == crate::poly::PlantKind::Integrating => {
             return Err(crate::Error::Unsupported(
-                "the Karan-Dey MSP is designed for an IPDT model K*e^(-θs)/s; for an integrating plant with lags or zeros use matausek-micic (the default for it), or give --model as an IPDT",
+                "the Karan-Dey MSP is designed for an IPDT model K*e^(-θs)/s; for an integrating plant with lags or zeros use matausek-micic or pid (msp picks one by default), or give --model as an IPDT",
             ))
         }
         _ => return Err(crate::Error::Unsupported("the Karan-Dey MSP needs an integrating plant")),
@@ -109,6 +114,11 @@ fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, c
         plant,
         "the Matausek-Micic predictor needs an integrating plant",
     )?;
+    if m.l <= 0.0 {
+        return Err(crate::Error::Unsupported(
+            "the Matausek-Micic predictor designs its load gain k0 = 0.5/(K*θ) from a dead time or a lag, and this plant has neither; use pid (the default for it)",
+        ));
+    }
     let t: MatausekMicicTuning = d.typed();
     let tr = t.tr.unwrap_or_else(|| lambda_for(&m.into(), &t, 0.25));
     Ok(Params::of(&MatausekMicicParams {

@@ -343,16 +343,22 @@ pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
         .ok_or_else(|| RegistryError::UnknownScheme(name.to_string()))
 }
 
-/// The default scheme for a model: the Karan–Dey MSP for an IPDT model (the
-/// integrating case of Bag (2022)), the Matausek–Micić predictor for any other
-/// integrating model (tuned on its half-rule IPDT, it holds the whole model
-/// in its predictor), the Smith predictor (Kaya tuning) for stable ones, the
-/// filtered Smith predictor for unstable ones.
+/// The default scheme for a model: the Karan–Dey MSP for an IPDT model with
+/// a dead time (the integrating case of Bag (2022)); for any other integrating
+/// model whose half-rule reduction `K·e^{−θs}/(s(Ts + 1))` is dead-time
+/// dominant (`θ ≥ T`, `θ > 0`), the Matausek–Micić predictor (tuned on that
+/// reduction, it holds the whole model in its predictor); otherwise — lags
+/// dominate, or no dead time at all, where a predictor has nothing to
+/// compensate and a predictor tuned on `θ + T` can even destabilise
+/// `2/(s(2s + 1)^2)` — the SIMC PID on the reduction, which rejects an input
+/// load with zero steady error. The Smith predictor (Kaya tuning) for stable
+/// models, the filtered Smith predictor for unstable ones.
 pub fn default_for(model: &TransferFunction) -> Result<&'static Scheme, RegistryError> {
     match model.kind() {
-        PlantKind::Integrating => match model.exact_model() {
-            Some(crate::ProcessModel::Ipdt(_)) => find("karan-dey"),
-            _ => find("matausek-micic"),
+        PlantKind::Integrating => match (model.exact_model(), model.integrating_half_rule()) {
+            (Some(crate::ProcessModel::Ipdt(m)), _) if m.l > 0.0 => find("karan-dey"),
+            (_, Some((theta, t))) if theta >= t && theta > 0.0 => find("matausek-micic"),
+            _ => find("pid"),
         },
         PlantKind::Stable => find("smith"),
         PlantKind::Unstable => find("fsp"),
@@ -406,6 +412,10 @@ impl Scheme {
             }
             _ => model,
         };
+        model.check_controllable()?;
+        if let Some(p2) = inner {
+            p2.check_controllable()?;
+        }
         let kind = model.kind();
         if !self.plants.contains(&kind) {
             return Err(RegistryError::PlantKind {

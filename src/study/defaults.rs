@@ -9,8 +9,8 @@ use crate::poly::{fmt_num, PlantKind, TransferFunction};
 /// designs of the sources to better than 1 %: a controller designed for a
 /// closed-loop time constant `τ` and sampled with forward-Euler integration
 /// gives `τ − Ts/2` (e.g. the Karan–Dey MSP's IAE on the delayed reference is
-/// `θ/8 − Ts/2`). The dead time is a whole number of samples, chosen so the dead time is a whole number
-/// of samples (then the delay is exact in the controller's model too).
+/// `θ/8 − Ts/2`). The period divides the dead time into a whole number of
+/// samples (then the delay is exact in the controller's model too).
 pub fn choose_ts(plant: &TransferFunction) -> f64 {
     let scales = plant.time_scales().unwrap_or_default();
     let dyn_min = scales

@@ -114,6 +114,9 @@ pub struct Tuned {
     pub scheme: &'static registry::Scheme,
     /// Its parameters (tuned, then `--set`).
     pub params: Params,
+    /// Whether `lambda` was chosen by the tuning rule (the parameters have
+    /// one, and neither `--lambda` nor `--set lambda=` gave it).
+    pub lambda_chosen: bool,
 }
 
 /// A tuned and built controller with its sample period.
@@ -151,6 +154,8 @@ pub struct RunOutput {
     pub duration: f64,
     /// Whether the duration was chosen automatically.
     pub duration_chosen: bool,
+    /// Whether the tuning's `lambda` was chosen automatically.
+    pub lambda_chosen: bool,
     /// Controller name.
     pub controller: &'static str,
     /// Its parameters.
@@ -297,7 +302,14 @@ impl Scenario {
         }
         let params =
             scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
-        Ok(Tuned { scheme, params })
+        let lambda_chosen = self.lambda.is_none()
+            && params.lambda().is_some()
+            && !overrides.iter().any(|(k, _)| k == "lambda");
+        Ok(Tuned {
+            scheme,
+            params,
+            lambda_chosen,
+        })
     }
 
     /// [`Scenario::build_controller`] for a cascade process with the secondary
@@ -352,7 +364,7 @@ impl Scenario {
         inner: Option<&TransferFunction>,
     ) -> Result<BuiltController, RunError> {
         let (ts, ts_chosen) = self.check_size(model, inner)?;
-        let Tuned { scheme, params } = tuned;
+        let Tuned { scheme, params, .. } = tuned;
         // a limit that is given is a number; absent, there is none
         let u_min = match self.umin {
             Some(v) => crate::real::finite(v, "umin")?,
@@ -531,6 +543,7 @@ impl Scenario {
             ts_chosen,
             duration,
             duration_chosen,
+            lambda_chosen: tuned.lambda_chosen,
             controller: scheme,
             params,
             result,

@@ -34,6 +34,9 @@ pub struct Report {
     pub inner_model: Option<String>,
     /// Sample period (s).
     pub ts: f64,
+    /// The values msp chose because the run did not give them, of `ts`,
+    /// `duration` and `lambda` (each can be given to repeat or change the run).
+    pub chosen: Vec<&'static str>,
     /// Simulated time (s).
     pub duration: f64,
     /// Rows of the signals.
@@ -64,6 +67,14 @@ impl RunOutput {
             inner_plant: self.inner.as_ref().map(|(p, _)| p.to_string()),
             inner_model: self.inner.as_ref().map(|(_, m)| m.to_string()),
             ts: self.ts,
+            chosen: [
+                ("ts", self.ts_chosen),
+                ("duration", self.duration_chosen),
+                ("lambda", self.lambda_chosen),
+            ]
+            .into_iter()
+            .filter_map(|(k, c)| c.then_some(k))
+            .collect(),
             duration: self.duration,
             samples: self.result.t.len(),
             controller: ControllerReport {

@@ -409,6 +409,57 @@ fn sweep_shards_merge_into_the_whole() {
     );
 }
 
+/// A P-only loop settles at `k/(1 + k)`, off the set point, and is stable.
+/// A delay-free plant runs with λ chosen from its time constants, and both
+/// the summary and the report say so; a given λ is not "chosen".
+#[test]
+fn run_says_what_it_chose() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    msp()
+        .args(["run", "--plant", "1/(s+1)^2", "-o", "-", "--report"])
+        .arg(&report)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("lambda chosen from the plant"));
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(j["chosen"], serde_json::json!(["ts", "duration", "lambda"]));
+    assert_eq!(j["controller"]["params"]["lambda"], 0.5);
+    msp()
+        .args([
+            "run",
+            "--plant",
+            "1/(s+1)^2",
+            "--lambda",
+            "1",
+            "--ts",
+            "0.1",
+            "-o",
+            "-",
+            "--report",
+        ])
+        .arg(&report)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("chosen from the plant; --lambda").not());
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(j["chosen"], serde_json::json!(["duration"]));
+}
+
+#[test]
+fn margins_call_a_p_only_loop_stable() {
+    msp()
+        .args([
+            "margins", "--plant", "1/(s+1)", "-c", "pid", "--set", "kp=1", "--set", "ti=inf",
+            "--set", "td=0",
+        ])
+        .assert()
+        .success()
+        .stdout(predicates::str::contains("nominal loop  stable"));
+}
+
 #[test]
 fn margins_json_has_the_matlab_keys() {
     let out = msp()

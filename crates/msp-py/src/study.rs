@@ -169,6 +169,7 @@ pub(crate) fn margins<'py>(
     c.set_item("params", params_dict(py, &an.params)?)?;
     d.set_item("controller", c)?;
     d.set_item("stable", an.stable)?;
+    d.set_item("probe_note", an.probe_note.as_deref())?;
     if let Some(i) = &an.inner {
         d.set_item("inner", margins_dict(py, i)?)?;
     }
@@ -378,7 +379,9 @@ pub(crate) fn tune<'py>(
     )?;
     let (_, model) = sc.plant_and_model().map_err(value_err)?;
     let inner = sc.inner_process().map_err(value_err)?;
-    let msp::study::Tuned { scheme, params: p } = sc
+    let msp::study::Tuned {
+        scheme, params: p, ..
+    } = sc
         .tune_for(&model, inner.as_ref().map(|(_, m)| m))
         .map_err(value_err)?;
     let d = PyDict::new(py);

@@ -227,6 +227,18 @@ def test_margins_agree_with_python_control_on_the_exact_delay_loop() -> None:
     assert m["stable"] and math.isclose(m["dm"], math.radians(m["pm"]) / m["wcp"], rel_tol=1e-9)
 
 
+def test_run_says_what_it_chose() -> None:
+    assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
+    assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]
+
+
+def test_margins_call_a_p_only_loop_stable_where_it_settles_off_the_set_point() -> None:
+    m = msp.margins("1/(s+1)", "pid", {"kp": 1.0, "ti": math.inf, "td": 0.0})
+    assert m["stable"] is True and m["probe_note"] is None
+    m = msp.margins("e^-1s/(s+1)", "pid", {"kp": 3.0, "ti": math.inf, "td": 0.0})
+    assert m["stable"] is False
+
+
 def test_sweep_columns_and_shards() -> None:
     args = dict(controller="karan-dey", gain="-10%..+10%", delay=(-0.05, 0.05), grid=4, ts=0.074, duration=60)
     whole = msp.sweep("0.2/s*e^-7.4s", **args)

@@ -31,6 +31,7 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
             let tuned = msp::study::Tuned {
                 scheme: msp::registry::find(run.controller).ok()?,
                 params: run.params.clone(),
+                lambda_chosen: run.lambda_chosen,
             };
             let built = one.build_tuned(&tuned, &run.model, None).ok()?;
             msp::analysis::margins(

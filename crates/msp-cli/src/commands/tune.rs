@@ -18,7 +18,11 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     };
     let (plant, model) = sc.plant_and_model()?;
     let inner = sc.inner_process()?.map(|(p2, _)| p2);
-    let msp::study::Tuned { scheme, params } = sc.tune_for(&model, inner.as_ref())?;
+    let msp::study::Tuned {
+        scheme,
+        params,
+        lambda_chosen,
+    } = sc.tune_for(&model, inner.as_ref())?;
     // Eq. 17 on the tuned controller, when asked for
     let robust = match a.uncertainty {
         Some(u) => msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?.robust_peak,
@@ -45,7 +49,12 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         }
         export::outln!("controller  {}  [{}]", scheme.name, scheme.source)?;
         for (k, v) in params.iter() {
-            export::outln!("  {k:<8} = {}", export::fmt_sig(v))?;
+            let note = if k == "lambda" && lambda_chosen {
+                "  [chosen from the plant; --lambda to change]"
+            } else {
+                ""
+            };
+            export::outln!("  {k:<8} = {}{note}", export::fmt_sig(v))?;
         }
         if let Some(r) = robust {
             export::outln!(

@@ -34,6 +34,9 @@ pub(crate) fn margins_json(an: &msp::analysis::Analysis) -> Value {
         o.insert(k.into(), num(v));
     }
     o.insert("stable".into(), json!(an.stable));
+    if let Some(why) = &an.probe_note {
+        o.insert("probe_note".into(), json!(why));
+    }
     if let Some(inner) = &an.inner {
         let m: Map<String, Value> = inner
             .fields()

@@ -42,7 +42,16 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         }
     ));
     let params = params_line(&out.params);
-    s.push_str(&format!("controller  {}: {}\n", out.controller, params));
+    s.push_str(&format!(
+        "controller  {}: {}{}\n",
+        out.controller,
+        params,
+        if out.lambda_chosen {
+            "  [lambda chosen from the plant; --lambda to change]"
+        } else {
+            ""
+        }
+    ));
     let m = &out.metrics;
     let d = &out.metrics_delayed_reference;
     s.push_str(&format!(
@@ -242,14 +251,13 @@ pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
             fmt_sig(i.wcp)
         ));
     }
-    s.push_str(&format!(
-        "nominal loop  {}\n",
-        if an.stable {
-            "stable (simulated)"
-        } else {
-            "NOT stable in simulation: the margins are not limits"
-        }
-    ));
+    let verdict = match (an.stable, &an.probe_note) {
+        (Some(true), _) => "stable (simulated: bounded and settling)".to_string(),
+        (Some(false), _) => "NOT stable in simulation: the margins are not limits".to_string(),
+        (None, Some(why)) => format!("stability not determined: {why}"),
+        (None, None) => "stability not determined".to_string(),
+    };
+    s.push_str(&format!("nominal loop  {verdict}\n"));
     s.push_str("stability region: gain factor -> delay margin (s)\n");
     for (k, d) in &an.region {
         s.push_str(&format!("  {:>8} -> {}\n", fmt_sig(*k), fmt_sig(*d)));

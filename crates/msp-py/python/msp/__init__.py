@@ -102,6 +102,8 @@ class Result:
         ``r(t - θm) - y`` with time counted from ``θm``.
     controller : dict
         ``{"name": ..., "params": {...}}``.
+    chosen : list of str
+        Which of ``ts``, ``duration`` and ``lambda`` msp chose because the call did not give them.
     plant, plant_kind, model, ts, duration, samples, float32, stable, diverged_at, warnings
         The rest of the run report: the same keys and values as
         ``msp run --report`` writes (:meth:`report` returns them as one dict).
@@ -125,6 +127,7 @@ class Result:
     plant_kind: str
     model: str
     ts: float
+    chosen: List[str]
     duration: float
     samples: int
     stable: bool
