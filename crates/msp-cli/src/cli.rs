@@ -116,10 +116,10 @@ pub(crate) struct RunArgs {
     /// Controller name (see `msp list`); default by plant kind.
     #[arg(long, short = 'c')]
     pub(crate) controller: Option<String>,
-    /// CSV output file (default: standard output).
+    /// CSV output file (absent or `-`: standard output).
     #[arg(long, short = 'o')]
     pub(crate) output: Option<PathBuf>,
-    /// JSON report file.
+    /// JSON report file (`-`: standard output).
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
     /// SVG plot of r, y and u.
@@ -141,10 +141,10 @@ pub(crate) struct CompareArgs {
     /// inner_tau for the secondary of a cascade); the controllers keep the nominal model.
     #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
     pub(crate) perturb: Option<Perturbation>,
-    /// CSV with a column group per controller.
+    /// CSV with a column group per controller (`-`: standard output).
     #[arg(long, short = 'o')]
     pub(crate) output: Option<PathBuf>,
-    /// JSON report: one entry per controller.
+    /// JSON report: one entry per controller (`-`: standard output).
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
     /// SVG plot of every controller's y and u.
@@ -205,7 +205,7 @@ pub(crate) struct SweepArgs {
     /// Merge shard CSVs into one (no runs): msp sweep --merge a.csv b.csv -o all.csv.
     #[arg(long, num_args = 1.., conflicts_with = "plant")]
     pub(crate) merge: Vec<PathBuf>,
-    /// CSV with one row per run (default: standard output).
+    /// CSV with one row per run (absent or `-`: standard output).
     #[arg(long, short = 'o')]
     pub(crate) output: Option<PathBuf>,
     /// No progress bar and summary.
@@ -266,10 +266,10 @@ pub(crate) struct AutotuneArgs {
     /// Duration of the closed-loop run (s).
     #[arg(long)]
     pub(crate) duration: Option<f64>,
-    /// CSV of the closed-loop run.
+    /// CSV of the closed-loop run (`-`: standard output).
     #[arg(long, short = 'o')]
     pub(crate) output: Option<PathBuf>,
-    /// JSON report.
+    /// JSON report (`-`: standard output).
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
 }

@@ -410,6 +410,38 @@ fn sweep_shards_merge_into_the_whole() {
 }
 
 /// A P-only loop settles at `k/(1 + k)`, off the set point, and is stable.
+/// `-o -` is standard output, as for most Unix tools, and no file named `-`
+/// appears; two outputs cannot both be `-`.
+#[test]
+fn a_dash_is_standard_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = msp()
+        .current_dir(dir.path())
+        .args([
+            "run",
+            "--plant",
+            "e^-2s/(5s+1)",
+            "--duration",
+            "10",
+            "-o",
+            "-",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    assert!(String::from_utf8(out).unwrap().starts_with("t,r,y,u,"));
+    assert!(!dir.path().join("-").exists());
+    msp()
+        .current_dir(dir.path())
+        .args(["run", "--plant", "e^-2s/(5s+1)", "-o", "-", "--report", "-"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("both name standard output"));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
 /// A delay-free plant runs with λ chosen from its time constants, and both
 /// the summary and the report say so; a given λ is not "chosen".
 #[test]
@@ -417,6 +449,7 @@ fn run_says_what_it_chose() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("report.json");
     msp()
+        .current_dir(dir.path())
         .args(["run", "--plant", "1/(s+1)^2", "-o", "-", "--report"])
         .arg(&report)
         .assert()

@@ -21,9 +21,16 @@ pub(crate) mod text;
 /// to a temporary created exclusively beside it (an unpredictable name,
 /// `O_EXCL`, no symlink followed) and only when every one is written renames
 /// them into place. A failure leaves the old files as they were and no
-/// temporary behind.
+/// temporary behind. The path `-` is standard output (as for most Unix
+/// tools), written after the files.
 pub(crate) struct Outputs {
     files: Vec<(PathBuf, Vec<u8>)>,
+    stdout: Vec<u8>,
+}
+
+/// Whether a path given to a flag means standard output.
+pub(crate) fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
 }
 
 impl Outputs {
@@ -32,6 +39,15 @@ impl Outputs {
         let mut seen: Vec<(PathBuf, &str)> = Vec::new();
         for (flag, path) in paths {
             let Some(path) = path else { continue };
+            if is_stdout(path) {
+                if let Some((_, other)) = seen.iter().find(|(k, _)| is_stdout(k)) {
+                    return Err(CliError::Input(format!(
+                        "{other} and {flag} both name standard output (-)"
+                    )));
+                }
+                seen.push((path.to_path_buf(), flag));
+                continue;
+            }
             let dir = parent(path);
             if !dir.is_dir() {
                 return Err(CliError::Input(format!(
@@ -55,11 +71,18 @@ impl Outputs {
             }
             seen.push((key, flag));
         }
-        Ok(Outputs { files: Vec::new() })
+        Ok(Outputs {
+            files: Vec::new(),
+            stdout: Vec::new(),
+        })
     }
 
     /// Adds a file to write.
     pub(crate) fn add(&mut self, path: &Path, bytes: Vec<u8>) {
+        if is_stdout(path) {
+            self.stdout = bytes;
+            return;
+        }
         self.files.push((path.to_path_buf(), bytes));
     }
 
@@ -71,11 +94,11 @@ impl Outputs {
         bytes: Vec<u8>,
     ) -> Result<(), CliError> {
         match path {
-            Some(p) => {
+            Some(p) if !is_stdout(p) => {
                 self.add(p, bytes);
                 Ok(())
             }
-            None => print(&bytes),
+            _ => print(&bytes),
         }
     }
 
@@ -121,6 +144,9 @@ impl Outputs {
             tmp.persist(path).map_err(|e| {
                 CliError::Runtime(format!("cannot write {}: {}", path.display(), e.error))
             })?;
+        }
+        if !self.stdout.is_empty() {
+            print(&self.stdout)?;
         }
         Ok(())
     }
