@@ -133,3 +133,59 @@ fn polynomial_roots_are_the_companion_eigenvalues() {
         msp::poly::PlantKind::Stable
     );
 }
+
+/// `analysis::step_response` samples the continuous step response exactly
+/// (ZOH of a step is the step): FOPDT and an underdamped pair with dead
+/// time against their closed forms at every sample, and MATLAB's `stepinfo`
+/// figures against theirs — FOPDT rise `τ ln 9`, settling `θ + τ ln 50`;
+/// the pair's overshoot `exp(−πζ/√(1−ζ²))` and peak time `θ + π/ωd` (to a
+/// sample: the peak is taken at the samples).
+#[test]
+fn open_loop_step_is_the_closed_form() {
+    let (k, tau, theta) = (2.0, 5.0, 1.3);
+    let s = msp::analysis::step_response(&"2*e^-1.3s/(5s+1)".parse().unwrap(), None, None).unwrap();
+    assert_eq!(s.dc_gain, Some(k));
+    assert_eq!(s.chosen, ["ts", "duration"]);
+    for (t, y) in s.t.iter().zip(&s.y) {
+        let exact = if *t <= theta {
+            0.0
+        } else {
+            k * (1.0 - (-(t - theta) / tau).exp())
+        };
+        assert!((y - exact).abs() < 1e-12, "t = {t}: {y} vs {exact}");
+    }
+    // linear interpolation between samples: error below ts²/(8τ²) of the step
+    let tol = (s.ts / tau).powi(2);
+    assert!((s.info.rise_time - tau * 9f64.ln()).abs() < tau * tol + 1e-9);
+    assert!((s.info.settling_time - theta - tau * 50f64.ln()).abs() < s.ts);
+    assert!(s.info.overshoot.abs() < 1e-9);
+
+    let (zeta, wn, theta) = (0.2f64, 1.0f64, 2.0);
+    let s =
+        msp::analysis::step_response(&"e^-2s/(s^2+0.4s+1)".parse().unwrap(), None, None).unwrap();
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    for (t, y) in s.t.iter().zip(&s.y) {
+        let tt = t - theta;
+        let exact = if tt <= 0.0 {
+            0.0
+        } else {
+            1.0 - (-zeta * wn * tt).exp() * ((wd * tt).cos() + zeta * wn / wd * (wd * tt).sin())
+        };
+        assert!((y - exact).abs() < 1e-11, "t = {t}: {y} vs {exact}");
+    }
+    let os = 100.0 * (-std::f64::consts::PI * zeta / (1.0 - zeta * zeta).sqrt()).exp();
+    assert!(
+        (s.info.overshoot - os).abs() < 1e-3 * os,
+        "{}",
+        s.info.overshoot
+    );
+    assert!((s.info.peak_time - theta - std::f64::consts::PI / wd).abs() <= s.ts);
+    // the duration covers the ringing: settled within 2 % well before the end
+    assert!(s.info.settling_time < 0.8 * s.duration);
+    // an integrator has no final value and no step information
+    let s =
+        msp::analysis::step_response(&"0.2/s*e^-7.4s".parse().unwrap(), None, Some(20.0)).unwrap();
+    assert_eq!(s.dc_gain, None);
+    assert!(s.info.rise_time.is_nan());
+    assert!((s.y.last().unwrap() - 0.2 * (20.0 - 7.4)).abs() < 1e-9);
+}

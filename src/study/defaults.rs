@@ -39,13 +39,21 @@ pub fn choose_ts(plant: &TransferFunction) -> f64 {
 /// without its integrators, minus `b₁/b₀` of the numerator: the lags of
 /// `∏(τᵢs + 1)` add up to the coefficient of `s`), and it is what a chain of
 /// lags such as `(10s + 1)^4` takes to settle, where its slowest single time
-/// constant (10 s) is not.
+/// constant (10 s) is not. The slowest time constant of a lightly damped pair
+/// is its decay time `1/(ζωn)`, not `1/ωn` (`1/(s^2 + 0.4s + 1)` rings for 20 s).
 pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
+    let decay = plant
+        .poles()
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|(re, _)| *re < 0.0)
+        .map(|(re, _)| -1.0 / re)
+        .fold(0.0, f64::max);
     let slow = plant
         .time_scales()
         .unwrap_or_default()
         .into_iter()
-        .fold(0.0, f64::max);
+        .fold(decay, f64::max);
     // a₁/a₀ of a polynomial without its roots at the origin
     let ratio = |p: &[f64]| -> f64 {
         let end = p.iter().rposition(|c| *c != 0.0).map_or(0, |i| i + 1);

@@ -25,6 +25,8 @@ pub(crate) enum Cmd {
     Tune(Box<TuneArgs>),
     /// Gain, phase and delay margins, sensitivity peaks and the stability region, with the exact delay.
     Margins(Box<MarginsArgs>),
+    /// The plant's own step response (exact delay) and its step information, no controller.
+    Step(Box<StepArgs>),
     /// Many closed-loop runs over a range of plant perturbations, in parallel.
     Sweep(Box<SweepArgs>),
     /// Relay test on the plant, identify a model, tune a controller, run the closed loop.
@@ -272,6 +274,28 @@ pub(crate) struct AutotuneArgs {
     /// JSON report (`-`: standard output).
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct StepArgs {
+    /// Plant transfer function, e.g. "2*e^-5s/(10s+1)^4".
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) plant: TransferFunction,
+    /// Sample period of the response (s); the duration over 4000 when absent.
+    #[arg(long)]
+    pub(crate) ts: Option<f64>,
+    /// Duration (s); chosen from the plant when absent.
+    #[arg(long)]
+    pub(crate) duration: Option<f64>,
+    /// CSV with columns t, y (`-`: standard output).
+    #[arg(long, short = 'o')]
+    pub(crate) output: Option<PathBuf>,
+    /// SVG plot of the response.
+    #[arg(long)]
+    pub(crate) plot: Option<PathBuf>,
+    /// Print JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
 }
 
 #[derive(Debug, Args)]

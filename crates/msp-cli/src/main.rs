@@ -23,6 +23,7 @@ fn main() -> ExitCode {
         Cmd::Compare(a) => c::compare::compare(a),
         Cmd::Tune(a) => c::tune::tune(a),
         Cmd::Margins(a) => c::margins::margins(a),
+        Cmd::Step(a) => c::step::step(a),
         Cmd::Sweep(a) => c::sweep::sweep(a),
         Cmd::Autotune(a) => c::autotune::autotune(a),
         Cmd::Identify(a) => c::identify::identify(a),

@@ -410,6 +410,44 @@ fn sweep_shards_merge_into_the_whole() {
 }
 
 /// A P-only loop settles at `k/(1 + k)`, off the set point, and is stable.
+/// `msp step`: the plant's own step response, no controller; its JSON has
+/// MATLAB's `stepinfo` figures (FOPDT: rise `τ ln 9`), the CSV `t,y`, the
+/// plot is written, and `msp --help` lists it.
+#[test]
+fn step_prints_the_open_loop_response() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, svg) = (dir.path().join("s.csv"), dir.path().join("s.svg"));
+    let out = msp()
+        .args(["step", "--plant", "2*e^-1.3s/(5s+1)", "--json", "-o"])
+        .arg(&csv)
+        .arg("--plot")
+        .arg(&svg)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(j["dc_gain"], 2.0);
+    let rise = j["rise_time"].as_f64().unwrap();
+    assert!((rise - 5.0 * 9f64.ln()).abs() < 1e-3, "{rise}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("t,y\n0,0\n"));
+    assert!(std::fs::read_to_string(&svg)
+        .unwrap()
+        .contains("final value 2"));
+    msp()
+        .args(["step", "--plant", "1/s"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("does not settle"));
+    msp()
+        .arg("--help")
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("step "));
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

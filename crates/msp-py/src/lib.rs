@@ -15,7 +15,7 @@ mod study;
 
 use controller::{Controller, PyPid};
 use plant::{parse_plant, Plant};
-use study::{autotune, compare, controllers, identify, margins, run, sweep, tune};
+use study::{autotune, compare, controllers, identify, margins, run, step, sweep, tune};
 
 /// The compiled part of the ``msp`` package.
 #[pymodule]
@@ -31,6 +31,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(autotune, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
+    m.add_function(wrap_pyfunction!(step, m)?)?;
     m.add_function(wrap_pyfunction!(controllers, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // the scenario's fields as the library defines them (tests check the keyword arguments)

@@ -333,6 +333,25 @@ pub(crate) fn autotune<'py>(
     Ok(d)
 }
 
+/// The plant's own unit step response and step information (see ``msp.step``).
+#[pyfunction]
+#[pyo3(signature = (plant, *, ts=None, duration=None))]
+pub(crate) fn step<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let plant = plant_of(plant)?;
+    let s = py
+        .allow_threads(|| msp::analysis::step_response(&plant, ts, duration))
+        .map_err(value_err)?;
+    let d = pythonize::pythonize(py, &s)?.downcast_into::<PyDict>()?;
+    d.set_item("t", s.t.into_pyarray(py))?;
+    d.set_item("y", s.y.into_pyarray(py))?;
+    Ok(d)
+}
+
 /// Step-test identification from samples (see ``msp.identify``).
 #[pyfunction]
 #[pyo3(signature = (t, u, y, model="fopdt"))]

@@ -227,6 +227,18 @@ def test_margins_agree_with_python_control_on_the_exact_delay_loop() -> None:
     assert m["stable"] and math.isclose(m["dm"], math.radians(m["pm"]) / m["wcp"], rel_tol=1e-9)
 
 
+def test_step_is_the_open_loop_response() -> None:
+    s = msp.step("2*e^-1.3s/(5s+1)")
+    exact = np.where(s["t"] > 1.3, 2.0 * (1.0 - np.exp(-(s["t"] - 1.3) / 5.0)), 0.0)
+    assert np.allclose(s["y"], exact, atol=1e-12, rtol=0.0)
+    assert s["dc_gain"] == 2.0 and math.isclose(s["rise_time"], 5.0 * math.log(9.0), rel_tol=1e-4)
+    cli = json.loads(subprocess.run([MSP_BIN, "step", "--plant", "2*e^-1.3s/(5s+1)", "--json"],
+                                    check=True, capture_output=True, text=True).stdout)
+    assert cli == {k: v for k, v in s.items() if k not in ("t", "y")}
+    i = msp.step("0.2/s*e^-7.4s")
+    assert i["dc_gain"] is None and math.isnan(i["rise_time"])
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -8,5 +8,6 @@ pub(crate) mod list;
 pub(crate) mod margins;
 pub(crate) mod run;
 pub(crate) mod scenario;
+pub(crate) mod step;
 pub(crate) mod sweep;
 pub(crate) mod tune;

@@ -129,3 +129,21 @@ pub(crate) fn merge_sweeps(paths: &[std::path::PathBuf]) -> Result<Vec<u8>, CliE
     }
     w.into_inner().map_err(|e| CliError::Runtime(e.to_string()))
 }
+
+/// A CSV of named columns of equal length.
+pub(crate) fn columns_bytes(cols: &[(&str, &[f64])]) -> Vec<u8> {
+    let mut v = Vec::new();
+    let names: Vec<&str> = cols.iter().map(|(n, _)| *n).collect();
+    v.extend_from_slice(names.join(",").as_bytes());
+    v.push(b'\n');
+    let rows = cols.iter().map(|(_, c)| c.len()).min().unwrap_or(0);
+    for i in 0..rows {
+        let row: Vec<String> = cols
+            .iter()
+            .map(|(_, c)| c.get(i).map_or(String::new(), |x| fmt_f(*x)))
+            .collect();
+        v.extend_from_slice(row.join(",").as_bytes());
+        v.push(b'\n');
+    }
+    v
+}

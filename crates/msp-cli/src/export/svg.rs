@@ -202,3 +202,59 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
     }
     Ok(svg)
 }
+
+/// The open-loop step response, with its final value dashed.
+pub(crate) fn step_svg(
+    s: &msp::analysis::OpenLoopStep,
+) -> Result<String, Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let t_end = s.t.last().copied().unwrap_or(1.0).max(1e-9);
+    let finite = s.y.iter().copied().filter(|v| v.is_finite());
+    let (lo, hi) = finite
+        .chain(s.dc_gain)
+        .chain([0.0])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    let pad = ((hi - lo) * 0.08).max(1e-9);
+    let stride = (s.t.len() / 2000).max(1);
+    let pts: Vec<(f64, f64)> =
+        s.t.iter()
+            .copied()
+            .zip(s.y.iter().copied())
+            .step_by(stride)
+            .chain(s.t.last().copied().zip(s.y.last().copied()))
+            .collect();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (900, 450)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut c = ChartBuilder::on(&root)
+            .caption(format!("step response — {}", s.plant), ("sans-serif", 18))
+            .margin(15)
+            .x_label_area_size(35)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..t_end, (lo - pad)..(hi + pad))?;
+        c.configure_mesh().x_desc("t (s)").y_desc("y").draw()?;
+        if let Some(k) = s.dc_gain {
+            c.draw_series(DashedLineSeries::new(
+                [(0.0, k), (t_end, k)],
+                6,
+                4,
+                BLACK.stroke_width(1),
+            ))?
+            .label(format!("final value {}", fmt_sig(k)))
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        }
+        c.draw_series(LineSeries::new(pts, &BLUE))?
+            .label("y (unit step at t = 0)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        root.present()?;
+    }
+    Ok(svg)
+}

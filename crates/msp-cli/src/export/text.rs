@@ -359,3 +359,43 @@ pub(crate) fn autotune_text(
     }
     s
 }
+
+/// The `msp step` summary: the plant, the final value and MATLAB's `stepinfo`.
+pub(crate) fn step_text(s: &msp::analysis::OpenLoopStep) -> String {
+    let chosen = |k: &str| {
+        if s.chosen.contains(&k) {
+            format!("  [chosen from the plant; --{k} to change]")
+        } else {
+            String::new()
+        }
+    };
+    let mut out = format!("plant       {} ({})\n", s.plant, s.plant_kind);
+    out.push_str(&format!(
+        "ts          {} s{}\n",
+        fmt_num(s.ts),
+        chosen("ts")
+    ));
+    out.push_str(&format!(
+        "duration    {} s{}\n",
+        fmt_num(s.duration),
+        chosen("duration")
+    ));
+    match s.dc_gain {
+        Some(k) => out.push_str(&format!("final value {} (the static gain)\n", fmt_sig(k))),
+        None => out.push_str(&format!(
+            "final value none: the {} plant's response does not settle\n",
+            s.plant_kind
+        )),
+    }
+    let i = &s.info;
+    out.push_str(&format!(
+        "step        rise {} s, settling {} s, overshoot {} %, undershoot {} %, peak {} at {} s\n",
+        fmt_sig(i.rise_time),
+        fmt_sig(i.settling_time),
+        fmt_sig(i.overshoot),
+        fmt_sig(i.undershoot),
+        fmt_sig(i.peak),
+        fmt_sig(i.peak_time)
+    ));
+    out
+}

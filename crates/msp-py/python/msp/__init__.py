@@ -49,6 +49,7 @@ __all__ = [
     "margins",
     "parse_plant",
     "run",
+    "step",
     "sweep",
     "tune",
 ]
@@ -385,6 +386,19 @@ def autotune(
                         duration=duration)
     raw["run"] = Result(raw["run"])
     return raw
+
+
+def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[float] = None,
+         delay: Optional[float] = None) -> Dict[str, Any]:
+    """The plant's own unit step response with its exact dead time, as ``msp step`` (MATLAB's
+    ``step`` and ``stepinfo``, python-control's ``step_response`` and ``step_info``).
+
+    Returns ``{"t": ndarray, "y": ndarray, "plant", "plant_kind", "ts", "duration", "chosen",
+    "dc_gain", "rise_time", "settling_time", "settling_min", "settling_max", "overshoot",
+    "undershoot", "peak", "peak_time"}``; ``dc_gain`` is ``None`` and the step information NaN
+    for a plant whose response does not settle (integrating or unstable).
+    """
+    return _msp.step(_plant(plant, delay), ts=ts, duration=duration)
 
 
 def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:

@@ -4,7 +4,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "SCENARIO_FIELDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "sweep", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "SCENARIO_FIELDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune"]
 __version__: str
 SCENARIO_FIELDS: List[str]
 
@@ -94,6 +94,9 @@ def autotune(
     ts: Optional[float] = None,
     band: float = ...,
     duration: Optional[float] = None,
+) -> Dict[str, Any]: ...
+def step(
+    plant: Union[str, Plant], *, ts: Optional[float] = None, duration: Optional[float] = None
 ) -> Dict[str, Any]: ...
 def identify(
     t: npt.NDArray[np.float64], u: npt.NDArray[np.float64], y: npt.NDArray[np.float64], model: str = "fopdt"
