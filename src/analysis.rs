@@ -44,6 +44,22 @@ pub enum View {
     Sampled,
     /// The exact discrete equivalent of the plant.
     Discrete,
+    /// The continuous plant without the hold: the margins of a continuous
+    /// design, as MATLAB's `margin` on `C·G` gives them (a gain is exact; a
+    /// sampled controller's response approaches its continuous design as
+    /// `Ts → 0`). A cascade's inner loop stays in the discrete view.
+    Continuous,
+}
+
+impl View {
+    /// Its name in reports: `sampled`, `discrete`, `continuous`.
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Sampled => "sampled",
+            View::Discrete => "discrete",
+            View::Continuous => "continuous",
+        }
+    }
 }
 
 /// The exact ZOH equivalent of `plant` at `ts` as a frequency response: with
@@ -128,25 +144,12 @@ pub struct LoopResponse {
 /// Evaluates `L` at `w` (rad/s).
 pub fn loop_at(
     controller: &dyn FrequencyResponse<f64>,
-    plant: &TransferFunction,
-    dplant: Option<&DiscretePlant>,
+    process: &dyn Fn(f64) -> Complex<f64>,
     ts: f64,
     w: f64,
 ) -> Option<Complex<f64>> {
-    let theta = w * ts;
-    let (_, cy) = controller.response(theta)?;
-    let p = match dplant {
-        Some(d) => d.response(theta),
-        None => {
-            let (re, im) = plant.freq(w);
-            // zero-order hold (1 − e^{−jωT})/(jωT)
-            let zoh = Complex::real(1.0)
-                .sub(Complex::cis(-theta))
-                .div(Complex::new(0.0, theta));
-            Complex::new(re, im).mul(zoh)
-        }
-    };
-    Some(cy.mul(p))
+    let (_, cy) = controller.response(w * ts)?;
+    Some(cy.mul(process(w)))
 }
 
 /// Stability margins and sensitivity peaks (names as MATLAB's `margin` and python-control).
@@ -211,16 +214,13 @@ pub fn loop_response(
     view: View,
     w: &[f64],
 ) -> Result<LoopResponse, Error> {
-    let dp = match view {
-        View::Discrete => Some(DiscretePlant::new(plant, ts)?),
-        View::Sampled => None,
-    };
+    let process = process_response(plant, None, ts, view)?;
     let mut out = LoopResponse {
         w: Vec::with_capacity(w.len()),
         l: Vec::with_capacity(w.len()),
     };
     for &wi in w {
-        let l = loop_at(controller, plant, dp.as_ref(), ts, wi).ok_or(Error::Unsupported(
+        let l = loop_at(controller, &process, ts, wi).ok_or(Error::Unsupported(
             "this controller has no frequency response",
         ))?;
         out.w.push(wi);
@@ -258,13 +258,9 @@ pub fn margins(
             "this controller has no frequency response",
         ));
     }
-    let dp = match view {
-        View::Discrete => Some(DiscretePlant::new(plant, ts)?),
-        View::Sampled => None,
-    };
-    let at = |wi: f64| {
-        loop_at(controller, plant, dp.as_ref(), ts, wi).unwrap_or(Complex::new(f64::NAN, f64::NAN))
-    };
+    let process = process_response(plant, None, ts, view)?;
+    let at =
+        |wi: f64| loop_at(controller, &process, ts, wi).unwrap_or(Complex::new(f64::NAN, f64::NAN));
     Ok(margins_of(&at, &grid(plant, ts, 6000)))
 }
 
@@ -293,10 +289,16 @@ pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
     let mut wcp = f64::NAN;
     let mut dm = f64::INFINITY;
     let (mut ms, mut mt) = (0.0f64, 0.0f64);
+    let (mut ms_at, mut mt_at) = (0usize, 0usize);
+    let sens = |li: Complex<f64>| Complex::real(1.0).div(Complex::real(1.0).add(li)).abs();
+    let comp = |li: Complex<f64>| li.div(Complex::real(1.0).add(li)).abs();
     for (i, li) in l.iter().enumerate() {
-        let s = Complex::real(1.0).div(Complex::real(1.0).add(*li));
-        ms = ms.max(s.abs());
-        mt = mt.max(li.mul(s).abs());
+        if sens(*li) > ms {
+            (ms, ms_at) = (sens(*li), i);
+        }
+        if comp(*li) > mt {
+            (mt, mt_at) = (comp(*li), i);
+        }
         let (Some(next), Some(&wa), Some(&wb)) = (l.get(i + 1), w.get(i), w.get(i + 1)) else {
             break;
         };
@@ -335,6 +337,9 @@ pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
             dm = dm.min(phase / wx);
         }
     }
+    // the peaks between the grid points on each side of the largest sample
+    let ms = peak(&|x| sens(at(x)), w, ms_at).max(ms);
+    let mt = peak(&|x| comp(at(x)), w, mt_at).max(mt);
     Margins {
         gm: gm_hi,
         gm_db: 20.0 * gm_hi.log10(),
@@ -348,6 +353,42 @@ pub fn margins_of(at: &dyn Fn(f64) -> Complex<f64>, w: &[f64]) -> Margins {
     }
 }
 
+/// The maximum of `f` between the grid points either side of `w[i]` (the
+/// largest sample), by golden-section search on `ln ω` to the relative
+/// precision of `f64` (`f` is unimodal there when the grid resolves the peak).
+fn peak(f: &dyn Fn(f64) -> f64, w: &[f64], i: usize) -> f64 {
+    let lo = w.get(i.saturating_sub(1)).copied();
+    let hi = w.get(i + 1).or(w.get(i)).copied();
+    let (Some(lo), Some(hi)) = (lo, hi) else {
+        return f64::NAN;
+    };
+    if !(lo > 0.0 && hi > lo) {
+        return f64::NAN;
+    }
+    let g = |x: f64| f(x.exp());
+    let r = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (lo.ln(), hi.ln());
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (g(c), g(d));
+    for _ in 0..80 {
+        if fc > fd {
+            b = d;
+            (d, fd) = (c, fc);
+            c = b - r * (b - a);
+            fc = g(c);
+        } else {
+            a = c;
+            (c, fc) = (d, fd);
+            d = a + r * (b - a);
+            fd = g(d);
+        }
+        if b - a < 1e-14 * a.abs().max(1.0) {
+            break;
+        }
+    }
+    fc.max(fd)
+}
+
 /// The delay margin of the loop with its gain scaled by each factor in
 /// `gains`: the combined gain-and-delay region that keeps the loop stable is
 /// below this curve (Bag (2022) Eqs. 4.55–4.57 bound the same
@@ -359,16 +400,13 @@ pub fn region(
     view: View,
     gains: &[f64],
 ) -> Result<Vec<(f64, f64)>, Error> {
-    let dp = match view {
-        View::Discrete => Some(DiscretePlant::new(plant, ts)?),
-        View::Sampled => None,
-    };
+    let process = process_response(plant, None, ts, view)?;
     let w = grid(plant, ts, 6000);
     Ok(gains
         .iter()
         .map(|k| {
             let at = |wi: f64| {
-                loop_at(controller, plant, dp.as_ref(), ts, wi)
+                loop_at(controller, &process, ts, wi)
                     .unwrap_or(Complex::new(f64::NAN, f64::NAN))
                     .scale(*k)
             };
@@ -419,10 +457,12 @@ pub struct Analysis {
     pub inner_process: Option<(TransferFunction, TransferFunction)>,
     /// Sample period.
     pub ts: f64,
-    /// The controller.
+    /// The controller (`none`: the bare plant, or a pure gain `kp`).
     pub controller: &'static str,
     /// Its parameters.
     pub params: crate::registry::Params,
+    /// How the plant is seen: behind the hold, discrete, or continuous.
+    pub view: View,
     /// Margins of the loop at the plant input.
     pub margins: Margins,
     /// Margins of the inner (model) loop, for schemes that have one.
@@ -439,6 +479,82 @@ pub struct Analysis {
     pub robust_peak: Option<f64>,
     /// The loop response for plots.
     pub response: LoopResponse,
+}
+
+/// One point of the stability region: a loop gain factor and the delay
+/// margin of the loop with that gain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RegionPoint {
+    /// The factor on the loop gain.
+    pub gain: f64,
+    /// The delay margin at that gain (s).
+    pub dm: f64,
+}
+
+/// What `msp margins --json` prints and Python's `margins` returns (beside
+/// the loop response arrays): one serde type, the same keys in both.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct MarginsReport {
+    /// The plant.
+    pub plant: String,
+    /// The controller's model.
+    pub model: String,
+    /// A cascade's secondary process.
+    pub inner_plant: Option<String>,
+    /// The controller's model of the secondary process.
+    pub inner_model: Option<String>,
+    /// Sample period (s).
+    pub ts: f64,
+    /// How the plant is seen: `sampled` (behind the hold), `discrete`, `continuous`.
+    pub view: &'static str,
+    /// The controller (`none`: the bare plant or a pure gain).
+    pub controller: crate::study::ControllerReport,
+    /// The margins and peaks at the top level (MATLAB's and python-control's names).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub margins: Margins,
+    /// The nominal loop's verdict (`None`: the probe could not run).
+    pub stable: Option<bool>,
+    /// Why the probe could not run.
+    pub probe_note: Option<String>,
+    /// The margins of the inner (model) loop.
+    pub inner: Option<Margins>,
+    /// The gain/delay stability region.
+    pub region: Vec<RegionPoint>,
+    /// `max|T·Δ|` (Eq. 17) for the perturbation given.
+    pub robust_peak: Option<f64>,
+    /// `robust_peak < 1`.
+    pub robustly_stable: Option<bool>,
+}
+
+impl Analysis {
+    /// The report of this analysis.
+    pub fn report(&self) -> MarginsReport {
+        MarginsReport {
+            plant: self.plant.to_string(),
+            model: self.model.to_string(),
+            inner_plant: self.inner_process.as_ref().map(|(p, _)| p.to_string()),
+            inner_model: self.inner_process.as_ref().map(|(_, m)| m.to_string()),
+            ts: self.ts,
+            view: self.view.name(),
+            controller: crate::study::ControllerReport {
+                name: self.controller,
+                params: self.params.clone(),
+            },
+            margins: self.margins,
+            stable: self.stable,
+            probe_note: self.probe_note.clone(),
+            inner: self.inner,
+            region: self
+                .region
+                .iter()
+                .map(|&(gain, dm)| RegionPoint { gain, dm })
+                .collect(),
+            robust_peak: self.robust_peak,
+            robustly_stable: self.robust_peak.map(|p| p < 1.0),
+        }
+    }
 }
 
 /// A cascade's secondary process, the controller's IMC loop and its model of the secondary.
@@ -484,6 +600,10 @@ pub fn process_response(
             let dp = DiscretePlant::new(&plant, ts)?;
             Box::new(move |w: f64| dp.response(w * ts))
         }
+        View::Continuous => Box::new(move |w: f64| {
+            let (re, im) = plant.freq(w);
+            Complex::new(re, im)
+        }),
         View::Sampled => Box::new(move |w: f64| {
             let theta = w * ts;
             let (re, im) = plant.freq(w);
@@ -502,6 +622,10 @@ pub fn process_response(
 /// (for a gain error `δk` and a delay error `δθ` this is
 /// `(1 + δk)e^{−jωθδθ} − 1`, Bag (2022) Eqs. 4.54–4.57), and
 /// `robust_peak = max_ω |T(jω)·Δ(jω)|` over `ω ∈ (0, π/Ts)`.
+///
+/// Without a controller (`controller` absent or `"none"`) the loop is the bare
+/// plant, `L = G` (MATLAB's `margin(G)`), or a pure gain `L = kp·G` with
+/// `set = {kp: K}`; its nominal loop is the unity feedback around it.
 pub fn analyze(
     sc: &crate::study::Scenario,
     view: View,
@@ -509,7 +633,12 @@ pub fn analyze(
 ) -> Result<Analysis, crate::study::RunError> {
     let (plant, model) = sc.plant_and_model()?;
     let inner = sc.inner_process()?;
-    let tuned = sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+    let bare = matches!(sc.controller.as_deref().map(str::trim), None | Some("none"));
+    let tuned = if bare {
+        bare_gain(sc)?
+    } else {
+        sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?
+    };
     let built = sc.build_tuned(&tuned, &model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();
     let ts = built.ts;
@@ -614,7 +743,8 @@ pub fn analyze(
         model,
         inner_process: inner,
         ts,
-        controller: built.scheme,
+        controller: if bare { "none" } else { built.scheme },
+        view,
         params: built.params,
         margins: m,
         inner: inner_m,
@@ -623,6 +753,34 @@ pub fn analyze(
         region: reg,
         robust_peak,
         response,
+    })
+}
+
+/// The P-only "controller" of a bare loop: `kp` from `set` (default 1),
+/// no integral, no derivative; no other key applies.
+fn bare_gain(sc: &crate::study::Scenario) -> Result<crate::study::Tuned, crate::study::RunError> {
+    let mut kp = 1.0;
+    for (k, v) in &sc.set {
+        match k.strip_prefix("none.").unwrap_or(k) {
+            "kp" => kp = crate::real::finite(*v, "kp")?,
+            other => {
+                return Err(crate::registry::RegistryError::UnknownParam {
+                    scheme: "none",
+                    name: other.into(),
+                    allowed: std::vec!["kp"],
+                }
+                .into())
+            }
+        }
+    }
+    Ok(crate::study::Tuned {
+        scheme: crate::registry::find("pid")?,
+        params: crate::registry::Params::of(&crate::tuning::PidGains {
+            kp,
+            ti: f64::INFINITY,
+            td: 0.0,
+        }),
+        lambda_chosen: false,
     })
 }
 

@@ -529,9 +529,9 @@ pub fn fmt_num(x: f64) -> String {
 /// engineers write plants: `gain · s^m · Π(τs ± 1)^k · Π(as² + bs + 1)^k`,
 /// e.g. `[10000, 4000, 600, 40, 1]` → `(1, "(10s + 1)^4")`. The roots are
 /// clustered (a root of multiplicity `k` is found only to `ε^{1/k}`), each
-/// factor's coefficients rounded to 6 and then 12 significant digits, and the
-/// product accepted only if it gives back the coefficients to `1e-12`
-/// relative; otherwise, and for fewer than two factors, `None`. The third
+/// factor's coefficients rounded to 6 significant digits (a plant written
+/// with such numbers), and the product accepted only if it gives back the
+/// coefficients to `1e-12` relative; otherwise, and for fewer than two factors, `None`. The third
 /// value counts the distinct factors (a single `(…)^k` needs no parentheses
 /// around it after a `/`).
 fn factored(p: &[f64]) -> Option<(f64, String, usize)> {
@@ -592,7 +592,8 @@ fn factored(p: &[f64]) -> Option<(f64, String, usize)> {
         if count < 2 {
             return None;
         }
-        for digits in [5usize, 11] {
+        {
+            let digits = 5usize;
             let mut fs: Vec<(Vec<f64>, usize)> = Vec::new();
             if zeros > 0 {
                 fs.push((vec![1.0, 0.0], zeros));

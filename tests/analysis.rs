@@ -250,3 +250,69 @@ fn stability_verdicts_are_true() {
     assert_eq!(stable, None);
     assert!(note.unwrap().contains("could not run"));
 }
+
+/// Without a controller the loop is the bare plant (MATLAB's `margin(G)`):
+/// `G = 1/(s³ + 2s² + 3s + 4)` crosses −180° at `ω = √3` where `|G| = 1/2`,
+/// so the continuous view gives `gm = 2` exactly and a gain of 0.5 doubles
+/// it; the hold of the sampled view costs phase, so its `gm` is smaller.
+/// `ms` is refined to its peak: against `max|1/(1 + G)|` found on a dense
+/// grid and golden-section search here.
+#[test]
+fn bare_plant_margins_are_matlabs() {
+    let analyze = |view: View, kp: Option<f64>| {
+        let mut sc = Scenario {
+            plant: Some("1/(s^3+2s^2+3s+4)".parse().unwrap()),
+            ..Default::default()
+        };
+        if let Some(k) = kp {
+            sc.set.insert("kp".into(), k);
+        }
+        msp::analysis::analyze(&sc, view, None).unwrap()
+    };
+    let c = analyze(View::Continuous, None);
+    assert_eq!(c.controller, "none");
+    assert_close(c.margins.gm, 2.0, 1e-9, 0.0);
+    assert_close(c.margins.wcg, 3f64.sqrt(), 1e-9, 0.0);
+    assert_close(
+        analyze(View::Continuous, Some(0.5)).margins.gm,
+        4.0,
+        1e-9,
+        0.0,
+    );
+    assert!(analyze(View::Sampled, None).margins.gm < 1.95);
+    assert_eq!(c.stable, Some(true));
+    // |S(jω)| of the bare loop, independently
+    let s_abs = |w: f64| {
+        let (re, im) = (4.0 - 2.0 * w * w, 3.0 * w - w * w * w);
+        // 1/(1 + 1/D) = D/(D + 1)
+        (re.hypot(im)) / (re + 1.0).hypot(im)
+    };
+    let (mut best, mut at) = (0.0, 0.0);
+    for i in 1..200_000 {
+        let w = i as f64 * 1e-4;
+        if s_abs(w) > best {
+            (best, at) = (s_abs(w), w);
+        }
+    }
+    let (mut a, mut b) = (at - 1e-4, at + 1e-4);
+    for _ in 0..200 {
+        let (c1, c2) = (a + (b - a) / 3.0, b - (b - a) / 3.0);
+        if s_abs(c1) > s_abs(c2) {
+            b = c2;
+        } else {
+            a = c1;
+        }
+    }
+    assert_close(c.margins.ms, s_abs((a + b) / 2.0), 1e-12, 0.0);
+    // an unknown key for a bare loop names the one that applies
+    let mut sc = Scenario {
+        plant: Some("1/(s+1)".parse().unwrap()),
+        controller: Some("none".into()),
+        ..Default::default()
+    };
+    sc.set.insert("ti".into(), 3.0);
+    let e = msp::analysis::analyze(&sc, View::Sampled, None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("kp"), "{e}");
+}

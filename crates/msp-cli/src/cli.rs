@@ -158,12 +158,16 @@ pub(crate) struct CompareArgs {
 pub(crate) struct MarginsArgs {
     #[command(flatten)]
     pub(crate) scenario: ScenarioArgs,
-    /// Controller name (see `msp list`); default by plant kind.
+    /// Controller name (see `msp list`); absent or `none`: the bare plant, L = G
+    /// (with --set kp=K a pure gain, L = K·G).
     #[arg(long, short = 'c')]
     pub(crate) controller: Option<String>,
     /// Use the exact discrete equivalent of the plant instead of the continuous plant behind a hold.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "continuous")]
     pub(crate) discrete: bool,
+    /// The continuous plant without the hold (MATLAB's `margin` of a continuous design).
+    #[arg(long)]
+    pub(crate) continuous: bool,
     /// Robust-stability test (Eq. 17, max|T·Δ| < 1) for a plant perturbation, e.g.
     /// gain=10%,delay=10%,tau=-20% (inner_gain, inner_delay, inner_tau for a cascade's secondary).
     #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]

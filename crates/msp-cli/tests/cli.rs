@@ -409,6 +409,55 @@ fn sweep_shards_merge_into_the_whole() {
     );
 }
 
+/// `msp margins --plant EXPR` alone is the bare plant (MATLAB's `margin(G)`),
+/// `--continuous` drops the hold (gm = 2 for `1/(s³ + 2s² + 3s + 4)`, as
+/// MATLAB), and the JSON says which view it is.
+#[test]
+fn margins_of_the_bare_plant() {
+    let out = msp()
+        .args([
+            "margins",
+            "--plant",
+            "1/(s^3+2s^2+3s+4)",
+            "--continuous",
+            "--json",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(j["controller"]["name"], "none");
+    assert_eq!(j["view"], "continuous");
+    assert!((j["gm"].as_f64().unwrap() - 2.0).abs() < 1e-9);
+    msp()
+        .args([
+            "margins",
+            "--plant",
+            "1/(s^3+2s^2+3s+4)",
+            "-c",
+            "none",
+            "--set",
+            "kp=0.5",
+        ])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("L = 0.5·G").and(predicate::str::contains("behind a hold")),
+        );
+    msp()
+        .args([
+            "margins",
+            "--plant",
+            "1/(s+1)",
+            "--continuous",
+            "--discrete",
+        ])
+        .assert()
+        .code(2);
+}
+
 /// A P-only loop settles at `k/(1 + k)`, off the set point, and is stable.
 /// `msp step`: the plant's own step response, no controller; its JSON has
 /// MATLAB's `stepinfo` figures (FOPDT: rise `τ ln 9`), the CSV `t,y`, the

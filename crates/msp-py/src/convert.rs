@@ -255,17 +255,6 @@ pub(crate) fn perturbation_of(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option
     Ok(Some(p))
 }
 
-pub(crate) fn margins_dict<'py>(
-    py: Python<'py>,
-    m: &msp::analysis::Margins,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    for (k, v) in m.fields() {
-        d.set_item(k, v)?;
-    }
-    Ok(d)
-}
-
 pub(crate) fn fit_dict<'py>(
     py: Python<'py>,
     fit: &msp::ident::Fit,

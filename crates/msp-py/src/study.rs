@@ -2,9 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::convert::{
-    fit_dict, margins_dict, output_dict, params_dict, perturbation_of, scenario, Processes,
-};
+use crate::convert::{fit_dict, output_dict, params_dict, perturbation_of, scenario, Processes};
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry;
@@ -128,7 +126,8 @@ pub(crate) fn compare<'py>(
 /// Margins, stability region and robust-stability test (see ``msp.margins``).
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
-                    ts=None, lambda_=None, rule=None, discrete=false, uncertainty=None, float32=false, max_memory=None))]
+                    ts=None, lambda_=None, rule=None, discrete=false, continuous=false, uncertainty=None,
+                    float32=false, max_memory=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn margins<'py>(
     py: Python<'py>,
@@ -142,6 +141,7 @@ pub(crate) fn margins<'py>(
     lambda_: Option<f64>,
     rule: Option<String>,
     discrete: bool,
+    continuous: bool,
     uncertainty: Option<&Bound<'py, PyAny>>,
     float32: bool,
     max_memory: Option<u64>,
@@ -152,29 +152,21 @@ pub(crate) fn margins<'py>(
         rule, None, float32, max_memory,
     )?;
     let uncertainty = perturbation_of(uncertainty)?;
-    let view = if discrete {
-        msp::analysis::View::Discrete
-    } else {
-        msp::analysis::View::Sampled
+    let view = match (discrete, continuous) {
+        (true, true) => {
+            return Err(PyValueError::new_err(
+                "discrete and continuous are two views of the plant: give one",
+            ))
+        }
+        (true, false) => msp::analysis::View::Discrete,
+        (false, true) => msp::analysis::View::Continuous,
+        (false, false) => msp::analysis::View::Sampled,
     };
     let an = py
         .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
         .map_err(value_err)?;
-    let d = margins_dict(py, &an.margins)?;
-    d.set_item("plant", an.plant.to_string())?;
-    d.set_item("model", an.model.to_string())?;
-    d.set_item("ts", an.ts)?;
-    let c = PyDict::new(py);
-    c.set_item("name", an.controller)?;
-    c.set_item("params", params_dict(py, &an.params)?)?;
-    d.set_item("controller", c)?;
-    d.set_item("stable", an.stable)?;
-    d.set_item("probe_note", an.probe_note.as_deref())?;
-    if let Some(i) = &an.inner {
-        d.set_item("inner", margins_dict(py, i)?)?;
-    }
-    d.set_item("region", an.region.clone())?;
-    d.set_item("robust_peak", an.robust_peak)?;
+    // the library's report (the keys of `msp margins --json`), then the loop response
+    let d = pythonize::pythonize(py, &an.report())?.downcast_into::<PyDict>()?;
     d.set_item("w", an.response.w.clone().into_pyarray(py))?;
     let l: Vec<f64> = an.response.l.iter().flat_map(|c| [c.re, c.im]).collect();
     let arr = l.into_pyarray(py).reshape([an.response.w.len(), 2])?;

@@ -239,6 +239,17 @@ def test_step_is_the_open_loop_response() -> None:
     assert i["dc_gain"] is None and math.isnan(i["rise_time"])
 
 
+def test_margins_of_the_bare_plant_are_matlabs() -> None:
+    m = msp.margins("1/(s^3+2s^2+3s+4)", continuous=True)
+    assert m["controller"]["name"] == "none" and m["view"] == "continuous"
+    assert math.isclose(m["gm"], 2.0, rel_tol=1e-9) and math.isclose(m["wcg"], math.sqrt(3.0), rel_tol=1e-9)
+    assert math.isclose(msp.margins("1/(s^3+2s^2+3s+4)", "none", {"kp": 0.5}, continuous=True)["gm"], 4.0,
+                        rel_tol=1e-9)
+    assert msp.margins("1/(s^3+2s^2+3s+4)")["gm"] < 1.95
+    with pytest.raises(ValueError):
+        msp.margins("1/(s+1)", discrete=True, continuous=True)
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -11,10 +11,10 @@ pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);
     }
-    let view = if a.discrete {
-        msp::analysis::View::Discrete
-    } else {
-        msp::analysis::View::Sampled
+    let view = match (a.discrete, a.continuous) {
+        (true, _) => msp::analysis::View::Discrete,
+        (_, true) => msp::analysis::View::Continuous,
+        _ => msp::analysis::View::Sampled,
     };
     let an = msp::analysis::analyze(&sc, view, a.uncertainty)?;
     if let Some(p) = &a.plot {

@@ -6,7 +6,7 @@ use crate::export;
 use msp::study::Scenario;
 
 pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
-    let sc = Scenario {
+    let mut sc = Scenario {
         plant: Some(a.plant.clone()),
         inner_plant: a.inner_plant.clone(),
         controller: a.controller.clone(),
@@ -24,6 +24,7 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         lambda_chosen,
     } = sc.tune_for(&model, inner.as_ref())?;
     // Eq. 17 on the tuned controller, when asked for
+    sc.controller = Some(scheme.name.to_string());
     let robust = match a.uncertainty {
         Some(u) => msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?.robust_peak,
         None => None,

@@ -15,50 +15,9 @@ pub(crate) fn report_json(out: &RunOutput) -> Value {
     serde_json::to_value(out.report()).unwrap_or(Value::Null)
 }
 
-/// The `msp margins --json` document: MATLAB/python-control key names at the top level.
+/// The `msp margins --json` document: the library's [`msp::analysis::MarginsReport`].
 pub(crate) fn margins_json(an: &msp::analysis::Analysis) -> Value {
-    let mut o = Map::new();
-    o.insert("plant".into(), json!(an.plant.to_string()));
-    o.insert("model".into(), json!(an.model.to_string()));
-    if let Some((p2, m2)) = &an.inner_process {
-        o.insert("inner_plant".into(), json!(p2.to_string()));
-        o.insert("inner_model".into(), json!(m2.to_string()));
-    }
-    o.insert("ts".into(), num(an.ts));
-    let params = params_json(&an.params);
-    o.insert(
-        "controller".into(),
-        json!({"name": an.controller, "params": params}),
-    );
-    for (k, v) in an.margins.fields() {
-        o.insert(k.into(), num(v));
-    }
-    o.insert("stable".into(), json!(an.stable));
-    if let Some(why) = &an.probe_note {
-        o.insert("probe_note".into(), json!(why));
-    }
-    if let Some(inner) = &an.inner {
-        let m: Map<String, Value> = inner
-            .fields()
-            .iter()
-            .map(|(k, v)| (k.to_string(), num(*v)))
-            .collect();
-        o.insert("inner".into(), Value::Object(m));
-    }
-    o.insert(
-        "region".into(),
-        Value::Array(
-            an.region
-                .iter()
-                .map(|(k, d)| json!({"gain": num(*k), "dm": num(*d)}))
-                .collect(),
-        ),
-    );
-    if let Some(p) = an.robust_peak {
-        o.insert("robust_peak".into(), num(p));
-        o.insert("robustly_stable".into(), json!(p < 1.0));
-    }
-    Value::Object(o)
+    serde_json::to_value(an.report()).unwrap_or(Value::Null)
 }
 
 /// `{"model": "fopdt", "k": …, "t": …, "l": …, "rmse": …, "r2": …}`.

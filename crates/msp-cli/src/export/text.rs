@@ -216,13 +216,30 @@ pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
     if an.model != an.plant {
         s.push_str(&format!("model       {}\n", an.model));
     }
-    let params = params_line(&an.params);
-    s.push_str(&format!(
-        "controller  {}: {}  (ts {} s)\n",
-        an.controller,
-        params,
-        fmt_num(an.ts)
-    ));
+    let view = match an.view {
+        msp::analysis::View::Sampled => "the plant behind a hold",
+        msp::analysis::View::Discrete => "the plant's exact discrete equivalent",
+        msp::analysis::View::Continuous => "the continuous plant, no hold",
+    };
+    if an.controller == "none" {
+        let kp = an.params.get("kp").unwrap_or(1.0);
+        let gain = if kp == 1.0 {
+            "L = G".to_string()
+        } else {
+            format!("L = {}·G", fmt_sig(kp))
+        };
+        s.push_str(&format!(
+            "controller  none: {gain} (ts {} s; {view})\n",
+            fmt_num(an.ts)
+        ));
+    } else {
+        s.push_str(&format!(
+            "controller  {}: {}  (ts {} s; {view})\n",
+            an.controller,
+            params_line(&an.params),
+            fmt_num(an.ts)
+        ));
+    }
     s.push_str(&format!(
         "gain margin   gm = {} ({} dB) at wcg = {} rad/s\n",
         fmt_sig(m.gm),

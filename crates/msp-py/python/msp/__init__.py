@@ -296,15 +296,22 @@ def margins(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     discrete: bool = False,
+    continuous: bool = False,
     uncertainty: Union[None, str, Mapping[str, float], Tuple[float, float]] = None,
     float32: bool = False,
     max_memory: Optional[int] = None,
 ) -> Dict[str, Any]:
     """Margins of the loop at the plant input with the exact dead time, as ``msp margins``.
 
+    Without ``controller`` (or with ``"none"``) the loop is the bare plant, ``L = G``, as MATLAB's
+    ``margin(G)``; ``params={"kp": K}`` makes it a pure gain. The plant is seen behind a hold
+    (default), as its exact discrete equivalent (``discrete=True``) or continuous without the hold
+    (``continuous=True``); ``view`` says which.
+
     Returns a dict with ``gm``, ``gm_db``, ``pm`` (degrees), ``wcg``, ``wcp``, ``dm`` (s),
     ``ms``, ``mt`` (python-control / MATLAB names), ``inner`` (the model loop's margins),
-    ``region`` (gain factor, delay margin pairs), ``stable``, ``robust_peak`` (Eq. 17,
+    ``region`` (``{"gain", "dm"}`` points), ``stable`` (``None`` with ``probe_note`` when the
+    probe simulation could not run), ``robust_peak`` (Eq. 17,
     ``max|T·Δ|`` with the exact uncertainty of the perturbation ``uncertainty``:
     ``"gain=10%,delay=10%,tau=-20%"``, a dict of the same keys, or a ``(gain, delay)`` pair), and
     the loop response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``). For a cascade scheme
@@ -319,7 +326,8 @@ def margins(
                         model=_plant(model) if model is not None else None,
                         inner_plant=_plant(inner_plant) if inner_plant is not None else None,
                         inner_model=_plant(inner_model) if inner_model is not None else None,
-                        ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, uncertainty=unc,
+                        ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, continuous=continuous,
+                        uncertainty=unc,
                         float32=float32, max_memory=max_memory)
 
 

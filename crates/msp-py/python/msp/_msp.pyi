@@ -113,6 +113,7 @@ def margins(
     lambda_: Optional[float] = None,
     rule: Optional[str] = None,
     discrete: bool = False,
+    continuous: bool = False,
     uncertainty: Any = None,
     float32: bool = False,
     max_memory: Optional[int] = None,
