@@ -653,3 +653,24 @@ fn uncontrollable_plants_are_named_as_such() {
         }
     }
 }
+
+/// A loop that diverges before the model's dead time has passed leaves no
+/// sample for the delayed-reference metrics: they are NaN (null in the
+/// report), never 0, and the warning says where the data and metrics stop.
+#[test]
+fn a_diverging_loop_never_reads_as_perfect() {
+    let sc = Scenario {
+        plant: Some("0.2/s*e^-7.4s".parse().unwrap()),
+        controller: Some("pid".into()),
+        set: [("kp".to_string(), 1e308)].into_iter().collect(),
+        ..Default::default()
+    };
+    let o = sc.run().unwrap();
+    assert!(o.result.diverged_at.is_some());
+    let d = o.metrics_delayed_reference;
+    for (k, v) in d.fields() {
+        assert!(v.is_nan(), "{k} = {v}");
+    }
+    assert!(o.metrics.indices.iae > 0.0);
+    assert!(o.warnings()[0].contains("metrics stop there"));
+}

@@ -248,7 +248,7 @@ impl<T: Real, const N: usize> Lti<T, N> {
             Ok(self)
         } else {
             Err(Error::Numerical(
-                "discretization (overflow: sample period too long for an unstable pole?)",
+                "discretization: a coefficient overflowed (a gain too large for f64, or a sample period too long for an unstable pole)",
             ))
         }
     }

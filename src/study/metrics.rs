@@ -72,6 +72,21 @@ pub fn metrics(
         rows(&res.y, first, stride),
         rows(&res.u, first, stride),
     );
+    // no sample in the window (a run that diverged before `shift`): no
+    // figure, never a 0 that reads as a perfect loop
+    if tt.len() < 2 {
+        let nan = f64::NAN;
+        return Ok(Metrics {
+            indices: Indices {
+                iae: nan,
+                ise: nan,
+                itae: nan,
+                itse: nan,
+                tv: nan,
+            },
+            step: step_info(&[], &[], 0.0, nan, shift),
+        });
+    }
     let mut ind = IntegralIndices::new(ts)?;
     let mut steps: Vec<SetpointStep> = setpoint.to_vec();
     steps.sort_by(|a, b| a.at.total_cmp(&b.at));

@@ -96,7 +96,7 @@ impl RunOutput {
             .diverged_at
             .map(|t| {
                 format!(
-                    "the closed loop with {} is unstable: the output diverged at t = {} s; the data stop there",
+                    "the closed loop with {} is unstable: the output diverged at t = {} s; the data and the metrics stop there (null where no sample is left)",
                     self.controller,
                     crate::poly::fmt_num(t)
                 )
