@@ -674,3 +674,35 @@ fn a_diverging_loop_never_reads_as_perfect() {
     assert!(o.metrics.indices.iae > 0.0);
     assert!(o.warnings()[0].contains("metrics stop there"));
 }
+
+/// A chosen duration is extended until the output has come to rest: the
+/// P-only loop on `e^-s/(s+1)` with kp = 2 (a slowly decaying oscillation,
+/// near the ultimate gain 2.26) needs several doublings of the 20 s the
+/// plant alone suggests; at kp = 2.25 it never settles within the cap of 16×,
+/// and the run says so. A given duration is never changed.
+#[test]
+fn the_chosen_duration_is_extended_until_the_loop_settles() {
+    let run = |kp: f64, duration: Option<f64>| {
+        Scenario {
+            plant: Some("e^-1s/(s+1)".parse().unwrap()),
+            controller: Some("pid".into()),
+            set: [("kp", kp), ("ti", f64::INFINITY), ("td", 0.0)]
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect(),
+            duration,
+            ..Default::default()
+        }
+        .run()
+        .unwrap()
+    };
+    let o = run(2.0, None);
+    assert!(o.duration > 20.0 && o.duration_chosen && o.has_settled());
+    assert!(o.warnings().is_empty(), "{:?}", o.warnings());
+    let o = run(2.25, None);
+    assert_eq!(o.duration, 320.0);
+    assert!(o.warnings()[0].contains("had not settled"));
+    let o = run(2.25, Some(30.0));
+    assert_eq!(o.duration, 30.0);
+    assert!(o.warnings().is_empty());
+}

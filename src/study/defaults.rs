@@ -46,7 +46,8 @@ pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
         .poles()
         .unwrap_or_default()
         .into_iter()
-        .filter(|(re, _)| *re < 0.0)
+        // a pole at the origin comes out of the eigenvalues as ±1e-17
+        .filter(|(re, im)| *re < 0.0 && re.hypot(*im) > 1e-9)
         .map(|(re, _)| -1.0 / re)
         .fold(0.0, f64::max);
     let slow = plant

@@ -154,6 +154,9 @@ pub struct RunOutput {
     pub duration: f64,
     /// Whether the duration was chosen automatically.
     pub duration_chosen: bool,
+    /// What the run found that the user should know, beside an instability
+    /// (part of [`RunOutput::warnings`]).
+    pub notes: Vec<String>,
     /// Whether the tuning's `lambda` was chosen automatically.
     pub lambda_chosen: bool,
     /// Controller name.
@@ -425,7 +428,49 @@ impl Scenario {
     /// [`Scenario::run`] with a controller already tuned (`tuned`) and the
     /// processes given: the scenario's plants, `controller`, `lambda`, `rule`
     /// and `set` are not read.
+    ///
+    /// A duration the scenario does not give is chosen from the plant
+    /// ([`choose_duration`]) and, when the output has not come to rest by
+    /// then, doubled up to four times (within the memory budget); a run
+    /// that still has not settled says so in its warnings.
     pub fn run_tuned(
+        &self,
+        tuned: &Tuned,
+        plant: TransferFunction,
+        model: TransferFunction,
+        inner: Option<(TransferFunction, TransferFunction)>,
+    ) -> Result<RunOutput, RunError> {
+        let mut out = self.run_once(tuned, plant.clone(), model.clone(), inner.clone())?;
+        if self.duration.is_some() {
+            return Ok(out);
+        }
+        let mut longer = self.clone();
+        for _ in 0..4 {
+            if out.result.diverged_at.is_some() || out.has_settled() {
+                return Ok(out);
+            }
+            longer.duration = Some(out.duration * 2.0);
+            match longer.run_once(tuned, plant.clone(), model.clone(), inner.clone()) {
+                Ok(mut o) => {
+                    o.duration_chosen = true;
+                    out = o;
+                }
+                // beyond the memory budget: keep the run there is
+                Err(_) => break,
+            }
+        }
+        if out.result.diverged_at.is_none() && !out.has_settled() {
+            out.notes.push(std::format!(
+                "the output had not settled after {} s (the chosen duration, extended); give --duration (Python: duration=) to run longer",
+                crate::poly::fmt_num(out.duration)
+            ));
+        }
+        Ok(out)
+    }
+
+    /// One run of [`Scenario::run_tuned`] at the scenario's duration (or the
+    /// one chosen from the plant).
+    fn run_once(
         &self,
         tuned: &Tuned,
         plant: TransferFunction,
@@ -443,6 +488,9 @@ impl Scenario {
         let (u_min, u_max) = (built.u_min, built.u_max);
         let (duration, duration_chosen) = match self.duration {
             Some(d) => (crate::real::positive(d, "duration")?, false),
+            // the plant's settling, or twenty closed-loop time constants λ
+            // where the loop is slower (a delay-free integrator has no time
+            // constant of its own)
             None => (
                 choose_duration(
                     &match &inner {
@@ -450,7 +498,8 @@ impl Scenario {
                         None => plant.clone(),
                     },
                     ts,
-                ),
+                )
+                .max(20.0 * tuned.params.lambda().filter(|l| l.is_finite()).unwrap_or(0.0)),
                 true,
             ),
         };
@@ -551,6 +600,7 @@ impl Scenario {
             metrics_delayed_reference: m1,
             setpoint,
             float32: self.float32,
+            notes: Vec::new(),
         })
     }
 }

@@ -90,18 +90,35 @@ impl RunOutput {
         }
     }
 
-    /// Warnings about the run (an unstable loop).
+    /// Whether the output has come to rest: the step information has a
+    /// settling time before the last tenth of the run, or (a loop that rests
+    /// off its set point, e.g. P-only) the last tenth swings by less than
+    /// 0.1 % of the largest |y|.
+    pub fn has_settled(&self) -> bool {
+        let y = &self.result.y;
+        let n = y.len();
+        if self.metrics.step.settling_time <= 0.9 * self.duration {
+            return true;
+        }
+        let tail = y.get(n - n / 10..).unwrap_or(&[]);
+        let swing = tail.iter().fold(f64::MIN, |m, v| m.max(*v))
+            - tail.iter().fold(f64::MAX, |m, v| m.min(*v));
+        let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
+        n >= 10 && swing <= 1e-3 * scale
+    }
+
+    /// Warnings about the run (an unstable loop, a run too short to settle).
     pub fn warnings(&self) -> Vec<String> {
-        self.result
-            .diverged_at
-            .map(|t| {
+        self.notes
+            .iter()
+            .cloned()
+            .chain(self.result.diverged_at.map(|t| {
                 format!(
                     "the closed loop with {} is unstable: the output diverged at t = {} s; the data and the metrics stop there (null where no sample is left)",
                     self.controller,
                     crate::poly::fmt_num(t)
                 )
-            })
-            .into_iter()
+            }))
             .collect()
     }
 }
