@@ -253,6 +253,19 @@ pub fn margins(
     ts: f64,
     view: View,
 ) -> Result<Margins, Error> {
+    margins_on(controller, plant, ts, view, 6000)
+}
+
+/// [`margins`] on a grid of `points` frequencies (the crossovers and peaks
+/// are refined between grid points, so a coarser grid only risks missing a
+/// crossing narrower than its spacing).
+pub fn margins_on(
+    controller: &dyn FrequencyResponse<f64>,
+    plant: &TransferFunction,
+    ts: f64,
+    view: View,
+    points: usize,
+) -> Result<Margins, Error> {
     if controller.response(0.1).is_none() {
         return Err(Error::Unsupported(
             "this controller has no frequency response",
@@ -261,7 +274,7 @@ pub fn margins(
     let process = process_response(plant, None, ts, view)?;
     let at =
         |wi: f64| loop_at(controller, &process, ts, wi).unwrap_or(Complex::new(f64::NAN, f64::NAN));
-    Ok(margins_of(&at, &grid(plant, ts, 6000)))
+    Ok(margins_of(&at, &grid(plant, ts, points)))
 }
 
 /// Margins of the inner (delay-free model) loop of a multi-loop scheme, if it has one.

@@ -698,11 +698,68 @@ fn the_chosen_duration_is_extended_until_the_loop_settles() {
     };
     let o = run(2.0, None);
     assert!(o.duration > 20.0 && o.duration_chosen && o.has_settled());
-    assert!(o.warnings().is_empty(), "{:?}", o.warnings());
+    assert!(
+        o.warnings().iter().all(|w| !w.contains("settled")),
+        "{:?}",
+        o.warnings()
+    );
     let o = run(2.25, None);
     assert_eq!(o.duration, 320.0);
     assert!(o.warnings()[0].contains("had not settled"));
     let o = run(2.25, Some(30.0));
     assert_eq!(o.duration, 30.0);
-    assert!(o.warnings().is_empty());
+    assert!(o.warnings().iter().all(|w| !w.contains("settled")));
+}
+
+/// Every run carries its loop's margins and warns when the tuning is
+/// fragile: the default Karan–Dey loop of the headline plant has pm ≈ 33°,
+/// Ms ≈ 2.5 and a delay margin of 1.2 s (16 % of θ), and no λ of its rule
+/// does better, so the warning names a scheme that does; the filtered Smith
+/// predictor on `5e^-6s/(100s − 1)` has Ms ≈ 2.9 and the λ the warning names
+/// gives, by `msp margins`' own analysis, Ms ≤ 2 with dm ≥ 0.2θ.
+#[test]
+fn runs_warn_of_fragile_tunings_and_name_a_better_one() {
+    let sc = Scenario {
+        plant: Some("0.2/s*e^-7.4s".parse().unwrap()),
+        ..Default::default()
+    };
+    let o = sc.run().unwrap();
+    let m = o.robustness.unwrap();
+    assert!(
+        (m.pm - 33.1).abs() < 0.1 && (m.ms - 2.52).abs() < 0.01,
+        "{m:?}"
+    );
+    assert!((m.dm - 1.2).abs() < 0.01, "{m:?}");
+    let w = o.warnings().join("\n");
+    assert!(
+        w.contains("16 % of the dead time") && w.contains("--controller"),
+        "{w}"
+    );
+
+    let sc = Scenario {
+        plant: Some("5e^-6s/(100s-1)".parse().unwrap()),
+        ts: Some(0.06),
+        ..Default::default()
+    };
+    let o = sc.run().unwrap();
+    assert!(o.robustness.unwrap().ms > 2.0);
+    let w = o.warnings().join("\n");
+    let lambda: f64 = w
+        .split("--lambda ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{w}"));
+    let better = Scenario {
+        lambda: Some(lambda),
+        controller: Some(o.controller.into()),
+        ..sc
+    };
+    let an = msp::analysis::analyze(&better, msp::analysis::View::Sampled, None).unwrap();
+    assert!(
+        an.margins.ms <= 2.0 && an.margins.dm >= 0.2 * 6.0,
+        "{:?}",
+        an.margins
+    );
+    assert_eq!(an.stable, Some(true));
 }

@@ -10,7 +10,7 @@ mod report;
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use metrics::{metrics, Metrics};
-pub use report::{ControllerReport, Report};
+pub use report::{ControllerReport, Report, TuneReport};
 
 use std::string::{String, ToString};
 use std::vec::Vec;
@@ -106,6 +106,24 @@ fn human(bytes: f64) -> String {
     }
 }
 
+/// The margins of a tuned loop and the warnings they give
+/// ([`Scenario::robustness`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Robustness {
+    /// Gain, phase and delay margins and the sensitivity peaks.
+    pub margins: crate::analysis::Margins,
+    /// What they warn of, with the `λ` that would do better.
+    pub warnings: Vec<String>,
+}
+
+/// Three significant digits, for numbers in messages.
+fn round3(v: f64) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    std::format!("{v:.2e}").parse().unwrap_or(v)
+}
+
 /// A scheme and its tuned parameters: the typed value the study hands from
 /// tuning to construction (a sweep tunes once and builds every run from it).
 #[derive(Debug, Clone)]
@@ -157,6 +175,9 @@ pub struct RunOutput {
     /// What the run found that the user should know, beside an instability
     /// (part of [`RunOutput::warnings`]).
     pub notes: Vec<String>,
+    /// The tuned loop's margins (sampled view), for a single loop run by
+    /// [`Scenario::run`].
+    pub robustness: Option<crate::analysis::Margins>,
     /// Whether the tuning's `lambda` was chosen automatically.
     pub lambda_chosen: bool,
     /// Controller name.
@@ -417,12 +438,130 @@ impl Scenario {
         }
     }
 
-    /// Tunes, builds and simulates.
+    /// Tunes, builds and simulates; the output carries the tuned loop's
+    /// robustness ([`Scenario::robustness`]).
     pub fn run(&self) -> Result<RunOutput, RunError> {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-        self.run_tuned(&tuned, plant, model, inner)
+        let robust = match inner {
+            None => self.robustness(&tuned, &plant, &model),
+            Some(_) => None,
+        };
+        let mut out = self.run_tuned(&tuned, plant, model, inner)?;
+        if let Some(r) = robust {
+            out.notes.extend(r.warnings);
+            out.robustness = Some(r.margins);
+        }
+        Ok(out)
+    }
+
+    /// The margins of a tuned controller on `plant` (sampled view) on a
+    /// grid of `points` frequencies.
+    fn margins_of_tuned(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+        points: usize,
+    ) -> Option<crate::analysis::Margins> {
+        let built = self.build_tuned(tuned, model, None).ok()?;
+        crate::analysis::margins_on(
+            built.controller.as_ref(),
+            plant,
+            built.ts,
+            crate::analysis::View::Sampled,
+            points,
+        )
+        .ok()
+    }
+
+    /// The margins of the tuned single loop on the plant (sampled view:
+    /// the plant behind the hold, exact delay) and what they warn of: a
+    /// sensitivity peak `Ms > 2` (Åström & Hägglund (2006) Sec. 4.4 give
+    /// 1.2–2 as the usual range) or a delay margin below 20 % of the dead
+    /// time; the warning names the `λ` (the tuning rule's, retuned in steps
+    /// up to 8× the present one) that gives `Ms ≤ 2` with a delay margin of
+    /// at least 20 % of the dead time. `None` for a controller without a
+    /// frequency response.
+    pub fn robustness(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+    ) -> Option<Robustness> {
+        // candidates are screened on a coarser grid than the loop's own margins
+        let margins_of = |t: &Tuned| self.margins_of_tuned(t, plant, model, 800);
+        let margins = self.margins_of_tuned(tuned, plant, model, 6000)?;
+        let theta = plant.delay;
+        let fine = |m: &crate::analysis::Margins| m.ms <= 2.0 && m.dm >= 0.2 * theta;
+        let mut warnings = Vec::new();
+        if !fine(&margins) {
+            let mut what = Vec::new();
+            if margins.ms > 2.0 {
+                what.push(std::format!(
+                    "the sensitivity peak Ms = {} is above 2",
+                    crate::poly::fmt_num(round3(margins.ms))
+                ));
+            }
+            if theta > 0.0 && margins.dm < 0.2 * theta {
+                what.push(std::format!(
+                    "the delay margin {} s is {} % of the dead time",
+                    crate::poly::fmt_num(round3(margins.dm)),
+                    crate::poly::fmt_num((100.0 * margins.dm / theta).round())
+                ));
+            }
+            // parameters the user set are the user's choice: no advice on them
+            let advise = self.set.is_empty();
+            let better = tuned.params.lambda().filter(|_| advise).and_then(|l| {
+                [1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0]
+                    .into_iter()
+                    .map(|f| round3(l * f))
+                    .find_map(|l2| {
+                        let mut sc = self.clone();
+                        sc.lambda = Some(l2);
+                        sc.set.remove("lambda");
+                        let t = sc.tune_for(model, None).ok()?;
+                        let m = margins_of(&t)?;
+                        fine(&m).then_some((l2, m.ms))
+                    })
+            });
+            // no λ of this rule will do: the scheme (default tuning) that does best
+            let other = || {
+                registry::SCHEMES
+                    .iter()
+                    .filter(|s| !s.is_cascade() && s.name != tuned.scheme.name)
+                    .filter_map(|s| {
+                        let mut sc = self.clone();
+                        sc.controller = Some(s.name.to_string());
+                        (sc.lambda, sc.rule) = (None, None);
+                        sc.set.clear();
+                        let t = sc.tune_for(model, None).ok()?;
+                        let m = sc.margins_of_tuned(&t, plant, model, 800)?;
+                        fine(&m).then_some((s.name, m.ms))
+                    })
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+            };
+            let advice = match (better, (advise && better.is_none()).then(other).flatten()) {
+                (Some((l, ms)), _) => std::format!(
+                    "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time",
+                    crate::poly::fmt_num(l),
+                    crate::poly::fmt_num(round3(ms))
+                ),
+                (None, Some((name, ms))) => std::format!(
+                    "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time",
+                    crate::poly::fmt_num(round3(ms))
+                ),
+                (None, None) => String::new(),
+            };
+            if !what.is_empty() {
+                warnings.push(std::format!(
+                    "robustness: {}: a model error of that size makes the loop oscillate or diverge{advice}",
+                    what.join(" and ")
+                ));
+            }
+        }
+        Some(Robustness { margins, warnings })
     }
 
     /// [`Scenario::run`] with a controller already tuned (`tuned`) and the
@@ -499,7 +638,13 @@ impl Scenario {
                     },
                     ts,
                 )
-                .max(20.0 * tuned.params.lambda().filter(|l| l.is_finite()).unwrap_or(0.0)),
+                .max(
+                    20.0 * tuned
+                        .params
+                        .lambda()
+                        .filter(|l| l.is_finite())
+                        .unwrap_or(0.0),
+                ),
                 true,
             ),
         };
@@ -601,6 +746,7 @@ impl Scenario {
             setpoint,
             float32: self.float32,
             notes: Vec::new(),
+            robustness: None,
         })
     }
 }

@@ -49,6 +49,9 @@ pub struct Report {
     pub metrics: Metrics,
     /// Metrics on `e = r(t − θm) − y`, time from `θm` (Bag (2022) ch. 5).
     pub metrics_delayed_reference: Metrics,
+    /// The tuned loop's gain, phase and delay margins and sensitivity peaks
+    /// (the loop broken at the plant input, the plant behind the hold).
+    pub robustness: Option<crate::analysis::Margins>,
     /// False when the output diverged.
     pub stable: bool,
     /// When the output diverged (s); the signals stop there.
@@ -84,6 +87,7 @@ impl RunOutput {
             float32: self.float32,
             metrics: self.metrics,
             metrics_delayed_reference: self.metrics_delayed_reference,
+            robustness: self.robustness,
             stable: self.result.diverged_at.is_none(),
             diverged_at: self.result.diverged_at,
             warnings: self.warnings(),
@@ -120,5 +124,74 @@ impl RunOutput {
                 )
             }))
             .collect()
+    }
+}
+
+/// What `msp tune --json` prints and Python's `tune` returns: the tuned
+/// controller of a scenario, the margins of its loop and what they warn of.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct TuneReport {
+    /// The plant (or model) tuned for.
+    pub plant: String,
+    /// The secondary process of a cascade.
+    pub inner_plant: Option<String>,
+    /// The scheme and its parameters.
+    pub controller: ControllerReport,
+    /// Where the scheme comes from (publication and equations).
+    pub source: &'static str,
+    /// The values msp chose (`lambda` when no `--lambda` or `--set lambda=` gave it).
+    pub chosen: Vec<&'static str>,
+    /// The loop's margins and sensitivity peaks (single loops).
+    pub robustness: Option<crate::analysis::Margins>,
+    /// `max|T·Δ|` (García et al. (2010) Eq. 17) for the perturbation given.
+    pub robust_peak: Option<f64>,
+    /// `robust_peak < 1`.
+    pub robustly_stable: Option<bool>,
+    /// What the margins warn of.
+    pub warnings: Vec<String>,
+}
+
+impl super::Scenario {
+    /// Tunes the scenario's controller and reports it with its margins and,
+    /// for an `uncertainty`, the robust-stability peak of Eq. 17 (discrete
+    /// view, as the paper evaluates it).
+    pub fn tune_report(
+        &self,
+        uncertainty: Option<super::Perturbation>,
+    ) -> Result<TuneReport, super::RunError> {
+        let (plant, model) = self.plant_and_model()?;
+        let inner = self.inner_process()?;
+        let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+        let robust = match inner {
+            None => self.robustness(&tuned, &plant, &model),
+            Some(_) => None,
+        };
+        let robust_peak = match uncertainty {
+            Some(u) => {
+                let mut sc = self.clone();
+                sc.controller = Some(tuned.scheme.name.to_string());
+                crate::analysis::analyze(&sc, crate::analysis::View::Discrete, Some(u))?.robust_peak
+            }
+            None => None,
+        };
+        Ok(TuneReport {
+            plant: plant.to_string(),
+            inner_plant: inner.as_ref().map(|(p, _)| p.to_string()),
+            controller: ControllerReport {
+                name: tuned.scheme.name,
+                params: tuned.params.clone(),
+            },
+            source: tuned.scheme.source,
+            chosen: if tuned.lambda_chosen {
+                std::vec!["lambda"]
+            } else {
+                Vec::new()
+            },
+            robustness: robust.as_ref().map(|r| r.margins),
+            robust_peak,
+            robustly_stable: robust_peak.map(|p| p < 1.0),
+            warnings: robust.map(|r| r.warnings).unwrap_or_default(),
+        })
     }
 }

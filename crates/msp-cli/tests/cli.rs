@@ -497,6 +497,31 @@ fn step_prints_the_open_loop_response() {
         .stdout(predicate::str::contains("step "));
 }
 
+/// `msp tune` prints the loop's margins beside the tuning and warns of a
+/// fragile one (the default Karan–Dey loop: Ms 2.5, dm 16 % of θ).
+#[test]
+fn tune_prints_robustness_and_warns() {
+    msp()
+        .args(["tune", "--plant", "0.2/s*e^-7.4s"])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("robustness  gm 1.6893").and(predicate::str::contains(
+                "warning: robustness: the sensitivity peak Ms = 2.52",
+            )),
+        );
+    let out = msp()
+        .args(["tune", "--plant", "e^-2s/(5s+1)", "--json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert!(j["robustness"]["ms"].as_f64().unwrap() < 2.0);
+    assert_eq!(j["warnings"], serde_json::json!([]));
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::convert::{fit_dict, output_dict, params_dict, perturbation_of, scenario, Processes};
+use crate::convert::{fit_dict, output_dict, perturbation_of, scenario, Processes};
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry;
@@ -384,28 +384,16 @@ pub(crate) fn tune<'py>(
     uncertainty: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let processes = Processes::of(plant, None, inner_plant, None);
-    let mut sc = scenario(
+    let sc = scenario(
         &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
         rule, None, false, None,
     )?;
-    let (_, model) = sc.plant_and_model().map_err(value_err)?;
-    let inner = sc.inner_process().map_err(value_err)?;
-    let msp::study::Tuned {
-        scheme, params: p, ..
-    } = sc
-        .tune_for(&model, inner.as_ref().map(|(_, m)| m))
+    let unc = perturbation_of(uncertainty)?;
+    let r = py
+        .allow_threads(|| sc.tune_report(unc))
         .map_err(value_err)?;
-    let d = PyDict::new(py);
-    d.set_item("name", scheme.name)?;
-    d.set_item("params", params_dict(py, &p)?)?;
-    if let Some(u) = perturbation_of(uncertainty)? {
-        sc.controller = Some(scheme.name.to_string());
-        let an = py
-            .allow_threads(|| msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u)))
-            .map_err(value_err)?;
-        d.set_item("robust_peak", an.robust_peak)?;
-    }
-    Ok(d)
+    // the library's report: the keys of `msp tune --json`
+    Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
 }
 
 /// Every controller of the registry: name, aliases, summary, source, params, design keys, plants.

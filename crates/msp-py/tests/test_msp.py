@@ -121,8 +121,8 @@ def test_controllers_list_their_design_keys() -> None:
     by_name = {c["name"]: c for c in msp.controllers()}
     assert by_name["filtered-smith"]["design"] == ["lambda", "alpha", "a", "b"]
     assert by_name["smith"]["design"][:2] == ["lambda", "alpha"]
-    base = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith")["params"]
-    tuned = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith", params={"b": 7.0})["params"]
+    base = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith")["controller"]["params"]
+    tuned = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith", params={"b": 7.0})["controller"]["params"]
     assert tuned["b"] == 7.0 and base["b"] != 7.0
 
 
@@ -208,7 +208,7 @@ def test_every_scheme_class_runs_per_sample() -> None:
 
 
 def test_rule_selects_a_pid_tuning() -> None:
-    zn = msp.tune("0.2/s*e^-7.4s", "pid", rule="zn")["params"]
+    zn = msp.tune("0.2/s*e^-7.4s", "pid", rule="zn")["controller"]["params"]
     assert math.isclose(zn["ti"], 0.5 * 4 * 7.4)
 
 
@@ -248,6 +248,16 @@ def test_margins_of_the_bare_plant_are_matlabs() -> None:
     assert msp.margins("1/(s^3+2s^2+3s+4)")["gm"] < 1.95
     with pytest.raises(ValueError):
         msp.margins("1/(s+1)", discrete=True, continuous=True)
+
+
+def test_tune_reports_robustness_as_the_cli() -> None:
+    t = msp.tune("0.2/s*e^-7.4s")
+    assert t["controller"]["name"] == "karan-dey" and t["chosen"] == ["lambda"]
+    assert math.isclose(t["robustness"]["pm"], 33.1, abs_tol=0.1) and t["robustness"]["ms"] > 2.0
+    assert "Ms = 2.52" in t["warnings"][0]
+    cli = json.loads(subprocess.run([MSP_BIN, "tune", "--plant", "0.2/s*e^-7.4s", "--json"],
+                                    check=True, capture_output=True, text=True).stdout)
+    assert cli == t
 
 
 def test_run_says_what_it_chose() -> None:
@@ -332,7 +342,7 @@ def test_cascade_compare_margins_and_tune() -> None:
                               "delay=20%,tau=-20%"], check=True, capture_output=True, text=True).stdout
         assert json.loads(out)["robust_peak"] == m["robust_peak"]
     t = msp.tune(GARCIA_1["plant"], inner_plant=GARCIA_1["inner_plant"])
-    assert t["name"] == "fspcc" and t["params"]["lambda2"] == 2.0
+    assert t["controller"]["name"] == "fspcc" and t["controller"]["params"]["lambda2"] == 2.0
     r = msp.tune(GARCIA_1["plant"], "gpcc", inner_plant=GARCIA_1["inner_plant"], ts=0.2,
                  uncertainty={"delay": 0.2, "tau": -0.2})
     assert r["robust_peak"] == m["robust_peak"]

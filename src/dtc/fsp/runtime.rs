@@ -176,11 +176,13 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
     }
     /// The response at `z = e^{jθ}`.
     pub fn response(&self, theta: T) -> Complex<T> {
-        let zi = |k: usize| Complex::cis(-theta * T::of(f64::from(u32::try_from(k).unwrap_or(0))));
+        // Σ b_k w^k with w = e^{−jθ}, by Horner's rule from the last tap: one
+        // complex product per tap instead of a sine and cosine
+        let w = Complex::cis(-theta);
         let sum = |p: &[T]| {
             p.iter()
-                .enumerate()
-                .fold(Complex::default(), |a, (k, b)| a + zi(k).scale(*b))
+                .rev()
+                .fold(Complex::default(), |a, b| a * w + Complex::real(*b))
         };
         sum(self.num.as_ref().get(..self.nlen).unwrap_or(&[]))
             / sum(self.den.get(..self.dlen).unwrap_or(&[]))

@@ -6,7 +6,7 @@ use crate::export;
 use msp::study::Scenario;
 
 pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
-    let mut sc = Scenario {
+    let sc = Scenario {
         plant: Some(a.plant.clone()),
         inner_plant: a.inner_plant.clone(),
         controller: a.controller.clone(),
@@ -16,58 +16,46 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         ts: a.ts,
         ..Scenario::default()
     };
-    let (plant, model) = sc.plant_and_model()?;
-    let inner = sc.inner_process()?.map(|(p2, _)| p2);
-    let msp::study::Tuned {
-        scheme,
-        params,
-        lambda_chosen,
-    } = sc.tune_for(&model, inner.as_ref())?;
-    // Eq. 17 on the tuned controller, when asked for
-    sc.controller = Some(scheme.name.to_string());
-    let robust = match a.uncertainty {
-        Some(u) => msp::analysis::analyze(&sc, msp::analysis::View::Discrete, Some(u))?.robust_peak,
-        None => None,
-    };
+    let r = sc.tune_report(a.uncertainty)?;
     if a.json {
-        let p = export::json::params_json(&params);
-        let mut j = serde_json::json!({"plant": plant.to_string(), "controller": {"name": scheme.name, "params": p}});
-        if let Some(i) = &inner {
-            j["inner_plant"] = serde_json::json!(i.to_string());
-        }
-        if let Some(r) = robust {
-            j["robust_peak"] = export::num(r);
-            j["robustly_stable"] = serde_json::json!(r < 1.0);
-        }
         export::outln!(
             "{}",
-            serde_json::to_string_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?
+            serde_json::to_string_pretty(&r).map_err(|e| CliError::Runtime(e.to_string()))?
         )?;
-    } else {
-        export::outln!("plant       {} ({})", plant, plant.kind())?;
-        if let Some(i) = &inner {
-            export::outln!("inner plant {} ({})", i, i.kind())?;
-        }
-        export::outln!("controller  {}  [{}]", scheme.name, scheme.source)?;
-        for (k, v) in params.iter() {
-            let note = if k == "lambda" && lambda_chosen {
-                "  [chosen from the plant; --lambda to change]"
+        return Ok(());
+    }
+    let plant = sc.plant.as_ref().map(|p| (p.to_string(), p.kind()));
+    if let Some((p, kind)) = plant {
+        export::outln!("plant       {p} ({kind})")?;
+    }
+    if let Some(i) = &sc.inner_plant {
+        export::outln!("inner plant {} ({})", i, i.kind())?;
+    }
+    export::outln!("controller  {}  [{}]", r.controller.name, r.source)?;
+    for (k, v) in r.controller.params.iter() {
+        let note = if k == "lambda" && r.chosen.contains(&"lambda") {
+            "  [chosen from the plant; --lambda to change]"
+        } else {
+            ""
+        };
+        export::outln!("  {k:<8} = {}{note}", export::fmt_sig(v))?;
+    }
+    if let Some(m) = &r.robustness {
+        export::print(export::text::robustness_line(m).as_bytes())?;
+    }
+    if let Some(p) = r.robust_peak {
+        export::outln!(
+            "robust stability max|T·Δ| = {} ({})",
+            export::fmt_sig(p),
+            if p < 1.0 {
+                "robustly stable"
             } else {
-                ""
-            };
-            export::outln!("  {k:<8} = {}{note}", export::fmt_sig(v))?;
-        }
-        if let Some(r) = robust {
-            export::outln!(
-                "robust stability max|T·Δ| = {} ({})",
-                export::fmt_sig(r),
-                if r < 1.0 {
-                    "robustly stable"
-                } else {
-                    "not guaranteed"
-                }
-            )?;
-        }
+                "not guaranteed"
+            }
+        )?;
+    }
+    for w in &r.warnings {
+        export::outln!("warning: {w}")?;
     }
     Ok(())
 }

@@ -5,11 +5,6 @@ use serde_json::{json, Map, Value};
 
 use super::num;
 
-/// A scheme's parameters by name; a value that is not set (NaN) becomes null.
-pub(crate) fn params_json(p: &msp::registry::Params) -> Map<String, Value> {
-    p.iter().map(|(k, v)| (k.to_string(), num(v))).collect()
-}
-
 /// The `--report` document: the library's [`msp::study::Report`].
 pub(crate) fn report_json(out: &RunOutput) -> Value {
     serde_json::to_value(out.report()).unwrap_or(Value::Null)

@@ -52,6 +52,9 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             ""
         }
     ));
+    if let Some(r) = &out.robustness {
+        s.push_str(&robustness_line(r));
+    }
     let m = &out.metrics;
     let d = &out.metrics_delayed_reference;
     s.push_str(&format!(
@@ -375,6 +378,19 @@ pub(crate) fn autotune_text(
         s.push_str(&format!("warning: {w}\n"));
     }
     s
+}
+
+/// `robustness gm 2.1 (6.4 dB), pm 33°, dm 1.2 s, Ms 2.5, Mt 1.9`.
+pub(crate) fn robustness_line(m: &msp::analysis::Margins) -> String {
+    format!(
+        "robustness  gm {} ({} dB), pm {}°, dm {} s, Ms {}, Mt {}\n",
+        fmt_sig(m.gm),
+        fmt_sig(m.gm_db),
+        fmt_sig(m.pm),
+        fmt_sig(m.dm),
+        fmt_sig(m.ms),
+        fmt_sig(m.mt)
+    )
 }
 
 /// The `msp step` summary: the plant, the final value and MATLAB's `stepinfo`.

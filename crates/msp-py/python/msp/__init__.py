@@ -429,9 +429,13 @@ def tune(
     rule: Optional[str] = None,
     uncertainty: Union[None, str, Mapping[str, float]] = None,
 ) -> Dict[str, Any]:
-    """The tuned parameters, ``{"name": ..., "params": {...}}``, as ``msp tune --json`` prints
-    (``inner_plant`` for a cascade process); with ``uncertainty`` (``"delay=20%,tau=-20%"`` or a
-    dict) also ``robust_peak``, Eq. 17's ``max|T·Δ|`` on the exact discrete loop at ``ts``."""
+    """The tuned controller as ``msp tune --json`` prints it: ``{"plant", "inner_plant",
+    "controller": {"name", "params"}, "source", "chosen", "robustness": {"gm", "pm", "dm", "ms",
+    ...}, "robust_peak", "robustly_stable", "warnings"}``; ``robustness`` holds the single loop's
+    margins (sampled view) and ``warnings`` what they warn of (Ms above 2, a delay margin below
+    20 % of the dead time, with the λ or scheme that does better). With ``uncertainty``
+    (``"delay=20%,tau=-20%"`` or a dict) ``robust_peak`` is Eq. 17's ``max|T·Δ|`` on the exact
+    discrete loop at ``ts``."""
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None,
                      inner_plant=_plant(inner_plant) if inner_plant is not None else None,
