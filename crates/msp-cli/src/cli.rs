@@ -304,9 +304,18 @@ pub(crate) struct StepArgs {
 
 #[derive(Debug, Args)]
 pub(crate) struct IdentifyArgs {
-    /// CSV with columns t, u, y (a step in u).
+    /// CSV with a time, an input and an output column (an open-loop step in the input).
     #[arg(long)]
     pub(crate) data: PathBuf,
+    /// The time column (default: `t`, or `time`).
+    #[arg(long)]
+    pub(crate) time: Option<String>,
+    /// The input column (the actuator; default: `u`).
+    #[arg(long, default_value = "u")]
+    pub(crate) input: String,
+    /// The output column (the measurement; default: `y`).
+    #[arg(long, default_value = "y")]
+    pub(crate) output: String,
     /// Model to fit.
     #[arg(long, default_value = "fopdt", value_parser = str::parse::<msp::ident::ModelKind>)]
     pub(crate) model: msp::ident::ModelKind,

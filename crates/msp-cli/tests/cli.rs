@@ -727,6 +727,69 @@ fn identify_reads_a_step_test() {
     );
 }
 
+/// Column names are the user's (`--time`, `--input`, `--output`; `time` is
+/// found without a flag), and closed-loop data — a PI loop's run, whose
+/// input moves at every sample — is refused in those words instead of
+/// giving a wrong gain.
+#[test]
+fn identify_takes_named_columns_and_refuses_closed_loop_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("step.csv");
+    let mut text = String::from("time,valve,level\n");
+    for k in 0..1200 {
+        let t = k as f64 * 0.05;
+        let u = if t >= 5.0 { 1.0 } else { 0.0 };
+        let y = if t > 9.0 {
+            2.0 * (1.0 - (-(t - 9.0) / 5.0).exp())
+        } else {
+            0.0
+        };
+        text.push_str(&format!("{t},{u},{y}\n"));
+    }
+    std::fs::write(&data, text).unwrap();
+    let out = msp()
+        .args([
+            "identify", "--json", "--input", "valve", "--output", "level", "--data",
+        ])
+        .arg(&data)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert!((j["k"].as_f64().unwrap() - 2.0).abs() < 0.02, "{j}");
+    msp()
+        .args(["identify", "--data"])
+        .arg(&data)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "no column 'u' (--input names it; the columns are: time, valve, level)",
+        ));
+    let closed = dir.path().join("closed.csv");
+    msp()
+        .args([
+            "run",
+            "--plant",
+            "5.6*e^-93.9s/(40.2s+1)",
+            "-c",
+            "pi",
+            "--noise",
+            "0.01",
+            "-o",
+        ])
+        .arg(&closed)
+        .assert()
+        .success();
+    msp()
+        .args(["identify", "--data"])
+        .arg(&closed)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("closed-loop data"));
+}
+
 mod loader {
     use msp::study::Scenario;
     use proptest::prelude::*;

@@ -260,6 +260,12 @@ def test_tune_reports_robustness_as_the_cli() -> None:
     assert cli == t
 
 
+def test_identify_refuses_closed_loop_data() -> None:
+    res = msp.run("5.6*e^-93.9s/(40.2s+1)", "pi", noise=0.01)
+    with pytest.raises(ValueError, match="closed-loop data"):
+        msp.identify(res.t, res.u, res.y)
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -11,15 +11,22 @@ pub(crate) fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
         .headers()
         .map_err(|e| CliError::Input(format!("{}: {e}", a.data.display())))?
         .clone();
-    let col = |name: &str| {
-        head.iter().position(|h| h.trim() == name).ok_or_else(|| {
-            CliError::Input(format!(
-                "{}: no column '{name}' (need t, u, y)",
-                a.data.display()
-            ))
-        })
+    let find = |name: &str| head.iter().position(|h| h.trim() == name);
+    let missing = |flag: &str, name: &str| {
+        CliError::Input(format!(
+            "{}: no column '{name}' ({flag} names it; the columns are: {})",
+            a.data.display(),
+            head.iter().map(str::trim).collect::<Vec<_>>().join(", ")
+        ))
     };
-    let (ct, cu, cy) = (col("t")?, col("u")?, col("y")?);
+    let ct = match &a.time {
+        Some(name) => find(name).ok_or_else(|| missing("--time", name))?,
+        None => find("t")
+            .or_else(|| find("time"))
+            .ok_or_else(|| missing("--time", "t"))?,
+    };
+    let cu = find(&a.input).ok_or_else(|| missing("--input", &a.input))?;
+    let cy = find(&a.output).ok_or_else(|| missing("--output", &a.output))?;
     let (mut t, mut u, mut y) = (Vec::new(), Vec::new(), Vec::new());
     for (line, rec) in r.records().enumerate() {
         let rec = rec.map_err(|e| CliError::Input(format!("{}: {e}", a.data.display())))?;
@@ -40,8 +47,10 @@ pub(crate) fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
         u.push(num(cu)?);
         y.push(num(cy)?);
     }
-    let fit = msp::ident::identify_step(a.model, &t, &u, &y)
-        .map_err(|e| CliError::Input(format!("identification failed: {e}")))?;
+    let fit = msp::ident::identify_step(a.model, &t, &u, &y).map_err(|e| match e {
+        msp::Error::Unsupported(why) => CliError::Input(why.to_string()),
+        e => CliError::Input(format!("identification failed: {e}")),
+    })?;
     if a.json {
         export::outln!(
             "{}",
