@@ -763,3 +763,72 @@ fn runs_warn_of_fragile_tunings_and_name_a_better_one() {
     );
     assert_eq!(an.stable, Some(true));
 }
+
+/// Metrics per event: on `1/(s+1)` the PI with `kp = 1, ti = 1` makes the
+/// loop `L = 1/s`, so each set-point step responds as `1/(s+1)` (rise
+/// `ln 9`, settling `ln 50`, no overshoot — a second step is not "100 %
+/// overshoot" of the first) and an input load `d` gives `y − r = d·t·e^{−t}`:
+/// peak `d/e` at 1 s, back within 2 % of r = 2 when `t·e^{−t} = 0.04`, IAE
+/// `|d|`. Sampled at 1 ms, the loop is the continuous one to `O(ts)`.
+#[test]
+fn metrics_per_event_are_the_closed_forms() {
+    use msp::study::Event;
+    let sc = Scenario {
+        plant: Some("1/(s+1)".parse().unwrap()),
+        controller: Some("pid".into()),
+        set: [("kp", 1.0), ("ti", 1.0), ("td", 0.0)]
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+        ts: Some(0.001),
+        duration: Some(80.0),
+        setpoint: vec![
+            SetpointStep {
+                value: 1.0,
+                at: 0.0,
+            },
+            SetpointStep {
+                value: 2.0,
+                at: 20.0,
+            },
+        ],
+        disturbance: vec![load(-1.0, 40.0)],
+        ..Default::default()
+    };
+    let o = sc.run().unwrap();
+    let tol = 5e-3;
+    // the report's first-step figures are the first step's alone
+    assert!(
+        (o.metrics.step.overshoot).abs() < 0.1,
+        "{:?}",
+        o.metrics.step
+    );
+    assert!((o.metrics.step.settling_time - 50f64.ln()).abs() < tol);
+    assert_eq!(o.events.len(), 3);
+    for (i, e) in o.events.iter().take(2).enumerate() {
+        let Event::Setpoint(s) = e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(s.at, 20.0 * i as f64);
+        assert!((s.step.rise_time - 9f64.ln()).abs() < tol, "{s:?}");
+        assert!((s.step.settling_time - 50f64.ln()).abs() < tol, "{s:?}");
+        assert!(s.step.overshoot.abs() < 0.1, "{s:?}");
+    }
+    let Event::Disturbance(d) = o.events[2] else {
+        panic!()
+    };
+    assert!((d.peak_deviation + (-1f64).exp()).abs() < tol, "{d:?}");
+    assert!((d.peak_time - 1.0).abs() < 0.01, "{d:?}");
+    // t·e^{−t} = 0.04 beyond the peak, by bisection
+    let (mut a, mut b) = (1.0f64, 20.0f64);
+    for _ in 0..100 {
+        let m = 0.5 * (a + b);
+        if m * (-m).exp() > 0.04 {
+            a = m
+        } else {
+            b = m
+        }
+    }
+    assert!((d.recovery_time - a).abs() < 0.01, "{d:?} vs {a}");
+    assert!((d.iae - 1.0).abs() < tol, "{d:?}");
+}

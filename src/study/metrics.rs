@@ -3,7 +3,7 @@
 use std::vec::Vec;
 
 use crate::metrics::{step_info, Indices, IntegralIndices, StepInfo};
-use crate::sim::{SetpointStep, SimResult};
+use crate::sim::{Disturbance, Location, SetpointStep, SimResult};
 use crate::Error;
 
 /// The metrics of a run, with the key names of the JSON report and Python:
@@ -43,10 +43,14 @@ impl Metrics {
 
 /// Metrics of `res` with the error `e = r(t − shift) − y`, time counted from
 /// `shift` (0 for the plain convention; the model dead time `θm` for the
-/// delayed-reference convention of Bag (2022) ch. 5).
+/// delayed-reference convention of Bag (2022) ch. 5). The integral indices
+/// cover the whole run; the step information covers the first set-point
+/// step up to the next event (set-point step or disturbance, `events`' start
+/// times), so a second step or a load does not count as its overshoot.
 pub fn metrics(
     res: &SimResult,
     setpoint: &[SetpointStep],
+    next_event: f64,
     ts: f64,
     shift: f64,
 ) -> Result<Metrics, Error> {
@@ -112,12 +116,196 @@ pub fn metrics(
         .iter()
         .position(|t| t - shift >= first_step - 1e-9 * ts)
         .unwrap_or(0);
+    let to = tt
+        .iter()
+        .position(|t| t - shift >= next_event - 1e-9 * ts)
+        .unwrap_or(tt.len())
+        .max(from);
+    // the first step's own target: the value it steps to
+    let y_final = steps.first().map_or(y_final, |s| s.value);
     let s: StepInfo = step_info(
-        tt.get(from..).unwrap_or(&[]),
-        yy.get(from..).unwrap_or(&[]),
+        tt.get(from..to).unwrap_or(&[]),
+        yy.get(from..to).unwrap_or(&[]),
         y0,
         y_final,
         shift,
     );
     Ok(Metrics { indices, step: s })
+}
+
+/// The figures of one event of a run, from its start to the next event (or
+/// the end): step information for a set-point step, load-rejection figures
+/// for a disturbance, as the thesis's tables report "without" and "with load
+/// disturbance" (Bag (2022) ch. 5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
+pub enum Event {
+    /// A set-point step.
+    Setpoint(SetpointEvent),
+    /// A disturbance (a load at the input, or at the output).
+    Disturbance(DisturbanceEvent),
+}
+
+/// A set-point step and the response to it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SetpointEvent {
+    /// When the step happens (s).
+    pub at: f64,
+    /// The end of its segment: the next event or the end of the run (s).
+    pub until: f64,
+    /// The value the set point steps to.
+    pub value: f64,
+    /// `∫|r − y|dt` over the segment.
+    pub iae: f64,
+    /// MATLAB's `stepinfo` of the segment, times from the step.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub step: StepInfo,
+}
+
+/// A disturbance and how the loop rejects it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct DisturbanceEvent {
+    /// When it starts (s).
+    pub at: f64,
+    /// The end of its segment (s).
+    pub until: f64,
+    /// Where it acts.
+    pub location: Location,
+    /// Its size (step), slope (ramp) or amplitude (sine).
+    pub value: f64,
+    /// The largest deviation of `y` from its value when the disturbance
+    /// started, with its sign.
+    pub peak_deviation: f64,
+    /// When that peak is reached, from the start (s).
+    pub peak_time: f64,
+    /// Time from the start after which `y` stays within 2 % of the set point
+    /// (2 % of the peak deviation when the set point is 0) of its value
+    /// before the disturbance (s); NaN if it does not recover in the segment.
+    pub recovery_time: f64,
+    /// `∫|r − y|dt` over the segment.
+    pub iae: f64,
+}
+
+/// The per-event figures of a run: one entry per set-point step and per
+/// disturbance, in time order, each over its segment of the controller's
+/// samples (every `substeps`-th row).
+pub fn events(
+    res: &SimResult,
+    setpoint: &[SetpointStep],
+    disturbances: &[Disturbance],
+) -> Vec<Event> {
+    let stride = res.substeps.max(1);
+    let t: Vec<f64> = res.t.iter().copied().step_by(stride).collect();
+    let y: Vec<f64> = res.y.iter().copied().step_by(stride).collect();
+    let r: Vec<f64> = res.r.iter().copied().step_by(stride).collect();
+    let end = t.last().copied().unwrap_or(0.0);
+    let mut starts: Vec<f64> = setpoint
+        .iter()
+        .map(|s| s.at)
+        .chain(disturbances.iter().map(|d| d.at))
+        .collect();
+    starts.sort_by(f64::total_cmp);
+    let until = |at: f64| {
+        starts
+            .iter()
+            .copied()
+            .find(|s| *s > at + 1e-9 * at.abs().max(1.0))
+            .unwrap_or(end)
+            .min(end)
+    };
+    let index = |at: f64| t.partition_point(|x| *x < at - 1e-9 * at.abs().max(1.0));
+    let iae = |a: usize, b: usize| -> f64 {
+        let (Some(ts), Some(rs), Some(ys)) = (t.get(a..b), r.get(a..b), y.get(a..b)) else {
+            return f64::NAN;
+        };
+        let e: Vec<f64> = rs.iter().zip(ys).map(|(r, y)| (r - y).abs()).collect();
+        ts.windows(2)
+            .zip(e.windows(2))
+            .map(|(tw, ew)| match (tw, ew) {
+                ([t0, t1], [e0, e1]) => 0.5 * (t1 - t0) * (e0 + e1),
+                _ => 0.0,
+            })
+            .sum()
+    };
+    let mut out: Vec<(f64, Event)> = Vec::new();
+    for s in setpoint {
+        if s.at > end {
+            continue;
+        }
+        let (a, b) = (index(s.at), index(until(s.at)).max(index(s.at)));
+        let b = if until(s.at) >= end { t.len() } else { b };
+        let y0 = a
+            .checked_sub(1)
+            .and_then(|i| y.get(i))
+            .or(y.get(a))
+            .copied()
+            .unwrap_or(0.0);
+        let step = step_info(
+            t.get(a..b).unwrap_or(&[]),
+            y.get(a..b).unwrap_or(&[]),
+            y0,
+            s.value,
+            s.at,
+        );
+        out.push((
+            s.at,
+            Event::Setpoint(SetpointEvent {
+                at: s.at,
+                until: until(s.at),
+                value: s.value,
+                iae: iae(a, b),
+                step,
+            }),
+        ));
+    }
+    for d in disturbances {
+        if d.at > end {
+            continue;
+        }
+        let a = index(d.at);
+        let b = if until(d.at) >= end {
+            t.len()
+        } else {
+            index(until(d.at)).max(a)
+        };
+        let y_ref = y.get(a).copied().unwrap_or(f64::NAN);
+        let r_ref = r.get(a).copied().unwrap_or(0.0);
+        let seg = |v: &Vec<f64>| v.get(a..b).unwrap_or(&[]).to_vec();
+        let (ts, ys) = (seg(&t), seg(&y));
+        let (mut peak, mut peak_at) = (0.0f64, f64::NAN);
+        for (ti, yi) in ts.iter().zip(&ys) {
+            if (yi - y_ref).abs() > peak.abs() {
+                peak = yi - y_ref;
+                peak_at = ti - d.at;
+            }
+        }
+        let band = if r_ref != 0.0 {
+            0.02 * r_ref.abs()
+        } else {
+            0.02 * peak.abs()
+        };
+        let recovery_time = match ys.iter().rposition(|yi| (yi - y_ref).abs() > band) {
+            None => 0.0,
+            Some(i) if i + 1 >= ys.len() => f64::NAN,
+            Some(i) => ts.get(i + 1).map_or(f64::NAN, |x| x - d.at),
+        };
+        out.push((
+            d.at,
+            Event::Disturbance(DisturbanceEvent {
+                at: d.at,
+                until: until(d.at),
+                location: d.location,
+                value: d.value,
+                peak_deviation: peak,
+                peak_time: peak_at,
+                recovery_time,
+                iae: iae(a, b),
+            }),
+        ));
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out.into_iter().map(|(_, e)| e).collect()
 }

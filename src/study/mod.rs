@@ -9,7 +9,7 @@ mod report;
 
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
-pub use metrics::{metrics, Metrics};
+pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
 pub use report::{ControllerReport, Report, TuneReport};
 
 use std::string::{String, ToString};
@@ -172,6 +172,8 @@ pub struct RunOutput {
     pub duration: f64,
     /// Whether the duration was chosen automatically.
     pub duration_chosen: bool,
+    /// The figures of each set-point step and disturbance over its segment.
+    pub events: Vec<metrics::Event>,
     /// What the run found that the user should know, beside an instability
     /// (part of [`RunOutput::warnings`]).
     pub notes: Vec<String>,
@@ -708,11 +710,20 @@ impl Scenario {
             None => simulate(&plant, &mut ctrl, &cfg)?,
         };
         let model_delay = model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay);
+        // the first set-point step's segment ends at the next event
+        let first = setpoint.iter().map(|s| s.at).fold(f64::INFINITY, f64::min);
+        let next_event = setpoint
+            .iter()
+            .map(|s| s.at)
+            .chain(self.disturbance.iter().map(|d| d.at))
+            .filter(|t| *t > first + 1e-9 * first.abs().max(1.0))
+            .fold(f64::INFINITY, f64::min);
+        let events = metrics::events(&result, &setpoint, &self.disturbance);
         // the two conventions are independent passes over the signals
         let both = || {
             (
-                metrics(&result, &setpoint, ts, 0.0),
-                metrics(&result, &setpoint, ts, model_delay),
+                metrics(&result, &setpoint, next_event, ts, 0.0),
+                metrics(&result, &setpoint, next_event, ts, model_delay),
             )
         };
         // two threads only pay off for long runs: waking a worker costs more
@@ -720,8 +731,8 @@ impl Scenario {
         #[cfg(feature = "parallel")]
         let (m0, m1) = if result.y.len() > 500_000 {
             rayon::join(
-                || metrics(&result, &setpoint, ts, 0.0),
-                || metrics(&result, &setpoint, ts, model_delay),
+                || metrics(&result, &setpoint, next_event, ts, 0.0),
+                || metrics(&result, &setpoint, next_event, ts, model_delay),
             )
         } else {
             both()
@@ -745,6 +756,7 @@ impl Scenario {
             metrics_delayed_reference: m1,
             setpoint,
             float32: self.float32,
+            events,
             notes: Vec::new(),
             robustness: None,
         })

@@ -49,6 +49,9 @@ pub struct Report {
     pub metrics: Metrics,
     /// Metrics on `e = r(t − θm) − y`, time from `θm` (Bag (2022) ch. 5).
     pub metrics_delayed_reference: Metrics,
+    /// Each set-point step's step information and each disturbance's
+    /// rejection figures, over its segment (to the next event).
+    pub events: Vec<super::Event>,
     /// The tuned loop's gain, phase and delay margins and sensitivity peaks
     /// (the loop broken at the plant input, the plant behind the hold).
     pub robustness: Option<crate::analysis::Margins>,
@@ -87,6 +90,7 @@ impl RunOutput {
             float32: self.float32,
             metrics: self.metrics,
             metrics_delayed_reference: self.metrics_delayed_reference,
+            events: self.events.clone(),
             robustness: self.robustness,
             stable: self.result.diverged_at.is_none(),
             diverged_at: self.result.diverged_at,

@@ -260,6 +260,14 @@ def test_tune_reports_robustness_as_the_cli() -> None:
     assert cli == t
 
 
+def test_run_reports_each_event() -> None:
+    res = msp.run("0.2/s*e^-7.4s", setpoint=[(1, 0), (2, 100)], disturbance="input:-0.1@200", duration=400)
+    kinds = [e["kind"] for e in res.events]
+    assert kinds == ["setpoint", "setpoint", "disturbance"]
+    assert res.events[1]["overshoot"] < 1.0 and res.metrics["overshoot"] < 1.0
+    assert res.events[2]["peak_deviation"] < 0.0 and res.events[2]["location"] == "input"
+
+
 def test_identify_refuses_closed_loop_data() -> None:
     res = msp.run("5.6*e^-93.9s/(40.2s+1)", "pi", noise=0.01)
     with pytest.raises(ValueError, match="closed-loop data"):

@@ -79,6 +79,11 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         ints(&m.indices),
         fmt_sig(m.indices.tv)
     ));
+    if out.events.len() > 1 {
+        for e in &out.events {
+            s.push_str(&event_line(e));
+        }
+    }
     s.push_str(&format!(
         "delayed ref {}  (e = r(t-θm) - y, t from θm = {} s)",
         ints(&d.indices),
@@ -378,6 +383,36 @@ pub(crate) fn autotune_text(
         s.push_str(&format!("warning: {w}\n"));
     }
     s
+}
+
+/// One event of a run: a set-point step's step information, a disturbance's
+/// rejection figures.
+fn event_line(e: &msp::study::Event) -> String {
+    match e {
+        msp::study::Event::Setpoint(s) => format!(
+            "  r -> {} at {} s: rise {} s, settling {} s, overshoot {} %, IAE {}\n",
+            fmt_sig(s.value),
+            fmt_num(s.at),
+            fmt_sig(s.step.rise_time),
+            fmt_sig(s.step.settling_time),
+            fmt_sig(s.step.overshoot),
+            fmt_sig(s.iae)
+        ),
+        msp::study::Event::Disturbance(d) => format!(
+            "  {} {} at {} s: peak deviation {} at +{} s, recovered (2 %) after {} s, IAE {}\n",
+            match d.location {
+                msp::sim::Location::Input => "load",
+                msp::sim::Location::Output => "output disturbance",
+                msp::sim::Location::Inner => "inner disturbance",
+            },
+            fmt_sig(d.value),
+            fmt_num(d.at),
+            fmt_sig(d.peak_deviation),
+            fmt_sig(d.peak_time),
+            fmt_sig(d.recovery_time),
+            fmt_sig(d.iae)
+        ),
+    }
 }
 
 /// `robustness gm 2.1 (6.4 dB), pm 33°, dm 1.2 s, Ms 2.5, Mt 1.9`.

@@ -103,6 +103,12 @@ class Result:
         ``r(t - θm) - y`` with time counted from ``θm``.
     controller : dict
         ``{"name": ..., "params": {...}}``.
+    events : list of dict
+        One entry per set-point step (``kind="setpoint"``: ``at``, ``until``, ``value``, ``iae`` and the
+        step information of its segment) and per disturbance (``kind="disturbance"``: ``location``,
+        ``value``, ``peak_deviation``, ``peak_time``, ``recovery_time``, ``iae``), in time order.
+    robustness : dict or None
+        The tuned loop's ``gm``, ``pm``, ``dm``, ``ms``, ``mt`` (sampled view).
     chosen : list of str
         Which of ``ts``, ``duration`` and ``lambda`` msp chose because the call did not give them.
     plant, plant_kind, model, ts, duration, samples, float32, stable, diverged_at, warnings
@@ -129,6 +135,8 @@ class Result:
     model: str
     ts: float
     chosen: List[str]
+    events: List[Dict[str, Any]]
+    robustness: Optional[Dict[str, float]]
     duration: float
     samples: int
     stable: bool
