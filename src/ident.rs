@@ -349,8 +349,27 @@ pub fn identify_step(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result
         ModelKind::Ipdt => slope_intercept(t, u, y)?.into(),
         ModelKind::Fopdt | ModelKind::Sopdt => two_point(t, u, y)?.into(),
     };
-    least_squares(kind, ts, u, y, u0, y0, &start)
+    // Each cost evaluation of the fit simulates the model over the data, and
+    // the search takes thousands of them: beyond FIT_SAMPLES rows the fit
+    // runs on every m-th sample, phased so that the input's first step falls
+    // on a kept sample (the input is then held over each kept interval, so
+    // the ZOH model at m·ts is exact for it), and the fit figures are scored
+    // on every row. The cost stays linear in the rows.
+    let m = u.len().div_ceil(FIT_SAMPLES).max(1);
+    if m == 1 {
+        return least_squares(kind, ts, u, y, u0, y0, &start);
+    }
+    let (k0, _, _) = step_of(u)?;
+    let phase = k0 % m;
+    let pick = |v: &[f64]| -> Vec<f64> { v.iter().skip(phase).step_by(m).copied().collect() };
+    #[allow(clippy::cast_precision_loss)] // m ≤ rows
+    let coarse = least_squares(kind, ts * m as f64, &pick(u), &pick(y), u0, y0, &start)?;
+    let du: Vec<f64> = u.iter().map(|v| v - u0).collect();
+    Ok(score(&coarse.model, ts, &du, y, y0))
 }
+
+/// The rows the least-squares fit simulates at most ([`identify_step`]).
+const FIT_SAMPLES: usize = 20_000;
 
 /// Bytes a relay experiment records per sample: `u` and `y` in `f64` ([`RelayRun`]).
 const RELAY_BYTES_PER_SAMPLE: f64 = 16.0;

@@ -423,6 +423,11 @@ impl TransferFunction {
     /// `0.1` for +10 %): `K·b(s(1+τ))/a(s(1+τ))·e^{−θ(1+δ)s}`, so every time
     /// constant and every integrator's time scale changes by `(1 + tau)`.
     pub fn perturbed(&self, gain: f64, delay: f64, tau: f64) -> Result<Self, Error> {
+        // a bad perturbation is named as the user gave it, not by the
+        // coefficient it would spoil
+        crate::real::finite(gain, "perturbation gain")?;
+        crate::real::finite(delay, "perturbation delay")?;
+        crate::real::finite(tau, "perturbation tau")?;
         let scale = |p: &[f64]| -> Vec<f64> {
             let deg = p.len().saturating_sub(1);
             p.iter()

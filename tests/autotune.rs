@@ -211,3 +211,20 @@ fn step_tests_recover_the_parameters() {
     );
     assert!(f.r2 > 0.9999);
 }
+
+/// A long record (250 000 rows, a step at a sample that is not a multiple
+/// of the decimation) is fitted on a decimated copy phased to the step and
+/// scored on every row: the same model, the fit figures of the whole record.
+#[test]
+fn long_step_tests_are_fitted_in_linear_time() {
+    let (t, u, y) = step_data("2*e^-4s/(5s+1)", 0.0007, 250_000);
+    let f = identify_step(ModelKind::Fopdt, &t, &u, &y).unwrap();
+    let ProcessModel::Fopdt(m) = f.model else {
+        panic!()
+    };
+    assert!(
+        rel(m.k, 2.0) < 1e-6 && rel(m.t, 5.0) < 1e-6 && rel(m.l, 4.0) < 1e-4,
+        "{m:?}"
+    );
+    assert!(f.r2 > 1.0 - 1e-9, "{f:?}");
+}

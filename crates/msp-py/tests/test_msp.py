@@ -268,6 +268,11 @@ def test_run_reports_each_event() -> None:
     assert res.events[2]["peak_deviation"] < 0.0 and res.events[2]["location"] == "input"
 
 
+def test_a_nan_perturbation_is_named() -> None:
+    with pytest.raises(ValueError, match="perturbation gain"):
+        msp.compare("0.2/s*e^-7.4s", ["smith"], perturb={"gain": float("nan")})
+
+
 def test_identify_refuses_closed_loop_data() -> None:
     res = msp.run("5.6*e^-93.9s/(40.2s+1)", "pi", noise=0.01)
     with pytest.raises(ValueError, match="closed-loop data"):
