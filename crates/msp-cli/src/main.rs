@@ -18,6 +18,7 @@ use crate::error::CliError;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    export::remove_temporaries_on_interrupt();
     let res = match &cli.cmd {
         Cmd::Run(a) => c::run::run(a),
         Cmd::Compare(a) => c::compare::compare(a),

@@ -522,6 +522,62 @@ fn tune_prints_robustness_and_warns() {
     assert_eq!(j["warnings"], serde_json::json!([]));
 }
 
+/// Temporaries of a process that died without cleaning up (`.msp-PID-*.tmp`
+/// of a PID that no longer runs) are removed by the next run that writes
+/// there; those of a live process are left alone.
+#[cfg(target_os = "linux")]
+#[test]
+fn stale_temporaries_are_removed() {
+    let dir = tempfile::tempdir().unwrap();
+    let dead = dir.path().join(".msp-4000000000-abc123.tmp");
+    let live = dir
+        .path()
+        .join(format!(".msp-{}-def456.tmp", std::process::id()));
+    std::fs::write(&dead, "half a file").unwrap();
+    std::fs::write(&live, "being written").unwrap();
+    msp()
+        .args(["run", "--plant", "e^-2s/(5s+1)", "--duration", "10", "-o"])
+        .arg(dir.path().join("run.csv"))
+        .assert()
+        .success();
+    assert!(!dead.exists() && live.exists());
+}
+
+/// Ctrl-C (SIGINT) stops a long command cleanly: exit status 130 and no
+/// output file, whole or partial.
+#[cfg(unix)]
+#[test]
+fn an_interrupt_stops_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let mut child = std::process::Command::new(bin)
+        .args([
+            "sweep",
+            "--plant",
+            "5e^-6s/(100s-1)",
+            "--gain",
+            "-20%..20%",
+            "--delay",
+            "-20%..20%",
+            "--grid",
+            "40",
+            "-o",
+        ])
+        .arg(dir.path().join("sweep.csv"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

@@ -28,6 +28,59 @@ pub(crate) struct Outputs {
     stdout: Vec<u8>,
 }
 
+/// The temporaries being written now: an interrupt removes them.
+static PENDING: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Installs the SIGINT/SIGTERM handler: the temporaries of an atomic write
+/// in progress are removed, and `msp` exits with status 130 (no output file
+/// is half-written: the finished ones were renamed into place whole, the
+/// others are not there).
+pub(crate) fn remove_temporaries_on_interrupt() {
+    let _ = ctrlc::set_handler(|| {
+        if let Ok(list) = PENDING.lock() {
+            for p in list.iter() {
+                let _ = std::fs::remove_file(p);
+            }
+        }
+        std::process::exit(130);
+    });
+}
+
+/// The prefix of this process's temporaries: `.msp-PID-`.
+fn temp_prefix() -> String {
+    format!(".msp-{}-", std::process::id())
+}
+
+/// Removes the temporaries that a process killed without a chance to clean
+/// up (SIGKILL, a power cut) left in `dir`: `.msp-PID-*.tmp` of a PID that no
+/// longer runs (Linux, where `/proc` says which do).
+fn remove_stale_temporaries(dir: &Path) {
+    #[cfg(target_os = "linux")]
+    {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for e in entries.flatten() {
+            let name = e.file_name();
+            let Some(name) = name.to_str() else { continue };
+            let Some(rest) = name.strip_prefix(".msp-") else {
+                continue;
+            };
+            let Some((pid, _)) = rest.split_once('-') else {
+                continue;
+            };
+            if name.ends_with(".tmp")
+                && pid.parse::<u32>().is_ok()
+                && !Path::new("/proc").join(pid).exists()
+            {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = dir;
+}
+
 /// Whether a path given to a flag means standard output.
 pub(crate) fn is_stdout(path: &Path) -> bool {
     path.as_os_str() == "-"
@@ -49,6 +102,7 @@ impl Outputs {
                 continue;
             }
             let dir = parent(path);
+            remove_stale_temporaries(&dir);
             if !dir.is_dir() {
                 return Err(CliError::Input(format!(
                     "{flag} {}: the directory {} does not exist",
@@ -117,7 +171,8 @@ impl Outputs {
                 continue;
             }
             let mut builder = tempfile::Builder::new();
-            builder.prefix(".msp-").suffix(".tmp");
+            let prefix = temp_prefix();
+            builder.prefix(&prefix).suffix(".tmp");
             // the file gets the mode `File::create` would give it (0666 less
             // the umask), or keeps the mode of the file it replaces, not the
             // temporary's private 0600
@@ -128,6 +183,9 @@ impl Outputs {
                 builder.permissions(std::fs::Permissions::from_mode(mode & 0o7777));
             }
             let mut tmp = builder.tempfile_in(parent(path)).map_err(fail)?;
+            if let Ok(mut list) = PENDING.lock() {
+                list.push(tmp.path().to_path_buf());
+            }
             tmp.write_all(bytes).map_err(fail)?;
             tmp.as_file().sync_all().map_err(fail)?;
             staged.push((tmp, path));
@@ -140,11 +198,15 @@ impl Outputs {
                 .map_err(|e| CliError::Runtime(format!("cannot write {}: {e}", path.display())))?;
         }
         // every file is written: now the renames (a dropped temporary deletes itself)
-        for (tmp, path) in staged {
-            tmp.persist(path).map_err(|e| {
+        let renamed = staged.into_iter().try_for_each(|(tmp, path)| {
+            tmp.persist(path).map(|_| ()).map_err(|e| {
                 CliError::Runtime(format!("cannot write {}: {}", path.display(), e.error))
-            })?;
+            })
+        });
+        if let Ok(mut list) = PENDING.lock() {
+            list.clear();
         }
+        renamed?;
         if !self.stdout.is_empty() {
             print(&self.stdout)?;
         }
