@@ -11,9 +11,15 @@ fn run(
     controller: Option<&str>,
     f: impl FnOnce(&mut Scenario),
 ) -> msp::study::RunOutput {
+    // the set-point step alone (the tables' "without load"), unless the test
+    // names its own events
     let mut sc = Scenario {
         plant: Some(plant.parse().unwrap()),
         controller: controller.map(Into::into),
+        setpoint: vec![msp::sim::SetpointStep {
+            value: 1.0,
+            at: 0.0,
+        }],
         ..Default::default()
     };
     f(&mut sc);

@@ -15,7 +15,7 @@ pub use report::{ControllerReport, Report, TuneReport};
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use crate::poly::TransferFunction;
+use crate::poly::{PlantKind, TransferFunction};
 use crate::registry::{self, Build, Params, RegistryError, MAX_ORDER};
 use crate::sim::{simulate, simulate_cascade, Disturbance, SetpointStep, SimConfig, SimResult};
 use crate::Error;
@@ -116,6 +116,26 @@ pub struct Robustness {
     pub warnings: Vec<String>,
 }
 
+/// The smallest round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 times a
+/// power of ten) at or above `x > 0`.
+fn nice_ceil(x: f64) -> f64 {
+    if !(x > 0.0 && x.is_finite()) {
+        return x;
+    }
+    let mut decade = 10f64.powf(x.log10().floor());
+    loop {
+        for m in [1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0] {
+            let v: f64 = std::format!("{:.6e}", m * decade)
+                .parse()
+                .unwrap_or(m * decade);
+            if v >= x * (1.0 - 1e-12) {
+                return v;
+            }
+        }
+        decade *= 10.0;
+    }
+}
+
 /// Three significant digits, for numbers in messages.
 fn round3(v: f64) -> f64 {
     if v == 0.0 || !v.is_finite() {
@@ -174,6 +194,9 @@ pub struct RunOutput {
     pub duration_chosen: bool,
     /// The figures of each set-point step and disturbance over its segment.
     pub events: Vec<metrics::Event>,
+    /// The run is the default scenario ([`Scenario::run`]: a set-point step,
+    /// then a load once it has settled), not one the user named.
+    pub default_scenario: bool,
     /// What the run found that the user should know, beside an instability
     /// (part of [`RunOutput::warnings`]).
     pub notes: Vec<String>,
@@ -450,11 +473,108 @@ impl Scenario {
             None => self.robustness(&tuned, &plant, &model),
             Some(_) => None,
         };
-        let mut out = self.run_tuned(&tuned, plant, model, inner)?;
+        let mut out =
+            if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
+                self.run_default_protocol(&tuned, &plant, &model, &inner)?
+            } else {
+                self.run_tuned(&tuned, plant, model, inner)?
+            };
         if let Some(r) = robust {
             out.notes.extend(r.warnings);
             out.robustness = Some(r.margins);
         }
+        Ok(out)
+    }
+
+    /// The default scenario of a run that names no set point, disturbance or
+    /// duration, the protocol of Bag (2022) ch. 5: a unit set-point step at
+    /// 0 s, then, once its response has settled, a step load at the plant
+    /// input (`−0.2/K` for a plant of gain `K`, a fifth of the step at the
+    /// output in steady state; `−0.02/Kv` for an integrator `Kv/s`, the
+    /// thesis's −0.1 on `0.2/s`), and a duration that ends soon after the
+    /// load is rejected.
+    /// The load comes at a round time after 1.25 settling times, the run ends
+    /// at a round time after 1.25 recovery times (each found from a probe
+    /// run); a loop that does not settle runs as the plain set-point step.
+    fn run_default_protocol(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+        inner: &Option<(TransferFunction, TransferFunction)>,
+    ) -> Result<RunOutput, RunError> {
+        let mut sc = self.clone();
+        sc.setpoint = std::vec![SetpointStep {
+            value: 1.0,
+            at: 0.0
+        }];
+        let run = |sc: &Scenario| sc.run_tuned(tuned, plant.clone(), model.clone(), inner.clone());
+        let first = run(&sc)?;
+        let settle = first.metrics.step.settling_time;
+        let whole = match inner {
+            Some((p2, _)) => plant.series(p2)?,
+            None => plant.clone(),
+        };
+        // the gain's sign as the actuator acts: the static gain of a stable
+        // or integrating plant, the high-frequency sign for an unstable one
+        // (K/(Ts − 1) has G(0) = −K but rises with u)
+        let gain = match whole.kind() {
+            PlantKind::Unstable => {
+                let hf = whole.num.first().copied().unwrap_or(1.0)
+                    / whole.den.first().copied().unwrap_or(1.0);
+                whole.gain().abs() * hf.signum()
+            }
+            _ => whole.gain(),
+        };
+        if first.result.diverged_at.is_some() || !settle.is_finite() || !(gain.abs() > 0.0) {
+            return Ok(first);
+        }
+        let load = match whole.kind() {
+            PlantKind::Integrating => -0.1 * (0.2 / gain),
+            _ => -0.2 / gain,
+        };
+        let at = nice_ceil(1.25 * settle.max(first.ts));
+        sc.disturbance = std::vec![Disturbance {
+            location: crate::sim::Location::Input,
+            shape: crate::sim::Shape::Step,
+            value: load,
+            at,
+            freq: 0.0,
+        }];
+        // probes: the load's segment as long as the set point needed, doubled
+        // until the load is rejected
+        let mut span = first.duration.max(2.0 * settle);
+        let mut recovery = f64::NAN;
+        for _ in 0..4 {
+            sc.duration = Some(at + span);
+            let Ok(probe) = run(&sc) else {
+                return Ok(first);
+            };
+            recovery = probe
+                .events
+                .iter()
+                .find_map(|e| match e {
+                    metrics::Event::Disturbance(d) => Some(d.recovery_time),
+                    metrics::Event::Setpoint(_) => None,
+                })
+                .unwrap_or(f64::NAN);
+            if probe.result.diverged_at.is_some() {
+                return Ok(first);
+            }
+            if recovery.is_finite() && recovery < 0.8 * span {
+                break;
+            }
+            span *= 2.0;
+        }
+        if !recovery.is_finite() {
+            return Ok(first);
+        }
+        sc.duration = Some(nice_ceil(at + 1.25 * recovery.max(settle)));
+        let Ok(mut out) = run(&sc) else {
+            return Ok(first);
+        };
+        out.duration_chosen = true;
+        out.default_scenario = true;
         Ok(out)
     }
 
@@ -757,6 +877,7 @@ impl Scenario {
             setpoint,
             float32: self.float32,
             events,
+            default_scenario: false,
             notes: Vec::new(),
             robustness: None,
         })

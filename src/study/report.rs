@@ -49,6 +49,10 @@ pub struct Report {
     pub metrics: Metrics,
     /// Metrics on `e = r(t − θm) − y`, time from `θm` (Bag (2022) ch. 5).
     pub metrics_delayed_reference: Metrics,
+    /// The run is msp's default scenario (a unit set-point step, then an
+    /// input load once it has settled; `events` says when and how large),
+    /// chosen because the run named no set point, disturbance or duration.
+    pub default_scenario: bool,
     /// Each set-point step's step information and each disturbance's
     /// rejection figures, over its segment (to the next event).
     pub events: Vec<super::Event>,
@@ -90,6 +94,7 @@ impl RunOutput {
             float32: self.float32,
             metrics: self.metrics,
             metrics_delayed_reference: self.metrics_delayed_reference,
+            default_scenario: self.default_scenario,
             events: self.events.clone(),
             robustness: self.robustness,
             stable: self.result.diverged_at.is_none(),

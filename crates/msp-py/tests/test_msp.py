@@ -138,8 +138,8 @@ def test_errors_are_value_errors_naming_the_column() -> None:
 
 
 def test_metrics_match_the_thesis() -> None:
-    res = msp.run("0.2/s*e^-7.4s")
-    assert res.controller["name"] == "karan-dey"
+    res = msp.run("0.2/s*e^-7.4s", setpoint=1.0)  # the set-point step alone (Table 5.4)
+    assert res.controller["name"] == "karan-dey" and not res.default_scenario
     assert abs(res.metrics["rise_time"] - 2.04) < 0.03
     assert abs(res.metrics_delayed_reference["iae"] - 0.93) < 0.014
     assert set(res.metrics) == set(res.metrics_delayed_reference) == {
@@ -258,6 +258,14 @@ def test_tune_reports_robustness_as_the_cli() -> None:
     cli = json.loads(subprocess.run([MSP_BIN, "tune", "--plant", "0.2/s*e^-7.4s", "--json"],
                                     check=True, capture_output=True, text=True).stdout)
     assert cli == t
+
+
+def test_a_bare_run_is_the_default_scenario() -> None:
+    res = msp.run("0.2/s*e^-7.4s")
+    assert res.default_scenario and [e["kind"] for e in res.events] == ["setpoint", "disturbance"]
+    load = res.events[1]
+    assert math.isclose(load["value"], -0.1) and load["at"] > res.events[0]["settling_time"]
+    assert load["recovery_time"] < res.duration - load["at"]
 
 
 def test_run_reports_each_event() -> None:

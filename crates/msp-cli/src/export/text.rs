@@ -41,6 +41,19 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             ""
         }
     ));
+    if out.default_scenario {
+        let load = out.events.iter().find_map(|e| match e {
+            msp::study::Event::Disturbance(d) => Some(d),
+            msp::study::Event::Setpoint(_) => None,
+        });
+        if let Some(d) = load {
+            s.push_str(&format!(
+                "scenario    r = 1 at 0 s, input load {} at {} s  [the default; --setpoint, --disturbance, --duration to change]\n",
+                fmt_sig(d.value),
+                fmt_num(d.at)
+            ));
+        }
+    }
     let params = params_line(&out.params);
     s.push_str(&format!(
         "controller  {}: {}{}\n",

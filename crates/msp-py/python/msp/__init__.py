@@ -109,6 +109,11 @@ class Result:
         ``value``, ``peak_deviation``, ``peak_time``, ``recovery_time``, ``iae``), in time order.
     robustness : dict or None
         The tuned loop's ``gm``, ``pm``, ``dm``, ``ms``, ``mt`` (sampled view).
+    default_scenario : bool
+        The run is msp's default scenario, chosen because the call named no ``setpoint``,
+        ``disturbance`` or ``duration``: a unit set-point step at 0 s, then a step load at the plant
+        input once the response has settled (``events`` says when and how large), ending soon after
+        the load is rejected.
     chosen : list of str
         Which of ``ts``, ``duration`` and ``lambda`` msp chose because the call did not give them.
     plant, plant_kind, model, ts, duration, samples, float32, stable, diverged_at, warnings
@@ -135,6 +140,7 @@ class Result:
     model: str
     ts: float
     chosen: List[str]
+    default_scenario: bool
     events: List[Dict[str, Any]]
     robustness: Optional[Dict[str, float]]
     duration: float
