@@ -178,6 +178,9 @@ pub(crate) struct MarginsArgs {
     /// SVG with the Bode and Nyquist plots of the loop at the plant input.
     #[arg(long)]
     pub(crate) plot: Option<PathBuf>,
+    /// SVG with the Nyquist plot alone, with the unit circle and the Ms circle.
+    #[arg(long)]
+    pub(crate) nyquist: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -583,6 +583,32 @@ fn an_interrupt_stops_cleanly() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
+/// On a terminal, `msp run` without `-o` prints the summary, not thousands of
+/// CSV rows, and says how to get them; piped, it writes the CSV. The
+/// terminal is a pseudo-terminal from util-linux's `script`.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_terminal_gets_the_summary_not_the_csv() {
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let cmd = format!("{} run --plant '0.2/s*e^-7.4s'", bin.display());
+    let out = std::process::Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .output()
+        .expect("util-linux's script runs the pseudo-terminal test");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("controller  karan-dey") && text.contains("CSV rows go to a file"),
+        "{text}"
+    );
+    assert!(!text.contains("t,r,y,u"), "{text}");
+    let piped = msp()
+        .args(["run", "--plant", "0.2/s*e^-7.4s", "-q"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&piped.stdout).starts_with("t,r,y,u"));
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

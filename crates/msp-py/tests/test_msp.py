@@ -287,6 +287,28 @@ def test_identify_refuses_closed_loop_data() -> None:
         msp.identify(res.t, res.u, res.y)
 
 
+def test_readme_figures_render_from_the_current_code(tmp_path: pathlib.Path) -> None:
+    """Every SVG the README shows is made by scripts/figures from today's code; each renders to a
+    PNG of the expected size that is not blank (more than 2 % of its pixels drawn)."""
+    import re
+
+    import cairosvg  # type: ignore[import-untyped]
+    from PIL import Image
+
+    subprocess.run(["bash", str(ROOT / "scripts" / "figures"), str(tmp_path)], check=True,
+                   env={**os.environ, "MSP_BIN": MSP_BIN})
+    shown = re.findall(r"\((docs/[\w.-]+\.svg)\)", (ROOT / "README.md").read_text())
+    assert len(shown) >= 2, shown
+    for name in shown:
+        svg = tmp_path / pathlib.Path(name).name
+        png = tmp_path / (svg.stem + ".png")
+        cairosvg.svg2png(url=str(svg), write_to=str(png))
+        img = Image.open(png).convert("L")
+        assert img.width >= 800 and img.height >= 400, (name, img.size)
+        drawn = float((np.asarray(img) < 200).mean())
+        assert drawn > 0.02, (name, drawn)
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -6,7 +6,10 @@ use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
-    let mut files = export::Outputs::plan(&[("--plot", a.plot.as_ref())])?;
+    let mut files = export::Outputs::plan(&[
+        ("--plot", a.plot.as_ref()),
+        ("--nyquist", a.nyquist.as_ref()),
+    ])?;
     let mut sc = scenario_from(&a.scenario)?;
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);
@@ -20,6 +23,11 @@ pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
     if let Some(p) = &a.plot {
         let svg =
             export::svg::bode_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        files.add(p, svg.into_bytes());
+    }
+    if let Some(p) = &a.nyquist {
+        let svg =
+            export::svg::nyquist_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         files.add(p, svg.into_bytes());
     }
     files.commit()?;

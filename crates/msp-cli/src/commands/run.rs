@@ -30,11 +30,23 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
             export::svg::plot_svg(&[&out]).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         files.add(p, svg.into_bytes());
     }
-    files.add_or_print(a.output.as_ref(), csv)?;
+    // on a terminal without -o, the summary alone: thousands of CSV rows are
+    // for a pipe, a redirection or a file
+    use std::io::IsTerminal;
+    let to_terminal = a.output.is_none() && std::io::stdout().is_terminal();
+    if !to_terminal {
+        files.add_or_print(a.output.as_ref(), csv)?;
+    }
     // everything is computed: now the files, all or none
     files.commit()?;
-    if !a.quiet {
+    if !a.quiet || to_terminal {
         export::noteln!("{}", export::text::summary(&out, &warnings));
+    }
+    if to_terminal {
+        export::noteln!(
+            "(the {} CSV rows go to a file with -o FILE.csv, or to standard output when it is piped or redirected)",
+            out.result.t.len()
+        );
     }
     Ok(())
 }

@@ -48,7 +48,13 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
     };
     let mut ys: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.y).collect();
     ys.push(&first.result.r);
-    let us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
+    let mut us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
+    // the load disturbance, drawn with u when there is one
+    let d = &first.result.d;
+    let has_d = d.iter().any(|v| *v != 0.0);
+    if has_d {
+        us.push(d);
+    }
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
@@ -56,22 +62,37 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         let (top, bottom) = root.split_vertically(360);
         let (ylo, yhi) = range(&ys);
         let title = if runs.len() == 1 {
-            format!("{} — {}", first.controller, first.plant)
+            let key: Vec<String> = first
+                .params
+                .iter()
+                .filter(|(k, v)| ["kp", "ti", "td", "lambda"].contains(k) && v.is_finite())
+                .map(|(k, v)| format!("{k} = {}", fmt_sig(v)))
+                .collect();
+            format!(
+                "{} ({}) on {}",
+                first.controller,
+                key.join(", "),
+                first.plant
+            )
         } else {
             format!("{}", first.plant)
         };
         let mut c = ChartBuilder::on(&top)
-            .caption(title, ("sans-serif", 18))
-            .margin(10)
+            .caption(title, ("sans-serif", 16))
+            .margin(12)
+            .margin_right(24)
             .x_label_area_size(30)
-            .y_label_area_size(50)
+            .y_label_area_size(60)
             .build_cartesian_2d(0.0..t_end, ylo..yhi)?;
-        c.configure_mesh().y_desc("r, y").draw()?;
-        c.draw_series(LineSeries::new(
+        c.configure_mesh().y_desc("set point r, output y").draw()?;
+        // the set point dashed, so that it shows under an output on it
+        c.draw_series(DashedLineSeries::new(
             pts(&first.result.t, &first.result.r),
-            &BLACK,
+            8,
+            5,
+            BLACK.stroke_width(2),
         ))?
-        .label("r")
+        .label("r (set point)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
         for (i, r) in runs.iter().enumerate() {
             let col = color(i);
@@ -90,21 +111,57 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             .draw()?;
         let (ulo, uhi) = range(&us);
         let mut c2 = ChartBuilder::on(&bottom)
-            .margin(10)
-            .x_label_area_size(30)
-            .y_label_area_size(50)
+            .margin(12)
+            .margin_right(24)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
             .build_cartesian_2d(0.0..t_end, ulo..uhi)?;
-        c2.configure_mesh().x_desc("t (s)").y_desc("u").draw()?;
+        c2.configure_mesh()
+            .x_desc("time t (s)")
+            .y_desc(if has_d {
+                "control u, load d"
+            } else {
+                "control u"
+            })
+            .draw()?;
         for (i, r) in runs.iter().enumerate() {
             let col = if runs.len() == 1 { RED } else { color(i) };
-            c2.draw_series(LineSeries::new(pts(&r.result.t, &r.result.u), &col))?;
+            let label = if runs.len() == 1 {
+                "u (control)".to_string()
+            } else {
+                format!("u {}", r.controller)
+            };
+            c2.draw_series(LineSeries::new(pts(&r.result.t, &r.result.u), &col))?
+                .label(label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col));
         }
+        if has_d {
+            let grey = RGBColor(90, 90, 90);
+            c2.draw_series(DashedLineSeries::new(
+                pts(&first.result.t, d),
+                6,
+                4,
+                grey.stroke_width(2),
+            ))?
+            .label("d (load)")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
+        }
+        c2.configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
         root.present()?;
     }
     Ok(svg)
 }
 
 /// Bode magnitude and phase and the Nyquist plot of the loop at the plant input.
+///
+/// The phase is wrapped into (−360°, 0°] (the exact delay's phase falls
+/// without bound, and unwrapped it squashes the crossover region into a
+/// sliver); the lines break at each wrap. The gain margin is marked at the
+/// phase crossover `wcg` on the magnitude, the phase margin at the gain
+/// crossover `wcp` on the phase.
 pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
     let r = &an.response;
@@ -113,21 +170,24 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
             .zip(&r.l)
             .map(|(w, l)| (*w, 20.0 * l.abs().log10()))
             .collect();
-    // unwrapped phase along the grid
-    let mut phase = Vec::with_capacity(r.l.len());
-    let mut prev = 0.0f64;
-    let mut offset = 0.0;
-    for (i, (w, l)) in r.w.iter().zip(&r.l).enumerate() {
-        let p = l.arg().to_degrees();
-        if i > 0 {
-            if p - prev > 180.0 {
-                offset -= 360.0;
-            } else if p - prev < -180.0 {
-                offset += 360.0;
-            }
+    // the phase in (−360°, 0°], as segments between wraps
+    let mut phase: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    let mut prev = f64::NAN;
+    for (w, l) in r.w.iter().zip(&r.l) {
+        let mut p = l.arg().to_degrees();
+        while p > 0.0 {
+            p -= 360.0;
+        }
+        while p <= -360.0 {
+            p += 360.0;
+        }
+        if (p - prev).abs() > 180.0 {
+            phase.push(Vec::new());
+        }
+        if let Some(seg) = phase.last_mut() {
+            seg.push((*w, p));
         }
         prev = p;
-        phase.push((*w, p + offset));
     }
     let finite = |v: &[(f64, f64)]| {
         v.iter()
@@ -141,66 +201,182 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
         r.w.first().copied().unwrap_or(1e-3),
         r.w.last().copied().unwrap_or(1.0),
     );
+    let m = &an.margins;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (1000, 700)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (1100, 700)).into_drawing_area();
         root.fill(&WHITE)?;
-        let (left, right) = root.split_horizontally(600);
+        let (left, right) = root.split_horizontally(640);
         let (top, bottom) = left.split_vertically(350);
         let (mlo, mhi) = finite(&mag);
         let mut c = ChartBuilder::on(&top)
             .caption(
                 format!(
-                    "{} on {}: gm {} dB, pm {} deg",
+                    "{} on {}: gm {} dB at {} rad/s, pm {}° at {} rad/s",
                     an.controller,
                     an.plant,
-                    fmt_sig(an.margins.gm_db),
-                    fmt_sig(an.margins.pm)
+                    fmt_sig(m.gm_db),
+                    fmt_sig(m.wcg),
+                    fmt_sig(m.pm),
+                    fmt_sig(m.wcp)
                 ),
-                ("sans-serif", 15),
+                ("sans-serif", 14),
             )
-            .margin(8)
+            .margin(10)
+            .margin_right(20)
             .x_label_area_size(25)
-            .y_label_area_size(50)
+            .y_label_area_size(55)
             .build_cartesian_2d((w0..w1).log_scale(), (mlo.max(-120.0) - 5.0)..(mhi + 5.0))?;
         c.configure_mesh().y_desc("|L| (dB)").draw()?;
         c.draw_series(LineSeries::new(mag.iter().copied(), &BLUE))?;
         c.draw_series(LineSeries::new([(w0, 0.0), (w1, 0.0)], &BLACK.mix(0.4)))?;
-        let (plo, phi) = finite(&phase);
+        if m.wcg.is_finite() && m.gm_db.is_finite() {
+            c.draw_series(LineSeries::new(
+                [(m.wcg, 0.0), (m.wcg, -m.gm_db)],
+                RGBColor(0, 140, 0).stroke_width(3),
+            ))?;
+            c.draw_series(std::iter::once(Text::new(
+                format!("gm {} dB", fmt_sig(m.gm_db)),
+                (m.wcg, -m.gm_db),
+                ("sans-serif", 13).into_font().color(&RGBColor(0, 110, 0)),
+            )))?;
+        }
         let mut c2 = ChartBuilder::on(&bottom)
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(50)
-            .build_cartesian_2d(
-                (w0..w1).log_scale(),
-                (plo.max(-3600.0) - 10.0)..(phi + 10.0),
-            )?;
+            .margin(10)
+            .margin_right(20)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d((w0..w1).log_scale(), -370.0..10.0)?;
         c2.configure_mesh()
             .x_desc("ω (rad/s)")
-            .y_desc("arg L (deg)")
+            .y_desc("arg L (deg, wrapped)")
+            .y_labels(9)
             .draw()?;
-        c2.draw_series(LineSeries::new(phase.iter().copied(), &RED))?;
+        for seg in phase.into_iter().filter(|s| !s.is_empty()) {
+            c2.draw_series(LineSeries::new(seg, &RED))?;
+        }
         c2.draw_series(LineSeries::new(
             [(w0, -180.0), (w1, -180.0)],
             &BLACK.mix(0.4),
         ))?;
-        let pts: Vec<(f64, f64)> =
-            r.l.iter()
-                .filter(|l| l.abs() < 10.0)
-                .map(|l| (l.re, l.im))
-                .collect();
-        let mut c3 = ChartBuilder::on(&right)
-            .caption("Nyquist (|L| < 10)", ("sans-serif", 15))
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(40)
-            .build_cartesian_2d(-3.0..2.0, -3.0..2.0)?;
-        c3.configure_mesh().x_desc("Re L").y_desc("Im L").draw()?;
-        c3.draw_series(LineSeries::new(pts, &BLUE))?;
-        c3.draw_series(std::iter::once(Circle::new((-1.0, 0.0), 4, RED.filled())))?;
+        if m.wcp.is_finite() && m.pm.is_finite() {
+            c2.draw_series(LineSeries::new(
+                [(m.wcp, -180.0), (m.wcp, -180.0 + m.pm)],
+                RGBColor(0, 140, 0).stroke_width(3),
+            ))?;
+            c2.draw_series(std::iter::once(Text::new(
+                format!("pm {}°", fmt_sig(m.pm)),
+                (m.wcp, -180.0 + m.pm),
+                ("sans-serif", 13).into_font().color(&RGBColor(0, 110, 0)),
+            )))?;
+        }
+        // square, so that the circles are round
+        let (ny, _) = right.split_vertically(470);
+        nyquist_panel(&ny, an)?;
         root.present()?;
     }
     Ok(svg)
+}
+
+/// The Nyquist plot alone (`msp margins --nyquist`).
+pub(crate) fn nyquist_svg(
+    an: &msp::analysis::Analysis,
+) -> Result<String, Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (620, 640)).into_drawing_area();
+        root.fill(&WHITE)?;
+        nyquist_panel(&root, an)?;
+        root.present()?;
+    }
+    Ok(svg)
+}
+
+/// The loop's Nyquist curve near the critical point, with the unit circle
+/// (gain crossings) and the Ms circle (centre −1, radius 1/Ms: the curve's
+/// closest approach to −1).
+fn nyquist_panel<DB: plotters::prelude::DrawingBackend>(
+    area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+    an: &msp::analysis::Analysis,
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::prelude::*;
+    let (x0, x1, y0, y1) = (-2.5, 1.5, -2.5, 1.5);
+    let inside = |l: &msp::Complex<f64>| {
+        l.re.is_finite() && l.im.is_finite() && l.re > x0 && l.re < x1 && l.im > y0 && l.im < y1
+    };
+    // the curve as segments inside the window (a line to a point outside it
+    // would be drawn along the border)
+    let mut segs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    for l in &an.response.l {
+        if inside(l) {
+            if let Some(s) = segs.last_mut() {
+                s.push((l.re, l.im));
+            }
+        } else if segs.last().is_some_and(|s| !s.is_empty()) {
+            segs.push(Vec::new());
+        }
+    }
+    let mut c = ChartBuilder::on(area)
+        .caption(
+            format!("Nyquist: Ms = {}", fmt_sig(an.margins.ms)),
+            ("sans-serif", 15),
+        )
+        .margin(10)
+        .margin_right(20)
+        .x_label_area_size(35)
+        .y_label_area_size(45)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    c.configure_mesh().x_desc("Re L").y_desc("Im L").draw()?;
+    let circle = |cx: f64, r: f64| -> Vec<(f64, f64)> {
+        (0..=240)
+            .map(|i| {
+                let a = std::f64::consts::TAU * f64::from(i) / 240.0;
+                (cx + r * a.cos(), r * a.sin())
+            })
+            .collect()
+    };
+    let grey = RGBColor(120, 120, 120);
+    c.draw_series(DashedLineSeries::new(
+        circle(0.0, 1.0),
+        5,
+        4,
+        grey.stroke_width(1),
+    ))?
+    .label("unit circle")
+    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
+    if an.margins.ms.is_finite() && an.margins.ms > 0.0 {
+        let green = RGBColor(0, 140, 0);
+        c.draw_series(LineSeries::new(
+            circle(-1.0, 1.0 / an.margins.ms),
+            green.stroke_width(1),
+        ))?
+        .label(format!(
+            "Ms circle (radius 1/Ms = {})",
+            fmt_sig(1.0 / an.margins.ms)
+        ))
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], green));
+    }
+    let mut first = true;
+    for seg in segs.into_iter().filter(|s| s.len() > 1) {
+        let series = c.draw_series(LineSeries::new(seg, &BLUE))?;
+        if first {
+            series
+                .label("L(jω), ω > 0")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+            first = false;
+        }
+    }
+    c.draw_series(std::iter::once(Circle::new((-1.0, 0.0), 4, RED.filled())))?;
+    c.configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
 }
 
 /// The open-loop step response, with its final value dashed.
