@@ -271,7 +271,13 @@ pub fn events(
         } else {
             index(until(d.at)).max(a)
         };
-        let y_ref = y.get(a).copied().unwrap_or(f64::NAN);
+        // the output just before: an output disturbance shows at its own sample
+        let y_ref = a
+            .checked_sub(1)
+            .and_then(|i| y.get(i))
+            .or(y.get(a))
+            .copied()
+            .unwrap_or(f64::NAN);
         let r_ref = r.get(a).copied().unwrap_or(0.0);
         let seg = |v: &Vec<f64>| v.get(a..b).unwrap_or(&[]).to_vec();
         let (ts, ys) = (seg(&t), seg(&y));

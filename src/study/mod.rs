@@ -55,9 +55,13 @@ pub struct Scenario {
     pub ts: Option<f64>,
     /// Duration (s); chosen from the plant when absent.
     pub duration: Option<f64>,
-    /// Set-point steps (default: a unit step at t = 0).
+    /// Set-point steps (default: a unit step at t = 0). A file may write
+    /// them as the flag does (`"1@0"`) or structured (`{value, at}`).
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::text_or_struct"))]
     pub setpoint: Vec<SetpointStep>,
-    /// Disturbances.
+    /// Disturbances, as the flag writes them (`"input:-0.1@1000"`) or
+    /// structured.
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::text_or_struct"))]
     pub disturbance: Vec<Disturbance>,
     /// Measurement-noise standard deviation.
     pub noise: Option<f64>,
@@ -197,6 +201,10 @@ pub struct RunOutput {
     /// The run is the default scenario ([`Scenario::run`]: a set-point step,
     /// then a load once it has settled), not one the user named.
     pub default_scenario: bool,
+    /// The scenario as it was given (what msp chose is `None` or empty in
+    /// it, and the run's own fields say what was chosen): run again, it gives
+    /// this run again.
+    pub scenario: Scenario,
     /// What the run found that the user should know, beside an instability
     /// (part of [`RunOutput::warnings`]).
     pub notes: Vec<String>,
@@ -479,6 +487,7 @@ impl Scenario {
             } else {
                 self.run_tuned(&tuned, plant, model, inner)?
             };
+        out.scenario = self.clone();
         if let Some(r) = robust {
             out.notes.extend(r.warnings);
             out.robustness = Some(r.margins);
@@ -878,6 +887,7 @@ impl Scenario {
             float32: self.float32,
             events,
             default_scenario: false,
+            scenario: self.clone(),
             notes: Vec::new(),
             robustness: None,
         })

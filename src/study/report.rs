@@ -22,6 +22,11 @@ pub struct ControllerReport {
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Report {
+    /// The version of msp that made the run.
+    pub msp_version: &'static str,
+    /// The scenario as it was given: `msp run --scenario report.json` (or
+    /// `Scenario::run` on it) runs it again and gives this report again.
+    pub scenario: super::Scenario,
     /// The plant simulated.
     pub plant: String,
     /// Its kind: stable, integrating or unstable.
@@ -71,6 +76,8 @@ impl RunOutput {
     /// The report of this run.
     pub fn report(&self) -> Report {
         Report {
+            msp_version: env!("CARGO_PKG_VERSION"),
+            scenario: self.scenario.clone(),
             plant: self.plant.to_string(),
             plant_kind: self.plant.kind().to_string(),
             model: self.model.to_string(),

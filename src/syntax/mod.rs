@@ -9,5 +9,7 @@ pub mod expr;
 mod schedule;
 
 pub use expr::{parse_plant, ParseError};
+#[cfg(all(feature = "std", feature = "serde"))]
+pub use schedule::text_or_struct;
 #[cfg(feature = "std")]
 pub use schedule::{parse_bytes, parse_number, parse_setting};

@@ -228,3 +228,46 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
     num_traits::ToPrimitive::to_u64(&v.round())
         .ok_or_else(|| std::format!("size '{s}' is too large"))
 }
+
+/// Serde for a list of set-point steps or disturbances that a scenario file
+/// may write in the flags' own syntax (`setpoint = ["1@0", "2@100"]`,
+/// `disturbance = ["input:-0.1@1000"]`) or in the structured form
+/// (`{ value = 1, at = 0 }`), item by item; written back structured.
+#[cfg(feature = "serde")]
+pub mod text_or_struct {
+    use alloc::string::String;
+    use alloc::vec::Vec;
+    use core::str::FromStr;
+
+    #[derive(serde::Deserialize)]
+    #[serde(untagged)]
+    enum Item<T> {
+        Text(String),
+        Struct(T),
+    }
+
+    /// Reads each item as flag text or as the structured form.
+    pub fn deserialize<'de, D, T>(d: D) -> Result<Vec<T>, D::Error>
+    where
+        D: serde::Deserializer<'de>,
+        T: serde::Deserialize<'de> + FromStr<Err = String>,
+    {
+        let items: Vec<Item<T>> = serde::Deserialize::deserialize(d)?;
+        items
+            .into_iter()
+            .map(|i| match i {
+                Item::Text(s) => T::from_str(&s).map_err(serde::de::Error::custom),
+                Item::Struct(t) => Ok(t),
+            })
+            .collect()
+    }
+
+    /// Writes the structured form.
+    pub fn serialize<S, T>(v: &[T], s: S) -> Result<S::Ok, S::Error>
+    where
+        S: serde::Serializer,
+        T: serde::Serialize,
+    {
+        serde::Serialize::serialize(v, s)
+    }
+}

@@ -609,6 +609,108 @@ fn a_terminal_gets_the_summary_not_the_csv() {
     assert!(String::from_utf8_lossy(&piped.stdout).starts_with("t,r,y,u"));
 }
 
+/// A run report carries the scenario as given and the msp version, and
+/// `msp run --scenario report.json` runs it again: the same CSV and the same
+/// report, byte for byte (a scenario with noise, limits, set points, a load
+/// and sub-steps, and the default scenario).
+#[test]
+fn a_report_reruns_as_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    let cases: [&[&str]; 2] = [
+        &["--plant", "0.2/s*e^-7.4s"],
+        &[
+            "--plant",
+            "e^-1s/(s^2+3s+2)",
+            "-c",
+            "pid",
+            "--set",
+            "ti=2.5",
+            "--noise",
+            "0.01",
+            "--seed",
+            "7",
+            "--setpoint",
+            "1@0",
+            "--setpoint",
+            "0.5@30",
+            "--disturbance",
+            "input:-0.2@15",
+            "--umax",
+            "3",
+            "--substeps",
+            "3",
+        ],
+    ];
+    for args in cases {
+        msp()
+            .arg("run")
+            .args(args)
+            .args(["-q", "-o"])
+            .arg(p("a.csv"))
+            .arg("--report")
+            .arg(p("a.json"))
+            .assert()
+            .success();
+        let j: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(p("a.json")).unwrap()).unwrap();
+        assert_eq!(j["msp_version"], env!("CARGO_PKG_VERSION"));
+        assert!(j["scenario"]["plant"].is_string());
+        msp()
+            .args(["run", "-q", "--scenario"])
+            .arg(p("a.json"))
+            .arg("-o")
+            .arg(p("b.csv"))
+            .arg("--report")
+            .arg(p("b.json"))
+            .assert()
+            .success();
+        for (a, b) in [("a.csv", "b.csv"), ("a.json", "b.json")] {
+            assert!(
+                std::fs::read(p(a)).unwrap() == std::fs::read(p(b)).unwrap(),
+                "{args:?}: {a} and {b} differ"
+            );
+        }
+    }
+}
+
+/// The example scenario file documents every field and runs; its events are
+/// in the flags' own syntax and in the structured form.
+#[test]
+fn the_example_scenario_file_runs() {
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenario.toml");
+    let out = msp()
+        .args([
+            "run",
+            "-q",
+            "-o",
+            "/dev/null",
+            "--report",
+            "-",
+            "--scenario",
+        ])
+        .arg(&file)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let kinds: Vec<&str> = j["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["kind"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        kinds,
+        ["setpoint", "setpoint", "disturbance", "disturbance"]
+    );
+    assert_eq!(j["events"][3]["location"], "output");
+    assert_eq!(j["controller"]["params"]["kp"], 0.08);
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

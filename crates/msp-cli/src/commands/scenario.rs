@@ -17,8 +17,17 @@ pub(crate) fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_json {
-        serde_json::from_str(text)
-            .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
+        let fail = |e: serde_json::Error| {
+            CliError::Input(format!("scenario file {}: {e}", path.display()))
+        };
+        // a run report (msp run --report) carries the scenario it ran
+        let value: serde_json::Value = serde_json::from_str(text).map_err(fail)?;
+        match value.get("scenario") {
+            Some(inner) if value.get("msp_version").is_some() => {
+                serde_json::from_value(inner.clone()).map_err(fail)
+            }
+            _ => serde_json::from_value(value).map_err(fail),
+        }
     } else {
         toml::from_str(text)
             .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))

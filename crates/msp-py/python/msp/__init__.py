@@ -109,6 +109,10 @@ class Result:
         ``value``, ``peak_deviation``, ``peak_time``, ``recovery_time``, ``iae``), in time order.
     robustness : dict or None
         The tuned loop's ``gm``, ``pm``, ``dm``, ``ms``, ``mt`` (sampled view).
+    scenario : dict
+        The scenario as it was given (the report's copy: ``msp run --scenario report.json`` reruns it).
+    msp_version : str
+        The version of msp that made the run.
     default_scenario : bool
         The run is msp's default scenario, chosen because the call named no ``setpoint``,
         ``disturbance`` or ``duration``: a unit set-point step at 0 s, then a step load at the plant
@@ -140,6 +144,8 @@ class Result:
     model: str
     ts: float
     chosen: List[str]
+    scenario: Dict[str, Any]
+    msp_version: str
     default_scenario: bool
     events: List[Dict[str, Any]]
     robustness: Optional[Dict[str, float]]
