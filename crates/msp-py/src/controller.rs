@@ -36,6 +36,7 @@ pub struct Controller {
     inner: DynController,
     name: &'static str,
     params: Params,
+    ts: f64,
 }
 
 #[pymethods]
@@ -78,6 +79,7 @@ impl Controller {
             inner,
             name: scheme.name,
             params: p,
+            ts,
         })
     }
     /// One sample: set point and measurement in, actuator value out; ``y2`` is
@@ -133,6 +135,27 @@ impl Controller {
     #[getter]
     fn name(&self) -> &'static str {
         self.name
+    }
+    /// The sample period (s).
+    #[getter]
+    fn ts(&self) -> f64 {
+        self.ts
+    }
+    /// `<msp.SmithPredictor smith: kp=0.0764 ti=40.2 td=0 lambda=93.9, ts=1 s>`.
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let class = slf.get_type().name()?.to_string();
+        let c = slf.borrow();
+        let params: Vec<String> = c
+            .params
+            .iter()
+            .map(|(k, v)| format!("{k}={}", msp::poly::fmt_num(round4(v))))
+            .collect();
+        Ok(format!(
+            "<msp.{class} {}: {}, ts={} s>",
+            c.name,
+            params.join(" "),
+            msp::poly::fmt_num(c.ts)
+        ))
     }
     /// Tuned parameters.
     #[getter]
@@ -292,4 +315,9 @@ impl PyPid {
         d.set_item("td", c.td())?;
         Ok(d)
     }
+}
+
+/// Four significant digits, for a repr.
+fn round4(v: f64) -> f64 {
+    format!("{v:.3e}").parse().unwrap_or(v)
 }

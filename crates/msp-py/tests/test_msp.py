@@ -309,6 +309,15 @@ def test_readme_figures_render_from_the_current_code(tmp_path: pathlib.Path) -> 
         assert drawn > 0.02, (name, drawn)
 
 
+def test_controllers_and_the_module_read_like_python_control() -> None:
+    sp = msp.SmithPredictor("5.6*e^-93.9s/(40.2s+1)", ts=1.0)
+    assert repr(sp) == "<msp.SmithPredictor smith: kp=0.07645 ti=40.2 td=0 lambda=93.9, ts=1 s>"
+    assert sp.kp == sp.params["kp"] and sp.ts == 1.0
+    with pytest.raises(AttributeError, match="no signal or parameter 'kq'"):
+        sp.kq
+    assert dir(msp) == sorted(msp.__all__) and "np" not in dir(msp)
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -481,9 +481,13 @@ class _Scheme(Controller):
         pass
 
     def __getattr__(self, name: str) -> float:
+        """Internal signals (``sp.ym``) and parameters (``sp.kp``, read-only) by name."""
         if name in Controller.signal_names.__get__(self):  # type: ignore[attr-defined]
             return self.signal(name)
-        raise AttributeError(name)
+        params = Controller.params.__get__(self)  # type: ignore[attr-defined]
+        if name in params:
+            return float(params[name])
+        raise AttributeError(f"{type(self).__name__} has no signal or parameter {name!r}")
 
 
 class PidLoop(_Scheme):
@@ -592,3 +596,8 @@ def _check_classes() -> List[str]:
     """Registry schemes without a class here (kept empty by the test suite)."""
     have = {c.scheme for c in _SCHEME_CLASSES}
     return [c["name"] for c in controllers() if c["name"] not in have]
+
+
+def __dir__() -> List[str]:
+    """The public API only (``__all__``), not the names the module uses inside."""
+    return sorted(__all__)
