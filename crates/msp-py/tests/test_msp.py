@@ -318,6 +318,20 @@ def test_controllers_and_the_module_read_like_python_control() -> None:
     assert dir(msp) == sorted(msp.__all__) and "np" not in dir(msp)
 
 
+def test_margins_is_a_short_result_with_a_plot(tmp_path: pathlib.Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    m = msp.margins("0.2/s*e^-7.4s", "karan-dey")
+    assert isinstance(m, dict) and m["gm"] == m.gm and m.w.shape == (m.l.shape[0],)
+    text = repr(m)
+    assert len(text) < 300 and "gm=1.689" in text and "pm=33.11" in text, text
+    fig = m.plot()
+    assert len(fig.axes) == 3
+    fig.savefig(tmp_path / "m.png")
+    assert (tmp_path / "m.png").stat().st_size > 10_000
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -33,6 +33,7 @@ __all__ = [
     "KaranDey",
     "KayaAtherton",
     "KayaCascade",
+    "Margins",
     "MatausekMicic",
     "Pid",
     "PiLoop",
@@ -342,13 +343,41 @@ def margins(
         unc = uncertainty if isinstance(uncertainty, str) else {k: float(v) for k, v in uncertainty.items()}
     elif uncertainty is not None:
         unc = {"gain": float(uncertainty[0]), "delay": float(uncertainty[1])}
-    return _msp.margins(_plant(plant, delay), controller, dict(params) if params else None,
-                        model=_plant(model) if model is not None else None,
-                        inner_plant=_plant(inner_plant) if inner_plant is not None else None,
-                        inner_model=_plant(inner_model) if inner_model is not None else None,
-                        ts=ts, lambda_=lambda_, rule=rule, discrete=discrete, continuous=continuous,
-                        uncertainty=unc,
-                        float32=float32, max_memory=max_memory)
+    return Margins(_msp.margins(_plant(plant, delay), controller, dict(params) if params else None,
+                                model=_plant(model) if model is not None else None,
+                                inner_plant=_plant(inner_plant) if inner_plant is not None else None,
+                                inner_model=_plant(inner_model) if inner_model is not None else None,
+                                ts=ts, lambda_=lambda_, rule=rule, discrete=discrete,
+                                continuous=continuous, uncertainty=unc, float32=float32,
+                                max_memory=max_memory))
+
+
+class Margins(Dict[str, Any]):
+    """The result of :func:`margins`: a dict with the keys of ``msp margins --json`` (kept for
+    code that indexes it), every key also an attribute (``m.gm``, ``m.w``, ``m.l``), a short
+    ``repr`` with the numbers, and :meth:`plot` for Bode and Nyquist."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __repr__(self) -> str:
+        def f(v: Any) -> str:
+            return "None" if v is None else f"{v:.4g}"
+
+        return (f"<msp.Margins {self['controller']['name']} on {self['plant']} ({self['view']}): "
+                f"gm={f(self['gm'])} ({f(self['gm_db'])} dB) at {f(self['wcg'])} rad/s, "
+                f"pm={f(self['pm'])} deg at {f(self['wcp'])} rad/s, dm={f(self['dm'])} s, "
+                f"ms={f(self['ms'])}, mt={f(self['mt'])}, stable={self['stable']}>")
+
+    def plot(self, ax: Any = None) -> Any:
+        """A matplotlib Figure: Bode (phase wrapped, gm and pm marked) and Nyquist with the unit and
+        Ms circles, as ``msp margins --plot`` (needs matplotlib: ``pip install msp[plot]``)."""
+        from .plotting import plot_margins
+
+        return plot_margins(self, ax=ax)
 
 
 def sweep(

@@ -6,25 +6,95 @@ from typing import Any
 
 
 def plot_result(res: Any, ax: Any = None, title: str | None = None) -> Any:
-    """Two panels: set point and output on top, actuator below. Returns the Figure.
+    """Two panels, as ``msp run --plot``: the set point (dashed) and the output on top, the control
+    and the load disturbance (dashed, when there is one) below. Returns the Figure.
 
     With ``ax`` (a pair of Axes) the curves are drawn there instead.
     """
     import matplotlib.pyplot as plt
+    import numpy as np
 
     if ax is None:
-        fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(8, 5), height_ratios=[3, 2])
+        fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(9, 6), height_ratios=[3, 2],
+                                     layout="constrained")
     else:
         a1, a2 = ax
         fig = a1.figure
-    a1.plot(res.t, res.r, "k--", lw=1, label="r")
-    a1.plot(res.t, res.y, lw=1.5, label=f"y ({res.controller['name']})")
-    a1.set_ylabel("r, y")
+    a1.plot(res.t, res.r, "k--", lw=1.5, label="r (set point)")
+    a1.plot(res.t, res.y, lw=1.5, label="y")
+    a1.set_ylabel("set point r, output y")
     a1.legend(loc="best")
     a1.grid(True, alpha=0.3)
-    a2.plot(res.t, res.u, lw=1.2, color="tab:red", label="u")
-    a2.set_ylabel("u")
-    a2.set_xlabel("t (s)")
+    a2.plot(res.t, res.u, lw=1.2, color="tab:red", label="u (control)")
+    if np.any(res.d != 0.0):
+        a2.plot(res.t, res.d, "--", lw=1.2, color="0.35", label="d (load)")
+        a2.set_ylabel("control u, load d")
+    else:
+        a2.set_ylabel("control u")
+    a2.set_xlabel("time t (s)")
+    a2.legend(loc="best")
     a2.grid(True, alpha=0.3)
-    a1.set_title(title if title is not None else f"{res.controller['name']} — {res.plant}")
+    a2.set_xlim(res.t[0], res.t[-1])
+    if title is None:
+        p = res.controller["params"]
+        key = ", ".join(f"{k} = {p[k]:.4g}" for k in ("kp", "ti", "td", "lambda")
+                        if k in p and p[k] is not None and np.isfinite(p[k]))
+        title = f"{res.controller['name']} ({key}) on {res.plant}"
+    a1.set_title(title)
+    return fig
+
+
+def plot_margins(m: Any, ax: Any = None) -> Any:
+    """Bode (magnitude; phase wrapped into (-360, 0] deg) and Nyquist of a margins result, as
+    ``msp margins --plot``: gm marked at wcg, pm at wcp, the unit and Ms circles. Returns the Figure.
+    """
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    if ax is None:
+        fig = plt.figure(figsize=(11, 6), layout="constrained")
+        grid = fig.add_gridspec(2, 2, width_ratios=[3, 2])
+        a1 = fig.add_subplot(grid[0, 0])
+        a2 = fig.add_subplot(grid[1, 0], sharex=a1)
+        a3 = fig.add_subplot(grid[:, 1])
+    else:
+        a1, a2, a3 = ax
+        fig = a1.figure
+    w, l = m.w, m.l[:, 0] + 1j * m.l[:, 1]
+    a1.semilogx(w, 20 * np.log10(np.abs(l)), color="tab:blue")
+    a1.axhline(0.0, color="0.5", lw=0.8)
+    a1.set_ylabel("|L| (dB)")
+    phase = -np.mod(-np.degrees(np.angle(l)), 360.0)
+    phase[np.abs(np.diff(phase, prepend=phase[0])) > 180.0] = np.nan  # break at the wraps
+    a2.semilogx(w, phase, color="tab:red")
+    a2.axhline(-180.0, color="0.5", lw=0.8)
+    a2.set_ylim(-370, 10)
+    a2.set_ylabel("arg L (deg, wrapped)")
+    a2.set_xlabel("ω (rad/s)")
+    if np.isfinite(m.wcg) and np.isfinite(m.gm_db):
+        a1.plot([m.wcg, m.wcg], [0.0, -m.gm_db], color="tab:green", lw=3)
+        a1.annotate(f"gm {m.gm_db:.3g} dB", (m.wcg, -m.gm_db), color="tab:green")
+    if np.isfinite(m.wcp) and np.isfinite(m.pm):
+        a2.plot([m.wcp, m.wcp], [-180.0, -180.0 + m.pm], color="tab:green", lw=3)
+        a2.annotate(f"pm {m.pm:.3g}°", (m.wcp, -180.0 + m.pm), color="tab:green")
+    for a in (a1, a2):
+        a.grid(True, which="both", alpha=0.3)
+    a1.set_title(f"{m.controller['name']} on {m.plant}")
+    near = np.abs(l) < 10
+    a3.plot(np.where(near, l.real, np.nan), np.where(near, l.imag, np.nan), color="tab:blue",
+            label="L(jω), ω > 0")
+    t = np.linspace(0, 2 * np.pi, 241)
+    a3.plot(np.cos(t), np.sin(t), "--", color="0.5", lw=1, label="unit circle")
+    if np.isfinite(m.ms) and m.ms > 0:
+        a3.plot(-1 + np.cos(t) / m.ms, np.sin(t) / m.ms, color="tab:green", lw=1,
+                label=f"Ms circle (Ms = {m.ms:.3g})")
+    a3.plot([-1], [0], "o", color="tab:red")
+    a3.set_xlim(-2.5, 1.5)
+    a3.set_ylim(-2.5, 1.5)
+    a3.set_aspect("equal")
+    a3.set_xlabel("Re L")
+    a3.set_ylabel("Im L")
+    a3.grid(True, alpha=0.3)
+    a3.legend(loc="lower right")
+    a3.set_title("Nyquist")
     return fig
