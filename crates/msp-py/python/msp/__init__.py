@@ -221,29 +221,78 @@ def run(
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
 
+    The simulation is exact for sampled data (the plant's ZOH equivalent at the controller's
+    period, the dead time as samples and a fraction), as ``msp run`` does.
+
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        ``"0.2/s*e^-7.4s"``; a python-control transfer function takes its dead time from ``delay``.
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
     controller : str, optional
-        A name from :func:`controllers`; by default chosen by plant kind, as ``msp run`` does.
+        A name from :func:`controllers`; by default chosen by the plant's kind, as ``msp run``.
     params : dict, optional
-        Overrides of tuned parameters by report name (``{"kp": 0.05}``), like the CLI's ``--set``.
-    setpoint : float, "V@T" or list of (value, time), optional
-        Default: a unit step at t = 0.
+        Overrides of tuned parameters or design values by report name (``{"kp": 0.05}``), as the
+        CLI's ``--set``.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+    model : str, Plant or control.TransferFunction, optional
+        The controller's model of the plant (default: the plant itself).
     inner_plant, inner_model : str, Plant or control.TransferFunction, optional
-        A cascade process (García et al. (2010) Fig. 1): the secondary process, whose
-        output ``y2`` is measured and drives ``plant``; the default controller is then ``fspcc``.
+        A cascade process (García et al. (2010) Fig. 1): the secondary process, whose output
+        ``y2`` is measured and drives ``plant``, and the controller's model of it; the default
+        controller is then ``fspcc``.
+    ts : float, optional
+        The sample period (s); chosen from the plant when absent.
+    duration : float, optional
+        The simulated time (s); chosen to cover settling when absent.
+    setpoint : float, "V@T" or list of them or of (value, time), optional
+        The set-point steps.
     disturbance : "input:V@T", dict or list of them, optional
-        Dicts have ``location`` ("input"/"output", and "inner" for a cascade's secondary output;
+        Dicts have ``location`` ("input", "output", and "inner" for a cascade's secondary output;
         the paper's ``d2``/``d1``/``d0`` are accepted too), ``value``, ``at``, ``shape``
         ("step", "ramp", "sine") and ``freq`` (Hz).
+    noise : float, optional
+        The standard deviation of white measurement noise.
+    seed : int, optional
+        The noise generator's seed.
+    umin, umax : float, optional
+        The actuator's limits.
+    lambda_ : float, optional
+        The closed-loop time constant of the tuning rule (s).
+    rule : str, optional
+        A named tuning rule for ``pid``/``pi`` (``"imc"``, ``"simc"``, ``"zn"``, ...).
+    substeps : int, optional
+        Plant outputs per controller period in the signals (smooth intersample curves).
     float32 : bool, optional
         The controller computes in ``float32`` as firmware does (designed in ``float64``; the
-        plant stays exact), like the CLI's ``--float32``.
+        plant stays exact), as the CLI's ``--float32``.
     max_memory : int, optional
-        The memory the run may take in bytes (default 1 GiB), like the CLI's ``--max-memory``:
-        a run whose delay lines and signals would need more raises ``ValueError``.
+        The memory the run may take in bytes (default 1 GiB), as the CLI's ``--max-memory``.
+
+    Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
+    unit set-point step, then a step load at the plant input once the response has settled.
+
+    Returns
+    -------
+    Result
+        The signals as numpy arrays and the run report (metrics, events, robustness...).
+
+    Raises
+    ------
+    ValueError
+        A plant expression that does not parse (with the column), a controller that cannot
+        control the plant, a parameter out of range, or a run beyond ``max_memory``.
+
+    Examples
+    --------
+    >>> res = msp.run("0.2/s*e^-7.4s")
+    >>> res.controller["name"]
+    'karan-dey'
+    >>> [e["kind"] for e in res.events]
+    ['setpoint', 'disturbance']
+    >>> round(msp.run("0.2/s*e^-7.4s", setpoint=1.0).metrics["rise_time"], 2)
+    2.02
     """
     p = _plant(plant, delay)
     m = _plant(model) if model is not None else None
@@ -269,10 +318,37 @@ def compare(
 ) -> List[Result]:
     """Run each controller on the same scenario, as ``msp compare`` does.
 
-    ``perturb`` (``"gain=+10%,delay=+10%"`` or ``{"gain": 0.1, "delay": 0.1, "tau": 0.0}``;
-    ``inner_gain``, ``inner_delay``, ``inner_tau`` for a cascade's secondary) changes the plant
-    while every controller keeps the nominal model. The other keywords are those of :func:`run`;
-    ``params`` keys ``"scheme.name"`` apply to one scheme only.
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
+    controllers : list of str
+        The schemes, by name (:func:`controllers`).
+    perturb : str or dict, optional
+        A change of the plant that every controller meets with the nominal model:
+        ``"gain=+10%,delay=+10%"`` or ``{"gain": 0.1, "delay": 0.1, "tau": 0.0}``
+        (``inner_gain``, ``inner_delay``, ``inner_tau`` for a cascade's secondary).
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+    **scenario
+        The keywords of :func:`run`; ``params`` keys ``"scheme.name"`` apply to one scheme only.
+
+    Returns
+    -------
+    list of Result
+        One per controller, in order, all at one common sample period.
+
+    Raises
+    ------
+    ValueError
+        As :func:`run`, and for an unknown controller or perturbation.
+
+    Examples
+    --------
+    >>> runs = msp.compare("0.2/s*e^-7.4s", ["karan-dey", "pid"], perturb="delay=+10%", setpoint=1.0)
+    >>> [r.controller["name"] for r in runs]
+    ['karan-dey', 'pid']
     """
     p = _plant(plant, delay)
     for key in ("model", "inner_plant", "inner_model"):
@@ -324,19 +400,60 @@ def margins(
 ) -> Dict[str, Any]:
     """Margins of the loop at the plant input with the exact dead time, as ``msp margins``.
 
-    Without ``controller`` (or with ``"none"``) the loop is the bare plant, ``L = G``, as MATLAB's
-    ``margin(G)``; ``params={"kp": K}`` makes it a pure gain. The plant is seen behind a hold
-    (default), as its exact discrete equivalent (``discrete=True``) or continuous without the hold
-    (``continuous=True``); ``view`` says which.
+    Without ``controller`` (or with ``"none"``) the loop is the bare plant, ``L = G``, as
+    MATLAB's ``margin(G)``; ``params={"kp": K}`` makes it a pure gain.
 
-    Returns a dict with ``gm``, ``gm_db``, ``pm`` (degrees), ``wcg``, ``wcp``, ``dm`` (s),
-    ``ms``, ``mt`` (python-control / MATLAB names), ``inner`` (the model loop's margins),
-    ``region`` (``{"gain", "dm"}`` points), ``stable`` (``None`` with ``probe_note`` when the
-    probe simulation could not run), ``robust_peak`` (Eq. 17,
-    ``max|T·Δ|`` with the exact uncertainty of the perturbation ``uncertainty``:
-    ``"gain=10%,delay=10%,tau=-20%"``, a dict of the same keys, or a ``(gain, delay)`` pair), and
-    the loop response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``). For a cascade scheme
-    (``inner_plant``) the loop is broken at the inner set point ``r2``.
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
+    controller : str, optional
+        The scheme (:func:`controllers`), ``"none"`` or absent for the bare plant.
+    params : dict, optional
+        Overrides of tuned parameters, as :func:`run`.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+    model, inner_plant, inner_model : str, Plant or control.TransferFunction, optional
+        As :func:`run`; for a cascade scheme the loop is broken at the inner set point ``r2``.
+    ts : float, optional
+        The sample period (s); chosen from the plant when absent.
+    lambda_ : float, optional
+        The tuning rule's closed-loop time constant (s).
+    rule : str, optional
+        A named tuning rule for ``pid``/``pi``.
+    discrete : bool, optional
+        The plant's exact discrete equivalent instead of the continuous plant behind the hold.
+    continuous : bool, optional
+        The continuous plant without the hold (the margins of a continuous design).
+    uncertainty : str, dict or (gain, delay), optional
+        A perturbation (``"gain=10%,delay=10%,tau=-20%"``) for Eq. 17's robust-stability peak
+        ``max|T·Δ|`` with the exact multiplicative uncertainty.
+    float32 : bool, optional
+        The controller in ``float32``, as :func:`run`.
+    max_memory : int, optional
+        As :func:`run` (the stability probe is a simulation).
+
+    Returns
+    -------
+    Margins
+        A dict with ``gm``, ``gm_db``, ``pm`` (degrees), ``wcg``, ``wcp``, ``dm`` (s), ``ms``,
+        ``mt`` (python-control / MATLAB names), ``view``, ``controller``, ``inner`` (the model
+        loop's margins), ``region`` (``{"gain", "dm"}`` points), ``stable`` (``None`` with
+        ``probe_note`` when the probe simulation could not run), ``robust_peak`` and the loop
+        response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``); keys read as attributes too, and
+        :meth:`Margins.plot` draws Bode and Nyquist.
+
+    Raises
+    ------
+    ValueError
+        As :func:`run`, and for a controller without a frequency response.
+
+    Examples
+    --------
+    >>> m = msp.margins("1/(s^3+2s^2+3s+4)", continuous=True)
+    >>> round(m.gm, 6), m.controller["name"]
+    (2.0, 'none')
     """
     unc: Any = None
     if isinstance(uncertainty, (str, Mapping)):
@@ -404,10 +521,46 @@ def sweep(
 ) -> Dict[str, np.ndarray]:
     """Many closed-loop runs over relative plant perturbations, in parallel, as ``msp sweep``.
 
-    Ranges are ``"-20%..+20%"`` or ``(lo, hi)`` pairs of relative changes. Returns one numpy
-    column per field: ``index``, ``gain``, ``delay``, ``tau``, ``stable`` and the metrics.
-    ``shard=(i, n)`` runs the runs whose index is ``i`` modulo ``n`` (for distributed engines).
-    With ``inner_plant`` (a cascade process) the primary is perturbed, the secondary kept.
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
+    controller : str, optional
+        The scheme; by default chosen by the plant's kind.
+    params : dict, optional
+        Overrides of tuned parameters, as :func:`run`.
+    gain, delay, tau : str, float or (lo, hi), optional
+        Ranges of relative changes (``"-20%..+20%"`` or ``(-0.2, 0.2)``); absent: no change.
+    grid : int, optional
+        Points per range on a full grid.
+    samples : int, optional
+        Instead of the grid, this many random points (Latin hypercube) seeded by ``seed``.
+    seed : int, optional
+        The seed of the random points.
+    shard : (int, int), optional
+        ``(i, n)``: only the runs whose index is ``i`` modulo ``n`` (for distributed engines).
+    model, inner_plant, inner_model : str, Plant or control.TransferFunction, optional
+        As :func:`run`; with ``inner_plant`` the primary is perturbed, the secondary kept.
+    ts, duration, lambda_, rule, float32, max_memory : optional
+        As :func:`run`.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        One column per field: ``index``, ``gain``, ``delay``, ``tau``, ``stable``, the metrics
+        and ``max_abs_u``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`run`, and for a bad range or more runs than the limit.
+
+    Examples
+    --------
+    >>> cols = msp.sweep("0.2/s*e^-7.4s", "karan-dey", gain="-10%..+10%", grid=3, ts=0.074, duration=60)
+    >>> len(cols["iae"]), bool(cols["stable"].all())
+    (3, True)
     """
     return _msp.sweep(_plant(plant), controller, dict(params) if params else None, gain=_range(gain),
                       delay=_range(delay), tau=_range(tau), grid=grid, samples=samples, seed=seed,
@@ -435,8 +588,52 @@ def autotune(
 ) -> Dict[str, Any]:
     """Relay test on ``plant``, model identification, tuning and the closed loop, as ``msp autotune``.
 
-    Returns ``{"identified": {"model": "fopdt", "k": …, "t": …, "l": …, "rmse": …, "r2": …},
-    "relay": {...}, "run": Result}``. Raises ``RuntimeError`` when the relay test aborts.
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+    relay_amplitude : float, optional
+        The relay's output amplitude.
+    hysteresis : float, optional
+        The relay's hysteresis (default: from the noise level).
+    bias : float, optional
+        A relay bias, which makes the cycle asymmetric and gives the static gain.
+    noise : float, optional
+        The standard deviation of measurement noise during the test.
+    seed : int, optional
+        The noise seed.
+    model : str, optional
+        The model to identify: ``"ipdt"``, ``"fopdt"`` or ``"sopdt"`` (default by plant kind).
+    controller : str, optional
+        The scheme to tune on the identified model.
+    ts : float, optional
+        The sample period (s).
+    band : float, optional
+        The safety band: the test aborts when the output leaves it.
+    duration : float, optional
+        The closed-loop run's duration (s).
+
+    Returns
+    -------
+    dict
+        ``{"identified": {"model": "fopdt", "k": …, "t": …, "l": …, "rmse": …, "r2": …},
+        "relay": {...}, "run": Result}``.
+
+    Raises
+    ------
+    RuntimeError
+        When the relay test aborts (timeout, band).
+    ValueError
+        For a bad setting.
+
+    Examples
+    --------
+    >>> out = msp.autotune("2*e^-4s/(5s+1)", bias=0.2)
+    >>> out["identified"]["model"]
+    'fopdt'
     """
     raw = _msp.autotune(_plant(plant, delay), relay_amplitude=relay_amplitude, hysteresis=hysteresis, bias=bias,
                         noise=noise, seed=seed, model=model, controller=controller, ts=ts, band=band,
@@ -450,18 +647,71 @@ def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[flo
     """The plant's own unit step response with its exact dead time, as ``msp step`` (MATLAB's
     ``step`` and ``stepinfo``, python-control's ``step_response`` and ``step_info``).
 
-    Returns ``{"t": ndarray, "y": ndarray, "plant", "plant_kind", "ts", "duration", "chosen",
-    "dc_gain", "rise_time", "settling_time", "settling_min", "settling_max", "overshoot",
-    "undershoot", "peak", "peak_time"}``; ``dc_gain`` is ``None`` and the step information NaN
-    for a plant whose response does not settle (integrating or unstable).
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
+    ts : float, optional
+        The sample period of the response (s); the duration over 4000 when absent.
+    duration : float, optional
+        The simulated time (s); chosen from the plant when absent.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+
+    Returns
+    -------
+    dict
+        ``{"t": ndarray, "y": ndarray, "plant", "plant_kind", "ts", "duration", "chosen",
+        "dc_gain", "rise_time", "settling_time", "settling_min", "settling_max", "overshoot",
+        "undershoot", "peak", "peak_time"}``; ``dc_gain`` is ``None`` and the step information NaN
+        for a plant whose response does not settle (integrating or unstable).
+
+    Raises
+    ------
+    ValueError
+        A plant expression that does not parse, or a period too small for the duration.
+
+    Examples
+    --------
+    >>> s = msp.step("2*e^-1.3s/(5s+1)")
+    >>> s["dc_gain"], round(s["rise_time"], 3)
+    (2.0, 10.986)
     """
     return _msp.step(_plant(plant, delay), ts=ts, duration=duration)
 
 
 def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:
-    """Step-test identification of ``model`` ("fopdt", "sopdt", "ipdt") from samples ``t, u, y``
-    (a step in ``u``), as ``msp identify``: the two-point / slope-intercept estimate refined by
-    least squares on the exact sampled response."""
+    """Step-test identification, as ``msp identify``: the two-point or slope/intercept estimate,
+    refined by least squares on the exact sampled response.
+
+    Parameters
+    ----------
+    t, u, y : array_like
+        Time (uniform, increasing), the input with an open-loop step, and the output.
+    model : str, optional
+        ``"fopdt"``, ``"sopdt"`` or ``"ipdt"``.
+
+    Returns
+    -------
+    dict
+        ``{"model": ..., "k", "t", "l" (and "t2" for SOPDT), "rmse", "r2"}``.
+
+    Raises
+    ------
+    ValueError
+        Non-finite data (naming the row), a time that does not increase, or closed-loop data
+        (an input that moves at most samples).
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 60.0, 0.05)
+    >>> u = (t >= 5.0).astype(float)                      # a unit step at 5 s
+    >>> y = np.where(t > 9.0, 2.0 * (1.0 - np.exp(-(t - 9.0) / 5.0)), 0.0)
+    >>> fit = msp.identify(t, u, y)
+    >>> round(fit["k"], 3), round(fit["t"], 2), round(fit["l"], 2)
+    (2.0, 5.0, 4.0)
+    """
     arr = [np.ascontiguousarray(np.asarray(v, dtype=np.float64)) for v in (t, u, y)]
     return _msp.identify(arr[0], arr[1], arr[2], model)
 
@@ -478,13 +728,50 @@ def tune(
     rule: Optional[str] = None,
     uncertainty: Union[None, str, Mapping[str, float]] = None,
 ) -> Dict[str, Any]:
-    """The tuned controller as ``msp tune --json`` prints it: ``{"plant", "inner_plant",
-    "controller": {"name", "params"}, "source", "chosen", "robustness": {"gm", "pm", "dm", "ms",
-    ...}, "robust_peak", "robustly_stable", "warnings"}``; ``robustness`` holds the single loop's
-    margins (sampled view) and ``warnings`` what they warn of (Ms above 2, a delay margin below
-    20 % of the dead time, with the λ or scheme that does better). With ``uncertainty``
-    (``"delay=20%,tau=-20%"`` or a dict) ``robust_peak`` is Eq. 17's ``max|T·Δ|`` on the exact
-    discrete loop at ``ts``."""
+    """The tuned controller as ``msp tune --json`` prints it.
+
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
+        transfer function whose dead time is ``delay``.
+    controller : str, optional
+        The scheme; by default chosen by the plant's kind.
+    params : dict, optional
+        Overrides of tuned parameters or design values, as :func:`run`.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+    inner_plant : str, Plant or control.TransferFunction, optional
+        A cascade's secondary process.
+    ts : float, optional
+        The sample period (s) for the margins and Eq. 17.
+    lambda_ : float, optional
+        The tuning rule's closed-loop time constant (s).
+    rule : str, optional
+        A named tuning rule for ``pid``/``pi``.
+    uncertainty : str or dict, optional
+        ``"delay=20%,tau=-20%"`` or a dict: adds Eq. 17's ``robust_peak`` on the exact discrete loop.
+
+    Returns
+    -------
+    dict
+        ``{"plant", "inner_plant", "controller": {"name", "params"}, "source", "chosen",
+        "robustness": {"gm", "pm", "dm", "ms", ...}, "robust_peak", "robustly_stable",
+        "warnings"}``: ``robustness`` holds the single loop's margins (sampled view), ``warnings``
+        what they warn of (Ms above 2, a delay margin below 20 % of the dead time) with the λ or
+        scheme that does better.
+
+    Raises
+    ------
+    ValueError
+        As :func:`run`.
+
+    Examples
+    --------
+    >>> t = msp.tune("0.2/s*e^-7.4s")
+    >>> t["controller"]["name"], round(t["controller"]["params"]["kp"], 4), t["chosen"]
+    ('karan-dey', 5.4054, ['lambda'])
+    """
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None,
                      inner_plant=_plant(inner_plant) if inner_plant is not None else None,
