@@ -31,6 +31,32 @@ pub(crate) fn loop_many<'py>(
 }
 
 /// A per-sample controller of any registered scheme, tuned for a plant.
+///
+/// Parameters
+/// ----------
+/// name : str
+///     The scheme (``msp.controllers()``).
+/// plant : str or Plant
+///     The model the scheme is tuned for and holds.
+/// ts : float
+///     The sample period (s).
+/// params : dict, optional
+///     Overrides of tuned parameters or design values by name.
+/// inner_plant : str or Plant, optional
+///     A cascade's secondary process.
+/// umin, umax : float, optional
+///     The actuator's limits.
+/// lambda_ : float, optional
+///     The tuning rule's closed-loop time constant (s).
+/// rule : str, optional
+///     A named tuning rule for ``pid``/``pi``.
+///
+/// Examples
+/// --------
+/// >>> from msp import Controller
+/// >>> c = Controller("smith", "5.6*e^-93.9s/(40.2s+1)", 1.0)
+/// >>> c.name, round(c.update(1.0, 0.0), 4)
+/// ('smith', 0.0764)
 #[pyclass(subclass, module = "msp._msp")]
 pub struct Controller {
     inner: DynController,
@@ -193,6 +219,36 @@ impl Controller {
 }
 
 /// The industrial PID controller (ISA form ``Kp(1 + 1/(Ti s) + Td s)``).
+///
+/// Parameters
+/// ----------
+/// kp : float
+///     The proportional gain (its sign is the loop's direction).
+/// ti : float, optional
+///     The integral time (s); ``inf`` switches the integral off.
+/// td : float, optional
+///     The derivative time (s).
+/// ts : float, optional
+///     The sample period (s).
+/// n : float, optional
+///     The derivative filter ratio (``Td/N`` is the filter's time constant).
+/// b, c : float, optional
+///     The set-point weights of the proportional and derivative terms.
+/// umin, umax : float, optional
+///     The output limits.
+/// anti_windup : str, optional
+///     ``"back-calculation"`` (default), ``"clamping"`` or ``"none"``.
+/// tt : float, optional
+///     The tracking time of back-calculation (default ``sqrt(Ti·Td)``, or ``Ti``).
+/// rate_limit : float, optional
+///     The largest output change per second.
+///
+/// Examples
+/// --------
+/// >>> from msp import Pid
+/// >>> pid = Pid(2.0, ti=10.0, ts=1.0)
+/// >>> [round(pid.update(1.0, 0.0), 6) for _ in range(3)]   # kp·e, then the integral adds kp·e·ts/ti
+/// [2.0, 2.2, 2.4]
 #[pyclass(module = "msp._msp", name = "Pid")]
 pub struct PyPid {
     inner: Pid<f64>,

@@ -6,7 +6,21 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
-/// A transfer function with dead time `num(s)/den(s)·e^(−delay·s)`.
+/// A transfer function with dead time ``num(s)/den(s)·e^(−delay·s)``.
+///
+/// Parameters
+/// ----------
+/// num, den : list of float
+///     The coefficients in descending powers of ``s``.
+/// delay : float, optional
+///     The dead time (s).
+///
+/// Examples
+/// --------
+/// >>> from msp import Plant
+/// >>> p = Plant([2.0], [10.0, 1.0], 5.0)
+/// >>> str(p), p.kind
+/// ('2*e^(-5s)/(10s + 1)', 'stable')
 #[pyclass(frozen, module = "msp._msp")]
 #[derive(Clone)]
 pub struct Plant {
@@ -60,6 +74,27 @@ impl Plant {
 }
 
 /// Parses a plant expression such as ``"0.2/s*e^-7.4s"``.
+///
+/// Parameters
+/// ----------
+/// expr : str
+///     Polynomials in ``s`` with sums, products and integer powers, and delay factors
+///     ``e^-θs`` or ``exp(-θ*s)``.
+///
+/// Returns
+/// -------
+/// Plant
+///
+/// Raises
+/// ------
+/// ValueError
+///     The problem and its column, with a caret under it.
+///
+/// Examples
+/// --------
+/// >>> from msp import parse_plant
+/// >>> str(parse_plant("2*e^-5s/(10s+1)^4"))
+/// '2*e^(-5s)/(10s + 1)^4'
 #[pyfunction]
 pub(crate) fn parse_plant(expr: &str) -> PyResult<Plant> {
     Ok(Plant {

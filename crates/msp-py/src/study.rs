@@ -396,7 +396,21 @@ pub(crate) fn tune<'py>(
     Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
 }
 
-/// Every controller of the registry: name, aliases, summary, source, params, design keys, plants.
+/// Every controller of the registry, as ``msp list`` prints them.
+///
+/// Returns
+/// -------
+/// list of dict
+///     ``{"name", "aliases", "summary", "source", "params", "design", "cascade", "plants"}``
+///     per scheme: its tuned parameters, the design keys read before tuning, and the plant
+///     kinds it controls.
+///
+/// Examples
+/// --------
+/// >>> from msp import controllers
+/// >>> smith = next(c for c in controllers() if c["name"] == "smith")
+/// >>> smith["params"][:3], "stable" in smith["plants"]
+/// (['kp', 'ti', 'td'], True)
 #[pyfunction]
 pub(crate) fn controllers(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let out = PyList::empty(py);

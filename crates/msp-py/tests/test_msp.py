@@ -354,6 +354,15 @@ def test_every_public_function_is_documented_and_its_examples_run() -> None:
         assert (inspect.getdoc(cls) or "").strip(), cls
     result = doctest.testmod(msp, extraglobs={"msp": msp}, optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 15 and result.failed == 0, result
+    # the classes and functions made in Rust, with their examples
+    finder = doctest.DocTestFinder()
+    runner = doctest.DocTestRunner()
+    tests = [t for obj in (msp.Controller, msp.Pid, msp.Plant, msp.parse_plant, msp.controllers)
+             for t in finder.find(obj, obj.__name__, globs={}) if t.examples]
+    assert sorted(t.name for t in tests) == ["Controller", "Pid", "Plant", "controllers", "parse_plant"]
+    for t in tests:
+        runner.run(t)
+    assert runner.summarize(verbose=False).failed == 0
 
 
 def test_run_says_what_it_chose() -> None:
