@@ -674,6 +674,34 @@ fn a_report_reruns_as_itself() {
     }
 }
 
+/// A scenario file is the user's own scenario: with a plant alone it is the
+/// unit set-point step, not the default scenario with its load.
+#[test]
+fn a_scenario_file_is_the_users_own_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("p.toml");
+    std::fs::write(&file, "plant = \"0.2/s*e^-7.4s\"\n").unwrap();
+    let out = msp()
+        .args([
+            "run",
+            "-q",
+            "-o",
+            "/dev/null",
+            "--report",
+            "-",
+            "--scenario",
+        ])
+        .arg(&file)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(j["default_scenario"], false);
+    assert_eq!(j["events"].as_array().unwrap().len(), 1);
+}
+
 /// The example scenario file documents every field and runs; its events are
 /// in the flags' own syntax and in the structured form.
 #[test]

@@ -7,7 +7,8 @@ use msp::study::Scenario;
 use crate::cli::ScenarioArgs;
 use crate::error::CliError;
 
-pub(crate) fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
+/// A scenario file, or the scenario a run report carries (then `true`).
+pub(crate) fn load_scenario(path: &Path) -> Result<(Scenario, bool), CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         CliError::Input(format!("cannot read scenario file {}: {e}", path.display()))
     })?;
@@ -24,19 +25,32 @@ pub(crate) fn load_scenario(path: &Path) -> Result<Scenario, CliError> {
         let value: serde_json::Value = serde_json::from_str(text).map_err(fail)?;
         match value.get("scenario") {
             Some(inner) if value.get("msp_version").is_some() => {
-                serde_json::from_value(inner.clone()).map_err(fail)
+                Ok((serde_json::from_value(inner.clone()).map_err(fail)?, true))
             }
-            _ => serde_json::from_value(value).map_err(fail),
+            _ => Ok((serde_json::from_value(value).map_err(fail)?, false)),
         }
     } else {
         toml::from_str(text)
+            .map(|sc| (sc, false))
             .map_err(|e| CliError::Input(format!("scenario file {}: {e}", path.display())))
     }
 }
 
 pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     let mut sc = match &a.scenario {
-        Some(p) => load_scenario(p)?,
+        Some(p) => {
+            let (mut sc, report) = load_scenario(p)?;
+            // a scenario file is the user's own scenario: without events it is
+            // the unit set-point step, not the default scenario (a report
+            // reruns as it ran)
+            if !report && sc.setpoint.is_empty() && sc.disturbance.is_empty() {
+                sc.setpoint.push(msp::sim::SetpointStep {
+                    value: 1.0,
+                    at: 0.0,
+                });
+            }
+            sc
+        }
         None => Scenario::default(),
     };
     macro_rules! over {
