@@ -474,13 +474,7 @@ impl Scenario {
     /// Tunes, builds and simulates; the output carries the tuned loop's
     /// robustness ([`Scenario::robustness`]).
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        let (plant, model) = self.plant_and_model()?;
-        let inner = self.inner_process()?;
-        let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-        let robust = match inner {
-            None => self.robustness(&tuned, &plant, &model),
-            Some(_) => None,
-        };
+        let (plant, model, inner, tuned, robust) = self.tuned_loop()?;
         let mut out =
             if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
                 self.run_default_protocol(&tuned, &plant, &model, &inner)?
@@ -493,6 +487,31 @@ impl Scenario {
             out.robustness = Some(r.margins);
         }
         Ok(out)
+    }
+
+    /// The processes, the tuned controller and, for a single loop, its
+    /// robustness: what [`Scenario::run`] and [`Scenario::tune_report`] start from.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn tuned_loop(
+        &self,
+    ) -> Result<
+        (
+            TransferFunction,
+            TransferFunction,
+            Option<(TransferFunction, TransferFunction)>,
+            Tuned,
+            Option<Robustness>,
+        ),
+        RunError,
+    > {
+        let (plant, model) = self.plant_and_model()?;
+        let inner = self.inner_process()?;
+        let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+        let robust = match inner {
+            None => self.robustness(&tuned, &plant, &model),
+            Some(_) => None,
+        };
+        Ok((plant, model, inner, tuned, robust))
     }
 
     /// The default scenario of a run that names no set point, disturbance or

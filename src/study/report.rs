@@ -176,13 +176,7 @@ impl super::Scenario {
         &self,
         uncertainty: Option<super::Perturbation>,
     ) -> Result<TuneReport, super::RunError> {
-        let (plant, model) = self.plant_and_model()?;
-        let inner = self.inner_process()?;
-        let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-        let robust = match inner {
-            None => self.robustness(&tuned, &plant, &model),
-            Some(_) => None,
-        };
+        let (plant, _, inner, tuned, robust) = self.tuned_loop()?;
         let robust_peak = match uncertainty {
             Some(u) => {
                 let mut sc = self.clone();

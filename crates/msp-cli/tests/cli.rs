@@ -674,13 +674,8 @@ fn a_report_reruns_as_itself() {
     }
 }
 
-/// A scenario file is the user's own scenario: with a plant alone it is the
-/// unit set-point step, not the default scenario with its load.
-#[test]
-fn a_scenario_file_is_the_users_own_scenario() {
-    let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("p.toml");
-    std::fs::write(&file, "plant = \"0.2/s*e^-7.4s\"\n").unwrap();
+/// The report of `msp run --scenario FILE`, printed to standard output.
+fn report_of_scenario(file: &std::path::Path) -> serde_json::Value {
     let out = msp()
         .args([
             "run",
@@ -691,13 +686,23 @@ fn a_scenario_file_is_the_users_own_scenario() {
             "-",
             "--scenario",
         ])
-        .arg(&file)
+        .arg(file)
         .assert()
         .success()
         .get_output()
         .stdout
         .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    serde_json::from_slice(&out).unwrap()
+}
+
+/// A scenario file is the user's own scenario: with a plant alone it is the
+/// unit set-point step, not the default scenario with its load.
+#[test]
+fn a_scenario_file_is_the_users_own_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("p.toml");
+    std::fs::write(&file, "plant = \"0.2/s*e^-7.4s\"\n").unwrap();
+    let j = report_of_scenario(&file);
     assert_eq!(j["default_scenario"], false);
     assert_eq!(j["events"].as_array().unwrap().len(), 1);
 }
@@ -708,23 +713,7 @@ fn a_scenario_file_is_the_users_own_scenario() {
 fn the_example_scenario_file_runs() {
     let file =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenario.toml");
-    let out = msp()
-        .args([
-            "run",
-            "-q",
-            "-o",
-            "/dev/null",
-            "--report",
-            "-",
-            "--scenario",
-        ])
-        .arg(&file)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = report_of_scenario(&file);
     let kinds: Vec<&str> = j["events"]
         .as_array()
         .unwrap()
