@@ -893,11 +893,10 @@ fn autotune_reports_the_identified_and_the_true_model() {
         .stderr(predicate::str::contains("aborted"));
 }
 
-#[test]
-fn identify_reads_a_step_test() {
-    let dir = tempfile::tempdir().unwrap();
-    let data = dir.path().join("step.csv");
-    let mut text = String::from("t,u,y\n");
+/// A step test of `2e^{−4s}/(5s + 1)`: a unit step at 5 s, 1200 rows every
+/// 0.05 s, under the header `head`.
+fn step_test_csv(head: &str) -> String {
+    let mut text = format!("{head}\n");
     for k in 0..1200 {
         let t = k as f64 * 0.05;
         let u = if t >= 5.0 { 1.0 } else { 0.0 };
@@ -908,7 +907,14 @@ fn identify_reads_a_step_test() {
         };
         text.push_str(&format!("{t},{u},{y}\n"));
     }
-    std::fs::write(&data, text).unwrap();
+    text
+}
+
+#[test]
+fn identify_reads_a_step_test() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("step.csv");
+    std::fs::write(&data, step_test_csv("t,u,y")).unwrap();
     let out = msp()
         .args(["identify", "--json", "--data"])
         .arg(&data)
@@ -941,18 +947,7 @@ fn identify_reads_a_step_test() {
 fn identify_takes_named_columns_and_refuses_closed_loop_data() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("step.csv");
-    let mut text = String::from("time,valve,level\n");
-    for k in 0..1200 {
-        let t = k as f64 * 0.05;
-        let u = if t >= 5.0 { 1.0 } else { 0.0 };
-        let y = if t > 9.0 {
-            2.0 * (1.0 - (-(t - 9.0) / 5.0).exp())
-        } else {
-            0.0
-        };
-        text.push_str(&format!("{t},{u},{y}\n"));
-    }
-    std::fs::write(&data, text).unwrap();
+    std::fs::write(&data, step_test_csv("time,valve,level")).unwrap();
     let out = msp()
         .args([
             "identify", "--json", "--input", "valve", "--output", "level", "--data",
