@@ -2,6 +2,12 @@
 use assert_cmd::Command;
 use predicates::prelude::*;
 
+/// Runs a command that must succeed and reads its standard output as JSON.
+fn json_of(cmd: &mut Command) -> serde_json::Value {
+    let out = cmd.assert().success().get_output().stdout.clone();
+    serde_json::from_slice(&out).unwrap()
+}
+
 fn msp() -> Command {
     Command::cargo_bin("msp").unwrap()
 }
@@ -419,20 +425,13 @@ fn sweep_shards_merge_into_the_whole() {
 /// MATLAB), and the JSON says which view it is.
 #[test]
 fn margins_of_the_bare_plant() {
-    let out = msp()
-        .args([
-            "margins",
-            "--plant",
-            "1/(s^3+2s^2+3s+4)",
-            "--continuous",
-            "--json",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = json_of(msp().args([
+        "margins",
+        "--plant",
+        "1/(s^3+2s^2+3s+4)",
+        "--continuous",
+        "--json",
+    ]));
     assert_eq!(j["controller"]["name"], "none");
     assert_eq!(j["view"], "continuous");
     assert!((j["gm"].as_f64().unwrap() - 2.0).abs() < 1e-9);
@@ -471,17 +470,13 @@ fn margins_of_the_bare_plant() {
 fn step_prints_the_open_loop_response() {
     let dir = tempfile::tempdir().unwrap();
     let (csv, svg) = (dir.path().join("s.csv"), dir.path().join("s.svg"));
-    let out = msp()
-        .args(["step", "--plant", "2*e^-1.3s/(5s+1)", "--json", "-o"])
-        .arg(&csv)
-        .arg("--plot")
-        .arg(&svg)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = json_of(
+        msp()
+            .args(["step", "--plant", "2*e^-1.3s/(5s+1)", "--json", "-o"])
+            .arg(&csv)
+            .arg("--plot")
+            .arg(&svg),
+    );
     assert_eq!(j["dc_gain"], 2.0);
     let rise = j["rise_time"].as_f64().unwrap();
     assert!((rise - 5.0 * 9f64.ln()).abs() < 1e-3, "{rise}");
@@ -515,14 +510,7 @@ fn tune_prints_robustness_and_warns() {
                 "warning: robustness: the sensitivity peak Ms = 2.52",
             )),
         );
-    let out = msp()
-        .args(["tune", "--plant", "e^-2s/(5s+1)", "--json"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = json_of(msp().args(["tune", "--plant", "e^-2s/(5s+1)", "--json"]));
     assert!(j["robustness"]["ms"].as_f64().unwrap() < 2.0);
     assert_eq!(j["warnings"], serde_json::json!([]));
 }
@@ -813,27 +801,20 @@ fn margins_call_a_p_only_loop_stable() {
 
 #[test]
 fn margins_json_has_the_matlab_keys() {
-    let out = msp()
-        .args([
-            "margins",
-            "--plant",
-            "5.6*e^-93.9s/(40.2s+1)",
-            "-c",
-            "pid",
-            "--set",
-            "kp=0.0501",
-            "--set",
-            "ti=47.3",
-            "--set",
-            "td=0",
-            "--json",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = json_of(msp().args([
+        "margins",
+        "--plant",
+        "5.6*e^-93.9s/(40.2s+1)",
+        "-c",
+        "pid",
+        "--set",
+        "kp=0.0501",
+        "--set",
+        "ti=47.3",
+        "--set",
+        "td=0",
+        "--json",
+    ]));
     for k in ["gm", "gm_db", "pm", "wcg", "wcp", "dm", "ms", "mt"] {
         assert!(j[k].is_number(), "{k}");
     }
@@ -915,15 +896,7 @@ fn identify_reads_a_step_test() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("step.csv");
     std::fs::write(&data, step_test_csv("t,u,y")).unwrap();
-    let out = msp()
-        .args(["identify", "--json", "--data"])
-        .arg(&data)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = json_of(msp().args(["identify", "--json", "--data"]).arg(&data));
     assert!(
         (j["k"].as_f64().unwrap() - 2.0).abs() < 0.02
             && (j["t"].as_f64().unwrap() - 5.0).abs() < 0.1
@@ -948,17 +921,13 @@ fn identify_takes_named_columns_and_refuses_closed_loop_data() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("step.csv");
     std::fs::write(&data, step_test_csv("time,valve,level")).unwrap();
-    let out = msp()
-        .args([
-            "identify", "--json", "--input", "valve", "--output", "level", "--data",
-        ])
-        .arg(&data)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let j = json_of(
+        msp()
+            .args([
+                "identify", "--json", "--input", "valve", "--output", "level", "--data",
+            ])
+            .arg(&data),
+    );
     assert!((j["k"].as_f64().unwrap() - 2.0).abs() < 0.02, "{j}");
     msp()
         .args(["identify", "--data"])
