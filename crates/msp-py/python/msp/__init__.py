@@ -321,8 +321,7 @@ def compare(
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
-        transfer function whose dead time is ``delay``.
+        The process, as :func:`run` takes it.
     controllers : list of str
         The schemes, by name (:func:`controllers`).
     perturb : str or dict, optional
@@ -406,8 +405,7 @@ def margins(
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
-        transfer function whose dead time is ``delay``.
+        The process, as :func:`run` takes it.
     controller : str, optional
         The scheme (:func:`controllers`), ``"none"`` or absent for the bare plant.
     params : dict, optional
@@ -524,8 +522,7 @@ def sweep(
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
-        transfer function whose dead time is ``delay``.
+        The process, as :func:`run` takes it.
     controller : str, optional
         The scheme; by default chosen by the plant's kind.
     params : dict, optional
@@ -591,8 +588,7 @@ def autotune(
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
-        transfer function whose dead time is ``delay``.
+        The process, as :func:`run` takes it.
     delay : float, optional
         The dead time (s) of a python-control ``plant``.
     relay_amplitude : float, optional
@@ -650,8 +646,7 @@ def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[flo
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
-        transfer function whose dead time is ``delay``.
+        The process, as :func:`run` takes it.
     ts : float, optional
         The sample period of the response (s); the duration over 4000 when absent.
     duration : float, optional
@@ -733,8 +728,7 @@ def tune(
     Parameters
     ----------
     plant : str, Plant or control.TransferFunction
-        The process: an expression (``"0.2/s*e^-7.4s"``), an :class:`Plant`, or a python-control
-        transfer function whose dead time is ``delay``.
+        The process, as :func:`run` takes it.
     controller : str, optional
         The scheme; by default chosen by the plant's kind.
     params : dict, optional
