@@ -94,6 +94,69 @@ fn split_zeros(nm: &[f64]) -> Result<(SmallPoly, SmallPoly, SmallPoly), Error> {
     Ok((bad, gamma_den, gn))
 }
 
+/// The filters of the GPCC predictor for a ZOH model with a dead time of `h`
+/// samples (García et al. (2010) Sec. 3.2): `Γ = gamma_num/gamma_den` holds the
+/// model's zeros near or outside the unit circle, `Gn` is the rest of the
+/// model, `F1` the FIR of `Gn`'s first `h` Markov parameters, and
+/// `F2 = f2_num/f2_den` what `Gn` gives after them.
+#[derive(Debug, Clone)]
+pub struct GpccFilters {
+    /// Numerator of `Γ` (descending powers of `z`).
+    pub gamma_num: SmallPoly,
+    /// Denominator of `Γ`.
+    pub gamma_den: SmallPoly,
+    /// Numerator of `F2`.
+    pub f2_num: SmallPoly,
+    /// Denominator of `F2`.
+    pub f2_den: SmallPoly,
+    /// `Gn`, whose Markov parameters are `F1`'s taps.
+    pub gn: Lti<f64, 8>,
+}
+
+impl GpccFilters {
+    /// Designs the filters for `gm` (strictly proper) and `h` samples.
+    pub fn design<const N: usize>(gm: &Lti<f64, N>, h: usize) -> Result<Self, Error> {
+        if gm.feedthrough() != 0.0 {
+            return Err(Error::Unsupported("gpcc needs a strictly proper model"));
+        }
+        let (nm, dm) = model_tf(gm);
+        let (gamma_num, gamma_den, gn_num) = split_zeros(nm.as_slice())?;
+        if gamma_num.len() > 5 {
+            return Err(Error::OrderTooHigh("gpcc: zeros near the unit circle"));
+        }
+        let gn: Lti<f64, 8> = Lti::from_discrete_tf(gn_num.as_slice(), dm.as_slice())?;
+        let mut v = gn.input_vector();
+        for _ in 0..h {
+            v = gn.propagate(&v);
+        }
+        let (num_star, _) = model_tf(&gn.with_input(&v)?);
+        let f2_num = SmallPoly::new(num_star.as_slice())?;
+        if f2_num.len() > gn_num.len() {
+            return Err(Error::Unsupported(
+                "gpcc: the model's relative degree is above one (F2 would be improper)",
+            ));
+        }
+        Ok(GpccFilters {
+            gamma_num,
+            gamma_den,
+            f2_num,
+            f2_den: gn_num,
+            gn,
+        })
+    }
+
+    /// `F1`'s taps, the first `h` Markov parameters of `Gn`, in order.
+    pub fn f1_taps(&self, h: usize) -> impl Iterator<Item = f64> + '_ {
+        let c = self.gn.output_vector();
+        let mut v = self.gn.input_vector();
+        (0..h).map(move |_| {
+            let m = c.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>();
+            v = self.gn.propagate(&v);
+            m
+        })
+    }
+}
+
 impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
     /// Designs the predictor for the ZOH model `gm` with a dead time of `h`
     /// samples; `tk` is the time constant of `Fk(s) = 1/(tk·s + 1)` (pole-zero
@@ -104,30 +167,14 @@ impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
         ts: f64,
         tk: f64,
     ) -> Result<Self, Error> {
-        if gm.feedthrough() != 0.0 {
-            return Err(Error::Unsupported("gpcc needs a strictly proper model"));
-        }
-        let (nm, dm) = model_tf(gm);
-        let (gamma_num, gamma_den, gn_num) = split_zeros(nm.as_slice())?;
-        if gamma_num.len() > 5 {
-            return Err(Error::OrderTooHigh("gpcc: zeros near the unit circle"));
-        }
-        let gn: Lti<f64, 8> = Lti::from_discrete_tf(gn_num.as_slice(), dm.as_slice())?;
-        let c = gn.output_vector();
-        let mut v = gn.input_vector();
+        let f = GpccFilters::design(gm, h)?;
         let mut markov: S = buffer(h.max(1))?;
         markov.as_mut().iter_mut().for_each(|x| *x = T::zero());
-        for slot in markov.as_mut().iter_mut().take(h) {
-            *slot = T::of(c.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>());
-            v = gn.propagate(&v);
+        for (slot, m) in markov.as_mut().iter_mut().zip(f.f1_taps(h)) {
+            *slot = T::of(m);
         }
-        let (num_star, _) = model_tf(&gn.with_input(&v)?);
-        let num_star = SmallPoly::new(num_star.as_slice())?;
-        if num_star.len() > gn_num.len() {
-            return Err(Error::Unsupported(
-                "gpcc: the model's relative degree is above one (F2 would be improper)",
-            ));
-        }
+        let (gamma_num, gamma_den, num_star, gn_num) =
+            (f.gamma_num, f.gamma_den, f.f2_num, f.f2_den);
         let fk = if tk > 0.0 {
             Lti::from_tf(
                 &[T::one()],

@@ -189,6 +189,81 @@ fn build_fspcc<T: Real>(
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
+/// The cascade's outer model at `ts`, as the predictors see it (the primary
+/// with the closed inner IMC loop), and its dead time in samples.
+fn outer_model(
+    p: &Params,
+    p1: &TransferFunction,
+    inner: Option<&TransferFunction>,
+    ts: f64,
+) -> Result<CascadeParts<f64>, crate::Error> {
+    let p2 = inner.ok_or(crate::Error::Unsupported(
+        "a cascade scheme needs the secondary process",
+    ))?;
+    let b = Build {
+        ts,
+        u_min: f64::NEG_INFINITY,
+        u_max: f64::INFINITY,
+    };
+    cascade_parts(p, p1, p2, &b)
+}
+
+/// FSPCC's `Fr` as García et al. (2010) print it (Example 1 at `Ts = 0.2`:
+/// `kf = 14.95`, `ρ2 = 0.9957`).
+fn describe_fspcc(
+    p: &Params,
+    p1: &TransferFunction,
+    inner: Option<&TransferFunction>,
+    ts: f64,
+) -> Result<super::DesignReport, crate::Error> {
+    let c = outer_model(p, p1, inner, ts)?;
+    let f: FspccParams = p.typed()?;
+    let spec = FrSpec {
+        tf: f.tf,
+        lead: if f.lead > 0.0 && f.lag > 0.0 {
+            Some((f.lead, f.lag))
+        } else {
+            None
+        },
+        biproper: true,
+    };
+    let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, ts, &spec)?;
+    super::fsp::fr_report(&design, &c.gm)
+}
+
+/// GPCC's filters (García et al. (2010) Sec. 3.2): `Γ`, `F2`, and `F1` by its
+/// number of taps and its static gain.
+fn describe_gpcc(
+    p: &Params,
+    p1: &TransferFunction,
+    inner: Option<&TransferFunction>,
+    ts: f64,
+) -> Result<super::DesignReport, crate::Error> {
+    use super::DesignValue::{Filter, Scalar};
+    let c = outer_model(p, p1, inner, ts)?;
+    let f = dtc::gpcc::GpccFilters::design(&c.gm, c.h)?;
+    #[allow(clippy::cast_precision_loss)] // a delay line's length
+    let taps = c.h as f64;
+    Ok(alloc::vec![
+        (
+            "gamma",
+            Filter {
+                num: f.gamma_num.as_slice().to_vec(),
+                den: f.gamma_den.as_slice().to_vec(),
+            },
+        ),
+        (
+            "f2",
+            Filter {
+                num: f.f2_num.as_slice().to_vec(),
+                den: f.f2_den.as_slice().to_vec(),
+            },
+        ),
+        ("f1_taps", Scalar(taps)),
+        ("f1_gain", Scalar(f.f1_taps(c.h).sum())),
+    ])
+}
+
 fn tune_gpcc(
     p1: &TransferFunction,
     p2: &TransferFunction,
@@ -322,6 +397,7 @@ pub(super) const FSPCC: Scheme = Scheme {
     plants: ALL,
     params: FspccParams::<f64>::NAMES,
     design: FspccTuning::NAMES,
+    describe: Some(describe_fspcc),
     fns: SchemeFns::Cascade {
         tune: tune_fspcc,
         build: both!(build_fspcc),
@@ -335,6 +411,7 @@ pub(super) const GPCC: Scheme = Scheme {
     plants: ALL,
     params: GpccParams::<f64>::NAMES,
     design: GpccTuning::NAMES,
+    describe: Some(describe_gpcc),
     fns: SchemeFns::Cascade {
         tune: tune_gpcc,
         build: both!(build_gpcc),
@@ -348,6 +425,7 @@ pub(super) const UMA: Scheme = Scheme {
     plants: ALL,
     params: UmaParams::<f64>::NAMES,
     design: UmaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Cascade {
         tune: tune_uma,
         build: both!(build_uma),
@@ -362,6 +440,7 @@ pub(super) const KAYA_CASCADE: Scheme = Scheme {
     plants: STABLE_INT,
     params: KayaCascadeParams::<f64>::NAMES,
     design: KayaCascadeTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Cascade {
         tune: tune_kaya_cascade,
         build: both!(build_kaya_cascade),

@@ -56,6 +56,7 @@ pub(super) const DISTURBANCE_ESTIMATOR: Scheme = Scheme {
     plants: INT,
     params: DisturbanceEstimatorParams::<f64>::NAMES,
     design: DisturbanceEstimatorTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_disturbance_estimator,
         build: by_order!(build_disturbance_estimator),

@@ -2,6 +2,7 @@
 //! plants (García et al. (2010), Sec. 3, Eq. 10).
 
 use alloc::boxed::Box;
+use alloc::vec;
 use alloc::vec::Vec;
 
 use super::common::*;
@@ -65,6 +66,68 @@ fn build_fsp<T: Real>(
     )?))
 }
 
+/// What García et al. (2010) print of a designed robustness filter
+/// `Fr = kf·Π(z − ρi)/Π(z − γi)` (Examples 1–3): `Fr` itself, its gain `kf`,
+/// its real zeros `ρi` and poles `γi`, and the poles it cancels from the
+/// predictor — the model's poles on or outside the unit circle, and `z = 1`
+/// for the integral action (Eq. 10's conditions).
+pub(super) fn fr_report<const N: usize>(
+    design: &dtc::fsp::FspDesign<Vec<f64>>,
+    gm: &crate::Lti<f64, N>,
+) -> Result<super::DesignReport, crate::Error> {
+    use super::DesignValue::{Filter, List, Scalar};
+    const RHO: [&str; 4] = ["rho1", "rho2", "rho3", "rho4"];
+    const GAMMA: [&str; 4] = ["gamma1", "gamma2", "gamma3", "gamma4"];
+    let (nr, dr) = (design.nr.as_slice(), design.dr.as_slice());
+    let lead = |p: &[f64]| p.iter().copied().find(|c| *c != 0.0).unwrap_or(1.0);
+    let real = |p: &[f64]| -> Result<Vec<f64>, crate::Error> {
+        let mut r: Vec<f64> = crate::poly::poly_roots(p)?
+            .into_iter()
+            .filter(|(re, im)| im.abs() <= 1e-9 * re.abs().max(1.0))
+            .map(|(re, _)| re)
+            .collect();
+        r.sort_by(f64::total_cmp);
+        Ok(r)
+    };
+    let mut out: super::DesignReport = vec![
+        (
+            "fr",
+            Filter {
+                num: nr.to_vec(),
+                den: dr.to_vec(),
+            },
+        ),
+        ("kf", Scalar(lead(nr) / lead(dr))),
+    ];
+    out.extend(RHO.iter().zip(real(nr)?).map(|(n, v)| (*n, Scalar(v))));
+    out.extend(GAMMA.iter().zip(real(dr)?).map(|(n, v)| (*n, Scalar(v))));
+    let (_, dm) = dtc::fsp::model_tf(gm);
+    let mut cancels: Vec<f64> = crate::poly::poly_roots(dm.as_slice())?
+        .into_iter()
+        .filter(|(re, im)| re.hypot(*im) >= 1.0 - 1e-9 && im.abs() <= 1e-9)
+        .map(|(re, _)| re)
+        .collect();
+    if !cancels.iter().any(|z| (z - 1.0).abs() < 1e-6) {
+        cancels.push(1.0);
+    }
+    cancels.sort_by(f64::total_cmp);
+    out.push(("cancels", List(cancels)));
+    Ok(out)
+}
+
+fn describe_fsp(
+    p: &Params,
+    model: &TransferFunction,
+    _inner: Option<&TransferFunction>,
+    ts: f64,
+) -> Result<super::DesignReport, crate::Error> {
+    let fp: FspParams<f64> = p.typed()?;
+    let h = whole_samples(model, ts)?;
+    let gm = model.to_model_lti::<MAX_ORDER>(ts)?;
+    let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, ts, fp.tf)?;
+    fr_report(&design, &gm)
+}
+
 pub(super) const FSP: Scheme = Scheme {
     name: "fsp",
     aliases: &["filtered-smith-unstable"],
@@ -73,6 +136,7 @@ pub(super) const FSP: Scheme = Scheme {
     plants: ALL,
     params: FspParams::<f64>::NAMES,
     design: FspTuning::NAMES,
+    describe: Some(describe_fsp),
     fns: SchemeFns::Single {
         tune: tune_fsp,
         build: both!(build_fsp),

@@ -214,6 +214,7 @@ pub(super) const WATANABE_ITO: Scheme = Scheme {
     plants: INT,
     params: PidGains::<f64>::NAMES,
     design: LambdaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_watanabe_ito,
         build: by_order!(build_watanabe_ito),
@@ -228,6 +229,7 @@ pub(super) const ASTROM_HANG_LIM: Scheme = Scheme {
     plants: INT,
     params: AstromHangLimParams::<f64>::NAMES,
     design: AstromHangLimTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_astrom_hang_lim,
         build: by_order!(build_astrom_hang_lim),
@@ -241,6 +243,7 @@ pub(super) const MATAUSEK_MICIC: Scheme = Scheme {
     plants: INT,
     params: MatausekMicicParams::<f64>::NAMES,
     design: MatausekMicicTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_matausek_micic,
         build: by_order!(build_matausek_micic),
@@ -254,6 +257,7 @@ pub(super) const KAYA_ATHERTON: Scheme = Scheme {
     plants: STABLE_INT,
     params: KayaAthertonParams::<f64>::NAMES,
     design: LambdaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_kaya_atherton,
         build: by_order!(build_kaya_atherton),
@@ -268,6 +272,7 @@ pub(super) const KARAN_DEY: Scheme = Scheme {
     plants: INT,
     params: KaranDeyParams::<f64>::NAMES,
     design: LambdaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_karan_dey,
         build: by_order!(build_karan_dey),

@@ -228,9 +228,55 @@ pub struct Scheme {
     pub params: &'static [&'static str],
     /// Design keys accepted by `--set` before tuning.
     pub design: &'static [&'static str],
+    /// The designed quantities a publication prints beside the tuned
+    /// parameters (filters, their gains, zeros and poles), for the schemes
+    /// that design more than their parameters.
+    pub describe: Option<DescribeFn>,
     /// Tuning and construction.
     pub fns: SchemeFns,
 }
+
+/// One designed quantity: a number, a list of numbers (the poles a filter
+/// cancels), or a discrete transfer function in descending powers of `z`.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
+pub enum DesignValue {
+    /// A number.
+    Scalar(f64),
+    /// Numbers.
+    List(Vec<f64>),
+    /// `num(z)/den(z)`.
+    Filter {
+        /// Numerator, descending powers of `z`.
+        num: Vec<f64>,
+        /// Denominator, descending powers of `z`.
+        den: Vec<f64>,
+    },
+}
+
+/// The designed quantities of a scheme by name, in the order a paper gives them.
+pub type DesignReport = Vec<(&'static str, DesignValue)>;
+
+/// Serde for a [`DesignReport`]: an object `{name: value, …}`.
+#[cfg(feature = "serde")]
+pub fn serialize_design<S: serde::Serializer>(d: &DesignReport, s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    let mut m = s.serialize_map(Some(d.len()))?;
+    for (k, v) in d {
+        m.serialize_entry(k, v)?;
+    }
+    m.end()
+}
+
+/// What a scheme designs from its parameters, for its model (and a cascade's
+/// secondary model) at the period `ts`.
+pub type DescribeFn = fn(
+    &Params,
+    &TransferFunction,
+    Option<&TransferFunction>,
+    f64,
+) -> Result<DesignReport, crate::Error>;
 
 /// A single-loop tuning rule: model → parameters.
 pub type TuneFn = fn(&TransferFunction, &Design) -> Result<Params, crate::Error>;
@@ -386,6 +432,22 @@ impl Scheme {
         overrides: &[(String, f64)],
     ) -> Result<Params, RegistryError> {
         self.tune_process(model, None, lambda, rule, overrides)
+    }
+
+    /// The designed quantities of this scheme with parameters `params` for
+    /// `model` (and a cascade's secondary `inner`) at the period `ts`; empty
+    /// for a scheme whose parameters are all it designs.
+    pub fn design_report(
+        &self,
+        params: &Params,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        ts: f64,
+    ) -> Result<DesignReport, crate::Error> {
+        match self.describe {
+            Some(f) => f(params, model, inner, ts),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// True for a cascade scheme (it needs the secondary process).

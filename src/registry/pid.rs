@@ -101,6 +101,7 @@ pub(super) const PID: Scheme = Scheme {
     plants: STABLE_INT,
     params: PidGains::<f64>::NAMES,
     design: LambdaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_pid,
         build: both!(build_pid),
@@ -114,6 +115,7 @@ pub(super) const PI: Scheme = Scheme {
     plants: STABLE_INT,
     params: PidGains::<f64>::NAMES,
     design: LambdaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_pi,
         build: both!(build_pid),

@@ -118,6 +118,7 @@ pub(super) const SMITH: Scheme = Scheme {
     plants: STABLE_INT,
     params: PidGains::<f64>::NAMES,
     design: LambdaTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_smith,
         build: by_order!(build_smith),
@@ -131,6 +132,7 @@ pub(super) const FILTERED_SMITH: Scheme = Scheme {
     plants: STABLE,
     params: FilteredSmithParams::<f64>::NAMES,
     design: FilteredSmithTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_filtered_smith,
         build: by_order!(build_filtered_smith),
@@ -144,6 +146,7 @@ pub(super) const HUANG: Scheme = Scheme {
     plants: STABLE,
     params: HuangParams::<f64>::NAMES,
     design: HuangTuning::NAMES,
+    describe: None,
     fns: SchemeFns::Single {
         tune: tune_huang,
         build: by_order!(build_huang),

@@ -208,6 +208,9 @@ pub struct RunOutput {
     /// What the run found that the user should know, beside an instability
     /// (part of [`RunOutput::warnings`]).
     pub notes: Vec<String>,
+    /// The designed quantities a paper prints beside the parameters
+    /// ([`registry::Scheme::design_report`]), for a run by [`Scenario::run`].
+    pub design: registry::DesignReport,
     /// The tuned loop's margins (sampled view), for a single loop run by
     /// [`Scenario::run`].
     pub robustness: Option<crate::analysis::Margins>,
@@ -482,6 +485,12 @@ impl Scenario {
                 self.run_tuned(&tuned, plant, model, inner)?
             };
         out.scenario = self.clone();
+        out.design = tuned.scheme.design_report(
+            &out.params,
+            &out.model,
+            out.inner.as_ref().map(|(_, m)| m),
+            out.ts,
+        )?;
         if let Some(r) = robust {
             out.notes.extend(r.warnings);
             out.robustness = Some(r.margins);
@@ -909,6 +918,7 @@ impl Scenario {
             scenario: self.clone(),
             notes: Vec::new(),
             robustness: None,
+            design: Vec::new(),
         })
     }
 }

@@ -61,6 +61,13 @@ pub struct Report {
     /// Each set-point step's step information and each disturbance's
     /// rejection figures, over its segment (to the next event).
     pub events: Vec<super::Event>,
+    /// The designed quantities a paper prints beside the parameters (see
+    /// [`TuneReport::design`]).
+    #[cfg_attr(
+        feature = "serde",
+        serde(serialize_with = "crate::registry::serialize_design")
+    )]
+    pub design: crate::registry::DesignReport,
     /// The tuned loop's gain, phase and delay margins and sensitivity peaks
     /// (the loop broken at the plant input, the plant behind the hold).
     pub robustness: Option<crate::analysis::Margins>,
@@ -103,6 +110,7 @@ impl RunOutput {
             metrics_delayed_reference: self.metrics_delayed_reference,
             default_scenario: self.default_scenario,
             events: self.events.clone(),
+            design: self.design.clone(),
             robustness: self.robustness,
             stable: self.result.diverged_at.is_none(),
             diverged_at: self.result.diverged_at,
@@ -158,6 +166,16 @@ pub struct TuneReport {
     pub source: &'static str,
     /// The values msp chose (`lambda` when no `--lambda` or `--set lambda=` gave it).
     pub chosen: Vec<&'static str>,
+    /// The designed quantities a paper prints beside the parameters (FSP's
+    /// and FSPCC's `Fr`: `kf`, `ρ`, `γ`, the poles it cancels; GPCC's `Γ`,
+    /// `F2`, `F1`), at the sample period `ts`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(serialize_with = "crate::registry::serialize_design")
+    )]
+    pub design: crate::registry::DesignReport,
+    /// The sample period the design is for (s).
+    pub ts: f64,
     /// The loop's margins and sensitivity peaks (single loops).
     pub robustness: Option<crate::analysis::Margins>,
     /// `max|T·Δ|` (García et al. (2010) Eq. 17) for the perturbation given.
@@ -176,7 +194,14 @@ impl super::Scenario {
         &self,
         uncertainty: Option<super::Perturbation>,
     ) -> Result<TuneReport, super::RunError> {
-        let (plant, _, inner, tuned, robust) = self.tuned_loop()?;
+        let (plant, model, inner, tuned, robust) = self.tuned_loop()?;
+        let (ts, _) = self.check_size(&model, inner.as_ref().map(|(_, m)| m))?;
+        let design = tuned.scheme.design_report(
+            &tuned.params,
+            &model,
+            inner.as_ref().map(|(_, m)| m),
+            ts,
+        )?;
         let robust_peak = match uncertainty {
             Some(u) => {
                 let mut sc = self.clone();
@@ -199,6 +224,8 @@ impl super::Scenario {
                 Vec::new()
             },
             robustness: robust.as_ref().map(|r| r.margins),
+            design,
+            ts,
             robust_peak,
             robustly_stable: robust_peak.map(|p| p < 1.0),
             warnings: robust.map(|r| r.warnings).unwrap_or_default(),

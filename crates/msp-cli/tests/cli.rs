@@ -716,6 +716,46 @@ fn the_example_scenario_file_runs() {
     assert_eq!(j["controller"]["params"]["kp"], 0.08);
 }
 
+/// `msp tune` and the report show what the paper prints beside the gains:
+/// FSPCC's `Fr` for García et al. (2010) Example 1 at Ts = 0.2 (lead 3 s,
+/// lag 0.144 s, Tf = 36 s) has kf = 14.9524 and ρ2 = 0.9957, and cancels the
+/// unstable pole e^{0.2/20} and z = 1.
+#[test]
+fn tune_prints_the_designed_filter() {
+    let args = [
+        "--plant",
+        "e^-4s/(20s-1)",
+        "--inner-plant",
+        "2e^-2s/(20s+1)",
+        "--ts",
+        "0.2",
+        "--set",
+        "tf=36",
+        "--set",
+        "lead=3",
+        "--set",
+        "lag=0.144",
+    ];
+    let j = json_of(msp().arg("tune").args(args).arg("--json"));
+    let d = &j["design"];
+    assert!(
+        (d["kf"].as_f64().unwrap() - 14.9524).abs() < 5e-3 * 14.9524,
+        "{d}"
+    );
+    assert!((d["rho2"].as_f64().unwrap() - 0.9957).abs() < 5e-4, "{d}");
+    let cancels = d["cancels"].as_array().unwrap();
+    assert!(
+        (cancels[1].as_f64().unwrap() - (0.2f64 / 20.0).exp()).abs() < 1e-9,
+        "{d}"
+    );
+    msp().arg("tune").args(args).assert().success().stdout(
+        predicate::str::contains("design\n  fr").and(predicate::str::contains("kf       = 14.952")),
+    );
+    let g = json_of(msp().arg("tune").args(&args[..6]).args(["-c", "gpcc", "--json"]));
+    assert_eq!(g["design"]["f1_taps"], 30.0);
+    assert!(g["design"]["gamma"]["num"].is_array());
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

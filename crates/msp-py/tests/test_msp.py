@@ -365,6 +365,15 @@ def test_every_public_function_is_documented_and_its_examples_run() -> None:
     assert runner.summarize(verbose=False).failed == 0
 
 
+def test_tune_and_run_report_the_designed_filter() -> None:
+    params = {"tf": 36.0, "lead": 3.0, "lag": 0.144}
+    t = msp.tune(GARCIA_1["plant"], "fspcc", params, inner_plant=GARCIA_1["inner_plant"], ts=0.2)
+    assert math.isclose(t["design"]["kf"], 14.9524, rel_tol=5e-3) and abs(t["design"]["rho2"] - 0.9957) < 5e-4
+    res = msp.run(GARCIA_1["plant"], "fspcc", params, inner_plant=GARCIA_1["inner_plant"], ts=0.2, setpoint=1.0,
+                  duration=100)
+    assert res.design == t["design"]
+
+
 def test_run_says_what_it_chose() -> None:
     assert msp.run("1/(s+1)^2").chosen == ["ts", "duration", "lambda"]
     assert msp.run("1/(s+1)^2", lambda_=1.0, ts=0.1).chosen == ["duration"]

@@ -40,6 +40,7 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         };
         export::outln!("  {k:<8} = {}{note}", export::fmt_sig(v))?;
     }
+    export::print(export::text::design_block(&r.design).as_bytes())?;
     if let Some(m) = &r.robustness {
         export::print(export::text::robustness_line(m).as_bytes())?;
     }

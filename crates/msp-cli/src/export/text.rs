@@ -65,6 +65,7 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             ""
         }
     ));
+    s.push_str(&design_block(&out.design));
     if let Some(r) = &out.robustness {
         s.push_str(&robustness_line(r));
     }
@@ -426,6 +427,37 @@ fn event_line(e: &msp::study::Event) -> String {
             fmt_sig(d.iae)
         ),
     }
+}
+
+/// The designed quantities, one per line under `design`: numbers, lists, and
+/// filters as `num(z)/den(z)` coefficient lists.
+pub(crate) fn design_block(d: &msp::registry::DesignReport) -> String {
+    use msp::registry::DesignValue;
+    if d.is_empty() {
+        return String::new();
+    }
+    let list = |v: &[f64]| {
+        format!(
+            "[{}]",
+            v.iter().map(|x| fmt_sig(*x)).collect::<Vec<_>>().join(", ")
+        )
+    };
+    let mut s = String::from("design\n");
+    for (k, v) in d {
+        let text = match v {
+            DesignValue::Scalar(x) => fmt_sig(*x),
+            DesignValue::List(v) => list(v),
+            DesignValue::Filter { num, den } => {
+                format!(
+                    "num {} / den {} (powers of z, descending)",
+                    list(num),
+                    list(den)
+                )
+            }
+        };
+        s.push_str(&format!("  {k:<8} = {text}\n"));
+    }
+    s
 }
 
 /// `robustness gm 2.1 (6.4 dB), pm 33°, dm 1.2 s, Ms 2.5, Mt 1.9`.

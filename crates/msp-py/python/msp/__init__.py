@@ -110,6 +110,10 @@ class Result:
         ``value``, ``peak_deviation``, ``peak_time``, ``recovery_time``, ``iae``), in time order.
     robustness : dict or None
         The tuned loop's ``gm``, ``pm``, ``dm``, ``ms``, ``mt`` (sampled view).
+    design : dict
+        What the scheme designed beside its parameters (FSP's and FSPCC's ``Fr``: ``kf``, ``rho1``...,
+        ``gamma1``..., ``cancels``; GPCC's ``gamma``, ``f2``, ``f1_taps``, ``f1_gain``); empty for
+        schemes whose parameters are all they design.
     scenario : dict
         The scenario as it was given (the report's copy: ``msp run --scenario report.json`` reruns it).
     msp_version : str
@@ -145,6 +149,7 @@ class Result:
     model: str
     ts: float
     chosen: List[str]
+    design: Dict[str, Any]
     scenario: Dict[str, Any]
     msp_version: str
     default_scenario: bool
