@@ -832,3 +832,28 @@ fn metrics_per_event_are_the_closed_forms() {
     assert!((d.recovery_time - a).abs() < 0.01, "{d:?} vs {a}");
     assert!((d.iae - 1.0).abs() < tol, "{d:?}");
 }
+
+/// The Karan–Dey design names its three controllers (Bag (2022) Eqs.
+/// 4.22–4.24) and the Routh range of γ (Eq. 4.49, `0 < γ < 1/(θm·K·Kp)`);
+/// the default tuning takes its middle (Eq. 4.50).
+#[test]
+fn karan_dey_design_names_its_controllers_and_the_routh_range() {
+    use msp::registry::DesignValue;
+    let scheme = msp::registry::find("karan-dey").unwrap();
+    let model: msp::poly::TransferFunction = "0.2/s*e^-7.4s".parse().unwrap();
+    let p = scheme.tune_with(&model, None, &[]).unwrap();
+    let d = scheme.design_report(&p, &model, None, 0.0074).unwrap();
+    let get = |k: &str| {
+        d.iter()
+            .find(|(n, _)| *n == k)
+            .map(|(_, v)| v.clone())
+            .unwrap()
+    };
+    let kp = p.get("kp").unwrap();
+    assert_eq!(get("gc1_kp"), DesignValue::Scalar(kp));
+    let DesignValue::List(range) = get("gamma_range") else {
+        panic!()
+    };
+    assert_close(range[1], 1.0 / (7.4 * 0.2 * kp), 1e-12, 0.0);
+    assert_close(p.get("gamma").unwrap(), range[1] / 2.0, 1e-12, 0.0);
+}

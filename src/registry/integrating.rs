@@ -37,6 +37,35 @@ fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate:
     Ok(Params::of(&tuning::karan_dey(&m, lambda)?).with_lambda(lambda))
 }
 
+/// The MSP's three controllers as Bag (2022) Eqs. 4.22–4.24 write them:
+/// `Gc1 = Kp(1 + 1/(Ti s))`, `Gc2 = β·Kp`, `Gc3 = γ·Kp(1 + Td s/(1 + (Td/N)s))`,
+/// and the Routh range `0 < γ < 1/(θm·K·Kp)` of Eq. 4.49 that keeps the
+/// disturbance loop stable (the tuning takes its middle, Eq. 4.50).
+fn describe_karan_dey(
+    p: &Params,
+    model: &TransferFunction,
+    _inner: Option<&TransferFunction>,
+    _ts: f64,
+) -> Result<super::DesignReport, crate::Error> {
+    use super::DesignValue::{List, Scalar};
+    let k: KaranDeyParams<f64> = p.typed()?;
+    let mut out = alloc::vec![
+        ("gc1_kp", Scalar(k.kp)),
+        ("gc1_ti", Scalar(k.ti)),
+        ("gc2_gain", Scalar(k.beta * k.kp)),
+        ("gc3_gain", Scalar(k.gamma * k.kp)),
+        ("gc3_td", Scalar(k.td)),
+        ("gc3_tf", Scalar(k.td / k.n)),
+    ];
+    if let Some(ProcessModel::Ipdt(m)) = model.exact_model() {
+        out.push((
+            "gamma_range",
+            List(alloc::vec![0.0, 1.0 / (m.l * m.k * k.kp)]),
+        ));
+    }
+    Ok(out)
+}
+
 fn build_karan_dey<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
@@ -272,7 +301,7 @@ pub(super) const KARAN_DEY: Scheme = Scheme {
     plants: INT,
     params: KaranDeyParams::<f64>::NAMES,
     design: LambdaTuning::NAMES,
-    describe: None,
+    describe: Some(describe_karan_dey),
     fns: SchemeFns::Single {
         tune: tune_karan_dey,
         build: by_order!(build_karan_dey),

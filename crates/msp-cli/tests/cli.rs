@@ -749,9 +749,15 @@ fn tune_prints_the_designed_filter() {
         "{d}"
     );
     msp().arg("tune").args(args).assert().success().stdout(
-        predicate::str::contains("design\n  fr").and(predicate::str::contains("kf       = 14.952")),
+        predicate::str::contains("design\n  fr")
+            .and(predicate::str::contains("kf          = 14.952")),
     );
-    let g = json_of(msp().arg("tune").args(&args[..6]).args(["-c", "gpcc", "--json"]));
+    let g = json_of(
+        msp()
+            .arg("tune")
+            .args(&args[..6])
+            .args(["-c", "gpcc", "--json"]),
+    );
     assert_eq!(g["design"]["f1_taps"], 30.0);
     assert!(g["design"]["gamma"]["num"].is_array());
 }

@@ -455,7 +455,7 @@ pub(crate) fn design_block(d: &msp::registry::DesignReport) -> String {
                 )
             }
         };
-        s.push_str(&format!("  {k:<8} = {text}\n"));
+        s.push_str(&format!("  {k:<11} = {text}\n"));
     }
     s
 }
