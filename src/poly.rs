@@ -280,6 +280,21 @@ impl TransferFunction {
                 "plants with more than one integrator (such as 1/s^2): msp's schemes and rules control stable plants and plants with one integrator or one unstable pole, each with a dead time; close an inner loop around one integrator first (e.g. a velocity loop) and control that loop",
             ));
         }
+        let all = self.poles()?;
+        let nonzero = all.iter().filter(|(re, im)| re.hypot(*im) > ORIGIN_TOL);
+        if nonzero
+            .clone()
+            .any(|(re, im)| re.abs() <= ORIGIN_TOL * re.hypot(*im).max(1.0) && *im != 0.0)
+        {
+            return Err(Error::Unsupported(
+                "plants with poles on the imaginary axis (an undamped oscillation such as 1/(s^2+1)): msp's schemes and rules control stable plants and plants with one integrator or one unstable pole; damp the oscillation with an inner loop first and control that loop",
+            ));
+        }
+        if poles > zeros && nonzero.clone().any(|(re, _)| *re > ORIGIN_TOL) {
+            return Err(Error::Unsupported(
+                "plants with an integrator and an unstable pole (such as 1/(s(s-1))): msp's schemes and rules control one or the other; stabilise the unstable pole with an inner loop first and control that loop",
+            ));
+        }
         Ok(())
     }
 
@@ -313,7 +328,7 @@ impl TransferFunction {
                         Ufopdt::new(-k, 1.0 / re, delay + lags.iter().sum::<f64>()).map(Into::into)
                     }
                     _ => Err(Error::Unsupported(
-                        "plants with more than one unstable pole",
+                        "plants with more than one unstable pole (such as 1/(s-1)^2): the filtered Smith predictor (fsp) and the cascade schemes control one; stabilise the others with an inner loop first",
                     )),
                 }
             }
@@ -324,7 +339,9 @@ impl TransferFunction {
                     Sopdt::new(k, t(0), t(1) + t(2) / 2.0, delay + t(2) / 2.0 + rest(3))
                         .map(Into::into)
                 } else if lags.is_empty() {
-                    Err(Error::Unsupported("a plant without dynamics (no pole)"))
+                    Err(Error::Unsupported(
+                        "a plant without dynamics (a static gain or a pure dead time, no pole): msp's schemes and rules tune for a lag, an integrator or an unstable pole; identify the lag the process has (msp identify) and give it in the plant",
+                    ))
                 } else {
                     Fopdt::new(k, t(0) + t(1) / 2.0, delay + t(1) / 2.0 + rest(2)).map(Into::into)
                 }

@@ -640,6 +640,11 @@ fn uncontrollable_plants_are_named_as_such() {
         ("s^2/(s+1)^2", Some("pid"), "no static gain"),
         ("1/s", Some("karan-dey"), "use pid"),
         ("1/s", Some("matausek-micic"), "use pid"),
+        ("1/(s^2+1)", None, "imaginary axis"),
+        ("1/(s*(s-1))", None, "an integrator and an unstable pole"),
+        ("1/(s-1)^2", None, "more than one unstable pole"),
+        ("e^-1s", None, "without dynamics"),
+        ("2", Some("pid"), "static gain or a pure dead time"),
     ] {
         let sc = Scenario {
             plant: Some(plant.parse().unwrap()),
