@@ -861,4 +861,18 @@ fn karan_dey_design_names_its_controllers_and_the_routh_range() {
     };
     assert_close(range[1], 1.0 / (7.4 * 0.2 * kp), 1e-12, 0.0);
     assert_close(p.get("gamma").unwrap(), range[1] / 2.0, 1e-12, 0.0);
+    // a γ beyond the range is warned of, naming the range and its source
+    let warnings = |gamma: f64| {
+        Scenario {
+            plant: Some(model.clone()),
+            set: [("gamma".to_string(), gamma)].into_iter().collect(),
+            ..Default::default()
+        }
+        .tune_report(None)
+        .unwrap()
+        .warnings
+        .join("\n")
+    };
+    assert!(warnings(0.2).contains("gamma = 0.2 is outside its stability range (0, 0.125)"));
+    assert!(!warnings(0.1).contains("stability range"));
 }

@@ -720,6 +720,33 @@ impl Scenario {
                 ));
             }
         }
+        // a source's stability range of a parameter (`NAME_range` in the
+        // design, e.g. Karan–Dey's γ of Bag (2022) Eq. 4.49)
+        if let Ok((ts, _)) = self.check_size(model, None) {
+            let design = tuned
+                .scheme
+                .design_report(&tuned.params, model, None, ts)
+                .unwrap_or_default();
+            for (name, value) in &design {
+                let (Some(param), registry::DesignValue::List(r)) =
+                    (name.strip_suffix("_range"), value)
+                else {
+                    continue;
+                };
+                let (Some(v), [lo, hi]) = (tuned.params.get(param), r.as_slice()) else {
+                    continue;
+                };
+                if !(v > *lo && v < *hi) {
+                    warnings.push(std::format!(
+                        "robustness: {param} = {} is outside its stability range ({}, {}) given by {}: the loop is unstable for the model",
+                        crate::poly::fmt_num(round3(v)),
+                        crate::poly::fmt_num(round3(*lo)),
+                        crate::poly::fmt_num(round3(*hi)),
+                        tuned.scheme.source
+                    ));
+                }
+            }
+        }
         Some(Robustness { margins, warnings })
     }
 
