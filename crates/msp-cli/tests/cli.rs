@@ -762,6 +762,70 @@ fn tune_prints_the_designed_filter() {
     assert!(g["design"]["gamma"]["num"].is_array());
 }
 
+/// The plots carry what a report needs: the time plot names its axes with
+/// units, draws the set point (dashed) and the load with legends and titles
+/// the controller with its key parameters and the plant; the margins plot
+/// marks gm and pm, wraps the phase, and its Nyquist panel (alone with
+/// `--nyquist`) has the unit and Ms circles.
+#[test]
+fn plots_carry_what_a_report_needs() {
+    let dir = tempfile::tempdir().unwrap();
+    let (run, bode, nyq) = (
+        dir.path().join("r.svg"),
+        dir.path().join("b.svg"),
+        dir.path().join("n.svg"),
+    );
+    msp()
+        .args([
+            "run",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-q",
+            "-o",
+            "/dev/null",
+            "--plot",
+        ])
+        .arg(&run)
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(&run).unwrap();
+    for text in [
+        "time t (s)",
+        "r (set point)",
+        "d (load)",
+        "u (control)",
+        "karan-dey (kp = 5.4054",
+        "stroke-dasharray",
+    ] {
+        assert!(svg.contains(text), "{text}");
+    }
+    msp()
+        .args([
+            "margins",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--plot",
+        ])
+        .arg(&bode)
+        .arg("--nyquist")
+        .arg(&nyq)
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(&bode).unwrap();
+    for text in [
+        "gm 4.554 dB",
+        "pm 33.11°",
+        "arg L (deg, wrapped)",
+        "Ms circle",
+    ] {
+        assert!(svg.contains(text), "{text}");
+    }
+    let svg = std::fs::read_to_string(&nyq).unwrap();
+    assert!(svg.contains("unit circle") && svg.contains("Ms circle (radius 1/Ms = 0.39725)"));
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]
