@@ -795,7 +795,6 @@ fn plots_carry_what_a_report_needs() {
         "d (load)",
         "u (control)",
         "karan-dey (kp = 5.4054",
-        "stroke-dasharray",
     ] {
         assert!(svg.contains(text), "{text}");
     }
