@@ -163,6 +163,20 @@ fn tune_fspcc(
     Ok(tuned(p, &c, lambda))
 }
 
+/// FSPCC's `Fr` shape: biproper, with the lead-lag of `Gcd` when both
+/// time constants are given (García et al. (2010) Sec. 4).
+fn fr_spec(f: &FspccParams) -> FrSpec {
+    FrSpec {
+        tf: f.tf,
+        lead: if f.lead > 0.0 && f.lag > 0.0 {
+            Some((f.lead, f.lag))
+        } else {
+            None
+        },
+        biproper: true,
+    }
+}
+
 fn build_fspcc<T: Real>(
     p: &Params,
     p1: &TransferFunction,
@@ -171,15 +185,7 @@ fn build_fspcc<T: Real>(
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
     let f: FspccParams = p.typed()?;
-    let spec = FrSpec {
-        tf: f.tf,
-        lead: if f.lead > 0.0 && f.lag > 0.0 {
-            Some((f.lead, f.lag))
-        } else {
-            None
-        },
-        biproper: true,
-    };
+    let spec = fr_spec(&f);
     let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, b.ts, &spec)?;
     let outer = Predicted::<T, _, _>::with_primary(
         c.km,
@@ -218,15 +224,7 @@ fn describe_fspcc(
 ) -> Result<super::DesignReport, crate::Error> {
     let c = outer_model(p, p1, inner, ts)?;
     let f: FspccParams = p.typed()?;
-    let spec = FrSpec {
-        tf: f.tf,
-        lead: if f.lead > 0.0 && f.lag > 0.0 {
-            Some((f.lead, f.lag))
-        } else {
-            None
-        },
-        biproper: true,
-    };
+    let spec = fr_spec(&f);
     let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, ts, &spec)?;
     super::fsp::fr_report(&design, &c.gm)
 }
