@@ -208,13 +208,10 @@ pub fn events(
         .chain(disturbances.iter().map(|d| d.at))
         .collect();
     starts.sort_by(f64::total_cmp);
+    // the next start after `at`, by bisection: linear in the events overall
     let until = |at: f64| {
-        starts
-            .iter()
-            .copied()
-            .find(|s| *s > at + 1e-9 * at.abs().max(1.0))
-            .unwrap_or(end)
-            .min(end)
+        let i = starts.partition_point(|s| *s <= at + 1e-9 * at.abs().max(1.0));
+        starts.get(i).copied().unwrap_or(end).min(end)
     };
     let index = |at: f64| t.partition_point(|x| *x < at - 1e-9 * at.abs().max(1.0));
     let iae = |a: usize, b: usize| -> f64 {

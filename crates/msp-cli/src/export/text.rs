@@ -94,8 +94,16 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         fmt_sig(m.indices.tv)
     ));
     if out.events.len() > 1 {
-        for e in &out.events {
+        // the first events; the report has them all
+        const SHOWN: usize = 12;
+        for e in out.events.iter().take(SHOWN) {
             s.push_str(&event_line(e));
+        }
+        if out.events.len() > SHOWN {
+            s.push_str(&format!(
+                "  … {} more events in the report (--report)\n",
+                out.events.len() - SHOWN
+            ));
         }
     }
     s.push_str(&format!(
