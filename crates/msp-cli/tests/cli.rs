@@ -825,6 +825,29 @@ fn plots_carry_what_a_report_needs() {
     assert!(svg.contains("unit circle") && svg.contains("Ms circle (radius 1/Ms = 0.39725)"));
 }
 
+/// A run that takes more than a second shows a spinner on a terminal (a
+/// pseudo-terminal from util-linux's `script`); piped, nothing is drawn.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_long_run_shows_it_is_running() {
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let cmd = format!(
+        "{} run --plant '5e^-6s/(100s-1)' --duration 20000 -o /dev/null",
+        bin.display()
+    );
+    let out = std::process::Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .output()
+        .expect("util-linux's script runs the pseudo-terminal test");
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("simulating"));
+    let piped = msp()
+        .args(["run", "--plant", "0.2/s*e^-7.4s", "-q", "-o", "/dev/null"])
+        .output()
+        .unwrap();
+    assert!(!String::from_utf8_lossy(&piped.stderr).contains("simulating"));
+}
+
 /// `-o -` is standard output, as for most Unix tools, and no file named `-`
 /// appears; two outputs cannot both be `-`.
 #[test]

@@ -19,7 +19,9 @@ pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
         (_, true) => msp::analysis::View::Continuous,
         _ => msp::analysis::View::Sampled,
     };
-    let an = msp::analysis::analyze(&sc, view, a.uncertainty)?;
+    let an = export::busy("analysing", false, || {
+        msp::analysis::analyze(&sc, view, a.uncertainty)
+    })?;
     if let Some(p) = &a.plot {
         let svg =
             export::svg::bode_svg(&an).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;

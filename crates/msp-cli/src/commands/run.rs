@@ -16,7 +16,7 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         ("--report", a.report.as_ref()),
         ("--plot", a.plot.as_ref()),
     ])?;
-    let out = sc.run()?;
+    let out = export::busy("simulating", a.quiet, || sc.run())?;
     let warnings = out.warnings();
     let csv =
         export::csv::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;

@@ -295,3 +295,41 @@ pub(crate) fn fmt_sig(v: f64) -> String {
     let x: f64 = s.parse().unwrap_or(v);
     fmt_num(x)
 }
+
+/// Runs `work`; when it takes more than a second and standard error is a
+/// terminal, a spinner with the elapsed time says `what` is running (the
+/// long runs of `run`, `compare`, `margins` and `autotune`; `sweep` has its
+/// own progress bar); `quiet` (`-q`) draws nothing. Ctrl-C stops it as any
+/// command.
+pub(crate) fn busy<T: Send>(what: &str, quiet: bool, work: impl FnOnce() -> T + Send) -> T {
+    use std::io::IsTerminal;
+    if quiet || !std::io::stderr().is_terminal() {
+        return work();
+    }
+    let done = std::sync::atomic::AtomicBool::new(false);
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            let start = std::time::Instant::now();
+            while start.elapsed() < std::time::Duration::from_secs(1) {
+                if done.load(std::sync::atomic::Ordering::Relaxed) {
+                    return;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            let bar = indicatif::ProgressBar::new_spinner();
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+            );
+            bar.set_message(what.to_string());
+            bar.enable_steady_tick(std::time::Duration::from_millis(100));
+            while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            bar.finish_and_clear();
+        });
+        let out = work();
+        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        out
+    })
+}
