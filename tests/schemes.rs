@@ -856,11 +856,12 @@ fn karan_dey_design_names_its_controllers_and_the_routh_range() {
     };
     let kp = p.get("kp").unwrap();
     assert_eq!(get("gc1_kp"), DesignValue::Scalar(kp));
-    let DesignValue::List(range) = get("gamma_range") else {
+    let DesignValue::StableRange { param, low, high } = get("gamma_range") else {
         panic!()
     };
-    assert_close(range[1], 1.0 / (7.4 * 0.2 * kp), 1e-12, 0.0);
-    assert_close(p.get("gamma").unwrap(), range[1] / 2.0, 1e-12, 0.0);
+    assert_eq!((param, low), ("gamma", 0.0));
+    assert_close(high, 1.0 / (7.4 * 0.2 * kp), 1e-12, 0.0);
+    assert_close(p.get("gamma").unwrap(), high / 2.0, 1e-12, 0.0);
     // a γ beyond the range is warned of, naming the range and its source
     let warnings = |gamma: f64| {
         Scenario {

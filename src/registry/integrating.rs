@@ -47,7 +47,7 @@ fn describe_karan_dey(
     _inner: Option<&TransferFunction>,
     _ts: f64,
 ) -> Result<super::DesignReport, crate::Error> {
-    use super::DesignValue::{List, Scalar};
+    use super::DesignValue::{Scalar, StableRange};
     let k: KaranDeyParams<f64> = p.typed()?;
     let mut out = alloc::vec![
         ("gc1_kp", Scalar(k.kp)),
@@ -60,7 +60,11 @@ fn describe_karan_dey(
     if let Some(ProcessModel::Ipdt(m)) = model.exact_model() {
         out.push((
             "gamma_range",
-            List(alloc::vec![0.0, 1.0 / (m.l * m.k * k.kp)]),
+            StableRange {
+                param: "gamma",
+                low: 0.0,
+                high: 1.0 / (m.l * m.k * k.kp),
+            },
         ));
     }
     Ok(out)

@@ -246,6 +246,18 @@ pub enum DesignValue {
     Scalar(f64),
     /// Numbers.
     List(Vec<f64>),
+    /// The open interval a tuned parameter must lie in for the loop on the
+    /// model to be stable, as a source derives it (Karan–Dey's
+    /// `0 < γ < 1/(θm·K·Kp)`, Bag (2022) Eq. 4.49); the robustness warnings
+    /// check the parameter against it.
+    StableRange {
+        /// The parameter, by its report name.
+        param: &'static str,
+        /// Lower bound.
+        low: f64,
+        /// Upper bound.
+        high: f64,
+    },
     /// `num(z)/den(z)`.
     Filter {
         /// Numerator, descending powers of `z`.

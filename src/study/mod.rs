@@ -720,20 +720,23 @@ impl Scenario {
                 ));
             }
         }
-        // a source's stability range of a parameter (`NAME_range` in the
-        // design, e.g. Karan–Dey's γ of Bag (2022) Eq. 4.49)
+        // a source's stability range of a parameter (Karan–Dey's γ, Bag
+        // (2022) Eq. 4.49)
         if let Ok((ts, _)) = self.check_size(model, None) {
             let design = tuned
                 .scheme
                 .design_report(&tuned.params, model, None, ts)
                 .unwrap_or_default();
-            for (name, value) in &design {
-                let (Some(param), registry::DesignValue::List(r)) =
-                    (name.strip_suffix("_range"), value)
+            for (_, value) in &design {
+                let registry::DesignValue::StableRange {
+                    param,
+                    low: lo,
+                    high: hi,
+                } = value
                 else {
                     continue;
                 };
-                let (Some(v), [lo, hi]) = (tuned.params.get(param), r.as_slice()) else {
+                let Some(v) = tuned.params.get(param) else {
                     continue;
                 };
                 if !(v > *lo && v < *hi) {

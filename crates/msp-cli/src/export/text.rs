@@ -455,6 +455,11 @@ pub(crate) fn design_block(d: &msp::registry::DesignReport) -> String {
         let text = match v {
             DesignValue::Scalar(x) => fmt_sig(*x),
             DesignValue::List(v) => list(v),
+            DesignValue::StableRange { param, low, high } => format!(
+                "{} < {param} < {} (the loop is stable for the model)",
+                fmt_sig(*low),
+                fmt_sig(*high)
+            ),
             DesignValue::Filter { num, den } => {
                 format!(
                     "num {} / den {} (powers of z, descending)",
