@@ -531,6 +531,16 @@ impl TransferFunction {
     }
 }
 
+/// `x` rounded to `digits` significant digits (at least one); non-finite
+/// values and zero are returned as they are.
+pub fn round_sig(x: f64, digits: usize) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let decimals = digits.max(1) - 1;
+    alloc::format!("{x:.decimals$e}").parse().unwrap_or(x)
+}
+
 /// Formats a number compactly: integers without a fraction, otherwise the
 /// shortest representation that round-trips at 12 significant digits.
 /// Magnitudes below `1e-4` or from `1e15` on are written with an exponent
@@ -539,8 +549,7 @@ pub fn fmt_num(x: f64) -> String {
     if x == x.trunc() && x.abs() < 1e15 {
         return alloc::format!("{x:.0}");
     }
-    let s = alloc::format!("{:.11e}", x);
-    let v: f64 = s.parse().unwrap_or(x);
+    let v = round_sig(x, 12);
     if v != 0.0 && (v.abs() < 1e-4 || v.abs() >= 1e15) {
         return alloc::format!("{v:e}");
     }
@@ -568,8 +577,6 @@ fn factored(p: &[f64]) -> Option<(f64, String, usize)> {
     };
     let low = *rest.last()?;
     let tol = 1e-12 * p.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-    let round =
-        |x: f64, digits: usize| -> f64 { alloc::format!("{x:.digits$e}").parse().unwrap_or(x) };
     for near in [5e-2, 0.0] {
         // (coefficients, power) of each factor: s^m, then (τs ± 1) by falling τ,
         // then (as² + bs + 1)
@@ -615,7 +622,7 @@ fn factored(p: &[f64]) -> Option<(f64, String, usize)> {
             return None;
         }
         {
-            let digits = 5usize;
+            let digits = 6usize;
             let mut fs: Vec<(Vec<f64>, usize)> = Vec::new();
             if zeros > 0 {
                 fs.push((vec![1.0, 0.0], zeros));
@@ -628,10 +635,10 @@ fn factored(p: &[f64]) -> Option<(f64, String, usize)> {
                 if c < 0.0 && n % 2 == 1 {
                     sign = -sign;
                 }
-                fs.push((vec![round(1.0 / r.abs(), digits), c], n));
+                fs.push((vec![round_sig(1.0 / r.abs(), digits), c], n));
             }
             for &((a, b), n) in &quads {
-                fs.push((vec![round(a, digits), round(b, digits), 1.0], n));
+                fs.push((vec![round_sig(a, digits), round_sig(b, digits), 1.0], n));
             }
             let mut prod = vec![1.0];
             for (f, n) in &fs {
@@ -639,7 +646,7 @@ fn factored(p: &[f64]) -> Option<(f64, String, usize)> {
                     prod = mul(&prod, f);
                 }
             }
-            let gain = round(low * sign, digits);
+            let gain = round_sig(low * sign, digits);
             let back = prod.iter().map(|c| c * gain);
             if prod.len() == p.len() && back.zip(&p).all(|(a, b)| (a - b).abs() <= tol) {
                 let mut s = String::new();

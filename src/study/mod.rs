@@ -129,9 +129,7 @@ fn nice_ceil(x: f64) -> f64 {
     let mut decade = 10f64.powf(x.log10().floor());
     loop {
         for m in [1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0] {
-            let v: f64 = std::format!("{:.6e}", m * decade)
-                .parse()
-                .unwrap_or(m * decade);
+            let v = crate::poly::round_sig(m * decade, 7);
             if v >= x * (1.0 - 1e-12) {
                 return v;
             }
@@ -142,10 +140,7 @@ fn nice_ceil(x: f64) -> f64 {
 
 /// Three significant digits, for numbers in messages.
 fn round3(v: f64) -> f64 {
-    if v == 0.0 || !v.is_finite() {
-        return v;
-    }
-    std::format!("{v:.2e}").parse().unwrap_or(v)
+    crate::poly::round_sig(v, 3)
 }
 
 /// A scheme and its tuned parameters: the typed value the study hands from

@@ -174,7 +174,7 @@ impl Controller {
         let params: Vec<String> = c
             .params
             .iter()
-            .map(|(k, v)| format!("{k}={}", msp::poly::fmt_num(round4(v))))
+            .map(|(k, v)| format!("{k}={}", msp::poly::fmt_num(msp::poly::round_sig(v, 4))))
             .collect();
         Ok(format!(
             "<msp.{class} {}: {}, ts={} s>",
@@ -371,9 +371,4 @@ impl PyPid {
         d.set_item("td", c.td())?;
         Ok(d)
     }
-}
-
-/// Four significant digits, for a repr.
-fn round4(v: f64) -> f64 {
-    format!("{v:.3e}").parse().unwrap_or(v)
 }

@@ -291,9 +291,7 @@ pub(crate) fn fmt_sig(v: f64) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }
-    let s = format!("{v:.4e}");
-    let x: f64 = s.parse().unwrap_or(v);
-    fmt_num(x)
+    fmt_num(msp::poly::round_sig(v, 5))
 }
 
 /// Runs `work`; when it takes more than a second and standard error is a
