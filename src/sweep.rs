@@ -152,17 +152,21 @@ pub fn stable(out: &crate::study::RunOutput) -> bool {
     settles(&out.result.y) && out.result.diverged_at.is_none()
 }
 
+/// The swing of a signal, `max − min` (0 for none).
+pub fn swing(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.iter().fold(f64::MIN, |m, x| m.max(*x)) - v.iter().fold(f64::MAX, |m, x| m.min(*x))
+}
+
 /// The test of [`stable`] on an output sequence.
 pub fn settles(y: &[f64]) -> bool {
     let n = y.len();
     if n < 10 || y.iter().any(|v| !v.is_finite()) {
         return false;
     }
-    let swing = |a: usize, b: usize| {
-        y.get(a..b).map_or(0.0, |s| {
-            s.iter().fold(f64::MIN, |m, v| m.max(*v)) - s.iter().fold(f64::MAX, |m, v| m.min(*v))
-        })
-    };
+    let swing = |a: usize, b: usize| y.get(a..b).map_or(0.0, swing);
     let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
     // growth beyond rounding (1e-9 of the response) is not rest
     let at_rest = swing(n * 9 / 10, n) <= 0.02 * scale

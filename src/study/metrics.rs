@@ -191,11 +191,12 @@ pub struct DisturbanceEvent {
 
 /// The per-event figures of a run: one entry per set-point step and per
 /// disturbance, in time order, each over its segment of the controller's
-/// samples (every `substeps`-th row).
+/// samples (every `substeps`-th row), `ts` apart.
 pub fn events(
     res: &SimResult,
     setpoint: &[SetpointStep],
     disturbances: &[Disturbance],
+    ts: f64,
 ) -> Vec<Event> {
     let stride = res.substeps.max(1);
     let t: Vec<f64> = res.t.iter().copied().step_by(stride).collect();
@@ -214,18 +215,17 @@ pub fn events(
         starts.get(i).copied().unwrap_or(end).min(end)
     };
     let index = |at: f64| t.partition_point(|x| *x < at - 1e-9 * at.abs().max(1.0));
+    // the run's own streaming indices over the segment (trapezoidal IAE)
     let iae = |a: usize, b: usize| -> f64 {
-        let (Some(ts), Some(rs), Some(ys)) = (t.get(a..b), r.get(a..b), y.get(a..b)) else {
+        let (Ok(mut ind), Some(rs), Some(ys)) =
+            (IntegralIndices::new(ts), r.get(a..b), y.get(a..b))
+        else {
             return f64::NAN;
         };
-        let e: Vec<f64> = rs.iter().zip(ys).map(|(r, y)| (r - y).abs()).collect();
-        ts.windows(2)
-            .zip(e.windows(2))
-            .map(|(tw, ew)| match (tw, ew) {
-                ([t0, t1], [e0, e1]) => 0.5 * (t1 - t0) * (e0 + e1),
-                _ => 0.0,
-            })
-            .sum()
+        for (r, y) in rs.iter().zip(ys) {
+            ind.push(r - y, 0.0);
+        }
+        ind.value().iae
     };
     let mut out: Vec<(f64, Event)> = Vec::new();
     for s in setpoint {

@@ -900,7 +900,7 @@ impl Scenario {
             .chain(self.disturbance.iter().map(|d| d.at))
             .filter(|t| *t > first + 1e-9 * first.abs().max(1.0))
             .fold(f64::INFINITY, f64::min);
-        let events = metrics::events(&result, &setpoint, &self.disturbance);
+        let events = metrics::events(&result, &setpoint, &self.disturbance, ts);
         // the two conventions are independent passes over the signals
         let both = || {
             (

@@ -128,9 +128,7 @@ impl RunOutput {
         if self.metrics.step.settling_time <= 0.9 * self.duration {
             return true;
         }
-        let tail = y.get(n - n / 10..).unwrap_or(&[]);
-        let swing = tail.iter().fold(f64::MIN, |m, v| m.max(*v))
-            - tail.iter().fold(f64::MAX, |m, v| m.min(*v));
+        let swing = crate::sweep::swing(y.get(n - n / 10..).unwrap_or(&[]));
         let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
         n >= 10 && swing <= 1e-3 * scale
     }
