@@ -632,9 +632,12 @@ impl Scenario {
 
     /// The margins of the tuned single loop on the plant (sampled view:
     /// the plant behind the hold, exact delay) and what they warn of: a
-    /// sensitivity peak `Ms > 2` (Åström & Hägglund (2006) Sec. 4.4 give
-    /// 1.2–2 as the usual range) or a delay margin below 20 % of the dead
-    /// time; the warning names the `λ` (the tuning rule's, retuned in steps
+    /// sensitivity peak `Ms > 2` (Åström & Hägglund (2006) use `Ms` as the
+    /// robustness measure, with 1.2–2 as the usual design range) or a delay
+    /// margin below 20 % of the dead time (msp's own threshold: a dead time
+    /// 20 % longer than modelled is a common model error; no source gives
+    /// one), or a parameter outside a source's stability range
+    /// ([`registry::DesignValue::StableRange`]); the warning names the `λ` (the tuning rule's, retuned in steps
     /// up to 8× the present one) that gives `Ms ≤ 2` with a delay margin of
     /// at least 20 % of the dead time. `None` for a controller without a
     /// frequency response.
