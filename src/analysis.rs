@@ -472,6 +472,8 @@ pub struct Analysis {
     pub ts: f64,
     /// The controller (`none`: the bare plant, or a pure gain `kp`).
     pub controller: &'static str,
+    /// The loop is the bare plant or a pure gain, `L = kp·G`: no controller.
+    pub bare: bool,
     /// Its parameters.
     pub params: crate::registry::Params,
     /// How the plant is seen: behind the hold, discrete, or continuous.
@@ -757,6 +759,7 @@ pub fn analyze(
         inner_process: inner,
         ts,
         controller: if bare { "none" } else { built.scheme },
+        bare,
         view,
         params: built.params,
         margins: m,

@@ -251,7 +251,7 @@ pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
         msp::analysis::View::Discrete => "the plant's exact discrete equivalent",
         msp::analysis::View::Continuous => "the continuous plant, no hold",
     };
-    if an.controller == "none" {
+    if an.bare {
         let kp = an.params.get("kp").unwrap_or(1.0);
         let gain = if kp == 1.0 {
             "L = G".to_string()
