@@ -4,6 +4,18 @@ use msp::study::RunOutput;
 
 use super::fmt_sig;
 
+/// A time series as plot points: at most ~2000 of them (the picture is the
+/// same, the file small), always ending at the last sample.
+fn points(t: &[f64], v: &[f64]) -> Vec<(f64, f64)> {
+    let stride = (t.len() / 2000).max(1);
+    t.iter()
+        .copied()
+        .zip(v.iter().copied())
+        .step_by(stride)
+        .chain(t.last().copied().zip(v.last().copied()))
+        .collect()
+}
+
 /// An SVG with r and every run's y on top and u below.
 pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
@@ -36,16 +48,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         let pad = ((hi - lo) * 0.08).max(1e-9);
         (lo - pad, hi + pad)
     };
-    // at most ~2000 points per series: the picture is the same, the file small
-    let pts = |t: &Vec<f64>, v: &Vec<f64>| -> Vec<(f64, f64)> {
-        let stride = (t.len() / 2000).max(1);
-        t.iter()
-            .copied()
-            .zip(v.iter().copied())
-            .step_by(stride)
-            .chain(t.last().copied().zip(v.last().copied()))
-            .collect()
-    };
+    let pts = |t: &Vec<f64>, v: &Vec<f64>| points(t, v);
     let mut ys: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.y).collect();
     ys.push(&first.result.r);
     let mut us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
@@ -393,14 +396,7 @@ pub(crate) fn step_svg(
             (a.min(x), b.max(x))
         });
     let pad = ((hi - lo) * 0.08).max(1e-9);
-    let stride = (s.t.len() / 2000).max(1);
-    let pts: Vec<(f64, f64)> =
-        s.t.iter()
-            .copied()
-            .zip(s.y.iter().copied())
-            .step_by(stride)
-            .chain(s.t.last().copied().zip(s.y.last().copied()))
-            .collect();
+    let pts = points(&s.t, &s.y);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 450)).into_drawing_area();
