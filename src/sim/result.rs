@@ -85,7 +85,7 @@ impl SimResult {
     /// output disturbance, `y2` for a cascade process, `d_inner` when it has a
     /// `d0` disturbance, then the controller's signals (shortest round-trip
     /// number formatting).
-    pub fn write_csv<W: std::io::Write>(&self, w: &mut W) -> std::io::Result<()> {
+    pub fn write_csv<W: std::io::Write + ?Sized>(&self, w: &mut W) -> std::io::Result<()> {
         let with_dout = self.d_out.iter().any(|v| *v != 0.0);
         let with_y2 = !self.y2.is_empty();
         let with_dinner = !self.d_inner.is_empty();

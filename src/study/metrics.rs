@@ -1,5 +1,6 @@
 //! The figures of a run, as the report, the CLI and Python print them.
 
+use std::borrow::Cow;
 use std::vec::Vec;
 
 use crate::metrics::{step_info, Indices, IntegralIndices, StepInfo};
@@ -199,9 +200,19 @@ pub fn events(
     ts: f64,
 ) -> Vec<Event> {
     let stride = res.substeps.max(1);
-    let t: Vec<f64> = res.t.iter().copied().step_by(stride).collect();
-    let y: Vec<f64> = res.y.iter().copied().step_by(stride).collect();
-    let r: Vec<f64> = res.r.iter().copied().step_by(stride).collect();
+    // the controller's samples: the columns themselves without sub-steps
+    fn every(v: &[f64], stride: usize) -> Cow<'_, [f64]> {
+        if stride == 1 {
+            Cow::Borrowed(v)
+        } else {
+            Cow::Owned(v.iter().copied().step_by(stride).collect())
+        }
+    }
+    let (t, y, r) = (
+        every(&res.t, stride),
+        every(&res.y, stride),
+        every(&res.r, stride),
+    );
     let end = t.last().copied().unwrap_or(0.0);
     let mut starts: Vec<f64> = setpoint
         .iter()
@@ -276,10 +287,9 @@ pub fn events(
             .copied()
             .unwrap_or(f64::NAN);
         let r_ref = r.get(a).copied().unwrap_or(0.0);
-        let seg = |v: &Vec<f64>| v.get(a..b).unwrap_or(&[]).to_vec();
-        let (ts, ys) = (seg(&t), seg(&y));
+        let (ts, ys) = (t.get(a..b).unwrap_or(&[]), y.get(a..b).unwrap_or(&[]));
         let (mut peak, mut peak_at) = (0.0f64, f64::NAN);
-        for (ti, yi) in ts.iter().zip(&ys) {
+        for (ti, yi) in ts.iter().zip(ys) {
             if (yi - y_ref).abs() > peak.abs() {
                 peak = yi - y_ref;
                 peak_at = ti - d.at;

@@ -1,10 +1,11 @@
 //! `msp`: tune, simulate and compare dead-time compensators from the command line.
 //!
 //! `cli` holds the clap types, `commands` one module per subcommand,
-//! `export` every output format, `error` the failures and their exit status.
+//! `data` the CSV files it reads, `export` every output format, `error` the failures and their exit status.
 
 mod cli;
 mod commands;
+mod data;
 mod error;
 mod export;
 

@@ -6,7 +6,7 @@ use crate::export;
 use msp::study::Scenario;
 
 pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
-    let mut files = export::Outputs::plan(&[
+    let planned = export::Outputs::plan(&[
         ("--output", a.output.as_ref()),
         ("--report", a.report.as_ref()),
     ])?;
@@ -37,10 +37,9 @@ pub(crate) fn autotune(a: &AutotuneArgs) -> Result<(), CliError> {
         other => CliError::Runtime(other.to_string()),
     })?;
     let report = export::json::autotune_json(plant, &out);
+    let mut files = planned; // after `out`: the CSV streams from its columns
     if let Some(p) = &a.output {
-        let csv = export::csv::csv_bytes(&out.run)
-            .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
-        files.add(p, csv);
+        files.add(p, export::csv::run_csv(&out.run));
     }
     if let Some(p) = &a.report {
         let text =

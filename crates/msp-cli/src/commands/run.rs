@@ -11,15 +11,14 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         sc.controller.clone_from(&a.controller);
     }
     // every output path is checked before the run
-    let mut files = export::Outputs::plan(&[
+    let planned = export::Outputs::plan(&[
         ("--output", a.output.as_ref()),
         ("--report", a.report.as_ref()),
         ("--plot", a.plot.as_ref()),
     ])?;
     let out = export::busy("simulating", a.quiet, || sc.run())?;
+    let mut files = planned; // after `out`: the CSV streams from its columns
     let warnings = out.warnings();
-    let csv =
-        export::csv::csv_bytes(&out).map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
     if let Some(p) = &a.report {
         let text = serde_json::to_vec_pretty(&export::json::report_json(&out))
             .map_err(|e| CliError::Runtime(e.to_string()))?;
@@ -35,7 +34,7 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
     use std::io::IsTerminal;
     let to_terminal = a.output.is_none() && std::io::stdout().is_terminal();
     if !to_terminal {
-        files.add_or_print(a.output.as_ref(), csv)?;
+        files.add_or_print(a.output.as_ref(), export::csv::run_csv(&out))?;
     }
     // everything is computed: now the files, all or none
     files.commit()?;

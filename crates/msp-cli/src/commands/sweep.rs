@@ -9,7 +9,16 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
     // the output path is checked before a sweep that may take minutes
     let mut files = export::Outputs::plan(&[("--output", a.output.as_ref())])?;
     if !a.merge.is_empty() {
-        let csv = export::csv::merge_sweeps(&a.merge)?;
+        let files_in = a
+            .merge
+            .iter()
+            .map(|p| {
+                std::fs::File::open(p)
+                    .map(|f| (p.display().to_string(), std::io::BufReader::new(f)))
+                    .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let csv = crate::data::merge_sweeps(files_in).map_err(CliError::Input)?;
         files.add_or_print(a.output.as_ref(), csv)?;
         return files.commit();
     }

@@ -2,15 +2,12 @@
 
 use msp::study::RunOutput;
 
-use super::fmt_f;
-use crate::error::CliError;
+use super::{fmt_f, Content};
 
 /// The CSV: `t,r,y,u,d`, `d_out` when there is an output disturbance, then the
-/// controller's internal signals.
-pub(crate) fn csv_bytes(out: &RunOutput) -> std::io::Result<Vec<u8>> {
-    let mut v = Vec::with_capacity(out.result.t.len() * 64);
-    out.result.write_csv(&mut v)?;
-    Ok(v)
+/// controller's internal signals; written row by row into the file.
+pub(crate) fn run_csv(out: &RunOutput) -> Content<'_> {
+    Content::Stream(Box::new(|w| out.result.write_csv(w)))
 }
 
 /// One CSV for a comparison: `t,r`, then `NAME.y,NAME.u,NAME.SIGNAL…` per controller.
@@ -76,58 +73,6 @@ pub(crate) fn sweep_csv(rows: &[msp::sweep::SweepRow]) -> Result<Vec<u8>, csv::E
         w.write_record(&rec)?;
     }
     w.into_inner().map_err(|e| csv::Error::from(e.into_error()))
-}
-
-/// Concatenates shard CSVs (same header) and orders the rows by index.
-pub(crate) fn merge_sweeps(paths: &[std::path::PathBuf]) -> Result<Vec<u8>, CliError> {
-    let mut header: Option<csv::StringRecord> = None;
-    let mut rows: Vec<(usize, csv::StringRecord)> = Vec::new();
-    // which file each run index came from: a shard given twice is an error
-    let mut from: std::collections::HashMap<usize, &std::path::Path> =
-        std::collections::HashMap::new();
-    for p in paths {
-        let mut r = csv::Reader::from_path(p)
-            .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?;
-        let h = r
-            .headers()
-            .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?
-            .clone();
-        match &header {
-            None => header = Some(h),
-            Some(first) if *first != h => {
-                return Err(CliError::Input(format!(
-                    "{}: its columns differ from the first file's",
-                    p.display()
-                )))
-            }
-            Some(_) => {}
-        }
-        for rec in r.records() {
-            let rec = rec.map_err(|e| CliError::Input(format!("{}: {e}", p.display())))?;
-            let idx: usize = rec.get(0).and_then(|x| x.parse().ok()).ok_or_else(|| {
-                CliError::Input(format!("{}: a row without an index", p.display()))
-            })?;
-            if let Some(first) = from.insert(idx, p) {
-                return Err(CliError::Input(format!(
-                    "run {idx} is in both {} and {}: is a shard given twice?",
-                    first.display(),
-                    p.display()
-                )));
-            }
-            rows.push((idx, rec));
-        }
-    }
-    rows.sort_by_key(|(i, _)| *i);
-    let mut w = csv::Writer::from_writer(Vec::new());
-    if let Some(h) = header {
-        w.write_record(&h)
-            .map_err(|e| CliError::Runtime(e.to_string()))?;
-    }
-    for (_, r) in rows {
-        w.write_record(&r)
-            .map_err(|e| CliError::Runtime(e.to_string()))?;
-    }
-    w.into_inner().map_err(|e| CliError::Runtime(e.to_string()))
 }
 
 /// A CSV of named columns of equal length.

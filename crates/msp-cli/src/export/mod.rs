@@ -23,9 +23,41 @@ pub(crate) mod text;
 /// them into place. A failure leaves the old files as they were and no
 /// temporary behind. The path `-` is standard output (as for most Unix
 /// tools), written after the files.
-pub(crate) struct Outputs {
-    files: Vec<(PathBuf, Vec<u8>)>,
-    stdout: Vec<u8>,
+pub(crate) struct Outputs<'a> {
+    files: Vec<(PathBuf, Content<'a>)>,
+    stdout: Option<Content<'a>>,
+}
+
+/// What one output holds: its bytes, or a writer of them that streams into
+/// the file (a run's CSV goes from the recorded columns straight to the
+/// temporary: the text, about 2.5 times the size of the columns, is never
+/// held in memory).
+pub(crate) enum Content<'a> {
+    Bytes(Vec<u8>),
+    Stream(Box<WriteFn<'a>>),
+}
+
+/// A writer of an output's bytes.
+pub(crate) type WriteFn<'a> = dyn FnOnce(&mut dyn Write) -> std::io::Result<()> + 'a;
+
+impl Content<'_> {
+    /// Writes the content to `w` (buffered when it streams).
+    fn write_to(self, w: &mut dyn Write) -> std::io::Result<()> {
+        match self {
+            Content::Bytes(b) => w.write_all(&b),
+            Content::Stream(f) => {
+                let mut buf = std::io::BufWriter::with_capacity(1 << 16, w);
+                f(&mut buf)?;
+                buf.flush()
+            }
+        }
+    }
+}
+
+impl From<Vec<u8>> for Content<'_> {
+    fn from(b: Vec<u8>) -> Self {
+        Content::Bytes(b)
+    }
 }
 
 /// The temporaries being written now: an interrupt removes them.
@@ -86,7 +118,7 @@ pub(crate) fn is_stdout(path: &Path) -> bool {
     path.as_os_str() == "-"
 }
 
-impl Outputs {
+impl<'a> Outputs<'a> {
     /// Checks the paths of a command's outputs (`None` for one not asked for).
     pub(crate) fn plan(paths: &[(&str, Option<&PathBuf>)]) -> Result<Self, CliError> {
         let mut seen: Vec<(PathBuf, &str)> = Vec::new();
@@ -127,32 +159,33 @@ impl Outputs {
         }
         Ok(Outputs {
             files: Vec::new(),
-            stdout: Vec::new(),
+            stdout: None,
         })
     }
 
     /// Adds a file to write.
-    pub(crate) fn add(&mut self, path: &Path, bytes: Vec<u8>) {
+    pub(crate) fn add(&mut self, path: &Path, content: impl Into<Content<'a>>) {
+        let content = content.into();
         if is_stdout(path) {
-            self.stdout = bytes;
+            self.stdout = Some(content);
             return;
         }
-        self.files.push((path.to_path_buf(), bytes));
+        self.files.push((path.to_path_buf(), content));
     }
 
-    /// Adds a file to write, or prints `bytes` now when no path was given
-    /// (`-o` absent: the CSV goes to standard output).
+    /// Adds a file to write, or prints the content now when no path was
+    /// given (`-o` absent: the CSV goes to standard output).
     pub(crate) fn add_or_print(
         &mut self,
         path: Option<&PathBuf>,
-        bytes: Vec<u8>,
+        content: impl Into<Content<'a>>,
     ) -> Result<(), CliError> {
         match path {
             Some(p) if !is_stdout(p) => {
-                self.add(p, bytes);
+                self.add(p, content);
                 Ok(())
             }
-            _ => print(&bytes),
+            _ => print_content(content.into()),
         }
     }
 
@@ -160,14 +193,14 @@ impl Outputs {
     pub(crate) fn commit(self) -> Result<(), CliError> {
         let mut staged = Vec::with_capacity(self.files.len());
         let mut devices = Vec::new();
-        for (path, bytes) in &self.files {
+        for (path, content) in self.files {
             let fail = |e: std::io::Error| {
                 CliError::Runtime(format!("cannot write {}: {e}", path.display()))
             };
             // a device or pipe (`-o /dev/null`, a FIFO) is written in place:
             // renaming a temporary over it would replace the device by a file
-            if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
-                devices.push((path, bytes));
+            if std::fs::metadata(&path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+                devices.push((path, content));
                 continue;
             }
             let mut builder = tempfile::Builder::new();
@@ -179,27 +212,27 @@ impl Outputs {
             #[cfg(unix)]
             {
                 use std::os::unix::fs::PermissionsExt;
-                let mode = std::fs::metadata(path).map_or(0o666, |m| m.permissions().mode());
+                let mode = std::fs::metadata(&path).map_or(0o666, |m| m.permissions().mode());
                 builder.permissions(std::fs::Permissions::from_mode(mode & 0o7777));
             }
-            let mut tmp = builder.tempfile_in(parent(path)).map_err(fail)?;
+            let mut tmp = builder.tempfile_in(parent(&path)).map_err(fail)?;
             if let Ok(mut list) = PENDING.lock() {
                 list.push(tmp.path().to_path_buf());
             }
-            tmp.write_all(bytes).map_err(fail)?;
+            content.write_to(&mut tmp).map_err(fail)?;
             tmp.as_file().sync_all().map_err(fail)?;
             staged.push((tmp, path));
         }
-        for (path, bytes) in devices {
+        for (path, content) in devices {
             std::fs::OpenOptions::new()
                 .write(true)
-                .open(path)
-                .and_then(|mut f| f.write_all(bytes))
+                .open(&path)
+                .and_then(|mut f| content.write_to(&mut f))
                 .map_err(|e| CliError::Runtime(format!("cannot write {}: {e}", path.display())))?;
         }
         // every file is written: now the renames (a dropped temporary deletes itself)
         let renamed = staged.into_iter().try_for_each(|(tmp, path)| {
-            tmp.persist(path).map(|_| ()).map_err(|e| {
+            tmp.persist(&path).map(|_| ()).map_err(|e| {
                 CliError::Runtime(format!("cannot write {}: {}", path.display(), e.error))
             })
         });
@@ -207,10 +240,10 @@ impl Outputs {
             list.clear();
         }
         renamed?;
-        if !self.stdout.is_empty() {
-            print(&self.stdout)?;
+        match self.stdout {
+            Some(content) => print_content(content),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 
@@ -219,6 +252,20 @@ fn parent(path: &Path) -> PathBuf {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
+    }
+}
+
+/// [`print`] for an output's content (streamed through a buffer).
+pub(crate) fn print_content(content: Content<'_>) -> Result<(), CliError> {
+    match content {
+        Content::Bytes(b) => print(&b),
+        stream => {
+            let mut out = std::io::stdout().lock();
+            stream
+                .write_to(&mut out)
+                .and_then(|()| out.flush())
+                .map_err(|e| CliError::stdout(&e))
+        }
     }
 }
 
