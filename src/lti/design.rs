@@ -399,12 +399,25 @@ fn strip_one_value<T: Real>(p: &[T], len: usize, ts: T) -> T {
 /// its companion matrix (nalgebra's real Schur decomposition, as MATLAB's and
 /// numpy's `roots`); `out` receives `deg` roots. Degrees up to 16.
 pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Error> {
+    roots_upto::<16, T>(p, out)
+}
+
+/// [`roots`] of a polynomial of degree at most `D`. Degrees 1 and 2 are
+/// solved in closed form (the quadratic without cancellation:
+/// `q = −(b + sign(b)√(b² − 4c))/2`, roots `q` and `c/q`); with `D ≤ 2` the
+/// Schur decomposition is not compiled in at all, so that a device designing
+/// a first- or second-order block links no code that could panic (nalgebra's
+/// decompositions assert their indices).
+pub(crate) fn roots_upto<const D: usize, T: Real>(
+    p: &[T],
+    out: &mut [Complex<T>],
+) -> Result<(), Error> {
     let p = trim(p);
     let deg = p.len().saturating_sub(1);
     if deg == 0 {
         return Ok(());
     }
-    if deg > out.len() {
+    if deg > out.len() || deg > D {
         return Err(Error::OrderTooHigh("polynomial"));
     }
     let lead = p.first().map_or(1.0, |x| x.f64());
@@ -412,7 +425,11 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Erro
     for (m, c) in monic.iter_mut().zip(p.iter()) {
         *m = c.f64() / lead;
     }
-    let (found, k) = if deg <= 4 {
+    let (found, k) = if deg <= 2 {
+        low_degree_roots(&monic, deg)
+    } else if D <= 2 {
+        return Err(Error::OrderTooHigh("polynomial"));
+    } else if deg <= 4 {
         companion_roots_4(&monic, deg)?
     } else if deg <= 16 {
         companion_roots_16(&monic, deg)?
@@ -435,6 +452,28 @@ pub(crate) fn roots<T: Real>(p: &[T], out: &mut [Complex<T>]) -> Result<(), Erro
         *o = Complex::new(T::of(*re), T::of(im));
     }
     Ok(())
+}
+
+/// The roots of a monic polynomial of degree 1 or 2, `(re, im)`, and their count.
+fn low_degree_roots(monic: &[f64; 17], deg: usize) -> ([(f64, f64); 16], usize) {
+    let mut out = [(0.0, 0.0); 16];
+    let (b, c) = (monic[1], monic[2]);
+    if deg == 1 {
+        out[0] = (-b, 0.0);
+        return (out, 1);
+    }
+    let disc = b * b - 4.0 * c;
+    if disc >= 0.0 {
+        let q = -0.5 * (b + b.signum() * num_traits::Float::sqrt(disc));
+        let r2 = if q == 0.0 { 0.0 } else { c / q };
+        out[0] = (q, 0.0);
+        out[1] = (r2, 0.0);
+    } else {
+        let im = 0.5 * num_traits::Float::sqrt(-disc);
+        out[0] = (-0.5 * b, im);
+        out[1] = (-0.5 * b, -im);
+    }
+    (out, 2)
 }
 
 /// Entry `(i, j)` of the companion matrix of the monic polynomial

@@ -77,49 +77,72 @@ pub(crate) fn solve<const N: usize, const C: usize>(
     Ok(inverse(a, n)? * b)
 }
 
-/// The inverse of the leading `n×n` block of `a` (zero outside it), by LU
-/// with partial pivoting. The factorization runs at a fixed size (4, or 16
-/// for larger blocks) so that nalgebra's decompositions see a concrete dimension.
+/// The inverse of the leading `n×n` block of `a` (zero outside it), by
+/// Gauss–Jordan elimination with partial pivoting; a pivot below
+/// `ε·‖A‖₁` is a matrix singular to working precision.
+///
+/// Written out on nalgebra's storage rather than with nalgebra's `LU`: its
+/// index assertions would link a panic path into every device build that
+/// designs a block (the C library is checked to have none), and here each
+/// access is a checked `get` that cannot panic.
 pub(crate) fn inverse<const N: usize>(a: &Mat<N>, n: usize) -> Result<Mat<N>, Error> {
-    if n <= 4 {
-        inverse_at::<4, N>(a, n)
-    } else if n <= 16 {
-        inverse_at::<16, N>(a, n)
-    } else {
-        Err(Error::OrderTooHigh("n"))
+    if n > N {
+        return Err(Error::OrderTooHigh("n"));
     }
-}
-
-fn inverse_at<const M: usize, const N: usize>(a: &Mat<N>, n: usize) -> Result<Mat<N>, Error>
-where
-    nalgebra::Const<M>: nalgebra::DimMin<nalgebra::Const<M>, Output = nalgebra::Const<M>>,
-{
-    // the leading block, ones on the rest of the diagonal
-    let am = SMatrix::<f64, M, M>::from_fn(|i, j| match (i < n && j < n, i == j) {
-        (true, _) => a.get((i, j)).copied().unwrap_or(0.0),
-        (false, true) => 1.0,
-        (false, false) => 0.0,
-    });
-    let scale = norm1(&am).max(f64::MIN_POSITIVE);
-    let lu = am.lu();
-    let smallest = lu
-        .u()
-        .diagonal()
-        .iter()
-        .fold(f64::INFINITY, |m, x| m.min(x.abs()));
-    if !(smallest > f64::EPSILON * scale) {
-        return Err(Error::Numerical("matrix inversion"));
-    }
-    let inv = lu
-        .try_inverse()
-        .ok_or(Error::Numerical("matrix inversion"))?;
-    Ok(Mat::<N>::from_fn(|i, j| {
-        if i < n && j < n {
-            inv.get((i, j)).copied().unwrap_or(0.0)
-        } else {
-            0.0
+    let scale = norm1(a).max(f64::MIN_POSITIVE);
+    let mut m = *a;
+    let mut inv = Mat::<N>::zeros();
+    for i in 0..n {
+        if let Some(x) = inv.get_mut((i, i)) {
+            *x = 1.0;
         }
-    }))
+    }
+    let at = |m: &Mat<N>, i: usize, j: usize| m.get((i, j)).copied().unwrap_or(0.0);
+    for col in 0..n {
+        // the largest pivot of the column at or below the diagonal
+        let (piv, size) = (col..n)
+            .map(|r| (r, at(&m, r, col).abs()))
+            .fold((col, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+        if !(size > f64::EPSILON * scale) {
+            return Err(Error::Numerical("matrix inversion"));
+        }
+        if piv != col {
+            for j in 0..n {
+                for x in [&mut m, &mut inv] {
+                    let (p, c) = (at(x, piv, j), at(x, col, j));
+                    if let Some(e) = x.get_mut((piv, j)) {
+                        *e = c;
+                    }
+                    if let Some(e) = x.get_mut((col, j)) {
+                        *e = p;
+                    }
+                }
+            }
+        }
+        let d = at(&m, col, col);
+        for j in 0..n {
+            for x in [&mut m, &mut inv] {
+                if let Some(e) = x.get_mut((col, j)) {
+                    *e /= d;
+                }
+            }
+        }
+        for r in (0..n).filter(|r| *r != col) {
+            let f = at(&m, r, col);
+            if f == 0.0 {
+                continue;
+            }
+            for j in 0..n {
+                for x in [&mut m, &mut inv] {
+                    let v = at(x, col, j);
+                    if let Some(e) = x.get_mut((r, j)) {
+                        *e -= f * v;
+                    }
+                }
+            }
+        }
+    }
+    Ok(inv)
 }
 
 /// `e^{A h}` and `∫₀^h e^{A τ} dτ` (Moler & Van Loan (2003), method 3) by

@@ -179,6 +179,14 @@ impl<S: AsRef<[f64]>> FspDesign<S> {
     }
 }
 
+/// `s` when it holds at least `len` values.
+pub(crate) fn sized<T, S: AsRef<[T]>>(s: S, len: usize) -> Result<S, Error> {
+    if s.as_ref().len() < len {
+        return Err(Error::DelayTooLong("predictor storage"));
+    }
+    Ok(s)
+}
+
 /// Storage of at least `len` values.
 pub(crate) fn buffer<T: crate::Real, S: DelayStorage<T>>(len: usize) -> Result<S, Error> {
     let n = u32::try_from(len).map_err(|_| Error::DelayTooLong("predictor storage"))?;
@@ -233,6 +241,20 @@ pub fn design_with<S: DelayStorage<f64>, const N: usize>(
     ts: f64,
     spec: &FrSpec,
 ) -> Result<FspDesign<S>, Error> {
+    design_in(gm, h, ts, spec, buffer)
+}
+
+/// [`design_with`] with its two dead-time-sized buffers (a scratch of
+/// `h + deg Dr + 1` values, then `S`'s numerator) taken from `storage`,
+/// which returns storage of at least the length asked for (or an error):
+/// for memory the caller owns, e.g. slices of one buffer given to the C API.
+pub fn design_in<S: AsRef<[f64]> + AsMut<[f64]>, const N: usize>(
+    gm: &Lti<f64, N>,
+    h: usize,
+    ts: f64,
+    spec: &FrSpec,
+    mut storage: impl FnMut(usize) -> Result<S, Error>,
+) -> Result<FspDesign<S>, Error> {
     if gm.feedthrough() != 0.0 {
         return Err(Error::Unsupported(
             "fsp needs a strictly proper model (TransferFunction::to_model_lti gives one)",
@@ -241,7 +263,7 @@ pub fn design_with<S: DelayStorage<f64>, const N: usize>(
     let (nm, dm) = model_tf(gm);
     let deg = dm.len().saturating_sub(1);
     let mut rts = [Complex::<f64>::default(); SMALL];
-    crate::lti::roots(dm.as_slice(), &mut rts)?;
+    crate::lti::roots_upto::<N, f64>(dm.as_slice(), &mut rts)?;
     let (mut dplus, mut dminus) = (SmallPoly::new(&[1.0])?, SmallPoly::new(&[1.0])?);
     // the roots of Dm⁺(z)(z − 1) with multiplicities (clustered within 1e-6)
     let mut cond = [(0.0f64, 0usize); MAX_CONDITIONS];
@@ -300,7 +322,7 @@ pub fn design_with<S: DelayStorage<f64>, const N: usize>(
     let nr = q.mul(c.get(..k).unwrap_or(&[]))?;
     // diff = z^h·Dr − Nr, then p = diff/(Dm⁺(z − 1)) in place (quotient in front)
     let dlen = h.saturating_add(dr.len());
-    let mut diff: S = buffer(dlen)?;
+    let mut diff: S = sized(storage(dlen)?, dlen)?;
     {
         let d = diff.as_mut();
         d.iter_mut().for_each(|v| *v = 0.0);
@@ -340,7 +362,7 @@ pub fn design_with<S: DelayStorage<f64>, const N: usize>(
     let db = blen.saturating_sub(1);
     let s_len = da.saturating_add(1);
     let off = da.saturating_sub(db);
-    let mut s_num: S = buffer(s_len)?;
+    let mut s_num: S = sized(storage(s_len)?, s_len)?;
     {
         let p = diff.as_ref();
         let out = s_num.as_mut();

@@ -159,7 +159,9 @@ mod design;
 mod runtime;
 
 pub(crate) use self::design::buffer;
-pub use self::design::{design, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL};
+pub use self::design::{
+    design, design_in, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL,
+};
 pub use self::runtime::{
     DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
 };

@@ -1,7 +1,7 @@
 //! The controllers: generic over `f32`/`f64` and over the storage of the
 //! dead-time-sized buffers (`Vec` on a host, arrays on a device).
 
-use super::design::{buffer, FspDesign, SMALL};
+use super::design::{buffer, sized, FspDesign, SMALL};
 use crate::delay::DelayStorage;
 use crate::params::ParamList;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
@@ -104,16 +104,28 @@ pub struct DirectForm<T, S> {
 impl<T: Real, S: DelayStorage<T>> DirectForm<T, S> {
     /// The filter `num/den` in powers of `z^{−1}` (`num[0]` is ignored: strictly proper).
     pub fn new(num: &[f64], den: &[f64]) -> Result<Self, Error> {
+        DirectForm::new_in(num, den, buffer)
+    }
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
+    /// [`DirectForm::new`] with the numerator and the input history (each
+    /// `num.len()` values) in storage from `storage` (memory the caller owns).
+    pub fn new_in(
+        num: &[f64],
+        den: &[f64],
+        mut storage: impl FnMut(usize) -> Result<S, Error>,
+    ) -> Result<Self, Error> {
         if den.len() > SMALL {
             return Err(Error::OrderTooHigh("predictor denominator"));
         }
         let nlen = num.len().max(1);
-        let mut nb: S = buffer(nlen)?;
+        let mut nb: S = sized(storage(nlen)?, nlen)?;
         nb.as_mut().iter_mut().for_each(|v| *v = T::zero());
         for (d, v) in nb.as_mut().iter_mut().zip(num) {
             *d = T::of(*v);
         }
-        let mut u_hist: S = buffer(nlen)?;
+        let mut u_hist: S = sized(storage(nlen)?, nlen)?;
         u_hist.as_mut().iter_mut().for_each(|v| *v = T::zero());
         let mut dn = [T::zero(); SMALL];
         for (d, v) in dn.iter_mut().zip(den) {
@@ -203,9 +215,20 @@ pub struct FspPredictor<T, S> {
 impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
     /// The predictor of a design.
     pub fn new<D: AsRef<[f64]>>(d: &FspDesign<D>) -> Result<Self, Error> {
+        FspPredictor::new_in(d, buffer)
+    }
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> FspPredictor<T, S> {
+    /// [`FspPredictor::new`] with its two dead-time-sized buffers from
+    /// `storage` (see [`DirectForm::new_in`]).
+    pub fn new_in<D: AsRef<[f64]>>(
+        d: &FspDesign<D>,
+        storage: impl FnMut(usize) -> Result<S, Error>,
+    ) -> Result<Self, Error> {
         Ok(FspPredictor {
             fr: Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?,
-            s: DirectForm::new(d.s_num(), d.s_den.as_slice())?,
+            s: DirectForm::new_in(d.s_num(), d.s_den.as_slice(), storage)?,
             last_s: T::zero(),
         })
     }
