@@ -322,6 +322,11 @@ fn main() -> ! {
             per(t_fs),
             ram_fs,
         );
+    // the Smith predictor's f32 output at the check points, which the C
+    // example's run (examples/c/smith.c) is compared with by scripts/c
+    for (i, y) in y_sp.iter().enumerate() {
+        hprintln!("y smith {} {:e}", (i + 1) * (loops::SAMPLES / loops::CHECKS), y);
+    }
     hprintln!("verdict: {}", if ok { "PASS" } else { "FAIL" });
     debug::exit(if ok {
         debug::EXIT_SUCCESS

@@ -1,0 +1,1063 @@
+//! Controllers in caller-owned memory: the configurations, the sizes, the
+//! initialization and the per-sample calls.
+
+use core::mem::{align_of, size_of};
+
+use msp_core::dtc::fsp::{design_in, FilteredSmith, FrSpec, FspPredictor};
+use msp_core::dtc::karan_dey::{self, KaranDey, KaranDeyParams};
+use msp_core::{
+    Controller, Delay, Error, Fopdt, Ipdt, ParamList, Pid, PidConfig, ProcessModel, Real,
+    SmithPredictor, Ufopdt,
+};
+
+use crate::{msp_status, report};
+
+/// The kind of process model a controller is built around.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum msp_model_kind {
+    /// First order plus dead time `k e^{−θs}/(τs + 1)`.
+    MSP_FOPDT = 0,
+    /// Integrator plus dead time `k e^{−θs}/s` (`tau` is not read).
+    MSP_IPDT = 1,
+    /// Unstable first order plus dead time `k e^{−θs}/(τs − 1)`.
+    MSP_UFOPDT = 2,
+}
+
+/// A process model: gain `k`, time constant `tau` (s) and dead time `theta` (s).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct msp_model_of<T> {
+    pub kind: msp_model_kind,
+    pub k: T,
+    pub tau: T,
+    pub theta: T,
+}
+
+/// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
+/// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
+/// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct msp_pid_params_of<T> {
+    pub kp: T,
+    pub ti: T,
+    pub td: T,
+    pub u_min: T,
+    pub u_max: T,
+}
+
+/// A PID controller sampled every `ts` seconds.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct msp_pid_config_of<T> {
+    pub ts: T,
+    pub pid: msp_pid_params_of<T>,
+}
+
+/// The classic Smith predictor (Smith (1957)): the PID `pid` around the
+/// model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct msp_smith_config_of<T> {
+    pub ts: T,
+    pub model: msp_model_of<T>,
+    pub pid: msp_pid_params_of<T>,
+}
+
+/// The Karan–Dey modified Smith predictor for integrating plants (Bag
+/// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
+/// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct msp_karan_dey_config_of<T> {
+    pub ts: T,
+    pub model: msp_model_of<T>,
+    pub kp: T,
+    pub ti: T,
+    pub beta: T,
+    pub gamma: T,
+    pub td: T,
+    pub n: T,
+    pub u_min: T,
+    pub u_max: T,
+}
+
+/// The filtered Smith predictor for unstable, integrating and stable plants
+/// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
+/// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
+/// `Fr` and `S` designed at initialization (in double precision).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct msp_fsp_config_of<T> {
+    pub ts: T,
+    pub model: msp_model_of<T>,
+    pub pid: msp_pid_params_of<T>,
+    pub tf: T,
+}
+
+/// `float` configurations (the device's type).
+pub type msp_model = msp_model_of<f32>;
+pub type msp_pid_params = msp_pid_params_of<f32>;
+pub type msp_pid_config = msp_pid_config_of<f32>;
+pub type msp_smith_config = msp_smith_config_of<f32>;
+pub type msp_karan_dey_config = msp_karan_dey_config_of<f32>;
+pub type msp_fsp_config = msp_fsp_config_of<f32>;
+/// `double` configurations (a host's type).
+pub type msp_model_f64 = msp_model_of<f64>;
+pub type msp_pid_params_f64 = msp_pid_params_of<f64>;
+pub type msp_pid_config_f64 = msp_pid_config_of<f64>;
+pub type msp_smith_config_f64 = msp_smith_config_of<f64>;
+pub type msp_karan_dey_config_f64 = msp_karan_dey_config_of<f64>;
+pub type msp_fsp_config_f64 = msp_fsp_config_of<f64>;
+
+/// A `float` controller built by an `msp_*_init` call (opaque).
+pub struct msp_controller {
+    _opaque: [u8; 0],
+}
+
+/// A `double` controller built by an `msp_*_init_f64` call (opaque).
+pub struct msp_controller_f64 {
+    _opaque: [u8; 0],
+}
+
+/// Storage that lives in the caller's buffer.
+type Buf<T> = &'static mut [T];
+
+/// The schemes one handle can hold.
+enum Scheme<T: Real> {
+    Pid(Pid<T>),
+    Smith(SmithPredictor<T, 1, Buf<T>>),
+    KaranDey(KaranDey<T, 1, Buf<T>>),
+    Fsp(FilteredSmith<T, Buf<T>>),
+}
+
+/// What sits at the start of the caller's buffer: a tag saying the handle is
+/// one of ours and of which precision, then the scheme (`repr(C)`: the tag
+/// is the first word, read before anything else is trusted).
+///
+/// `update` and `ctrl` are the per-sample path: the scheme's own update
+/// function and the controller inside `scheme`, so that `msp_update` is a
+/// tag check and one indirect call, without a dispatch on the scheme.
+#[repr(C)]
+struct Handle<T: Real> {
+    magic: u32,
+    update: UpdateFn<T>,
+    ctrl: *mut u8,
+    scheme: Scheme<T>,
+}
+
+/// A scheme's per-sample call on its controller's address.
+type UpdateFn<T> = unsafe fn(*mut u8, T, T) -> T;
+
+/// The per-sample call of a controller of type `C` at `c`.
+///
+/// # Safety
+/// `c` points to a live `C` (the one inside a handle).
+unsafe fn update_of<T: Real, C: Controller<T>>(c: *mut u8, r: T, y: T) -> T {
+    // SAFETY: the handle's `ctrl` points to its scheme's controller
+    unsafe { (*c.cast::<C>()).update(r, y) }
+}
+
+impl<T: Precision> Handle<T> {
+    /// Points `update` and `ctrl` at the controller in `scheme` (the handle
+    /// is in its final place: the caller's buffer).
+    fn bind(&mut self) {
+        fn of<T: Real, C: Controller<T>>(c: &mut C) -> (UpdateFn<T>, *mut u8) {
+            (update_of::<T, C>, (c as *mut C).cast())
+        }
+        (self.update, self.ctrl) = match &mut self.scheme {
+            Scheme::Smith(c) => of(c),
+            Scheme::KaranDey(c) => of(c),
+            Scheme::Fsp(c) => of(c),
+            Scheme::Pid(c) => of(c),
+        };
+    }
+}
+
+/// The handle of a precision: its tag.
+pub(crate) trait Precision: Real {
+    const MAGIC: u32;
+}
+impl Precision for f32 {
+    const MAGIC: u32 = 0x6d6d_6d6d; // one byte repeated: a Thumb-2 immediate
+}
+impl Precision for f64 {
+    const MAGIC: u32 = 0x3636_3636;
+}
+
+/// A bump allocator over the caller's buffer.
+pub(crate) struct Arena {
+    at: usize,
+    end: usize,
+    /// Set when a request did not fit.
+    pub(crate) exhausted: bool,
+}
+
+impl Arena {
+    /// The arena of `len` bytes at `buf`.
+    pub(crate) fn new(buf: *mut u8, len: usize) -> Self {
+        let at = buf as usize;
+        Arena {
+            at,
+            end: at.saturating_add(len),
+            exhausted: false,
+        }
+    }
+
+    /// Room for one `U`, aligned.
+    pub(crate) fn place<U>(&mut self) -> Option<*mut U> {
+        let p = self.take_bytes(size_of::<U>(), align_of::<U>())?;
+        Some(p.cast())
+    }
+
+    /// `n` values of `U`, zeroed, living as long as the caller's buffer.
+    pub(crate) fn slice<U: Real>(&mut self, n: usize) -> Result<&'static mut [U], Error> {
+        let bytes = n.checked_mul(size_of::<U>());
+        let Some(p) = bytes.and_then(|b| self.take_bytes(b, align_of::<U>())) else {
+            self.exhausted = true;
+            return Err(Error::DelayTooLong("buffer"));
+        };
+        let p = p.cast::<U>();
+        for i in 0..n {
+            // SAFETY: `p..p+n` is inside the caller's buffer, aligned for `U`,
+            // and given out once
+            unsafe { p.add(i).write(U::zero()) };
+        }
+        // SAFETY: as above; the caller keeps the buffer while the handle lives
+        Ok(unsafe { core::slice::from_raw_parts_mut(p, n) })
+    }
+
+    /// What is left, in values of `U`.
+    pub(crate) fn rest<U: Real>(&mut self) -> Result<&'static mut [U], Error> {
+        let start = align_up(self.at, align_of::<U>());
+        let n = start.map_or(0, |s| self.end.saturating_sub(s) / size_of::<U>());
+        self.slice(n)
+    }
+
+    fn take_bytes(&mut self, bytes: usize, align: usize) -> Option<*mut u8> {
+        let start = align_up(self.at, align)?;
+        let stop = start.checked_add(bytes)?;
+        if stop > self.end {
+            self.exhausted = true;
+            return None;
+        }
+        self.at = stop;
+        Some(start as *mut u8)
+    }
+}
+
+fn align_up(x: usize, align: usize) -> Option<usize> {
+    let a = align.max(1);
+    x.checked_add(a - 1).map(|v| v / a * a)
+}
+
+/// Bytes for a handle and `values` values of `T` (and `scratch` doubles of
+/// design scratch), with the alignment slack of any buffer.
+fn bytes_for<T: Precision>(values: usize, scratch: usize) -> Option<usize> {
+    let slack = align_of::<Handle<T>>() + align_of::<T>() + align_of::<f64>();
+    size_of::<Handle<T>>()
+        .checked_add(values.checked_mul(size_of::<T>())?)?
+        .checked_add(scratch.checked_mul(size_of::<f64>())?)?
+        .checked_add(slack)
+}
+
+fn model<T: Real>(m: &msp_model_of<T>) -> Result<ProcessModel<T>, Error> {
+    Ok(match m.kind {
+        msp_model_kind::MSP_FOPDT => Fopdt::new(m.k, m.tau, m.theta)?.into(),
+        msp_model_kind::MSP_IPDT => Ipdt::new(m.k, m.theta)?.into(),
+        msp_model_kind::MSP_UFOPDT => Ufopdt::new(m.k, m.tau, m.theta)?.into(),
+    })
+}
+
+fn pid_config<T: Real>(p: &msp_pid_params_of<T>, ts: T) -> Result<PidConfig<T>, Error> {
+    let c = PidConfig::try_isa(p.kp, p.ti, p.td, ts)?.with_limits(p.u_min, p.u_max);
+    c.validate()?;
+    Ok(c)
+}
+
+/// The model kinds a scheme takes (the registry's plant kinds): the classic
+/// Smith predictor leaves an unstable model's pole in the loop, and the
+/// Karan–Dey predictor is designed for integrating plants.
+fn takes(m: &msp_model_of<impl Real>, kinds: &[msp_model_kind]) -> Result<(), Error> {
+    if kinds.contains(&m.kind) {
+        Ok(())
+    } else {
+        Err(Error::Unsupported("a model kind the scheme does not take"))
+    }
+}
+
+/// The model's dead time in samples (checked) at the period `ts`.
+fn dead_time<T: Real>(m: &msp_model_of<T>, ts: T) -> Result<(ProcessModel<T>, T), Error> {
+    let pm = model(m)?;
+    let ts = positive(ts, "ts")?;
+    let d = msp_core::delay::samples(pm.delay(), ts)?;
+    Ok((pm, d))
+}
+
+/// `v` when it is finite and greater than zero.
+fn positive<T: Real>(v: T, name: &'static str) -> Result<T, Error> {
+    if !v.is_finite() {
+        Err(Error::NonFinite(name))
+    } else if v > T::zero() {
+        Ok(v)
+    } else {
+        Err(Error::NotPositive(name))
+    }
+}
+
+/// Whole samples of a delay of `d` samples, when it fits in 2³¹.
+fn whole<T: Real>(d: T) -> Option<usize> {
+    let c = d.ceil().to_f64()?;
+    if c.is_finite() && (0.0..2_147_483_648.0).contains(&c) {
+        // in range: checked just above
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        Some(c as usize)
+    } else {
+        None
+    }
+}
+
+/// The values of `T` a scheme keeps beyond its handle, and the f64 scratch
+/// its design needs, for a dead time of `samples` samples.
+fn storage_of(kind: Kind, samples: usize) -> Option<(usize, usize)> {
+    const SMALL: usize = msp_core::dtc::fsp::SMALL;
+    Some(match kind {
+        Kind::Pid => (0, 0),
+        Kind::Line => (samples.max(1), 0),
+        // S's numerator and input history (h + order + 1 each); in f64 the
+        // design's scratch and S's numerator, (h + SMALL) each
+        Kind::Fsp => {
+            let n = samples.checked_add(SMALL)?;
+            (n.checked_mul(2)?, n.checked_mul(2)?)
+        }
+    })
+}
+
+#[derive(Clone, Copy)]
+enum Kind {
+    Pid,
+    Line,
+    Fsp,
+}
+
+/// `msp_*_size`: the bytes for `kind` with a dead time of `samples`
+/// (checked), or at least `max_samples`.
+fn size_for<T: Precision>(
+    kind: Kind,
+    samples: Result<T, Error>,
+    max_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    let samples = match samples {
+        Ok(s) => s,
+        Err(e) => {
+            report(status, e.into());
+            return 0;
+        }
+    };
+    let need = whole(samples);
+    let Some(need) = need else {
+        report(status, msp_status::MSP_DEAD_TIME_TOO_LONG);
+        return 0;
+    };
+    let n = need.max(max_samples as usize);
+    match storage_of(kind, n).and_then(|(v, s)| bytes_for::<T>(v, s)) {
+        Some(b) => {
+            report(status, msp_status::MSP_OK);
+            b
+        }
+        None => {
+            report(status, msp_status::MSP_DEAD_TIME_TOO_LONG);
+            0
+        }
+    }
+}
+
+/// Builds a handle in the caller's buffer with `make`, which takes its
+/// storage from the arena after the handle.
+///
+/// # Safety
+/// `buf` is null or points to `len` writable bytes; `out` is null or writable.
+unsafe fn init<T: Precision, H>(
+    buf: *mut u8,
+    len: usize,
+    out: *mut *mut H,
+    make: impl FnOnce(&mut Arena) -> Result<Scheme<T>, Error>,
+) -> msp_status {
+    if buf.is_null() || out.is_null() {
+        return msp_status::MSP_NULL_POINTER;
+    }
+    let mut arena = Arena::new(buf, len);
+    let Some(slot) = arena.place::<Handle<T>>() else {
+        return msp_status::MSP_BUFFER_TOO_SMALL;
+    };
+    let scheme = match make(&mut arena) {
+        Ok(s) => s,
+        Err(_) if arena.exhausted => return msp_status::MSP_BUFFER_TOO_SMALL,
+        Err(e) => return e.into(),
+    };
+    // SAFETY: `slot` is aligned and inside the buffer (the arena checked)
+    unsafe {
+        slot.write(Handle {
+            magic: T::MAGIC,
+            update: update_of::<T, Pid<T>>,
+            ctrl: core::ptr::null_mut(),
+            scheme,
+        });
+        (*slot).bind();
+        out.write(slot.cast());
+    }
+    msp_status::MSP_OK
+}
+
+fn make_pid<T: Real>(c: &msp_pid_config_of<T>) -> Result<Scheme<T>, Error> {
+    Ok(Scheme::Pid(Pid::new(pid_config(&c.pid, c.ts)?)?))
+}
+
+fn make_smith<T: Real>(c: &msp_smith_config_of<T>, a: &mut Arena) -> Result<Scheme<T>, Error> {
+    smith_samples(c)?;
+    let (m, d) = dead_time(&c.model, c.ts)?;
+    let pid = pid_config(&c.pid, c.ts)?;
+    let (block, _) = m.discretize::<1>(c.ts)?;
+    let line = Delay::with_storage(a.rest::<T>()?, d)?;
+    Ok(Scheme::Smith(SmithPredictor::new(pid, block, line)?))
+}
+
+fn make_karan_dey<T: Real>(
+    c: &msp_karan_dey_config_of<T>,
+    a: &mut Arena,
+) -> Result<Scheme<T>, Error> {
+    karan_dey_samples(c)?;
+    let (m, d) = dead_time(&c.model, c.ts)?;
+    let p = KaranDeyParams {
+        kp: c.kp,
+        ti: c.ti,
+        beta: c.beta,
+        gamma: c.gamma,
+        td: c.td,
+        n: c.n,
+    };
+    let (block, _) = m.discretize::<1>(c.ts)?;
+    let line = Delay::with_storage(a.rest::<T>()?, d)?;
+    let k = karan_dey::build(&p, c.ts, block, line)?.with_limits(c.u_min, c.u_max)?;
+    Ok(Scheme::KaranDey(k))
+}
+
+fn make_fsp<T: Real>(c: &msp_fsp_config_of<T>, a: &mut Arena) -> Result<Scheme<T>, Error> {
+    let (_, d) = dead_time(&c.model, c.ts)?;
+    let pid = pid_config(&c.pid, c.ts)?;
+    let tf = positive(c.tf, "tf")?.to_f64().unwrap_or(f64::NAN);
+    let ts = c.ts.to_f64().unwrap_or(f64::NAN);
+    // the design runs in f64 whatever T is (as on the host)
+    let wide = |v: T| v.to_f64().unwrap_or(f64::NAN);
+    let m64 = model(&msp_model_of {
+        kind: c.model.kind,
+        k: wide(c.model.k),
+        tau: wide(c.model.tau),
+        theta: wide(c.model.theta),
+    })?;
+    let (gm, _) = m64.discretize::<1>(ts)?;
+    let h = whole(d).ok_or(Error::DelayTooLong("theta"))?;
+    if (d.to_f64().unwrap_or(f64::NAN) - h as f64).abs() > 1e-6 {
+        return Err(Error::Unsupported(
+            "the filtered Smith predictor needs a dead time of whole samples",
+        ));
+    }
+    let spec = FrSpec {
+        tf,
+        lead: None,
+        biproper: false,
+    };
+    // the design's two f64 buffers come first; the predictor's after them
+    let design = design_in(&gm, h, ts, &spec, |n| a.slice::<f64>(n))?;
+    let pred = FspPredictor::new_in(&design, |n| a.slice::<T>(n))?;
+    Ok(Scheme::Fsp(FilteredSmith::with_predictor(
+        pid,
+        pred,
+        ParamList::default(),
+    )?))
+}
+
+/// The handle behind a pointer, when it is one of ours of precision `T`.
+///
+/// # Safety
+/// `ctrl` is null or was given by an `msp_*_init` call of this precision.
+#[inline(always)]
+unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut Handle<T>> {
+    let p = ctrl.cast::<Handle<T>>();
+    if p.is_null() {
+        return None;
+    }
+    // the tag alone first (a word at any alignment): the rest is a valid
+    // handle only when it matches, and a handle is aligned
+    // SAFETY: non-null; the caller's memory holds at least the tag
+    let magic = unsafe { core::ptr::addr_of!((*p).magic).read_unaligned() };
+    if magic != T::MAGIC {
+        return None;
+    }
+    // SAFETY: a tagged handle was written by `init`
+    unsafe { p.as_mut() }
+}
+
+fn reset<T: Precision>(h: &mut Handle<T>) {
+    match &mut h.scheme {
+        Scheme::Smith(c) => c.reset(),
+        Scheme::KaranDey(c) => c.reset(),
+        Scheme::Fsp(c) => c.reset(),
+        Scheme::Pid(c) => Controller::reset(c),
+    }
+}
+
+fn fault<T: Precision>(h: &Handle<T>) -> bool {
+    match &h.scheme {
+        Scheme::Smith(c) => c.fault(),
+        Scheme::KaranDey(c) => c.fault(),
+        Scheme::Fsp(c) => c.fault(),
+        Scheme::Pid(c) => Controller::fault(c),
+    }
+}
+
+/// Reads a configuration.
+///
+/// # Safety
+/// `p` is null or points to a readable `C`.
+unsafe fn read<C: Copy>(p: *const C) -> Option<C> {
+    // SAFETY: the caller's pointer, null-checked by `as_ref`
+    unsafe { p.as_ref().copied() }
+}
+
+/// `msp_<scheme>_size` for a configuration read through `config`: `samples`
+/// checks it and gives its dead time in samples.
+///
+/// # Safety
+/// `config` and `status` are null or valid pointers.
+unsafe fn config_size<T: Precision, C: Copy>(
+    config: *const C,
+    max_samples: u32,
+    status: *mut msp_status,
+    kind: Kind,
+    samples: impl FnOnce(&C) -> Result<T, Error>,
+) -> usize {
+    // SAFETY: forwarded
+    match unsafe { read(config) } {
+        Some(c) => size_for::<T>(kind, samples(&c), max_samples, status),
+        None => {
+            report(status, msp_status::MSP_NULL_POINTER);
+            0
+        }
+    }
+}
+
+/// `msp_<scheme>_init` for a configuration read through `config`.
+///
+/// # Safety
+/// As [`init`]; `config` is null or valid.
+unsafe fn config_init<T: Precision, C: Copy, H>(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const C,
+    ctrl: *mut *mut H,
+    make: impl FnOnce(&C, &mut Arena) -> Result<Scheme<T>, Error>,
+) -> msp_status {
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { read(config) }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    // SAFETY: forwarded
+    unsafe { init::<T, H>(buf.cast(), len, ctrl, |a| make(&c, a)) }
+}
+
+fn pid_samples<T: Real>(c: &msp_pid_config_of<T>) -> Result<T, Error> {
+    pid_config(&c.pid, c.ts)?;
+    Ok(T::zero())
+}
+
+fn smith_samples<T: Real>(c: &msp_smith_config_of<T>) -> Result<T, Error> {
+    takes(
+        &c.model,
+        &[msp_model_kind::MSP_FOPDT, msp_model_kind::MSP_IPDT],
+    )?;
+    pid_config(&c.pid, c.ts)?;
+    Ok(dead_time(&c.model, c.ts)?.1)
+}
+
+fn karan_dey_samples<T: Real>(c: &msp_karan_dey_config_of<T>) -> Result<T, Error> {
+    takes(&c.model, &[msp_model_kind::MSP_IPDT])?;
+    Ok(dead_time(&c.model, c.ts)?.1)
+}
+
+fn fsp_samples<T: Real>(c: &msp_fsp_config_of<T>) -> Result<T, Error> {
+    pid_config(&c.pid, c.ts)?;
+    positive(c.tf, "tf")?;
+    Ok(dead_time(&c.model, c.ts)?.1)
+}
+
+/// The bytes a PID controller needs; 0 on an error, with the reason in
+/// `*status` (`status` may be null). `max_dead_time_samples` is not read.
+///
+/// # Safety
+/// `config` and `status` are null or valid pointers.
+#[no_mangle]
+pub unsafe extern "C" fn msp_pid_size(
+    config: *const msp_pid_config,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Pid,
+            pid_samples,
+        )
+    }
+}
+
+/// The bytes a Smith predictor needs for its model's dead time, or for
+/// `max_dead_time_samples` when that is longer (room to lengthen the dead
+/// time at run time); 0 on an error, with the reason in `*status`.
+///
+/// # Safety
+/// `config` and `status` are null or valid pointers.
+#[no_mangle]
+pub unsafe extern "C" fn msp_smith_size(
+    config: *const msp_smith_config,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Line,
+            smith_samples,
+        )
+    }
+}
+
+/// [`msp_smith_size`] for the Karan–Dey predictor.
+///
+/// # Safety
+/// `config` and `status` are null or valid pointers.
+#[no_mangle]
+pub unsafe extern "C" fn msp_karan_dey_size(
+    config: *const msp_karan_dey_config,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Line,
+            karan_dey_samples,
+        )
+    }
+}
+
+/// [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
+/// included).
+///
+/// # Safety
+/// `config` and `status` are null or valid pointers.
+#[no_mangle]
+pub unsafe extern "C" fn msp_fsp_size(
+    config: *const msp_fsp_config,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Fsp,
+            fsp_samples,
+        )
+    }
+}
+
+/// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
+/// is its handle.
+///
+/// # Safety
+/// `buf` is null or points to `len` writable bytes that stay in place while
+/// the controller is used; `config` and `ctrl` are null or valid.
+#[no_mangle]
+pub unsafe extern "C" fn msp_pid_init(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_pid_config,
+    ctrl: *mut *mut msp_controller,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
+}
+
+/// Builds a Smith predictor in `buf`: its delay line takes the rest of the
+/// buffer (the longest dead time it can be given later).
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_smith_init(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_smith_config,
+    ctrl: *mut *mut msp_controller,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, make_smith) }
+}
+
+/// Builds a Karan–Dey predictor in `buf`.
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_karan_dey_init(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_karan_dey_config,
+    ctrl: *mut *mut msp_controller,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
+}
+
+/// Designs and builds a filtered Smith predictor in `buf`.
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_fsp_init(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_fsp_config,
+    ctrl: *mut *mut msp_controller,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, make_fsp) }
+}
+
+/// One sample: the set point `r` and the measurement `y` in, the actuator
+/// value out. A null handle gives NaN. This is the per-sample path, one
+/// indirect call into the scheme: it does not check the handle's tag, which
+/// [`msp_reset`] and [`msp_fault`] do (`MSP_BAD_HANDLE`, `true`).
+///
+/// # Safety
+/// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
+#[cfg(not(all(target_arch = "arm", target_os = "none")))]
+#[no_mangle]
+pub unsafe extern "C" fn msp_update(ctrl: *mut msp_controller, r: f32, y: f32) -> f32 {
+    // SAFETY: forwarded
+    unsafe { update_unchecked::<f32, _>(ctrl, r, y) }
+}
+
+/// The per-sample call through a handle's bound update: null gives NaN.
+///
+/// # Safety
+/// `ctrl` is null or a handle of precision `T` made by `init`.
+#[cfg(not(all(target_arch = "arm", target_os = "none")))]
+#[inline(always)]
+unsafe fn update_unchecked<T: Precision, H>(ctrl: *mut H, r: T, y: T) -> T {
+    // SAFETY: the caller's handle (or null)
+    match unsafe { ctrl.cast::<Handle<T>>().as_ref() } {
+        // SAFETY: `bind` pointed both at this handle's controller
+        Some(h) => unsafe { (h.update)(h.ctrl, r, y) },
+        None => T::nan(),
+    }
+}
+
+/// `msp_update` and `msp_update_f64` on a Cortex-M: the same call written as
+/// a frameless trampoline (the target keeps a frame pointer in every Rust
+/// function, three instructions of the dispatch's cost): NULL gives NaN,
+/// otherwise the bound update is tail-called with the controller's address
+/// in `r0` and the arguments untouched in `s0`/`s1` (`d0`/`d1`).
+///
+/// cbindgen:ignore
+#[cfg(all(target_arch = "arm", target_os = "none"))]
+mod trampoline {
+    use super::{msp_controller, msp_controller_f64, Handle};
+    use core::mem::offset_of;
+
+    const UPDATE: usize = offset_of!(Handle<f32>, update);
+    const UPDATE_F64: usize = offset_of!(Handle<f64>, update);
+    // `ldrd` takes the update and the controller's address as a pair
+    const _: () = assert!(offset_of!(Handle<f32>, ctrl) == UPDATE + 4 && UPDATE % 4 == 0);
+    const _: () = assert!(offset_of!(Handle<f64>, ctrl) == UPDATE_F64 + 4 && UPDATE_F64 % 4 == 0);
+
+    /// See `msp_update` in the header.
+    ///
+    /// # Safety
+    /// As the host version.
+    #[unsafe(naked)]
+    #[no_mangle]
+    pub unsafe extern "C" fn msp_update(_ctrl: *mut msp_controller, _r: f32, _y: f32) -> f32 {
+        core::arch::naked_asm!(
+            "cbz r0, 2f",
+            "ldrd r1, r0, [r0, #{update}]",
+            "bx r1",
+            "2:",
+            "movw r1, #0",
+            "movt r1, #0x7fc0",
+            "vmov s0, r1",
+            "bx lr",
+            update = const UPDATE,
+        )
+    }
+
+    /// See `msp_update_f64` in the header.
+    ///
+    /// # Safety
+    /// As the host version.
+    #[unsafe(naked)]
+    #[no_mangle]
+    pub unsafe extern "C" fn msp_update_f64(
+        _ctrl: *mut msp_controller_f64,
+        _r: f64,
+        _y: f64,
+    ) -> f64 {
+        core::arch::naked_asm!(
+            "cbz r0, 2f",
+            "ldrd r1, r0, [r0, #{update}]",
+            "bx r1",
+            "2:",
+            "movs r1, #0",
+            "movw r2, #0",
+            "movt r2, #0x7ff8",
+            "vmov d0, r1, r2",
+            "bx lr",
+            update = const UPDATE_F64,
+        )
+    }
+}
+
+/// Clears the controller's state (integrators, model, delay lines).
+///
+/// # Safety
+/// As [`msp_update`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_reset(ctrl: *mut msp_controller) -> msp_status {
+    // SAFETY: forwarded
+    match unsafe { handle::<f32, _>(ctrl) } {
+        Some(h) => {
+            reset(h);
+            msp_status::MSP_OK
+        }
+        None => bad(ctrl),
+    }
+}
+
+/// Whether the last update met a NaN or infinite input (the output was held
+/// and the model kept following the actuator). A bad handle is a fault.
+///
+/// # Safety
+/// As [`msp_update`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_fault(ctrl: *const msp_controller) -> bool {
+    // SAFETY: forwarded
+    unsafe { handle::<f32, _>(ctrl.cast_mut()) }.is_none_or(|h| fault(h))
+}
+
+/// [`msp_pid_size`] in double precision.
+///
+/// # Safety
+/// As [`msp_pid_size`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_pid_size_f64(
+    config: *const msp_pid_config_f64,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Pid,
+            pid_samples,
+        )
+    }
+}
+
+/// [`msp_smith_size`] in double precision.
+///
+/// # Safety
+/// As [`msp_smith_size`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_smith_size_f64(
+    config: *const msp_smith_config_f64,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Line,
+            smith_samples,
+        )
+    }
+}
+
+/// [`msp_karan_dey_size`] in double precision.
+///
+/// # Safety
+/// As [`msp_smith_size`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_karan_dey_size_f64(
+    config: *const msp_karan_dey_config_f64,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Line,
+            karan_dey_samples,
+        )
+    }
+}
+
+/// [`msp_fsp_size`] in double precision.
+///
+/// # Safety
+/// As [`msp_smith_size`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_fsp_size_f64(
+    config: *const msp_fsp_config_f64,
+    max_dead_time_samples: u32,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    unsafe {
+        config_size(
+            config,
+            max_dead_time_samples,
+            status,
+            Kind::Fsp,
+            fsp_samples,
+        )
+    }
+}
+
+/// [`msp_pid_init`] in double precision.
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_pid_init_f64(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_pid_config_f64,
+    ctrl: *mut *mut msp_controller_f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
+}
+
+/// [`msp_smith_init`] in double precision.
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_smith_init_f64(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_smith_config_f64,
+    ctrl: *mut *mut msp_controller_f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, make_smith) }
+}
+
+/// [`msp_karan_dey_init`] in double precision.
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_karan_dey_init_f64(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_karan_dey_config_f64,
+    ctrl: *mut *mut msp_controller_f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
+}
+
+/// [`msp_fsp_init`] in double precision.
+///
+/// # Safety
+/// As [`msp_pid_init`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_fsp_init_f64(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_fsp_config_f64,
+    ctrl: *mut *mut msp_controller_f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { config_init(buf, len, config, ctrl, make_fsp) }
+}
+
+/// [`msp_update`] in double precision.
+///
+/// # Safety
+/// As [`msp_update`].
+#[cfg(not(all(target_arch = "arm", target_os = "none")))]
+#[no_mangle]
+pub unsafe extern "C" fn msp_update_f64(ctrl: *mut msp_controller_f64, r: f64, y: f64) -> f64 {
+    // SAFETY: forwarded
+    unsafe { update_unchecked::<f64, _>(ctrl, r, y) }
+}
+
+/// [`msp_reset`] in double precision.
+///
+/// # Safety
+/// As [`msp_update`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_reset_f64(ctrl: *mut msp_controller_f64) -> msp_status {
+    // SAFETY: forwarded
+    match unsafe { handle::<f64, _>(ctrl) } {
+        Some(h) => {
+            reset(h);
+            msp_status::MSP_OK
+        }
+        None => bad(ctrl),
+    }
+}
+
+/// [`msp_fault`] in double precision.
+///
+/// # Safety
+/// As [`msp_update`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_fault_f64(ctrl: *const msp_controller_f64) -> bool {
+    // SAFETY: forwarded
+    unsafe { handle::<f64, _>(ctrl.cast_mut()) }.is_none_or(|h| fault(h))
+}
+
+/// The status of a handle that is not one of ours.
+fn bad<H>(ctrl: *mut H) -> msp_status {
+    if ctrl.is_null() {
+        msp_status::MSP_NULL_POINTER
+    } else {
+        msp_status::MSP_BAD_HANDLE
+    }
+}

@@ -1,0 +1,123 @@
+//! The msp controllers for C: `include/msp.h` (generated from this file by
+//! cbindgen, see `tests/header.rs`) and a static library `libmsp.a`.
+//!
+//! The conventions of the C API:
+//!
+//! - every name starts with `msp_`; `float` entry points are the device's,
+//!   the same calls ending in `_f64` take `double`;
+//! - memory is the caller's: `msp_<scheme>_size(config, max_dead_time_samples,
+//!   &status)` gives the bytes a controller needs (its delay lines included),
+//!   `msp_<scheme>_init(buf, len, config, &ctrl)` builds it in `buf` (any
+//!   alignment: the controller starts at the first suitably aligned byte).
+//!   Nothing is allocated, and `buf` must stay where it is while `ctrl` is
+//!   used (the controller points into it);
+//! - every failure is an [`msp_status`] with a message from
+//!   [`msp_status_str`]: null pointers, a buffer too small, parameters that are
+//!   not finite or out of range, a dead time beyond the buffer;
+//! - no call can panic or abort: the library is `no_std` with a panic handler
+//!   no code path reaches (the release library for `thumbv7em-none-eabihf`
+//!   has no panic symbol, checked by `scripts/c`).
+#![no_std]
+#![allow(non_camel_case_types)]
+
+// a host test links std (and its panic handler); the library itself does not
+#[cfg(test)]
+extern crate std;
+
+mod handle;
+mod relay;
+
+use core::ffi::c_char;
+
+pub use handle::*;
+pub use relay::*;
+
+/// The result of every call that can fail.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum msp_status {
+    /// Success.
+    MSP_OK = 0,
+    /// A pointer argument is null.
+    MSP_NULL_POINTER = 1,
+    /// The buffer is smaller than `msp_<scheme>_size` said.
+    MSP_BUFFER_TOO_SMALL = 2,
+    /// A parameter is NaN or infinite where a finite value is needed.
+    MSP_NOT_FINITE = 3,
+    /// A parameter must be greater than zero.
+    MSP_NOT_POSITIVE = 4,
+    /// A parameter must not be negative.
+    MSP_NEGATIVE = 5,
+    /// A parameter is outside its range (e.g. a model kind the scheme does
+    /// not take, or a bias at least the relay amplitude).
+    MSP_OUT_OF_RANGE = 6,
+    /// The lower actuator limit is above the upper one.
+    MSP_INVALID_LIMITS = 7,
+    /// The dead time, in samples, is longer than the buffer holds (or than
+    /// `max_dead_time_samples`).
+    MSP_DEAD_TIME_TOO_LONG = 8,
+    /// The scheme cannot be built for this model (e.g. an unstable model for
+    /// the classic Smith predictor).
+    MSP_UNSUPPORTED = 9,
+    /// A numerical step of the design failed (a singular system).
+    MSP_NUMERICAL = 10,
+    /// The handle was not made by an `msp_*_init` of this precision.
+    MSP_BAD_HANDLE = 11,
+}
+
+impl From<msp_core::Error> for msp_status {
+    fn from(e: msp_core::Error) -> Self {
+        use msp_core::Error as E;
+        match e {
+            E::NonFinite(_) | E::NonFiniteAt(..) => msp_status::MSP_NOT_FINITE,
+            E::NotPositive(_) | E::NotIncreasing(..) => msp_status::MSP_NOT_POSITIVE,
+            E::Negative(_) => msp_status::MSP_NEGATIVE,
+            E::InvalidLimits(_) => msp_status::MSP_INVALID_LIMITS,
+            E::DelayTooLong(_) => msp_status::MSP_DEAD_TIME_TOO_LONG,
+            E::Unsupported(_) | E::Improper(_) | E::OrderTooHigh(_) => msp_status::MSP_UNSUPPORTED,
+            E::Numerical(_) => msp_status::MSP_NUMERICAL,
+            _ => msp_status::MSP_OUT_OF_RANGE,
+        }
+    }
+}
+
+/// What a status means, as a constant NUL-terminated string.
+#[no_mangle]
+pub extern "C" fn msp_status_str(status: msp_status) -> *const c_char {
+    let s: &'static core::ffi::CStr = match status {
+        msp_status::MSP_OK => c"ok",
+        msp_status::MSP_NULL_POINTER => c"a pointer argument is null",
+        msp_status::MSP_BUFFER_TOO_SMALL => c"the buffer is smaller than msp_*_size says",
+        msp_status::MSP_NOT_FINITE => c"a parameter is NaN or infinite",
+        msp_status::MSP_NOT_POSITIVE => c"a parameter must be greater than zero",
+        msp_status::MSP_NEGATIVE => c"a parameter must not be negative",
+        msp_status::MSP_OUT_OF_RANGE => c"a parameter is out of its range",
+        msp_status::MSP_INVALID_LIMITS => c"the lower limit is above the upper limit",
+        msp_status::MSP_DEAD_TIME_TOO_LONG => c"the dead time is longer than the buffer holds",
+        msp_status::MSP_UNSUPPORTED => c"the scheme cannot be built for this model",
+        msp_status::MSP_NUMERICAL => c"a numerical step of the design failed",
+        msp_status::MSP_BAD_HANDLE => c"not a controller made by msp_*_init of this precision",
+    };
+    s.as_ptr()
+}
+
+/// Writes `status` through `out` when it is not null, and passes it on.
+fn report(out: *mut msp_status, status: msp_status) -> msp_status {
+    if !out.is_null() {
+        // SAFETY: a non-null `out` points to an `msp_status` the caller owns
+        unsafe { out.write(status) };
+    }
+    status
+}
+
+/// A panic cannot happen: every operation of the library is checked (the
+/// lints deny `unwrap`, `expect`, `panic!` and unchecked indexing), and the
+/// release build for a device is checked to contain no panic symbol. Should
+/// one be reached all the same, the call does not return.
+#[cfg(not(test))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    loop {
+        core::hint::spin_loop();
+    }
+}

@@ -1,0 +1,239 @@
+/*
+ * Every entry point of msp.h, called with bad arguments, returns a status
+ * (or the documented NaN / fault), never crashes: null pointers, buffers too
+ * small, NaN and out-of-range parameters, dead times beyond the buffer, a
+ * handle of the other precision and a buffer that is not a controller (for
+ * the calls that check the tag: all but msp_update). Then the
+ * good calls work, on a buffer at an odd address. Exit status 0 when all hold.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "msp.h"
+
+static int failures = 0;
+
+#define EXPECT(cond)                                                   \
+    do {                                                               \
+        if (!(cond)) {                                                 \
+            printf("FAIL line %d: %s\n", __LINE__, #cond);             \
+            failures++;                                                \
+        }                                                              \
+    } while (0)
+
+static unsigned char memory[1 << 16];
+
+int main(void) {
+    msp_status s;
+    msp_controller *c = NULL;
+    msp_controller_f64 *c64 = NULL;
+
+    /* every status has a message */
+    for (int i = MSP_OK; i <= MSP_BAD_HANDLE; i++) {
+        const char *m = msp_status_str((msp_status)i);
+        EXPECT(m != NULL && strlen(m) > 0);
+    }
+
+    /* tuning: NaN, negative, null */
+    msp_smith_config sc;
+    EXPECT(msp_tune_smith_fopdt(NAN, 40.2f, 93.9f, 0.939f, 0.0f, &sc) == MSP_NOT_FINITE);
+    EXPECT(msp_tune_smith_fopdt(5.6f, -1.0f, 93.9f, 0.939f, 0.0f, &sc) == MSP_NOT_POSITIVE);
+    EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, -1.0f, 0.939f, 0.0f, &sc) == MSP_NEGATIVE);
+    EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.0f, 0.0f, &sc) == MSP_NOT_POSITIVE);
+    EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.939f, NAN, &sc) == MSP_NOT_FINITE);
+    EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.939f, 0.0f, NULL) == MSP_NULL_POINTER);
+    msp_karan_dey_config kc;
+    EXPECT(msp_tune_karan_dey_ipdt(0.2f, NAN, 0.074f, 0.0f, &kc) == MSP_NOT_FINITE);
+    EXPECT(msp_tune_karan_dey_ipdt(0.2f, 7.4f, -0.074f, 0.0f, &kc) == MSP_NOT_POSITIVE);
+    EXPECT(msp_tune_karan_dey_ipdt(0.2f, 7.4f, 0.074f, 0.0f, NULL) == MSP_NULL_POINTER);
+    msp_smith_config_f64 sc64;
+    EXPECT(msp_tune_smith_fopdt_f64(5.6, 40.2, 93.9, NAN, 0.0, &sc64) == MSP_NOT_FINITE);
+    msp_karan_dey_config_f64 kc64;
+    EXPECT(msp_tune_karan_dey_ipdt_f64(0.2, 7.4, 0.074, NAN, &kc64) == MSP_NOT_FINITE);
+
+    /* the good tunings */
+    EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.939f, 0.0f, &sc) == MSP_OK);
+    EXPECT(msp_tune_karan_dey_ipdt(0.2f, 7.4f, 0.074f, 0.0f, &kc) == MSP_OK);
+    EXPECT(msp_tune_smith_fopdt_f64(5.6, 40.2, 93.9, 0.939, 0.0, &sc64) == MSP_OK);
+    EXPECT(msp_tune_karan_dey_ipdt_f64(0.2, 7.4, 0.074, 0.0, &kc64) == MSP_OK);
+
+    /* sizes: null config, NaN, a dead time too long for any buffer; status may be null */
+    EXPECT(msp_smith_size(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_smith_size(NULL, 0, NULL) == 0);
+    msp_smith_config bad = sc;
+    bad.model.theta = NAN;
+    EXPECT(msp_smith_size(&bad, 0, &s) == 0 && s == MSP_NOT_FINITE);
+    bad = sc;
+    bad.model.theta = 1e30f;
+    EXPECT(msp_smith_size(&bad, 0, &s) == 0 && s == MSP_DEAD_TIME_TOO_LONG);
+    bad = sc;
+    bad.pid.ti = 0.0f;
+    EXPECT(msp_smith_size(&bad, 0, &s) == 0 && s == MSP_NOT_POSITIVE);
+    bad = sc;
+    bad.pid.u_min = 1.0f;
+    bad.pid.u_max = -1.0f;
+    EXPECT(msp_smith_size(&bad, 0, &s) == 0 && s == MSP_INVALID_LIMITS);
+    size_t need = msp_smith_size(&sc, 0, &s);
+    EXPECT(s == MSP_OK && need > 100 * sizeof(float));
+    EXPECT(msp_smith_size(&sc, 1000, &s) >= need + 900 * sizeof(float) && s == MSP_OK);
+    EXPECT(msp_karan_dey_size(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_fsp_size(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_pid_size(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_smith_size_f64(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_karan_dey_size_f64(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_fsp_size_f64(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+    EXPECT(msp_pid_size_f64(NULL, 0, &s) == 0 && s == MSP_NULL_POINTER);
+
+    /* init: null buffer, null config, null out, too small, bad parameters */
+    EXPECT(msp_smith_init(NULL, sizeof memory, &sc, &c) == MSP_NULL_POINTER);
+    EXPECT(msp_smith_init(memory, sizeof memory, NULL, &c) == MSP_NULL_POINTER);
+    EXPECT(msp_smith_init(memory, sizeof memory, &sc, NULL) == MSP_NULL_POINTER);
+    EXPECT(msp_smith_init(memory, 8, &sc, &c) == MSP_BUFFER_TOO_SMALL);
+    EXPECT(msp_smith_init(memory, need / 2, &sc, &c) == MSP_BUFFER_TOO_SMALL);
+    bad = sc;
+    bad.pid.kp = NAN;
+    EXPECT(msp_smith_init(memory, sizeof memory, &bad, &c) == MSP_NOT_FINITE);
+    bad = sc;
+    bad.model.kind = MSP_UFOPDT;
+    EXPECT(msp_smith_init(memory, sizeof memory, &bad, &c) != MSP_OK);
+    msp_karan_dey_config kbad = kc;
+    kbad.gamma = -1.0f;
+    EXPECT(msp_karan_dey_init(memory, sizeof memory, &kbad, &c) == MSP_NEGATIVE);
+    kbad = kc;
+    kbad.ts = NAN;
+    EXPECT(msp_karan_dey_init(memory, sizeof memory, &kbad, &c) == MSP_NOT_FINITE);
+    EXPECT(msp_karan_dey_init(memory, 16, &kc, &c) == MSP_BUFFER_TOO_SMALL);
+
+    msp_fsp_config fc = {
+        .ts = 0.06f,
+        .model = {.kind = MSP_UFOPDT, .k = 5.0f, .tau = 100.0f, .theta = 6.0f},
+        .pid = {.kp = 6.87f, .ti = 12.36f, .td = 0.0f, .u_min = -INFINITY, .u_max = INFINITY},
+        .tf = 3.0f,
+    };
+    msp_fsp_config fbad = fc;
+    fbad.tf = 0.0f;
+    EXPECT(msp_fsp_size(&fbad, 0, &s) == 0 && s == MSP_NOT_POSITIVE);
+    EXPECT(msp_fsp_init(memory, sizeof memory, &fbad, &c) == MSP_NOT_POSITIVE);
+    fbad = fc;
+    fbad.model.theta = 6.03f; /* not whole samples */
+    EXPECT(msp_fsp_init(memory, sizeof memory, &fbad, &c) == MSP_UNSUPPORTED);
+    size_t fneed = msp_fsp_size(&fc, 0, &s);
+    EXPECT(s == MSP_OK && fneed > 0);
+    EXPECT(msp_fsp_init(memory, fneed / 2, &fc, &c) == MSP_BUFFER_TOO_SMALL);
+
+    msp_pid_config pc = {.ts = 0.1f, .pid = {.kp = 1.0f, .ti = 0.0f, .td = 0.0f,
+                                             .u_min = -INFINITY, .u_max = INFINITY}};
+    EXPECT(msp_pid_init(memory, sizeof memory, &pc, &c) == MSP_NOT_POSITIVE);
+    pc.pid.ti = INFINITY; /* a P controller */
+    EXPECT(msp_pid_init(memory, 4, &pc, &c) == MSP_BUFFER_TOO_SMALL);
+
+    /* update, reset and fault on null and foreign handles */
+    EXPECT(isnan(msp_update(NULL, 1.0f, 0.0f)));
+    EXPECT(msp_reset(NULL) == MSP_NULL_POINTER);
+    EXPECT(msp_fault(NULL));
+    /* not a handle: reset and fault check the tag (update, the per-sample
+       call, checks only for NULL) */
+    memset(memory, 0xA5, 256);
+    EXPECT(msp_reset((msp_controller *)memory) == MSP_BAD_HANDLE);
+    EXPECT(msp_fault((msp_controller *)memory));
+    EXPECT(msp_reset((msp_controller *)(memory + 1)) == MSP_BAD_HANDLE);
+    EXPECT(isnan(msp_update_f64(NULL, 1.0, 0.0)));
+    EXPECT(msp_reset_f64(NULL) == MSP_NULL_POINTER);
+    EXPECT(msp_fault_f64(NULL));
+
+    /* the good calls, at an odd address: every scheme in both precisions */
+    unsigned char *odd = memory + 1;
+    size_t room = sizeof memory - 1;
+    EXPECT(msp_smith_init(odd, room, &sc, &c) == MSP_OK && c != NULL);
+    EXPECT(msp_update(c, 1.0f, 0.0f) > 0.0f);
+    EXPECT(!msp_fault(c));
+    EXPECT(msp_update(c, NAN, 0.0f) == msp_update(c, NAN, 0.0f)); /* held */
+    EXPECT(msp_fault(c));
+    EXPECT(msp_reset(c) == MSP_OK);
+    /* a float handle is not a double one */
+    EXPECT(msp_reset_f64((msp_controller_f64 *)c) == MSP_BAD_HANDLE);
+    EXPECT(msp_fault_f64((msp_controller_f64 *)c));
+    EXPECT(msp_karan_dey_init(odd, room, &kc, &c) == MSP_OK && msp_update(c, 1.0f, 0.0f) > 0.0f);
+    EXPECT(msp_fsp_init(odd, room, &fc, &c) == MSP_OK && msp_update(c, 1.0f, 0.0f) > 0.0f);
+    EXPECT(msp_pid_init(odd, room, &pc, &c) == MSP_OK && msp_update(c, 1.0f, 0.0f) == 1.0f);
+    EXPECT(msp_smith_init_f64(odd, room, &sc64, &c64) == MSP_OK &&
+           msp_update_f64(c64, 1.0, 0.0) > 0.0);
+    EXPECT(msp_karan_dey_init_f64(odd, room, &kc64, &c64) == MSP_OK &&
+           msp_update_f64(c64, 1.0, 0.0) > 0.0);
+    EXPECT(msp_reset_f64(c64) == MSP_OK && !msp_fault_f64(c64));
+    msp_fsp_config_f64 fc64 = {
+        .ts = 0.06,
+        .model = {.kind = MSP_UFOPDT, .k = 5.0, .tau = 100.0, .theta = 6.0},
+        .pid = {.kp = 6.87, .ti = 12.36, .td = 0.0, .u_min = -INFINITY, .u_max = INFINITY},
+        .tf = 3.0,
+    };
+    EXPECT(msp_fsp_init_f64(odd, room, &fc64, &c64) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) > 0.0);
+    msp_pid_config_f64 pc64 = {.ts = 0.1, .pid = {.kp = 2.0, .ti = INFINITY, .td = 0.0,
+                                                  .u_min = -1.0, .u_max = 1.0}};
+    EXPECT(msp_pid_init_f64(odd, room, &pc64, &c64) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) == 1.0);
+    EXPECT(msp_pid_init_f64(odd, room, NULL, &c64) == MSP_NULL_POINTER);
+
+    /* the relay experiment */
+    msp_relay_config rc;
+    EXPECT(msp_relay_default_config(0.0f, 0.1f, &rc) == MSP_NOT_POSITIVE);
+    EXPECT(msp_relay_default_config(1.0f, NAN, &rc) == MSP_NOT_FINITE);
+    EXPECT(msp_relay_default_config(1.0f, 0.1f, NULL) == MSP_NULL_POINTER);
+    EXPECT(msp_relay_default_config(1.0f, 0.1f, &rc) == MSP_OK);
+    msp_relay_config rbad = rc;
+    rbad.bias = 2.0f;
+    msp_relay *relay = NULL;
+    EXPECT(msp_relay_init(memory, sizeof memory, &rbad, &relay) == MSP_OUT_OF_RANGE);
+    rbad = rc;
+    rbad.cycles = 0;
+    EXPECT(msp_relay_init(memory, sizeof memory, &rbad, &relay) == MSP_OUT_OF_RANGE);
+    EXPECT(msp_relay_init(NULL, sizeof memory, &rc, &relay) == MSP_NULL_POINTER);
+    EXPECT(msp_relay_init(memory, sizeof memory, NULL, &relay) == MSP_NULL_POINTER);
+    EXPECT(msp_relay_init(memory, 4, &rc, &relay) == MSP_BUFFER_TOO_SMALL);
+    EXPECT(isnan(msp_relay_update(NULL, 0.0f)));
+    msp_relay_state st;
+    msp_relay_result rr;
+    EXPECT(msp_relay_poll(NULL, &st, &rr) == MSP_NULL_POINTER);
+    EXPECT(msp_relay_poll((msp_relay *)memory, &st, &rr) == MSP_BAD_HANDLE);
+    EXPECT(msp_relay_ipdt(NULL, NULL) == MSP_NULL_POINTER);
+    msp_model m;
+    memset(&rr, 0, sizeof rr);
+    EXPECT(msp_relay_ipdt(&rr, &m) != MSP_OK); /* a zero period */
+    EXPECT(msp_relay_fopdt(&rr, NAN, &m) == MSP_NOT_FINITE);
+    EXPECT(msp_relay_init(odd, room, &rc, &relay) == MSP_OK);
+    EXPECT(msp_relay_poll(relay, NULL, NULL) == MSP_NULL_POINTER);
+    EXPECT(msp_relay_update(relay, NAN) == 0.0f); /* a bad measurement ends it at u0 */
+    EXPECT(msp_relay_poll(relay, &st, NULL) == MSP_OK && st == MSP_RELAY_BAD_MEASUREMENT);
+
+    /* a whole experiment: the relay on the IPDT plant 0.2 e^{-2 s}/s sampled
+       every 0.01 s (an integrator behind a 200-sample delay), identified back */
+    {
+        enum { DELAY = 200 };
+        static float line[DELAY];
+        int head = 0;
+        float x = 0.0f;
+        EXPECT(msp_relay_default_config(1.0f, 0.01f, &rc) == MSP_OK);
+        EXPECT(msp_relay_init(odd, room, &rc, &relay) == MSP_OK);
+        st = MSP_RELAY_RUNNING;
+        for (int i = 0; i < 200000 && st == MSP_RELAY_RUNNING; i++) {
+            float u = msp_relay_update(relay, x);
+            float v = line[head];
+            line[head] = u;
+            head = (head + 1) % DELAY;
+            x += 0.2f * 0.01f * v;
+            EXPECT(msp_relay_poll(relay, &st, &rr) == MSP_OK);
+        }
+        EXPECT(st == MSP_RELAY_DONE);
+        EXPECT(msp_relay_ipdt(&rr, &m) == MSP_OK && m.kind == MSP_IPDT);
+        EXPECT(fabsf(m.k - 0.2f) < 0.01f && fabsf(m.theta - 2.0f) < 0.05f);
+        printf("relay: period %.4g s, identified k %.4g, theta %.4g s\n", (double)rr.period,
+               (double)m.k, (double)m.theta);
+        /* and the Karan-Dey predictor tuned from it */
+        EXPECT(msp_tune_karan_dey_ipdt(m.k, m.theta, 0.01f, 0.0f, &kc) == MSP_OK);
+        EXPECT(msp_karan_dey_init(odd, room, &kc, &c) == MSP_OK);
+    }
+
+    printf("%s: %d failures\n", failures ? "FAIL" : "ok", failures);
+    return failures ? 1 : 0;
+}
