@@ -35,6 +35,8 @@ int main(void) {
         const char *m = msp_status_str((msp_status)i);
         EXPECT(m != NULL && strlen(m) > 0);
     }
+    EXPECT(strcmp(msp_status_str(-1), "unknown status") == 0);
+    EXPECT(strcmp(msp_status_str(1000), "unknown status") == 0);
 
     /* tuning: NaN, negative, null */
     msp_smith_config sc;
@@ -96,8 +98,11 @@ int main(void) {
     bad.pid.kp = NAN;
     EXPECT(msp_smith_init(memory, sizeof memory, &bad, &c) == MSP_NOT_FINITE);
     bad = sc;
-    bad.model.kind = MSP_UFOPDT;
-    EXPECT(msp_smith_init(memory, sizeof memory, &bad, &c) != MSP_OK);
+    bad.model.kind = MSP_UFOPDT; /* the classic predictor leaves an unstable pole in the loop */
+    EXPECT(msp_smith_init(memory, sizeof memory, &bad, &c) == MSP_UNSUPPORTED);
+    bad.model.kind = 7; /* no such kind */
+    EXPECT(msp_smith_size(&bad, 0, &s) == 0 && s == MSP_OUT_OF_RANGE);
+    EXPECT(msp_smith_init(memory, sizeof memory, &bad, &c) == MSP_OUT_OF_RANGE);
     msp_karan_dey_config kbad = kc;
     kbad.gamma = -1.0f;
     EXPECT(msp_karan_dey_init(memory, sizeof memory, &kbad, &c) == MSP_NEGATIVE);
@@ -105,6 +110,9 @@ int main(void) {
     kbad.ts = NAN;
     EXPECT(msp_karan_dey_init(memory, sizeof memory, &kbad, &c) == MSP_NOT_FINITE);
     EXPECT(msp_karan_dey_init(memory, 16, &kc, &c) == MSP_BUFFER_TOO_SMALL);
+    kbad = kc;
+    kbad.model.kind = MSP_FOPDT; /* designed for integrating plants */
+    EXPECT(msp_karan_dey_init(memory, sizeof memory, &kbad, &c) == MSP_UNSUPPORTED);
 
     msp_fsp_config fc = {
         .ts = 0.06f,

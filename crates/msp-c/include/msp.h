@@ -38,16 +38,6 @@ typedef enum {
   MSP_BAD_HANDLE = 11,
 } msp_status;
 
-// The kind of process model a controller is built around.
-typedef enum {
-  // First order plus dead time `k e^{−θs}/(τs + 1)`.
-  MSP_FOPDT = 0,
-  // Integrator plus dead time `k e^{−θs}/s` (`tau` is not read).
-  MSP_IPDT = 1,
-  // Unstable first order plus dead time `k e^{−θs}/(τs − 1)`.
-  MSP_UFOPDT = 2,
-} msp_model_kind;
-
 // Where a relay experiment is.
 typedef enum {
   // Still oscillating.
@@ -61,6 +51,16 @@ typedef enum {
   // A measurement was NaN or infinite (actuator at `u0`).
   MSP_RELAY_BAD_MEASUREMENT = 4,
 } msp_relay_state;
+
+// The kind of process model a controller is built around.
+typedef enum {
+  // First order plus dead time `k e^{−θs}/(τs + 1)`.
+  MSP_FOPDT = 0,
+  // Integrator plus dead time `k e^{−θs}/s` (`tau` is not read).
+  MSP_IPDT = 1,
+  // Unstable first order plus dead time `k e^{−θs}/(τs − 1)`.
+  MSP_UFOPDT = 2,
+} msp_model_kind;
 
 // A `float` controller built by an `msp_*_init` call (opaque).
 typedef struct msp_controller msp_controller;
@@ -90,9 +90,12 @@ typedef struct {
 
 typedef msp_pid_config_float msp_pid_config;
 
-// A process model: gain `k`, time constant `tau` (s) and dead time `theta` (s).
+// A process model: its kind (an `msp_model_kind`, held as an integer so
+// that any value a caller writes is read safely: an unknown one is
+// `MSP_OUT_OF_RANGE`), gain `k`, time constant `tau` (s) and dead time
+// `theta` (s).
 typedef struct {
-  msp_model_kind kind;
+  uint32_t kind;
   float k;
   float tau;
   float theta;
@@ -158,9 +161,12 @@ typedef struct {
 
 typedef msp_pid_config_double msp_pid_config_f64;
 
-// A process model: gain `k`, time constant `tau` (s) and dead time `theta` (s).
+// A process model: its kind (an `msp_model_kind`, held as an integer so
+// that any value a caller writes is read safely: an unknown one is
+// `MSP_OUT_OF_RANGE`), gain `k`, time constant `tau` (s) and dead time
+// `theta` (s).
 typedef struct {
-  msp_model_kind kind;
+  uint32_t kind;
   double k;
   double tau;
   double theta;
@@ -256,8 +262,9 @@ typedef msp_model_double msp_model_f64;
 extern "C" {
 #endif // __cplusplus
 
-// What a status means, as a constant NUL-terminated string.
-const char *msp_status_str(msp_status status);
+// What a status means, as a constant NUL-terminated string (an integer
+// that is no `msp_status` gives "unknown status").
+const char *msp_status_str(int status);
 
 // The bytes a PID controller needs; 0 on an error, with the reason in
 // `*status` (`status` may be null). `max_dead_time_samples` is not read.

@@ -24,11 +24,14 @@ pub enum msp_model_kind {
     MSP_UFOPDT = 2,
 }
 
-/// A process model: gain `k`, time constant `tau` (s) and dead time `theta` (s).
+/// A process model: its kind (an `msp_model_kind`, held as an integer so
+/// that any value a caller writes is read safely: an unknown one is
+/// `MSP_OUT_OF_RANGE`), gain `k`, time constant `tau` (s) and dead time
+/// `theta` (s).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct msp_model_of<T> {
-    pub kind: msp_model_kind,
+    pub kind: u32,
     pub k: T,
     pub tau: T,
     pub theta: T,
@@ -263,11 +266,22 @@ fn bytes_for<T: Precision>(values: usize, scratch: usize) -> Option<usize> {
 }
 
 fn model<T: Real>(m: &msp_model_of<T>) -> Result<ProcessModel<T>, Error> {
-    Ok(match m.kind {
+    Ok(match kind_of(m.kind).ok_or(Error::OutOfRange("kind"))? {
         msp_model_kind::MSP_FOPDT => Fopdt::new(m.k, m.tau, m.theta)?.into(),
         msp_model_kind::MSP_IPDT => Ipdt::new(m.k, m.theta)?.into(),
         msp_model_kind::MSP_UFOPDT => Ufopdt::new(m.k, m.tau, m.theta)?.into(),
     })
+}
+
+/// The model kind an integer names.
+fn kind_of(k: u32) -> Option<msp_model_kind> {
+    [
+        msp_model_kind::MSP_FOPDT,
+        msp_model_kind::MSP_IPDT,
+        msp_model_kind::MSP_UFOPDT,
+    ]
+    .into_iter()
+    .find(|v| *v as u32 == k)
 }
 
 fn pid_config<T: Real>(p: &msp_pid_params_of<T>, ts: T) -> Result<PidConfig<T>, Error> {
@@ -280,7 +294,10 @@ fn pid_config<T: Real>(p: &msp_pid_params_of<T>, ts: T) -> Result<PidConfig<T>, 
 /// Smith predictor leaves an unstable model's pole in the loop, and the
 /// Karan–Dey predictor is designed for integrating plants.
 fn takes(m: &msp_model_of<impl Real>, kinds: &[msp_model_kind]) -> Result<(), Error> {
-    if kinds.contains(&m.kind) {
+    let Some(kind) = kind_of(m.kind) else {
+        return Err(Error::OutOfRange("kind"));
+    };
+    if kinds.contains(&kind) {
         Ok(())
     } else {
         Err(Error::Unsupported("a model kind the scheme does not take"))

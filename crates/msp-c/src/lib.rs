@@ -81,9 +81,27 @@ impl From<msp_core::Error> for msp_status {
     }
 }
 
-/// What a status means, as a constant NUL-terminated string.
+/// What a status means, as a constant NUL-terminated string (an integer
+/// that is no `msp_status` gives "unknown status").
 #[no_mangle]
-pub extern "C" fn msp_status_str(status: msp_status) -> *const c_char {
+pub extern "C" fn msp_status_str(status: core::ffi::c_int) -> *const c_char {
+    const ALL: [msp_status; 12] = [
+        msp_status::MSP_OK,
+        msp_status::MSP_NULL_POINTER,
+        msp_status::MSP_BUFFER_TOO_SMALL,
+        msp_status::MSP_NOT_FINITE,
+        msp_status::MSP_NOT_POSITIVE,
+        msp_status::MSP_NEGATIVE,
+        msp_status::MSP_OUT_OF_RANGE,
+        msp_status::MSP_INVALID_LIMITS,
+        msp_status::MSP_DEAD_TIME_TOO_LONG,
+        msp_status::MSP_UNSUPPORTED,
+        msp_status::MSP_NUMERICAL,
+        msp_status::MSP_BAD_HANDLE,
+    ];
+    let Some(status) = ALL.into_iter().find(|s| *s as core::ffi::c_int == status) else {
+        return c"unknown status".as_ptr();
+    };
     let s: &'static core::ffi::CStr = match status {
         msp_status::MSP_OK => c"ok",
         msp_status::MSP_NULL_POINTER => c"a pointer argument is null",

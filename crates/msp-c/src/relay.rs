@@ -56,7 +56,7 @@ fn smith_fopdt<T: Real>(
     Ok(msp_smith_config_of {
         ts,
         model: msp_model_of {
-            kind: msp_model_kind::MSP_FOPDT,
+            kind: msp_model_kind::MSP_FOPDT as u32,
             k,
             tau,
             theta,
@@ -86,7 +86,7 @@ fn karan_dey_ipdt<T: Real>(
     Ok(msp_karan_dey_config_of {
         ts,
         model: msp_model_of {
-            kind: msp_model_kind::MSP_IPDT,
+            kind: msp_model_kind::MSP_IPDT as u32,
             k,
             tau: T::zero(),
             theta,
@@ -456,7 +456,7 @@ pub unsafe extern "C" fn msp_relay_ipdt(
         return msp_status::MSP_NULL_POINTER;
     };
     let m = identify_ipdt(&result_from_c(r)).map(|m| msp_model_of {
-        kind: msp_model_kind::MSP_IPDT,
+        kind: msp_model_kind::MSP_IPDT as u32,
         k: m.k,
         tau: 0.0,
         theta: m.l,
@@ -481,7 +481,7 @@ pub unsafe extern "C" fn msp_relay_fopdt(
         return msp_status::MSP_NULL_POINTER;
     };
     let m = identify_fopdt(&result_from_c(r), k).map(|m| msp_model_of {
-        kind: msp_model_kind::MSP_FOPDT,
+        kind: msp_model_kind::MSP_FOPDT as u32,
         k: m.k,
         tau: m.t,
         theta: m.l,
