@@ -101,7 +101,7 @@ typedef struct {
   float theta;
 } msp_model_float;
 
-// The classic Smith predictor (Smith (1957)): the PID `pid` around the
+// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
 // model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
 typedef struct {
   float ts;
@@ -172,7 +172,7 @@ typedef struct {
   double theta;
 } msp_model_double;
 
-// The classic Smith predictor (Smith (1957)): the PID `pid` around the
+// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
 // model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
 typedef struct {
   double ts;
@@ -213,7 +213,7 @@ typedef struct {
 
 typedef msp_fsp_config_double msp_fsp_config_f64;
 
-// Settings of a relay experiment (Åström & Hägglund's relay feedback):
+// Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
 // amplitude `h`, hysteresis `ε` on the error, a bias on both levels (for
 // the static gain), the steady state `(u0, y0)` it starts from, actuator
 // limits, a safety band on `|y − y0|`, a sample budget, the agreeing

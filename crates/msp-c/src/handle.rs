@@ -58,7 +58,7 @@ pub struct msp_pid_config_of<T> {
     pub pid: msp_pid_params_of<T>,
 }
 
-/// The classic Smith predictor (Smith (1957)): the PID `pid` around the
+/// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
 /// model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]

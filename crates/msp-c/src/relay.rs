@@ -172,7 +172,7 @@ pub unsafe extern "C" fn msp_tune_karan_dey_ipdt_f64(
     unsafe { tuned(config, karan_dey_ipdt(k, theta, ts, lambda)) }
 }
 
-/// Settings of a relay experiment (Åström & Hägglund's relay feedback):
+/// Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
 /// amplitude `h`, hysteresis `ε` on the error, a bias on both levels (for
 /// the static gain), the steady state `(u0, y0)` it starts from, actuator
 /// limits, a safety band on `|y − y0|`, a sample budget, the agreeing
