@@ -1,5 +1,9 @@
 //! Controllers in caller-owned memory: the configurations, the sizes, the
 //! initialization and the per-sample calls.
+//!
+//! Each entry point is a one-line wrapper of a generic function, written out
+//! for `float` and again for `double`: cbindgen reads the source as written,
+//! so wrappers made by a macro would not reach the header.
 
 use core::mem::{align_of, size_of};
 
