@@ -139,3 +139,52 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
         core::hint::spin_loop();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use msp_core::{Controller, Fopdt, PidConfig, ProcessModel, SmithPredictor};
+
+    /// A controller built through the C API in a caller buffer computes what
+    /// the library's own type computes with its storage (the same samples,
+    /// bit for bit), through a whole set-point and load response.
+    #[test]
+    fn the_c_smith_predictor_is_the_library_one() -> Result<(), msp_core::Error> {
+        let mut cfg = core::mem::MaybeUninit::<msp_smith_config_f64>::uninit();
+        // SAFETY: a writable config
+        let s = unsafe { msp_tune_smith_fopdt_f64(5.6, 40.2, 93.9, 0.939, 0.0, cfg.as_mut_ptr()) };
+        assert_eq!(s, msp_status::MSP_OK);
+        // SAFETY: written by the tuning above
+        let cfg = unsafe { cfg.assume_init() };
+        let mut buf = std::vec![0u8; 4096];
+        let mut c: *mut msp_controller_f64 = core::ptr::null_mut();
+        // SAFETY: the buffer outlives the controller
+        let s = unsafe { msp_smith_init_f64(buf.as_mut_ptr().cast(), buf.len(), &cfg, &mut c) };
+        assert_eq!(s, msp_status::MSP_OK);
+        let model: ProcessModel<f64> = Fopdt::new(5.6, 40.2, 93.9)?.into();
+        let pi = PidConfig::isa(cfg.pid.kp, cfg.pid.ti, 0.0, 0.939);
+        let mut sp: SmithPredictor<f64, 1, [f64; 128]> =
+            SmithPredictor::from_model(pi, &model, 0.939)?;
+        let (a, b) = (
+            (-0.939f64 / 40.2).exp(),
+            5.6 * (1.0 - (-0.939f64 / 40.2).exp()),
+        );
+        let mut line = std::collections::VecDeque::from(std::vec![0.0; 100]);
+        let (mut y, mut settled) = (0.0, f64::NAN);
+        for k in 0..2000 {
+            if k == 1000 {
+                settled = y;
+            }
+            let r = if k < 1000 { 1.0 } else { 0.5 };
+            // SAFETY: the handle from init, its buffer in place
+            let u = unsafe { msp_update_f64(c, r, y) };
+            assert_eq!(u.to_bits(), sp.update(r, y).to_bits(), "sample {k}");
+            line.push_back(u - if k > 1500 { 0.05 } else { 0.0 });
+            let v = line.pop_front().unwrap_or(0.0);
+            y = a * y + b * v;
+        }
+        // the run is a real response: the output had come to the set point
+        assert!((settled - 1.0).abs() < 1e-3, "{settled}");
+        Ok(())
+    }
+}
