@@ -9,10 +9,12 @@
 //!   for logging, reports and the CLI's `--set`.
 //! - [`FrequencyResponse`]: the linear response at `z = e^{jθ}` for analysis.
 //!
-//! [`LoopController`] is all four at once, object safe: what the simulator,
+//! [`LoopController`] is all four at once, with [`Operate`] (modes,
+//! external reset, run-time dead time), object safe: what the simulator,
 //! the analysis and the scheme registry hold behind a pointer. It is
 //! implemented for every type that implements the four.
 
+use crate::operate::{Operate, Tracking};
 use crate::{Complex, Real};
 
 /// A sampled controller: call [`Controller::update`] once per sample period.
@@ -107,12 +109,17 @@ pub trait FrequencyResponse<T: Real> {
 /// A controller as the simulator, the analysis and the registry see it: every
 /// trait of this module, object safe (`Box<dyn LoopController<f64>>`).
 pub trait LoopController<T: Real>:
-    Controller<T> + CascadeControl<T> + Introspect<T> + FrequencyResponse<T>
+    Controller<T> + CascadeControl<T> + Introspect<T> + FrequencyResponse<T> + Operate<T>
 {
 }
 
 impl<T: Real, C> LoopController<T> for C where
-    C: Controller<T> + CascadeControl<T> + Introspect<T> + FrequencyResponse<T> + ?Sized
+    C: Controller<T>
+        + CascadeControl<T>
+        + Introspect<T>
+        + FrequencyResponse<T>
+        + Operate<T>
+        + ?Sized
 {
 }
 
@@ -157,6 +164,17 @@ macro_rules! forward {
                 (**self).param(i)
             }
         }
+        impl<T: Real, C: Operate<T> + ?Sized> Operate<T> for $ptr {
+            fn apply(&mut self, applied: T, how: Tracking) {
+                (**self).apply(applied, how)
+            }
+            fn dead_time(&self) -> Option<T> {
+                (**self).dead_time()
+            }
+            fn set_dead_time(&mut self, samples: T) -> Result<(), crate::Error> {
+                (**self).set_dead_time(samples)
+            }
+        }
         impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
             fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
                 (**self).response(theta)
@@ -189,6 +207,18 @@ impl<C: Controller<f32>> Controller<f64> for Widened<C> {
     }
     fn fault(&self) -> bool {
         self.0.fault()
+    }
+}
+
+impl<C: Operate<f32>> Operate<f64> for Widened<C> {
+    fn apply(&mut self, applied: f64, how: Tracking) {
+        self.0.apply(f32::of(applied), how);
+    }
+    fn dead_time(&self) -> Option<f64> {
+        self.0.dead_time().map(f64::from)
+    }
+    fn set_dead_time(&mut self, samples: f64) -> Result<(), crate::Error> {
+        self.0.set_dead_time(f32::of(samples))
     }
 }
 

@@ -438,6 +438,28 @@ impl<T: Real> Pid<T> {
         self.refresh();
     }
 
+    /// Amends the last update as if its output had been `applied` (the value
+    /// the actuator really took, or an operator's): with
+    /// [`Tracking::Full`](crate::Tracking) the integrator is set so that the
+    /// output would have been `applied` (as in manual mode: the next output
+    /// continues from it); with [`Tracking::Reset`](crate::Tracking) it moves
+    /// by the back-calculation gain `h/Tt`·(applied − output) (external reset
+    /// feedback: no windup against a limit the controller does not own; full
+    /// tracking when the controller has no back-calculation).
+    pub fn apply(&mut self, applied: T, how: crate::Tracking) {
+        if !applied.is_finite() || !self.started {
+            return;
+        }
+        let t = self.terms;
+        self.integral = match how {
+            crate::Tracking::Reset if self.ar > T::zero() => {
+                self.integral + self.ar * (applied - t.output)
+            }
+            _ => applied - t.p - t.d,
+        };
+        self.terms.output = applied;
+    }
+
     /// The linear (unsaturated) frequency response at `z = e^{jθ}` as the pair
     /// `(Cr, Cy)` of `u = Cr·r − Cy·y`: `Cr = kp·b + ki·h/(z − 1) + D(z)·c`,
     /// `Cy = kp + ki·h/(z − 1) + D(z)`, `D(z) = kd/(Tf + h)·(1 − z⁻¹)/(1 − Tf/(Tf + h)·z⁻¹)`.
@@ -585,6 +607,12 @@ impl<T: Real> Pid<T> {
             self.refresh();
         }
         u
+    }
+}
+
+impl<T: Real> crate::Operate<T> for Pid<T> {
+    fn apply(&mut self, applied: T, how: crate::Tracking) {
+        Pid::apply(self, applied, how);
     }
 }
 

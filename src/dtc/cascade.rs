@@ -202,6 +202,7 @@ pub struct Imc<T, S> {
     u_min: T,
     u_max: T,
     error: T,
+    u: T,
 }
 
 impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
@@ -222,6 +223,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
             u_min: T::neg_infinity(),
             u_max: T::infinity(),
             error: T::zero(),
+            u: T::zero(),
         })
     }
 
@@ -243,7 +245,29 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
         self.error = y2.map_or(T::zero(), |y| y - ymd);
         let u = self.q.step(r2 - self.error).max(self.u_min).min(self.u_max);
         self.model.advance(u);
+        self.u = u;
         u
+    }
+
+    /// Amends the last update as if the loop's output had been `applied`:
+    /// the model follows it, and `Q`'s last input moves by
+    /// `(applied − u)/Q(∞)` so that `Q`'s output was `applied` too (`Q` is
+    /// biproper). Returns that change of the inner set point `r2`.
+    pub fn apply(&mut self, applied: T) -> T {
+        if !(applied.is_finite() && self.u.is_finite()) {
+            return T::zero();
+        }
+        self.model.amend_input(applied - self.u);
+        let d = self.q.feedthrough();
+        let dr2 = if d != T::zero() {
+            let dv = (applied - self.u) / d;
+            self.q.amend_input(dv);
+            dv
+        } else {
+            T::zero()
+        };
+        self.u = applied;
+        dr2
     }
 
     /// The model error `y2 − P2m z^{−d2} u` of the last sample.
@@ -262,6 +286,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
         self.model.reset();
         self.line.reset();
         self.error = T::zero();
+        self.u = T::zero();
     }
 }
 
@@ -557,6 +582,18 @@ impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Ca
 
     fn fault(&self) -> bool {
         self.fault
+    }
+}
+
+impl<T: Real, O: crate::Operate<T>, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
+    for Cascade<T, O, S>
+{
+    /// The inner loop follows `applied` (its model and `Q`), and the outer
+    /// controller the inner set point that gives it.
+    fn apply(&mut self, applied: T, how: crate::Tracking) {
+        let dr2 = self.inner.apply(applied);
+        self.r2 = self.r2 + dr2;
+        self.outer.apply(self.r2, how);
     }
 }
 

@@ -480,6 +480,53 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
     }
 }
 
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
+    for Compensator<T, N, S>
+{
+    /// With `u = u1 − u3`, an applied `u` means `u1 = u + u3`: the model (driven
+    /// by `u1` when there is a disturbance controller, by `u` otherwise) and
+    /// Watanabe–Ito's correction are amended to it, and `Gc1`, whose output
+    /// is `u1 + Gc2·ym`, tracks `u1`'s change. `Gc2` and `Gd` see the model's
+    /// output and error, which the amendment keeps right.
+    fn apply(&mut self, applied: T, how: crate::Tracking) {
+        if !(applied.is_finite() && self.u.is_finite()) {
+            return;
+        }
+        let u1_applied = applied + self.u3;
+        let dm = if self.drives_model_with_u1() {
+            u1_applied - self.u1
+        } else {
+            applied - self.u
+        };
+        self.model.amend_input(dm);
+        if let Some(c) = &mut self.corr {
+            c.amend_input(dm);
+        }
+        let g = self.gc1.output();
+        self.gc1.apply(g + (u1_applied - self.u1), how);
+        self.u1 = u1_applied;
+        self.u = applied;
+    }
+
+    fn dead_time(&self) -> Option<T> {
+        Some(self.delay.delay())
+    }
+
+    /// The model's line; a scheme whose error or disturbance path contains
+    /// the dead time too (Huang's filter, Åström–Hang–Lim's `M`) is designed
+    /// around it and is not changed.
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        if matches!(self.err, ErrorPath::Huang { .. })
+            || matches!(self.dist, DisturbancePath::AstromHangLim(_))
+        {
+            return Err(Error::Unsupported(
+                "the scheme's filter contains the dead time: rebuild it for another",
+            ));
+        }
+        self.delay.set_delay(samples)
+    }
+}
+
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>
     for Compensator<T, N, S>
 {

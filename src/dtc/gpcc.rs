@@ -253,6 +253,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
             *x = w;
         }
     }
+    fn amend(&mut self, du: T) {
+        let dw = self.gamma.amend_input(du);
+        if let Some(x) = self.ring.as_mut().get_mut(self.newest) {
+            *x = *x + dw;
+        }
+    }
     fn reset(&mut self) {
         self.gamma.reset();
         self.f2.reset();

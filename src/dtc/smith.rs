@@ -118,6 +118,29 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     }
 }
 
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
+    for SmithPredictor<T, N, S>
+{
+    /// The model is amended to the applied input (it predicts what the plant
+    /// really receives) and the PID tracks it.
+    fn apply(&mut self, applied: T, how: crate::Tracking) {
+        let u = self.pid.output();
+        if !(applied.is_finite() && u.is_finite()) {
+            return;
+        }
+        self.model.amend_input(applied - u);
+        self.pid.apply(applied, how);
+    }
+
+    fn dead_time(&self) -> Option<T> {
+        Some(self.delay.delay())
+    }
+
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.delay.set_delay(samples)
+    }
+}
+
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>
     for SmithPredictor<T, N, S>
 {

@@ -146,6 +146,53 @@ impl<T: Real, const N: usize> Lti<T, N> {
         y
     }
 
+    /// Amends the last step as if its input had been `u + du`: by linearity
+    /// the state moves by `Γ·du` (exactly what stepping with `u + du` would
+    /// have given), and the output of that step by `D·du`, which is returned.
+    /// How a block's state follows the value an actuator really applied.
+    pub fn amend_input(&mut self, du: T) -> T {
+        for (x, g) in self.x.iter_mut().zip(self.gamma.iter()).take(self.n) {
+            *x = *x + *g * du;
+        }
+        self.d * du
+    }
+
+    /// Moves the state so that the output moves by `dy` for the same input,
+    /// along the block's integrating mode: `x += w·dy` with `(Φ − I)·w = 0`,
+    /// `C·w = 1` (solved in the least-squares sense, which is exact when the
+    /// block has a pole at `z = 1` its output sees). A controller realized as
+    /// a block then takes over from an output it did not give (manual,
+    /// tracking) as a PI's integrator does: the shift persists. Returns false
+    /// (and changes nothing) when no such direction exists.
+    pub fn shift_output(&mut self, dy: T) -> bool {
+        let n = self.n;
+        if n == 0 || !dy.is_finite() {
+            return false;
+        }
+        // M = (Φ − I)ᵀ(Φ − I) + CᵀC, w = M⁻¹·Cᵀ
+        let a = mat_of(&self.phi, n) - matrix::Mat::<N>::identity();
+        let c = vector_of(&self.c, n);
+        let mut m = a.transpose() * a + c * c.transpose();
+        for i in n..N {
+            if let Some(e) = m.get_mut((i, i)) {
+                *e = 1.0;
+            }
+        }
+        let Ok(inv) = matrix::inverse(&m, n) else {
+            return false;
+        };
+        let w = inv * c;
+        let cw = c.dot(&w);
+        if !(cw.abs() > 1e-12) {
+            return false;
+        }
+        let step: [T; N] = array_of(&(w * (dy.f64() / cw)), n);
+        for (x, d) in self.x.iter_mut().zip(step.iter()).take(n) {
+            *x = *x + *d;
+        }
+        true
+    }
+
     /// `x[k+1] = Φ x[k] + Γ u[k]` without computing the output.
     #[inline(always)]
     pub fn advance(&mut self, u: T) {

@@ -18,6 +18,8 @@ pub trait Predictor<T: Real> {
     fn predict_held(&mut self) -> T;
     /// Records the input `u[k]` applied at this sample.
     fn commit(&mut self, u: T);
+    /// Amends the last committed input by `du` (it was `u + du`).
+    fn amend(&mut self, du: T);
     /// Zeroes every state.
     fn reset(&mut self);
     /// `(Su, Sy)` at `z = e^{jθ}`.
@@ -32,6 +34,11 @@ pub trait Primary<T: Real> {
     fn reset(&mut self);
     /// `(Cr, Cy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+    /// The last output.
+    fn output(&self) -> T;
+    /// Amends the last update as if the output had been `applied`
+    /// (see [`crate::Operate::apply`]).
+    fn apply(&mut self, applied: T, how: crate::Tracking);
 }
 
 impl<T: Real> Primary<T> for Pid<T> {
@@ -40,6 +47,12 @@ impl<T: Real> Primary<T> for Pid<T> {
     }
     fn reset(&mut self) {
         Pid::reset(self)
+    }
+    fn output(&self) -> T {
+        Pid::output(self)
+    }
+    fn apply(&mut self, applied: T, how: crate::Tracking) {
+        Pid::apply(self, applied, how);
     }
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         Pid::response(self, theta)
@@ -78,6 +91,16 @@ impl<T: Real> Primary<T> for Matched2Dof<T> {
         self.f.reset();
         self.k.reset();
         self.u = T::zero();
+    }
+    fn output(&self) -> T {
+        self.u
+    }
+    /// `K`'s state moves so that its output continues from `applied` (as a
+    /// PID's integrator is set in manual mode).
+    fn apply(&mut self, applied: T, _how: crate::Tracking) {
+        if applied.is_finite() && self.k.shift_output(applied - self.u) {
+            self.u = applied;
+        }
     }
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         let k = self.k.response(theta);
@@ -179,6 +202,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
             *x = s;
         }
     }
+    /// Amends the newest input by `du`.
+    pub fn amend_last(&mut self, du: T) {
+        if let Some(x) = self.u_hist.as_mut().get_mut(self.uh) {
+            *x = *x + du;
+        }
+    }
     /// Zeroes the history.
     pub fn reset(&mut self) {
         self.u_hist.as_mut().iter_mut().for_each(|v| *v = T::zero());
@@ -245,6 +274,9 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
     }
     fn commit(&mut self, u: T) {
         self.s.push(u, self.last_s);
+    }
+    fn amend(&mut self, du: T) {
+        self.s.amend_last(du);
     }
     fn reset(&mut self) {
         self.fr.reset();
@@ -330,6 +362,19 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, 
 
     fn fault(&self) -> bool {
         self.fault
+    }
+}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> crate::Operate<T> for Predicted<T, P, K> {
+    /// The primary controller follows `applied` and the predictor records it
+    /// as the input of the last sample.
+    fn apply(&mut self, applied: T, how: crate::Tracking) {
+        let u = self.k.output();
+        if !(applied.is_finite() && u.is_finite()) {
+            return;
+        }
+        self.k.apply(applied, how);
+        self.pred.amend(applied - u);
     }
 }
 

@@ -1,0 +1,217 @@
+//! Operating a controller as process plants do: automatic, manual and
+//! tracking modes with bumpless transfer, the value the actuator really
+//! applied fed back (external reset), the model's dead time changed at run
+//! time, and a rate limit on the set point.
+//!
+//! Every scheme implements [`Operate`]: it amends its last update as if its
+//! output had been another value (the operator's, a tracked one, or what a
+//! limit downstream let through). Its integrators and its predictor's model
+//! then follow what the plant really received, so that the prediction stays
+//! right and the return to automatic is bumpless. [`Operated`] adds the modes,
+//! the external reset and the set-point ramp around any such controller.
+//!
+//! The amendment is exact for linear blocks: a block stepped with `u` and
+//! amended by `du` has the state it would have had stepped with `u + du`
+//! ([`crate::Lti::amend_input`]); integrators are set as the PID's manual
+//! mode sets them (Åström & Hägglund (2006), Sec. 3.5, tracking and
+//! bumpless transfer).
+
+use crate::{Controller, Error, Real};
+
+/// How an amended output reaches the integrators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tracking {
+    /// The integrators are set so that the output would have been the
+    /// applied value (manual and tracking modes).
+    Full,
+    /// External reset feedback: the integrators move by the back-calculation
+    /// gain times the difference (anti-windup against a limit outside the
+    /// controller).
+    Reset,
+}
+
+/// Operation of a scheme beyond `update`: every scheme implements it.
+pub trait Operate<T: Real>: Controller<T> {
+    /// Amends the last update as if the controller's output had been
+    /// `applied`: the integrators (as `how` says), the predictor's model and
+    /// every internal controller follow it. A no-op before the first update.
+    fn apply(&mut self, applied: T, how: Tracking);
+
+    /// The model's dead time, in samples (`None`: the scheme has none that
+    /// can change at run time).
+    fn dead_time(&self) -> Option<T> {
+        None
+    }
+
+    /// Changes the model's dead time to `samples` at once, within the
+    /// capacity fixed at construction ([`Error::DelayTooLong`] beyond it;
+    /// [`Error::Unsupported`] for a scheme whose design contains the dead
+    /// time). At a steady state, when the delay line holds the same value
+    /// throughout, the change causes no transient.
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        let _ = samples;
+        Err(Error::Unsupported(
+            "this scheme's design contains its dead time: rebuild it for another",
+        ))
+    }
+}
+
+/// The operating mode of an [`Operated`] controller.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mode<T> {
+    /// The controller computes the output.
+    Auto,
+    /// The operator sets the output.
+    Manual(T),
+    /// The output follows an external value (a selector, an override).
+    Track(T),
+}
+
+/// A controller with modes, external reset feedback and a set-point ramp.
+///
+/// In manual and tracking modes the controller keeps computing (its model
+/// and filters see every measurement) and is amended to the given output
+/// every sample, so that switching back to automatic is bumpless: the first
+/// automatic output differs from the last applied one by what one sample of
+/// the control law adds.
+#[derive(Debug, Clone)]
+pub struct Operated<T, C> {
+    inner: C,
+    mode: Mode<T>,
+    /// Largest set-point change per sample (∞: no ramp).
+    ramp: T,
+    r: T,
+    started: bool,
+}
+
+impl<T: Real, C: Operate<T>> Operated<T, C> {
+    /// `inner` in automatic mode, no set-point ramp.
+    pub fn new(inner: C) -> Self {
+        Operated {
+            inner,
+            mode: Mode::Auto,
+            ramp: T::infinity(),
+            r: T::zero(),
+            started: false,
+        }
+    }
+
+    /// The controller inside.
+    pub fn inner(&self) -> &C {
+        &self.inner
+    }
+
+    /// The controller inside, mutable.
+    pub fn inner_mut(&mut self) -> &mut C {
+        &mut self.inner
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> Mode<T> {
+        self.mode
+    }
+
+    /// Manual mode with the output `u` (finite).
+    pub fn manual(&mut self, u: T) -> Result<(), Error> {
+        self.mode = Mode::Manual(crate::real::finite(u, "u")?);
+        Ok(())
+    }
+
+    /// Tracking mode: the output follows `u` (finite) until [`Operated::auto`].
+    pub fn track(&mut self, u: T) -> Result<(), Error> {
+        self.mode = Mode::Track(crate::real::finite(u, "u")?);
+        Ok(())
+    }
+
+    /// Automatic mode (bumpless from manual or tracking).
+    pub fn auto(&mut self) {
+        self.mode = Mode::Auto;
+    }
+
+    /// Limits the set point's change to `per_second` (`∞` turns the ramp off),
+    /// for the sample period `ts`.
+    pub fn set_setpoint_ramp(&mut self, per_second: T, ts: T) -> Result<(), Error> {
+        if per_second.is_nan() || per_second <= T::zero() {
+            return Err(Error::NotPositive("setpoint_ramp"));
+        }
+        self.ramp = per_second * crate::real::positive(ts, "ts")?;
+        Ok(())
+    }
+
+    /// Changes the model's dead time (see [`Operate::set_dead_time`]).
+    pub fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.inner.set_dead_time(samples)
+    }
+
+    /// One sample with the value the actuator really applied for the last
+    /// output (`None`: what this controller gave): the controller is amended
+    /// to it before computing (external reset feedback).
+    pub fn update_applied(&mut self, r: T, y: T, applied: Option<T>) -> T {
+        if let (Some(a), Mode::Auto, true) = (applied, self.mode, self.started) {
+            if a.is_finite() {
+                self.inner.apply(a, Tracking::Reset);
+            }
+        }
+        self.step(r, y)
+    }
+
+    fn step(&mut self, r: T, y: T) -> T {
+        self.step_with(r, |c, r| c.update(r, y))
+    }
+
+    /// The sample around `update` (the set point ramped, the mode applied).
+    fn step_with(&mut self, r: T, update: impl FnOnce(&mut C, T) -> T) -> T {
+        let r = if self.ramp.is_finite() && self.started && r.is_finite() {
+            crate::real::clamp(r, self.r - self.ramp, self.r + self.ramp)
+        } else {
+            r
+        };
+        self.r = r;
+        self.started = true;
+        let u = update(&mut self.inner, r);
+        match self.mode {
+            Mode::Auto => u,
+            Mode::Manual(v) | Mode::Track(v) => {
+                self.inner.apply(v, Tracking::Full);
+                v
+            }
+        }
+    }
+}
+
+impl<T: Real, C: Operate<T>> Controller<T> for Operated<T, C> {
+    fn update(&mut self, r: T, y: T) -> T {
+        self.step(r, y)
+    }
+    fn reset(&mut self) {
+        self.inner.reset();
+        self.started = false;
+        self.r = T::zero();
+    }
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+}
+
+impl<T: Real, C: Operate<T> + crate::CascadeControl<T>> crate::CascadeControl<T>
+    for Operated<T, C>
+{
+    fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
+        self.step_with(r, |c, r| c.update_cascade(r, y, y2))
+    }
+    fn is_cascade(&self) -> bool {
+        self.inner.is_cascade()
+    }
+}
+
+impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
+    fn apply(&mut self, applied: T, how: Tracking) {
+        self.inner.apply(applied, how);
+    }
+    fn dead_time(&self) -> Option<T> {
+        self.inner.dead_time()
+    }
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.inner.set_dead_time(samples)
+    }
+}
