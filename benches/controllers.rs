@@ -129,6 +129,7 @@ fn registry_updates<T: Precision>(c: &mut Criterion, ty: &str) {
             ts: 0.1,
             u_min: f64::NEG_INFINITY,
             u_max: f64::INFINITY,
+            max_dead_time: 0.0,
         };
         let mut ctrl = s
             .build_process_as::<T>(&p, &plant, inner.as_ref(), &build)

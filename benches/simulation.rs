@@ -76,6 +76,7 @@ fn sims(c: &mut Criterion) {
             ts: 0.939,
             u_min: f64::NEG_INFINITY,
             u_max: f64::INFINITY,
+            max_dead_time: 0.0,
         };
         s.build_with(&p, &plant, &unlimited).expect("build")
     };

@@ -109,6 +109,11 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         Ok(line)
     }
 
+    /// The line's storage (the line given up).
+    pub fn into_storage(self) -> S {
+        self.buf
+    }
+
     /// The capacity: the longest delay the line can hold, in samples.
     #[inline]
     pub fn capacity(&self) -> usize {

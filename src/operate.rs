@@ -51,7 +51,7 @@ pub trait Operate<T: Real>: Controller<T> {
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         let _ = samples;
         Err(Error::Unsupported(
-            "this scheme's design contains its dead time: rebuild it for another",
+            "this scheme has no model dead time that can change at run time (none, or one its design contains): rebuild it for another",
         ))
     }
 }

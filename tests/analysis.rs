@@ -56,6 +56,7 @@ fn controller(
             ts,
             u_min: f64::NEG_INFINITY,
             u_max: f64::INFINITY,
+            max_dead_time: 0.0,
         },
     )
     .unwrap()

@@ -35,6 +35,7 @@ const BUILD: Build = Build {
     ts: 0.1,
     u_min: -10.0,
     u_max: 10.0,
+    max_dead_time: 0.0,
 };
 
 /// Allocations made by this thread while `f` runs.

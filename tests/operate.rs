@@ -5,7 +5,7 @@ mod common;
 use common::{plant_for, required_settings};
 use msp::registry::{Build, Scheme, SCHEMES};
 use msp::sim::{CascadeStepper, PlantStepper};
-use msp::{CascadeControl, LoopController, Operated};
+use msp::{CascadeControl, Controller, LoopController, Operate, Operated};
 
 /// The closed loop of one scheme with its plant, sample by sample.
 struct Loop {
@@ -25,6 +25,7 @@ impl Loop {
             ts,
             u_min: -10.0,
             u_max: 10.0,
+            max_dead_time: 0.0,
         };
         let c = scheme.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
         let (single, cascade) = match &p2 {
@@ -104,5 +105,110 @@ fn every_scheme_returns_to_auto_without_a_bump() {
                 scheme.name
             );
         }
+    }
+}
+
+/// The plant's rational part stepped exactly, its dead time a line of whole
+/// samples that can change length.
+struct Plant {
+    block: PlantStepper,
+    line: std::collections::VecDeque<f64>,
+}
+
+impl Plant {
+    fn new(p: &msp::poly::TransferFunction, ts: f64, samples: usize) -> Plant {
+        let mut free = p.clone();
+        free.delay = 0.0;
+        Plant {
+            block: PlantStepper::new(&free, ts).unwrap(),
+            line: vec![0.0; samples].into(),
+        }
+    }
+    fn output(&self) -> f64 {
+        self.block.output()
+    }
+    fn advance(&mut self, u: f64) {
+        self.line.push_back(u);
+        let v = self.line.pop_front().unwrap();
+        self.block.advance(v);
+    }
+    /// A new length, the line holding its oldest value where it grows (at a
+    /// steady state every value is the same).
+    fn set_samples(&mut self, n: usize) {
+        while self.line.len() > n {
+            self.line.pop_front();
+        }
+        while self.line.len() < n {
+            let oldest = *self.line.front().unwrap();
+            self.line.push_front(oldest);
+        }
+    }
+}
+
+/// The loop of `scheme` tuned for `p1` whose dead time moves from 100 to 120
+/// samples at steady state (plant and model together), then a set-point
+/// step; and the same controller parameters built for the 120 samples from
+/// the start. The largest difference of their outputs after the step (None:
+/// the scheme's dead time is part of its design and cannot change).
+fn dead_time_change(scheme: &'static Scheme) -> Option<f64> {
+    let (p1, _, ts) = plant_for(scheme);
+    let (h0, h1) = (100usize, 120usize);
+    assert!((p1.delay / ts - h0 as f64).abs() < 1e-9);
+    let set = required_settings(scheme.name);
+    let params = scheme.tune_process(&p1, None, None, None, &set).unwrap();
+    let mut p_new = p1.clone();
+    p_new.delay = h1 as f64 * ts;
+    let build = |model: &msp::poly::TransferFunction| {
+        let b = Build {
+            ts,
+            u_min: -10.0,
+            u_max: 10.0,
+            max_dead_time: h1 as f64 * ts,
+        };
+        scheme.build_process(&params, model, None, &b).unwrap()
+    };
+    let (mut a, mut b) = (build(&p1), build(&p_new));
+    let (mut pa, mut pb) = (Plant::new(&p1, ts, h0), Plant::new(&p1, ts, h1));
+    let (settle, after) = (6000, 3000);
+    let mut worst = 0.0f64;
+    for k in 0..settle + after {
+        if k == settle / 2 {
+            match a.set_dead_time(h1 as f64) {
+                Ok(()) => pa.set_samples(h1),
+                Err(msp::Error::Unsupported(_)) => return None,
+                Err(e) => panic!("{}: {e}", scheme.name),
+            }
+        }
+        let r = if k < settle { 1.0 } else { 2.0 };
+        if k >= settle {
+            worst = worst.max((pa.output() - pb.output()).abs());
+        }
+        let ua = a.update(r, pa.output());
+        let ub = b.update(r, pb.output());
+        pa.advance(ua);
+        pb.advance(ub);
+    }
+    Some(worst)
+}
+
+#[test]
+fn a_dead_time_change_at_steady_state_is_a_loop_built_for_it() {
+    let mut changed = Vec::new();
+    for scheme in SCHEMES.iter().filter(|s| !s.is_cascade()) {
+        match dead_time_change(scheme) {
+            Some(d) => {
+                println!("{}: largest difference {d:e}", scheme.name);
+                assert!(d < 1e-9, "{}: the runs differ by {d:e}", scheme.name);
+                changed.push(scheme.name);
+            }
+            None => println!("{}: no dead time to change at run time", scheme.name),
+        }
+    }
+    // the Smith predictor and the compensators of the modified schemes
+    for name in ["smith", "filtered-smith", "karan-dey", "matausek-micic"] {
+        assert!(
+            changed.contains(&name),
+            "{name} should take a new dead time"
+        );
     }
 }

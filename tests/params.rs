@@ -115,6 +115,7 @@ fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
                 ts,
                 u_min: f64::NEG_INFINITY,
                 u_max: f64::INFINITY,
+                max_dead_time: 0.0,
             };
             let c = s.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
             if !c.param_names().is_empty() {

@@ -18,6 +18,7 @@ fn worst(scheme: &'static Scheme) -> f64 {
         ts,
         u_min: -10.0,
         u_max: 10.0,
+        max_dead_time: 0.0,
     };
     let mut c64 = scheme.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
     let mut c32 = scheme

@@ -86,6 +86,7 @@ fn ten_million_samples_stay_finite() {
                 ts: 0.074,
                 u_min: -10.0,
                 u_max: 10.0,
+                max_dead_time: 0.0,
             },
         )
         .unwrap();
@@ -176,6 +177,7 @@ fn a_nan_measurement_never_reaches_the_state_and_recovery_is_bumpless() {
                     ts,
                     u_min: -10.0,
                     u_max: 10.0,
+                    max_dead_time: 0.0,
                 },
             )
             .unwrap();
@@ -253,6 +255,7 @@ fn cascade_nan(scheme: &'static msp::registry::Scheme) {
                 ts,
                 u_min: -10.0,
                 u_max: 10.0,
+                max_dead_time: 0.0,
             },
         )
         .unwrap();

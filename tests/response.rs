@@ -58,6 +58,7 @@ fn response_matches_the_time_domain() {
                         ts,
                         u_min: f64::NEG_INFINITY,
                         u_max: f64::INFINITY,
+                        max_dead_time: 0.0,
                     },
                 )
                 .unwrap();

@@ -16,6 +16,7 @@ fn run(
         ts: cfg.ts,
         u_min: f64::NEG_INFINITY,
         u_max: f64::INFINITY,
+        max_dead_time: 0.0,
     };
     let mut c = s.build_with(&p, plant, &b).unwrap();
     match into {

@@ -512,12 +512,14 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         Some(self.delay.delay())
     }
 
-    /// The model's line; a scheme whose error or disturbance path contains
-    /// the dead time too (Huang's filter, Åström–Hang–Lim's `M`) is designed
-    /// around it and is not changed.
+    /// The model's line; a scheme whose error or disturbance path or whose
+    /// predictor correction contains the dead time too (Huang's filter,
+    /// Åström–Hang–Lim's `M`, Watanabe–Ito's `m(s) = Kv·L/(1 + sL)`) is
+    /// designed around it and is not changed.
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         if matches!(self.err, ErrorPath::Huang { .. })
             || matches!(self.dist, DisturbancePath::AstromHangLim(_))
+            || self.corr.is_some()
         {
             return Err(Error::Unsupported(
                 "the scheme's filter contains the dead time: rebuild it for another",

@@ -210,6 +210,7 @@ fn outer_model(
         ts,
         u_min: f64::NEG_INFINITY,
         u_max: f64::INFINITY,
+        max_dead_time: 0.0,
     };
     cascade_parts(p, p1, p2, &b)
 }

@@ -56,9 +56,17 @@ pub(super) fn model_parts<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<ModelParts<T, N>, crate::Error> {
+    let d = model.delay_samples(b.ts)?;
+    // room for the longest dead time the run will give the model
+    let room = if b.max_dead_time > 0.0 {
+        (b.max_dead_time / b.ts).max(d)
+    } else {
+        d
+    };
+    let line: Delay<T, Vec<T>> = Delay::new_in(T::of(room))?;
     Ok((
         Lti::of(&model.to_model_lti::<N>(b.ts)?),
-        Delay::new_in(T::of(model.delay_samples(b.ts)?))?,
+        Delay::with_storage(line.into_storage(), T::of(d))?,
     ))
 }
 

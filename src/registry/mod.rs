@@ -209,6 +209,10 @@ pub struct Build {
     pub u_min: f64,
     /// Actuator upper limit.
     pub u_max: f64,
+    /// The longest dead time (s) the controller's model will be given at run
+    /// time ([`crate::Operate::set_dead_time`]): its delay line holds at
+    /// least this, or the model's own dead time when that is longer (`0`).
+    pub max_dead_time: f64,
 }
 
 /// One dead-time compensation scheme.

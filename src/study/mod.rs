@@ -432,7 +432,12 @@ impl Scenario {
         if u_min > u_max {
             return Err(RunError::Invalid(Error::InvalidLimits("umin")));
         }
-        let build = Build { ts, u_min, u_max };
+        let build = Build {
+            ts,
+            u_min,
+            u_max,
+            max_dead_time: 0.0,
+        };
         let controller: registry::DynController = if self.float32 {
             Box::new(crate::Widened(
                 scheme.build_process_as::<f32>(params, model, inner, &build)?,

@@ -98,6 +98,7 @@ impl Controller {
                     ts,
                     u_min: umin,
                     u_max: umax,
+                    max_dead_time: 0.0,
                 },
             )
             .map_err(value_err)?;
