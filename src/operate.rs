@@ -143,14 +143,21 @@ impl<T: Real, C: Operate<T>> Operated<T, C> {
         self.inner.set_dead_time(samples)
     }
 
+    /// Feeds back the value the actuator really applied for the last output
+    /// (`None`: nothing to feed back) before the next update (see
+    /// [`Operated::update_applied`]).
+    pub fn feed_back(&mut self, applied: Option<T>) {
+        if self.started {
+            feed_back(&mut self.inner, self.mode, applied);
+        }
+    }
+
     /// One sample with the value the actuator really applied for the last
     /// output (`None`: what this controller gave): the controller is amended
     /// to it before computing (external reset feedback).
     pub fn update_applied(&mut self, r: T, y: T, applied: Option<T>) -> T {
-        if let (Some(a), Mode::Auto, true) = (applied, self.mode, self.started) {
-            if a.is_finite() {
-                self.inner.apply(a, Tracking::Reset);
-            }
+        if self.started {
+            feed_back(&mut self.inner, self.mode, applied);
         }
         self.step(r, y)
     }
@@ -169,12 +176,32 @@ impl<T: Real, C: Operate<T>> Operated<T, C> {
         self.r = r;
         self.started = true;
         let u = update(&mut self.inner, r);
-        match self.mode {
-            Mode::Auto => u,
-            Mode::Manual(v) | Mode::Track(v) => {
-                self.inner.apply(v, Tracking::Full);
-                v
-            }
+        in_mode(&mut self.inner, self.mode, u)
+    }
+}
+
+/// The output of a controller `c` that computed `u` in `mode`: `u` in
+/// automatic; otherwise the mode's value, which `c` is amended to.
+pub(crate) fn in_mode<T: Real, C: Operate<T> + ?Sized>(c: &mut C, mode: Mode<T>, u: T) -> T {
+    match mode {
+        Mode::Auto => u,
+        Mode::Manual(v) | Mode::Track(v) => {
+            c.apply(v, Tracking::Full);
+            v
+        }
+    }
+}
+
+/// External reset feedback: in automatic, `c` is amended to the value the
+/// actuator applied for its last output.
+pub(crate) fn feed_back<T: Real, C: Operate<T> + ?Sized>(
+    c: &mut C,
+    mode: Mode<T>,
+    applied: Option<T>,
+) {
+    if let (Some(a), Mode::Auto) = (applied, mode) {
+        if a.is_finite() {
+            c.apply(a, Tracking::Reset);
         }
     }
 }

@@ -93,6 +93,10 @@ fn simulator_is_exact_for_the_open_loop_step() {
         fn reset(&mut self) {}
     }
     impl CascadeControl<f64> for Const {}
+    // an open-loop source: nothing to follow
+    impl msp::Operate<f64> for Const {
+        fn apply(&mut self, _: f64, _: msp::Tracking) {}
+    }
     impl Introspect<f64> for Const {}
     let plant: TransferFunction = "5.6*e^-93.9s/(40.2s+1)".parse().unwrap();
     for ts in [0.939, 1.0, 0.7] {
@@ -186,6 +190,9 @@ fn substeps_add_exact_intersample_points_and_keep_the_metrics() {
         fn reset(&mut self) {}
     }
     impl CascadeControl<f64> for Replay {}
+    impl msp::Operate<f64> for Replay {
+        fn apply(&mut self, _: f64, _: msp::Tracking) {}
+    }
     impl Introspect<f64> for Replay {}
     let u: Vec<f64> = base.result.u.clone();
     let cfg = SimConfig::new(1.3 / 4.0, base.duration);

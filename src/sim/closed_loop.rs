@@ -6,9 +6,10 @@ use super::cascade::JointSim;
 use super::plant::PlantSim;
 use super::schedule::{first_sample_at, Track};
 use super::{Disturbance, Location, SetpointStep, SimResult};
+use crate::operate::{feed_back, in_mode, Mode};
 use crate::poly::TransferFunction;
 use crate::Error;
-use crate::{CascadeControl, Introspect};
+use crate::{CascadeControl, Introspect, Operate};
 
 /// Settings of one closed-loop simulation.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,6 +35,41 @@ pub struct SimConfig {
     pub substeps: usize,
     /// Which signals are recorded.
     pub record: Record,
+    /// What an operator does during the run (modes, dead-time changes).
+    pub operations: Vec<Operation>,
+    /// An actuator limit outside the controller (the controller does not
+    /// know it): the plant receives the controller's output clamped to it.
+    pub actuator: Option<(f64, f64)>,
+    /// The value the plant received is fed back to the controller each
+    /// sample (external reset, [`crate::Operate::apply`]).
+    pub reset_feedback: bool,
+}
+
+/// An operator's action at a time of the run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Operation {
+    /// When (s).
+    pub at: f64,
+    /// What.
+    pub action: Action,
+}
+
+/// What an operator does ([`Operation`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+pub enum Action {
+    /// Manual mode with this output.
+    Manual(f64),
+    /// The output follows this value.
+    Track(f64),
+    /// Back to automatic.
+    Auto,
+    /// The controller's model is given this dead time (s).
+    DeadTime(f64),
+    /// The process's dead time becomes this (s).
+    PlantDeadTime(f64),
 }
 
 /// Which signals a run records. Time, the output `y` and the actuator `u`
@@ -64,6 +100,9 @@ impl SimConfig {
             u_max: f64::INFINITY,
             substeps: 1,
             record: Record::All,
+            operations: Vec::new(),
+            actuator: None,
+            reset_feedback: false,
         }
     }
 }
@@ -120,8 +159,19 @@ enum Process {
     },
 }
 
+impl Process {
+    fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+        match self {
+            Process::Single(p) => p.set_dead_time(samples),
+            Process::Cascade { .. } => Err(Error::Unsupported(
+                "a plant dead-time event needs a single plant (not a cascade process)",
+            )),
+        }
+    }
+}
+
 /// Runs the closed loop of `controller` on `plant`.
-pub fn simulate<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+pub fn simulate<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     controller: &mut C,
     cfg: &SimConfig,
@@ -135,7 +185,7 @@ pub fn simulate<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
 /// overwritten and keep their allocations, so repeated runs (sweeps, Monte
 /// Carlo, benchmarks) write to memory that is already mapped. On an error
 /// `out` is left empty.
-pub fn simulate_into<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+pub fn simulate_into<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     controller: &mut C,
     cfg: &SimConfig,
@@ -150,7 +200,7 @@ pub fn simulate_into<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
 /// ([`CascadeControl::update_cascade`]). Disturbances at [`Location::Input`] act
 /// at the input of `p2` (`d2`), at [`Location::Inner`] on `y2` (`d0`), at
 /// [`Location::Output`] on `y` (`d1`).
-pub fn simulate_cascade<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+pub fn simulate_cascade<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     p1: &TransferFunction,
     p2: &TransferFunction,
     controller: &mut C,
@@ -161,7 +211,7 @@ pub fn simulate_cascade<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
     Ok(res)
 }
 
-fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
+fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     inner: Option<&TransferFunction>,
     controller: &mut C,
@@ -180,8 +230,17 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
     let n = steps.saturating_add(1);
     let m = cfg.substeps.max(1);
     let n_rows = n.saturating_mul(m);
+    // room in the plant's line for the longest dead time an event sets
+    let plant_room = cfg
+        .operations
+        .iter()
+        .filter_map(|o| match o.action {
+            Action::PlantDeadTime(d) => Some(d),
+            _ => None,
+        })
+        .fold(0.0, f64::max);
     let mut process = match inner {
-        None => Process::Single(PlantSim::new(plant, ts, m)?),
+        None => Process::Single(PlantSim::with_room(plant, ts, m, plant_room)?),
         Some(p2) => Process::Cascade {
             p2: PlantSim::new(p2, ts, m)?,
             joint: Box::new(JointSim::new(plant, p2, ts, m)?),
@@ -225,6 +284,17 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
     steps.sort_by_key(|s| s.0);
     let mut next_step = 0usize;
     let mut r = 0.0;
+    // the operator's actions as sample indices, in time order
+    let mut ops: Vec<(usize, Action)> = cfg
+        .operations
+        .iter()
+        .map(|o| (first_sample_at(o.at, ts), o.action))
+        .collect();
+    ops.sort_by_key(|o| o.0);
+    let mut next_op = 0usize;
+    let mut mode = Mode::Auto;
+    let applies = !ops.is_empty() || cfg.actuator.is_some();
+    let mut applied: Option<f64> = None;
     let mut sig = std::vec![0.0; names.len()];
     for i in 0..n {
         let t = i as f64 * ts;
@@ -235,6 +305,19 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
             } else {
                 break;
             }
+        }
+        while let Some(&(k, action)) = ops.get(next_op) {
+            if k > i {
+                break;
+            }
+            match action {
+                Action::Manual(v) => mode = Mode::Manual(v),
+                Action::Track(v) => mode = Mode::Track(v),
+                Action::Auto => mode = Mode::Auto,
+                Action::DeadTime(d) => controller.set_dead_time(d / ts)?,
+                Action::PlantDeadTime(d) => process.set_dead_time(d / ts)?,
+            }
+            next_op = next_op.saturating_add(1);
         }
         let d_in = inputs.at(i, t);
         let d_out = outputs.at(i, t);
@@ -253,20 +336,34 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
         } else {
             y
         };
-        let u = if cascade {
+        if cfg.reset_feedback {
+            feed_back(controller, mode, applied);
+        }
+        let mut u = if cascade {
             controller.update_cascade(r, y_meas, y2)
         } else {
             controller.update(r, y_meas)
         }
         .max(cfg.u_min)
         .min(cfg.u_max);
+        // what the plant receives: the operator's value in manual or
+        // tracking (the controller follows it), then an outside actuator's limit
+        let mut u_plant = u;
+        if applies {
+            u = in_mode(controller, mode, u);
+            u_plant = match cfg.actuator {
+                Some((lo, hi)) => u.max(lo).min(hi),
+                None => u,
+            };
+            applied = Some(u_plant);
+        }
         sub.clear();
         match &mut process {
-            Process::Single(p) => p.advance(u + d_in, &mut sub),
+            Process::Single(p) => p.advance(u_plant + d_in, &mut sub),
             Process::Cascade { p2, joint, sub2 } => {
                 sub2.clear();
-                p2.advance(u + d_in, sub2);
-                joint.advance(u + d_in, d_mid, &mut sub);
+                p2.advance(u_plant + d_in, sub2);
+                joint.advance(u_plant + d_in, d_mid, &mut sub);
             }
         }
         if i + 1 == n {
@@ -281,6 +378,9 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + ?Sized>(
             ($yj:expr, $y2j:expr) => {{
                 res.y.push($yj);
                 res.u.push(u);
+                if applies {
+                    res.u_applied.push(u_plant);
+                }
                 if cascade {
                     res.y2.push($y2j);
                 }

@@ -27,7 +27,10 @@ mod result;
 mod schedule;
 
 pub use cascade::CascadeStepper;
-pub use closed_loop::{simulate, simulate_cascade, simulate_into, Noise, Record, SimConfig};
+pub use closed_loop::{
+    simulate, simulate_cascade, simulate_into, Action, Noise, Operation, Record, SimConfig,
+};
 pub use plant::{open_loop, PlantStepper};
 pub use result::SimResult;
+pub(crate) use schedule::first_sample_at;
 pub use schedule::{setpoint_at, Disturbance, Location, SetpointStep, Shape};

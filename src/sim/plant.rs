@@ -24,12 +24,25 @@ pub(super) struct PlantSim {
     pieces: Vec<Piece>,
     line: Delay<f64, Vec<f64>>,
     k: usize,
+    /// The fraction of a sample of the dead time (the pieces are cut at it).
+    frac: f64,
     feedthrough: f64,
     last_in: f64,
 }
 
 impl PlantSim {
     pub(super) fn new(plant: &TransferFunction, ts: f64, substeps: usize) -> Result<Self, Error> {
+        Self::with_room(plant, ts, substeps, 0.0)
+    }
+
+    /// [`PlantSim::new`] whose dead time can later be set up to `max_delay`
+    /// seconds ([`PlantSim::set_dead_time`]).
+    pub(super) fn with_room(
+        plant: &TransferFunction,
+        ts: f64,
+        substeps: usize,
+        max_delay: f64,
+    ) -> Result<Self, Error> {
         let (kf, f) = split_delay(plant.delay_samples(ts)?);
         let out: Lti<f64, MAX_ORDER> = plant.to_lti(ts)?;
         let cuts = cuts(substeps, &[f]);
@@ -46,16 +59,36 @@ impl PlantSim {
         }
         let k = kf.to_usize_checked()?;
         // the line holds the whole delay `k` (read by `process`); its capacity
-        // `k + 1` keeps `v[n−k−1]` too for a fractional delay
-        let line = Delay::with_storage(vec_zeros(k.saturating_add(1)), kf)?;
+        // `k + 1` keeps `v[n−k−1]` too for a fractional delay (and room for
+        // the longest dead time the run will set)
+        let room = (max_delay / ts).floor().max(kf).to_usize_checked()?;
+        let line = Delay::with_storage(vec_zeros(room.saturating_add(1)), kf)?;
         Ok(PlantSim {
             feedthrough: out.output(1.0) - out.free_output(),
             out,
             pieces,
             line,
             k,
+            frac: f,
             last_in: 0.0,
         })
+    }
+
+    /// Changes the dead time to `samples` (the process's transport delay
+    /// changes): the line reads further back or nearer, so at a steady state
+    /// nothing moves. The fraction of a sample must stay what it was (the
+    /// exact sub-sample pieces are cut at it).
+    pub(super) fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+        let (kf, f) = split_delay(samples);
+        if (f - self.frac).abs() > 1e-9 {
+            return Err(Error::Unsupported(
+                "a plant dead-time change must keep the dead time's fraction of a sample (give whole samples)",
+            ));
+        }
+        let k = kf.to_usize_checked()?;
+        self.line.set_delay(kf)?;
+        self.k = k;
+        Ok(())
     }
 
     /// Output at the current instant (before the new input is applied).

@@ -14,6 +14,10 @@ pub struct SimResult {
     pub y: Vec<f64>,
     /// Actuator value after the limits.
     pub u: Vec<f64>,
+    /// What the plant received when an actuator outside the controller
+    /// limits it, or when operator events run ([`super::SimConfig::actuator`]);
+    /// empty otherwise.
+    pub u_applied: Vec<f64>,
     /// Input (load) disturbance.
     pub d: Vec<f64>,
     /// Output disturbance (all zero when there is none).
@@ -39,6 +43,7 @@ impl SimResult {
             &mut self.r,
             &mut self.y,
             &mut self.u,
+            &mut self.u_applied,
             &mut self.d,
             &mut self.d_out,
             &mut self.y2,
@@ -81,7 +86,8 @@ impl SimResult {
 }
 
 impl SimResult {
-    /// Writes the signals as CSV: `t,r,y,u,d`, then `d_out` when there is an
+    /// Writes the signals as CSV: `t,r,y,u,d` (`t,r,y,u,u_applied,d` when
+    /// the plant received something else than the controller gave), then `d_out` when there is an
     /// output disturbance, `y2` for a cascade process, `d_inner` when it has a
     /// `d0` disturbance, then the controller's signals (shortest round-trip
     /// number formatting).
@@ -89,7 +95,12 @@ impl SimResult {
         let with_dout = self.d_out.iter().any(|v| *v != 0.0);
         let with_y2 = !self.y2.is_empty();
         let with_dinner = !self.d_inner.is_empty();
-        let mut head = std::string::String::from("t,r,y,u,d");
+        let with_applied = !self.u_applied.is_empty();
+        let mut head = std::string::String::from(if with_applied {
+            "t,r,y,u,u_applied,d"
+        } else {
+            "t,r,y,u,d"
+        });
         if with_dout {
             head.push_str(",d_out");
         }
@@ -123,10 +134,16 @@ impl SimResult {
             line.clear();
             let get = |v: &Vec<f64>| v.get(i).copied().unwrap_or(f64::NAN);
             num(&mut line, get(&self.t));
-            for v in [&self.r, &self.y, &self.u, &self.d] {
+            for v in [&self.r, &self.y, &self.u] {
                 line.push(b',');
                 num(&mut line, get(v));
             }
+            if with_applied {
+                line.push(b',');
+                num(&mut line, get(&self.u_applied));
+            }
+            line.push(b',');
+            num(&mut line, get(&self.d));
             if with_dout {
                 line.push(b',');
                 num(&mut line, get(&self.d_out));

@@ -97,7 +97,7 @@ pub fn setpoint_at(steps: &[SetpointStep], t: f64) -> f64 {
 
 /// The first sample `i` (time `i·ts`) at which an event at time `at` has
 /// happened, with the same tolerance as [`setpoint_at`]: `at ≤ t + 10⁻⁹·max(|t|, 1)`.
-pub(super) fn first_sample_at(at: f64, ts: f64) -> usize {
+pub(crate) fn first_sample_at(at: f64, ts: f64) -> usize {
     let reached = |i: usize| {
         let t = i as f64 * ts;
         at <= t + 1e-9 * t.abs().max(1.0)

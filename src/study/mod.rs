@@ -80,6 +80,17 @@ pub struct Scenario {
     /// the delay lines and the recorded signals are estimated before anything
     /// is allocated, and a run that needs more is refused.
     pub max_memory: Option<u64>,
+    /// What an operator does during the run, as the flag writes it
+    /// (`"60:manual=0.3"`, `"120:auto"`, `"60:plant-dead-time=9"`) or
+    /// structured.
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::text_or_struct"))]
+    pub events: Vec<crate::sim::Operation>,
+    /// An actuator limit outside the controller, `(min, max)`: the plant
+    /// receives the controller's output clamped to it.
+    pub actuator: Option<(f64, f64)>,
+    /// The value the plant received is fed back to the controller each
+    /// sample (external reset: no windup against the outside actuator).
+    pub reset_feedback: bool,
 }
 
 /// The memory a run may take unless the scenario says otherwise: 1 GiB.
@@ -280,6 +291,43 @@ impl From<RegistryError> for RunError {
 }
 
 impl Scenario {
+    /// The longest dead time (s) the events give the plant (`plant`) or the
+    /// controller's model (0 without such events).
+    fn event_dead_time(&self, plant: bool) -> f64 {
+        self.events
+            .iter()
+            .filter_map(|e| match (e.action, plant) {
+                (crate::sim::Action::PlantDeadTime(d), true)
+                | (crate::sim::Action::DeadTime(d), false) => Some(d),
+                _ => None,
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The events' values and the actuator's range, checked (a scenario file
+    /// may give them structured, past the flags' parser).
+    fn check_operation(&self) -> Result<(), RunError> {
+        use crate::sim::Action;
+        for e in &self.events {
+            crate::real::non_negative(e.at, "event time")?;
+            match e.action {
+                Action::Manual(v) | Action::Track(v) => {
+                    crate::real::finite(v, "event value")?;
+                }
+                Action::DeadTime(d) | Action::PlantDeadTime(d) => {
+                    crate::real::non_negative(d, "event dead time")?;
+                }
+                Action::Auto => {}
+            }
+        }
+        if let Some((lo, hi)) = self.actuator {
+            if lo.is_nan() || hi.is_nan() || lo >= hi {
+                return Err(RunError::Invalid(Error::InvalidLimits("actuator")));
+            }
+        }
+        Ok(())
+    }
+
     /// Refuses a run whose estimated memory (`bytes`, described by `what`)
     /// is above the scenario's budget.
     pub(crate) fn within_budget(&self, bytes: f64, what: &str) -> Result<(), RunError> {
@@ -320,6 +368,9 @@ impl Scenario {
         "substeps",
         "float32",
         "max_memory",
+        "events",
+        "actuator",
+        "reset_feedback",
     ];
 
     /// Chooses the controller (by name or by the model's kind) and the sample
@@ -436,7 +487,7 @@ impl Scenario {
             ts,
             u_min,
             u_max,
-            max_dead_time: 0.0,
+            max_dead_time: self.event_dead_time(false),
         };
         let controller: registry::DynController = if self.float32 {
             Box::new(crate::Widened(
@@ -845,8 +896,13 @@ impl Scenario {
             return Err(RunError::Invalid(Error::OutOfRange("substeps")));
         }
         // the plant's delay lines and the recorded signals, before they are allocated
-        let model_samples = (model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay)) / ts;
-        let plant_samples = (plant.delay + inner.as_ref().map_or(0.0, |(p, _)| p.delay)) / ts;
+        let model_samples = (model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay))
+            .max(self.event_dead_time(false))
+            / ts;
+        let plant_samples = (plant.delay + inner.as_ref().map_or(0.0, |(p, _)| p.delay))
+            .max(self.event_dead_time(true))
+            / ts;
+        self.check_operation()?;
         #[allow(clippy::cast_precision_loss)] // at most 1000
         let rows = (duration / ts + 1.0) * substeps as f64;
         self.within_budget(
@@ -894,6 +950,9 @@ impl Scenario {
             u_max,
             substeps,
             record: crate::sim::Record::All,
+            operations: self.events.clone(),
+            actuator: self.actuator,
+            reset_feedback: self.reset_feedback,
         };
         let result = match &inner {
             Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,

@@ -18,6 +18,19 @@ pub struct ControllerReport {
     pub params: Params,
 }
 
+/// An operator's event of a run and what it did to the controller's output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct OperatorEventReport {
+    /// When (s).
+    pub at: f64,
+    /// What.
+    pub action: crate::sim::Action,
+    /// `|u[k] − u[k−1]|` at the event's sample `k`: the jump of the
+    /// controller's output the event caused (NaN past the run's end).
+    pub output_change: f64,
+}
+
 /// What a run did and how it performed.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -61,6 +74,9 @@ pub struct Report {
     /// Each set-point step's step information and each disturbance's
     /// rejection figures, over its segment (to the next event).
     pub events: Vec<super::Event>,
+    /// The operator's events of the scenario (modes, dead-time changes), each
+    /// with the change of the controller's output at the event's sample.
+    pub operator_events: Vec<OperatorEventReport>,
     /// The designed quantities a paper prints beside the parameters (see
     /// [`TuneReport::design`]).
     #[cfg_attr(
@@ -110,12 +126,37 @@ impl RunOutput {
             metrics_delayed_reference: self.metrics_delayed_reference,
             default_scenario: self.default_scenario,
             events: self.events.clone(),
+            operator_events: self.operator_events(),
             design: self.design.clone(),
             robustness: self.robustness,
             stable: self.result.diverged_at.is_none(),
             diverged_at: self.result.diverged_at,
             warnings: self.warnings(),
         }
+    }
+
+    /// The scenario's operator events with the controller output's change at
+    /// each event's sample.
+    pub fn operator_events(&self) -> Vec<OperatorEventReport> {
+        let m = self.result.substeps.max(1);
+        let u = &self.result.u;
+        self.scenario
+            .events
+            .iter()
+            .map(|e| {
+                let k = crate::sim::first_sample_at(e.at, self.ts);
+                let at = |j: usize| u.get(j.saturating_mul(m)).copied();
+                let change = match (k.checked_sub(1).and_then(at), at(k)) {
+                    (Some(a), Some(b)) => (b - a).abs(),
+                    _ => f64::NAN,
+                };
+                OperatorEventReport {
+                    at: e.at,
+                    action: e.action,
+                    output_change: change,
+                }
+            })
+            .collect()
     }
 
     /// Whether the output has come to rest: the step information has a

@@ -1,10 +1,11 @@
 //! The text forms of a run's schedules and perturbations, used at the edges
 //! (command-line flags, scenario files, Python keywords): `V@T` set-point
-//! steps, `input:V@T` disturbances and `gain=+10%` perturbations.
+//! steps, `input:V@T` disturbances, `gain=+10%` perturbations, `T:ACTION`
+//! operator events and `MIN..MAX` actuator ranges.
 
 use std::string::{String, ToString};
 
-use crate::sim::{Disturbance, Location, SetpointStep, Shape};
+use crate::sim::{Action, Disturbance, Location, Operation, SetpointStep, Shape};
 use crate::study::Perturbation;
 use crate::sweep::Range;
 
@@ -198,6 +199,71 @@ impl core::str::FromStr for Range {
         }
         Ok(Range { lo, hi })
     }
+}
+
+impl core::str::FromStr for Operation {
+    type Err = String;
+    /// `TIME:ACTION` with the actions `manual=U`, `track=U`, `auto`,
+    /// `dead-time=θ` (the controller's model) and `plant-dead-time=θ` (the
+    /// process), e.g. `60:manual=0.3`, `120:auto`, `60:plant-dead-time=9`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (at, action) = s.split_once(':').ok_or_else(|| {
+            std::format!("event '{s}': write it as TIME:ACTION, e.g. 60:manual=0.3")
+        })?;
+        let at = parse_number(at, "event time")?;
+        if at < 0.0 {
+            return Err(std::format!("event '{s}': the time must not be negative"));
+        }
+        let action = action.trim();
+        let (name, value) = match action.split_once('=') {
+            Some((n, v)) => (n.trim(), Some(v)),
+            None => (action, None),
+        };
+        let needs = |what: &str| -> Result<f64, String> {
+            let v = value
+                .ok_or_else(|| std::format!("event '{s}': '{name}' needs a value: {name}=…"))?;
+            parse_number(v, what)
+        };
+        let seconds = |what: &str| -> Result<f64, String> {
+            let v = needs(what)?;
+            if v < 0.0 {
+                return Err(std::format!(
+                    "event '{s}': a dead time must not be negative"
+                ));
+            }
+            Ok(v)
+        };
+        let action = match name {
+            "manual" => Action::Manual(needs("manual output")?),
+            "track" => Action::Track(needs("tracked output")?),
+            "auto" if value.is_none() => Action::Auto,
+            "dead-time" => Action::DeadTime(seconds("dead time")?),
+            "plant-dead-time" => Action::PlantDeadTime(seconds("plant dead time")?),
+            other => {
+                return Err(std::format!(
+                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ"
+                ))
+            }
+        };
+        Ok(Operation { at, action })
+    }
+}
+
+/// An actuator's range `MIN..MAX` (e.g. `0..1`, `-inf..2`).
+pub fn parse_actuator(s: &str) -> Result<(f64, f64), String> {
+    let (lo, hi) = s
+        .split_once("..")
+        .filter(|_| !s.contains("...") && s.matches("..").count() == 1)
+        .ok_or_else(|| std::format!("actuator '{s}': write it as MIN..MAX, e.g. 0..1"))?;
+    let end = |x: &str| match x.trim().to_ascii_lowercase().as_str() {
+        "-inf" | "-infinity" => Ok(f64::NEG_INFINITY),
+        _ => parse_setting(x, "actuator"),
+    };
+    let (lo, hi) = (end(lo)?, end(hi)?);
+    if lo.is_nan() || hi.is_nan() || lo >= hi {
+        return Err(std::format!("actuator '{s}': MIN must be below MAX"));
+    }
+    Ok((lo, hi))
 }
 
 /// A size in bytes: `1073741824`, `512M`, `2G`, `1.5GiB` (K, M, G, T are

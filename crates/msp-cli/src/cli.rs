@@ -109,6 +109,19 @@ pub(crate) struct ScenarioArgs {
     /// recorded signals would need more is refused before anything is allocated.
     #[arg(long, value_name = "BYTES", value_parser = msp::syntax::parse_bytes)]
     pub(crate) max_memory: Option<u64>,
+    /// An operator's action TIME:ACTION (repeatable): manual=U, track=U, auto,
+    /// dead-time=θ (the controller's model), plant-dead-time=θ (the process),
+    /// e.g. --event 60:manual=0.3 --event 120:auto.
+    #[arg(long = "event", value_name = "T:ACTION", value_parser = str::parse::<msp::sim::Operation>, allow_hyphen_values = true)]
+    pub(crate) events: Vec<msp::sim::Operation>,
+    /// An actuator outside the controller, MIN..MAX: the plant receives the
+    /// controller's output clamped to it (the controller does not know it).
+    #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_actuator, allow_hyphen_values = true)]
+    pub(crate) actuator: Option<(f64, f64)>,
+    /// Feed the value the plant received back to the controller each sample
+    /// (external reset: no windup against --actuator).
+    #[arg(long)]
+    pub(crate) reset_feedback: bool,
 }
 
 #[derive(Debug, Args)]
@@ -386,11 +399,12 @@ mod tests {
                 .map(|l| l.replace('-', "_"))
                 .collect();
             for field in msp::study::Scenario::FIELDS {
-                // compare names its schemes with --controllers
-                let field = if sub.get_name() == "compare" && *field == "controller" {
-                    "controllers"
-                } else {
-                    field
+                // compare names its schemes with --controllers; an event is
+                // given per flag (--event, repeatable)
+                let field = match (sub.get_name(), *field) {
+                    ("compare", "controller") => "controllers",
+                    (_, "events") => "event",
+                    _ => field,
                 };
                 assert!(
                     flags.iter().any(|f| f == field),

@@ -6,7 +6,7 @@ use crate::convert::params_dict;
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry::{self, Build, DynController, Params};
-use msp::{AntiWindup, Pid, PidConfig};
+use msp::{AntiWindup, CascadeControl, Controller as _, Introspect, Operated, Pid, PidConfig};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -59,7 +59,7 @@ pub(crate) fn loop_many<'py>(
 /// ('smith', 0.0764)
 #[pyclass(subclass, module = "msp._msp")]
 pub struct Controller {
-    inner: DynController,
+    inner: Operated<f64, DynController>,
     name: &'static str,
     params: Params,
     ts: f64,
@@ -69,7 +69,7 @@ pub struct Controller {
 impl Controller {
     /// Tunes scheme ``name`` for ``plant`` (model), builds it at period ``ts``.
     #[new]
-    #[pyo3(signature = (name, plant, ts, params=None, *, inner_plant=None, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None))]
+    #[pyo3(signature = (name, plant, ts, params=None, *, inner_plant=None, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None, max_dead_time=0.0))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         name: &str,
@@ -81,6 +81,7 @@ impl Controller {
         umax: f64,
         lambda_: Option<f64>,
         rule: Option<String>,
+        max_dead_time: f64,
     ) -> PyResult<Self> {
         let tf = plant_of(plant)?;
         let p2 = inner_plant.map(plant_of).transpose()?;
@@ -98,25 +99,67 @@ impl Controller {
                     ts,
                     u_min: umin,
                     u_max: umax,
-                    max_dead_time: 0.0,
+                    max_dead_time,
                 },
             )
             .map_err(value_err)?;
         Ok(Controller {
-            inner,
+            inner: Operated::new(inner),
             name: scheme.name,
             params: p,
             ts,
         })
     }
     /// One sample: set point and measurement in, actuator value out; ``y2`` is
-    /// the secondary measurement of a cascade (ignored by single-loop schemes).
-    #[pyo3(signature = (r, y, y2=None))]
-    fn update(&mut self, r: f64, y: f64, y2: Option<f64>) -> f64 {
+    /// the secondary measurement of a cascade (ignored by single-loop schemes);
+    /// ``u_applied`` is what the actuator really applied for the last output
+    /// (external reset: the controller follows it, no windup against a limit
+    /// it does not own).
+    #[pyo3(signature = (r, y, y2=None, u_applied=None))]
+    fn update(&mut self, r: f64, y: f64, y2: Option<f64>, u_applied: Option<f64>) -> f64 {
+        self.inner.feed_back(u_applied);
         match y2 {
             Some(y2) => self.inner.update_cascade(r, y, y2),
             None => self.inner.update(r, y),
         }
+    }
+    /// Manual mode: the output is ``u``; the controller's model and
+    /// integrators follow it, so that ``auto()`` is bumpless.
+    fn manual(&mut self, u: f64) -> PyResult<()> {
+        self.inner.manual(u).map_err(value_err)
+    }
+    /// Tracking mode: the output follows ``u`` (call again as it changes).
+    fn track(&mut self, u: f64) -> PyResult<()> {
+        self.inner.track(u).map_err(value_err)
+    }
+    /// Automatic mode (bumpless from manual or tracking).
+    fn auto(&mut self) {
+        self.inner.auto();
+    }
+    /// The mode: ``"auto"``, ``"manual"`` or ``"track"``.
+    #[getter]
+    fn mode(&self) -> &'static str {
+        match self.inner.mode() {
+            msp::operate::Mode::Auto => "auto",
+            msp::operate::Mode::Manual(_) => "manual",
+            msp::operate::Mode::Track(_) => "track",
+        }
+    }
+    /// Gives the controller's model the dead time ``theta`` (s), within the
+    /// ``max_dead_time`` it was built with; a scheme whose design contains
+    /// its dead time refuses.
+    fn set_dead_time(&mut self, theta: f64) -> PyResult<()> {
+        if !(theta.is_finite() && theta >= 0.0) {
+            return Err(PyValueError::new_err(
+                "`theta` must be a finite time of at least 0",
+            ));
+        }
+        self.inner.set_dead_time(theta / self.ts).map_err(value_err)
+    }
+    /// The model's dead time (s), or None for a scheme without one.
+    #[getter]
+    fn dead_time(&self) -> Option<f64> {
+        msp::Operate::dead_time(&self.inner).map(|d| d * self.ts)
     }
     /// ``update`` over arrays of set points and measurements (and secondary
     /// measurements), looped in Rust.
@@ -130,7 +173,7 @@ impl Controller {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let c = &mut self.inner;
         match y2 {
-            None => loop_many(py, r, y, |r, y| c.update(r, y)),
+            None => loop_many(py, r, y, |r, y| msp::Controller::update(c, r, y)),
             Some(y2) => {
                 let y2 = y2.as_slice()?;
                 if y2.len() != y.len()? {
@@ -152,7 +195,7 @@ impl Controller {
     /// True for a cascade scheme (pass ``y2`` to ``update``).
     #[getter]
     fn is_cascade(&self) -> bool {
-        self.inner.is_cascade()
+        self.inner.inner().is_cascade()
     }
     /// Zeroes every state.
     fn reset(&mut self) {
@@ -192,23 +235,24 @@ impl Controller {
     /// Names of the internal signals.
     #[getter]
     fn signal_names(&self) -> Vec<&'static str> {
-        self.inner.signal_names().to_vec()
+        self.inner.inner().signal_names().to_vec()
     }
     /// Internal signals after the last update.
     #[getter]
     fn signals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for (i, n) in self.inner.signal_names().iter().enumerate() {
-            d.set_item(*n, self.inner.signal(i))?;
+        let c = self.inner.inner();
+        for (i, n) in c.signal_names().iter().enumerate() {
+            d.set_item(*n, c.signal(i))?;
         }
         Ok(d)
     }
     /// One internal signal by name.
     fn signal(&self, name: &str) -> PyResult<f64> {
-        self.inner.signal_by_name(name).ok_or_else(|| {
+        self.inner.inner().signal_by_name(name).ok_or_else(|| {
             PyValueError::new_err(format!(
                 "no signal '{name}'; signals: {}",
-                self.inner.signal_names().join(", ")
+                self.inner.inner().signal_names().join(", ")
             ))
         })
     }

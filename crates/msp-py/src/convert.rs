@@ -137,6 +137,9 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Boun
     d.set_item("r", r.r.into_pyarray(py))?;
     d.set_item("y", r.y.into_pyarray(py))?;
     d.set_item("u", r.u.into_pyarray(py))?;
+    if !r.u_applied.is_empty() {
+        d.set_item("u_applied", r.u_applied.into_pyarray(py))?;
+    }
     d.set_item("d", r.d.into_pyarray(py))?;
     d.set_item("d_out", r.d_out.into_pyarray(py))?;
     if !r.y2.is_empty() {
@@ -224,7 +227,41 @@ pub(crate) fn scenario(
         substeps,
         float32,
         max_memory,
+        events: Vec::new(),
+        actuator: None,
+        reset_feedback: false,
     })
+}
+
+/// The operator's events and the outside actuator of ``run`` and
+/// ``compare``: ``events`` as the flag writes them (``["60:manual=0.3",
+/// "120:auto"]``), ``actuator`` as ``(min, max)``.
+pub(crate) fn with_operation(
+    mut sc: Scenario,
+    events: Option<&Bound<'_, PyAny>>,
+    actuator: Option<(f64, f64)>,
+    reset_feedback: bool,
+) -> PyResult<Scenario> {
+    if let Some(e) = events {
+        let list: Vec<String> = match e.extract::<String>() {
+            Ok(one) => vec![one],
+            Err(_) => e.extract()?,
+        };
+        sc.events = list
+            .iter()
+            .map(|s| s.parse().map_err(value_err))
+            .collect::<PyResult<_>>()?;
+    }
+    if let Some((lo, hi)) = actuator {
+        if lo.is_nan() || hi.is_nan() || lo >= hi {
+            return Err(PyValueError::new_err(
+                "actuator: (min, max) with min below max",
+            ));
+        }
+    }
+    sc.actuator = actuator;
+    sc.reset_feedback = reset_feedback;
+    Ok(sc)
 }
 
 /// A perturbation from ``"delay=20%,tau=-20%"`` or ``{"delay": 0.2, "tau": -0.2}``.

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::convert::{fit_dict, output_dict, perturbation_of, scenario, Processes};
+use crate::convert::{fit_dict, output_dict, perturbation_of, scenario, with_operation, Processes};
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry;
@@ -16,7 +16,8 @@ use pyo3::types::{PyDict, PyList};
 #[pyfunction]
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
                     ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
-                    umax=None, lambda_=None, rule=None, substeps=None, float32=false, max_memory=None))]
+                    umax=None, lambda_=None, rule=None, substeps=None, float32=false, max_memory=None,
+                    events=None, actuator=None, reset_feedback=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run<'py>(
     py: Python<'py>,
@@ -39,6 +40,9 @@ pub(crate) fn run<'py>(
     substeps: Option<usize>,
     float32: bool,
     max_memory: Option<u64>,
+    events: Option<&Bound<'py, PyAny>>,
+    actuator: Option<(f64, f64)>,
+    reset_feedback: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
@@ -59,6 +63,7 @@ pub(crate) fn run<'py>(
         float32,
         max_memory,
     )?;
+    let sc = with_operation(sc, events, actuator, reset_feedback)?;
     let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
     output_dict(py, out)
 }
@@ -68,7 +73,7 @@ pub(crate) fn run<'py>(
 #[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
                     inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
                     seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None,
-                    float32=false, max_memory=None))]
+                    float32=false, max_memory=None, events=None, actuator=None, reset_feedback=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compare<'py>(
     py: Python<'py>,
@@ -92,6 +97,9 @@ pub(crate) fn compare<'py>(
     substeps: Option<usize>,
     float32: bool,
     max_memory: Option<u64>,
+    events: Option<&Bound<'py, PyAny>>,
+    actuator: Option<(f64, f64)>,
+    reset_feedback: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
@@ -112,6 +120,7 @@ pub(crate) fn compare<'py>(
         float32,
         max_memory,
     )?;
+    let sc = with_operation(sc, events, actuator, reset_feedback)?;
     let p = perturbation_of(perturb)?.unwrap_or_default();
     let runs = py
         .allow_threads(|| msp::study::compare(&sc, &controllers, p))

@@ -68,7 +68,8 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         umin,
         umax,
         substeps,
-        max_memory
+        max_memory,
+        actuator
     );
     if a.design.lambda.is_some() {
         sc.lambda = a.design.lambda;
@@ -84,6 +85,8 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     }
     sc.disturbance.extend(a.disturbance.iter().copied());
     sc.float32 |= a.float32;
+    sc.events.extend(a.events.iter().copied());
+    sc.reset_feedback |= a.reset_feedback;
     if sc.plant.is_none() {
         return Err(CliError::Input(match &a.scenario {
             Some(p) => format!(
