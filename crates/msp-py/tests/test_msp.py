@@ -553,3 +553,63 @@ def test_pi_means_a_pi() -> None:
 def test_ti_inf_switches_the_integral_off() -> None:
     res = msp.run("e^-1s/(s+1)", controller="pi", params={"kp": 1.0, "ti": math.inf}, duration=40.0)
     assert abs(res.y[-1] - 0.5) < 1e-9  # K·kp/(1 + K·kp)
+
+
+def test_a_controller_is_operated_as_in_a_plant() -> None:
+    """Manual and back to auto without a bump (the plant, an FOPDT with 100 samples of dead
+    time, simulated here exactly); the model's dead time changed at run time within its room."""
+    c = msp.Controller("smith", "5.6*e^-93.9s/(40.2s+1)", 0.939, max_dead_time=120.0)
+    y_line = [0.0] * 100
+    a, b = math.exp(-0.939 / 40.2), 5.6 * (1 - math.exp(-0.939 / 40.2))
+    x, u = 0.0, 0.0
+    for _ in range(3000):
+        u = c.update(1.0, x)
+        y_line.append(u)
+        x = a * x + b * y_line.pop(0)
+    assert c.mode == "auto" and abs(x - 1.0) < 1e-6
+    c.manual(u + 0.2)
+    assert c.mode == "manual"
+    for _ in range(500):
+        assert c.update(1.0, x) == u + 0.2
+        y_line.append(u + 0.2)
+        x = a * x + b * y_line.pop(0)
+    c.auto()
+    first = c.update(1.0, x)
+    assert abs(first - (u + 0.2)) < 0.01, first
+    assert c.dead_time == 93.9 or abs(c.dead_time - 93.9) < 1e-9
+    c.set_dead_time(112.68)
+    assert abs(c.dead_time - 112.68) < 1e-9
+    with pytest.raises(ValueError, match="delay"):
+        c.set_dead_time(500.0)
+    with pytest.raises(ValueError, match="theta"):
+        c.set_dead_time(float("nan"))
+    with pytest.raises(ValueError):
+        c.manual(float("nan"))
+    fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06)
+    with pytest.raises(ValueError, match="rebuild"):
+        fsp.set_dead_time(7.0)
+
+
+def test_run_takes_operator_events_and_an_outside_actuator() -> None:
+    res = msp.run("2*e^-3s/(4s+1)", "pi", setpoint=1.0, duration=100.0, actuator=(0.0, 0.55))
+    assert res.u_applied is not None and res.u_applied.max() <= 0.55 < res.u.max()
+    fed = msp.run("2*e^-3s/(4s+1)", "pi", setpoint=1.0, duration=100.0, actuator=(0.0, 0.55),
+                  reset_feedback=True)
+    own = msp.run("2*e^-3s/(4s+1)", "pi", setpoint=1.0, duration=100.0, umin=0.0, umax=0.55)
+    assert abs(fed.metrics["overshoot"] - own.metrics["overshoot"]) < 1.0
+    assert res.metrics["overshoot"] > fed.metrics["overshoot"] + 0.5
+    ev = msp.run("0.2/s*e^-7.4s", setpoint=1.0, duration=200.0, events=["60:manual=0.3", "120:auto"])
+    assert [e["at"] for e in ev.operator_events] == [60.0, 120.0]
+    assert ev.operator_events[0]["action"] == {"manual": 0.3}
+    k = int(round(90.0 / ev.ts))
+    assert ev.u[k] == 0.3 and ev.u_applied[k] == 0.3
+    with pytest.raises(ValueError, match="unknown action"):
+        msp.run("0.2/s*e^-7.4s", events=["60:kp=3"])
+    with pytest.raises(ValueError, match="actuator"):
+        msp.run("0.2/s*e^-7.4s", actuator=(1.0, 0.0))
+    # the CLI and Python write the same report for the same events
+    cli = json.loads(subprocess.run([MSP_BIN, "run", "-q", "--plant", "0.2/s*e^-7.4s", "--setpoint", "1",
+                                     "--duration", "200", "--event", "60:manual=0.3", "--event", "120:auto",
+                                     "--report", "-", "-o", "/dev/null"],
+                                    check=True, capture_output=True, text=True).stdout)
+    assert cli["operator_events"] == ev.report()["operator_events"]

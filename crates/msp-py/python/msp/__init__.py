@@ -92,6 +92,9 @@ class Result:
         Time, set point, plant output, actuator value, input (load) disturbance.
     d_out : numpy.ndarray
         Output disturbance.
+    u_applied : numpy.ndarray or None
+        What the plant received when ``actuator`` limits it or operator ``events`` run
+        (``None`` otherwise).
     y2, d_inner : numpy.ndarray or None
         Cascade processes: the secondary output as measured and the disturbance
         ``d0`` at the secondary output (``None`` for a single plant).
@@ -108,6 +111,9 @@ class Result:
         One entry per set-point step (``kind="setpoint"``: ``at``, ``until``, ``value``, ``iae`` and the
         step information of its segment) and per disturbance (``kind="disturbance"``: ``location``,
         ``value``, ``peak_deviation``, ``peak_time``, ``recovery_time``, ``iae``), in time order.
+    operator_events : list of dict
+        The ``events`` of the call, each with ``at``, ``action`` and ``output_change`` (the
+        controller output's change at the event's sample).
     robustness : dict or None
         The tuned loop's ``gm``, ``pm``, ``dm``, ``ms``, ``mt`` (sampled view).
     design : dict
@@ -136,6 +142,7 @@ class Result:
     u: np.ndarray
     d: np.ndarray
     d_out: np.ndarray
+    u_applied: Optional[np.ndarray]
     y2: Optional[np.ndarray]
     d_inner: Optional[np.ndarray]
     inner_plant: Optional[str]
@@ -154,6 +161,7 @@ class Result:
     msp_version: str
     default_scenario: bool
     events: List[Dict[str, Any]]
+    operator_events: List[Dict[str, Any]]
     robustness: Optional[Dict[str, float]]
     duration: float
     samples: int
@@ -162,10 +170,10 @@ class Result:
     float32: bool
     warnings: List[str]
 
-    _ARRAYS = ("t", "r", "y", "u", "d", "d_out", "y2", "d_inner", "signals")
+    _ARRAYS = ("t", "r", "y", "u", "u_applied", "d", "d_out", "y2", "d_inner", "signals")
 
     def __init__(self, raw: Mapping[str, Any]) -> None:
-        self.y2 = self.d_inner = None
+        self.y2 = self.d_inner = self.u_applied = None
         for key, value in raw.items():
             setattr(self, key, value)
         self._report = {k: v for k, v in raw.items() if k not in self._ARRAYS}
@@ -223,6 +231,9 @@ def run(
     substeps: Optional[int] = None,
     float32: bool = False,
     max_memory: Optional[int] = None,
+    events: Union[None, str, Sequence[str]] = None,
+    actuator: Optional[Tuple[float, float]] = None,
+    reset_feedback: bool = False,
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
 
@@ -274,6 +285,16 @@ def run(
         plant stays exact), as the CLI's ``--float32``.
     max_memory : int, optional
         The memory the run may take in bytes (default 1 GiB), as the CLI's ``--max-memory``.
+    events : list of str, optional
+        What an operator does, as the CLI's ``--event``: ``"60:manual=0.3"``, ``"60:track=0.3"``,
+        ``"120:auto"`` (bumpless), ``"60:dead-time=9"`` (the controller's model),
+        ``"60:plant-dead-time=9"`` (the process).
+    actuator : (float, float), optional
+        An actuator outside the controller: the plant receives the output clamped to
+        ``(min, max)``; the result gets ``u_applied``.
+    reset_feedback : bool, optional
+        Feed the value the plant received back to the controller each sample (no windup
+        against ``actuator``).
 
     Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
     unit set-point step, then a step load at the plant input once the response has settled.
@@ -309,7 +330,9 @@ def run(
                    ts=ts, duration=duration,
                    setpoint=sp, disturbance=dist, noise=noise, seed=seed, umin=umin, umax=umax,
                    lambda_=lambda_, rule=rule, substeps=substeps, float32=float32,
-                   max_memory=max_memory)
+                   max_memory=max_memory, events=[events] if isinstance(events, str) else events,
+                   actuator=(float(actuator[0]), float(actuator[1])) if actuator is not None else None,
+                   reset_feedback=reset_feedback)
     return Result(raw)
 
 

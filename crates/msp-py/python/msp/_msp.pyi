@@ -45,6 +45,9 @@ def run(
     substeps: Optional[int] = None,
     float32: bool = False,
     max_memory: Optional[int] = None,
+    events: Union[None, str, Sequence[str]] = None,
+    actuator: Optional[Tuple[float, float]] = None,
+    reset_feedback: bool = False,
 ) -> Dict[str, Any]: ...
 def compare(
     plant: Union[str, Plant],
@@ -68,6 +71,9 @@ def compare(
     substeps: Optional[int] = None,
     float32: bool = False,
     max_memory: Optional[int] = None,
+    events: Union[None, str, Sequence[str]] = None,
+    actuator: Optional[Tuple[float, float]] = None,
+    reset_feedback: bool = False,
 ) -> List[Dict[str, Any]]: ...
 def tune(
     plant: Union[str, Plant],
@@ -155,8 +161,19 @@ class Controller:
         umax: float = ...,
         lambda_: Optional[float] = None,
         rule: Optional[str] = None,
+        max_dead_time: float = 0.0,
     ) -> "Controller": ...
-    def update(self, r: float, y: float, y2: Optional[float] = None) -> float: ...
+    def update(
+        self, r: float, y: float, y2: Optional[float] = None, u_applied: Optional[float] = None
+    ) -> float: ...
+    def manual(self, u: float) -> None: ...
+    def track(self, u: float) -> None: ...
+    def auto(self) -> None: ...
+    @property
+    def mode(self) -> str: ...
+    def set_dead_time(self, theta: float) -> None: ...
+    @property
+    def dead_time(self) -> Optional[float]: ...
     def update_many(
         self,
         r: npt.NDArray[np.float64],
