@@ -296,7 +296,7 @@ def test_readme_figures_render_from_the_current_code(tmp_path: pathlib.Path) -> 
     from PIL import Image
 
     subprocess.run(["bash", str(ROOT / "scripts" / "figures"), str(tmp_path)], check=True,
-                   env={**os.environ, "MSP_BIN": MSP_BIN})
+                   env={**os.environ, "MSP_BIN": MSP_BIN, "PYTHON": sys.executable})
     shown = re.findall(r"\((docs/[\w.-]+\.svg)\)", (ROOT / "README.md").read_text())
     assert len(shown) >= 2, shown
     for name in shown:
