@@ -1605,3 +1605,87 @@ fn list_names_the_design_keys() {
         assert!(text.contains(&line), "{}: {line}", s.name);
     }
 }
+
+#[test]
+fn operator_events_and_an_outside_actuator_reach_the_csv_and_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, rep) = (dir.path().join("r.csv"), dir.path().join("r.json"));
+    msp()
+        .args([
+            "run",
+            "-q",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--setpoint",
+            "1",
+            "--duration",
+            "200",
+            "--event",
+            "60:manual=0.3",
+            "--event",
+            "120:auto",
+            "--actuator",
+            "-1..1",
+            "--reset-feedback",
+            "-o",
+        ])
+        .arg(&csv)
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("t,r,y,u,u_applied,d"), "{}", &text[..40]);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    let ev = report["operator_events"].as_array().unwrap();
+    assert_eq!(ev.len(), 2);
+    assert_eq!(ev[0]["action"]["manual"], 0.3);
+    assert_eq!(ev[1]["action"], "auto");
+    // the scenario runs again from its report, events included
+    msp()
+        .args(["run", "-q", "--scenario"])
+        .arg(&rep)
+        .arg("-o")
+        .arg(dir.path().join("again.csv"))
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("again.csv")).unwrap(),
+        text
+    );
+}
+
+#[test]
+fn bad_events_and_actuators_are_named() {
+    for (args, needle) in [
+        (vec!["--event", "60:kp=3"], "unknown action 'kp'"),
+        (vec!["--event", "manual=3"], "TIME:ACTION"),
+        (vec!["--event", "60:manual"], "'manual' needs a value"),
+        (vec!["--event", "-5:auto"], "must not be negative"),
+        (vec!["--event", "60:dead-time=-1"], "must not be negative"),
+        (vec!["--actuator", "1..0"], "MIN must be below MAX"),
+        (vec!["--actuator", "0...1"], "MIN..MAX"),
+    ] {
+        msp()
+            .args(["run", "--plant", "0.2/s*e^-7.4s"])
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(needle));
+    }
+    // a dead time beyond what the scheme's design allows is refused by the run
+    msp()
+        .args([
+            "run",
+            "--plant",
+            "5*e^-6s/(100s-1)",
+            "--ts",
+            "0.06",
+            "--event",
+            "10:dead-time=7",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("rebuild"));
+}
