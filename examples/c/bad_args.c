@@ -183,6 +183,44 @@ int main(void) {
     EXPECT(msp_pid_init_f64(odd, room, &pc64, &c64) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) == 1.0);
     EXPECT(msp_pid_init_f64(odd, room, NULL, &c64) == MSP_NULL_POINTER);
 
+    /* operation: manual and back to auto without a bump, the applied value,
+       a run-time dead time within the buffer */
+    {
+        size_t room_for_150 = msp_smith_size(&sc, 150, &s);
+        EXPECT(s == MSP_OK && room_for_150 <= room);
+        EXPECT(msp_smith_init(odd, room_for_150, &sc, &c) == MSP_OK);
+        float x = 0.0f, last = 0.0f;
+        for (int i = 0; i < 50; i++) {
+            last = msp_update(c, 1.0f, x);
+        }
+        EXPECT(msp_manual(c, last + 0.1f) == MSP_OK);
+        EXPECT(msp_update(c, 1.0f, x) == last + 0.1f);
+        EXPECT(msp_update(c, 1.0f, x) == last + 0.1f);
+        EXPECT(msp_applied(c, 0.0f) == MSP_OK); /* ignored in manual: the held value was applied */
+        EXPECT(msp_auto(c) == MSP_OK);
+        float first = msp_update(c, 1.0f, x);
+        EXPECT(fabsf(first - (last + 0.1f)) < 5e-3f); /* one sample of the law */
+        EXPECT(msp_applied(c, first - 0.05f) == MSP_OK);
+        EXPECT(isfinite(msp_update(c, 1.0f, x)));
+        EXPECT(msp_manual(c, NAN) == MSP_NOT_FINITE);
+        EXPECT(msp_applied(c, INFINITY) == MSP_NOT_FINITE);
+        EXPECT(msp_set_dead_time(c, 120.0f) == MSP_OK);
+        EXPECT(msp_set_dead_time(c, 160.0f) == MSP_DEAD_TIME_TOO_LONG);
+        EXPECT(msp_set_dead_time(c, -1.0f) == MSP_NEGATIVE);
+        EXPECT(msp_manual(NULL, 0.0f) == MSP_NULL_POINTER);
+        EXPECT(msp_auto(NULL) == MSP_NULL_POINTER);
+        EXPECT(msp_applied(NULL, 0.0f) == MSP_NULL_POINTER);
+        EXPECT(msp_set_dead_time(NULL, 1.0f) == MSP_NULL_POINTER);
+        EXPECT(msp_manual((msp_controller *)memory, 0.0f) == MSP_BAD_HANDLE);
+        EXPECT(msp_fsp_init(odd, room, &fc, &c) == MSP_OK);
+        EXPECT(msp_set_dead_time(c, 90.0f) == MSP_UNSUPPORTED);
+        EXPECT(msp_smith_init_f64(odd, room, &sc64, &c64) == MSP_OK);
+        EXPECT(msp_manual_f64(c64, 0.25) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) == 0.25);
+        EXPECT(msp_applied_f64(c64, 0.2) == MSP_OK && msp_auto_f64(c64) == MSP_OK);
+        EXPECT(msp_set_dead_time_f64(c64, 99.0) == MSP_OK);
+        EXPECT(msp_set_dead_time_f64(c64, 1e9) == MSP_DEAD_TIME_TOO_LONG);
+    }
+
     /* the relay experiment */
     msp_relay_config rc;
     EXPECT(msp_relay_default_config(0.0f, 0.1f, &rc) == MSP_NOT_POSITIVE);

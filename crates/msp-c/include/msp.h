@@ -344,7 +344,8 @@ msp_status msp_fsp_init(void *buf, size_t len, const msp_fsp_config *config, msp
 // `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
 float msp_update(msp_controller *ctrl, float r, float y);
 
-// Clears the controller's state (integrators, model, delay lines).
+// Clears the controller's state (integrators, model, delay lines) and
+// returns it to automatic mode.
 //
 // # Safety
 // As [`msp_update`].
@@ -442,6 +443,62 @@ msp_status msp_reset_f64(msp_controller_f64 *ctrl);
 // # Safety
 // As [`msp_update`].
 bool msp_fault_f64(const msp_controller_f64 *ctrl);
+
+// Manual mode: the output is `u` from the next update on; the controller's
+// model and integrators follow it, so that [`msp_auto`] is bumpless.
+// Tracking (the output follows an external value) is the same call, made
+// each sample with the value to follow.
+//
+// # Safety
+// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
+msp_status msp_manual(msp_controller *ctrl, float u);
+
+// Automatic mode: the next output continues from the last applied one.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_auto(msp_controller *ctrl);
+
+// External reset: the value the actuator really applied for the last
+// output (after a limit or an override downstream), given before the next
+// [`msp_update`]; the integrators (back-calculation) and the model follow it.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_applied(msp_controller *ctrl, float u_applied);
+
+// Gives the controller's model the dead time `samples` (fractional allowed),
+// within the buffer's capacity (`max_dead_time_samples` of the size call);
+// `MSP_UNSUPPORTED` for a scheme whose design contains the dead time (FSP)
+// or that has none (PID).
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_set_dead_time(msp_controller *ctrl, float samples);
+
+// [`msp_manual`] in double precision.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_manual_f64(msp_controller_f64 *ctrl, double u);
+
+// [`msp_auto`] in double precision.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_auto_f64(msp_controller_f64 *ctrl);
+
+// [`msp_applied`] in double precision.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_applied_f64(msp_controller_f64 *ctrl, double u_applied);
+
+// [`msp_set_dead_time`] in double precision.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_set_dead_time_f64(msp_controller_f64 *ctrl, double samples);
 
 // Tunes a Smith predictor for the FOPDT model `k e^{−θs}/(τs + 1)`: Kaya's
 // IMC PI `kp = τ/(kλ)`, `ti = τ` (Kaya (2003) Eqs. 20–21), with the

@@ -10,8 +10,8 @@ use core::mem::{align_of, size_of};
 use msp_core::dtc::fsp::{design_in, FilteredSmith, FrSpec, FspPredictor};
 use msp_core::dtc::karan_dey::{self, KaranDey, KaranDeyParams};
 use msp_core::{
-    Controller, Delay, Error, Fopdt, Ipdt, ParamList, Pid, PidConfig, ProcessModel, Real,
-    SmithPredictor, Ufopdt,
+    Controller, Delay, Error, Fopdt, Ipdt, Operate, ParamList, Pid, PidConfig, ProcessModel, Real,
+    SmithPredictor, Tracking, Ufopdt,
 };
 
 use crate::{msp_status, report};
@@ -151,7 +151,30 @@ struct Handle<T: Real> {
     magic: u32,
     update: UpdateFn<T>,
     ctrl: *mut u8,
+    /// The output in manual or tracking mode (then `update` is
+    /// [`held_update`] and `ctrl` the handle itself).
+    held: T,
+    /// The scheme's own update and controller (what `update` and `ctrl` are
+    /// in automatic mode).
+    auto_update: UpdateFn<T>,
+    auto_ctrl: *mut u8,
     scheme: Scheme<T>,
+}
+
+/// The per-sample call in manual or tracking mode: the scheme computes (its
+/// model and filters see every measurement) and is amended to the held
+/// output, which it returns.
+///
+/// # Safety
+/// `h` is a handle of precision `T` (`bind_held` points `ctrl` at it).
+unsafe fn held_update<T: Precision>(h: *mut u8, r: T, y: T) -> T {
+    // SAFETY: `bind_held` made `ctrl` this handle's own address
+    let h = unsafe { &mut *h.cast::<Handle<T>>() };
+    let v = h.held;
+    // SAFETY: `bind` pointed both at this handle's controller
+    unsafe { (h.auto_update)(h.auto_ctrl, r, y) };
+    h.operate(Apply(v, Tracking::Full));
+    v
 }
 
 /// A scheme's per-sample call on its controller's address.
@@ -169,16 +192,66 @@ unsafe fn update_of<T: Real, C: Controller<T>>(c: *mut u8, r: T, y: T) -> T {
 impl<T: Precision> Handle<T> {
     /// Points `update` and `ctrl` at the controller in `scheme` (the handle
     /// is in its final place: the caller's buffer).
+    /// `f` on the scheme as its operation trait (a match, not a trait
+    /// object: a vtable would take the schemes' `update` out of line, where
+    /// the per-sample call inlines it).
+    fn operate<R>(&mut self, f: impl OperateFn<T, R>) -> R {
+        match &mut self.scheme {
+            Scheme::Smith(c) => f.call(c),
+            Scheme::KaranDey(c) => f.call(c),
+            Scheme::Fsp(c) => f.call(c),
+            Scheme::Pid(c) => f.call(c),
+        }
+    }
+
+    /// Manual or tracking mode with the output `v`.
+    fn bind_held(&mut self, v: T) {
+        self.held = v;
+        self.update = held_update::<T>;
+        self.ctrl = (self as *mut Self).cast();
+    }
+
     fn bind(&mut self) {
         fn of<T: Real, C: Controller<T>>(c: &mut C) -> (UpdateFn<T>, *mut u8) {
             (update_of::<T, C>, (c as *mut C).cast())
         }
-        (self.update, self.ctrl) = match &mut self.scheme {
+        (self.auto_update, self.auto_ctrl) = match &mut self.scheme {
             Scheme::Smith(c) => of(c),
             Scheme::KaranDey(c) => of(c),
             Scheme::Fsp(c) => of(c),
             Scheme::Pid(c) => of(c),
         };
+        (self.update, self.ctrl) = (self.auto_update, self.auto_ctrl);
+    }
+}
+
+/// A call on any scheme through [`Operate`] (generic over the scheme, which
+/// a closure cannot be).
+trait OperateFn<T: Real, R> {
+    fn call<C: Operate<T>>(self, c: &mut C) -> R;
+}
+
+/// [`Operate::apply`].
+struct Apply<T>(T, Tracking);
+impl<T: Real> OperateFn<T, ()> for Apply<T> {
+    fn call<C: Operate<T>>(self, c: &mut C) {
+        c.apply(self.0, self.1);
+    }
+}
+
+/// [`Controller::reset`].
+struct Reset;
+impl<T: Real> OperateFn<T, ()> for Reset {
+    fn call<C: Operate<T>>(self, c: &mut C) {
+        c.reset();
+    }
+}
+
+/// [`Operate::set_dead_time`].
+struct SetDeadTime<T>(T);
+impl<T: Real> OperateFn<T, Result<(), Error>> for SetDeadTime<T> {
+    fn call<C: Operate<T>>(self, c: &mut C) -> Result<(), Error> {
+        c.set_dead_time(self.0)
     }
 }
 
@@ -424,6 +497,9 @@ unsafe fn init<T: Precision, H>(
             magic: T::MAGIC,
             update: update_of::<T, Pid<T>>,
             ctrl: core::ptr::null_mut(),
+            held: T::zero(),
+            auto_update: update_of::<T, Pid<T>>,
+            auto_ctrl: core::ptr::null_mut(),
             scheme,
         });
         (*slot).bind();
@@ -522,15 +598,11 @@ unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut Handle<T>>
 }
 
 fn reset<T: Precision>(h: &mut Handle<T>) {
-    match &mut h.scheme {
-        Scheme::Smith(c) => c.reset(),
-        Scheme::KaranDey(c) => c.reset(),
-        Scheme::Fsp(c) => c.reset(),
-        Scheme::Pid(c) => Controller::reset(c),
-    }
+    h.operate(Reset);
+    h.bind();
 }
 
-fn fault<T: Precision>(h: &Handle<T>) -> bool {
+fn fault<T: Precision>(h: &mut Handle<T>) -> bool {
     match &h.scheme {
         Scheme::Smith(c) => c.fault(),
         Scheme::KaranDey(c) => c.fault(),
@@ -862,7 +934,8 @@ mod trampoline {
     }
 }
 
-/// Clears the controller's state (integrators, model, delay lines).
+/// Clears the controller's state (integrators, model, delay lines) and
+/// returns it to automatic mode.
 ///
 /// # Safety
 /// As [`msp_update`].
@@ -886,7 +959,7 @@ pub unsafe extern "C" fn msp_reset(ctrl: *mut msp_controller) -> msp_status {
 #[no_mangle]
 pub unsafe extern "C" fn msp_fault(ctrl: *const msp_controller) -> bool {
     // SAFETY: forwarded
-    unsafe { handle::<f32, _>(ctrl.cast_mut()) }.is_none_or(|h| fault(h))
+    unsafe { handle::<f32, _>(ctrl.cast_mut()) }.is_none_or(fault)
 }
 
 /// [`msp_pid_size`] in double precision.
@@ -1071,7 +1144,7 @@ pub unsafe extern "C" fn msp_reset_f64(ctrl: *mut msp_controller_f64) -> msp_sta
 #[no_mangle]
 pub unsafe extern "C" fn msp_fault_f64(ctrl: *const msp_controller_f64) -> bool {
     // SAFETY: forwarded
-    unsafe { handle::<f64, _>(ctrl.cast_mut()) }.is_none_or(|h| fault(h))
+    unsafe { handle::<f64, _>(ctrl.cast_mut()) }.is_none_or(fault)
 }
 
 /// The status of a handle that is not one of ours.
@@ -1081,4 +1154,145 @@ fn bad<H>(ctrl: *mut H) -> msp_status {
     } else {
         msp_status::MSP_BAD_HANDLE
     }
+}
+
+/// The mode calls of both precisions: `f` on the handle, or the status of a
+/// pointer that is not one.
+///
+/// # Safety
+/// `ctrl` is null or from an `msp_*_init` call of precision `T`.
+unsafe fn operate<T: Precision, H>(
+    ctrl: *mut H,
+    f: impl FnOnce(&mut Handle<T>) -> Result<(), Error>,
+) -> msp_status {
+    // SAFETY: forwarded
+    match unsafe { handle::<T, _>(ctrl) } {
+        Some(h) => match f(h) {
+            Ok(()) => msp_status::MSP_OK,
+            Err(e) => e.into(),
+        },
+        None => bad(ctrl),
+    }
+}
+
+fn manual<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
+    if !u.is_finite() {
+        return Err(Error::NonFinite("u"));
+    }
+    h.bind_held(u);
+    Ok(())
+}
+
+fn auto<T: Precision>(h: &mut Handle<T>) -> Result<(), Error> {
+    h.bind();
+    Ok(())
+}
+
+fn applied<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
+    if !u.is_finite() {
+        return Err(Error::NonFinite("u_applied"));
+    }
+    // in manual or tracking the held value is what was applied already
+    if h.ctrl != (h as *mut Handle<T>).cast() {
+        h.operate(Apply(u, Tracking::Reset));
+    }
+    Ok(())
+}
+
+fn set_dead_time<T: Precision>(h: &mut Handle<T>, samples: T) -> Result<(), Error> {
+    h.operate(SetDeadTime(samples))
+}
+
+/// Manual mode: the output is `u` from the next update on; the controller's
+/// model and integrators follow it, so that [`msp_auto`] is bumpless.
+/// Tracking (the output follows an external value) is the same call, made
+/// each sample with the value to follow.
+///
+/// # Safety
+/// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
+#[no_mangle]
+pub unsafe extern "C" fn msp_manual(ctrl: *mut msp_controller, u: f32) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f32, _>(ctrl, |h| manual(h, u)) }
+}
+
+/// Automatic mode: the next output continues from the last applied one.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_auto(ctrl: *mut msp_controller) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f32, _>(ctrl, auto) }
+}
+
+/// External reset: the value the actuator really applied for the last
+/// output (after a limit or an override downstream), given before the next
+/// [`msp_update`]; the integrators (back-calculation) and the model follow it.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_applied(ctrl: *mut msp_controller, u_applied: f32) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f32, _>(ctrl, |h| applied(h, u_applied)) }
+}
+
+/// Gives the controller's model the dead time `samples` (fractional allowed),
+/// within the buffer's capacity (`max_dead_time_samples` of the size call);
+/// `MSP_UNSUPPORTED` for a scheme whose design contains the dead time (FSP)
+/// or that has none (PID).
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_set_dead_time(ctrl: *mut msp_controller, samples: f32) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f32, _>(ctrl, |h| set_dead_time(h, samples)) }
+}
+
+/// [`msp_manual`] in double precision.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_manual_f64(ctrl: *mut msp_controller_f64, u: f64) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f64, _>(ctrl, |h| manual(h, u)) }
+}
+
+/// [`msp_auto`] in double precision.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_auto_f64(ctrl: *mut msp_controller_f64) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f64, _>(ctrl, auto) }
+}
+
+/// [`msp_applied`] in double precision.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_applied_f64(
+    ctrl: *mut msp_controller_f64,
+    u_applied: f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f64, _>(ctrl, |h| applied(h, u_applied)) }
+}
+
+/// [`msp_set_dead_time`] in double precision.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_set_dead_time_f64(
+    ctrl: *mut msp_controller_f64,
+    samples: f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f64, _>(ctrl, |h| set_dead_time(h, samples)) }
 }
