@@ -174,6 +174,9 @@ macro_rules! forward {
             fn set_dead_time(&mut self, samples: T) -> Result<(), crate::Error> {
                 (**self).set_dead_time(samples)
             }
+            fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), crate::Error> {
+                (**self).retune(gain, value)
+            }
         }
         impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
             fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
@@ -219,6 +222,9 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
     }
     fn set_dead_time(&mut self, samples: f64) -> Result<(), crate::Error> {
         self.0.set_dead_time(f32::of(samples))
+    }
+    fn retune(&mut self, gain: crate::operate::Gain, value: f64) -> Result<(), crate::Error> {
+        self.0.retune(gain, f32::of(value))
     }
 }
 

@@ -30,6 +30,30 @@ pub enum Tracking {
     Reset,
 }
 
+/// A gain of the primary PID that can be changed while the loop runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum Gain {
+    /// The proportional gain `Kp`.
+    Kp,
+    /// The integral time `Ti` (s).
+    Ti,
+    /// The derivative time `Td` (s).
+    Td,
+}
+
+impl Gain {
+    /// The gain's name in reports and `--set`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Gain::Kp => "kp",
+            Gain::Ti => "ti",
+            Gain::Td => "td",
+        }
+    }
+}
+
 /// Operation of a scheme beyond `update`: every scheme implements it.
 pub trait Operate<T: Real>: Controller<T> {
     /// Amends the last update as if the controller's output had been
@@ -52,6 +76,18 @@ pub trait Operate<T: Real>: Controller<T> {
         let _ = samples;
         Err(Error::Unsupported(
             "this scheme has no model dead time that can change at run time (none, or one its design contains): rebuild it for another",
+        ))
+    }
+
+    /// Changes a gain of the primary PID while the loop runs, bumpless: the
+    /// integrator absorbs the change of the proportional and derivative
+    /// terms, so that the output at the change is the one the old gains gave
+    /// ([`crate::Pid::retune`]). [`Error::Unsupported`] for a scheme whose
+    /// other controllers share the gain or that has no PID.
+    fn retune(&mut self, gain: Gain, value: T) -> Result<(), Error> {
+        let _ = (gain, value);
+        Err(Error::Unsupported(
+            "this scheme's gains are not a PID's alone: rebuild it with the new parameters",
         ))
     }
 }
@@ -234,6 +270,9 @@ impl<T: Real, C: Operate<T> + crate::CascadeControl<T>> crate::CascadeControl<T>
 impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     fn apply(&mut self, applied: T, how: Tracking) {
         self.inner.apply(applied, how);
+    }
+    fn retune(&mut self, gain: Gain, value: T) -> Result<(), Error> {
+        self.inner.retune(gain, value)
     }
     fn dead_time(&self) -> Option<T> {
         self.inner.dead_time()

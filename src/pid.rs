@@ -460,6 +460,70 @@ impl<T: Real> Pid<T> {
         self.terms.output = applied;
     }
 
+    /// Changes one ISA gain while the loop runs (`Ti = ∞` turns the integral
+    /// off), bumpless: the proportional and derivative terms of the last
+    /// update are rescaled to the new gains and the integrator takes up their
+    /// change, so that the next output equals the last one for unchanged
+    /// inputs; the derivative filter keeps its ratio `N = Td/Tf`. A
+    /// proportional gain of zero cannot be left (its term says nothing of
+    /// the error).
+    pub fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        use crate::operate::Gain;
+        let c = self.cfg;
+        let (mut kp, mut ti, mut td) = (c.kp, c.ti(), c.td());
+        match gain {
+            Gain::Kp => kp = finite(value, "kp")?,
+            Gain::Ti => {
+                if value.is_nan() || !(value > T::zero()) {
+                    return Err(Error::NotPositive("ti"));
+                }
+                ti = value;
+            }
+            Gain::Td => td = non_negative(value, "td")?,
+        }
+        if c.kp == T::zero() && kp != T::zero() {
+            return Err(Error::Unsupported(
+                "a PID with kp = 0 cannot be retuned online: rebuild it",
+            ));
+        }
+        let isa = PidConfig::try_isa(kp, ti, td, c.ts)?;
+        let ratio = if c.td() > T::zero() && c.tf > T::zero() {
+            c.td() / c.tf
+        } else {
+            T::of(10.0)
+        };
+        let cfg = PidConfig {
+            kp: isa.kp,
+            ki: isa.ki,
+            kd: isa.kd,
+            tf: td / ratio,
+            ..c
+        };
+        let mut next = Pid::new(cfg)?;
+        // the terms of the last update with the new gains
+        let scale = |new: T, old: T, term: T| {
+            if old != T::zero() {
+                term * new / old
+            } else {
+                T::zero()
+            }
+        };
+        let t = self.terms;
+        let (p, d) = (scale(cfg.kp, c.kp, t.p), scale(cfg.kd, c.kd, t.d));
+        next.integral = self.integral + (t.p - p) + (t.d - d);
+        next.deriv = scale(cfg.kd, c.kd, self.deriv);
+        next.ed_prev = self.ed_prev;
+        next.started = self.started;
+        next.mode = self.mode;
+        next.manual = self.manual;
+        next.terms = PidTerms { p, d, ..t };
+        next.fault = self.fault;
+        next.failsafe = self.failsafe;
+        next.refresh();
+        *self = next;
+        Ok(())
+    }
+
     /// The linear (unsaturated) frequency response at `z = e^{jθ}` as the pair
     /// `(Cr, Cy)` of `u = Cr·r − Cy·y`: `Cr = kp·b + ki·h/(z − 1) + D(z)·c`,
     /// `Cy = kp + ki·h/(z − 1) + D(z)`, `D(z) = kd/(Tf + h)·(1 − z⁻¹)/(1 − Tf/(Tf + h)·z⁻¹)`.
@@ -613,6 +677,9 @@ impl<T: Real> Pid<T> {
 impl<T: Real> crate::Operate<T> for Pid<T> {
     fn apply(&mut self, applied: T, how: crate::Tracking) {
         Pid::apply(self, applied, how);
+    }
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        Pid::retune(self, gain, value)
     }
 }
 

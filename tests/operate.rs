@@ -297,3 +297,47 @@ fn dead_time_events_of_a_scenario() {
     assert_eq!(rep.operator_events.len(), 2);
     assert!(rep.operator_events.iter().all(|e| e.output_change < 1e-9));
 }
+
+/// Online retuning at a steady state with a non-zero steady output: the
+/// output does not move at the change (below 1e-9), and the new gain acts
+/// on the next set-point step.
+#[test]
+fn retuning_at_steady_state_is_bumpless() {
+    for c in ["pid", "smith", "filtered-smith", "fsp"] {
+        let base = msp::study::Scenario {
+            setpoint: vec!["1@0".parse().unwrap(), "1.5@100".parse().unwrap()],
+            duration: Some(160.0),
+            ..scenario("2*e^-3s/(4s+1)", c)
+        };
+        let plain = base.run().unwrap();
+        let kp = plain.params.get("kp").unwrap();
+        for (event, what) in [
+            (format!("60:kp={}", 1.5 * kp), "kp"),
+            ("60:ti=20".into(), "ti"),
+        ] {
+            let retuned = msp::study::Scenario {
+                events: vec![event.parse().unwrap()],
+                ..base.clone()
+            }
+            .run()
+            .unwrap();
+            let jump = retuned.report().operator_events[0].output_change;
+            println!("{c} {what}: output change at the retune {jump:e}");
+            assert!(jump < 1e-9, "{c} {what}: {jump}");
+            let k = (60.0 / retuned.ts).round() as usize;
+            assert_eq!(&retuned.result.u[..k], &plain.result.u[..k]);
+            let after = retuned.result.u.iter().zip(&plain.result.u).skip(k + 1);
+            assert!(
+                after.clone().any(|(a, b)| (a - b).abs() > 1e-3),
+                "{c} {what}: no effect"
+            );
+        }
+    }
+    // Karan-Dey's three controllers share kp: refused, with the reason
+    let kd = msp::study::Scenario {
+        events: vec!["60:kp=3".parse().unwrap()],
+        ..scenario("0.2/s*e^-7.4s", "karan-dey")
+    };
+    let e = kd.run().unwrap_err().to_string();
+    assert!(e.contains("shared"), "{e}");
+}

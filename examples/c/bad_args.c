@@ -212,6 +212,17 @@ int main(void) {
         EXPECT(msp_applied(NULL, 0.0f) == MSP_NULL_POINTER);
         EXPECT(msp_set_dead_time(NULL, 1.0f) == MSP_NULL_POINTER);
         EXPECT(msp_manual((msp_controller *)memory, 0.0f) == MSP_BAD_HANDLE);
+        float before = msp_update(c, 1.0f, x);
+        EXPECT(msp_retune(c, MSP_KP, 2.0f * sc.pid.kp) == MSP_OK);
+        EXPECT(msp_retune(c, MSP_TI, INFINITY) == MSP_OK);
+        EXPECT(fabsf(msp_update(c, 1.0f, x) - before) < 5e-3f);
+        EXPECT(msp_retune(c, 7, 1.0f) == MSP_OUT_OF_RANGE);
+        EXPECT(msp_retune(c, MSP_TI, 0.0f) == MSP_NOT_POSITIVE);
+        EXPECT(msp_retune(c, MSP_KP, NAN) == MSP_NOT_FINITE);
+        EXPECT(msp_retune(NULL, MSP_KP, 1.0f) == MSP_NULL_POINTER);
+        EXPECT(msp_karan_dey_init(odd, room, &kc, &c) == MSP_OK);
+        EXPECT(msp_retune(c, MSP_KP, 1.0f) == MSP_UNSUPPORTED);
+        EXPECT(msp_retune(c, MSP_TI, 30.0f) == MSP_OK);
         EXPECT(msp_fsp_init(odd, room, &fc, &c) == MSP_OK);
         EXPECT(msp_set_dead_time(c, 90.0f) == MSP_UNSUPPORTED);
         EXPECT(msp_smith_init_f64(odd, room, &sc64, &c64) == MSP_OK);

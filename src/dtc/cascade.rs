@@ -595,6 +595,11 @@ impl<T: Real, O: crate::Operate<T>, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T
         self.r2 = self.r2 + dr2;
         self.outer.apply(self.r2, how);
     }
+
+    /// The outer controller's gains.
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        self.outer.retune(gain, value)
+    }
 }
 
 impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T> for Cascade<T, O, S> {

@@ -527,6 +527,19 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         }
         self.delay.set_delay(samples)
     }
+
+    /// `Gc1`'s gains; `kp` only when no other path scales with it
+    /// (Karan–Dey's `Gc2 = β·Kp` and `Gc3 = γ·Kp` share it).
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        let shared =
+            !matches!(self.gc2, InnerPath::Off) || !matches!(self.dist, DisturbancePath::Off);
+        if gain == crate::operate::Gain::Kp && shared {
+            return Err(Error::Unsupported(
+                "kp is shared by this scheme's controllers: rebuild it with the new kp",
+            ));
+        }
+        self.gc1.retune(gain, value)
+    }
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>

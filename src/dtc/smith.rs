@@ -139,6 +139,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         self.delay.set_delay(samples)
     }
+
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        self.pid.retune(gain, value)
+    }
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>

@@ -70,6 +70,8 @@ pub enum Action {
     DeadTime(f64),
     /// The process's dead time becomes this (s).
     PlantDeadTime(f64),
+    /// A gain of the controller's primary PID changes (bumpless).
+    Retune(crate::operate::Gain, f64),
 }
 
 /// Which signals a run records. Time, the output `y` and the actuator `u`
@@ -316,6 +318,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
                 Action::Auto => mode = Mode::Auto,
                 Action::DeadTime(d) => controller.set_dead_time(d / ts)?,
                 Action::PlantDeadTime(d) => process.set_dead_time(d / ts)?,
+                Action::Retune(g, v) => controller.retune(g, v)?,
             }
             next_op = next_op.saturating_add(1);
         }

@@ -317,6 +317,11 @@ impl Scenario {
                 Action::DeadTime(d) | Action::PlantDeadTime(d) => {
                     crate::real::non_negative(d, "event dead time")?;
                 }
+                Action::Retune(_, v) => {
+                    if v.is_nan() {
+                        return Err(RunError::Invalid(Error::NonFinite("event value")));
+                    }
+                }
                 Action::Auto => {}
             }
         }

@@ -5,6 +5,7 @@
 
 use std::string::{String, ToString};
 
+use crate::operate::Gain;
 use crate::sim::{Action, Disturbance, Location, Operation, SetpointStep, Shape};
 use crate::study::Perturbation;
 use crate::sweep::Range;
@@ -204,8 +205,9 @@ impl core::str::FromStr for Range {
 impl core::str::FromStr for Operation {
     type Err = String;
     /// `TIME:ACTION` with the actions `manual=U`, `track=U`, `auto`,
-    /// `dead-time=θ` (the controller's model) and `plant-dead-time=θ` (the
-    /// process), e.g. `60:manual=0.3`, `120:auto`, `60:plant-dead-time=9`.
+    /// `dead-time=θ` (the controller's model), `plant-dead-time=θ` (the
+    /// process) and `kp=V`, `ti=V`, `td=V` (online retuning), e.g.
+    /// `60:manual=0.3`, `120:auto`, `60:plant-dead-time=9`, `60:kp=3`.
     fn from_str(s: &str) -> Result<Self, String> {
         let (at, action) = s.split_once(':').ok_or_else(|| {
             std::format!("event '{s}': write it as TIME:ACTION, e.g. 60:manual=0.3")
@@ -239,9 +241,12 @@ impl core::str::FromStr for Operation {
             "auto" if value.is_none() => Action::Auto,
             "dead-time" => Action::DeadTime(seconds("dead time")?),
             "plant-dead-time" => Action::PlantDeadTime(seconds("plant dead time")?),
+            "kp" => Action::Retune(Gain::Kp, needs("kp")?),
+            "ti" => Action::Retune(Gain::Ti, parse_setting(value.unwrap_or(""), "ti")?),
+            "td" => Action::Retune(Gain::Td, needs("td")?),
             other => {
                 return Err(std::format!(
-                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ"
+                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, kp=V, ti=V, td=V"
                 ))
             }
         };

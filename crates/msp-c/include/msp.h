@@ -62,6 +62,16 @@ typedef enum {
   MSP_UFOPDT = 2,
 } msp_model_kind;
 
+// A gain of the primary PID ([`msp_retune`]).
+typedef enum {
+  // The proportional gain `kp`.
+  MSP_KP = 0,
+  // The integral time `ti` (s; `INFINITY` turns the integral off).
+  MSP_TI = 1,
+  // The derivative time `td` (s).
+  MSP_TD = 2,
+} msp_gain;
+
 // A `float` controller built by an `msp_*_init` call (opaque).
 typedef struct msp_controller msp_controller;
 
@@ -499,6 +509,21 @@ msp_status msp_applied_f64(msp_controller_f64 *ctrl, double u_applied);
 // # Safety
 // As [`msp_manual`].
 msp_status msp_set_dead_time_f64(msp_controller_f64 *ctrl, double samples);
+
+// Changes a gain of the primary PID while running (`gain`: an
+// `msp_gain`), bumpless: the output does not jump at the change.
+// `MSP_UNSUPPORTED` where the scheme's controllers share the gain
+// (Karan–Dey's `kp`) or the primary is not a PID.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_retune(msp_controller *ctrl, uint32_t gain, float value);
+
+// [`msp_retune`] in double precision.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_retune_f64(msp_controller_f64 *ctrl, uint32_t gain, double value);
 
 // Tunes a Smith predictor for the FOPDT model `k e^{−θs}/(τs + 1)`: Kaya's
 // IMC PI `kp = τ/(kλ)`, `ti = τ` (Kaya (2003) Eqs. 20–21), with the

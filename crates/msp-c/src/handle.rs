@@ -247,6 +247,14 @@ impl<T: Real> OperateFn<T, ()> for Reset {
     }
 }
 
+/// [`Operate::retune`].
+struct Retune<T>(msp_core::operate::Gain, T);
+impl<T: Real> OperateFn<T, Result<(), Error>> for Retune<T> {
+    fn call<C: Operate<T>>(self, c: &mut C) -> Result<(), Error> {
+        c.retune(self.0, self.1)
+    }
+}
+
 /// [`Operate::set_dead_time`].
 struct SetDeadTime<T>(T);
 impl<T: Real> OperateFn<T, Result<(), Error>> for SetDeadTime<T> {
@@ -1295,4 +1303,58 @@ pub unsafe extern "C" fn msp_set_dead_time_f64(
 ) -> msp_status {
     // SAFETY: forwarded
     unsafe { operate::<f64, _>(ctrl, |h| set_dead_time(h, samples)) }
+}
+
+/// A gain of the primary PID ([`msp_retune`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum msp_gain {
+    /// The proportional gain `kp`.
+    MSP_KP = 0,
+    /// The integral time `ti` (s; `INFINITY` turns the integral off).
+    MSP_TI = 1,
+    /// The derivative time `td` (s).
+    MSP_TD = 2,
+}
+
+fn retune<T: Precision>(h: &mut Handle<T>, gain: u32, value: T) -> Result<(), Error> {
+    use msp_core::operate::Gain;
+    let g = match gain {
+        0 => Gain::Kp,
+        1 => Gain::Ti,
+        2 => Gain::Td,
+        _ => return Err(Error::OutOfRange("gain")),
+    };
+    h.operate(Retune(g, value))
+}
+
+/// Changes a gain of the primary PID while running (`gain`: an
+/// `msp_gain`), bumpless: the output does not jump at the change.
+/// `MSP_UNSUPPORTED` where the scheme's controllers share the gain
+/// (Karan–Dey's `kp`) or the primary is not a PID.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_retune(
+    ctrl: *mut msp_controller,
+    gain: u32,
+    value: f32,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f32, _>(ctrl, |h| retune(h, gain, value)) }
+}
+
+/// [`msp_retune`] in double precision.
+///
+/// # Safety
+/// As [`msp_manual`].
+#[no_mangle]
+pub unsafe extern "C" fn msp_retune_f64(
+    ctrl: *mut msp_controller_f64,
+    gain: u32,
+    value: f64,
+) -> msp_status {
+    // SAFETY: forwarded
+    unsafe { operate::<f64, _>(ctrl, |h| retune(h, gain, value)) }
 }

@@ -111,6 +111,7 @@ pub(crate) struct ScenarioArgs {
     pub(crate) max_memory: Option<u64>,
     /// An operator's action TIME:ACTION (repeatable): manual=U, track=U, auto,
     /// dead-time=θ (the controller's model), plant-dead-time=θ (the process),
+    /// kp=V, ti=V, td=V (the primary PID retuned, bumpless),
     /// e.g. --event 60:manual=0.3 --event 120:auto.
     #[arg(long = "event", value_name = "T:ACTION", value_parser = str::parse::<msp::sim::Operation>, allow_hyphen_values = true)]
     pub(crate) events: Vec<msp::sim::Operation>,

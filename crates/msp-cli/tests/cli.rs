@@ -1659,7 +1659,7 @@ fn operator_events_and_an_outside_actuator_reach_the_csv_and_the_report() {
 #[test]
 fn bad_events_and_actuators_are_named() {
     for (args, needle) in [
-        (vec!["--event", "60:kp=3"], "unknown action 'kp'"),
+        (vec!["--event", "60:beta=3"], "unknown action 'beta'"),
         (vec!["--event", "manual=3"], "TIME:ACTION"),
         (vec!["--event", "60:manual"], "'manual' needs a value"),
         (vec!["--event", "-5:auto"], "must not be negative"),

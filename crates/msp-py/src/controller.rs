@@ -156,6 +156,27 @@ impl Controller {
         }
         self.inner.set_dead_time(theta / self.ts).map_err(value_err)
     }
+    /// Changes gains of the primary PID while running, bumpless (``kp``,
+    /// ``ti``, ``td`` by name): the output does not jump at the change.
+    #[pyo3(signature = (**params))]
+    fn retune(&mut self, params: Option<BTreeMap<String, f64>>) -> PyResult<()> {
+        use msp::operate::Gain;
+        for (name, v) in params.unwrap_or_default() {
+            let gain = match name.as_str() {
+                "kp" => Gain::Kp,
+                "ti" => Gain::Ti,
+                "td" => Gain::Td,
+                other => {
+                    return Err(PyValueError::new_err(format!(
+                        "retune: '{other}' is not a gain that changes online (kp, ti, td)"
+                    )))
+                }
+            };
+            msp::Operate::retune(&mut self.inner, gain, v).map_err(value_err)?;
+            self.params.set(&name, v);
+        }
+        Ok(())
+    }
     /// The model's dead time (s), or None for a scheme without one.
     #[getter]
     fn dead_time(&self) -> Option<f64> {

@@ -585,6 +585,12 @@ def test_a_controller_is_operated_as_in_a_plant() -> None:
         c.set_dead_time(float("nan"))
     with pytest.raises(ValueError):
         c.manual(float("nan"))
+    before = c.update(1.0, x)
+    c.retune(kp=2 * c.params["kp"], ti=50.0)
+    assert c.params["ti"] == 50.0
+    assert abs(c.update(1.0, x) - before) < 0.01  # bumpless: one sample of the new law
+    with pytest.raises(ValueError, match="not a gain"):
+        c.retune(beta=1.0)
     fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06)
     with pytest.raises(ValueError, match="rebuild"):
         fsp.set_dead_time(7.0)
@@ -604,7 +610,7 @@ def test_run_takes_operator_events_and_an_outside_actuator() -> None:
     k = int(round(90.0 / ev.ts))
     assert ev.u[k] == 0.3 and ev.u_applied[k] == 0.3
     with pytest.raises(ValueError, match="unknown action"):
-        msp.run("0.2/s*e^-7.4s", events=["60:kp=3"])
+        msp.run("0.2/s*e^-7.4s", events=["60:beta=3"])
     with pytest.raises(ValueError, match="actuator"):
         msp.run("0.2/s*e^-7.4s", actuator=(1.0, 0.0))
     # the CLI and Python write the same report for the same events

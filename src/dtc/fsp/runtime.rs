@@ -39,6 +39,13 @@ pub trait Primary<T: Real> {
     /// Amends the last update as if the output had been `applied`
     /// (see [`crate::Operate::apply`]).
     fn apply(&mut self, applied: T, how: crate::Tracking);
+    /// Changes a gain while running (see [`crate::Operate::retune`]).
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        let _ = (gain, value);
+        Err(Error::Unsupported(
+            "this primary controller is a designed filter, not a PID: rebuild it",
+        ))
+    }
 }
 
 impl<T: Real> Primary<T> for Pid<T> {
@@ -53,6 +60,9 @@ impl<T: Real> Primary<T> for Pid<T> {
     }
     fn apply(&mut self, applied: T, how: crate::Tracking) {
         Pid::apply(self, applied, how);
+    }
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        Pid::retune(self, gain, value)
     }
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         Pid::response(self, theta)
@@ -375,6 +385,10 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> crate::Operate<T> for Predicted<T,
         }
         self.k.apply(applied, how);
         self.pred.amend(applied - u);
+    }
+
+    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
+        self.k.retune(gain, value)
     }
 }
 
