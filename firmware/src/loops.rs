@@ -5,7 +5,7 @@
 use msp::ParamList;
 use msp::dtc::fsp::{design, FilteredSmith};
 use msp::dtc::karan_dey::{self, KaranDey};
-use msp::{Controller, Delay, DelayLine, Lti, PidConfig, ProcessModel, Real, SmithPredictor};
+use msp::{Controller, Delay, DelayLine, Lti, Operated, PidConfig, ProcessModel, Real, SmithPredictor};
 
 pub const SAMPLES: usize = 10_000;
 pub const CHECKS: usize = 20;
@@ -31,6 +31,12 @@ impl<T: Real> Plant<T> {
     }
     pub fn output(&self) -> T {
         self.block.free_output()
+    }
+    /// The process's dead time changes (whole samples).
+    pub fn set_dead_time(&mut self, samples: T) {
+        if self.line.set_delay(samples).is_err() {
+            panic_model()
+        }
     }
     pub fn advance(&mut self, u: T) {
         let v = self.line.process(u);
@@ -143,6 +149,56 @@ pub fn run_with<T: Real, C>(
         let y = p.output();
         tick(true);
         let u = update(c, r, y);
+        tick(false);
+        p.advance(u + d);
+        if (k + 1) % (SAMPLES / CHECKS) == 0 {
+            if let Some(slot) = out.get_mut((k + 1) / (SAMPLES / CHECKS) - 1) {
+                *slot = y;
+            }
+        }
+    }
+    out
+}
+
+/// The Smith predictor operated as in a plant (`msp::Operated`).
+pub type OperatedSmith<T> = Operated<T, SmithPredictor<T, 1, [T; CAP]>>;
+
+/// The Smith predictor's loop with an operator: manual at the output it had
+/// from sample `SAMPLES / 4` (the set point still steps under it), back to
+/// automatic 500 samples later (bumpless), and the process's and the model's
+/// dead time from 100 to 110 samples together at `SAMPLES * 3 / 5`.
+pub fn smith_operated<T: Real>() -> (OperatedSmith<T>, Plant<T>) {
+    let (c, p) = smith::<T>();
+    (Operated::new(c), p)
+}
+
+/// [`run_with`] with the operator's actions of [`smith_operated`].
+#[allow(dead_code)] // build.rs runs it for the host reference
+pub fn run_operated<T: Real>(
+    c: &mut OperatedSmith<T>,
+    p: &mut Plant<T>,
+    mut tick: impl FnMut(bool),
+    mut update: impl FnMut(&mut OperatedSmith<T>, T, T) -> T,
+) -> [T; CHECKS] {
+    let mut out = [T::zero(); CHECKS];
+    let mut u = T::zero();
+    for k in 0..SAMPLES {
+        if k == SAMPLES / 4 && c.manual(u).is_err() {
+            panic_model()
+        }
+        if k == SAMPLES / 4 + 500 {
+            c.auto();
+        }
+        if k == SAMPLES * 3 / 5 {
+            p.set_dead_time(T::of(110.0));
+            if c.set_dead_time(T::of(110.0)).is_err() {
+                panic_model()
+            }
+        }
+        let (r, d) = inputs::<T>(k);
+        let y = p.output();
+        tick(true);
+        u = update(c, r, y);
         tick(false);
         p.advance(u + d);
         if (k + 1) % (SAMPLES / CHECKS) == 0 {

@@ -226,30 +226,63 @@ fn per_call<C>(
     plant: &mut loops::Plant<f32>,
     update: impl FnMut(&mut C, f32, f32) -> f32,
 ) -> ([f32; loops::CHECKS], f64) {
-    use core::sync::atomic::{compiler_fence, Ordering::SeqCst};
-    let (mut t0, mut sum, mut spin) = (0u32, 0u64, 0u32);
-    let y = loops::run_with(
-        c,
-        plant,
-        |before| {
-            if before {
-                spin = (spin + 1) % 41;
-                for _ in 0..core::hint::black_box(spin) {
-                    cortex_m::asm::nop();
-                }
-                compiler_fence(SeqCst);
-                t0 = cortex_m::peripheral::SYST::get_current();
-                compiler_fence(SeqCst);
-            } else {
-                compiler_fence(SeqCst);
-                let t1 = cortex_m::peripheral::SYST::get_current();
-                compiler_fence(SeqCst);
-                sum += u64::from(t0.wrapping_sub(t1) & 0x00FF_FFFF);
+    let mut ticks = Ticks::default();
+    let y = loops::run_with(c, plant, |before| ticks.tick(before), update);
+    (y, ticks.mean(loops::SAMPLES))
+}
+
+/// SysTick read around calls (see [`per_call`]).
+#[derive(Default)]
+struct Ticks {
+    t0: u32,
+    sum: u64,
+    spin: u32,
+}
+
+impl Ticks {
+    /// Before (`true`) or after a call.
+    fn tick(&mut self, before: bool) {
+        use core::sync::atomic::{compiler_fence, Ordering::SeqCst};
+        if before {
+            self.spin = (self.spin + 1) % 41;
+            for _ in 0..core::hint::black_box(self.spin) {
+                cortex_m::asm::nop();
             }
-        },
-        update,
-    );
-    (y, sum as f64 / loops::SAMPLES as f64)
+            compiler_fence(SeqCst);
+            self.t0 = cortex_m::peripheral::SYST::get_current();
+            compiler_fence(SeqCst);
+        } else {
+            compiler_fence(SeqCst);
+            let t1 = cortex_m::peripheral::SYST::get_current();
+            compiler_fence(SeqCst);
+            self.sum += u64::from(self.t0.wrapping_sub(t1) & 0x00FF_FFFF);
+        }
+    }
+
+    /// Mean ticks per call over `calls`.
+    fn mean(&self, calls: usize) -> f64 {
+        self.sum as f64 / calls as f64
+    }
+}
+
+/// One update of the Smith predictor operated as in a plant (`msp::Operated`:
+/// modes, external reset, run-time dead time around the same predictor).
+#[inline(never)]
+fn operated_update(c: &mut loops::OperatedSmith<f32>, r: f32, y: f32) -> f32 {
+    use msp::Controller;
+    c.update(r, y)
+}
+
+/// The switch from manual back to automatic.
+#[inline(never)]
+fn switch_to_auto(c: &mut loops::OperatedSmith<f32>) {
+    c.auto();
+}
+
+/// A new dead time for the predictor's model (samples).
+#[inline(never)]
+fn change_dead_time(c: &mut loops::OperatedSmith<f32>, samples: f32) -> bool {
+    c.set_dead_time(samples).is_ok()
 }
 
 #[entry]
@@ -280,6 +313,36 @@ fn main() -> ! {
     let ram_fs = core::mem::size_of_val(&fs);
     let (y_fs, t_fs) = per_call(&mut fs, &mut plant, fsp_update);
 
+    // the same loop with an operator: manual, back to auto, a dead-time change
+    let (mut op, mut plant) = loops::smith_operated::<f32>();
+    let ram_op = core::mem::size_of_val(&op);
+    let mut ticks = Ticks::default();
+    let y_op = loops::run_operated(&mut op, &mut plant, |b| ticks.tick(b), operated_update);
+    let t_op = ticks.mean(loops::SAMPLES);
+    // the one-off calls, 100 times each in the same harness
+    let (mut to_auto, mut new_delay) = (Ticks::default(), Ticks::default());
+    for i in 0..100 {
+        if op.manual(0.1).is_err() {
+            fail()
+        }
+        to_auto.tick(true);
+        switch_to_auto(&mut op);
+        to_auto.tick(false);
+        new_delay.tick(true);
+        let ok = change_dead_time(&mut op, if i % 2 == 0 { 100.0 } else { 110.0 });
+        new_delay.tick(false);
+        if !ok {
+            fail()
+        }
+    }
+    // their exact counts come from single-stepping (scripts/firmware); the
+    // SysTick means here are printed for reference only
+    hprintln!(
+        "one-off calls (SysTick, about): switch_to_auto {:.0}, change_dead_time {:.0} instructions",
+        (to_auto.mean(100) - base) * ipt + 3.0,
+        (new_delay.mean(100) - base) * ipt + 3.0
+    );
+
     // instructions from a function's entry to its return, inclusive: the empty
     // update's own body (push, mov, pop) is 3
     let per = |t: f64| (t - base) * ipt + 3.0;
@@ -300,6 +363,7 @@ fn main() -> ! {
         ("smith_update", t_sp),
         ("karan_dey_update", t_kd),
         ("fsp_update", t_fs),
+        ("operated_update", t_op),
     ] {
         hprintln!("instructions: {} {:.1}", name, per(t));
     }
@@ -321,6 +385,15 @@ fn main() -> ! {
             1e-3,
             per(t_fs),
             ram_fs,
+        );
+    let ok = ok
+        & check(
+            "smith operated (manual, auto, dead time 100 -> 110 samples)",
+            &y_op,
+            &reference::OPERATED,
+            1e-4,
+            per(t_op),
+            ram_op,
         );
     // the Smith predictor's f32 output at the check points, which the C
     // example's run (examples/c/smith.c) is compared with by scripts/c

@@ -82,7 +82,9 @@ impl<T: Real, const N: usize, S: DelayStorage<T>> SmithPredictor<T, N, S> {
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     for SmithPredictor<T, N, S>
 {
-    #[inline]
+    // always inlined: a caller that wraps it (an operated predictor beside
+    // the plain one) would otherwise pay a call on the per-sample path
+    #[inline(always)]
     fn update(&mut self, r: T, y: T) -> T {
         let ym = self.model.free_output();
         let ym_d = self.delay.process(ym);
