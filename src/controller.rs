@@ -177,6 +177,9 @@ macro_rules! forward {
             fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), crate::Error> {
                 (**self).retune(gain, value)
             }
+            fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), crate::Error> {
+                (**self).ramp_dead_time(samples, per_sample)
+            }
         }
         impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
             fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
@@ -225,6 +228,9 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
     }
     fn retune(&mut self, gain: crate::operate::Gain, value: f64) -> Result<(), crate::Error> {
         self.0.retune(gain, f32::of(value))
+    }
+    fn ramp_dead_time(&mut self, samples: f64, per_sample: f64) -> Result<(), crate::Error> {
+        self.0.ramp_dead_time(f32::of(samples), f32::of(per_sample))
     }
 }
 

@@ -79,6 +79,15 @@ pub trait Operate<T: Real>: Controller<T> {
         ))
     }
 
+    /// Moves the model's dead time towards `samples` by at most `per_sample`
+    /// samples each sample (a delay that drifts: the line's read position
+    /// slides, never jumps), within the same capacity as
+    /// [`Operate::set_dead_time`].
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        let _ = per_sample;
+        self.set_dead_time(samples)
+    }
+
     /// Changes a gain of the primary PID while the loop runs, bumpless: the
     /// integrator absorbs the change of the proportional and derivative
     /// terms, so that the output at the change is the one the old gains gave
@@ -273,6 +282,9 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     }
     fn retune(&mut self, gain: Gain, value: T) -> Result<(), Error> {
         self.inner.retune(gain, value)
+    }
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        self.inner.ramp_dead_time(samples, per_sample)
     }
     fn dead_time(&self) -> Option<T> {
         self.inner.dead_time()

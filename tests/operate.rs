@@ -341,3 +341,49 @@ fn retuning_at_steady_state_is_bumpless() {
     let e = kd.run().unwrap_err().to_string();
     assert!(e.contains("shared"), "{e}");
 }
+
+/// A drifting delay: the model's dead time slides to its new value at the
+/// given rate, and a set-point ramp limits the set point the controller sees.
+#[test]
+fn dead_time_slews_and_the_set_point_ramps() {
+    let s = msp::registry::find("smith").unwrap();
+    let mut l = Loop::new(s);
+    // room for 130 samples: rebuilt with it
+    let (p1, _, ts) = plant_for(s);
+    let params = s.tune_process(&p1, None, None, None, &[]).unwrap();
+    let b = Build {
+        ts,
+        u_min: -10.0,
+        u_max: 10.0,
+        max_dead_time: 130.0 * ts,
+    };
+    l.c = Operated::new(s.build_process(&params, &p1, None, &b).unwrap());
+    l.c.inner_mut().ramp_dead_time(120.0, 0.1).unwrap();
+    for k in 1..=250 {
+        l.step(1.0, 0.0);
+        let want = (100.0 + 0.1 * f64::from(k)).min(120.0);
+        let got = l.c.inner().dead_time().unwrap();
+        assert!((got - want).abs() < 1e-9, "sample {k}: {got} vs {want}");
+    }
+    assert!(l.c.inner_mut().ramp_dead_time(140.0, 0.1).is_err()); // beyond the room
+                                                                  // the set-point ramp: the step reaches the controller over 10 s
+    let run = |ramp: Option<f64>| {
+        msp::study::Scenario {
+            setpoint_ramp: ramp,
+            ..scenario("2*e^-3s/(4s+1)", "smith")
+        }
+        .run()
+        .unwrap()
+    };
+    let (step, ramped) = (run(None), run(Some(0.1)));
+    assert!(ramped.result.u[0] < 0.2 * step.result.u[0]);
+    let (a, b) = (ramped.metrics.step.rise_time, step.metrics.step.rise_time);
+    assert!(a > b + 1.0, "rise {a} with the ramp, {b} without");
+    assert_eq!(ramped.result.r, step.result.r); // the schedule is recorded as given
+    assert!(msp::study::Scenario {
+        setpoint_ramp: Some(0.0),
+        ..scenario("2*e^-3s/(4s+1)", "smith")
+    }
+    .run()
+    .is_err());
+}

@@ -528,6 +528,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         self.delay.set_delay(samples)
     }
 
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        // the same schemes take it as take a step change
+        self.set_dead_time(self.delay.delay())?;
+        self.delay.set_slew(per_sample)?;
+        self.delay.ramp_delay(samples)
+    }
+
     /// `Gc1`'s gains; `kp` only when no other path scales with it
     /// (Karan–Dey's `Gc2 = β·Kp` and `Gc3 = γ·Kp` share it).
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {

@@ -142,6 +142,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         self.delay.set_delay(samples)
     }
 
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        self.delay.set_slew(per_sample)?;
+        self.delay.ramp_delay(samples)
+    }
+
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
         self.pid.retune(gain, value)
     }

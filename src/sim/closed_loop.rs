@@ -43,6 +43,9 @@ pub struct SimConfig {
     /// The value the plant received is fed back to the controller each
     /// sample (external reset, [`crate::Operate::apply`]).
     pub reset_feedback: bool,
+    /// The controller's set point moves to the scheduled one by at most this
+    /// much per second (industrial blocks' set-point ramp); ∞: steps.
+    pub setpoint_ramp: f64,
 }
 
 /// An operator's action at a time of the run.
@@ -68,6 +71,9 @@ pub enum Action {
     Auto,
     /// The controller's model is given this dead time (s).
     DeadTime(f64),
+    /// The controller's model's dead time moves to the first value (s) at
+    /// the second rate (seconds of dead time per second).
+    DeadTimeRamp(f64, f64),
     /// The process's dead time becomes this (s).
     PlantDeadTime(f64),
     /// A gain of the controller's primary PID changes (bumpless).
@@ -105,6 +111,7 @@ impl SimConfig {
             operations: Vec::new(),
             actuator: None,
             reset_feedback: false,
+            setpoint_ramp: f64::INFINITY,
         }
     }
 }
@@ -297,6 +304,11 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
     let mut mode = Mode::Auto;
     let applies = !ops.is_empty() || cfg.actuator.is_some();
     let mut applied: Option<f64> = None;
+    if cfg.setpoint_ramp.is_nan() || cfg.setpoint_ramp <= 0.0 {
+        return Err(Error::NotPositive("setpoint_ramp"));
+    }
+    let ramp = cfg.setpoint_ramp * ts;
+    let mut r_ctl = 0.0;
     let mut sig = std::vec![0.0; names.len()];
     for i in 0..n {
         let t = i as f64 * ts;
@@ -317,11 +329,19 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
                 Action::Track(v) => mode = Mode::Track(v),
                 Action::Auto => mode = Mode::Auto,
                 Action::DeadTime(d) => controller.set_dead_time(d / ts)?,
+                Action::DeadTimeRamp(d, rate) => controller.ramp_dead_time(d / ts, rate)?,
                 Action::PlantDeadTime(d) => process.set_dead_time(d / ts)?,
                 Action::Retune(g, v) => controller.retune(g, v)?,
             }
             next_op = next_op.saturating_add(1);
         }
+        // the set point the controller sees: ramped (`r` itself is recorded)
+        // (from 0, where the run starts, also for a step at 0)
+        r_ctl = if ramp.is_finite() {
+            r.max(r_ctl - ramp).min(r_ctl + ramp)
+        } else {
+            r
+        };
         let d_in = inputs.at(i, t);
         let d_out = outputs.at(i, t);
         let d_mid = middles.at(i, t);
@@ -343,9 +363,9 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
             feed_back(controller, mode, applied);
         }
         let mut u = if cascade {
-            controller.update_cascade(r, y_meas, y2)
+            controller.update_cascade(r_ctl, y_meas, y2)
         } else {
-            controller.update(r, y_meas)
+            controller.update(r_ctl, y_meas)
         }
         .max(cfg.u_min)
         .min(cfg.u_max);

@@ -91,6 +91,9 @@ pub struct Scenario {
     /// The value the plant received is fed back to the controller each
     /// sample (external reset: no windup against the outside actuator).
     pub reset_feedback: bool,
+    /// The controller's set point moves by at most this much per second
+    /// (off when absent).
+    pub setpoint_ramp: Option<f64>,
 }
 
 /// The memory a run may take unless the scenario says otherwise: 1 GiB.
@@ -298,7 +301,8 @@ impl Scenario {
             .iter()
             .filter_map(|e| match (e.action, plant) {
                 (crate::sim::Action::PlantDeadTime(d), true)
-                | (crate::sim::Action::DeadTime(d), false) => Some(d),
+                | (crate::sim::Action::DeadTime(d), false)
+                | (crate::sim::Action::DeadTimeRamp(d, _), false) => Some(d),
                 _ => None,
             })
             .fold(0.0, f64::max)
@@ -316,6 +320,10 @@ impl Scenario {
                 }
                 Action::DeadTime(d) | Action::PlantDeadTime(d) => {
                     crate::real::non_negative(d, "event dead time")?;
+                }
+                Action::DeadTimeRamp(d, rate) => {
+                    crate::real::non_negative(d, "event dead time")?;
+                    crate::real::positive(rate, "event dead-time rate")?;
                 }
                 Action::Retune(_, v) => {
                     if v.is_nan() {
@@ -376,6 +384,7 @@ impl Scenario {
         "events",
         "actuator",
         "reset_feedback",
+        "setpoint_ramp",
     ];
 
     /// Chooses the controller (by name or by the model's kind) and the sample
@@ -958,6 +967,7 @@ impl Scenario {
             operations: self.events.clone(),
             actuator: self.actuator,
             reset_feedback: self.reset_feedback,
+            setpoint_ramp: self.setpoint_ramp.unwrap_or(f64::INFINITY),
         };
         let result = match &inner {
             Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,

@@ -205,7 +205,8 @@ impl core::str::FromStr for Range {
 impl core::str::FromStr for Operation {
     type Err = String;
     /// `TIME:ACTION` with the actions `manual=U`, `track=U`, `auto`,
-    /// `dead-time=θ` (the controller's model), `plant-dead-time=θ` (the
+    /// `dead-time=θ` (the controller's model; `dead-time=θ~RATE` moves it
+    /// there at RATE seconds per second), `plant-dead-time=θ` (the
     /// process) and `kp=V`, `ti=V`, `td=V` (online retuning), e.g.
     /// `60:manual=0.3`, `120:auto`, `60:plant-dead-time=9`, `60:kp=3`.
     fn from_str(s: &str) -> Result<Self, String> {
@@ -239,7 +240,20 @@ impl core::str::FromStr for Operation {
             "manual" => Action::Manual(needs("manual output")?),
             "track" => Action::Track(needs("tracked output")?),
             "auto" if value.is_none() => Action::Auto,
-            "dead-time" => Action::DeadTime(seconds("dead time")?),
+            "dead-time" => match value.and_then(|v| v.split_once('~')) {
+                // `θ~RATE`: moves to θ at RATE seconds of dead time per second
+                Some((d, rate)) => {
+                    let d = parse_number(d, "dead time")?;
+                    let rate = parse_number(rate, "dead-time rate")?;
+                    if d < 0.0 || rate <= 0.0 {
+                        return Err(std::format!(
+                            "event '{s}': a dead time must not be negative and its rate must be positive"
+                        ));
+                    }
+                    Action::DeadTimeRamp(d, rate)
+                }
+                None => Action::DeadTime(seconds("dead time")?),
+            },
             "plant-dead-time" => Action::PlantDeadTime(seconds("plant dead time")?),
             "kp" => Action::Retune(Gain::Kp, needs("kp")?),
             "ti" => Action::Retune(Gain::Ti, parse_setting(value.unwrap_or(""), "ti")?),

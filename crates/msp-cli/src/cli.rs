@@ -110,7 +110,8 @@ pub(crate) struct ScenarioArgs {
     #[arg(long, value_name = "BYTES", value_parser = msp::syntax::parse_bytes)]
     pub(crate) max_memory: Option<u64>,
     /// An operator's action TIME:ACTION (repeatable): manual=U, track=U, auto,
-    /// dead-time=θ (the controller's model), plant-dead-time=θ (the process),
+    /// dead-time=θ (the controller's model; θ~RATE moves it there at RATE s/s),
+    /// plant-dead-time=θ (the process),
     /// kp=V, ti=V, td=V (the primary PID retuned, bumpless),
     /// e.g. --event 60:manual=0.3 --event 120:auto.
     #[arg(long = "event", value_name = "T:ACTION", value_parser = str::parse::<msp::sim::Operation>, allow_hyphen_values = true)]
@@ -123,6 +124,10 @@ pub(crate) struct ScenarioArgs {
     /// (external reset: no windup against --actuator).
     #[arg(long)]
     pub(crate) reset_feedback: bool,
+    /// The controller's set point moves by at most RATE per second (a
+    /// set-point ramp, as industrial blocks have; off by default).
+    #[arg(long, value_name = "RATE")]
+    pub(crate) setpoint_ramp: Option<f64>,
 }
 
 #[derive(Debug, Args)]

@@ -177,6 +177,22 @@ impl Controller {
         }
         Ok(())
     }
+    /// Moves the model's dead time to ``theta`` (s) at ``rate`` seconds per
+    /// second (a delay that drifts: no jump of the prediction).
+    fn ramp_dead_time(&mut self, theta: f64, rate: f64) -> PyResult<()> {
+        if !(theta.is_finite() && theta >= 0.0) {
+            return Err(PyValueError::new_err(
+                "`theta` must be a finite time of at least 0",
+            ));
+        }
+        msp::Operate::ramp_dead_time(&mut self.inner, theta / self.ts, rate).map_err(value_err)
+    }
+    /// Limits the set point's change to ``rate`` per second (``inf``: off).
+    fn set_setpoint_ramp(&mut self, rate: f64) -> PyResult<()> {
+        self.inner
+            .set_setpoint_ramp(rate, self.ts)
+            .map_err(value_err)
+    }
     /// The model's dead time (s), or None for a scheme without one.
     #[getter]
     fn dead_time(&self) -> Option<f64> {

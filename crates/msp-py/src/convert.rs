@@ -230,18 +230,21 @@ pub(crate) fn scenario(
         events: Vec::new(),
         actuator: None,
         reset_feedback: false,
+        setpoint_ramp: None,
     })
 }
 
-/// The operator's events and the outside actuator of ``run`` and
-/// ``compare``: ``events`` as the flag writes them (``["60:manual=0.3",
-/// "120:auto"]``), ``actuator`` as ``(min, max)``.
+/// The operator's events, the outside actuator and the set-point ramp of
+/// ``run`` and ``compare``: ``events`` as the flag writes them
+/// (``["60:manual=0.3", "120:auto"]``), ``actuator`` as ``(min, max)``.
 pub(crate) fn with_operation(
     mut sc: Scenario,
     events: Option<&Bound<'_, PyAny>>,
     actuator: Option<(f64, f64)>,
     reset_feedback: bool,
+    setpoint_ramp: Option<f64>,
 ) -> PyResult<Scenario> {
+    sc.setpoint_ramp = setpoint_ramp;
     if let Some(e) = events {
         let list: Vec<String> = match e.extract::<String>() {
             Ok(one) => vec![one],

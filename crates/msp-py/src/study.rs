@@ -17,7 +17,7 @@ use pyo3::types::{PyDict, PyList};
 #[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
                     ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
                     umax=None, lambda_=None, rule=None, substeps=None, float32=false, max_memory=None,
-                    events=None, actuator=None, reset_feedback=false))]
+                    events=None, actuator=None, reset_feedback=false, setpoint_ramp=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run<'py>(
     py: Python<'py>,
@@ -43,6 +43,7 @@ pub(crate) fn run<'py>(
     events: Option<&Bound<'py, PyAny>>,
     actuator: Option<(f64, f64)>,
     reset_feedback: bool,
+    setpoint_ramp: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
@@ -63,7 +64,7 @@ pub(crate) fn run<'py>(
         float32,
         max_memory,
     )?;
-    let sc = with_operation(sc, events, actuator, reset_feedback)?;
+    let sc = with_operation(sc, events, actuator, reset_feedback, setpoint_ramp)?;
     let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
     output_dict(py, out)
 }
@@ -73,7 +74,7 @@ pub(crate) fn run<'py>(
 #[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
                     inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
                     seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None,
-                    float32=false, max_memory=None, events=None, actuator=None, reset_feedback=false))]
+                    float32=false, max_memory=None, events=None, actuator=None, reset_feedback=false, setpoint_ramp=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compare<'py>(
     py: Python<'py>,
@@ -100,6 +101,7 @@ pub(crate) fn compare<'py>(
     events: Option<&Bound<'py, PyAny>>,
     actuator: Option<(f64, f64)>,
     reset_feedback: bool,
+    setpoint_ramp: Option<f64>,
 ) -> PyResult<Bound<'py, PyList>> {
     let processes = Processes::of(plant, model, inner_plant, inner_model);
     let sc = scenario(
@@ -120,7 +122,7 @@ pub(crate) fn compare<'py>(
         float32,
         max_memory,
     )?;
-    let sc = with_operation(sc, events, actuator, reset_feedback)?;
+    let sc = with_operation(sc, events, actuator, reset_feedback, setpoint_ramp)?;
     let p = perturbation_of(perturb)?.unwrap_or_default();
     let runs = py
         .allow_threads(|| msp::study::compare(&sc, &controllers, p))

@@ -591,6 +591,14 @@ def test_a_controller_is_operated_as_in_a_plant() -> None:
     assert abs(c.update(1.0, x) - before) < 0.01  # bumpless: one sample of the new law
     with pytest.raises(ValueError, match="not a gain"):
         c.retune(beta=1.0)
+    c.ramp_dead_time(100.0, 0.5)
+    c.update(1.0, x)
+    assert abs(c.dead_time - (112.68 - 0.5 * 0.939)) < 1e-9  # half a sample per sample
+    c.set_setpoint_ramp(0.01)
+    with pytest.raises(ValueError):
+        c.set_setpoint_ramp(0.0)
+    ramped = msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0, setpoint_ramp=0.1)
+    assert ramped.u[0] < 0.2 * msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0).u[0]
     fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06)
     with pytest.raises(ValueError, match="rebuild"):
         fsp.set_dead_time(7.0)

@@ -69,7 +69,8 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         umax,
         substeps,
         max_memory,
-        actuator
+        actuator,
+        setpoint_ramp
     );
     if a.design.lambda.is_some() {
         sc.lambda = a.design.lambda;

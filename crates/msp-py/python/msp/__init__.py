@@ -234,6 +234,7 @@ def run(
     events: Union[None, str, Sequence[str]] = None,
     actuator: Optional[Tuple[float, float]] = None,
     reset_feedback: bool = False,
+    setpoint_ramp: Optional[float] = None,
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
 
@@ -287,14 +288,18 @@ def run(
         The memory the run may take in bytes (default 1 GiB), as the CLI's ``--max-memory``.
     events : list of str, optional
         What an operator does, as the CLI's ``--event``: ``"60:manual=0.3"``, ``"60:track=0.3"``,
-        ``"120:auto"`` (bumpless), ``"60:dead-time=9"`` (the controller's model),
-        ``"60:plant-dead-time=9"`` (the process).
+        ``"120:auto"`` (bumpless), ``"60:dead-time=9"`` (the controller's model;
+        ``"60:dead-time=9~0.05"`` moves it there at 0.05 s per s), ``"60:plant-dead-time=9"``
+        (the process), ``"60:kp=3"`` (the primary PID retuned, bumpless).
     actuator : (float, float), optional
         An actuator outside the controller: the plant receives the output clamped to
         ``(min, max)``; the result gets ``u_applied``.
     reset_feedback : bool, optional
         Feed the value the plant received back to the controller each sample (no windup
         against ``actuator``).
+    setpoint_ramp : float, optional
+        The controller's set point moves by at most this much per second (the recorded ``r`` is
+        the schedule), as the CLI's ``--setpoint-ramp``.
 
     Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
     unit set-point step, then a step load at the plant input once the response has settled.
@@ -332,7 +337,7 @@ def run(
                    lambda_=lambda_, rule=rule, substeps=substeps, float32=float32,
                    max_memory=max_memory, events=[events] if isinstance(events, str) else events,
                    actuator=(float(actuator[0]), float(actuator[1])) if actuator is not None else None,
-                   reset_feedback=reset_feedback)
+                   reset_feedback=reset_feedback, setpoint_ramp=setpoint_ramp)
     return Result(raw)
 
 
