@@ -2,7 +2,6 @@
 //! tracking→auto, external reset feedback against a limit outside the
 //! controller, and a run-time dead-time change at steady state.
 mod common;
-use common::{plant_for, required_settings};
 use msp::registry::{Build, Scheme, SCHEMES};
 use msp::sim::{CascadeStepper, PlantStepper};
 use msp::{CascadeControl, Controller, LoopController, Operate, Operated};
@@ -16,17 +15,13 @@ struct Loop {
 
 impl Loop {
     fn new(scheme: &'static Scheme) -> Loop {
-        let (p1, p2, ts) = plant_for(scheme);
-        let set = required_settings(scheme.name);
-        let p = scheme
-            .tune_process(&p1, p2.as_ref(), None, None, &set)
-            .unwrap();
-        let b = Build {
+        let common::Tuned {
+            p1,
+            p2,
             ts,
-            u_min: -10.0,
-            u_max: 10.0,
-            max_dead_time: 0.0,
-        };
+            params: p,
+            build: b,
+        } = common::tuned(scheme, 0.0);
         let c = scheme.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
         let (single, cascade) = match &p2 {
             Some(p2) => (None, Some(CascadeStepper::new(&p1, p2, ts).unwrap())),
@@ -151,20 +146,22 @@ impl Plant {
 /// the start. The largest difference of their outputs after the step (None:
 /// the scheme's dead time is part of its design and cannot change).
 fn dead_time_change(scheme: &'static Scheme) -> Option<f64> {
-    let (p1, _, ts) = plant_for(scheme);
     let (h0, h1) = (100usize, 120usize);
+    let common::Tuned {
+        p1,
+        ts,
+        params,
+        build: b,
+        ..
+    } = common::tuned(scheme, 0.0);
     assert!((p1.delay / ts - h0 as f64).abs() < 1e-9);
-    let set = required_settings(scheme.name);
-    let params = scheme.tune_process(&p1, None, None, None, &set).unwrap();
     let mut p_new = p1.clone();
     p_new.delay = h1 as f64 * ts;
+    let b = Build {
+        max_dead_time: h1 as f64 * ts,
+        ..b
+    };
     let build = |model: &msp::poly::TransferFunction| {
-        let b = Build {
-            ts,
-            u_min: -10.0,
-            u_max: 10.0,
-            max_dead_time: h1 as f64 * ts,
-        };
         scheme.build_process(&params, model, None, &b).unwrap()
     };
     let (mut a, mut b) = (build(&p1), build(&p_new));
@@ -349,15 +346,12 @@ fn dead_time_slews_and_the_set_point_ramps() {
     let s = msp::registry::find("smith").unwrap();
     let mut l = Loop::new(s);
     // room for 130 samples: rebuilt with it
-    let (p1, _, ts) = plant_for(s);
-    let params = s.tune_process(&p1, None, None, None, &[]).unwrap();
+    let t = common::tuned(s, 0.0);
     let b = Build {
-        ts,
-        u_min: -10.0,
-        u_max: 10.0,
-        max_dead_time: 130.0 * ts,
+        max_dead_time: 130.0 * t.ts,
+        ..t.build
     };
-    l.c = Operated::new(s.build_process(&params, &p1, None, &b).unwrap());
+    l.c = Operated::new(s.build_process(&t.params, &t.p1, None, &b).unwrap());
     l.c.inner_mut().ramp_dead_time(120.0, 0.1).unwrap();
     for k in 1..=250 {
         l.step(1.0, 0.0);

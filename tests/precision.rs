@@ -2,24 +2,20 @@
 //! computes, to `f32` rounding: the same closed loop (the plant simulated in
 //! `f64`) run with each, sample for sample.
 mod common;
-use common::{plant_for, required_settings};
-use msp::registry::{Build, Scheme, SCHEMES};
+
+use msp::registry::{Scheme, SCHEMES};
 use msp::sim::{CascadeStepper, PlantStepper};
 
 /// The largest difference of the plant outputs of the f32 and f64 loops,
 /// relative to the largest output of the f64 loop.
 fn worst(scheme: &'static Scheme) -> f64 {
-    let (p1, p2, ts) = plant_for(scheme);
-    let set = required_settings(scheme.name);
-    let p = scheme
-        .tune_process(&p1, p2.as_ref(), None, None, &set)
-        .unwrap();
-    let b = Build {
+    let common::Tuned {
+        p1,
+        p2,
         ts,
-        u_min: -10.0,
-        u_max: 10.0,
-        max_dead_time: 0.0,
-    };
+        params: p,
+        build: b,
+    } = common::tuned(scheme, 0.0);
     let mut c64 = scheme.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
     let mut c32 = scheme
         .build_process_as::<f32>(&p, &p1, p2.as_ref(), &b)

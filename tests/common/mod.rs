@@ -55,3 +55,35 @@ pub fn plant_for(
         (tf("5*e^-6s/(100s-1)"), None, 0.06)
     }
 }
+
+/// A scheme tuned for its [`plant_for`] plant (with the settings it needs)
+/// and the build options of the tests that run it in a loop: actuator
+/// limits ±10, `max_dead_time` seconds of room for the model's dead time.
+pub struct Tuned {
+    pub p1: msp::poly::TransferFunction,
+    pub p2: Option<msp::poly::TransferFunction>,
+    pub ts: f64,
+    pub params: msp::registry::Params,
+    pub build: msp::registry::Build,
+}
+
+pub fn tuned(scheme: &'static msp::registry::Scheme, max_dead_time: f64) -> Tuned {
+    let (p1, p2, ts) = plant_for(scheme);
+    let set = required_settings(scheme.name);
+    let params = scheme
+        .tune_process(&p1, p2.as_ref(), None, None, &set)
+        .unwrap();
+    let build = msp::registry::Build {
+        ts,
+        u_min: -10.0,
+        u_max: 10.0,
+        max_dead_time,
+    };
+    Tuned {
+        p1,
+        p2,
+        ts,
+        params,
+        build,
+    }
+}
