@@ -512,27 +512,45 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         Some(self.delay.delay())
     }
 
-    /// The model's line; a scheme whose error or disturbance path or whose
-    /// predictor correction contains the dead time too (Huang's filter,
-    /// Åström–Hang–Lim's `M`, Watanabe–Ito's `m(s) = Kv·L/(1 + sL)`) is
-    /// designed around it and is not changed.
+    /// The model's line, and Huang's filter's line with it; a scheme whose
+    /// disturbance path or predictor correction is designed around the dead
+    /// time (Åström–Hang–Lim's `M`, Watanabe–Ito's `m(s) = Kv·L/(1 + sL)`)
+    /// is not changed.
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        if matches!(self.err, ErrorPath::Huang { .. })
-            || matches!(self.dist, DisturbancePath::AstromHangLim(_))
-            || self.corr.is_some()
-        {
+        if matches!(self.dist, DisturbancePath::AstromHangLim(_)) || self.corr.is_some() {
             return Err(Error::Unsupported(
                 "the scheme's filter contains the dead time: rebuild it for another",
             ));
         }
-        self.delay.set_delay(samples)
+        // Huang's F delays its output by the model's dead time too (its B
+        // does not depend on it): both lines move together
+        if let ErrorPath::Huang { line, .. } = &mut self.err {
+            if samples > T::of(line.capacity() as f64) {
+                return Err(Error::DelayTooLong("delay"));
+            }
+        }
+        self.delay.set_delay(samples)?;
+        if let ErrorPath::Huang { line, .. } = &mut self.err {
+            line.set_delay(samples)?;
+        }
+        Ok(())
     }
 
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
-        // the same schemes take it as take a step change
+        // the same schemes take it as take a step change, and the same room
         self.set_dead_time(self.delay.delay())?;
+        if let ErrorPath::Huang { line, .. } = &self.err {
+            if samples > T::of(line.capacity() as f64) {
+                return Err(Error::DelayTooLong("delay"));
+            }
+        }
         self.delay.set_slew(per_sample)?;
-        self.delay.ramp_delay(samples)
+        self.delay.ramp_delay(samples)?;
+        if let ErrorPath::Huang { line, .. } = &mut self.err {
+            line.set_slew(per_sample)?;
+            line.ramp_delay(samples)?;
+        }
+        Ok(())
     }
 
     /// `Gc1`'s gains; `kp` only when no other path scales with it

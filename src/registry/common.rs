@@ -56,26 +56,24 @@ pub(super) fn model_parts<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<ModelParts<T, N>, crate::Error> {
+    Ok((Lti::of(&model.to_model_lti::<N>(b.ts)?), delay_again(model, b)?))
+}
+
+/// The model's dead time in a line of its own (Huang's filter, Åström–Hang–Lim's M, Uma et al.'s model),
+/// with room for the longest dead time the run will give the model
+/// ([`Build::max_dead_time`]).
+pub(super) fn delay_again<T: Real>(
+    model: &TransferFunction,
+    b: &Build,
+) -> Result<Delay<T, Vec<T>>, crate::Error> {
     let d = model.delay_samples(b.ts)?;
-    // room for the longest dead time the run will give the model
     let room = if b.max_dead_time > 0.0 {
         (b.max_dead_time / b.ts).max(d)
     } else {
         d
     };
     let line: Delay<T, Vec<T>> = Delay::new_in(T::of(room))?;
-    Ok((
-        Lti::of(&model.to_model_lti::<N>(b.ts)?),
-        Delay::with_storage(line.into_storage(), T::of(d))?,
-    ))
-}
-
-/// The model's dead time in a line of its own (Huang's filter, Åström–Hang–Lim's M, Uma et al.'s model).
-pub(super) fn delay_again<T: Real>(
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<Delay<T, Vec<T>>, crate::Error> {
-    Delay::new_in(T::of(model.delay_samples(b.ts)?))
+    Delay::with_storage(line.into_storage(), T::of(d))
 }
 
 /// A compensator's construction from its typed parameters, the period and
