@@ -202,7 +202,14 @@ fn a_dead_time_change_at_steady_state_is_a_loop_built_for_it() {
         }
     }
     // the Smith predictor and the compensators of the modified schemes
-    for name in ["smith", "filtered-smith", "huang", "karan-dey", "matausek-micic"] {
+    for name in [
+        "smith",
+        "filtered-smith",
+        "huang",
+        "astrom-hang-lim",
+        "karan-dey",
+        "matausek-micic",
+    ] {
         assert!(
             changed.contains(&name),
             "{name} should take a new dead time"

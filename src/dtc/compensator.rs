@@ -204,6 +204,32 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
         self.line.reset();
     }
 
+    /// A new dead time of `samples` (whole samples): `k4 = k2 + k3·L` for the
+    /// new window and the window's integral `W` over the last `L` outputs,
+    /// which the line still holds. At a steady state (`m` constant, `ε = 0`)
+    /// the integrator's balance `−k2·m + k4·m − k3·W = 0` holds for any `L`,
+    /// so the filter is the one built for the new dead time.
+    fn set_delay(&mut self, samples: T) -> Result<(), Error> {
+        let whole = samples.floor();
+        if whole != samples {
+            return Err(Error::Unsupported(
+                "Åström–Hang–Lim's M takes a dead time of whole samples",
+            ));
+        }
+        let n = whole.to_usize().ok_or(Error::DelayTooLong("delay"))?;
+        if n > self.line.capacity() {
+            return Err(Error::DelayTooLong("delay"));
+        }
+        let mut w = Sum::default();
+        for j in 1..=n {
+            w.add(self.h * self.line.peek_back(T::zero(), j));
+        }
+        self.line.set_delay(whole)?;
+        self.window = w;
+        self.k4 = self.k2 + self.k3 * whole * self.h;
+        Ok(())
+    }
+
     /// `M(z)` of the sampled filter: with `q = h/(z − 1)` and `D = z^{−d}`,
     /// `M = (k4 + q·k3)/Kv / ((1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1))`.
     fn response(&self, theta: T) -> Complex<T> {
@@ -512,15 +538,22 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         Some(self.delay.delay())
     }
 
-    /// The model's line, and Huang's filter's line with it; a scheme whose
-    /// disturbance path or predictor correction is designed around the dead
-    /// time (Åström–Hang–Lim's `M`, Watanabe–Ito's `m(s) = Kv·L/(1 + sL)`)
-    /// is not changed.
+    /// The model's line, and with it Huang's filter's line and
+    /// Åström–Hang–Lim's window (whole samples); Watanabe–Ito's correction
+    /// `m(s) = Kv·L/(1 + sL)`, designed around the dead time, is not changed.
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        if matches!(self.dist, DisturbancePath::AstromHangLim(_)) || self.corr.is_some() {
+        if self.corr.is_some() {
             return Err(Error::Unsupported(
                 "the scheme's filter contains the dead time: rebuild it for another",
             ));
+        }
+        // Åström–Hang–Lim's M holds the dead time as a window: it moves with
+        // the model (whole samples)
+        if let DisturbancePath::AstromHangLim(m) = &mut self.dist {
+            if samples > T::of(self.delay.capacity() as f64) {
+                return Err(Error::DelayTooLong("delay"));
+            }
+            m.set_delay(samples)?;
         }
         // Huang's F delays its output by the model's dead time too (its B
         // does not depend on it): both lines move together
@@ -539,6 +572,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
         // the same schemes take it as take a step change, and the same room
         self.set_dead_time(self.delay.delay())?;
+        if matches!(self.dist, DisturbancePath::AstromHangLim(_)) {
+            return Err(Error::Unsupported(
+                "Åström–Hang–Lim's window moves in whole samples: give the new dead time at once",
+            ));
+        }
         if let ErrorPath::Huang { line, .. } = &self.err {
             if samples > T::of(line.capacity() as f64) {
                 return Err(Error::DelayTooLong("delay"));

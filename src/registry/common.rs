@@ -56,7 +56,10 @@ pub(super) fn model_parts<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
 ) -> Result<ModelParts<T, N>, crate::Error> {
-    Ok((Lti::of(&model.to_model_lti::<N>(b.ts)?), delay_again(model, b)?))
+    Ok((
+        Lti::of(&model.to_model_lti::<N>(b.ts)?),
+        delay_again(model, b)?,
+    ))
 }
 
 /// The model's dead time in a line of its own (Huang's filter, Åström–Hang–Lim's M, Uma et al.'s model),

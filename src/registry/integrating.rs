@@ -5,7 +5,6 @@ use alloc::vec::Vec;
 
 use super::common::*;
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
-use crate::delay::Delay;
 use crate::dtc::astrom_hang_lim::{AstromHangLimParams, AstromHangLimTuning};
 use crate::dtc::kaya_atherton::KayaAthertonParams;
 use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
@@ -137,7 +136,9 @@ fn build_astrom_hang_lim<T: Real, const N: usize>(
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let m = integrating_model(model, AHL_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    let line = Delay::new_in(T::of(model.delay_samples(b.ts)?.floor()))?;
+    // M's window: the dead time in whole samples, with the model's room
+    let mut line = delay_again::<T>(model, b)?;
+    line.set_delay(line.delay().floor())?;
     let c = dtc::astrom_hang_lim::build(&p.typed()?, T::of(m.k), T::of(b.ts), lti, delay, line)?;
     limited(c, b)
 }
