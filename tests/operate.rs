@@ -166,7 +166,7 @@ fn dead_time_change(scheme: &'static Scheme) -> Option<f64> {
     };
     let (mut a, mut b) = (build(&p1), build(&p_new));
     let (mut pa, mut pb) = (Plant::new(&p1, ts, h0), Plant::new(&p1, ts, h1));
-    let (settle, after) = (6000, 3000);
+    let (settle, after) = (12000, 3000);
     let mut worst = 0.0f64;
     for k in 0..settle + after {
         if k == settle / 2 {
@@ -207,6 +207,7 @@ fn a_dead_time_change_at_steady_state_is_a_loop_built_for_it() {
         "filtered-smith",
         "huang",
         "astrom-hang-lim",
+        "watanabe-ito",
         "karan-dey",
         "matausek-micic",
     ] {

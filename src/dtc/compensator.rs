@@ -257,6 +257,9 @@ pub struct Compensator<T, const N: usize, S> {
     err: ErrorPath<T, S>,
     dist: DisturbancePath<T, S>,
     corr: Option<Lti<T, AUX>>,
+    /// `Kv` and the period of a correction `m(s) = Kv·L/(1 + sL)`
+    /// (Watanabe–Ito), to redesign it for a new dead time `L`.
+    corr_kv: Option<(T, T)>,
     model: Lti<T, N>,
     delay: Delay<T, S>,
     u_min: T,
@@ -293,6 +296,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             err: ErrorPath::Direct,
             dist: DisturbancePath::Off,
             corr: None,
+            corr_kv: None,
             model,
             delay,
             u_min: T::neg_infinity(),
@@ -369,6 +373,26 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         }
         self.corr = Some(m);
         Ok(self)
+    }
+
+    /// Watanabe–Ito's correction `m(s) = Kv·L/(1 + sL)` for the velocity
+    /// gain `kv` and the dead time `l` (s) at the period `ts`; it is
+    /// redesigned when the dead time changes at run time.
+    pub fn with_integrating_correction(self, kv: T, l: T, ts: T) -> Result<Self, Error> {
+        let m = Self::integrating_correction(kv, l, ts)?;
+        let mut c = self.with_correction(m)?;
+        c.corr_kv = Some((kv, ts));
+        Ok(c)
+    }
+
+    fn integrating_correction(kv: T, l: T, ts: T) -> Result<Lti<T, AUX>, Error> {
+        let l = crate::real::positive(l, "l")?;
+        Lti::from_tf(
+            &[finite(kv, "k")? * l],
+            &[l, T::one()],
+            ts,
+            crate::Discretization::Zoh,
+        )
     }
 
     /// Actuator limits on `u`.
@@ -538,15 +562,28 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         Some(self.delay.delay())
     }
 
-    /// The model's line, and with it Huang's filter's line and
-    /// Åström–Hang–Lim's window (whole samples); Watanabe–Ito's correction
-    /// `m(s) = Kv·L/(1 + sL)`, designed around the dead time, is not changed.
+    /// The model's line, and with it Huang's filter's line, Åström–Hang–Lim's
+    /// window (whole samples) and Watanabe–Ito's correction `m(s) = Kv·L/(1 + sL)`
+    /// (redesigned, its output at the steady state of its input).
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        if self.corr.is_some() {
-            return Err(Error::Unsupported(
-                "the scheme's filter contains the dead time: rebuild it for another",
-            ));
-        }
+        // Watanabe–Ito's m(s) = Kv·L/(1 + sL) is redesigned for the new L,
+        // its output rescaled by L'/L (its steady state for the same input)
+        let corr = match (&self.corr, self.corr_kv) {
+            (None, _) => None,
+            (Some(_), None) => {
+                return Err(Error::Unsupported(
+                    "the scheme's correction contains the dead time: rebuild it for another",
+                ))
+            }
+            (Some(m), Some((kv, ts))) => {
+                let (l_old, l_new) = (self.delay.delay() * ts, samples * ts);
+                let mut fresh = Self::integrating_correction(kv, l_new, ts)?;
+                if l_old > T::zero() {
+                    fresh.shift_output(m.free_output() * l_new / l_old);
+                }
+                Some(fresh)
+            }
+        };
         // Åström–Hang–Lim's M holds the dead time as a window: it moves with
         // the model (whole samples)
         if let DisturbancePath::AstromHangLim(m) = &mut self.dist {
@@ -565,6 +602,9 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         self.delay.set_delay(samples)?;
         if let ErrorPath::Huang { line, .. } = &mut self.err {
             line.set_delay(samples)?;
+        }
+        if corr.is_some() {
+            self.corr = corr;
         }
         Ok(())
     }

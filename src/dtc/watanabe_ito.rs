@@ -19,7 +19,7 @@ use crate::delay::Delay;
 use crate::dtc::compensator::Compensator;
 use crate::params::ParamList;
 use crate::tuning::PidGains;
-use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+use crate::{Error, Lti, Pid, PidConfig, Real};
 
 /// The compensator for an integrating model with velocity gain `kv` and dead
 /// time `l` (s); `pid` (gains `p`) carries the period and limits.
@@ -31,12 +31,6 @@ pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     model: Lti<T, N>,
     delay: Delay<T, S>,
 ) -> Result<Compensator<T, N, S>, Error> {
-    let l = crate::real::positive(l, "l")?;
-    let m = Lti::from_tf(
-        &[crate::real::finite(kv, "k")? * l],
-        &[l, T::one()],
-        pid.ts,
-        Discretization::Zoh,
-    )?;
-    Compensator::new(Pid::new(pid)?, model, delay, ParamList::of(p))?.with_correction(m)
+    Compensator::new(Pid::new(pid)?, model, delay, ParamList::of(p))?
+        .with_integrating_correction(kv, l, pid.ts)
 }
