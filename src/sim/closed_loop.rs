@@ -227,6 +227,31 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
     cfg: &SimConfig,
     res: &mut SimResult,
 ) -> Result<(), Error> {
+    // a run without an operator pays nothing for one: the loop is compiled
+    // twice, and this one has no operation code in it
+    let operated = !cfg.operations.is_empty()
+        || cfg.actuator.is_some()
+        || cfg.reset_feedback
+        || cfg.setpoint_ramp != f64::INFINITY;
+    if operated {
+        run_loop::<C, true>(plant, inner, controller, cfg, res)
+    } else {
+        run_loop::<C, false>(plant, inner, controller, cfg, res)
+    }
+}
+
+/// The loop of [`simulate_process`]; `OPERATED` compiles the operator's
+/// actions, the outside actuator, reset feedback and the set-point ramp in.
+fn run_loop<
+    C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized,
+    const OPERATED: bool,
+>(
+    plant: &TransferFunction,
+    inner: Option<&TransferFunction>,
+    controller: &mut C,
+    cfg: &SimConfig,
+    res: &mut SimResult,
+) -> Result<(), Error> {
     res.clear();
     let ts = crate::real::positive(cfg.ts, "ts")?;
     let duration = crate::real::non_negative(cfg.duration, "duration")?;
@@ -320,7 +345,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
                 break;
             }
         }
-        while let Some(&(k, action)) = ops.get(next_op) {
+        while let Some(&(k, action)) = ops.get(next_op).filter(|_| OPERATED) {
             if k > i {
                 break;
             }
@@ -337,7 +362,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         }
         // the set point the controller sees: ramped (`r` itself is recorded)
         // (from 0, where the run starts, also for a step at 0)
-        r_ctl = if ramp.is_finite() {
+        r_ctl = if OPERATED && ramp.is_finite() {
             r.max(r_ctl - ramp).min(r_ctl + ramp)
         } else {
             r
@@ -359,7 +384,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         } else {
             y
         };
-        if cfg.reset_feedback {
+        if OPERATED && cfg.reset_feedback {
             feed_back(controller, mode, applied);
         }
         let mut u = if cascade {
@@ -372,7 +397,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         // what the plant receives: the operator's value in manual or
         // tracking (the controller follows it), then an outside actuator's limit
         let mut u_plant = u;
-        if applies {
+        if OPERATED && applies {
             u = in_mode(controller, mode, u);
             u_plant = match cfg.actuator {
                 Some((lo, hi)) => u.max(lo).min(hi),
@@ -401,7 +426,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
             ($yj:expr, $y2j:expr) => {{
                 res.y.push($yj);
                 res.u.push(u);
-                if applies {
+                if OPERATED && applies {
                     res.u_applied.push(u_plant);
                 }
                 if cascade {
