@@ -50,6 +50,14 @@ pub(crate) fn loop_many<'py>(
 ///     The tuning rule's closed-loop time constant (s).
 /// rule : str, optional
 ///     A named tuning rule for ``pid``/``pi``.
+/// max_dead_time : float, optional
+///     The longest dead time (s) ``set_dead_time`` may give the model later
+///     (the delay line's room; default the model's own).
+///
+/// The controller is operated as in a plant: ``manual(u)``, ``track(u)`` and
+/// ``auto()`` (bumpless), ``update(r, y, u_applied=...)`` (external reset),
+/// ``set_dead_time``/``ramp_dead_time``, ``retune(kp=...)`` and
+/// ``set_setpoint_ramp``.
 ///
 /// Examples
 /// --------

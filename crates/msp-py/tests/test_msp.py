@@ -597,6 +597,9 @@ def test_a_controller_is_operated_as_in_a_plant() -> None:
     c.set_setpoint_ramp(0.01)
     with pytest.raises(ValueError):
         c.set_setpoint_ramp(0.0)
+    named = msp.SmithPredictor("5.6*e^-93.9s/(40.2s+1)", 0.939, max_dead_time=120.0)
+    named.set_dead_time(112.68)
+    assert abs(named.dead_time - 112.68) < 1e-9
     ramped = msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0, setpoint_ramp=0.1)
     assert ramped.u[0] < 0.2 * msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0).u[0]
     fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06)
