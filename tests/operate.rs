@@ -208,6 +208,7 @@ fn a_dead_time_change_at_steady_state_is_a_loop_built_for_it() {
         "huang",
         "astrom-hang-lim",
         "watanabe-ito",
+        "fsp",
         "karan-dey",
         "matausek-micic",
     ] {

@@ -56,12 +56,21 @@ fn build_fsp<T: Real>(
     let fp: FspParams<T> = p.typed()?;
     let h = whole_samples(model, b.ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
-    let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, fp.tf.f64())?;
+    let spec = dtc::fsp::FrSpec {
+        tf: fp.tf.f64(),
+        lead: None,
+        biproper: false,
+    };
+    let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, &spec)?;
     let k = PidConfig::isa(fp.kp, fp.ti, T::zero(), T::of(b.ts))
         .with_limits(T::of(b.u_min), T::of(b.u_max));
-    Ok(Box::new(dtc::fsp::FilteredSmith::<T, Vec<T>>::new(
+    // the model and the filter's shape kept: a run-time dead time redesigns
+    let (nm, dm) = dtc::fsp::model_tf(&gm);
+    let pred =
+        dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?.with_redesign(nm, dm, b.ts, spec, h);
+    Ok(Box::new(dtc::fsp::FilteredSmith::with_predictor(
         k,
-        &design,
+        pred,
         ParamList::of(&fp),
     )?))
 }

@@ -1674,18 +1674,17 @@ fn bad_events_and_actuators_are_named() {
             .code(2)
             .stderr(predicates::str::contains(needle));
     }
-    // a dead time beyond what the scheme's design allows is refused by the run
-    msp()
-        .args([
-            "run",
-            "--plant",
-            "5*e^-6s/(100s-1)",
-            "--ts",
-            "0.06",
-            "--event",
-            "10:dead-time=7",
-        ])
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("rebuild"));
+    // a dead time the scheme cannot take is refused by the run, with the reason
+    for (plant, extra, needle) in [
+        ("2*e^-3s/(4s+1)", ["-c", "pid"], "no model dead time"),
+        ("5*e^-6s/(100s-1)", ["--ts", "0.06"], "whole samples"),
+    ] {
+        msp()
+            .args(["run", "--plant", plant])
+            .args(extra)
+            .args(["--event", "10:dead-time=7.01"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(needle));
+    }
 }

@@ -603,8 +603,12 @@ def test_a_controller_is_operated_as_in_a_plant() -> None:
     ramped = msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0, setpoint_ramp=0.1)
     assert ramped.u[0] < 0.2 * msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0).u[0]
     fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06)
-    with pytest.raises(ValueError, match="rebuild"):
+    with pytest.raises(ValueError, match="whole samples"):
         fsp.set_dead_time(7.0)
+    fsp.set_dead_time(7.2)  # 120 samples: Fr and S redesigned
+    assert abs(fsp.dead_time - 7.2) < 1e-9
+    with pytest.raises(ValueError, match="no model dead time"):
+        msp.Controller("pid", "2*e^-3s/(4s+1)", 0.1).set_dead_time(4.0)
 
 
 def test_run_takes_operator_events_and_an_outside_actuator() -> None:

@@ -253,7 +253,7 @@ pub fn design_in<S: AsRef<[f64]> + AsMut<[f64]>, const N: usize>(
     h: usize,
     ts: f64,
     spec: &FrSpec,
-    mut storage: impl FnMut(usize) -> Result<S, Error>,
+    storage: impl FnMut(usize) -> Result<S, Error>,
 ) -> Result<FspDesign<S>, Error> {
     if gm.feedthrough() != 0.0 {
         return Err(Error::Unsupported(
@@ -261,9 +261,24 @@ pub fn design_in<S: AsRef<[f64]> + AsMut<[f64]>, const N: usize>(
         ));
     }
     let (nm, dm) = model_tf(gm);
+    design_tf_in::<S, N>(&nm, &dm, h, ts, spec, storage)
+}
+
+/// [`design_in`] from the model's `z`-transfer function `Nm/Dm` (as
+/// [`model_tf`] gives it; `D` bounds the degree of `Dm`, which keeps the
+/// Schur decomposition out of low-order device builds): what a predictor
+/// redesigned for another dead time starts from.
+pub fn design_tf_in<S: AsRef<[f64]> + AsMut<[f64]>, const D: usize>(
+    nm: &SmallPoly,
+    dm: &SmallPoly,
+    h: usize,
+    ts: f64,
+    spec: &FrSpec,
+    mut storage: impl FnMut(usize) -> Result<S, Error>,
+) -> Result<FspDesign<S>, Error> {
     let deg = dm.len().saturating_sub(1);
     let mut rts = [Complex::<f64>::default(); SMALL];
-    crate::lti::roots_upto::<N, f64>(dm.as_slice(), &mut rts)?;
+    crate::lti::roots_upto::<D, f64>(dm.as_slice(), &mut rts)?;
     let (mut dplus, mut dminus) = (SmallPoly::new(&[1.0])?, SmallPoly::new(&[1.0])?);
     // the roots of Dm⁺(z)(z − 1) with multiplicities (clustered within 1e-6)
     let mut cond = [(0.0f64, 0usize); MAX_CONDITIONS];

@@ -163,7 +163,7 @@ pub use self::design::{
     design, design_in, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL,
 };
 pub use self::runtime::{
-    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
+    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Plan, Predicted, Predictor, Primary,
 };
 
 crate::params::param_struct! {

@@ -1,7 +1,7 @@
 //! The controllers: generic over `f32`/`f64` and over the storage of the
 //! dead-time-sized buffers (`Vec` on a host, arrays on a device).
 
-use super::design::{buffer, sized, FspDesign, SMALL};
+use super::design::{buffer, sized, FrSpec, FspDesign, SmallPoly, SMALL};
 use crate::delay::DelayStorage;
 use crate::params::ParamList;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
@@ -20,6 +20,18 @@ pub trait Predictor<T: Real> {
     fn commit(&mut self, u: T);
     /// Amends the last committed input by `du` (it was `u + du`).
     fn amend(&mut self, du: T);
+    /// The dead time the predictor is designed for (samples), when it can
+    /// be redesigned for another ([`Predictor::set_dead_time`]).
+    fn dead_time(&self) -> Option<T> {
+        None
+    }
+    /// Redesigns the predictor for a dead time of `samples` (whole samples).
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        let _ = samples;
+        Err(Error::Unsupported(
+            "this predictor is designed for its dead time: rebuild it for another",
+        ))
+    }
     /// Zeroes every state.
     fn reset(&mut self);
     /// `(Su, Sy)` at `z = e^{jθ}`.
@@ -212,6 +224,40 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
             *x = s;
         }
     }
+    /// The input `k` samples back (`u[n − k]`, `1 ≤ k ≤` the numerator's length).
+    fn past_input(&self, k: usize) -> Option<T> {
+        let n = self.nlen;
+        if k == 0 || k > n {
+            return None;
+        }
+        let i = (self.uh + n + 1 - k) % n;
+        self.u_hist.as_ref().get(i).copied()
+    }
+
+    /// Takes over the histories of `old`, a filter with the same denominator
+    /// and another numerator: its inputs as far back as it held them (the
+    /// oldest repeated beyond: at a steady state every one is the same) and
+    /// its past outputs.
+    pub fn carry_from(&mut self, old: &Self) -> Result<(), Error> {
+        if self.dlen != old.dlen || self.den != old.den {
+            return Err(Error::Unsupported(
+                "a new denominator: the history does not carry over",
+            ));
+        }
+        let n = self.nlen;
+        let oldest = old.past_input(old.nlen).unwrap_or(T::zero());
+        for j in 0..n {
+            let v = old.past_input(j + 1).unwrap_or(oldest);
+            if let Some(x) = self.u_hist.as_mut().get_mut(n - 1 - j) {
+                *x = v;
+            }
+        }
+        self.uh = n.saturating_sub(1);
+        self.s_hist = old.s_hist;
+        self.sh = old.sh;
+        Ok(())
+    }
+
     /// Amends the newest input by `du`.
     pub fn amend_last(&mut self, du: T) {
         if let Some(x) = self.u_hist.as_mut().get_mut(self.uh) {
@@ -249,12 +295,52 @@ pub struct FspPredictor<T, S> {
     fr: Lti<T, 8>,
     s: DirectForm<T, S>,
     last_s: T,
+    /// What a redesign for another dead time needs.
+    plan: Option<Plan<S>>,
+}
+
+/// The model and the filter's shape a predictor was designed from, its dead
+/// time, and where new storage comes from: what
+/// [`FspPredictor::with_redesign`] keeps for a run-time dead-time change.
+#[derive(Debug, Clone)]
+// without `alloc` the plan is kept but no redesign reads it
+#[cfg_attr(not(feature = "alloc"), allow(dead_code))]
+pub struct Plan<S> {
+    nm: SmallPoly,
+    dm: SmallPoly,
+    ts: f64,
+    spec: FrSpec,
+    h: usize,
+    storage: fn(usize) -> Result<S, Error>,
 }
 
 impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
     /// The predictor of a design.
     pub fn new<D: AsRef<[f64]>>(d: &FspDesign<D>) -> Result<Self, Error> {
         FspPredictor::new_in(d, buffer)
+    }
+
+    /// Keeps what a redesign for another dead time needs: the model
+    /// `Nm/Dm` ([`super::model_tf`]), the period, the filter's shape and the
+    /// dead time `h` (samples) it was designed for; new storage comes from
+    /// `S` (with `alloc`: [`crate::Operate::set_dead_time`] then redesigns).
+    pub fn with_redesign(
+        mut self,
+        nm: SmallPoly,
+        dm: SmallPoly,
+        ts: f64,
+        spec: FrSpec,
+        h: usize,
+    ) -> Self {
+        self.plan = Some(Plan {
+            nm,
+            dm,
+            ts,
+            spec,
+            h,
+            storage: buffer::<T, S>,
+        });
+        self
     }
 }
 
@@ -269,6 +355,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> FspPredictor<T, S> {
             fr: Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?,
             s: DirectForm::new_in(d.s_num(), d.s_den.as_slice(), storage)?,
             last_s: T::zero(),
+            plan: None,
         })
     }
 }
@@ -287,6 +374,60 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
     }
     fn amend(&mut self, du: T) {
         self.s.amend_last(du);
+    }
+    fn dead_time(&self) -> Option<T> {
+        self.plan.as_ref().map(|p| T::of(p.h as f64))
+    }
+    /// Redesigns `Fr` and `S` for `samples` (whole samples) from the kept
+    /// plan: `Dr` does not depend on the dead time, so `Fr`'s state (its
+    /// controllable canonical form: `Φ`, `Γ` from `Dr` alone) carries over
+    /// with its new numerator, and `S`'s denominator too, so its histories
+    /// carry over ([`DirectForm::carry_from`]); `S(1) = 0` and `Fr(1) = 1`
+    /// for any dead time, so at a steady state the predictor is the one
+    /// designed for the new dead time. The design's scratch is allocated
+    /// (`alloc`); without it, or without a plan, [`Error::Unsupported`].
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        #[cfg(feature = "alloc")]
+        if let Some(plan) = &self.plan {
+            // whole samples (within rounding: 7.2 s / 0.06 s is 120.00000000000001)
+            let exact = samples.to_f64().unwrap_or(f64::NAN);
+            let h = exact.round();
+            if !(h >= 1.0 && (exact - h).abs() <= 1e-6 && h < 1e9) {
+                return Err(Error::Unsupported(
+                    "the filtered Smith predictor takes a dead time of whole samples",
+                ));
+            }
+            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // whole, checked
+            let h = h as usize;
+            let d = super::design::design_tf_in::<alloc::vec::Vec<f64>, 16>(
+                &plan.nm,
+                &plan.dm,
+                h,
+                plan.ts,
+                &plan.spec,
+                |n| Ok(alloc::vec![0.0; n]),
+            )?;
+            let mut fr: Lti<T, 8> = Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?;
+            fr.set_state(self.fr.state());
+            let mut s = DirectForm::new_in(d.s_num(), d.s_den.as_slice(), plan.storage)?;
+            s.carry_from(&self.s)?;
+            let plan = Plan {
+                h,
+                nm: plan.nm,
+                dm: plan.dm,
+                ts: plan.ts,
+                spec: plan.spec,
+                storage: plan.storage,
+            };
+            self.fr = fr;
+            self.s = s;
+            self.plan = Some(plan);
+            return Ok(());
+        }
+        let _ = samples;
+        Err(Error::Unsupported(
+            "this predictor is designed for its dead time: rebuild it for another",
+        ))
     }
     fn reset(&mut self) {
         self.fr.reset();
@@ -389,6 +530,21 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> crate::Operate<T> for Predicted<T,
 
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
         self.k.retune(gain, value)
+    }
+
+    fn dead_time(&self) -> Option<T> {
+        self.pred.dead_time()
+    }
+
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.pred.set_dead_time(samples)
+    }
+
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        let _ = (samples, per_sample);
+        Err(Error::Unsupported(
+            "a predictor designed for its dead time is redesigned in whole samples: give the new dead time at once",
+        ))
     }
 }
 
