@@ -179,6 +179,14 @@ impl Process {
     }
 }
 
+/// A schedule `(time, item)` as `(first sample, item)` in time order (ties
+/// keep their order).
+fn by_sample<T>(items: impl Iterator<Item = (f64, T)>, ts: f64) -> Vec<(usize, T)> {
+    let mut v: Vec<(usize, T)> = items.map(|(at, x)| (first_sample_at(at, ts), x)).collect();
+    v.sort_by_key(|e| e.0);
+    v
+}
+
 /// Runs the closed loop of `controller` on `plant`.
 pub fn simulate<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
@@ -310,21 +318,11 @@ fn run_loop<
         .fold(1.0, f64::max);
     // the set point's schedule as sample indices: one integer test per sample
     let bound = 1e6 * scale;
-    let mut steps: Vec<(usize, f64)> = cfg
-        .setpoint
-        .iter()
-        .map(|s| (first_sample_at(s.at, ts), s.value))
-        .collect();
-    steps.sort_by_key(|s| s.0);
+    let steps = by_sample(cfg.setpoint.iter().map(|s| (s.at, s.value)), ts);
     let mut next_step = 0usize;
     let mut r = 0.0;
     // the operator's actions as sample indices, in time order
-    let mut ops: Vec<(usize, Action)> = cfg
-        .operations
-        .iter()
-        .map(|o| (first_sample_at(o.at, ts), o.action))
-        .collect();
-    ops.sort_by_key(|o| o.0);
+    let ops = by_sample(cfg.operations.iter().map(|o| (o.at, o.action)), ts);
     let mut next_op = 0usize;
     let mut mode = Mode::Auto;
     let applies = !ops.is_empty() || cfg.actuator.is_some();
