@@ -66,8 +66,16 @@ fn build_fsp<T: Real>(
         .with_limits(T::of(b.u_min), T::of(b.u_max));
     // the model and the filter's shape kept: a run-time dead time redesigns
     let (nm, dm) = dtc::fsp::model_tf(&gm);
-    let pred =
-        dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?.with_redesign(nm, dm, b.ts, spec, h);
+    // the room a run-time dead time may take (Build::max_dead_time), in samples
+    let max_h =
+        num_traits::ToPrimitive::to_usize(&(b.max_dead_time / b.ts + 1e-6).floor()).unwrap_or(0);
+    let pred = dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?.with_redesign(
+        nm,
+        dm,
+        b.ts,
+        spec,
+        (h, max_h),
+    );
     Ok(Box::new(dtc::fsp::FilteredSmith::with_predictor(
         k,
         pred,

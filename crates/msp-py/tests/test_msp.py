@@ -602,11 +602,13 @@ def test_a_controller_is_operated_as_in_a_plant() -> None:
     assert abs(named.dead_time - 112.68) < 1e-9
     ramped = msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0, setpoint_ramp=0.1)
     assert ramped.u[0] < 0.2 * msp.run("2*e^-3s/(4s+1)", "smith", setpoint=1.0, duration=60.0).u[0]
-    fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06)
+    fsp = msp.Controller("fsp", "5*e^-6s/(100s-1)", 0.06, max_dead_time=7.2)
     with pytest.raises(ValueError, match="whole samples"):
         fsp.set_dead_time(7.0)
     fsp.set_dead_time(7.2)  # 120 samples: Fr and S redesigned
     assert abs(fsp.dead_time - 7.2) < 1e-9
+    with pytest.raises(ValueError, match="capacity"):
+        fsp.set_dead_time(9.0)  # beyond max_dead_time
     with pytest.raises(ValueError, match="no model dead time"):
         msp.Controller("pid", "2*e^-3s/(4s+1)", 0.1).set_dead_time(4.0)
 

@@ -311,6 +311,8 @@ pub struct Plan<S> {
     ts: f64,
     spec: FrSpec,
     h: usize,
+    /// The longest dead time (samples) it may be redesigned for.
+    max_h: usize,
     storage: fn(usize) -> Result<S, Error>,
 }
 
@@ -321,16 +323,17 @@ impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
     }
 
     /// Keeps what a redesign for another dead time needs: the model
-    /// `Nm/Dm` ([`super::model_tf`]), the period, the filter's shape and the
-    /// dead time `h` (samples) it was designed for; new storage comes from
-    /// `S` (with `alloc`: [`crate::Operate::set_dead_time`] then redesigns).
+    /// `Nm/Dm` ([`super::model_tf`]), the period, the filter's shape, the
+    /// dead time `h` (samples) it was designed for and the longest `max_h`
+    /// it may be given; new storage comes from `S` (with `alloc`:
+    /// [`crate::Operate::set_dead_time`] then redesigns).
     pub fn with_redesign(
         mut self,
         nm: SmallPoly,
         dm: SmallPoly,
         ts: f64,
         spec: FrSpec,
-        h: usize,
+        (h, max_h): (usize, usize),
     ) -> Self {
         self.plan = Some(Plan {
             nm,
@@ -338,6 +341,7 @@ impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
             ts,
             spec,
             h,
+            max_h: max_h.max(h),
             storage: buffer::<T, S>,
         });
         self
@@ -390,15 +394,16 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
         #[cfg(feature = "alloc")]
         if let Some(plan) = &self.plan {
             // whole samples (within rounding: 7.2 s / 0.06 s is 120.00000000000001)
-            let exact = samples.to_f64().unwrap_or(f64::NAN);
-            let h = exact.round();
-            if !(h >= 1.0 && (exact - h).abs() <= 1e-6 && h < 1e9) {
-                return Err(Error::Unsupported(
+            let whole = samples.round();
+            let h = whole
+                .to_usize()
+                .filter(|h| *h >= 1 && (samples - whole).abs() <= T::of(1e-6))
+                .ok_or(Error::Unsupported(
                     "the filtered Smith predictor takes a dead time of whole samples",
-                ));
+                ))?;
+            if h > plan.max_h {
+                return Err(Error::DelayTooLong("delay"));
             }
-            #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // whole, checked
-            let h = h as usize;
             let d = super::design::design_tf_in::<alloc::vec::Vec<f64>, 16>(
                 &plan.nm,
                 &plan.dm,
@@ -413,6 +418,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
             s.carry_from(&self.s)?;
             let plan = Plan {
                 h,
+                max_h: plan.max_h,
                 nm: plan.nm,
                 dm: plan.dm,
                 ts: plan.ts,
