@@ -162,8 +162,10 @@ pub(crate) use self::design::buffer;
 pub use self::design::{
     design, design_in, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL,
 };
+#[cfg(feature = "alloc")]
+pub use self::runtime::Plan;
 pub use self::runtime::{
-    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Plan, Predicted, Predictor, Primary,
+    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
 };
 
 crate::params::param_struct! {

@@ -1,7 +1,9 @@
 //! The controllers: generic over `f32`/`f64` and over the storage of the
 //! dead-time-sized buffers (`Vec` on a host, arrays on a device).
 
-use super::design::{buffer, sized, FrSpec, FspDesign, SmallPoly, SMALL};
+use super::design::{buffer, sized, FspDesign, SMALL};
+#[cfg(feature = "alloc")]
+use super::design::{FrSpec, SmallPoly};
 use crate::delay::DelayStorage;
 use crate::params::ParamList;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
@@ -295,16 +297,17 @@ pub struct FspPredictor<T, S> {
     fr: Lti<T, 8>,
     s: DirectForm<T, S>,
     last_s: T,
-    /// What a redesign for another dead time needs.
+    /// What a redesign for another dead time needs (with `alloc`: the
+    /// redesign allocates its scratch; a device build carries none of it).
+    #[cfg(feature = "alloc")]
     plan: Option<Plan<S>>,
 }
 
 /// The model and the filter's shape a predictor was designed from, its dead
 /// time, and where new storage comes from: what
 /// [`FspPredictor::with_redesign`] keeps for a run-time dead-time change.
+#[cfg(feature = "alloc")]
 #[derive(Debug, Clone)]
-// without `alloc` the plan is kept but no redesign reads it
-#[cfg_attr(not(feature = "alloc"), allow(dead_code))]
 pub struct Plan<S> {
     nm: SmallPoly,
     dm: SmallPoly,
@@ -325,8 +328,9 @@ impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
     /// Keeps what a redesign for another dead time needs: the model
     /// `Nm/Dm` ([`super::model_tf`]), the period, the filter's shape, the
     /// dead time `h` (samples) it was designed for and the longest `max_h`
-    /// it may be given; new storage comes from `S` (with `alloc`:
-    /// [`crate::Operate::set_dead_time`] then redesigns).
+    /// it may be given; new storage comes from `S`
+    /// ([`crate::Operate::set_dead_time`] then redesigns).
+    #[cfg(feature = "alloc")]
     pub fn with_redesign(
         mut self,
         nm: SmallPoly,
@@ -359,6 +363,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> FspPredictor<T, S> {
             fr: Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?,
             s: DirectForm::new_in(d.s_num(), d.s_den.as_slice(), storage)?,
             last_s: T::zero(),
+            #[cfg(feature = "alloc")]
             plan: None,
         })
     }
@@ -379,6 +384,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
     fn amend(&mut self, du: T) {
         self.s.amend_last(du);
     }
+    #[cfg(feature = "alloc")]
     fn dead_time(&self) -> Option<T> {
         self.plan.as_ref().map(|p| T::of(p.h as f64))
     }
