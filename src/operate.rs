@@ -201,9 +201,7 @@ impl<T: Real, C: Operate<T>> Operated<T, C> {
     /// output (`None`: what this controller gave): the controller is amended
     /// to it before computing (external reset feedback).
     pub fn update_applied(&mut self, r: T, y: T, applied: Option<T>) -> T {
-        if self.started {
-            feed_back(&mut self.inner, self.mode, applied);
-        }
+        self.feed_back(applied);
         self.step(r, y)
     }
 
