@@ -180,6 +180,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         self.buf.as_mut().fill(value);
     }
 
+    /// Adds `dv` to every sample of the history: the line then outputs what
+    /// it would have, had its input always been larger by `dv`.
+    pub fn offset(&mut self, dv: T) {
+        self.buf.as_mut().iter_mut().for_each(|x| *x = *x + dv);
+    }
+
     /// Fills the history with zeros.
     pub fn reset(&mut self) {
         self.fill(T::zero());

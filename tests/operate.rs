@@ -166,10 +166,10 @@ fn dead_time_change(scheme: &'static Scheme) -> Option<f64> {
     };
     let (mut a, mut b) = (build(&p1), build(&p_new));
     let (mut pa, mut pb) = (Plant::new(&p1, ts, h0), Plant::new(&p1, ts, h1));
-    let (settle, after) = (12000, 3000);
+    let (change, settle, after) = (9000, 12000, 3000);
     let mut worst = 0.0f64;
     for k in 0..settle + after {
-        if k == settle / 2 {
+        if k == change {
             match a.set_dead_time(h1 as f64) {
                 Ok(()) => pa.set_samples(h1),
                 Err(msp::Error::Unsupported(_)) => return None,
@@ -177,7 +177,8 @@ fn dead_time_change(scheme: &'static Scheme) -> Option<f64> {
             }
         }
         let r = if k < settle { 1.0 } else { 2.0 };
-        if k >= settle {
+        // from the change on: a change at steady state moves nothing
+        if k >= change {
             worst = worst.max((pa.output() - pb.output()).abs());
         }
         let ua = a.update(r, pa.output());
@@ -304,6 +305,73 @@ fn dead_time_events_of_a_scenario() {
     assert!(rep.operator_events.iter().all(|e| e.output_change < 1e-9));
 }
 
+/// The cascade schemes: the primary's transport delay moves from 2 s to
+/// 3 s (the dead time from the plant input to `y`, `L1 + L2`, from 4 s to
+/// 5 s) at a steady state held against a load, the controller told at the
+/// same instant; after a set-point step the run is the one of a loop built
+/// for 3 s from the start with the same parameters. The integrating primary
+/// of García et al. (2010) Example 2, and a stable one whose output load
+/// makes the generalized predictor's `ȳ` depend on the dead time (its line
+/// and `Fk` are moved with the redesign). Without telling the controller the
+/// runs differ (the test can fail).
+#[test]
+fn a_cascade_dead_time_change_is_a_loop_built_for_it() {
+    let at = |v: [&str; 2]| -> Vec<msp::sim::Operation> {
+        v.iter().map(|s| s.parse().unwrap()).collect()
+    };
+    let processes = [
+        (common::EXAMPLE2.0, "2e^-3s/s", "inner:0.1@50"),
+        ("e^-2s/(10s+1)", "e^-3s/(10s+1)", "output:0.3@50"),
+    ];
+    for (before, after, load) in processes {
+        for scheme in SCHEMES.iter().filter(|s| s.is_cascade()) {
+            let base = msp::study::Scenario {
+                inner_plant: Some(common::EXAMPLE2.1.parse().unwrap()),
+                ts: Some(0.1),
+                duration: Some(700.0),
+                setpoint: vec!["1@0".parse().unwrap(), "2@500".parse().unwrap()],
+                disturbance: vec![load.parse().unwrap()],
+                // GPCC with a prediction-error filter Fk of its own
+                set: common::required_settings(scheme.name)
+                    .into_iter()
+                    .chain((scheme.name == "gpcc").then(|| ("tk".to_string(), 2.0)))
+                    .collect(),
+                ..scenario(before, scheme.name)
+            };
+            let run = |events| {
+                msp::study::Scenario {
+                    events,
+                    ..base.clone()
+                }
+                .run()
+                .unwrap()
+            };
+            let moved = run(at(["350:plant-dead-time=5", "350:dead-time=5"]));
+            let unaware = run(at(["350:plant-dead-time=5", "350:dead-time=4"]));
+            let mut fresh = msp::study::Scenario {
+                plant: Some(after.parse().unwrap()),
+                ..base.clone()
+            };
+            for (k, v) in moved.params.iter().filter(|(k, _)| *k != "lambda") {
+                fresh.set.insert(k.to_string(), v);
+            }
+            let fresh = fresh.run().unwrap();
+            // from the change on: a change at steady state moves nothing
+            let k0 = 3500;
+            let differ = |a: &msp::study::RunOutput| {
+                a.result.y[k0..]
+                    .iter()
+                    .zip(&fresh.result.y[k0..])
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            };
+            let (worst, off) = (differ(&moved), differ(&unaware));
+            println!("{before}, {}: {worst:e} (not told: {off:e})", scheme.name);
+            assert!(worst < 1e-9, "{before}, {}: {worst:e}", scheme.name);
+            assert!(off > 1e-3, "{before}, {}: {off:e}", scheme.name);
+        }
+    }
+}
+
 /// Online retuning at a steady state with a non-zero steady output: the
 /// output does not move at the change (below 1e-9), and the new gain acts
 /// on the next set-point step.
@@ -368,8 +436,9 @@ fn dead_time_slews_and_the_set_point_ramps() {
         let got = l.c.inner().dead_time().unwrap();
         assert!((got - want).abs() < 1e-9, "sample {k}: {got} vs {want}");
     }
-    assert!(l.c.inner_mut().ramp_dead_time(140.0, 0.1).is_err()); // beyond the room
-                                                                  // the set-point ramp: the step reaches the controller over 10 s
+    // beyond the room
+    assert!(l.c.inner_mut().ramp_dead_time(140.0, 0.1).is_err());
+    // the set-point ramp: the step reaches the controller over 10 s
     let run = |ramp: Option<f64>| {
         msp::study::Scenario {
             setpoint_ramp: ramp,

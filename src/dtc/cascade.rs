@@ -600,6 +600,21 @@ impl<T: Real, O: crate::Operate<T>, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
         self.outer.retune(gain, value)
     }
+
+    /// The outer model's dead time: the primary's with the secondary's
+    /// (`L1 + L2`, all the way from the plant input to `y`); the inner loop's
+    /// model keeps `L2`, so a change is one of the primary's transport delay.
+    fn dead_time(&self) -> Option<T> {
+        self.outer.dead_time()
+    }
+
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.outer.set_dead_time(samples)
+    }
+
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        self.outer.ramp_dead_time(samples, per_sample)
+    }
 }
 
 impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T> for Cascade<T, O, S> {

@@ -37,6 +37,11 @@ use num_traits::Float;
 pub const ZERO_RADIUS: f64 = 0.8;
 
 /// The GPCC output predictor `ŷ = F1·u + F2·y + Fk(y − z^{−h}ȳ)`.
+///
+/// Its buffers (`F1`'s taps, the filtered inputs `Γ·u`, the line of `ȳ`)
+/// have a capacity fixed at construction; within it the predictor is
+/// redesigned for another dead time while it runs
+/// ([`Predictor::set_dead_time`]), without allocating.
 #[derive(Debug, Clone)]
 pub struct GpccPredictor<T, S> {
     gamma: Lti<T, 4>,
@@ -48,6 +53,14 @@ pub struct GpccPredictor<T, S> {
     fk: Lti<T, 4>,
     line: Delay<T, S>,
     f1: T,
+    /// The last measurement (what `F2` is assumed to see next when the
+    /// predictor is redesigned between two samples).
+    last_y: T,
+    /// `Gn`, kept for a redesign: `F1`'s taps and `F2`'s numerator are its
+    /// Markov parameters and `A^h·b`.
+    gn: Lti<f64, 8>,
+    /// `Gn`'s numerator, `F2`'s denominator for any dead time.
+    gn_num: SmallPoly,
 }
 
 /// `(Γ numerator, Γ denominator, Gn numerator)` for the model numerator `nm`.
@@ -113,6 +126,34 @@ pub struct GpccFilters {
     pub gn: Lti<f64, 8>,
 }
 
+/// `F2`'s numerator for `h` samples: the numerator of `c(zI − A)⁻¹A^h b`
+/// (Eq. 4), whose denominator is `Gn`'s numerator of length `gn_len`.
+fn f2_numerator(gn: &Lti<f64, 8>, gn_len: usize, h: usize) -> Result<SmallPoly, Error> {
+    let mut v = gn.input_vector();
+    for _ in 0..h {
+        v = gn.propagate(&v);
+    }
+    let (num_star, _) = model_tf(&gn.with_input(&v)?);
+    let f2_num = SmallPoly::new(num_star.as_slice())?;
+    if f2_num.len() > gn_len {
+        return Err(Error::Unsupported(
+            "gpcc: the model's relative degree is above one (F2 would be improper)",
+        ));
+    }
+    Ok(f2_num)
+}
+
+/// `Gn`'s first `h` Markov parameters `c·A^{i−1}·b` (`F1`'s taps).
+fn markov_parameters(gn: &Lti<f64, 8>, h: usize) -> impl Iterator<Item = f64> + '_ {
+    let c = gn.output_vector();
+    let mut v = gn.input_vector();
+    (0..h).map(move |_| {
+        let m = c.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>();
+        v = gn.propagate(&v);
+        m
+    })
+}
+
 impl GpccFilters {
     /// Designs the filters for `gm` (strictly proper) and `h` samples.
     pub fn design<const N: usize>(gm: &Lti<f64, N>, h: usize) -> Result<Self, Error> {
@@ -125,17 +166,7 @@ impl GpccFilters {
             return Err(Error::OrderTooHigh("gpcc: zeros near the unit circle"));
         }
         let gn: Lti<f64, 8> = Lti::from_discrete_tf(gn_num.as_slice(), dm.as_slice())?;
-        let mut v = gn.input_vector();
-        for _ in 0..h {
-            v = gn.propagate(&v);
-        }
-        let (num_star, _) = model_tf(&gn.with_input(&v)?);
-        let f2_num = SmallPoly::new(num_star.as_slice())?;
-        if f2_num.len() > gn_num.len() {
-            return Err(Error::Unsupported(
-                "gpcc: the model's relative degree is above one (F2 would be improper)",
-            ));
-        }
+        let f2_num = f2_numerator(&gn, gn_num.len(), h)?;
         Ok(GpccFilters {
             gamma_num,
             gamma_den,
@@ -147,13 +178,7 @@ impl GpccFilters {
 
     /// `F1`'s taps, the first `h` Markov parameters of `Gn`, in order.
     pub fn f1_taps(&self, h: usize) -> impl Iterator<Item = f64> + '_ {
-        let c = self.gn.output_vector();
-        let mut v = self.gn.input_vector();
-        (0..h).map(move |_| {
-            let m = c.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>();
-            v = self.gn.propagate(&v);
-            m
-        })
+        markov_parameters(&self.gn, h)
     }
 }
 
@@ -167,12 +192,26 @@ impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
         ts: f64,
         tk: f64,
     ) -> Result<Self, Error> {
+        Self::design_with_room(gm, (h, h), ts, tk)
+    }
+
+    /// [`GpccPredictor::design`] with buffers for a dead time of up to
+    /// `room` samples (at least `h`; an array storage's length when that is
+    /// more), so that [`Predictor::set_dead_time`] can lengthen it.
+    pub fn design_with_room<const N: usize>(
+        gm: &Lti<f64, N>,
+        (h, room): (usize, usize),
+        ts: f64,
+        tk: f64,
+    ) -> Result<Self, Error> {
         let f = GpccFilters::design(gm, h)?;
-        let mut markov: S = buffer(h.max(1))?;
+        let cap = room.max(h).max(1);
+        let mut markov: S = buffer(cap)?;
         markov.as_mut().iter_mut().for_each(|x| *x = T::zero());
         for (slot, m) in markov.as_mut().iter_mut().zip(f.f1_taps(h)) {
             *slot = T::of(m);
         }
+        let gn = f.gn;
         let (gamma_num, gamma_den, num_star, gn_num) =
             (f.gamma_num, f.gamma_den, f.f2_num, f.f2_den);
         let fk = if tk > 0.0 {
@@ -185,9 +224,7 @@ impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
         } else {
             Lti::gain(T::one())?
         };
-        let mut ring: S = buffer(h.max(1))?;
-        ring.as_mut().iter_mut().for_each(|x| *x = T::zero());
-        let hn = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
+        let ring: S = buffer(cap)?;
         Ok(GpccPredictor {
             gamma: Lti::from_discrete_tf_of(gamma_num.as_slice(), gamma_den.as_slice())?,
             markov,
@@ -196,17 +233,26 @@ impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
             newest: 0,
             f2: Lti::from_discrete_tf_of(num_star.as_slice(), gn_num.as_slice())?,
             fk,
-            line: Delay::new_in(T::of(f64::from(hn)))?,
+            line: Delay::with_storage(buffer(cap)?, samples_of(h)?)?,
             f1: T::zero(),
+            last_y: T::zero(),
+            gn,
+            gn_num,
         })
     }
+}
+
+/// `h` samples as a delay in `T`.
+fn samples_of<T: Real>(h: usize) -> Result<T, Error> {
+    let n = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
+    Ok(T::of(f64::from(n)))
 }
 
 impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> GpccPredictor<T, S> {
     /// `F1·u` from the filtered past inputs `w = Γ·u`.
     fn f1_output(&self) -> T {
-        let n = self.h.max(1);
         let ring = self.ring.as_ref();
+        let n = ring.len().max(1);
         self.markov
             .as_ref()
             .iter()
@@ -234,6 +280,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> GpccPredictor<T, S> {
 
 impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
     fn predict(&mut self, y: T) -> T {
+        self.last_y = y;
         self.f1 = self.f1_output();
         let ybar = self.f1 + self.f2.step(y);
         let old = self.line.process(ybar);
@@ -247,7 +294,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
     }
     fn commit(&mut self, u: T) {
         let w = self.gamma.step(u);
-        let n = self.h.max(1);
+        let n = self.ring.as_ref().len().max(1);
         self.newest = (self.newest + 1) % n;
         if let Some(x) = self.ring.as_mut().get_mut(self.newest) {
             *x = w;
@@ -259,6 +306,52 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
             *x = *x + dw;
         }
     }
+    fn dead_time(&self) -> Option<T> {
+        samples_of(self.h).ok()
+    }
+    /// Redesigns `F1` and `F2` for `samples` (whole samples, within the
+    /// buffers' capacity) without allocating. `Γ` and `F2`'s denominator
+    /// (`Gn`'s numerator) do not depend on the dead time, so `Γ`'s and
+    /// `F2`'s states carry over (`F2` realized in controllable canonical form
+    /// from its denominator); the past filtered inputs are kept, so a longer
+    /// `F1` reads inputs that really were applied. The line of `ȳ` holds
+    /// what the old filters predicted: it and `Fk`'s state are moved by the
+    /// difference `Δ` of the two designs' next `ȳ`, which is exactly what the
+    /// new design would hold at a steady state (at a steady state of a
+    /// perfect model `Δ = 0`: `ȳ = Gm(1)·u` for any dead time).
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        let whole = samples.round();
+        let h = whole
+            .to_usize()
+            .filter(|_| (samples - whole).abs() <= T::of(1e-6))
+            .ok_or(Error::Unsupported(
+                "the generalized predictor takes a dead time of whole samples",
+            ))?;
+        if h > self.ring.as_ref().len() || h > self.markov.as_ref().len() {
+            return Err(Error::DelayTooLong("delay"));
+        }
+        let f2_num = f2_numerator(&self.gn, self.gn_num.len(), h)?;
+        let mut f2: Lti<T, 8> =
+            Lti::from_discrete_tf_of(f2_num.as_slice(), self.gn_num.as_slice())?;
+        f2.set_state(self.f2.state());
+        // the next ȳ of the old design, then of the new one
+        let old = self.f1_output() + self.f2.output(self.last_y);
+        self.line.set_delay(samples_of(h)?)?;
+        for (slot, m) in self
+            .markov
+            .as_mut()
+            .iter_mut()
+            .zip(markov_parameters(&self.gn, h))
+        {
+            *slot = T::of(m);
+        }
+        self.h = h;
+        self.f2 = f2;
+        let delta = self.f1_output() + self.f2.output(self.last_y) - old;
+        self.line.offset(delta);
+        // Fk(1) = 1 is stable (a matched first-order lag, or a gain)
+        self.fk.settle(-delta)
+    }
     fn reset(&mut self) {
         self.gamma.reset();
         self.f2.reset();
@@ -267,6 +360,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
         self.ring.as_mut().iter_mut().for_each(|v| *v = T::zero());
         self.newest = 0;
         self.f1 = T::zero();
+        self.last_y = T::zero();
     }
     /// `Su = F1(1 − Fk z^{−h})`, `Sy = F2 + Fk(1 − z^{−h}F2)`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
@@ -290,20 +384,23 @@ mod tests {
         Lti::from_tf(&[1.0], &[40.0, 18.0, -1.0], 0.2, Discretization::Zoh)
     }
 
-    /// Eq. 2 holds exactly: with `y = z^{−h}Gm·u` the prediction equals `Gm·u`.
-    #[test]
-    fn predicts_the_undelayed_output_of_an_unstable_model() -> Result<(), Error> {
-        let gm = example1()?;
-        let h = 30;
-        let mut p: GpccPredictor<f64, [f64; 64]> = GpccPredictor::design(&gm, h, 0.2, 36.0)?;
+    type Arrays = GpccPredictor<f64, [f64; 64]>;
+
+    /// Runs the predictor designed for `gm` and 30 samples on the plant
+    /// `z^{−30}Gm` for `n` samples with input `u(k)`, `at(k, p, line)` before
+    /// each sample (a change of dead time), and checks Eq. 2 at every sample:
+    /// the prediction equals the undelayed model's output.
+    fn predicts_exactly(
+        gm: Lti<f64, 8>,
+        n: u32,
+        u: impl Fn(u32) -> f64,
+        mut at: impl FnMut(u32, &mut Arrays, &mut Delay<f64, [f64; 64]>) -> Result<(), Error>,
+    ) -> Result<Arrays, Error> {
+        let mut p: Arrays = GpccPredictor::design(&gm, 30, 0.2, 36.0)?;
         let (mut model, mut plant) = (gm, gm);
         let mut line: Delay<f64, [f64; 64]> = Delay::new_in(30.0)?;
-        for k in 0..400 {
-            let u = if k < 50 {
-                1.0
-            } else {
-                (f64::from(k) * 0.05).sin()
-            };
+        for k in 0..n {
+            at(k, &mut p, &mut line)?;
             let y = line.process(plant.free_output());
             let yhat = p.predict(y);
             let ym = model.free_output();
@@ -311,13 +408,56 @@ mod tests {
                 (yhat - ym).abs() < 1e-9 * ym.abs().max(1.0),
                 "{k}: {yhat} {ym}"
             );
-            p.commit(u);
-            model.advance(u);
-            plant.advance(u);
+            p.commit(u(k));
+            model.advance(u(k));
+            plant.advance(u(k));
         }
+        Ok(p)
+    }
+
+    /// A step, then a sine from sample `from` on.
+    fn step_then_sine(from: u32) -> impl Fn(u32) -> f64 {
+        move |k| {
+            if k < from {
+                1.0
+            } else {
+                (f64::from(k) * 0.05).sin()
+            }
+        }
+    }
+
+    /// Eq. 2 holds exactly: with `y = z^{−h}Gm·u` the prediction equals `Gm·u`.
+    #[test]
+    fn predicts_the_undelayed_output_of_an_unstable_model() -> Result<(), Error> {
+        let p = predicts_exactly(example1()?, 400, step_then_sine(50), |_, _, _| Ok(()))?;
         // the prediction-error filter passes steps: Fk(1) = 1
         let (_, _, fk) = p.filters(1e-9);
         assert!((fk.re - 1.0).abs() < 1e-9 && fk.im.abs() < 1e-6, "{fk:?}");
+        Ok(())
+    }
+
+    /// A redesign at a steady state, in array storage (no allocation): the
+    /// plant's dead time and the predictor's move from 30 to 40 samples
+    /// together, and Eq. 2 goes on holding exactly; beyond the arrays'
+    /// capacity, or between samples, the dead time is refused unchanged.
+    #[test]
+    fn takes_a_new_dead_time_within_its_arrays() -> Result<(), Error> {
+        // a stable model at a steady state (Example 1's poles mirrored)
+        let gm = Lti::from_tf(&[1.0], &[40.0, 22.0, 1.0], 0.2, Discretization::Zoh)?;
+        let change = |k, p: &mut Arrays, line: &mut Delay<f64, [f64; 64]>| {
+            if k != 2200 {
+                return Ok(());
+            }
+            let whole =
+                Error::Unsupported("the generalized predictor takes a dead time of whole samples");
+            assert_eq!(p.set_dead_time(64.5), Err(whole));
+            assert_eq!(p.set_dead_time(65.0), Err(Error::DelayTooLong("delay")));
+            assert_eq!(p.dead_time(), Some(30.0));
+            p.set_dead_time(40.0)?;
+            assert_eq!(p.dead_time(), Some(40.0));
+            line.set_delay(40.0)
+        };
+        predicts_exactly(gm, 2600, step_then_sine(2300), change)?;
         Ok(())
     }
 

@@ -193,6 +193,18 @@ impl<T: Real, const N: usize> Lti<T, N> {
         true
     }
 
+    /// Moves the state as if every past input had been larger by `du`: for a
+    /// stable block at a steady state, `x += (I − Φ)⁻¹Γ·du`, the steady
+    /// state of the new input. Fails (and changes nothing) when `I − Φ` is
+    /// singular (a pole at `z = 1`).
+    pub fn settle(&mut self, du: T) -> Result<(), Error> {
+        let step = self.equilibrium(du)?;
+        for (x, d) in self.x.iter_mut().zip(step.iter()).take(self.n) {
+            *x = *x + *d;
+        }
+        Ok(())
+    }
+
     /// `x[k+1] = Φ x[k] + Γ u[k]` without computing the output.
     #[inline(always)]
     pub fn advance(&mut self, u: T) {
@@ -342,11 +354,16 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// start): `x = (I − Φ)⁻¹ Γ u`. Fails for a block with a pole at `z = 1`
     /// (an integrator has no equilibrium for `u ≠ 0`); use [`Lti::set_output`] then.
     pub fn set_steady(&mut self, u: T) -> Result<(), Error> {
+        self.x = self.equilibrium(u)?;
+        Ok(())
+    }
+
+    /// The equilibrium state for the constant input `u`: `(I − Φ)⁻¹ Γ u`.
+    fn equilibrium(&self, u: T) -> Result<[T; N], Error> {
         let n = self.n;
         let m = matrix::Mat::<N>::identity() - mat_of(&self.phi, n);
         let x = matrix::solve(&m, &(vector_of(&self.gamma, n) * u.f64()), n)?;
-        self.x = array_of(&x, n);
-        Ok(())
+        Ok(array_of(&x, n))
     }
 
     /// Sets the state so that the free output is `y` while an integrating block

@@ -5,7 +5,7 @@ use alloc::boxed::Box;
 use alloc::vec::Vec;
 
 use super::common::*;
-use super::fsp::whole_samples;
+use super::fsp::{fsp_predictor, room_samples, whole_samples};
 use super::integrating::{kaya_atherton_on, kaya_atherton_settings};
 use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
@@ -185,13 +185,8 @@ fn build_fspcc<T: Real>(
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
     let f: FspccParams = p.typed()?;
-    let spec = fr_spec(&f);
-    let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&c.gm, c.h, b.ts, &spec)?;
-    let outer = Predicted::<T, _, _>::with_primary(
-        c.km,
-        dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?,
-        ParamList::of(&f.cast::<T>()),
-    );
+    let pred = fsp_predictor(&c.gm, c.h, b, fr_spec(&f))?;
+    let outer = Predicted::<T, _, _>::with_primary(c.km, pred, ParamList::of(&f.cast::<T>()));
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
@@ -284,7 +279,8 @@ fn build_gpcc<T: Real>(
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let c = cascade_parts(p, p1, p2, b)?;
     let g: GpccParams = p.typed()?;
-    let pred = GpccPredictor::<T, Vec<T>>::design(&c.gm, c.h, b.ts, g.tk)?;
+    let room = room_samples(b);
+    let pred = GpccPredictor::<T, Vec<T>>::design_with_room(&c.gm, (c.h, room), b.ts, g.tk)?;
     let outer = Predicted::<T, _, _>::with_primary(c.km, pred, ParamList::of(&g.cast::<T>()));
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }

@@ -61,26 +61,39 @@ fn build_fsp<T: Real>(
         lead: None,
         biproper: false,
     };
-    let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(&gm, h, b.ts, &spec)?;
     let k = PidConfig::isa(fp.kp, fp.ti, T::zero(), T::of(b.ts))
         .with_limits(T::of(b.u_min), T::of(b.u_max));
-    // the model and the filter's shape kept: a run-time dead time redesigns
-    let (nm, dm) = dtc::fsp::model_tf(&gm);
-    // the room a run-time dead time may take (Build::max_dead_time), in samples
-    let max_h =
-        num_traits::ToPrimitive::to_usize(&(b.max_dead_time / b.ts + 1e-6).floor()).unwrap_or(0);
-    let pred = dtc::fsp::FspPredictor::<T, Vec<T>>::new(&design)?.with_redesign(
+    Ok(Box::new(dtc::fsp::FilteredSmith::with_predictor(
+        k,
+        fsp_predictor(&gm, h, b, spec)?,
+        ParamList::of(&fp),
+    )?))
+}
+
+/// The longest dead time a build may be given at run time
+/// ([`Build::max_dead_time`]), in whole samples (0: none).
+pub(super) fn room_samples(b: &Build) -> usize {
+    num_traits::ToPrimitive::to_usize(&(b.max_dead_time / b.ts + 1e-6).floor()).unwrap_or(0)
+}
+
+/// The filtered Smith predictor's `Fr` and `S` for the model `gm` with `h`
+/// samples of dead time, keeping the model and the filter's shape so that a
+/// run-time dead time (up to [`Build::max_dead_time`]) redesigns them.
+pub(super) fn fsp_predictor<T: Real>(
+    gm: &crate::Lti<f64, MAX_ORDER>,
+    h: usize,
+    b: &Build,
+    spec: dtc::fsp::FrSpec,
+) -> Result<dtc::fsp::FspPredictor<T, Vec<T>>, crate::Error> {
+    let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(gm, h, b.ts, &spec)?;
+    let (nm, dm) = dtc::fsp::model_tf(gm);
+    Ok(dtc::fsp::FspPredictor::new(&design)?.with_redesign(
         nm,
         dm,
         b.ts,
         spec,
-        (h, max_h),
-    );
-    Ok(Box::new(dtc::fsp::FilteredSmith::with_predictor(
-        k,
-        pred,
-        ParamList::of(&fp),
-    )?))
+        (h, room_samples(b)),
+    ))
 }
 
 /// What García et al. (2010) print of a designed robustness filter

@@ -54,6 +54,8 @@ pub(super) struct JointSim {
     line_d: Delay<f64, Vec<f64>>,
     kv: usize,
     kd: usize,
+    /// The fraction of a sample of the dead time from `v` to `y`.
+    fv: f64,
     last_v: f64,
     last_d: f64,
 }
@@ -72,6 +74,18 @@ impl JointSim {
         p2: &TransferFunction,
         ts: f64,
         m: usize,
+    ) -> Result<Self, Error> {
+        Self::with_room(p1, p2, ts, m, 0.0)
+    }
+
+    /// [`JointSim::new`] whose dead time from `v` to `y` (`L1 + L2`) can
+    /// later be set up to `max_delay` seconds ([`JointSim::set_dead_time`]).
+    pub(super) fn with_room(
+        p1: &TransferFunction,
+        p2: &TransferFunction,
+        ts: f64,
+        m: usize,
+        max_delay: f64,
     ) -> Result<Self, Error> {
         let (a2, b2, c2, d2, n2) = crate::lti::realize::<f64, MAX_ORDER>(&p2.num, &p2.den)?;
         let (a1, b1, c1, d1, n1) = crate::lti::realize::<f64, MAX_ORDER>(&p1.num, &p1.den)?;
@@ -137,21 +151,66 @@ impl JointSim {
             });
             start = end;
         }
+        // both lines hold `k + 1` samples back (a fractional delay reads
+        // `x[n−k−1]`), with room for the longest dead time the run will set
+        let room = (max_delay / ts).floor().to_usize_checked()?;
         let kv = kv.to_usize_checked()?;
         let kd = kd.to_usize_checked()?;
+        let line = |k: usize| Delay::with_storage(vec_zeros(k.max(room).saturating_add(2)), 0.0);
         Ok(JointSim {
             c,
             dv: d1 * d2,
             dd: d1,
             pieces,
             x: [0.0; MAX_ORDER],
-            line_v: Delay::with_storage(vec_zeros(kv.saturating_add(2)), 0.0)?,
-            line_d: Delay::with_storage(vec_zeros(kd.saturating_add(2)), 0.0)?,
+            line_v: line(kv)?,
+            line_d: line(kd)?,
             kv,
             kd,
+            fv,
             last_v: 0.0,
             last_d: 0.0,
         })
+    }
+
+    /// Changes the dead time from the plant input to `y` to `samples`
+    /// (`L1 + L2`): the primary's transport delay `L1` changes, `L2` stays,
+    /// so both lines read further back or nearer by the same whole number
+    /// of samples (at a steady state nothing moves). The fraction of a sample
+    /// must stay what it was.
+    pub(super) fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+        #[allow(clippy::cast_precision_loss)] // a delay line's length
+        let now = self.kv as f64 + self.fv;
+        let shift = samples - now;
+        if !shift.is_finite() || (shift - shift.round()).abs() > 1e-9 {
+            return Err(Error::Unsupported(
+                "a plant dead-time change must keep the dead time's fraction of a sample (give whole samples)",
+            ));
+        }
+        #[allow(clippy::cast_possible_truncation)] // a whole number, checked against the lines
+        let shift = shift.round() as i64;
+        let moved = |k: usize| {
+            i64::try_from(k)
+                .ok()
+                .and_then(|k| k.checked_add(shift))
+                .and_then(|k| usize::try_from(k).ok())
+        };
+        let (kv, kd) = match (moved(self.kv), moved(self.kd)) {
+            (Some(kv), Some(kd)) => (kv, kd),
+            _ => {
+                return Err(Error::Unsupported(
+                    "a cascade's plant dead time (L1 + L2, input to primary output) shorter than the secondary's L2",
+                ))
+            }
+        };
+        if kv.saturating_add(2) > self.line_v.capacity()
+            || kd.saturating_add(2) > self.line_d.capacity()
+        {
+            return Err(Error::DelayTooLong("plant dead time"));
+        }
+        self.kv = kv;
+        self.kd = kd;
+        Ok(())
     }
 
     fn free(&self) -> f64 {

@@ -74,7 +74,8 @@ pub enum Action {
     /// The controller's model's dead time moves to the first value (s) at
     /// the second rate (seconds of dead time per second).
     DeadTimeRamp(f64, f64),
-    /// The process's dead time becomes this (s).
+    /// The process's dead time becomes this (s): for a cascade process the
+    /// one from the plant input to `y` (`L1 + L2`), the primary's changing.
     PlantDeadTime(f64),
     /// A gain of the controller's primary PID changes (bumpless).
     Retune(crate::operate::Gain, f64),
@@ -172,9 +173,7 @@ impl Process {
     fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
         match self {
             Process::Single(p) => p.set_dead_time(samples),
-            Process::Cascade { .. } => Err(Error::Unsupported(
-                "a plant dead-time event needs a single plant (not a cascade process)",
-            )),
+            Process::Cascade { joint, .. } => joint.set_dead_time(samples),
         }
     }
 }
@@ -285,7 +284,7 @@ fn run_loop<
         None => Process::Single(PlantSim::with_room(plant, ts, m, plant_room)?),
         Some(p2) => Process::Cascade {
             p2: PlantSim::new(p2, ts, m)?,
-            joint: Box::new(JointSim::new(plant, p2, ts, m)?),
+            joint: Box::new(JointSim::with_room(plant, p2, ts, m, plant_room)?),
             sub2: Vec::with_capacity(m),
         },
     };

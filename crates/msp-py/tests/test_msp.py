@@ -611,6 +611,16 @@ def test_a_controller_is_operated_as_in_a_plant() -> None:
         fsp.set_dead_time(9.0)  # beyond max_dead_time
     with pytest.raises(ValueError, match="no model dead time"):
         msp.Controller("pid", "2*e^-3s/(4s+1)", 0.1).set_dead_time(4.0)
+    # a cascade: the dead time from the plant input to y (L1 + L2 = 4 s)
+    for scheme in ["fspcc", "gpcc", "uma", "kaya-cascade"]:
+        params = {"kpd": 0.0436, "kid": 0.0, "kdd": 0.1206} if scheme == "uma" else None
+        cc = msp.Controller(scheme, "2e^-2s/s", 0.1, params, inner_plant="4e^-2s/(s+1)",
+                            max_dead_time=5.0)
+        assert abs(cc.dead_time - 4.0) < 1e-9, scheme
+        cc.set_dead_time(5.0)
+        assert abs(cc.dead_time - 5.0) < 1e-9, scheme
+        with pytest.raises(ValueError, match="capacity"):
+            cc.set_dead_time(6.0)
 
 
 def test_run_takes_operator_events_and_an_outside_actuator() -> None:
@@ -636,3 +646,10 @@ def test_run_takes_operator_events_and_an_outside_actuator() -> None:
                                      "--report", "-", "-o", "/dev/null"],
                                     check=True, capture_output=True, text=True).stdout)
     assert cli["operator_events"] == ev.report()["operator_events"]
+    # a cascade process whose primary's transport delay grows at a steady state,
+    # the controller told: nothing moves (García et al. (2010) Example 2)
+    cas = msp.run("2e^-2s/s", "gpcc", inner_plant="4e^-2s/(s+1)", ts=0.1, setpoint=1.0,
+                  duration=300.0, events=["200:plant-dead-time=5", "200:dead-time=5"])
+    k = int(round(200.0 / cas.ts))
+    assert np.abs(cas.y[k:] - 1.0).max() < 1e-6
+    assert all(e["output_change"] < 1e-6 for e in cas.operator_events)
