@@ -420,24 +420,39 @@ fn retuning_at_steady_state_is_bumpless() {
 /// given rate, and a set-point ramp limits the set point the controller sees.
 #[test]
 fn dead_time_slews_and_the_set_point_ramps() {
-    let s = msp::registry::find("smith").unwrap();
-    let mut l = Loop::new(s);
-    // room for 130 samples: rebuilt with it
-    let t = common::tuned(s, 0.0);
-    let b = Build {
-        max_dead_time: 130.0 * t.ts,
-        ..t.build
-    };
-    l.c = Operated::new(s.build_process(&t.params, &t.p1, None, &b).unwrap());
-    l.c.inner_mut().ramp_dead_time(120.0, 0.1).unwrap();
-    for k in 1..=250 {
-        l.step(1.0, 0.0);
-        let want = (100.0 + 0.1 * f64::from(k)).min(120.0);
-        let got = l.c.inner().dead_time().unwrap();
-        assert!((got - want).abs() < 1e-9, "sample {k}: {got} vs {want}");
+    // the Smith predictor's line slides; the predictors (fsp, and gpcc on
+    // its cascade) are redesigned one whole sample at a time, at the rate
+    for (name, h0, whole) in [
+        ("smith", 100.0, false),
+        ("fsp", 100.0, true),
+        ("gpcc", 40.0, true),
+    ] {
+        let s = msp::registry::find(name).unwrap();
+        let mut l = Loop::new(s);
+        // room for 30 samples more: rebuilt with it
+        let t = common::tuned(s, 0.0);
+        let b = Build {
+            max_dead_time: (h0 + 30.0) * t.ts,
+            ..t.build
+        };
+        let c = s.build_process(&t.params, &t.p1, t.p2.as_ref(), &b);
+        l.c = Operated::new(c.unwrap());
+        assert!((l.c.inner().dead_time().unwrap() - h0).abs() < 1e-9);
+        l.c.inner_mut().ramp_dead_time(h0 + 20.0, 0.1).unwrap();
+        for k in 1..=250 {
+            l.step(1.0, 0.0);
+            let moved = 0.1 * f64::from(k);
+            let moved = if whole { (moved + 1e-9).floor() } else { moved };
+            let want = (h0 + moved).min(h0 + 20.0);
+            let got = l.c.inner().dead_time().unwrap();
+            assert!(
+                (got - want).abs() < 1e-9,
+                "{name}, sample {k}: {got} vs {want}"
+            );
+        }
+        // beyond the room
+        assert!(l.c.inner_mut().ramp_dead_time(h0 + 40.0, 0.1).is_err());
     }
-    // beyond the room
-    assert!(l.c.inner_mut().ramp_dead_time(140.0, 0.1).is_err());
     // the set-point ramp: the step reaches the controller over 10 s
     let run = |ramp: Option<f64>| {
         msp::study::Scenario {

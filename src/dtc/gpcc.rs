@@ -28,7 +28,7 @@
 
 use crate::complex::Complex;
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::fsp::{buffer, model_tf, Predictor, SmallPoly, SMALL};
+use crate::dtc::fsp::{buffer, model_tf, whole_samples, Predictor, SmallPoly, SMALL};
 use crate::{Discretization, Error, Lti, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
@@ -319,17 +319,16 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
     /// difference `Δ` of the two designs' next `ȳ`, which is exactly what the
     /// new design would hold at a steady state (at a steady state of a
     /// perfect model `Δ = 0`: `ȳ = Gm(1)·u` for any dead time).
+    fn check_dead_time(&self, samples: T) -> Result<usize, Error> {
+        let room = self.ring.as_ref().len().min(self.markov.as_ref().len());
+        whole_samples(
+            samples,
+            room,
+            "the generalized predictor takes a dead time of whole samples",
+        )
+    }
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        let whole = samples.round();
-        let h = whole
-            .to_usize()
-            .filter(|_| (samples - whole).abs() <= T::of(1e-6))
-            .ok_or(Error::Unsupported(
-                "the generalized predictor takes a dead time of whole samples",
-            ))?;
-        if h > self.ring.as_ref().len() || h > self.markov.as_ref().len() {
-            return Err(Error::DelayTooLong("delay"));
-        }
+        let h = self.check_dead_time(samples)?;
         let f2_num = f2_numerator(&self.gn, self.gn_num.len(), h)?;
         let mut f2: Lti<T, 8> =
             Lti::from_discrete_tf_of(f2_num.as_slice(), self.gn_num.as_slice())?;

@@ -186,7 +186,10 @@ impl Controller {
         Ok(())
     }
     /// Moves the model's dead time to ``theta`` (s) at ``rate`` seconds per
-    /// second (a delay that drifts: no jump of the prediction).
+    /// second (a delay that drifts: no jump of the prediction). The
+    /// predictor schemes (``fsp``, ``fspcc``, ``gpcc``) are redesigned for
+    /// whole samples: their dead time moves one sample at a time, at that
+    /// mean rate.
     fn ramp_dead_time(&mut self, theta: f64, rate: f64) -> PyResult<()> {
         if !(theta.is_finite() && theta >= 0.0) {
             return Err(PyValueError::new_err(

@@ -162,6 +162,7 @@ pub(crate) use self::design::buffer;
 pub use self::design::{
     design, design_in, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL,
 };
+pub(crate) use self::runtime::whole_samples;
 #[cfg(feature = "alloc")]
 pub use self::runtime::Plan;
 pub use self::runtime::{

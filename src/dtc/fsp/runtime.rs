@@ -27,17 +27,42 @@ pub trait Predictor<T: Real> {
     fn dead_time(&self) -> Option<T> {
         None
     }
-    /// Redesigns the predictor for a dead time of `samples` (whole samples).
-    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+    /// The dead time `samples` as the whole number of samples the predictor
+    /// can be redesigned for, or why not (nothing changes).
+    fn check_dead_time(&self, samples: T) -> Result<usize, Error> {
         let _ = samples;
         Err(Error::Unsupported(
             "this predictor is designed for its dead time: rebuild it for another",
         ))
     }
+    /// Redesigns the predictor for a dead time of `samples` (whole samples,
+    /// as [`Predictor::check_dead_time`] accepts them).
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.check_dead_time(samples).map(|_| ())
+    }
     /// Zeroes every state.
     fn reset(&mut self);
     /// `(Su, Sy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+}
+
+/// `samples` as a whole number of samples, at most `room` (within
+/// rounding: 7.2 s / 0.06 s is 120.00000000000001); `what` names the
+/// predictor in the error.
+pub(crate) fn whole_samples<T: Real>(
+    samples: T,
+    room: usize,
+    what: &'static str,
+) -> Result<usize, Error> {
+    let whole = samples.round();
+    let h = whole
+        .to_usize()
+        .filter(|_| (samples - whole).abs() <= T::of(1e-6))
+        .ok_or(Error::Unsupported(what))?;
+    if h > room {
+        return Err(Error::DelayTooLong("delay"));
+    }
+    Ok(h)
 }
 
 /// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`.
@@ -388,6 +413,18 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
     fn dead_time(&self) -> Option<T> {
         self.plan.as_ref().map(|p| T::of(p.h as f64))
     }
+    #[cfg(feature = "alloc")]
+    fn check_dead_time(&self, samples: T) -> Result<usize, Error> {
+        let plan = self.plan.as_ref().ok_or(Error::Unsupported(
+            "this predictor is designed for its dead time: rebuild it for another",
+        ))?;
+        const WHOLE: &str =
+            "the filtered Smith predictor takes a dead time of whole samples (at least one)";
+        match whole_samples(samples, plan.max_h, WHOLE)? {
+            0 => Err(Error::Unsupported(WHOLE)),
+            h => Ok(h),
+        }
+    }
     /// Redesigns `Fr` and `S` for `samples` (whole samples) from the kept
     /// plan: `Dr` does not depend on the dead time, so `Fr`'s state (its
     /// controllable canonical form: `Φ`, `Γ` from `Dr` alone) carries over
@@ -396,50 +433,37 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
     /// for any dead time, so at a steady state the predictor is the one
     /// designed for the new dead time. The design's scratch is allocated
     /// (`alloc`); without it, or without a plan, [`Error::Unsupported`].
+    #[cfg(feature = "alloc")]
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        #[cfg(feature = "alloc")]
-        if let Some(plan) = &self.plan {
-            // whole samples (within rounding: 7.2 s / 0.06 s is 120.00000000000001)
-            let whole = samples.round();
-            let h = whole
-                .to_usize()
-                .filter(|h| *h >= 1 && (samples - whole).abs() <= T::of(1e-6))
-                .ok_or(Error::Unsupported(
-                    "the filtered Smith predictor takes a dead time of whole samples",
-                ))?;
-            if h > plan.max_h {
-                return Err(Error::DelayTooLong("delay"));
-            }
-            let d = super::design::design_tf_in::<alloc::vec::Vec<f64>, 16>(
-                &plan.nm,
-                &plan.dm,
-                h,
-                plan.ts,
-                &plan.spec,
-                |n| Ok(alloc::vec![0.0; n]),
-            )?;
-            let mut fr: Lti<T, 8> = Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?;
-            fr.set_state(self.fr.state());
-            let mut s = DirectForm::new_in(d.s_num(), d.s_den.as_slice(), plan.storage)?;
-            s.carry_from(&self.s)?;
-            let plan = Plan {
-                h,
-                max_h: plan.max_h,
-                nm: plan.nm,
-                dm: plan.dm,
-                ts: plan.ts,
-                spec: plan.spec,
-                storage: plan.storage,
-            };
-            self.fr = fr;
-            self.s = s;
-            self.plan = Some(plan);
-            return Ok(());
-        }
-        let _ = samples;
-        Err(Error::Unsupported(
-            "this predictor is designed for its dead time: rebuild it for another",
-        ))
+        let h = self.check_dead_time(samples)?;
+        let Some(plan) = &self.plan else {
+            return Err(Error::Unsupported("no redesign plan"));
+        };
+        let d = super::design::design_tf_in::<alloc::vec::Vec<f64>, 16>(
+            &plan.nm,
+            &plan.dm,
+            h,
+            plan.ts,
+            &plan.spec,
+            |n| Ok(alloc::vec![0.0; n]),
+        )?;
+        let mut fr: Lti<T, 8> = Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?;
+        fr.set_state(self.fr.state());
+        let mut s = DirectForm::new_in(d.s_num(), d.s_den.as_slice(), plan.storage)?;
+        s.carry_from(&self.s)?;
+        let plan = Plan {
+            h,
+            max_h: plan.max_h,
+            nm: plan.nm,
+            dm: plan.dm,
+            ts: plan.ts,
+            spec: plan.spec,
+            storage: plan.storage,
+        };
+        self.fr = fr;
+        self.s = s;
+        self.plan = Some(plan);
+        Ok(())
     }
     fn reset(&mut self) {
         self.fr.reset();
@@ -462,6 +486,17 @@ pub struct Predicted<T, P, K = Pid<T>> {
     params: ParamList<T>,
     yhat: T,
     fault: bool,
+    /// A dead time on its way to a target ([`crate::Operate::ramp_dead_time`]).
+    ramp: Option<Ramp<T>>,
+}
+
+/// A predictor's dead time moving to `target` one whole sample at a time,
+/// at a mean rate of `rate` samples per sample (`progress` accumulates it).
+#[derive(Debug, Clone, Copy)]
+struct Ramp<T> {
+    target: usize,
+    rate: T,
+    progress: T,
 }
 
 /// The filtered Smith predictor (with a PID primary controller).
@@ -494,6 +529,40 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
             params,
             yhat: T::zero(),
             fault: false,
+            ramp: None,
+        }
+    }
+}
+
+impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
+    /// One sample of a dead-time ramp: the dead time moves by a whole sample
+    /// each time the accumulated rate reaches one (a redesign that fails
+    /// ends the ramp where it is).
+    #[cold]
+    #[inline(never)]
+    fn ramp_step(&mut self) {
+        let Some(mut r) = self.ramp.take() else {
+            return;
+        };
+        let Some(mut now) = self.pred.dead_time().and_then(|d| d.round().to_usize()) else {
+            return;
+        };
+        r.progress = r.progress + r.rate;
+        // (ten times 0.1 is one within rounding: √ε of slack)
+        let one = T::one() - T::epsilon().sqrt();
+        while r.progress >= one && now != r.target {
+            let next = if r.target > now { now + 1 } else { now - 1 };
+            let Some(h) = u32::try_from(next).ok().map(|n| T::of(f64::from(n))) else {
+                return;
+            };
+            if self.pred.set_dead_time(h).is_err() {
+                return;
+            }
+            now = next;
+            r.progress = r.progress - T::one();
+        }
+        if now != r.target {
+            self.ramp = Some(r);
         }
     }
 }
@@ -506,6 +575,9 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, 
             self.pred.predict_held();
             let u = self.k.update(r, T::nan());
             self.pred.commit(u);
+            if self.ramp.is_some() {
+                self.ramp_step();
+            }
             return u;
         }
         self.fault = false;
@@ -513,6 +585,9 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, 
         let u = self.k.update(r, yhat);
         self.pred.commit(u);
         self.yhat = yhat;
+        if self.ramp.is_some() {
+            self.ramp_step();
+        }
         u
     }
 
@@ -549,14 +624,25 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> crate::Operate<T> for Predicted<T,
     }
 
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        self.pred.set_dead_time(samples)
+        self.pred.set_dead_time(samples)?;
+        self.ramp = None;
+        Ok(())
     }
 
+    /// The predictor is redesigned for whole samples only: the dead time
+    /// moves by one sample at a time, each time the rate `per_sample`
+    /// accumulated since the last move reaches one (at 0.1, one sample every
+    /// ten), until it reaches `samples` (checked now: whole, within the room
+    /// built in).
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
-        let _ = (samples, per_sample);
-        Err(Error::Unsupported(
-            "a predictor designed for its dead time is redesigned in whole samples: give the new dead time at once",
-        ))
+        let rate = crate::real::positive(per_sample, "slew")?;
+        let target = self.pred.check_dead_time(samples)?;
+        self.ramp = Some(Ramp {
+            target,
+            rate,
+            progress: T::zero(),
+        });
+        Ok(())
     }
 }
 
