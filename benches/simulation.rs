@@ -106,6 +106,24 @@ fn sims(c: &mut Criterion) {
     };
     // each run into the buffers of the last one: no fresh pages to fault in
     let mut reused = SimResult::default();
+    // the controller's type known to the engine: its update inlined in the loop
+    for (what, cfg) in [
+        ("reused buffers", &config),
+        ("reused buffers, only y and u", &lean),
+    ] {
+        g.bench_function(
+            format!("msp simulate_into (concrete controller, {what})"),
+            |b| {
+                b.iter(|| {
+                    let mut sp: SmithPredictor<f64, 1, Vec<f64>> =
+                        SmithPredictor::new(pi, model, Delay::new_in(100.0).expect("line"))
+                            .expect("sp");
+                    simulate_into(&plant, &mut sp, cfg, &mut reused).expect("sim");
+                    reused.y.len()
+                })
+            },
+        );
+    }
     for (what, cfg) in [
         ("reused buffers", &config),
         ("reused buffers, only y and u", &lean),

@@ -3,10 +3,11 @@
 use std::vec::Vec;
 
 use super::cascade::JointSim;
+use super::engine::{self, Flags, Run};
 use super::plant::PlantSim;
+use super::result::Columns;
 use super::schedule::{first_sample_at, Track};
 use super::{Disturbance, Location, SetpointStep, SimResult};
-use crate::operate::{feed_back, in_mode, Mode};
 use crate::poly::TransferFunction;
 use crate::Error;
 use crate::{CascadeControl, Introspect, Operate};
@@ -160,7 +161,7 @@ impl Noise {
 /// Fig. 1). With `v = u + d2` held over each period and `d0` held too,
 /// `y2 = P2 e^{−L2 s}·v + d0` (its own block) and
 /// `y = P1 e^{−L1 s}(P2 e^{−L2 s}·v + d0) + d1` ([`JointSim`]), both sampled exactly.
-enum Process {
+pub(super) enum Process {
     Single(PlantSim),
     Cascade {
         p2: PlantSim,
@@ -170,7 +171,7 @@ enum Process {
 }
 
 impl Process {
-    fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+    pub(super) fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
         match self {
             Process::Single(p) => p.set_dead_time(samples),
             Process::Cascade { joint, .. } => joint.set_dead_time(samples),
@@ -227,6 +228,7 @@ pub fn simulate_cascade<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> 
     Ok(res)
 }
 
+/// [`run_process`], leaving `res` empty on an error.
 fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     inner: Option<&TransferFunction>,
@@ -234,37 +236,32 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
     cfg: &SimConfig,
     res: &mut SimResult,
 ) -> Result<(), Error> {
-    // a run without an operator pays nothing for one: the loop is compiled
-    // twice, and this one has no operation code in it
-    let operated = !cfg.operations.is_empty()
-        || cfg.actuator.is_some()
-        || cfg.reset_feedback
-        || cfg.setpoint_ramp != f64::INFINITY;
-    if operated {
-        run_loop::<C, true>(plant, inner, controller, cfg, res)
-    } else {
-        run_loop::<C, false>(plant, inner, controller, cfg, res)
+    let done = run_process(plant, inner, controller, cfg, res);
+    if done.is_err() {
+        res.clear();
     }
+    done
 }
 
-/// The loop of [`simulate_process`]; `OPERATED` compiles the operator's
-/// actions, the outside actuator, reset feedback and the set-point ramp in.
-fn run_loop<
-    C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized,
-    const OPERATED: bool,
->(
+/// Prepares the run (checks, the process, the schedules as sample indices)
+/// and runs the loop compiled for it ([`super::engine`]). The columns of an
+/// earlier result are sized in place: memory a reused result already holds
+/// is written once, by the run.
+fn run_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     inner: Option<&TransferFunction>,
     controller: &mut C,
     cfg: &SimConfig,
     res: &mut SimResult,
 ) -> Result<(), Error> {
-    res.clear();
     let ts = crate::real::positive(cfg.ts, "ts")?;
     let duration = crate::real::non_negative(cfg.duration, "duration")?;
     crate::real::non_negative(cfg.noise, "noise")?;
     if cfg.u_min > cfg.u_max {
         return Err(Error::InvalidLimits("u_min"));
+    }
+    if cfg.setpoint_ramp.is_nan() || cfg.setpoint_ramp <= 0.0 {
+        return Err(Error::NotPositive("setpoint_ramp"));
     }
     let steps = num_traits::ToPrimitive::to_usize(&(duration / ts).round())
         .ok_or(Error::OutOfRange("duration"))?;
@@ -280,7 +277,7 @@ fn run_loop<
             _ => None,
         })
         .fold(0.0, f64::max);
-    let mut process = match inner {
+    let process = match inner {
         None => Process::Single(PlantSim::with_room(plant, ts, m, plant_room)?),
         Some(p2) => Process::Cascade {
             p2: PlantSim::new(p2, ts, m)?,
@@ -289,16 +286,13 @@ fn run_loop<
         },
     };
     let cascade = inner.is_some();
-    let mut sub = Vec::with_capacity(m);
-    let mut noise = Noise::new(cfg.seed);
-    let names = controller.signal_names();
-    res.reserve(names, n_rows, cascade, cfg.record == Record::All);
+    let all = cfg.record == Record::All;
     res.substeps = m;
     // each location's disturbances as events at their first sample: a
-    // schedule of 10⁶ steps costs one comparison per sample, not 10⁶
+    // schedule of 10⁶ steps costs one comparison per segment, not 10⁶
     let track =
         |loc: Location| Track::new(cfg.disturbances.iter().filter(|d| d.location == loc), ts);
-    let (mut inputs, mut outputs, mut middles) = (
+    let (inputs, outputs, middles) = (
         track(Location::Input),
         track(Location::Output),
         track(Location::Inner),
@@ -308,156 +302,56 @@ fn run_loop<
             "an 'inner' (d0) disturbance needs a cascade process (an inner plant)",
         ));
     }
-    let all = cfg.record == Record::All;
     let scale = cfg
         .setpoint
         .iter()
         .map(|s| s.value.abs())
         .chain(cfg.disturbances.iter().map(|d| d.value.abs()))
         .fold(1.0, f64::max);
-    // the set point's schedule as sample indices: one integer test per sample
-    let bound = 1e6 * scale;
-    let steps = by_sample(cfg.setpoint.iter().map(|s| (s.at, s.value)), ts);
-    let mut next_step = 0usize;
-    let mut r = 0.0;
-    // the operator's actions as sample indices, in time order
     let ops = by_sample(cfg.operations.iter().map(|o| (o.at, o.action)), ts);
-    let mut next_op = 0usize;
-    let mut mode = Mode::Auto;
+    // a run without an operator pays nothing for one, a plain run nothing
+    // for sub-steps, noise or a cascade: the loop is compiled for each
+    let operated = !cfg.operations.is_empty()
+        || cfg.actuator.is_some()
+        || cfg.reset_feedback
+        || cfg.setpoint_ramp != f64::INFINITY;
     let applies = !ops.is_empty() || cfg.actuator.is_some();
-    let mut applied: Option<f64> = None;
-    if cfg.setpoint_ramp.is_nan() || cfg.setpoint_ramp <= 0.0 {
-        return Err(Error::NotPositive("setpoint_ramp"));
-    }
-    let ramp = cfg.setpoint_ramp * ts;
-    let mut r_ctl = 0.0;
-    let mut sig = std::vec![0.0; names.len()];
-    for i in 0..n {
-        let t = i as f64 * ts;
-        while let Some(&(k, value)) = steps.get(next_step) {
-            if k <= i {
-                r = value;
-                next_step = next_step.saturating_add(1);
-            } else {
-                break;
-            }
-        }
-        while let Some(&(k, action)) = ops.get(next_op).filter(|_| OPERATED) {
-            if k > i {
-                break;
-            }
-            match action {
-                Action::Manual(v) => mode = Mode::Manual(v),
-                Action::Track(v) => mode = Mode::Track(v),
-                Action::Auto => mode = Mode::Auto,
-                Action::DeadTime(d) => controller.set_dead_time(d / ts)?,
-                Action::DeadTimeRamp(d, rate) => controller.ramp_dead_time(d / ts, rate)?,
-                Action::PlantDeadTime(d) => process.set_dead_time(d / ts)?,
-                Action::Retune(g, v) => controller.retune(g, v)?,
-            }
-            next_op = next_op.saturating_add(1);
-        }
-        // the set point the controller sees: ramped (`r` itself is recorded)
-        // (from 0, where the run starts, also for a step at 0)
-        r_ctl = if OPERATED && ramp.is_finite() {
-            r.max(r_ctl - ramp).min(r_ctl + ramp)
-        } else {
-            r
-        };
-        let d_in = inputs.at(i, t);
-        let d_out = outputs.at(i, t);
-        let d_mid = middles.at(i, t);
-        let (y, y2) = match &process {
-            Process::Single(p) => (p.output() + d_out, 0.0),
-            Process::Cascade { p2, joint, .. } => (joint.output() + d_out, p2.output() + d_mid),
-        };
-        // NaN fails `<=` too: one comparison per output catches NaN, ±∞ and divergence
-        if !(y.abs() <= bound && y2.abs() <= bound) {
-            res.diverged_at = Some(t);
-            break;
-        }
-        let y_meas = if cfg.noise > 0.0 {
-            y + cfg.noise * noise.gaussian()
-        } else {
-            y
-        };
-        if OPERATED && cfg.reset_feedback {
-            feed_back(controller, mode, applied);
-        }
-        let mut u = if cascade {
-            controller.update_cascade(r_ctl, y_meas, y2)
-        } else {
-            controller.update(r_ctl, y_meas)
-        }
-        .max(cfg.u_min)
-        .min(cfg.u_max);
-        // what the plant receives: the operator's value in manual or
-        // tracking (the controller follows it), then an outside actuator's limit
-        let mut u_plant = u;
-        if OPERATED && applies {
-            u = in_mode(controller, mode, u);
-            u_plant = match cfg.actuator {
-                Some((lo, hi)) => u.max(lo).min(hi),
-                None => u,
-            };
-            applied = Some(u_plant);
-        }
-        sub.clear();
-        match &mut process {
-            Process::Single(p) => p.advance(u_plant + d_in, &mut sub),
-            Process::Cascade { p2, joint, sub2 } => {
-                sub2.clear();
-                p2.advance(u_plant + d_in, sub2);
-                joint.advance(u_plant + d_in, d_mid, &mut sub);
-            }
-        }
-        if i + 1 == n {
-            sub.clear(); // nothing after the last sample
-        }
-        if all {
-            controller.write_signals(&mut sig);
-        }
-        // time and the disturbance columns are filled after the loop when they
-        // follow from the schedule alone: fewer stores per sample
-        macro_rules! push {
-            ($yj:expr, $y2j:expr) => {{
-                res.y.push($yj);
-                res.u.push(u);
-                if OPERATED && applies {
-                    res.u_applied.push(u_plant);
-                }
-                if cascade {
-                    res.y2.push($y2j);
-                }
-                if all {
-                    res.r.push(r);
-                    if !inputs.is_empty() {
-                        res.d.push(d_in);
-                    }
-                    if !outputs.is_empty() {
-                        res.d_out.push(d_out);
-                    }
-                    if cascade && !middles.is_empty() {
-                        res.d_inner.push(d_mid);
-                    }
-                    for ((_, v), x) in res.signals.iter_mut().zip(&sig) {
-                        v.push(*x);
-                    }
-                }
-            }};
-        }
-        push!(y, y2);
-        let subs2: &[f64] = match &process {
-            Process::Cascade { sub2, .. } => sub2,
-            Process::Single(_) => &[],
-        };
-        for (j, y_sub) in sub.iter().enumerate() {
-            push!(
-                y_sub + d_out,
-                subs2.get(j).copied().unwrap_or(f64::NAN) + d_mid
-            );
-        }
-    }
+    let columns = Columns {
+        cascade,
+        all,
+        applied: operated && applies,
+        d_inner: !middles.is_empty(),
+    };
+    res.size(controller.signal_names(), n_rows, columns);
+    let mut run = Run {
+        ts,
+        n,
+        m,
+        process,
+        sub: Vec::with_capacity(m),
+        noise: Noise::new(cfg.seed),
+        inputs,
+        outputs,
+        middles,
+        steps: by_sample(cfg.setpoint.iter().map(|s| (s.at, s.value)), ts),
+        ops,
+        flags: Flags {
+            bound: 1e6 * scale,
+            all,
+            ramp: cfg.setpoint_ramp * ts,
+            applies,
+            limited: cfg.u_min > f64::NEG_INFINITY || cfg.u_max < f64::INFINITY,
+            cascade,
+        },
+    };
+    let plain = run.is_plain(cfg);
+    let rows = match (operated, plain) {
+        (true, true) => engine::samples::<C, true, true>(&mut run, controller, cfg, res),
+        (true, false) => engine::samples::<C, true, false>(&mut run, controller, cfg, res),
+        (false, true) => engine::samples::<C, false, true>(&mut run, controller, cfg, res),
+        (false, false) => engine::samples::<C, false, false>(&mut run, controller, cfg, res),
+    };
+    res.truncate(rows?);
     let rows = res.y.len();
     let step = ts / m as f64;
     if m == 1 {
@@ -465,12 +359,6 @@ fn run_loop<
     } else {
         res.t
             .extend((0..rows).map(|k| (k / m) as f64 * ts + (k % m) as f64 * step));
-    }
-    if all && inputs.is_empty() {
-        res.d.resize(rows, 0.0);
-    }
-    if all && outputs.is_empty() {
-        res.d_out.resize(rows, 0.0);
     }
     Ok(())
 }

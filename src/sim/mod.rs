@@ -22,6 +22,7 @@
 
 mod cascade;
 mod closed_loop;
+mod engine;
 mod plant;
 mod result;
 mod schedule;

@@ -91,6 +91,21 @@ impl PlantSim {
         Ok(())
     }
 
+    /// One piece spans the period: a whole number of samples of dead time
+    /// and no sub-steps.
+    pub(super) fn is_one_piece(&self) -> bool {
+        self.pieces.len() == 1
+    }
+
+    /// [`PlantSim::advance`] of a plant in one piece: `out` is that very
+    /// discretization, driven by `v[n−k]`.
+    #[inline(always)]
+    pub(super) fn advance_one_piece(&mut self, v: f64) {
+        let now = self.line.process(v);
+        self.out.step(now);
+        self.last_in = now;
+    }
+
     /// Output at the current instant (before the new input is applied).
     #[inline]
     pub(super) fn output(&self) -> f64 {
@@ -101,12 +116,8 @@ impl PlantSim {
     /// intermediate sub-step instants are appended to `sub`.
     #[inline]
     pub(super) fn advance(&mut self, v: f64, sub: &mut Vec<f64>) {
-        if self.pieces.len() == 1 {
-            // one piece spanning the period (a whole delay, no sub-steps):
-            // `out` is that very discretization, driven by `v[n−k]`
-            let now = self.line.process(v);
-            self.out.step(now);
-            self.last_in = now;
+        if self.is_one_piece() {
+            self.advance_one_piece(v);
             return;
         }
         let now = self.line.peek_back(v, self.k);

@@ -57,20 +57,33 @@ impl SimResult {
         self.diverged_at = None;
     }
 
-    /// Room for `rows` rows of the columns a run records, and one signal
-    /// column per name (reused when the names are those of the last run).
-    pub(super) fn reserve(&mut self, names: &[&str], rows: usize, cascade: bool, all: bool) {
-        let mut columns = std::vec![&mut self.t, &mut self.y, &mut self.u];
-        if cascade {
-            columns.push(&mut self.y2);
+    /// Sizes the columns a run records to `rows` rows (the engine writes
+    /// them in place and truncates them to the rows it ran), with one signal
+    /// column per name (reused when the names are those of the last run);
+    /// the others are left empty.
+    pub(super) fn size(&mut self, names: &[&str], rows: usize, c: Columns) {
+        let recorded = [
+            (&mut self.y, true),
+            (&mut self.u, true),
+            (&mut self.u_applied, c.applied),
+            (&mut self.y2, c.cascade),
+            (&mut self.r, c.all),
+            (&mut self.d, c.all),
+            (&mut self.d_out, c.all),
+            (&mut self.d_inner, c.all && c.cascade && c.d_inner),
+        ];
+        for (v, on) in recorded {
+            if on {
+                // (a reused column keeps its memory: nothing written twice)
+                v.resize(rows, 0.0);
+            } else {
+                v.clear();
+            }
         }
-        if all {
-            columns.push(&mut self.r);
-        }
-        for v in columns {
-            v.reserve(rows);
-        }
-        if !all {
+        self.t.clear();
+        self.t.reserve(rows);
+        self.diverged_at = None;
+        if !c.all {
             self.signals.clear();
             return;
         }
@@ -80,9 +93,41 @@ impl SimResult {
             self.signals = names.iter().map(|s| (s.to_string(), Vec::new())).collect();
         }
         for (_, v) in &mut self.signals {
-            v.reserve(rows);
+            v.resize(rows, 0.0);
         }
     }
+
+    /// Cuts every column to its first `rows` rows.
+    pub(super) fn truncate(&mut self, rows: usize) {
+        for v in [
+            &mut self.y,
+            &mut self.u,
+            &mut self.u_applied,
+            &mut self.y2,
+            &mut self.r,
+            &mut self.d,
+            &mut self.d_out,
+            &mut self.d_inner,
+        ] {
+            v.truncate(rows);
+        }
+        for (_, v) in &mut self.signals {
+            v.truncate(rows);
+        }
+    }
+}
+
+/// Which columns a run records besides `t`, `y` and `u`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Columns {
+    /// `y2` (a cascade process).
+    pub(super) cascade: bool,
+    /// `r`, `d`, `d_out`, the controller's signals (and `d_inner` with it).
+    pub(super) all: bool,
+    /// `u_applied`.
+    pub(super) applied: bool,
+    /// `d_inner` (a disturbance at the secondary output).
+    pub(super) d_inner: bool,
 }
 
 impl SimResult {

@@ -146,9 +146,9 @@ impl<'a> Track<'a> {
         self.events.is_empty()
     }
 
-    /// The sum of the disturbances at sample `i` (time `t = i·Ts`); `i` never decreases.
-    #[inline]
-    pub(super) fn at(&mut self, i: usize, t: f64) -> f64 {
+    /// Takes in the disturbances that have started by sample `i` (`i`
+    /// never decreases): steps add to the running sum, ramps and sines move.
+    pub(super) fn advance_to(&mut self, i: usize) {
         while let Some(&(k, d)) = self.events.get(self.next) {
             if k > i {
                 break;
@@ -159,6 +159,27 @@ impl<'a> Track<'a> {
             }
             self.next = self.next.saturating_add(1);
         }
+    }
+
+    /// The sample of the next disturbance to start, if any.
+    pub(super) fn next_at(&self) -> Option<usize> {
+        self.events.get(self.next).map(|e| e.0)
+    }
+
+    /// No ramp or sine in the schedule: between its events the sum is constant.
+    pub(super) fn steps_only(&self) -> bool {
+        self.events.iter().all(|(_, d)| d.shape == Shape::Step)
+    }
+
+    /// The sum of the steps started so far.
+    #[inline]
+    pub(super) fn steps(&self) -> f64 {
+        self.steps
+    }
+
+    /// The sum of the disturbances started so far at time `t`.
+    #[inline]
+    pub(super) fn value(&self, t: f64) -> f64 {
         if self.moving.is_empty() {
             self.steps
         } else {
