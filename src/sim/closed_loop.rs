@@ -336,6 +336,7 @@ fn run_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>
         steps: by_sample(cfg.setpoint.iter().map(|s| (s.at, s.value)), ts),
         ops,
         flags: Flags {
+            ts,
             bound: 1e6 * scale,
             all,
             ramp: cfg.setpoint_ramp * ts,
@@ -352,13 +353,5 @@ fn run_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>
         (false, false) => engine::samples::<C, false, false>(&mut run, controller, cfg, res),
     };
     res.truncate(rows?);
-    let rows = res.y.len();
-    let step = ts / m as f64;
-    if m == 1 {
-        res.t.extend((0..rows).map(|k| k as f64 * ts));
-    } else {
-        res.t
-            .extend((0..rows).map(|k| (k / m) as f64 * ts + (k % m) as f64 * step));
-    }
     Ok(())
 }

@@ -46,6 +46,8 @@ pub(super) struct Run<'a> {
 /// What a run's samples check, fixed before the first.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Flags {
+    /// The sample period (s).
+    pub(super) ts: f64,
     /// An output beyond this is divergence.
     pub(super) bound: f64,
     /// Every column recorded (not only `y` and `u`).
@@ -85,6 +87,7 @@ struct Operator {
 
 /// The values of one row of the record.
 struct Row {
+    t: f64,
     r: f64,
     y: f64,
     u: f64,
@@ -95,35 +98,83 @@ struct Row {
     d_mid: f64,
 }
 
-/// Writes `row` as row `k` of the columns the run records (sized to every
-/// row before the run: [`SimResult::size`]); `sig` holds the controller's
-/// signals, with every column.
+/// The columns of a record beyond `t`, `y` and `u`.
+struct Others<'a> {
+    u_applied: &'a mut Vec<f64>,
+    y2: &'a mut Vec<f64>,
+    r: &'a mut Vec<f64>,
+    d: &'a mut Vec<f64>,
+    d_out: &'a mut Vec<f64>,
+    d_inner: &'a mut Vec<f64>,
+    signals: &'a mut Vec<(std::string::String, Vec<f64>)>,
+}
+
+/// `res` as its `t`, `y`, `u` columns and the others.
+fn split(res: &mut SimResult) -> ([&mut Vec<f64>; 3], Others<'_>) {
+    let SimResult {
+        t,
+        y,
+        u,
+        u_applied,
+        y2,
+        r,
+        d,
+        d_out,
+        d_inner,
+        signals,
+        ..
+    } = res;
+    let others = Others {
+        u_applied,
+        y2,
+        r,
+        d,
+        d_out,
+        d_inner,
+        signals,
+    };
+    ([t, y, u], others)
+}
+
+/// Writes `row` as row `k` of the columns beyond `t`, `y`, `u` the run
+/// records (sized to every row before the run: [`SimResult::size`]); `sig`
+/// holds the controller's signals, with every column.
 #[inline(always)]
-fn record<const OPERATED: bool>(f: Flags, res: &mut SimResult, k: usize, row: &Row, sig: &[f64]) {
+fn record_others<const OPERATED: bool>(f: Flags, o: &mut Others, k: usize, row: &Row, sig: &[f64]) {
     let put = |col: &mut Vec<f64>, v: f64| {
         if let Some(x) = col.get_mut(k) {
             *x = v;
         }
     };
-    put(&mut res.y, row.y);
-    put(&mut res.u, row.u);
     if OPERATED && f.applies {
-        put(&mut res.u_applied, row.u_plant);
+        put(o.u_applied, row.u_plant);
     }
     if f.cascade {
-        put(&mut res.y2, row.y2);
+        put(o.y2, row.y2);
     }
     if f.all {
-        put(&mut res.r, row.r);
-        put(&mut res.d, row.d_in);
-        put(&mut res.d_out, row.d_out);
+        put(o.r, row.r);
+        put(o.d, row.d_in);
+        put(o.d_out, row.d_out);
         if f.cascade {
-            put(&mut res.d_inner, row.d_mid);
+            put(o.d_inner, row.d_mid);
         }
-        for ((_, v), x) in res.signals.iter_mut().zip(sig) {
+        for ((_, v), x) in o.signals.iter_mut().zip(sig) {
             put(v, *x);
         }
     }
+}
+
+/// [`record_others`] with `t`, `y` and `u`.
+#[inline(always)]
+fn record<const OPERATED: bool>(f: Flags, res: &mut SimResult, k: usize, row: &Row, sig: &[f64]) {
+    let ([t, y, u], mut others) = split(res);
+    for (col, v) in [(t, row.t), (y, row.y), (u, row.u)] {
+        if let Some(x) = col.get_mut(k) {
+            *x = v;
+        }
+    }
+    record_others::<OPERATED>(f, &mut others, k, row, sig);
 }
 
 /// The controller's sample for the measurements `y` (and `y2` for a
@@ -280,7 +331,17 @@ where
     let Process::Single(p) = &mut run.process else {
         return Err(from);
     };
-    for i in from..to {
+    // `t`, `y` and `u` of the segment as slices: no index to check a sample
+    let ([t, y, u], mut others) = split(res);
+    let (Some(ts), Some(ys), Some(us)) = (
+        t.get_mut(from..to),
+        y.get_mut(from..to),
+        u.get_mut(from..to),
+    ) else {
+        return Err(from);
+    };
+    let rows = ts.iter_mut().zip(ys.iter_mut()).zip(us.iter_mut());
+    for (i, ((t_out, y_out), u_out)) in (from..to).zip(rows) {
         ramped::<OPERATED>(f, op, r);
         // NaN fails `<=` too: one comparison catches NaN, ±∞ and divergence
         let y = p.output() + d_out;
@@ -289,20 +350,26 @@ where
         }
         let (u, u_plant) = control::<C, OPERATED>(controller, cfg, f, op, y, None);
         p.advance_one_piece(u_plant + d_in);
-        if f.all {
-            controller.write_signals(sig);
+        *t_out = i as f64 * f.ts;
+        *y_out = y;
+        *u_out = u;
+        if (OPERATED && f.applies) || f.all {
+            if f.all {
+                controller.write_signals(sig);
+            }
+            let row = Row {
+                t: *t_out,
+                r,
+                y,
+                u,
+                u_plant,
+                y2: 0.0,
+                d_in,
+                d_out,
+                d_mid: 0.0,
+            };
+            record_others::<OPERATED>(f, &mut others, i, &row, sig);
         }
-        let row = Row {
-            r,
-            y,
-            u,
-            u_plant,
-            y2: 0.0,
-            d_in,
-            d_out,
-            d_mid: 0.0,
-        };
-        record::<OPERATED>(f, res, i, &row, sig);
     }
     Ok(())
 }
@@ -324,8 +391,10 @@ where
     C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized,
 {
     let f = run.flags;
+    // the sub-step instants after a sample
+    let step = f.ts / run.m as f64;
     for i in from..to {
-        let t = i as f64 * run.ts;
+        let t = i as f64 * f.ts;
         ramped::<OPERATED>(f, op, r);
         let d_in = run.inputs.value(t);
         let d_out = run.outputs.value(t);
@@ -357,6 +426,7 @@ where
             controller.write_signals(sig);
         }
         let mut row = Row {
+            t,
             r,
             y,
             u,
@@ -372,6 +442,7 @@ where
         // (none after the last sample)
         let subs = if i + 1 == run.n { 0 } else { run.sub.len() };
         for j in 0..subs {
+            row.t = t + (j + 1) as f64 * step;
             row.y = run.sub.get(j).copied().unwrap_or(f64::NAN) + d_out;
             if let Process::Cascade { sub2, .. } = &run.process {
                 row.y2 = sub2.get(j).copied().unwrap_or(f64::NAN) + d_mid;

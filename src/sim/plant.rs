@@ -102,7 +102,7 @@ impl PlantSim {
     #[inline(always)]
     pub(super) fn advance_one_piece(&mut self, v: f64) {
         let now = self.line.process(v);
-        self.out.step(now);
+        self.out.advance(now);
         self.last_in = now;
     }
 

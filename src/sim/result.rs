@@ -63,6 +63,7 @@ impl SimResult {
     /// the others are left empty.
     pub(super) fn size(&mut self, names: &[&str], rows: usize, c: Columns) {
         let recorded = [
+            (&mut self.t, true),
             (&mut self.y, true),
             (&mut self.u, true),
             (&mut self.u_applied, c.applied),
@@ -80,8 +81,6 @@ impl SimResult {
                 v.clear();
             }
         }
-        self.t.clear();
-        self.t.reserve(rows);
         self.diverged_at = None;
         if !c.all {
             self.signals.clear();
@@ -100,6 +99,7 @@ impl SimResult {
     /// Cuts every column to its first `rows` rows.
     pub(super) fn truncate(&mut self, rows: usize) {
         for v in [
+            &mut self.t,
             &mut self.y,
             &mut self.u,
             &mut self.u_applied,
