@@ -8,7 +8,7 @@ use msp::registry::Params;
 use msp::sim::{Disturbance, Location, SetpointStep, Shape};
 use msp::study::{Perturbation, RunOutput, Scenario};
 use numpy::IntoPyArray;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -156,115 +156,139 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Boun
     Ok(d)
 }
 
-/// The processes of a scenario: the plant, the controller's model, and the
-/// secondary process and its model of a cascade (each a ``Plant`` or an expression).
-pub(crate) struct Processes<'a, 'py> {
-    pub(crate) plant: &'a Bound<'py, PyAny>,
-    pub(crate) model: Option<&'a Bound<'py, PyAny>>,
-    pub(crate) inner_plant: Option<&'a Bound<'py, PyAny>>,
-    pub(crate) inner_model: Option<&'a Bound<'py, PyAny>>,
+/// The Python keyword of a scenario field: ``set`` is ``params``, ``lambda``
+/// (a Python keyword) is ``lambda_``; the others keep their names.
+pub(crate) fn keyword(field: &str) -> &str {
+    match field {
+        "set" => "params",
+        "lambda" => "lambda_",
+        f => f,
+    }
 }
 
-impl<'a, 'py> Processes<'a, 'py> {
-    /// The keyword arguments of the same names.
-    pub(crate) fn of(
-        plant: &'a Bound<'py, PyAny>,
-        model: Option<&'a Bound<'py, PyAny>>,
-        inner_plant: Option<&'a Bound<'py, PyAny>>,
-        inner_model: Option<&'a Bound<'py, PyAny>>,
-    ) -> Self {
-        Processes {
-            plant,
-            model,
-            inner_plant,
-            inner_model,
+/// The scenario fields of a design (the processes, the controller and its
+/// tuning, the period, the precision and the memory) that ``margins`` and
+/// ``sweep`` take.
+const DESIGN: &[&str] = &[
+    "model",
+    "inner_plant",
+    "inner_model",
+    "controller",
+    "lambda",
+    "rule",
+    "set",
+    "ts",
+    "float32",
+    "max_memory",
+];
+
+/// The scenario's fields a study function takes as keywords (with the plant
+/// apart).
+#[derive(Clone, Copy)]
+pub(crate) enum Takes {
+    /// Every field of [`Scenario::FIELDS`].
+    All,
+    /// The fields of a design, and these (library names).
+    Design(&'static [&'static str]),
+    /// These fields only (library names).
+    Only(&'static [&'static str]),
+}
+
+impl Takes {
+    fn takes(self, field: &str) -> bool {
+        match self {
+            Takes::All => true,
+            Takes::Design(also) => DESIGN.contains(&field) || also.contains(&field),
+            Takes::Only(list) => list.contains(&field),
         }
     }
 }
 
-/// The scenario keywords shared by ``run``, ``compare``, ``margins`` and ``sweep``.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn scenario(
-    processes: &Processes<'_, '_>,
-    controller: Option<String>,
-    params: Option<BTreeMap<String, f64>>,
-    ts: Option<f64>,
-    duration: Option<f64>,
-    setpoint: Option<&Bound<'_, PyAny>>,
-    disturbance: Option<&Bound<'_, PyAny>>,
-    noise: Option<f64>,
-    seed: Option<u64>,
-    umin: Option<f64>,
-    umax: Option<f64>,
-    lambda_: Option<f64>,
-    rule: Option<String>,
-    substeps: Option<usize>,
-    float32: bool,
-    max_memory: Option<u64>,
+/// A scenario from ``plant`` and the keyword arguments of a study function:
+/// each key a field of [`Scenario::FIELDS`] under its Python name
+/// ([`keyword`]), converted as the CLI's flag would be; ``None`` leaves the
+/// default. This is the one place the keywords are read: ``run``,
+/// ``compare``, ``margins``, ``sweep`` and ``tune`` take their subsets of it.
+pub(crate) fn scenario_from(
+    plant: &Bound<'_, PyAny>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+    takes: Takes,
 ) -> PyResult<Scenario> {
-    if processes.inner_model.is_some() && processes.inner_plant.is_none() {
+    let mut sc = Scenario {
+        plant: Some(plant_of(plant)?),
+        ..Default::default()
+    };
+    for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
+        let key: String = k.extract()?;
+        let field = Scenario::FIELDS
+            .iter()
+            .copied()
+            .find(|f| *f != "plant" && keyword(f) == key)
+            .filter(|f| takes.takes(f))
+            .ok_or_else(|| PyTypeError::new_err(format!("unexpected keyword argument '{key}'")))?;
+        if v.is_none() {
+            continue;
+        }
+        set_field(&mut sc, field, &v)?;
+    }
+    if sc.inner_model.is_some() && sc.inner_plant.is_none() {
         return Err(PyValueError::new_err(
             "inner_model needs inner_plant (the secondary process)",
         ));
     }
-    Ok(Scenario {
-        plant: Some(plant_of(processes.plant)?),
-        model: processes.model.map(plant_of).transpose()?,
-        inner_plant: processes.inner_plant.map(plant_of).transpose()?,
-        inner_model: processes.inner_model.map(plant_of).transpose()?,
-        controller,
-        lambda: lambda_,
-        rule,
-        set: params.unwrap_or_default(),
-        ts,
-        duration,
-        setpoint: setpoints(setpoint)?,
-        disturbance: disturbances(disturbance)?,
-        noise,
-        seed,
-        umin,
-        umax,
-        substeps,
-        float32,
-        max_memory,
-        events: Vec::new(),
-        actuator: None,
-        reset_feedback: false,
-        setpoint_ramp: None,
-    })
+    Ok(sc)
 }
 
-/// The operator's events, the outside actuator and the set-point ramp of
-/// ``run`` and ``compare``: ``events`` as the flag writes them
-/// (``["60:manual=0.3", "120:auto"]``), ``actuator`` as ``(min, max)``.
-pub(crate) fn with_operation(
-    mut sc: Scenario,
-    events: Option<&Bound<'_, PyAny>>,
-    actuator: Option<(f64, f64)>,
-    reset_feedback: bool,
-    setpoint_ramp: Option<f64>,
-) -> PyResult<Scenario> {
-    sc.setpoint_ramp = setpoint_ramp;
-    if let Some(e) = events {
-        let list: Vec<String> = match e.extract::<String>() {
-            Ok(one) => vec![one],
-            Err(_) => e.extract()?,
-        };
-        sc.events = list
-            .iter()
-            .map(|s| s.parse().map_err(value_err))
-            .collect::<PyResult<_>>()?;
-    }
-    if let Some((lo, hi)) = actuator {
-        if lo.is_nan() || hi.is_nan() || lo >= hi {
-            return Err(PyValueError::new_err(
-                "actuator: (min, max) with min below max",
-            ));
+/// Sets the field ``field`` of ``sc`` from the Python value ``v``.
+fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<()> {
+    match field {
+        "model" => sc.model = Some(plant_of(v)?),
+        "inner_plant" => sc.inner_plant = Some(plant_of(v)?),
+        "inner_model" => sc.inner_model = Some(plant_of(v)?),
+        "controller" => sc.controller = Some(v.extract()?),
+        "lambda" => sc.lambda = Some(v.extract()?),
+        "rule" => sc.rule = Some(v.extract()?),
+        "set" => sc.set = v.extract()?,
+        "ts" => sc.ts = Some(v.extract()?),
+        "duration" => sc.duration = Some(v.extract()?),
+        "setpoint" => sc.setpoint = setpoints(Some(v))?,
+        "disturbance" => sc.disturbance = disturbances(Some(v))?,
+        "noise" => sc.noise = Some(v.extract()?),
+        "seed" => sc.seed = Some(v.extract()?),
+        "umin" => sc.umin = Some(v.extract()?),
+        "umax" => sc.umax = Some(v.extract()?),
+        "substeps" => sc.substeps = Some(v.extract()?),
+        "float32" => sc.float32 = v.extract()?,
+        "max_memory" => sc.max_memory = Some(v.extract()?),
+        // the operator's events as the flag writes them (["60:manual=0.3", "120:auto"])
+        "events" => {
+            let list: Vec<String> = match v.extract::<String>() {
+                Ok(one) => vec![one],
+                Err(_) => v.extract()?,
+            };
+            sc.events = list
+                .iter()
+                .map(|s| s.parse().map_err(value_err))
+                .collect::<PyResult<_>>()?;
+        }
+        "actuator" => {
+            let (lo, hi): (f64, f64) = v.extract()?;
+            if lo.is_nan() || hi.is_nan() || lo >= hi {
+                return Err(PyValueError::new_err(
+                    "actuator: (min, max) with min below max",
+                ));
+            }
+            sc.actuator = Some((lo, hi));
+        }
+        "reset_feedback" => sc.reset_feedback = v.extract()?,
+        "setpoint_ramp" => sc.setpoint_ramp = Some(v.extract()?),
+        other => {
+            return Err(PyTypeError::new_err(format!(
+                "the scenario field '{other}' is not taken from Python"
+            )))
         }
     }
-    sc.actuator = actuator;
-    sc.reset_feedback = reset_feedback;
-    Ok(sc)
+    Ok(())
 }
 
 /// A perturbation from ``"delay=20%,tau=-20%"`` or ``{"delay": 0.2, "tau": -0.2}``.

@@ -36,5 +36,12 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // the scenario's fields as the library defines them (tests check the keyword arguments)
     m.add("SCENARIO_FIELDS", msp::study::Scenario::FIELDS.to_vec())?;
+    // their keywords in Python (`set` is `params`, `lambda` is `lambda_`)
+    let keywords: Vec<&str> = msp::study::Scenario::FIELDS
+        .iter()
+        .filter(|f| **f != "plant")
+        .map(|f| convert::keyword(f))
+        .collect();
+    m.add("SCENARIO_KEYWORDS", keywords)?;
     Ok(())
 }

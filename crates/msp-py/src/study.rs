@@ -1,8 +1,6 @@
 //! The study functions: run, compare, margins, sweep, autotune, identify, tune, controllers.
 
-use std::collections::BTreeMap;
-
-use crate::convert::{fit_dict, output_dict, perturbation_of, scenario, with_operation, Processes};
+use crate::convert::{fit_dict, output_dict, perturbation_of, scenario_from, Takes};
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry;
@@ -12,117 +10,31 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-/// Simulates the closed loop (see ``msp.run``); returns a dict of arrays and figures.
+/// Simulates the closed loop (see ``msp.run``); returns a dict of arrays and
+/// figures. The keywords are the scenario's fields ([`scenario_from`]).
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
-                    ts=None, duration=None, setpoint=None, disturbance=None, noise=None, seed=None, umin=None,
-                    umax=None, lambda_=None, rule=None, substeps=None, float32=false, max_memory=None,
-                    events=None, actuator=None, reset_feedback=false, setpoint_ramp=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plant, **scenario))]
 pub(crate) fn run<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
-    controller: Option<String>,
-    params: Option<BTreeMap<String, f64>>,
-    model: Option<&Bound<'py, PyAny>>,
-    inner_plant: Option<&Bound<'py, PyAny>>,
-    inner_model: Option<&Bound<'py, PyAny>>,
-    ts: Option<f64>,
-    duration: Option<f64>,
-    setpoint: Option<&Bound<'py, PyAny>>,
-    disturbance: Option<&Bound<'py, PyAny>>,
-    noise: Option<f64>,
-    seed: Option<u64>,
-    umin: Option<f64>,
-    umax: Option<f64>,
-    lambda_: Option<f64>,
-    rule: Option<String>,
-    substeps: Option<usize>,
-    float32: bool,
-    max_memory: Option<u64>,
-    events: Option<&Bound<'py, PyAny>>,
-    actuator: Option<(f64, f64)>,
-    reset_feedback: bool,
-    setpoint_ramp: Option<f64>,
+    scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let processes = Processes::of(plant, model, inner_plant, inner_model);
-    let sc = scenario(
-        &processes,
-        controller,
-        params,
-        ts,
-        duration,
-        setpoint,
-        disturbance,
-        noise,
-        seed,
-        umin,
-        umax,
-        lambda_,
-        rule,
-        substeps,
-        float32,
-        max_memory,
-    )?;
-    let sc = with_operation(sc, events, actuator, reset_feedback, setpoint_ramp)?;
+    let sc = scenario_from(plant, scenario, Takes::All)?;
     let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
     output_dict(py, out)
 }
 
 /// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.
 #[pyfunction]
-#[pyo3(signature = (plant, controllers, *, perturb=None, params=None, model=None, inner_plant=None,
-                    inner_model=None, ts=None, duration=None, setpoint=None, disturbance=None, noise=None,
-                    seed=None, umin=None, umax=None, lambda_=None, rule=None, substeps=None,
-                    float32=false, max_memory=None, events=None, actuator=None, reset_feedback=false, setpoint_ramp=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plant, controllers, *, perturb=None, **scenario))]
 pub(crate) fn compare<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
     controllers: Vec<String>,
     perturb: Option<&Bound<'py, PyAny>>,
-    params: Option<BTreeMap<String, f64>>,
-    model: Option<&Bound<'py, PyAny>>,
-    inner_plant: Option<&Bound<'py, PyAny>>,
-    inner_model: Option<&Bound<'py, PyAny>>,
-    ts: Option<f64>,
-    duration: Option<f64>,
-    setpoint: Option<&Bound<'py, PyAny>>,
-    disturbance: Option<&Bound<'py, PyAny>>,
-    noise: Option<f64>,
-    seed: Option<u64>,
-    umin: Option<f64>,
-    umax: Option<f64>,
-    lambda_: Option<f64>,
-    rule: Option<String>,
-    substeps: Option<usize>,
-    float32: bool,
-    max_memory: Option<u64>,
-    events: Option<&Bound<'py, PyAny>>,
-    actuator: Option<(f64, f64)>,
-    reset_feedback: bool,
-    setpoint_ramp: Option<f64>,
+    scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyList>> {
-    let processes = Processes::of(plant, model, inner_plant, inner_model);
-    let sc = scenario(
-        &processes,
-        None,
-        params,
-        ts,
-        duration,
-        setpoint,
-        disturbance,
-        noise,
-        seed,
-        umin,
-        umax,
-        lambda_,
-        rule,
-        substeps,
-        float32,
-        max_memory,
-    )?;
-    let sc = with_operation(sc, events, actuator, reset_feedback, setpoint_ramp)?;
+    let sc = scenario_from(plant, scenario, Takes::All)?;
     let p = perturbation_of(perturb)?.unwrap_or_default();
     let runs = py
         .allow_threads(|| msp::study::compare(&sc, &controllers, p))
@@ -136,32 +48,16 @@ pub(crate) fn compare<'py>(
 
 /// Margins, stability region and robust-stability test (see ``msp.margins``).
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, model=None, inner_plant=None, inner_model=None,
-                    ts=None, lambda_=None, rule=None, discrete=false, continuous=false, uncertainty=None,
-                    float32=false, max_memory=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plant, *, discrete=false, continuous=false, uncertainty=None, **scenario))]
 pub(crate) fn margins<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
-    controller: Option<String>,
-    params: Option<BTreeMap<String, f64>>,
-    model: Option<&Bound<'py, PyAny>>,
-    inner_plant: Option<&Bound<'py, PyAny>>,
-    inner_model: Option<&Bound<'py, PyAny>>,
-    ts: Option<f64>,
-    lambda_: Option<f64>,
-    rule: Option<String>,
     discrete: bool,
     continuous: bool,
     uncertainty: Option<&Bound<'py, PyAny>>,
-    float32: bool,
-    max_memory: Option<u64>,
+    scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let processes = Processes::of(plant, model, inner_plant, inner_model);
-    let sc = scenario(
-        &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
-        rule, None, float32, max_memory,
-    )?;
+    let sc = scenario_from(plant, scenario, Takes::Design(&[]))?;
     let uncertainty = perturbation_of(uncertainty)?;
     let view = match (discrete, continuous) {
         (true, true) => {
@@ -185,17 +81,15 @@ pub(crate) fn margins<'py>(
     Ok(d)
 }
 
-/// A sweep of plant perturbations (see ``msp.sweep``): a dict of numpy columns.
+/// A sweep of plant perturbations (see ``msp.sweep``): a dict of numpy
+/// columns. ``seed`` is the sampling's (a sweep adds no noise).
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0),
-                    grid=11, samples=0, seed=1, shard=(0, 1), model=None, inner_plant=None, inner_model=None,
-                    ts=None, duration=None, lambda_=None, rule=None, float32=false, max_memory=None))]
+#[pyo3(signature = (plant, *, gain=(0.0, 0.0), delay=(0.0, 0.0), tau=(0.0, 0.0), grid=11, samples=0, seed=1,
+                    shard=(0, 1), **scenario))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sweep<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
-    controller: Option<String>,
-    params: Option<BTreeMap<String, f64>>,
     gain: (f64, f64),
     delay: (f64, f64),
     tau: (f64, f64),
@@ -203,15 +97,7 @@ pub(crate) fn sweep<'py>(
     samples: usize,
     seed: u64,
     shard: (usize, usize),
-    model: Option<&Bound<'py, PyAny>>,
-    inner_plant: Option<&Bound<'py, PyAny>>,
-    inner_model: Option<&Bound<'py, PyAny>>,
-    ts: Option<f64>,
-    duration: Option<f64>,
-    lambda_: Option<f64>,
-    rule: Option<String>,
-    float32: bool,
-    max_memory: Option<u64>,
+    scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use msp::sweep::{Range, SweepSpec};
     let range = |(lo, hi): (f64, f64), name: &str| -> PyResult<Range> {
@@ -229,11 +115,7 @@ pub(crate) fn sweep<'py>(
         seed,
         shard,
     };
-    let processes = Processes::of(plant, model, inner_plant, inner_model);
-    let sc = scenario(
-        &processes, controller, params, ts, duration, None, None, None, None, None, None, lambda_,
-        rule, None, float32, max_memory,
-    )?;
+    let sc = scenario_from(plant, scenario, Takes::Design(&["duration"]))?;
     let rows = py
         .allow_threads(|| msp::sweep::sweep(&sc, &spec, &|_| {}))
         .map_err(value_err)?;
@@ -380,25 +262,15 @@ pub(crate) fn identify<'py>(
 /// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``,
 /// with ``robust_peak`` (Eq. 17) when an ``uncertainty`` is given, as ``msp tune``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, params=None, *, inner_plant=None, ts=None, lambda_=None,
-                    rule=None, uncertainty=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plant, *, uncertainty=None, **scenario))]
 pub(crate) fn tune<'py>(
     py: Python<'py>,
     plant: &Bound<'py, PyAny>,
-    controller: Option<String>,
-    params: Option<BTreeMap<String, f64>>,
-    inner_plant: Option<&Bound<'py, PyAny>>,
-    ts: Option<f64>,
-    lambda_: Option<f64>,
-    rule: Option<String>,
     uncertainty: Option<&Bound<'py, PyAny>>,
+    scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let processes = Processes::of(plant, None, inner_plant, None);
-    let sc = scenario(
-        &processes, controller, params, ts, None, None, None, None, None, None, None, lambda_,
-        rule, None, false, None,
-    )?;
+    const TUNE: &[&str] = &["inner_plant", "controller", "lambda", "rule", "set", "ts"];
+    let sc = scenario_from(plant, scenario, Takes::Only(TUNE))?;
     let unc = perturbation_of(uncertainty)?;
     let r = py
         .allow_threads(|| sc.tune_report(unc))

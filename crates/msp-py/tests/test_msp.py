@@ -471,20 +471,32 @@ def test_cascade_sweep_perturbs_the_primary() -> None:
 
 
 def test_run_and_compare_take_every_scenario_field() -> None:
-    """The scenario's fields are defined once, in the library: ``run`` takes each
-    as a keyword (``set`` as ``params``, ``lambda`` as ``lambda_``), and so does
-    the compiled ``compare`` that ``msp.compare`` hands its keywords to (with
-    ``controllers`` for ``controller``)."""
+    """The scenario's fields are defined once, in the library, and read once by the compiled
+    module (``SCENARIO_KEYWORDS``: ``set`` as ``params``, ``lambda`` as ``lambda_``): ``run``
+    spells each out as a keyword, ``compare`` passes them on, and a keyword that is no field
+    is refused by name."""
     import inspect
 
     from msp import _msp
 
     renamed = {"set": "params", "lambda": "lambda_"}
-    for fn, extra in ((msp.run, {}), (_msp.compare, {"controller": "controllers"})):
-        names = {**renamed, **extra}
-        params = inspect.signature(fn).parameters
-        missing = [f for f in _msp.SCENARIO_FIELDS if names.get(f, f) not in params]
-        assert not missing, f"{fn.__name__} lacks the scenario fields {missing}"
+    want = [renamed.get(f, f) for f in _msp.SCENARIO_FIELDS if f != "plant"]
+    assert sorted(_msp.SCENARIO_KEYWORDS) == sorted(want)
+    params = inspect.signature(msp.run).parameters
+    missing = [k for k in _msp.SCENARIO_KEYWORDS if k not in params]
+    assert not missing, f"msp.run lacks the scenario keywords {missing}"
+    for call in (lambda: msp.run("1/(s+1)", setpiont=1.0),
+                 lambda: msp.compare("1/(s+1)", ["pi"], setpiont=1.0),
+                 lambda: msp.margins("1/(s+1)", setpoint=1.0)):
+        with pytest.raises(TypeError, match="'setpiont'|'setpoint'"):
+            call()
+    # every keyword reaches its field: the run's report echoes the scenario
+    res = msp.run("2*e^-3s/(4s+1)", "pi", {"kp": 0.5}, ts=0.1, duration=20.0, setpoint=[(1.0, 0.0)],
+                  disturbance="input:0.1@10", noise=0.0, seed=3, umin=-5.0, umax=5.0, substeps=2,
+                  float32=False, max_memory=1 << 28, events=["5:manual=0.2", "6:auto"],
+                  actuator=(-4.0, 4.0), reset_feedback=True, setpoint_ramp=10.0)
+    assert res.controller["params"]["kp"] == 0.5 and len(res.t) == 401
+    assert res.u_applied is not None and [e["at"] for e in res.operator_events] == [5.0, 6.0]
 
 
 def test_hostile_expressions_raise_not_crash() -> None:

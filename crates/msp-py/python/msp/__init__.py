@@ -56,6 +56,26 @@ __all__ = [
 ]
 
 
+def _scenario(given: Mapping[str, Any], *apart: str) -> Dict[str, Any]:
+    """The scenario keywords of a study function's arguments ``given`` (but those ``apart``)
+    for the compiled module, which reads each once (``_msp.SCENARIO_KEYWORDS``) and refuses
+    any other: processes as expressions or ``Plant``, tuples as lists, ``None`` left out."""
+    out: Dict[str, Any] = {}
+    for key, v in given.items():
+        if key in apart or v is None:
+            continue
+        if key in ("model", "inner_plant", "inner_model"):
+            v = _plant(v)
+        elif key == "params":
+            v = dict(v)
+        elif key in ("setpoint", "disturbance", "events") and isinstance(v, tuple):
+            v = list(v)
+        elif key == "actuator":
+            v = (float(v[0]), float(v[1]))
+        out[key] = v
+    return out
+
+
 def _plant(plant: PlantLike, delay: Optional[float] = None) -> Union[str, Plant]:
     """An expression string or Plant; python-control TransferFunction (+ delay) accepted."""
     if isinstance(plant, tuple) and len(plant) == 2:
@@ -325,19 +345,7 @@ def run(
     >>> round(msp.run("0.2/s*e^-7.4s", setpoint=1.0).metrics["rise_time"], 2)
     2.02
     """
-    p = _plant(plant, delay)
-    m = _plant(model) if model is not None else None
-    ip = _plant(inner_plant) if inner_plant is not None else None
-    im = _plant(inner_model) if inner_model is not None else None
-    dist: Any = list(disturbance) if isinstance(disturbance, (list, tuple)) else disturbance
-    sp: Any = list(setpoint) if isinstance(setpoint, (list, tuple)) else setpoint
-    raw = _msp.run(p, controller, dict(params) if params else None, model=m, inner_plant=ip, inner_model=im,
-                   ts=ts, duration=duration,
-                   setpoint=sp, disturbance=dist, noise=noise, seed=seed, umin=umin, umax=umax,
-                   lambda_=lambda_, rule=rule, substeps=substeps, float32=float32,
-                   max_memory=max_memory, events=[events] if isinstance(events, str) else events,
-                   actuator=(float(actuator[0]), float(actuator[1])) if actuator is not None else None,
-                   reset_feedback=reset_feedback, setpoint_ramp=setpoint_ramp)
+    raw = _msp.run(_plant(plant, delay), **_scenario(locals(), "plant", "delay"))
     return Result(raw)
 
 
@@ -382,15 +390,9 @@ def compare(
     >>> [r.controller["name"] for r in runs]
     ['karan-dey', 'pid']
     """
-    p = _plant(plant, delay)
-    for key in ("model", "inner_plant", "inner_model"):
-        if scenario.get(key) is not None:
-            scenario[key] = _plant(scenario[key])
-    for key in ("setpoint", "disturbance"):
-        if isinstance(scenario.get(key), tuple):
-            scenario[key] = list(scenario[key])
-    raw = _msp.compare(p, list(controllers), perturb=dict(perturb) if isinstance(perturb, Mapping) else perturb,
-                       **scenario)
+    raw = _msp.compare(_plant(plant, delay), list(controllers),
+                       perturb=dict(perturb) if isinstance(perturb, Mapping) else perturb,
+                       **_scenario(scenario))
     return [Result(r) for r in raw]
 
 
@@ -491,13 +493,9 @@ def margins(
         unc = uncertainty if isinstance(uncertainty, str) else {k: float(v) for k, v in uncertainty.items()}
     elif uncertainty is not None:
         unc = {"gain": float(uncertainty[0]), "delay": float(uncertainty[1])}
-    return Margins(_msp.margins(_plant(plant, delay), controller, dict(params) if params else None,
-                                model=_plant(model) if model is not None else None,
-                                inner_plant=_plant(inner_plant) if inner_plant is not None else None,
-                                inner_model=_plant(inner_model) if inner_model is not None else None,
-                                ts=ts, lambda_=lambda_, rule=rule, discrete=discrete,
-                                continuous=continuous, uncertainty=unc, float32=float32,
-                                max_memory=max_memory))
+    kw = _scenario(locals(), "plant", "delay", "discrete", "continuous", "uncertainty", "unc")
+    return Margins(_msp.margins(_plant(plant, delay), discrete=discrete, continuous=continuous,
+                                uncertainty=unc, **kw))
 
 
 class Margins(Dict[str, Any]):
@@ -592,13 +590,9 @@ def sweep(
     >>> len(cols["iae"]), bool(cols["stable"].all())
     (3, True)
     """
-    return _msp.sweep(_plant(plant), controller, dict(params) if params else None, gain=_range(gain),
-                      delay=_range(delay), tau=_range(tau), grid=grid, samples=samples, seed=seed,
-                      shard=(int(shard[0]), int(shard[1])), model=_plant(model) if model is not None else None,
-                      inner_plant=_plant(inner_plant) if inner_plant is not None else None,
-                      inner_model=_plant(inner_model) if inner_model is not None else None, ts=ts,
-                      duration=duration, lambda_=lambda_, rule=rule, float32=float32,
-                      max_memory=max_memory)
+    kw = _scenario(locals(), "plant", "gain", "delay", "tau", "grid", "samples", "seed", "shard")
+    return _msp.sweep(_plant(plant), gain=_range(gain), delay=_range(delay), tau=_range(tau), grid=grid,
+                      samples=samples, seed=seed, shard=(int(shard[0]), int(shard[1])), **kw)
 
 
 def autotune(
@@ -800,9 +794,8 @@ def tune(
     ('karan-dey', 5.4054, ['lambda'])
     """
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
-    return _msp.tune(_plant(plant, delay), controller, dict(params) if params else None,
-                     inner_plant=_plant(inner_plant) if inner_plant is not None else None,
-                     ts=ts, lambda_=lambda_, rule=rule, uncertainty=unc)
+    kw = _scenario(locals(), "plant", "delay", "uncertainty", "unc")
+    return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)
 
 
 class _Scheme(Controller):

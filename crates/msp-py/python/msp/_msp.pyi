@@ -4,9 +4,10 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "SCENARIO_FIELDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune"]
 __version__: str
 SCENARIO_FIELDS: List[str]
+SCENARIO_KEYWORDS: List[str]
 
 @final
 class Plant:
@@ -24,70 +25,11 @@ class Plant:
     def __eq__(self, value: object, /) -> bool: ...
 
 def parse_plant(expr: str) -> Plant: ...
-def run(
-    plant: Union[str, Plant],
-    controller: Optional[str] = None,
-    params: Optional[Mapping[str, float]] = None,
-    *,
-    model: Union[str, Plant, None] = None,
-    inner_plant: Union[str, Plant, None] = None,
-    inner_model: Union[str, Plant, None] = None,
-    ts: Optional[float] = None,
-    duration: Optional[float] = None,
-    setpoint: Any = None,
-    disturbance: Any = None,
-    noise: Optional[float] = None,
-    seed: Optional[int] = None,
-    umin: Optional[float] = None,
-    umax: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
-    substeps: Optional[int] = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
-    events: Union[None, str, Sequence[str]] = None,
-    actuator: Optional[Tuple[float, float]] = None,
-    reset_feedback: bool = False,
-    setpoint_ramp: Optional[float] = None,
-) -> Dict[str, Any]: ...
+def run(plant: Union[str, Plant], **scenario: Any) -> Dict[str, Any]: ...
 def compare(
-    plant: Union[str, Plant],
-    controllers: Sequence[str],
-    *,
-    perturb: Any = None,
-    params: Optional[Mapping[str, float]] = None,
-    model: Union[str, Plant, None] = None,
-    inner_plant: Union[str, Plant, None] = None,
-    inner_model: Union[str, Plant, None] = None,
-    ts: Optional[float] = None,
-    duration: Optional[float] = None,
-    setpoint: Any = None,
-    disturbance: Any = None,
-    noise: Optional[float] = None,
-    seed: Optional[int] = None,
-    umin: Optional[float] = None,
-    umax: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
-    substeps: Optional[int] = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
-    events: Union[None, str, Sequence[str]] = None,
-    actuator: Optional[Tuple[float, float]] = None,
-    reset_feedback: bool = False,
-    setpoint_ramp: Optional[float] = None,
+    plant: Union[str, Plant], controllers: Sequence[str], *, perturb: Any = None, **scenario: Any
 ) -> List[Dict[str, Any]]: ...
-def tune(
-    plant: Union[str, Plant],
-    controller: Optional[str] = None,
-    params: Optional[Mapping[str, float]] = None,
-    *,
-    inner_plant: Union[str, Plant, None] = None,
-    ts: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
-    uncertainty: Any = None,
-) -> Dict[str, Any]: ...
+def tune(plant: Union[str, Plant], *, uncertainty: Any = None, **scenario: Any) -> Dict[str, Any]: ...
 def controllers() -> List[Dict[str, Any]]: ...
 def autotune(
     plant: Union[str, Plant],
@@ -111,25 +53,14 @@ def identify(
 ) -> Dict[str, Any]: ...
 def margins(
     plant: Union[str, Plant],
-    controller: Optional[str] = None,
-    params: Optional[Mapping[str, float]] = None,
     *,
-    model: Union[str, Plant, None] = None,
-    inner_plant: Union[str, Plant, None] = None,
-    inner_model: Union[str, Plant, None] = None,
-    ts: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
     discrete: bool = False,
     continuous: bool = False,
     uncertainty: Any = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
+    **scenario: Any,
 ) -> Dict[str, Any]: ...
 def sweep(
     plant: Union[str, Plant],
-    controller: Optional[str] = None,
-    params: Optional[Mapping[str, float]] = None,
     *,
     gain: Tuple[float, float] = ...,
     delay: Tuple[float, float] = ...,
@@ -138,15 +69,7 @@ def sweep(
     samples: int = 0,
     seed: int = 1,
     shard: Tuple[int, int] = ...,
-    model: Union[str, Plant, None] = None,
-    inner_plant: Union[str, Plant, None] = None,
-    inner_model: Union[str, Plant, None] = None,
-    ts: Optional[float] = None,
-    duration: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
+    **scenario: Any,
 ) -> Dict[str, Any]: ...
 
 @disjoint_base
