@@ -208,7 +208,11 @@ pub fn simulate_into<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?
     cfg: &SimConfig,
     out: &mut SimResult,
 ) -> Result<(), Error> {
-    simulate_process(plant, None, controller, cfg, out)
+    let done = simulate_process(plant, None, controller, cfg, out);
+    if done.is_err() {
+        out.clear();
+    }
+    done
 }
 
 /// Runs the closed loop of `controller` on the cascade process: primary
@@ -228,26 +232,11 @@ pub fn simulate_cascade<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> 
     Ok(res)
 }
 
-/// [`run_process`], leaving `res` empty on an error.
-fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
-    plant: &TransferFunction,
-    inner: Option<&TransferFunction>,
-    controller: &mut C,
-    cfg: &SimConfig,
-    res: &mut SimResult,
-) -> Result<(), Error> {
-    let done = run_process(plant, inner, controller, cfg, res);
-    if done.is_err() {
-        res.clear();
-    }
-    done
-}
-
 /// Prepares the run (checks, the process, the schedules as sample indices)
 /// and runs the loop compiled for it ([`super::engine`]). The columns of an
 /// earlier result are sized in place: memory a reused result already holds
 /// is written once, by the run.
-fn run_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
+fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     inner: Option<&TransferFunction>,
     controller: &mut C,

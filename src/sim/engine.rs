@@ -271,11 +271,16 @@ where
         .flatten()
         .fold(run.n, usize::min)
         .max(i.saturating_add(1));
-        let done = if PLAIN {
-            plain_segment::<C, OPERATED>(run, controller, cfg, res, &mut op, (i, end), r, &mut sig)
-        } else {
-            segment::<C, OPERATED>(run, controller, cfg, res, &mut op, (i, end), r, &mut sig)
-        };
+        let done = segment::<C, OPERATED, PLAIN>(
+            run,
+            controller,
+            cfg,
+            res,
+            &mut op,
+            (i, end),
+            r,
+            &mut sig,
+        );
         match done {
             Ok(()) => i = end,
             Err(at) => {
@@ -308,11 +313,11 @@ fn ramped<const OPERATED: bool>(f: Flags, op: &mut Operator, r: f64) {
     };
 }
 
-/// The samples `from..to` of a plain run, whose scheduled inputs are
-/// constant over them. `Err(i)`: the output diverged at sample `i`.
+/// The samples `from..to` of a run, whose scheduled inputs (but ramps and
+/// sines) are constant over them. `Err(i)`: the output diverged at sample `i`.
 #[allow(clippy::too_many_arguments)] // the loop's state, passed once per segment
 #[inline(always)]
-fn plain_segment<C, const OPERATED: bool>(
+fn segment<C, const OPERATED: bool, const PLAIN: bool>(
     run: &mut Run,
     controller: &mut C,
     cfg: &SimConfig,
@@ -325,71 +330,57 @@ fn plain_segment<C, const OPERATED: bool>(
 where
     C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized,
 {
-    let (d_in, d_out) = (run.inputs.steps(), run.outputs.steps());
-    let f = run.flags;
-    // one match a segment, not one a sample
-    let Process::Single(p) = &mut run.process else {
-        return Err(from);
-    };
-    // `t`, `y` and `u` of the segment as slices: no index to check a sample
-    let ([t, y, u], mut others) = split(res);
-    let (Some(ts), Some(ys), Some(us)) = (
-        t.get_mut(from..to),
-        y.get_mut(from..to),
-        u.get_mut(from..to),
-    ) else {
-        return Err(from);
-    };
-    let rows = ts.iter_mut().zip(ys.iter_mut()).zip(us.iter_mut());
-    for (i, ((t_out, y_out), u_out)) in (from..to).zip(rows) {
-        ramped::<OPERATED>(f, op, r);
-        // NaN fails `<=` too: one comparison catches NaN, ±∞ and divergence
-        let y = p.output() + d_out;
-        if !(y.abs() <= f.bound) {
-            return Err(i);
-        }
-        let (u, u_plant) = control::<C, OPERATED>(controller, cfg, f, op, y, None);
-        p.advance_one_piece(u_plant + d_in);
-        *t_out = i as f64 * f.ts;
-        *y_out = y;
-        *u_out = u;
-        if (OPERATED && f.applies) || f.all {
-            if f.all {
-                controller.write_signals(sig);
+    if PLAIN {
+        // one plant in one piece, no noise: the update and one plant step
+        let (d_in, d_out) = (run.inputs.steps(), run.outputs.steps());
+        let f = run.flags;
+        // one match a segment, not one a sample
+        let Process::Single(p) = &mut run.process else {
+            return Err(from);
+        };
+        // `t`, `y` and `u` of the segment as slices: no index to check a sample
+        let ([t, y, u], mut others) = split(res);
+        let (Some(ts), Some(ys), Some(us)) = (
+            t.get_mut(from..to),
+            y.get_mut(from..to),
+            u.get_mut(from..to),
+        ) else {
+            return Err(from);
+        };
+        let rows = ts.iter_mut().zip(ys.iter_mut()).zip(us.iter_mut());
+        for (i, ((t_out, y_out), u_out)) in (from..to).zip(rows) {
+            ramped::<OPERATED>(f, op, r);
+            // NaN fails `<=` too: one comparison catches NaN, ±∞ and divergence
+            let y = p.output() + d_out;
+            if !(y.abs() <= f.bound) {
+                return Err(i);
             }
-            let row = Row {
-                t: *t_out,
-                r,
-                y,
-                u,
-                u_plant,
-                y2: 0.0,
-                d_in,
-                d_out,
-                d_mid: 0.0,
-            };
-            record_others::<OPERATED>(f, &mut others, i, &row, sig);
+            let (u, u_plant) = control::<C, OPERATED>(controller, cfg, f, op, y, None);
+            p.advance_one_piece(u_plant + d_in);
+            *t_out = i as f64 * f.ts;
+            *y_out = y;
+            *u_out = u;
+            if (OPERATED && f.applies) || f.all {
+                if f.all {
+                    controller.write_signals(sig);
+                }
+                let row = Row {
+                    t: *t_out,
+                    r,
+                    y,
+                    u,
+                    u_plant,
+                    y2: 0.0,
+                    d_in,
+                    d_out,
+                    d_mid: 0.0,
+                };
+                record_others::<OPERATED>(f, &mut others, i, &row, sig);
+            }
         }
+        return Ok(());
     }
-    Ok(())
-}
-
-/// The samples `from..to` of any run: noise, sub-steps, a cascade process,
-/// ramps and sines. `Err(i)`: the output diverged at sample `i`.
-#[allow(clippy::too_many_arguments)] // the loop's state, passed once per segment
-fn segment<C, const OPERATED: bool>(
-    run: &mut Run,
-    controller: &mut C,
-    cfg: &SimConfig,
-    res: &mut SimResult,
-    op: &mut Operator,
-    (from, to): (usize, usize),
-    r: f64,
-    sig: &mut [f64],
-) -> Result<(), usize>
-where
-    C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized,
-{
+    // noise, sub-steps, a cascade process, ramps and sines
     let f = run.flags;
     // the sub-step instants after a sample
     let step = f.ts / run.m as f64;
