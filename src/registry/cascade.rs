@@ -7,7 +7,7 @@ use alloc::vec::Vec;
 use super::common::*;
 use super::fsp::{fsp_predictor, room_samples, whole_samples};
 use super::integrating::{kaya_atherton_on, kaya_atherton_settings};
-use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Builders, Design, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
 use crate::poly::TransferFunction;
 use crate::{DesignSet, Lti, ParamList, ParamSet, Pid, PidConfig, Real};
@@ -25,7 +25,7 @@ use num_traits::Float;
 /// The inner IMC filter time constant: given, or the secondary dead time
 /// (the paper's examples: λ2 = L2 = 2 s in Example 1), or a tenth of the
 /// secondary's slowest time scale when it has no dead time.
-fn lambda2_for(p2: &TransferFunction, lambda2: Option<f64>) -> Result<f64, crate::Error> {
+fn lambda2_for(p2: &Tf, lambda2: Option<f64>) -> Result<f64, crate::Error> {
     if let Some(l) = lambda2 {
         return Ok(l);
     }
@@ -147,11 +147,7 @@ const COMPENSATOR_SIGNALS: &[&str] = &[
     "u3",
 ];
 
-fn tune_fspcc(
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    d: &Design,
-) -> Result<Params, crate::Error> {
+fn tune_fspcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     let (c, gm, lambda) = cascade_primary_params(p1, p2, d)?;
     let t: FspccTuning = d.typed();
     let p = FspccParams {
@@ -177,12 +173,7 @@ fn fr_spec(f: &FspccParams) -> FrSpec {
     }
 }
 
-fn build_fspcc<T: Real>(
-    p: &Params,
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_fspcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let f: FspccParams = p.typed()?;
     let pred = fsp_predictor(&c.gm, c.h, b, fr_spec(&f))?;
@@ -195,7 +186,7 @@ fn build_fspcc<T: Real>(
 fn outer_model(
     p: &Params,
     p1: &TransferFunction,
-    inner: Option<&TransferFunction>,
+    inner: Option<&Tf>,
     ts: f64,
 ) -> Result<CascadeParts<f64>, crate::Error> {
     let p2 = inner.ok_or(crate::Error::Unsupported(
@@ -214,8 +205,8 @@ fn outer_model(
 /// `kf = 14.95`, `ρ2 = 0.9957`).
 fn describe_fspcc(
     p: &Params,
-    p1: &TransferFunction,
-    inner: Option<&TransferFunction>,
+    p1: &Tf,
+    inner: Option<&Tf>,
     ts: f64,
 ) -> Result<super::DesignReport, crate::Error> {
     let c = outer_model(p, p1, inner, ts)?;
@@ -229,8 +220,8 @@ fn describe_fspcc(
 /// number of taps and its static gain.
 fn describe_gpcc(
     p: &Params,
-    p1: &TransferFunction,
-    inner: Option<&TransferFunction>,
+    p1: &Tf,
+    inner: Option<&Tf>,
     ts: f64,
 ) -> Result<super::DesignReport, crate::Error> {
     use super::DesignValue::{Filter, Scalar};
@@ -258,11 +249,7 @@ fn describe_gpcc(
     ])
 }
 
-fn tune_gpcc(
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    d: &Design,
-) -> Result<Params, crate::Error> {
+fn tune_gpcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
     let p = GpccParams {
         tk: d.typed::<GpccTuning>().tk.unwrap_or(0.0),
@@ -271,12 +258,7 @@ fn tune_gpcc(
     Ok(tuned(p, &c, lambda))
 }
 
-fn build_gpcc<T: Real>(
-    p: &Params,
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_gpcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let g: GpccParams = p.typed()?;
     let room = room_samples(b);
@@ -285,11 +267,7 @@ fn build_gpcc<T: Real>(
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
-fn tune_uma(
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    d: &Design,
-) -> Result<Params, crate::Error> {
+fn tune_uma(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     // Gcd: Uma et al. tune it on a Padé approximation of the dead time, a rule
     // the sources do not give: its gains are left to --set (NaN until then)
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
@@ -306,12 +284,7 @@ fn tune_uma(
     Ok(tuned(p, &c, lambda))
 }
 
-fn build_uma<T: Real>(
-    p: &Params,
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_uma<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let u: UmaParams = p.typed()?;
     if [u.kpd, u.kid, u.kdd].iter().any(|v| v.is_nan()) {
@@ -355,11 +328,7 @@ fn build_uma<T: Real>(
     Ok(Box::new(Cascade::new(outer, c.imc, COMPENSATOR_SIGNALS)))
 }
 
-fn tune_kaya_cascade(
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    d: &Design,
-) -> Result<Params, crate::Error> {
+fn tune_kaya_cascade(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     let t: KayaCascadeTuning = d.typed();
     let lambda2 = lambda2_for(p2, t.lambda2)?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
@@ -372,12 +341,7 @@ fn tune_kaya_cascade(
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_kaya_cascade<T: Real>(
-    p: &Params,
-    p1: &TransferFunction,
-    p2: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_kaya_cascade<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let k: KayaCascadeParams<T> = p.typed()?;
     let (gm, imc) = cascade_inner(k.lambda2.f64(), p1, p2, b)?;
     let outer = kaya_atherton_on::<T, MAX_ORDER>(p, &gm, b)?.with_params(ParamList::of(&k));

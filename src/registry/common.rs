@@ -11,6 +11,13 @@ use crate::poly::{PlantKind, TransferFunction};
 use crate::tuning::PidGains;
 use crate::{DesignSet, Ipdt, Lti, ParamSet, PidConfig, ProcessModel, Real};
 
+/// A plant or model, as the registry's functions take it.
+pub(super) type Tf = TransferFunction;
+/// What a scheme's tuning returns.
+pub(super) type Tuned = Result<Params, crate::Error>;
+/// What a scheme's construction returns.
+pub(super) type Built<T> = Result<DynControllerOf<T>, crate::Error>;
+
 /// The PID of a scheme's parameters (its `kp`, `ti`, `td`) with the build's
 /// period and actuator limits.
 pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {

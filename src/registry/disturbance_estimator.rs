@@ -9,10 +9,7 @@ use crate::dtc::disturbance_estimator::{
 use crate::poly::TransferFunction;
 use crate::{tuning, DesignSet, ParamSet, Real};
 
-fn tune_disturbance_estimator(
-    plant: &TransferFunction,
-    d: &Design,
-) -> Result<Params, crate::Error> {
+fn tune_disturbance_estimator(plant: &Tf, d: &Design) -> Tuned {
     let m = integrating_model(
         plant,
         "the disturbance estimator needs an integrating plant",
@@ -42,9 +39,9 @@ fn tune_disturbance_estimator(
 
 fn build_disturbance_estimator<T: Real, const N: usize>(
     p: &Params,
-    model: &TransferFunction,
+    model: &Tf,
     b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::disturbance_estimator::build)
 }
 

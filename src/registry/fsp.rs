@@ -6,15 +6,14 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::common::*;
-use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Builders, Design, Params, Scheme, SchemeFns, MAX_ORDER};
 use crate::dtc;
 use crate::dtc::fsp::{FspParams, FspTuning};
-use crate::poly::TransferFunction;
 use crate::{tuning, DesignSet, ParamList, ParamSet, PidConfig, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
-fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_fsp(plant: &Tf, d: &Design) -> Tuned {
     let t: FspTuning = d.typed();
     let m = plant.reduce(false)?;
     let lambda = lambda_for(&m, &t, 1.0);
@@ -37,7 +36,7 @@ fn tune_fsp(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error
 
 /// The dead time of `model` in whole samples: the predictors of García et al. (2010)
 /// realize `z^{−h}` inside `S` and `F1`, so `h` must be an integer.
-pub(super) fn whole_samples(model: &TransferFunction, ts: f64) -> Result<usize, crate::Error> {
+pub(super) fn whole_samples(model: &Tf, ts: f64) -> Result<usize, crate::Error> {
     let d = model.delay_samples(ts)?;
     let h = d.round();
     if (d - h).abs() > 1e-6 {
@@ -48,11 +47,7 @@ pub(super) fn whole_samples(model: &TransferFunction, ts: f64) -> Result<usize, 
     num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))
 }
 
-fn build_fsp<T: Real>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_fsp<T: Real>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let fp: FspParams<T> = p.typed()?;
     let h = whole_samples(model, b.ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
@@ -147,8 +142,8 @@ pub(super) fn fr_report<const N: usize>(
 
 fn describe_fsp(
     p: &Params,
-    model: &TransferFunction,
-    _inner: Option<&TransferFunction>,
+    model: &Tf,
+    _inner: Option<&Tf>,
     ts: f64,
 ) -> Result<super::DesignReport, crate::Error> {
     let fp: FspParams<f64> = p.typed()?;

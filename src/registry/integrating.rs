@@ -15,7 +15,7 @@ use crate::{tuning, DesignSet, ParamSet, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
-fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_karan_dey(plant: &Tf, d: &Design) -> Tuned {
     // the MSP's three controllers are designed for K·e^{−θs}/s; its set-point
     // PI ignores a lag, which the predictor then keeps in the loop
     let m = match plant.exact_model() {
@@ -42,8 +42,8 @@ fn tune_karan_dey(plant: &TransferFunction, d: &Design) -> Result<Params, crate:
 /// disturbance loop stable (the tuning takes its middle, Eq. 4.50).
 fn describe_karan_dey(
     p: &Params,
-    model: &TransferFunction,
-    _inner: Option<&TransferFunction>,
+    model: &Tf,
+    _inner: Option<&Tf>,
     _ts: f64,
 ) -> Result<super::DesignReport, crate::Error> {
     use super::DesignValue::{Scalar, StableRange};
@@ -69,15 +69,11 @@ fn describe_karan_dey(
     Ok(out)
 }
 
-fn build_karan_dey<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_karan_dey<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::karan_dey::build)
 }
 
-fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_watanabe_ito(plant: &Tf, d: &Design) -> Tuned {
     // The W-I loop is 1 + C·Kv/(s(1 + Ls)) (see dtc::watanabe_ito): SIMC PI for
     // an integrator with the lag L folded into the delay, τc = λ (default L/2).
     let m = integrating_model(plant, WI_PLANT)?;
@@ -93,11 +89,7 @@ fn tune_watanabe_ito(plant: &TransferFunction, d: &Design) -> Result<Params, cra
 
 const WI_PLANT: &str = "the Watanabe-Ito predictor needs an integrating plant";
 
-fn build_watanabe_ito<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_watanabe_ito<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let m = integrating_model(model, WI_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::watanabe_ito::build(
@@ -113,7 +105,7 @@ fn build_watanabe_ito<T: Real, const N: usize>(
 
 const AHL_PLANT: &str = "the Astrom-Hang-Lim predictor needs an integrating plant";
 
-fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_astrom_hang_lim(plant: &Tf, d: &Design) -> Tuned {
     // set point k/(s + k) with k = 1/λ (λ = L/4 by default); load loop
     // (1 + k1)s² + k2 s + k3 = (s + a)² with a = 1/L.
     let m = integrating_model(plant, AHL_PLANT)?;
@@ -129,11 +121,7 @@ fn tune_astrom_hang_lim(plant: &TransferFunction, d: &Design) -> Result<Params, 
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_astrom_hang_lim<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_astrom_hang_lim<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let m = integrating_model(model, AHL_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     // M's window: the dead time in whole samples, with the model's room
@@ -143,7 +131,7 @@ fn build_astrom_hang_lim<T: Real, const N: usize>(
     limited(c, b)
 }
 
-fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_matausek_micic(plant: &Tf, d: &Design) -> Tuned {
     let m = integrating_model(
         plant,
         "the Matausek-Micic predictor needs an integrating plant",
@@ -162,11 +150,7 @@ fn tune_matausek_micic(plant: &TransferFunction, d: &Design) -> Result<Params, c
     }))
 }
 
-fn build_matausek_micic<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_matausek_micic<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::matausek_micic::build)
 }
 
@@ -217,7 +201,7 @@ pub(super) fn kaya_atherton_settings<D: DesignSet>(
     })
 }
 
-fn tune_kaya_atherton(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_kaya_atherton(plant: &Tf, d: &Design) -> Tuned {
     let (p, lambda) = kaya_atherton_settings(plant, &d.typed::<LambdaTuning>())?;
     Ok(Params::of(&p).with_lambda(lambda))
 }
@@ -232,11 +216,7 @@ pub(super) fn kaya_atherton_on<T: Real, const N: usize>(
     dtc::kaya_atherton::build(&p.typed()?, T::of(b.ts), lti, delay)
 }
 
-fn build_kaya_atherton<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_kaya_atherton<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::kaya_atherton::build)
 }
 

@@ -3,23 +3,22 @@
 use alloc::boxed::Box;
 
 use super::common::*;
-use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns};
-use crate::poly::TransferFunction;
+use super::{Build, Builders, Design, Params, Scheme, SchemeFns};
 use crate::tuning::{LambdaTuning, PidGains};
 use crate::Pid;
 use crate::{tuning, DesignSet, Fopdt, Ipdt, ParamSet, ProcessModel, Real};
 
-fn tune_pid(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_pid(plant: &Tf, d: &Design) -> Tuned {
     tune(plant, d, false)
 }
 
-fn tune_pi(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_pi(plant: &Tf, d: &Design) -> Tuned {
     tune(plant, d, true)
 }
 
 /// The PID (or, `pi_only`, the PI: `td = 0` by the rule, never by dropping a
 /// tuned derivative) of the named or default rule.
-fn tune(plant: &TransferFunction, d: &Design, pi_only: bool) -> Result<Params, crate::Error> {
+fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
     // a PI is tuned on the first-order model (SIMC's half rule: the smaller
     // lag's half to the larger one and half to the dead time, Skogestad
     // (2003)), a PID on the second-order one
@@ -85,11 +84,7 @@ fn tune(plant: &TransferFunction, d: &Design, pi_only: bool) -> Result<Params, c
     })
 }
 
-fn build_pid<T: Real>(
-    p: &Params,
-    _m: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_pid<T: Real>(p: &Params, _m: &Tf, b: &Build) -> Built<T> {
     Ok(Box::new(Pid::new(pid_cfg(p, b)?)?))
 }
 

@@ -35,16 +35,12 @@ fn primary_gains<D: DesignSet>(
     })
 }
 
-fn tune_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_smith(plant: &Tf, d: &Design) -> Tuned {
     let (g, lambda, _) = primary_gains(plant, &d.typed::<LambdaTuning>(), 1.0)?;
     Ok(Params::of(&g).with_lambda(lambda))
 }
 
-fn build_smith<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_smith<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     Ok(Box::new(SmithPredictor::new(pid_cfg(p, b)?, lti, delay)?))
 }
@@ -58,7 +54,7 @@ fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
     }
 }
 
-fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_filtered_smith(plant: &Tf, d: &Design) -> Tuned {
     // the MathWorks Smith predictor example: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
     let t: FilteredSmithTuning = d.typed();
     let (g, lambda, m) = primary_gains(plant, &t, 1.0 / 7.5)?;
@@ -73,17 +69,13 @@ fn tune_filtered_smith(plant: &TransferFunction, d: &Design) -> Result<Params, c
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_filtered_smith<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_filtered_smith<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::filtered_smith::build(pid_cfg(p, b)?, &p.typed()?, lti, delay)?;
     limited(c, b)
 }
 
-fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Error> {
+fn tune_huang(plant: &Tf, d: &Design) -> Tuned {
     // the MathWorks Smith predictor example: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
     let t: HuangTuning = d.typed();
     let (g, lambda, m) = primary_gains(plant, &t, 0.5)?;
@@ -98,11 +90,7 @@ fn tune_huang(plant: &TransferFunction, d: &Design) -> Result<Params, crate::Err
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_huang<T: Real, const N: usize>(
-    p: &Params,
-    model: &TransferFunction,
-    b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+fn build_huang<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let line = delay_again(model, b)?;
     let c = dtc::huang::build(pid_cfg(p, b)?, &p.typed()?, lti, delay, line)?;
