@@ -2,21 +2,27 @@
 //! simulated by the engine ([`crate::sim`]) and measured; [`compare`] runs
 //! several schemes on one plant. Text is read only by [`crate::syntax`].
 
+mod build;
 mod compare;
 mod defaults;
 mod metrics;
 mod report;
+mod robustness;
 
+pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
+pub use build::{BuiltController, Tuned};
+use build::{BYTES_PER_ROW, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
 pub use report::{ControllerReport, Report, TuneReport};
+pub use robustness::Robustness;
 
-use std::string::{String, ToString};
+use std::string::String;
 use std::vec::Vec;
 
 use crate::poly::{PlantKind, TransferFunction};
-use crate::registry::{self, Build, Params, RegistryError, MAX_ORDER};
+use crate::registry::{self, Params, RegistryError};
 use crate::sim::{simulate, simulate_cascade, Disturbance, SetpointStep, SimConfig, SimResult};
 use crate::Error;
 
@@ -99,41 +105,6 @@ pub struct Scenario {
 /// The memory a run may take unless the scenario says otherwise: 1 GiB.
 pub const DEFAULT_MAX_MEMORY: u64 = 1 << 30;
 
-/// Bytes per sample of the controller's dead time: a scheme holds up to four
-/// lines of it (the model's, a filter's or a second model's) in `f64`.
-const CONTROLLER_BYTES_PER_SAMPLE: f64 = 32.0;
-/// Bytes per sample of the plant's dead time in the simulator (two lines).
-pub(crate) const PLANT_BYTES_PER_SAMPLE: f64 = 16.0;
-/// Bytes per recorded row: up to 16 columns of `f64`.
-const BYTES_PER_ROW: f64 = 128.0;
-
-/// `bytes` as people read it: `1.5 GiB`, `12 MiB`.
-fn human(bytes: f64) -> String {
-    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
-    let mut v = bytes;
-    let mut u = 0usize;
-    while v >= 1024.0 && u + 1 < units.len() {
-        v /= 1024.0;
-        u += 1;
-    }
-    let unit = units.get(u).copied().unwrap_or("bytes");
-    if v.is_finite() {
-        std::format!("{} {unit}", crate::poly::fmt_num((v * 10.0).round() / 10.0))
-    } else {
-        "an unbounded amount".into()
-    }
-}
-
-/// The margins of a tuned loop and the warnings they give
-/// ([`Scenario::robustness`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Robustness {
-    /// Gain, phase and delay margins and the sensitivity peaks.
-    pub margins: crate::analysis::Margins,
-    /// What they warn of, with the `λ` that would do better.
-    pub warnings: Vec<String>,
-}
-
 /// The smallest round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 times a
 /// power of ten) at or above `x > 0`.
 fn nice_ceil(x: f64) -> f64 {
@@ -150,42 +121,6 @@ fn nice_ceil(x: f64) -> f64 {
         }
         decade *= 10.0;
     }
-}
-
-/// Three significant digits, for numbers in messages.
-fn round3(v: f64) -> f64 {
-    crate::poly::round_sig(v, 3)
-}
-
-/// A scheme and its tuned parameters: the typed value the study hands from
-/// tuning to construction (a sweep tunes once and builds every run from it).
-#[derive(Debug, Clone)]
-pub struct Tuned {
-    /// The scheme.
-    pub scheme: &'static registry::Scheme,
-    /// Its parameters (tuned, then `--set`).
-    pub params: Params,
-    /// Whether `lambda` was chosen by the tuning rule (the parameters have
-    /// one, and neither `--lambda` nor `--set lambda=` gave it).
-    pub lambda_chosen: bool,
-}
-
-/// A tuned and built controller with its sample period.
-pub struct BuiltController {
-    /// The scheme's name.
-    pub scheme: &'static str,
-    /// Its parameters.
-    pub params: Params,
-    /// The controller.
-    pub controller: registry::DynController,
-    /// Sample period.
-    pub ts: f64,
-    /// Whether `ts` was chosen automatically.
-    pub ts_chosen: bool,
-    /// Actuator lower limit.
-    pub u_min: f64,
-    /// Actuator upper limit.
-    pub u_max: f64,
 }
 
 /// Everything a run produced.
@@ -341,22 +276,6 @@ impl Scenario {
         Ok(())
     }
 
-    /// Refuses a run whose estimated memory (`bytes`, described by `what`)
-    /// is above the scenario's budget.
-    pub(crate) fn within_budget(&self, bytes: f64, what: &str) -> Result<(), RunError> {
-        let limit = self.max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
-        #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
-        let limit_f = limit as f64;
-        if bytes.is_nan() || bytes > limit_f {
-            return Err(RunError::Limit(std::format!(
-                "the run needs about {} ({what}); the limit is {}: raise it with --max-memory (Python: max_memory=)",
-                human(bytes),
-                human(limit_f)
-            )));
-        }
-        Ok(())
-    }
-
     /// The scenario's fields, by the names of the scenario file and the report.
     /// The CLI's flags and Python's keyword arguments are checked against this
     /// list by the test suites (`--inner-plant` for `inner_plant`; Python writes
@@ -386,140 +305,6 @@ impl Scenario {
         "reset_feedback",
         "setpoint_ramp",
     ];
-
-    /// Chooses the controller (by name or by the model's kind) and the sample
-    /// period, tunes it on `model` and builds it.
-    pub fn build_controller(&self, model: &TransferFunction) -> Result<BuiltController, RunError> {
-        self.build_controller_for(model, None)
-    }
-
-    /// The scheme (by name, or by the model's kind — FSPCC for a cascade
-    /// process with the secondary model `inner`) and its tuned parameters, with
-    /// the scenario's `lambda`, `rule` and `set` (`scheme.param` keys apply to
-    /// that scheme only, for `msp compare`).
-    pub fn tune_for(
-        &self,
-        model: &TransferFunction,
-        inner: Option<&TransferFunction>,
-    ) -> Result<Tuned, RunError> {
-        let scheme = match (&self.controller, inner) {
-            (Some(name), _) => registry::find(name)?,
-            (None, Some(_)) => registry::find("fspcc")?,
-            (None, None) => registry::default_for(model)?,
-        };
-        let mut overrides: Vec<(String, f64)> = Vec::with_capacity(self.set.len());
-        for (k, v) in &self.set {
-            match k.split_once('.') {
-                // a `scheme.` prefix (name or alias) must name a scheme, even
-                // one that is not running; it applies to that scheme only
-                Some((prefix, name)) => {
-                    if registry::find(prefix)?.name == scheme.name {
-                        overrides.push((name.to_string(), *v));
-                    }
-                }
-                None => overrides.push((k.clone(), *v)),
-            }
-        }
-        let params =
-            scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
-        let lambda_chosen = self.lambda.is_none()
-            && params.lambda().is_some()
-            && !overrides.iter().any(|(k, _)| k == "lambda");
-        Ok(Tuned {
-            scheme,
-            params,
-            lambda_chosen,
-        })
-    }
-
-    /// [`Scenario::build_controller`] for a cascade process with the secondary
-    /// model `inner` (the default scheme is then FSPCC).
-    pub fn build_controller_for(
-        &self,
-        model: &TransferFunction,
-        inner: Option<&TransferFunction>,
-    ) -> Result<BuiltController, RunError> {
-        let tuned = self.tune_for(model, inner)?;
-        self.build_tuned(&tuned, model, inner)
-    }
-
-    /// The sample period (given or chosen) and whether it was chosen, after
-    /// the model's order and the controller's delay lines are checked
-    /// against the capacity and the memory budget.
-    fn check_size(
-        &self,
-        model: &TransferFunction,
-        inner: Option<&TransferFunction>,
-    ) -> Result<(f64, bool), RunError> {
-        let whole = match inner {
-            Some(p2) => model.series(p2)?,
-            None => model.clone(),
-        };
-        if whole.model_order() > MAX_ORDER {
-            return Err(RunError::Invalid(Error::OrderTooHigh("model")));
-        }
-        let (ts, ts_chosen) = match self.ts {
-            Some(ts) => (crate::real::positive(ts, "ts")?, false),
-            None => (choose_ts(&whole), true),
-        };
-        // the controller's delay lines, before tuning or building allocates them
-        let samples = whole.delay / ts;
-        self.within_budget(
-            samples * CONTROLLER_BYTES_PER_SAMPLE,
-            &std::format!(
-                "{} samples of the model's dead time at ts = {} s",
-                crate::poly::fmt_num(samples.ceil()),
-                crate::poly::fmt_num(ts)
-            ),
-        )?;
-        Ok((ts, ts_chosen))
-    }
-
-    /// Builds the controller of `tuned` for `model` (and the secondary model
-    /// `inner`) with the scenario's period and actuator limits.
-    pub fn build_tuned(
-        &self,
-        tuned: &Tuned,
-        model: &TransferFunction,
-        inner: Option<&TransferFunction>,
-    ) -> Result<BuiltController, RunError> {
-        let (ts, ts_chosen) = self.check_size(model, inner)?;
-        let Tuned { scheme, params, .. } = tuned;
-        // a limit that is given is a number; absent, there is none
-        let u_min = match self.umin {
-            Some(v) => crate::real::finite(v, "umin")?,
-            None => f64::NEG_INFINITY,
-        };
-        let u_max = match self.umax {
-            Some(v) => crate::real::finite(v, "umax")?,
-            None => f64::INFINITY,
-        };
-        if u_min > u_max {
-            return Err(RunError::Invalid(Error::InvalidLimits("umin")));
-        }
-        let build = Build {
-            ts,
-            u_min,
-            u_max,
-            max_dead_time: self.event_dead_time(false),
-        };
-        let controller: registry::DynController = if self.float32 {
-            Box::new(crate::Widened(
-                scheme.build_process_as::<f32>(params, model, inner, &build)?,
-            ))
-        } else {
-            scheme.build_process(params, model, inner, &build)?
-        };
-        Ok(BuiltController {
-            scheme: scheme.name,
-            params: params.clone(),
-            controller,
-            ts,
-            ts_chosen,
-            u_min,
-            u_max,
-        })
-    }
 
     /// The plant and the controller's model (the plant when no model is given).
     pub fn plant_and_model(&self) -> Result<(TransferFunction, TransferFunction), RunError> {
@@ -678,147 +463,6 @@ impl Scenario {
         out.duration_chosen = true;
         out.default_scenario = true;
         Ok(out)
-    }
-
-    /// The margins of a tuned controller on `plant` (sampled view) on a
-    /// grid of `points` frequencies.
-    fn margins_of_tuned(
-        &self,
-        tuned: &Tuned,
-        plant: &TransferFunction,
-        model: &TransferFunction,
-        points: usize,
-    ) -> Option<crate::analysis::Margins> {
-        let built = self.build_tuned(tuned, model, None).ok()?;
-        crate::analysis::margins_on(
-            built.controller.as_ref(),
-            plant,
-            built.ts,
-            crate::analysis::View::Sampled,
-            points,
-        )
-        .ok()
-    }
-
-    /// The margins of the tuned single loop on the plant (sampled view:
-    /// the plant behind the hold, exact delay) and what they warn of: a
-    /// sensitivity peak `Ms > 2` (Åström & Hägglund (2006) use `Ms` as the
-    /// robustness measure, with 1.2–2 as the usual design range) or a delay
-    /// margin below 20 % of the dead time (msp's own threshold: a dead time
-    /// 20 % longer than modelled is a common model error; no source gives
-    /// one), or a parameter outside a source's stability range
-    /// ([`registry::DesignValue::StableRange`]); the warning names the `λ` (the tuning rule's, retuned in steps
-    /// up to 8× the present one) that gives `Ms ≤ 2` with a delay margin of
-    /// at least 20 % of the dead time. `None` for a controller without a
-    /// frequency response.
-    pub fn robustness(
-        &self,
-        tuned: &Tuned,
-        plant: &TransferFunction,
-        model: &TransferFunction,
-    ) -> Option<Robustness> {
-        // candidates are screened on a coarser grid than the loop's own margins
-        let margins_of = |t: &Tuned| self.margins_of_tuned(t, plant, model, 800);
-        let margins = self.margins_of_tuned(tuned, plant, model, 6000)?;
-        let theta = plant.delay;
-        let fine = |m: &crate::analysis::Margins| m.ms <= 2.0 && m.dm >= 0.2 * theta;
-        let mut warnings = Vec::new();
-        if !fine(&margins) {
-            let mut what = Vec::new();
-            if margins.ms > 2.0 {
-                what.push(std::format!(
-                    "the sensitivity peak Ms = {} is above 2",
-                    crate::poly::fmt_num(round3(margins.ms))
-                ));
-            }
-            if theta > 0.0 && margins.dm < 0.2 * theta {
-                what.push(std::format!(
-                    "the delay margin {} s is {} % of the dead time",
-                    crate::poly::fmt_num(round3(margins.dm)),
-                    crate::poly::fmt_num((100.0 * margins.dm / theta).round())
-                ));
-            }
-            // parameters the user set are the user's choice: no advice on them
-            let advise = self.set.is_empty();
-            let better = tuned.params.lambda().filter(|_| advise).and_then(|l| {
-                [1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0]
-                    .into_iter()
-                    .map(|f| round3(l * f))
-                    .find_map(|l2| {
-                        let mut sc = self.clone();
-                        sc.lambda = Some(l2);
-                        sc.set.remove("lambda");
-                        let t = sc.tune_for(model, None).ok()?;
-                        let m = margins_of(&t)?;
-                        fine(&m).then_some((l2, m.ms))
-                    })
-            });
-            // no λ of this rule will do: the scheme (default tuning) that does best
-            let other = || {
-                registry::SCHEMES
-                    .iter()
-                    .filter(|s| !s.is_cascade() && s.name != tuned.scheme.name)
-                    .filter_map(|s| {
-                        let mut sc = self.clone();
-                        sc.controller = Some(s.name.to_string());
-                        (sc.lambda, sc.rule) = (None, None);
-                        sc.set.clear();
-                        let t = sc.tune_for(model, None).ok()?;
-                        let m = sc.margins_of_tuned(&t, plant, model, 800)?;
-                        fine(&m).then_some((s.name, m.ms))
-                    })
-                    .min_by(|a, b| a.1.total_cmp(&b.1))
-            };
-            let advice = match (better, (advise && better.is_none()).then(other).flatten()) {
-                (Some((l, ms)), _) => std::format!(
-                    "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time",
-                    crate::poly::fmt_num(l),
-                    crate::poly::fmt_num(round3(ms))
-                ),
-                (None, Some((name, ms))) => std::format!(
-                    "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time",
-                    crate::poly::fmt_num(round3(ms))
-                ),
-                (None, None) => String::new(),
-            };
-            if !what.is_empty() {
-                warnings.push(std::format!(
-                    "robustness: {}: a model error of that size makes the loop oscillate or diverge{advice}",
-                    what.join(" and ")
-                ));
-            }
-        }
-        // a source's stability range of a parameter (Karan–Dey's γ, Bag
-        // (2022) Eq. 4.49)
-        if let Ok((ts, _)) = self.check_size(model, None) {
-            let design = tuned
-                .scheme
-                .design_report(&tuned.params, model, None, ts)
-                .unwrap_or_default();
-            for (_, value) in &design {
-                let registry::DesignValue::StableRange {
-                    param,
-                    low: lo,
-                    high: hi,
-                } = value
-                else {
-                    continue;
-                };
-                let Some(v) = tuned.params.get(param) else {
-                    continue;
-                };
-                if !(v > *lo && v < *hi) {
-                    warnings.push(std::format!(
-                        "robustness: {param} = {} is outside its stability range ({}, {}) given by {}: the loop is unstable for the model",
-                        crate::poly::fmt_num(round3(v)),
-                        crate::poly::fmt_num(round3(*lo)),
-                        crate::poly::fmt_num(round3(*hi)),
-                        tuned.scheme.source
-                    ));
-                }
-            }
-        }
-        Some(Robustness { margins, warnings })
     }
 
     /// [`Scenario::run`] with a controller already tuned (`tuned`) and the

@@ -1,0 +1,217 @@
+//! From a scenario to a built controller: the scheme chosen, tuned and
+//! built at a sample period, within the scenario's memory budget.
+
+use std::string::String;
+
+use super::{choose_ts, RunError, Scenario, DEFAULT_MAX_MEMORY};
+use crate::poly::TransferFunction;
+use crate::registry::{self, Build, Params, MAX_ORDER};
+use crate::Error;
+
+/// Bytes per sample of the controller's dead time: a scheme holds up to four
+/// lines of it (the model's, a filter's or a second model's) in `f64`.
+pub(super) const CONTROLLER_BYTES_PER_SAMPLE: f64 = 32.0;
+/// Bytes per sample of the plant's dead time in the simulator (two lines).
+pub(crate) const PLANT_BYTES_PER_SAMPLE: f64 = 16.0;
+/// Bytes per recorded row: up to 16 columns of `f64`.
+pub(super) const BYTES_PER_ROW: f64 = 128.0;
+
+/// `bytes` as people read it: `1.5 GiB`, `12 MiB`.
+fn human(bytes: f64) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut v = bytes;
+    let mut u = 0usize;
+    while v >= 1024.0 && u + 1 < units.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    let unit = units.get(u).copied().unwrap_or("bytes");
+    if v.is_finite() {
+        std::format!("{} {unit}", crate::poly::fmt_num((v * 10.0).round() / 10.0))
+    } else {
+        "an unbounded amount".into()
+    }
+}
+
+/// A scheme and its tuned parameters: the typed value the study hands from
+/// tuning to construction (a sweep tunes once and builds every run from it).
+#[derive(Debug, Clone)]
+pub struct Tuned {
+    /// The scheme.
+    pub scheme: &'static registry::Scheme,
+    /// Its parameters (tuned, then `--set`).
+    pub params: Params,
+    /// Whether `lambda` was chosen by the tuning rule (the parameters have
+    /// one, and neither `--lambda` nor `--set lambda=` gave it).
+    pub lambda_chosen: bool,
+}
+
+/// A tuned and built controller with its sample period.
+pub struct BuiltController {
+    /// The scheme's name.
+    pub scheme: &'static str,
+    /// Its parameters.
+    pub params: Params,
+    /// The controller.
+    pub controller: registry::DynController,
+    /// Sample period.
+    pub ts: f64,
+    /// Whether `ts` was chosen automatically.
+    pub ts_chosen: bool,
+    /// Actuator lower limit.
+    pub u_min: f64,
+    /// Actuator upper limit.
+    pub u_max: f64,
+}
+
+impl Scenario {
+    /// Refuses a run whose estimated memory (`bytes`, described by `what`)
+    /// is above the scenario's budget.
+    pub(crate) fn within_budget(&self, bytes: f64, what: &str) -> Result<(), RunError> {
+        let limit = self.max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
+        #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
+        let limit_f = limit as f64;
+        if bytes.is_nan() || bytes > limit_f {
+            return Err(RunError::Limit(std::format!(
+                "the run needs about {} ({what}); the limit is {}: raise it with --max-memory (Python: max_memory=)",
+                human(bytes),
+                human(limit_f)
+            )));
+        }
+        Ok(())
+    }
+
+    /// Chooses the controller (by name or by the model's kind) and the sample
+    /// period, tunes it on `model` and builds it.
+    pub fn build_controller(&self, model: &TransferFunction) -> Result<BuiltController, RunError> {
+        self.build_controller_for(model, None)
+    }
+
+    /// The scheme (by name, or by the model's kind — FSPCC for a cascade
+    /// process with the secondary model `inner`) and its tuned parameters, with
+    /// the scenario's `lambda`, `rule` and `set` (`scheme.param` keys apply to
+    /// that scheme only, for `msp compare`).
+    pub fn tune_for(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<Tuned, RunError> {
+        let scheme = match (&self.controller, inner) {
+            (Some(name), _) => registry::find(name)?,
+            (None, Some(_)) => registry::find("fspcc")?,
+            (None, None) => registry::default_for(model)?,
+        };
+        let mut overrides: Vec<(String, f64)> = Vec::with_capacity(self.set.len());
+        for (k, v) in &self.set {
+            match k.split_once('.') {
+                // a `scheme.` prefix (name or alias) must name a scheme, even
+                // one that is not running; it applies to that scheme only
+                Some((prefix, name)) => {
+                    if registry::find(prefix)?.name == scheme.name {
+                        overrides.push((name.to_string(), *v));
+                    }
+                }
+                None => overrides.push((k.clone(), *v)),
+            }
+        }
+        let params =
+            scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
+        let lambda_chosen = self.lambda.is_none()
+            && params.lambda().is_some()
+            && !overrides.iter().any(|(k, _)| k == "lambda");
+        Ok(Tuned {
+            scheme,
+            params,
+            lambda_chosen,
+        })
+    }
+
+    /// [`Scenario::build_controller`] for a cascade process with the secondary
+    /// model `inner` (the default scheme is then FSPCC).
+    pub fn build_controller_for(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<BuiltController, RunError> {
+        let tuned = self.tune_for(model, inner)?;
+        self.build_tuned(&tuned, model, inner)
+    }
+
+    /// The sample period (given or chosen) and whether it was chosen, after
+    /// the model's order and the controller's delay lines are checked
+    /// against the capacity and the memory budget.
+    pub(super) fn check_size(
+        &self,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<(f64, bool), RunError> {
+        let whole = match inner {
+            Some(p2) => model.series(p2)?,
+            None => model.clone(),
+        };
+        if whole.model_order() > MAX_ORDER {
+            return Err(RunError::Invalid(Error::OrderTooHigh("model")));
+        }
+        let (ts, ts_chosen) = match self.ts {
+            Some(ts) => (crate::real::positive(ts, "ts")?, false),
+            None => (choose_ts(&whole), true),
+        };
+        // the controller's delay lines, before tuning or building allocates them
+        let samples = whole.delay / ts;
+        self.within_budget(
+            samples * CONTROLLER_BYTES_PER_SAMPLE,
+            &std::format!(
+                "{} samples of the model's dead time at ts = {} s",
+                crate::poly::fmt_num(samples.ceil()),
+                crate::poly::fmt_num(ts)
+            ),
+        )?;
+        Ok((ts, ts_chosen))
+    }
+
+    /// Builds the controller of `tuned` for `model` (and the secondary model
+    /// `inner`) with the scenario's period and actuator limits.
+    pub fn build_tuned(
+        &self,
+        tuned: &Tuned,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+    ) -> Result<BuiltController, RunError> {
+        let (ts, ts_chosen) = self.check_size(model, inner)?;
+        let Tuned { scheme, params, .. } = tuned;
+        // a limit that is given is a number; absent, there is none
+        let u_min = match self.umin {
+            Some(v) => crate::real::finite(v, "umin")?,
+            None => f64::NEG_INFINITY,
+        };
+        let u_max = match self.umax {
+            Some(v) => crate::real::finite(v, "umax")?,
+            None => f64::INFINITY,
+        };
+        if u_min > u_max {
+            return Err(RunError::Invalid(Error::InvalidLimits("umin")));
+        }
+        let build = Build {
+            ts,
+            u_min,
+            u_max,
+            max_dead_time: self.event_dead_time(false),
+        };
+        let controller: registry::DynController = if self.float32 {
+            Box::new(crate::Widened(
+                scheme.build_process_as::<f32>(params, model, inner, &build)?,
+            ))
+        } else {
+            scheme.build_process(params, model, inner, &build)?
+        };
+        Ok(BuiltController {
+            scheme: scheme.name,
+            params: params.clone(),
+            controller,
+            ts,
+            ts_chosen,
+            u_min,
+            u_max,
+        })
+    }
+}

@@ -1,0 +1,167 @@
+//! The margins of a tuned loop and what they warn of, with the `λ` or the
+//! scheme that would do better.
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use super::{Scenario, Tuned};
+use crate::poly::TransferFunction;
+use crate::registry;
+
+/// The margins of a tuned loop and the warnings they give
+/// ([`Scenario::robustness`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Robustness {
+    /// Gain, phase and delay margins and the sensitivity peaks.
+    pub margins: crate::analysis::Margins,
+    /// What they warn of, with the `λ` that would do better.
+    pub warnings: Vec<String>,
+}
+
+/// Three significant digits, for numbers in messages.
+fn round3(v: f64) -> f64 {
+    crate::poly::round_sig(v, 3)
+}
+
+impl Scenario {
+    /// The margins of a tuned controller on `plant` (sampled view) on a
+    /// grid of `points` frequencies.
+    fn margins_of_tuned(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+        points: usize,
+    ) -> Option<crate::analysis::Margins> {
+        let built = self.build_tuned(tuned, model, None).ok()?;
+        crate::analysis::margins_on(
+            built.controller.as_ref(),
+            plant,
+            built.ts,
+            crate::analysis::View::Sampled,
+            points,
+        )
+        .ok()
+    }
+
+    /// The margins of the tuned single loop on the plant (sampled view:
+    /// the plant behind the hold, exact delay) and what they warn of: a
+    /// sensitivity peak `Ms > 2` (Åström & Hägglund (2006) use `Ms` as the
+    /// robustness measure, with 1.2–2 as the usual design range) or a delay
+    /// margin below 20 % of the dead time (msp's own threshold: a dead time
+    /// 20 % longer than modelled is a common model error; no source gives
+    /// one), or a parameter outside a source's stability range
+    /// ([`registry::DesignValue::StableRange`]); the warning names the `λ` (the tuning rule's, retuned in steps
+    /// up to 8× the present one) that gives `Ms ≤ 2` with a delay margin of
+    /// at least 20 % of the dead time. `None` for a controller without a
+    /// frequency response.
+    pub fn robustness(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+    ) -> Option<Robustness> {
+        // candidates are screened on a coarser grid than the loop's own margins
+        let margins_of = |t: &Tuned| self.margins_of_tuned(t, plant, model, 800);
+        let margins = self.margins_of_tuned(tuned, plant, model, 6000)?;
+        let theta = plant.delay;
+        let fine = |m: &crate::analysis::Margins| m.ms <= 2.0 && m.dm >= 0.2 * theta;
+        let mut warnings = Vec::new();
+        if !fine(&margins) {
+            let mut what = Vec::new();
+            if margins.ms > 2.0 {
+                what.push(std::format!(
+                    "the sensitivity peak Ms = {} is above 2",
+                    crate::poly::fmt_num(round3(margins.ms))
+                ));
+            }
+            if theta > 0.0 && margins.dm < 0.2 * theta {
+                what.push(std::format!(
+                    "the delay margin {} s is {} % of the dead time",
+                    crate::poly::fmt_num(round3(margins.dm)),
+                    crate::poly::fmt_num((100.0 * margins.dm / theta).round())
+                ));
+            }
+            // parameters the user set are the user's choice: no advice on them
+            let advise = self.set.is_empty();
+            let better = tuned.params.lambda().filter(|_| advise).and_then(|l| {
+                [1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0]
+                    .into_iter()
+                    .map(|f| round3(l * f))
+                    .find_map(|l2| {
+                        let mut sc = self.clone();
+                        sc.lambda = Some(l2);
+                        sc.set.remove("lambda");
+                        let t = sc.tune_for(model, None).ok()?;
+                        let m = margins_of(&t)?;
+                        fine(&m).then_some((l2, m.ms))
+                    })
+            });
+            // no λ of this rule will do: the scheme (default tuning) that does best
+            let other = || {
+                registry::SCHEMES
+                    .iter()
+                    .filter(|s| !s.is_cascade() && s.name != tuned.scheme.name)
+                    .filter_map(|s| {
+                        let mut sc = self.clone();
+                        sc.controller = Some(s.name.to_string());
+                        (sc.lambda, sc.rule) = (None, None);
+                        sc.set.clear();
+                        let t = sc.tune_for(model, None).ok()?;
+                        let m = sc.margins_of_tuned(&t, plant, model, 800)?;
+                        fine(&m).then_some((s.name, m.ms))
+                    })
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+            };
+            let advice = match (better, (advise && better.is_none()).then(other).flatten()) {
+                (Some((l, ms)), _) => std::format!(
+                    "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time",
+                    crate::poly::fmt_num(l),
+                    crate::poly::fmt_num(round3(ms))
+                ),
+                (None, Some((name, ms))) => std::format!(
+                    "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time",
+                    crate::poly::fmt_num(round3(ms))
+                ),
+                (None, None) => String::new(),
+            };
+            if !what.is_empty() {
+                warnings.push(std::format!(
+                    "robustness: {}: a model error of that size makes the loop oscillate or diverge{advice}",
+                    what.join(" and ")
+                ));
+            }
+        }
+        // a source's stability range of a parameter (Karan–Dey's γ, Bag
+        // (2022) Eq. 4.49)
+        if let Ok((ts, _)) = self.check_size(model, None) {
+            let design = tuned
+                .scheme
+                .design_report(&tuned.params, model, None, ts)
+                .unwrap_or_default();
+            for (_, value) in &design {
+                let registry::DesignValue::StableRange {
+                    param,
+                    low: lo,
+                    high: hi,
+                } = value
+                else {
+                    continue;
+                };
+                let Some(v) = tuned.params.get(param) else {
+                    continue;
+                };
+                if !(v > *lo && v < *hi) {
+                    warnings.push(std::format!(
+                        "robustness: {param} = {} is outside its stability range ({}, {}) given by {}: the loop is unstable for the model",
+                        crate::poly::fmt_num(round3(v)),
+                        crate::poly::fmt_num(round3(*lo)),
+                        crate::poly::fmt_num(round3(*hi)),
+                        tuned.scheme.source
+                    ));
+                }
+            }
+        }
+        Some(Robustness { margins, warnings })
+    }
+}
