@@ -1,9 +1,6 @@
-//! Controllers in caller-owned memory: the configurations, the sizes, the
-//! initialization and the per-sample calls.
-//!
-//! Each entry point is a one-line wrapper of a generic function, written out
-//! for `float` and again for `double`: cbindgen reads the source as written,
-//! so wrappers made by a macro would not reach the header.
+//! Controllers in caller-owned memory: the configurations, the handle at the
+//! start of the caller's buffer, the arena that places a scheme after it, and
+//! the generic functions the C entry points ([`crate::api`]) wrap.
 
 use core::mem::{align_of, size_of};
 
@@ -132,7 +129,7 @@ pub struct msp_controller_f64 {
 type Buf<T> = &'static mut [T];
 
 /// The schemes one handle can hold.
-enum Scheme<T: Real> {
+pub(crate) enum Scheme<T: Real> {
     Pid(Pid<T>),
     Smith(SmithPredictor<T, 1, Buf<T>>),
     KaranDey(KaranDey<T, 1, Buf<T>>),
@@ -147,10 +144,10 @@ enum Scheme<T: Real> {
 /// function and the controller inside `scheme`, so that `msp_update` is a
 /// tag check and one indirect call, without a dispatch on the scheme.
 #[repr(C)]
-struct Handle<T: Real> {
+pub(crate) struct Handle<T: Real> {
     magic: u32,
-    update: UpdateFn<T>,
-    ctrl: *mut u8,
+    pub(crate) update: UpdateFn<T>,
+    pub(crate) ctrl: *mut u8,
     /// The output in manual or tracking mode (then `update` is
     /// [`held_update`] and `ctrl` the handle itself).
     held: T,
@@ -437,7 +434,7 @@ fn storage_of(kind: Kind, samples: usize) -> Option<(usize, usize)> {
 }
 
 #[derive(Clone, Copy)]
-enum Kind {
+pub(crate) enum Kind {
     Pid,
     Line,
     Fsp,
@@ -516,11 +513,14 @@ unsafe fn init<T: Precision, H>(
     msp_status::MSP_OK
 }
 
-fn make_pid<T: Real>(c: &msp_pid_config_of<T>) -> Result<Scheme<T>, Error> {
+pub(crate) fn make_pid<T: Real>(c: &msp_pid_config_of<T>) -> Result<Scheme<T>, Error> {
     Ok(Scheme::Pid(Pid::new(pid_config(&c.pid, c.ts)?)?))
 }
 
-fn make_smith<T: Real>(c: &msp_smith_config_of<T>, a: &mut Arena) -> Result<Scheme<T>, Error> {
+pub(crate) fn make_smith<T: Real>(
+    c: &msp_smith_config_of<T>,
+    a: &mut Arena,
+) -> Result<Scheme<T>, Error> {
     smith_samples(c)?;
     let (m, d) = dead_time(&c.model, c.ts)?;
     let pid = pid_config(&c.pid, c.ts)?;
@@ -529,7 +529,7 @@ fn make_smith<T: Real>(c: &msp_smith_config_of<T>, a: &mut Arena) -> Result<Sche
     Ok(Scheme::Smith(SmithPredictor::new(pid, block, line)?))
 }
 
-fn make_karan_dey<T: Real>(
+pub(crate) fn make_karan_dey<T: Real>(
     c: &msp_karan_dey_config_of<T>,
     a: &mut Arena,
 ) -> Result<Scheme<T>, Error> {
@@ -549,7 +549,10 @@ fn make_karan_dey<T: Real>(
     Ok(Scheme::KaranDey(k))
 }
 
-fn make_fsp<T: Real>(c: &msp_fsp_config_of<T>, a: &mut Arena) -> Result<Scheme<T>, Error> {
+pub(crate) fn make_fsp<T: Real>(
+    c: &msp_fsp_config_of<T>,
+    a: &mut Arena,
+) -> Result<Scheme<T>, Error> {
     let (_, d) = dead_time(&c.model, c.ts)?;
     let pid = pid_config(&c.pid, c.ts)?;
     let tf = positive(c.tf, "tf")?.to_f64().unwrap_or(f64::NAN);
@@ -589,7 +592,7 @@ fn make_fsp<T: Real>(c: &msp_fsp_config_of<T>, a: &mut Arena) -> Result<Scheme<T
 /// # Safety
 /// `ctrl` is null or was given by an `msp_*_init` call of this precision.
 #[inline(always)]
-unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut Handle<T>> {
+pub(crate) unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut Handle<T>> {
     let p = ctrl.cast::<Handle<T>>();
     if p.is_null() {
         return None;
@@ -605,12 +608,12 @@ unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut Handle<T>>
     unsafe { p.as_mut() }
 }
 
-fn reset<T: Precision>(h: &mut Handle<T>) {
+pub(crate) fn reset<T: Precision>(h: &mut Handle<T>) {
     h.operate(Reset);
     h.bind();
 }
 
-fn fault<T: Precision>(h: &mut Handle<T>) -> bool {
+pub(crate) fn fault<T: Precision>(h: &mut Handle<T>) -> bool {
     match &h.scheme {
         Scheme::Smith(c) => c.fault(),
         Scheme::KaranDey(c) => c.fault(),
@@ -633,7 +636,7 @@ unsafe fn read<C: Copy>(p: *const C) -> Option<C> {
 ///
 /// # Safety
 /// `config` and `status` are null or valid pointers.
-unsafe fn config_size<T: Precision, C: Copy>(
+pub(crate) unsafe fn config_size<T: Precision, C: Copy>(
     config: *const C,
     max_samples: u32,
     status: *mut msp_status,
@@ -654,7 +657,7 @@ unsafe fn config_size<T: Precision, C: Copy>(
 ///
 /// # Safety
 /// As [`init`]; `config` is null or valid.
-unsafe fn config_init<T: Precision, C: Copy, H>(
+pub(crate) unsafe fn config_init<T: Precision, C: Copy, H>(
     buf: *mut core::ffi::c_void,
     len: usize,
     config: *const C,
@@ -669,12 +672,12 @@ unsafe fn config_init<T: Precision, C: Copy, H>(
     unsafe { init::<T, H>(buf.cast(), len, ctrl, |a| make(&c, a)) }
 }
 
-fn pid_samples<T: Real>(c: &msp_pid_config_of<T>) -> Result<T, Error> {
+pub(crate) fn pid_samples<T: Real>(c: &msp_pid_config_of<T>) -> Result<T, Error> {
     pid_config(&c.pid, c.ts)?;
     Ok(T::zero())
 }
 
-fn smith_samples<T: Real>(c: &msp_smith_config_of<T>) -> Result<T, Error> {
+pub(crate) fn smith_samples<T: Real>(c: &msp_smith_config_of<T>) -> Result<T, Error> {
     takes(
         &c.model,
         &[msp_model_kind::MSP_FOPDT, msp_model_kind::MSP_IPDT],
@@ -683,480 +686,19 @@ fn smith_samples<T: Real>(c: &msp_smith_config_of<T>) -> Result<T, Error> {
     Ok(dead_time(&c.model, c.ts)?.1)
 }
 
-fn karan_dey_samples<T: Real>(c: &msp_karan_dey_config_of<T>) -> Result<T, Error> {
+pub(crate) fn karan_dey_samples<T: Real>(c: &msp_karan_dey_config_of<T>) -> Result<T, Error> {
     takes(&c.model, &[msp_model_kind::MSP_IPDT])?;
     Ok(dead_time(&c.model, c.ts)?.1)
 }
 
-fn fsp_samples<T: Real>(c: &msp_fsp_config_of<T>) -> Result<T, Error> {
+pub(crate) fn fsp_samples<T: Real>(c: &msp_fsp_config_of<T>) -> Result<T, Error> {
     pid_config(&c.pid, c.ts)?;
     positive(c.tf, "tf")?;
     Ok(dead_time(&c.model, c.ts)?.1)
 }
 
-/// The bytes a PID controller needs; 0 on an error, with the reason in
-/// `*status` (`status` may be null). `max_dead_time_samples` is not read.
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_size(
-    config: *const msp_pid_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Pid,
-            pid_samples,
-        )
-    }
-}
-
-/// The bytes a Smith predictor needs for its model's dead time, or for
-/// `max_dead_time_samples` when that is longer (room to lengthen the dead
-/// time at run time); 0 on an error, with the reason in `*status`.
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_size(
-    config: *const msp_smith_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            smith_samples,
-        )
-    }
-}
-
-/// [`msp_smith_size`] for the Karan–Dey predictor.
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_size(
-    config: *const msp_karan_dey_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            karan_dey_samples,
-        )
-    }
-}
-
-/// [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
-/// included).
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_size(
-    config: *const msp_fsp_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Fsp,
-            fsp_samples,
-        )
-    }
-}
-
-/// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
-/// is its handle.
-///
-/// # Safety
-/// `buf` is null or points to `len` writable bytes that stay in place while
-/// the controller is used; `config` and `ctrl` are null or valid.
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_pid_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
-}
-
-/// Builds a Smith predictor in `buf`: its delay line takes the rest of the
-/// buffer (the longest dead time it can be given later).
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_smith_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_smith) }
-}
-
-/// Builds a Karan–Dey predictor in `buf`.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_karan_dey_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
-}
-
-/// Designs and builds a filtered Smith predictor in `buf`.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_fsp_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_fsp) }
-}
-
-/// One sample: the set point `r` and the measurement `y` in, the actuator
-/// value out. A null handle gives NaN. This is the per-sample path, one
-/// indirect call into the scheme: it does not check the handle's tag, which
-/// [`msp_reset`] and [`msp_fault`] do (`MSP_BAD_HANDLE`, `true`).
-///
-/// # Safety
-/// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
-#[cfg(not(all(target_arch = "arm", target_os = "none")))]
-#[no_mangle]
-pub unsafe extern "C" fn msp_update(ctrl: *mut msp_controller, r: f32, y: f32) -> f32 {
-    // SAFETY: forwarded
-    unsafe { update_unchecked::<f32, _>(ctrl, r, y) }
-}
-
-/// The per-sample call through a handle's bound update: null gives NaN.
-///
-/// # Safety
-/// `ctrl` is null or a handle of precision `T` made by `init`.
-#[cfg(not(all(target_arch = "arm", target_os = "none")))]
-#[inline(always)]
-unsafe fn update_unchecked<T: Precision, H>(ctrl: *mut H, r: T, y: T) -> T {
-    // SAFETY: the caller's handle (or null)
-    match unsafe { ctrl.cast::<Handle<T>>().as_ref() } {
-        // SAFETY: `bind` pointed both at this handle's controller
-        Some(h) => unsafe { (h.update)(h.ctrl, r, y) },
-        None => T::nan(),
-    }
-}
-
-/// `msp_update` and `msp_update_f64` on a Cortex-M: the same call written as
-/// a frameless trampoline (the target keeps a frame pointer in every Rust
-/// function, three instructions of the dispatch's cost): NULL gives NaN,
-/// otherwise the bound update is tail-called with the controller's address
-/// in `r0` and the arguments untouched in `s0`/`s1` (`d0`/`d1`).
-///
-/// cbindgen:ignore
-#[cfg(all(target_arch = "arm", target_os = "none"))]
-mod trampoline {
-    use super::{msp_controller, msp_controller_f64, Handle};
-    use core::mem::offset_of;
-
-    const UPDATE: usize = offset_of!(Handle<f32>, update);
-    const UPDATE_F64: usize = offset_of!(Handle<f64>, update);
-    // `ldrd` takes the update and the controller's address as a pair
-    const _: () = assert!(offset_of!(Handle<f32>, ctrl) == UPDATE + 4 && UPDATE % 4 == 0);
-    const _: () = assert!(offset_of!(Handle<f64>, ctrl) == UPDATE_F64 + 4 && UPDATE_F64 % 4 == 0);
-
-    /// See `msp_update` in the header.
-    ///
-    /// # Safety
-    /// As the host version.
-    #[unsafe(naked)]
-    #[no_mangle]
-    pub unsafe extern "C" fn msp_update(_ctrl: *mut msp_controller, _r: f32, _y: f32) -> f32 {
-        core::arch::naked_asm!(
-            "cbz r0, 2f",
-            "ldrd r1, r0, [r0, #{update}]",
-            "bx r1",
-            "2:",
-            "movw r1, #0",
-            "movt r1, #0x7fc0",
-            "vmov s0, r1",
-            "bx lr",
-            update = const UPDATE,
-        )
-    }
-
-    /// See `msp_update_f64` in the header.
-    ///
-    /// # Safety
-    /// As the host version.
-    #[unsafe(naked)]
-    #[no_mangle]
-    pub unsafe extern "C" fn msp_update_f64(
-        _ctrl: *mut msp_controller_f64,
-        _r: f64,
-        _y: f64,
-    ) -> f64 {
-        core::arch::naked_asm!(
-            "cbz r0, 2f",
-            "ldrd r1, r0, [r0, #{update}]",
-            "bx r1",
-            "2:",
-            "movs r1, #0",
-            "movw r2, #0",
-            "movt r2, #0x7ff8",
-            "vmov d0, r1, r2",
-            "bx lr",
-            update = const UPDATE_F64,
-        )
-    }
-}
-
-/// Clears the controller's state (integrators, model, delay lines) and
-/// returns it to automatic mode.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_reset(ctrl: *mut msp_controller) -> msp_status {
-    // SAFETY: forwarded
-    match unsafe { handle::<f32, _>(ctrl) } {
-        Some(h) => {
-            reset(h);
-            msp_status::MSP_OK
-        }
-        None => bad(ctrl),
-    }
-}
-
-/// Whether the last update met a NaN or infinite input (the output was held
-/// and the model kept following the actuator). A bad handle is a fault.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fault(ctrl: *const msp_controller) -> bool {
-    // SAFETY: forwarded
-    unsafe { handle::<f32, _>(ctrl.cast_mut()) }.is_none_or(fault)
-}
-
-/// [`msp_pid_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_size_f64(
-    config: *const msp_pid_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Pid,
-            pid_samples,
-        )
-    }
-}
-
-/// [`msp_smith_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_smith_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_size_f64(
-    config: *const msp_smith_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            smith_samples,
-        )
-    }
-}
-
-/// [`msp_karan_dey_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_smith_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_size_f64(
-    config: *const msp_karan_dey_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            karan_dey_samples,
-        )
-    }
-}
-
-/// [`msp_fsp_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_smith_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_size_f64(
-    config: *const msp_fsp_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Fsp,
-            fsp_samples,
-        )
-    }
-}
-
-/// [`msp_pid_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_pid_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
-}
-
-/// [`msp_smith_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_smith_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_smith) }
-}
-
-/// [`msp_karan_dey_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_karan_dey_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
-}
-
-/// [`msp_fsp_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_fsp_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_fsp) }
-}
-
-/// [`msp_update`] in double precision.
-///
-/// # Safety
-/// As [`msp_update`].
-#[cfg(not(all(target_arch = "arm", target_os = "none")))]
-#[no_mangle]
-pub unsafe extern "C" fn msp_update_f64(ctrl: *mut msp_controller_f64, r: f64, y: f64) -> f64 {
-    // SAFETY: forwarded
-    unsafe { update_unchecked::<f64, _>(ctrl, r, y) }
-}
-
-/// [`msp_reset`] in double precision.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_reset_f64(ctrl: *mut msp_controller_f64) -> msp_status {
-    // SAFETY: forwarded
-    match unsafe { handle::<f64, _>(ctrl) } {
-        Some(h) => {
-            reset(h);
-            msp_status::MSP_OK
-        }
-        None => bad(ctrl),
-    }
-}
-
-/// [`msp_fault`] in double precision.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fault_f64(ctrl: *const msp_controller_f64) -> bool {
-    // SAFETY: forwarded
-    unsafe { handle::<f64, _>(ctrl.cast_mut()) }.is_none_or(fault)
-}
-
 /// The status of a handle that is not one of ours.
-fn bad<H>(ctrl: *mut H) -> msp_status {
+pub(crate) fn bad<H>(ctrl: *mut H) -> msp_status {
     if ctrl.is_null() {
         msp_status::MSP_NULL_POINTER
     } else {
@@ -1169,7 +711,7 @@ fn bad<H>(ctrl: *mut H) -> msp_status {
 ///
 /// # Safety
 /// `ctrl` is null or from an `msp_*_init` call of precision `T`.
-unsafe fn operate<T: Precision, H>(
+pub(crate) unsafe fn operate<T: Precision, H>(
     ctrl: *mut H,
     f: impl FnOnce(&mut Handle<T>) -> Result<(), Error>,
 ) -> msp_status {
@@ -1183,7 +725,7 @@ unsafe fn operate<T: Precision, H>(
     }
 }
 
-fn manual<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
+pub(crate) fn manual<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
     if !u.is_finite() {
         return Err(Error::NonFinite("u"));
     }
@@ -1191,12 +733,12 @@ fn manual<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
     Ok(())
 }
 
-fn auto<T: Precision>(h: &mut Handle<T>) -> Result<(), Error> {
+pub(crate) fn auto<T: Precision>(h: &mut Handle<T>) -> Result<(), Error> {
     h.bind();
     Ok(())
 }
 
-fn applied<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
+pub(crate) fn applied<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
     if !u.is_finite() {
         return Err(Error::NonFinite("u_applied"));
     }
@@ -1207,117 +749,11 @@ fn applied<T: Precision>(h: &mut Handle<T>, u: T) -> Result<(), Error> {
     Ok(())
 }
 
-fn set_dead_time<T: Precision>(h: &mut Handle<T>, samples: T) -> Result<(), Error> {
+pub(crate) fn set_dead_time<T: Precision>(h: &mut Handle<T>, samples: T) -> Result<(), Error> {
     h.operate(SetDeadTime(samples))
 }
 
-/// Manual mode: the output is `u` from the next update on; the controller's
-/// model and integrators follow it, so that [`msp_auto`] is bumpless.
-/// Tracking (the output follows an external value) is the same call, made
-/// each sample with the value to follow.
-///
-/// # Safety
-/// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
-#[no_mangle]
-pub unsafe extern "C" fn msp_manual(ctrl: *mut msp_controller, u: f32) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| manual(h, u)) }
-}
-
-/// Automatic mode: the next output continues from the last applied one.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_auto(ctrl: *mut msp_controller) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, auto) }
-}
-
-/// External reset: the value the actuator really applied for the last
-/// output (after a limit or an override downstream), given before the next
-/// [`msp_update`]; the integrators (back-calculation) and the model follow it.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_applied(ctrl: *mut msp_controller, u_applied: f32) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| applied(h, u_applied)) }
-}
-
-/// Gives the controller's model the dead time `samples` (fractional allowed),
-/// within the buffer's capacity (`max_dead_time_samples` of the size call);
-/// `MSP_UNSUPPORTED` for a scheme whose design contains the dead time (FSP)
-/// or that has none (PID).
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_set_dead_time(ctrl: *mut msp_controller, samples: f32) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| set_dead_time(h, samples)) }
-}
-
-/// [`msp_manual`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_manual_f64(ctrl: *mut msp_controller_f64, u: f64) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| manual(h, u)) }
-}
-
-/// [`msp_auto`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_auto_f64(ctrl: *mut msp_controller_f64) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, auto) }
-}
-
-/// [`msp_applied`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_applied_f64(
-    ctrl: *mut msp_controller_f64,
-    u_applied: f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| applied(h, u_applied)) }
-}
-
-/// [`msp_set_dead_time`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_set_dead_time_f64(
-    ctrl: *mut msp_controller_f64,
-    samples: f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| set_dead_time(h, samples)) }
-}
-
-/// A gain of the primary PID ([`msp_retune`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum msp_gain {
-    /// The proportional gain `kp`.
-    MSP_KP = 0,
-    /// The integral time `ti` (s; `INFINITY` turns the integral off).
-    MSP_TI = 1,
-    /// The derivative time `td` (s).
-    MSP_TD = 2,
-}
-
-fn retune<T: Precision>(h: &mut Handle<T>, gain: u32, value: T) -> Result<(), Error> {
+pub(crate) fn retune<T: Precision>(h: &mut Handle<T>, gain: u32, value: T) -> Result<(), Error> {
     use msp_core::operate::Gain;
     let g = match gain {
         0 => Gain::Kp,
@@ -1326,35 +762,4 @@ fn retune<T: Precision>(h: &mut Handle<T>, gain: u32, value: T) -> Result<(), Er
         _ => return Err(Error::OutOfRange("gain")),
     };
     h.operate(Retune(g, value))
-}
-
-/// Changes a gain of the primary PID while running (`gain`: an
-/// `msp_gain`), bumpless: the output does not jump at the change.
-/// `MSP_UNSUPPORTED` where the scheme's controllers share the gain
-/// (Karan–Dey's `kp`) or the primary is not a PID.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_retune(
-    ctrl: *mut msp_controller,
-    gain: u32,
-    value: f32,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| retune(h, gain, value)) }
-}
-
-/// [`msp_retune`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_retune_f64(
-    ctrl: *mut msp_controller_f64,
-    gain: u32,
-    value: f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| retune(h, gain, value)) }
 }

@@ -24,11 +24,13 @@
 #[cfg(test)]
 extern crate std;
 
+mod api;
 mod handle;
 mod relay;
 
 use core::ffi::c_char;
 
+pub use api::*;
 pub use handle::*;
 pub use relay::*;
 
