@@ -170,16 +170,16 @@ pub(crate) fn keyword(field: &str) -> &str {
 /// tuning, the period, the precision and the memory) that ``margins`` and
 /// ``sweep`` take.
 const DESIGN: &[&str] = &[
-    "model",
-    "inner_plant",
-    "inner_model",
     "controller",
+    "float32",
+    "inner_model",
+    "inner_plant",
     "lambda",
+    "max_memory",
+    "model",
     "rule",
     "set",
     "ts",
-    "float32",
-    "max_memory",
 ];
 
 /// The scenario's fields a study function takes as keywords (with the plant
