@@ -234,20 +234,48 @@ pub fn loop_response(
     Ok(out)
 }
 
-/// Bisection of `f(w) = 0` between a sign change.
-fn refine(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let mut fa = f(a);
-    for _ in 0..80 {
-        let m = (a * b).sqrt();
-        let fm = f(m);
-        if (fm > 0.0) == (fa > 0.0) {
-            a = m;
-            fa = fm;
+/// The root of `f(w) = 0` between a sign change at `a < b`: regula falsi
+/// on `ln w` with the Illinois modification (the retained end's value is
+/// halved when it is kept twice, so both ends move and the convergence is
+/// superlinear), to the relative precision of `f64` in `w` — a few
+/// evaluations where bisection took 80, which matters for a long dead time,
+/// whose loop crosses the negative real axis hundreds of times.
+fn refine(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    let (mut xa, mut xb) = (a.ln(), b.ln());
+    let (mut fa, mut fb) = (f(a), f(b));
+    if !(fa.is_finite() && fb.is_finite()) || (fa > 0.0) == (fb > 0.0) {
+        return (a * b).sqrt();
+    }
+    let mut side = 0i8;
+    for _ in 0..100 {
+        let x = (xa * fb - xb * fa) / (fb - fa);
+        let x = if x > xa.min(xb) && x < xa.max(xb) {
+            x
         } else {
-            b = m;
+            0.5 * (xa + xb)
+        };
+        if (xb - xa).abs() <= 4.0 * f64::EPSILON * x.abs().max(1.0) {
+            return x.exp();
+        }
+        let fx = f(x.exp());
+        if fx == 0.0 || !fx.is_finite() {
+            return x.exp();
+        }
+        if (fx > 0.0) == (fb > 0.0) {
+            (xb, fb) = (x, fx);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            (xa, fa) = (x, fx);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
         }
     }
-    (a * b).sqrt()
+    (0.5 * (xa + xb)).exp()
 }
 
 /// Margins of `controller` on `plant` at period `ts` (the nominal closed loop

@@ -28,7 +28,7 @@
 
 use crate::complex::Complex;
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::fsp::{buffer, model_tf, whole_samples, Predictor, SmallPoly, SMALL};
+use crate::dtc::fsp::{buffer, model_tf, taps_at, whole_samples, Predictor, SmallPoly, SMALL};
 use crate::{Discretization, Error, Lti, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
@@ -267,13 +267,10 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> GpccPredictor<T, S> {
 
     /// `(F1, F2, Fk)` at `z = e^{jθ}`.
     pub fn filters(&self, theta: T) -> (Complex<T>, Complex<T>, Complex<T>) {
-        let f1 = self.markov.as_ref().iter().take(self.h).enumerate().fold(
-            Complex::default(),
-            |a, (i, m)| {
-                let k = T::of(f64::from(u32::try_from(i).unwrap_or(0)) + 1.0);
-                a + Complex::cis(-theta * k).scale(*m)
-            },
-        ) * self.gamma.response(theta);
+        // Σ_{i=1}^{h} m_i·z^{−i} = z^{−1}·Σ_{i=0}^{h−1} m_{i+1}·z^{−i}
+        let w = Complex::cis(-theta);
+        let taps = self.markov.as_ref().get(..self.h).unwrap_or(&[]);
+        let f1 = w * taps_at(taps, w) * self.gamma.response(theta);
         (f1, self.f2.response(theta), self.fk.response(theta))
     }
 }

@@ -23,6 +23,12 @@ fn round3(v: f64) -> f64 {
     crate::poly::round_sig(v, 3)
 }
 
+/// Frequencies of the grid a candidate's margins are screened on (the
+/// loop's own are computed on 6000): the crossings and peaks are refined
+/// between grid points, so a coarse grid finds the same margins where the
+/// loop's response has no narrow resonance between two of its points.
+const SCREEN: usize = 300;
+
 impl Scenario {
     /// The margins of a tuned controller on `plant` (sampled view) on a
     /// grid of `points` frequencies.
@@ -62,7 +68,7 @@ impl Scenario {
         model: &TransferFunction,
     ) -> Option<Robustness> {
         // candidates are screened on a coarser grid than the loop's own margins
-        let margins_of = |t: &Tuned| self.margins_of_tuned(t, plant, model, 800);
+        let margins_of = |t: &Tuned| self.margins_of_tuned(t, plant, model, SCREEN);
         let margins = self.margins_of_tuned(tuned, plant, model, 6000)?;
         let theta = plant.delay;
         let fine = |m: &crate::analysis::Margins| m.ms <= 2.0 && m.dm >= 0.2 * theta;
@@ -108,7 +114,7 @@ impl Scenario {
                         (sc.lambda, sc.rule) = (None, None);
                         sc.set.clear();
                         let t = sc.tune_for(model, None).ok()?;
-                        let m = sc.margins_of_tuned(&t, plant, model, 800)?;
+                        let m = sc.margins_of_tuned(&t, plant, model, SCREEN)?;
                         fine(&m).then_some((s.name, m.ms))
                     })
                     .min_by(|a, b| a.1.total_cmp(&b.1))
