@@ -91,7 +91,11 @@ fn closed<T: Real>(c: &mut Criterion, group: &str, name: &str, mut step: impl Fn
     g.bench_function(name, |b| {
         b.iter(|| {
             k = k.wrapping_add(1);
-            let r = if (k >> 12) & 1 == 0 { T::one() } else { T::of(2.0) };
+            let r = if (k >> 12) & 1 == 0 {
+                T::one()
+            } else {
+                T::of(2.0)
+            };
             let u = step(black_box(r), y);
             y = T::of(0.99) * y + T::of(0.01) * u;
             u
