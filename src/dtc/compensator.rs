@@ -257,9 +257,12 @@ pub struct Compensator<T, const N: usize, S> {
     err: ErrorPath<T, S>,
     dist: DisturbancePath<T, S>,
     corr: Option<Lti<T, AUX>>,
-    /// `Kv` and the period of a correction `m(s) = Kv·L/(1 + sL)`
-    /// (Watanabe–Ito), to redesign it for a new dead time `L`.
-    corr_kv: Option<(T, T)>,
+    /// The correction is Watanabe–Ito's `m(s) = Kv·L/(1 + sL)`, which a new
+    /// dead time `L` redesigns (`Kv` from its static gain `Kv·L`, the period
+    /// from the PID's). A flag, not the values: it fits in the padding
+    /// beside the other flags, and the per-sample fields keep the offsets
+    /// a Cortex-M's loads reach without an address computation.
+    corr_integrating: bool,
     model: Lti<T, N>,
     delay: Delay<T, S>,
     u_min: T,
@@ -296,7 +299,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             err: ErrorPath::Direct,
             dist: DisturbancePath::Off,
             corr: None,
-            corr_kv: None,
+            corr_integrating: false,
             model,
             delay,
             u_min: T::neg_infinity(),
@@ -379,9 +382,14 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
     /// gain `kv` and the dead time `l` (s) at the period `ts`; it is
     /// redesigned when the dead time changes at run time.
     pub fn with_integrating_correction(self, kv: T, l: T, ts: T) -> Result<Self, Error> {
+        if ts != self.gc1.config().ts {
+            return Err(Error::Unsupported(
+                "the correction's period is the controller's",
+            ));
+        }
         let m = Self::integrating_correction(kv, l, ts)?;
         let mut c = self.with_correction(m)?;
-        c.corr_kv = Some((kv, ts));
+        c.corr_integrating = true;
         Ok(c)
     }
 
@@ -568,15 +576,18 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         // Watanabe–Ito's m(s) = Kv·L/(1 + sL) is redesigned for the new L,
         // its output rescaled by L'/L (its steady state for the same input)
-        let corr = match (&self.corr, self.corr_kv) {
+        let corr = match (&self.corr, self.corr_integrating) {
             (None, _) => None,
-            (Some(_), None) => {
+            (Some(_), false) => {
                 return Err(Error::Unsupported(
                     "the scheme's correction contains the dead time: rebuild it for another",
                 ))
             }
-            (Some(m), Some((kv, ts))) => {
+            (Some(m), true) => {
+                let ts = self.gc1.config().ts;
                 let (l_old, l_new) = (self.delay.delay() * ts, samples * ts);
+                // m(0) = Kv·L
+                let kv = m.dc_gain()? / l_old;
                 let mut fresh = Self::integrating_correction(kv, l_new, ts)?;
                 if l_old > T::zero() {
                     fresh.shift_output(m.free_output() * l_new / l_old);
