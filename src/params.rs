@@ -164,6 +164,23 @@ macro_rules! param_struct {
 }
 pub(crate) use param_struct;
 
+/// A parameter struct whose fields begin with a shared prefix (the fields
+/// of a predictor's PID, of a cascade's primary controller…):
+/// `prefixed! { { prefix fields } #[doc] pub struct Name { own fields } }`.
+/// A family's macro (`tuning::pid_params!`, …) passes its prefix once.
+macro_rules! prefixed {
+    ({ $($prefix:tt)* } $(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
+        crate::params::param_struct! {
+            $(#[$meta])*
+            pub struct $name {
+                $($prefix)*
+                $($rest)*
+            }
+        }
+    };
+}
+pub(crate) use prefixed;
+
 /// A scheme's design inputs: what its tuning rule reads besides the model
 /// (implemented by the crate's `design_struct!` macro). Every scheme has the
 /// closed-loop time constant `lambda` and its ratio to the dead time `alpha`;

@@ -7,18 +7,17 @@ use crate::{Error, Ipdt, ProcessModel, Real};
 /// Declares a parameter struct with the fields of [`PidGains`] first (a
 /// predictor around an ISA PID), then its own.
 macro_rules! pid_params {
-    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
-        crate::params::param_struct! {
-            $(#[$meta])*
-            pub struct $name {
+    ($($item:tt)*) => {
+        crate::params::prefixed! {
+            {
                 /// Proportional gain `Kp`.
                 kp: Finite,
                 /// Integral time `Ti` (s).
                 ti: Positive,
                 /// Derivative time `Td` (s).
                 td: NonNegative,
-                $($rest)*
             }
+            $($item)*
         }
     };
 }

@@ -38,10 +38,9 @@ use num_traits::Float;
 /// Declares a cascade scheme's parameter struct: the fields of
 /// [`CascadePrimary`] first, then the scheme's own.
 macro_rules! cascade_params {
-    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
-        crate::params::param_struct! {
-            $(#[$meta])*
-            pub struct $name {
+    ($($item:tt)*) => {
+        crate::params::prefixed! {
+            {
                 /// Proportional gain of the primary PID.
                 kp: Finite,
                 /// Integral gain of the primary PID (1/s).
@@ -54,8 +53,8 @@ macro_rules! cascade_params {
                 epsilon: Finite,
                 /// Inner IMC filter time constant `λ2` (s).
                 lambda2: Positive,
-                $($rest)*
             }
+            $($item)*
         }
     };
 }

@@ -17,10 +17,9 @@ use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 /// Declares a parameter struct with the fields of [`KayaAthertonParams`]
 /// first (a scheme built around this predictor), then its own.
 macro_rules! kaya_atherton_params {
-    ($(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
-        crate::params::param_struct! {
-            $(#[$meta])*
-            pub struct $name {
+    ($($item:tt)*) => {
+        crate::params::prefixed! {
+            {
                 /// Proportional gain of `Gc1`.
                 kp: Finite,
                 /// Integral time of `Gc1` (s).
@@ -33,8 +32,8 @@ macro_rules! kaya_atherton_params {
                 kb: Finite,
                 /// Lead time of `Gc3` (s).
                 td: NonNegative,
-                $($rest)*
             }
+            $($item)*
         }
     };
 }
