@@ -154,8 +154,10 @@ impl Controller {
         }
     }
     /// Gives the controller's model the dead time ``theta`` (s), within the
-    /// ``max_dead_time`` it was built with; a scheme whose design contains
-    /// its dead time refuses.
+    /// ``max_dead_time`` it was built with (for a cascade scheme the dead time
+    /// from the plant input to ``y``). The predictor schemes (``fsp``,
+    /// ``fspcc``, ``gpcc``) are redesigned for it and take whole samples;
+    /// ``pid`` and ``pi`` have no model dead time and raise ``ValueError``.
     fn set_dead_time(&mut self, theta: f64) -> PyResult<()> {
         if !(theta.is_finite() && theta >= 0.0) {
             return Err(PyValueError::new_err(
