@@ -313,7 +313,6 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
     };
     res.size(controller.signal_names(), n_rows, columns);
     let mut run = Run {
-        ts,
         n,
         m,
         process,

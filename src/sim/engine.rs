@@ -21,7 +21,6 @@ use crate::{CascadeControl, Introspect, Operate};
 
 /// What a run prepared before its first sample.
 pub(super) struct Run<'a> {
-    pub(super) ts: f64,
     /// Controller samples.
     pub(super) n: usize,
     /// Rows a sample: the plant's output at the sample and at `m − 1`
@@ -236,7 +235,7 @@ where
     let (mut next_step, mut next_op) = (0usize, 0usize);
     let mut r = 0.0;
     let mut sig = std::vec![0.0; controller.signal_names().len()];
-    let ts = run.ts;
+    let ts = run.flags.ts;
     let mut i = 0usize;
     while i < run.n {
         // what happens at sample i
