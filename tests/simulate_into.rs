@@ -191,16 +191,7 @@ fn the_plain_loop_is_the_general_loop() {
     };
     for record in [Record::All, Record::OutputAndInput] {
         let plain = SimConfig {
-            setpoint: vec![
-                SetpointStep {
-                    value: 1.0,
-                    at: 0.0,
-                },
-                SetpointStep {
-                    value: 2.0,
-                    at: 300.0,
-                },
-            ],
+            setpoint: vec!["1@0".parse().unwrap(), "2@300".parse().unwrap()],
             disturbances: vec![
                 step(Location::Input, -0.1, 150.0),
                 step(Location::Output, 0.05, 450.0),
