@@ -126,7 +126,9 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         self.current
     }
 
-    fn check(&self, delay: T) -> Result<(), Error> {
+    /// Whether the line can take a delay of `delay` samples (non-negative,
+    /// within its capacity), changing nothing.
+    pub fn check(&self, delay: T) -> Result<(), Error> {
         let d = non_negative(delay, "delay")?;
         match T::from(self.capacity()) {
             Some(cap) if d <= cap => Ok(()),

@@ -453,6 +453,27 @@ fn dead_time_slews_and_the_set_point_ramps() {
         // beyond the room
         assert!(l.c.inner_mut().ramp_dead_time(h0 + 40.0, 0.1).is_err());
     }
+    // a correction redesigned for its dead time, a window of whole samples:
+    // they take a new dead time at once, not a slide
+    for name in ["watanabe-ito", "astrom-hang-lim"] {
+        let s = msp::registry::find(name).unwrap();
+        let t = common::tuned(s, 0.0);
+        let b = Build {
+            max_dead_time: 2.0 * t.p1.delay,
+            ..t.build
+        };
+        let mut c = s.build_process(&t.params, &t.p1, None, &b).unwrap();
+        let h = c.dead_time().unwrap();
+        assert!(
+            matches!(
+                c.ramp_dead_time(h + 10.0, 0.1),
+                Err(msp::Error::Unsupported(_))
+            ),
+            "{name}"
+        );
+        c.set_dead_time(h + 10.0).unwrap();
+        assert_eq!(c.dead_time(), Some(h + 10.0), "{name}");
+    }
     // the set-point ramp: the step reaches the controller over 10 s
     let run = |ramp: Option<f64>| {
         msp::study::Scenario {

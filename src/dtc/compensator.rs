@@ -210,16 +210,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     /// the integrator's balance `−k2·m + k4·m − k3·W = 0` holds for any `L`,
     /// so the filter is the one built for the new dead time.
     fn set_delay(&mut self, samples: T) -> Result<(), Error> {
-        let whole = samples.floor();
-        if whole != samples {
-            return Err(Error::Unsupported(
-                "Åström–Hang–Lim's M takes a dead time of whole samples",
-            ));
-        }
-        let n = whole.to_usize().ok_or(Error::DelayTooLong("delay"))?;
-        if n > self.line.capacity() {
-            return Err(Error::DelayTooLong("delay"));
-        }
+        let n = crate::dtc::fsp::whole_samples(
+            samples,
+            self.line.capacity(),
+            "Åström–Hang–Lim's M takes a dead time of whole samples",
+        )?;
+        let whole = crate::dtc::fsp::samples_of(n)?;
         let mut w = Sum::default();
         for j in 1..=n {
             w.add(self.h * self.line.peek_back(T::zero(), j));
@@ -597,18 +593,14 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         };
         // Åström–Hang–Lim's M holds the dead time as a window: it moves with
         // the model (whole samples)
-        if let DisturbancePath::AstromHangLim(m) = &mut self.dist {
-            if samples > T::of(self.delay.capacity() as f64) {
-                return Err(Error::DelayTooLong("delay"));
-            }
-            m.set_delay(samples)?;
-        }
+        self.delay.check(samples)?;
         // Huang's F delays its output by the model's dead time too (its B
-        // does not depend on it): both lines move together
-        if let ErrorPath::Huang { line, .. } = &mut self.err {
-            if samples > T::of(line.capacity() as f64) {
-                return Err(Error::DelayTooLong("delay"));
-            }
+        // does not depend on it): both lines move together, or neither
+        if let ErrorPath::Huang { line, .. } = &self.err {
+            line.check(samples)?;
+        }
+        if let DisturbancePath::AstromHangLim(m) = &mut self.dist {
+            m.set_delay(samples)?;
         }
         self.delay.set_delay(samples)?;
         if let ErrorPath::Huang { line, .. } = &mut self.err {
@@ -620,18 +612,20 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         Ok(())
     }
 
+    /// The model's line, and Huang's filter's with it, slide to `samples`.
+    /// Watanabe–Ito's correction (redesigned for a dead time) and
+    /// Åström–Hang–Lim's window (whole samples) do not slide: they take a
+    /// new dead time at once ([`crate::Operate::set_dead_time`]).
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
-        // the same schemes take it as take a step change, and the same room
-        self.set_dead_time(self.delay.delay())?;
-        if matches!(self.dist, DisturbancePath::AstromHangLim(_)) {
+        if self.corr.is_some() || matches!(self.dist, DisturbancePath::AstromHangLim(_)) {
             return Err(Error::Unsupported(
-                "Åström–Hang–Lim's window moves in whole samples: give the new dead time at once",
+                "this scheme's correction or window is designed for its dead time: give the new dead time at once",
             ));
         }
+        let per_sample = crate::real::positive(per_sample, "slew")?;
+        self.delay.check(samples)?;
         if let ErrorPath::Huang { line, .. } = &self.err {
-            if samples > T::of(line.capacity() as f64) {
-                return Err(Error::DelayTooLong("delay"));
-            }
+            line.check(samples)?;
         }
         self.delay.set_slew(per_sample)?;
         self.delay.ramp_delay(samples)?;

@@ -28,7 +28,9 @@
 
 use crate::complex::Complex;
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::fsp::{buffer, model_tf, taps_at, whole_samples, Predictor, SmallPoly, SMALL};
+use crate::dtc::fsp::{
+    buffer, model_tf, samples_of, taps_at, whole_samples, Predictor, SmallPoly, SMALL,
+};
 use crate::{Discretization, Error, Lti, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
@@ -242,12 +244,6 @@ impl<T: Real, S: DelayStorage<T>> GpccPredictor<T, S> {
     }
 }
 
-/// `h` samples as a delay in `T`.
-fn samples_of<T: Real>(h: usize) -> Result<T, Error> {
-    let n = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
-    Ok(T::of(f64::from(n)))
-}
-
 impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> GpccPredictor<T, S> {
     /// `F1·u` from the filtered past inputs `w = Γ·u`.
     fn f1_output(&self) -> T {
@@ -306,6 +302,14 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
     fn dead_time(&self) -> Option<T> {
         samples_of(self.h).ok()
     }
+    fn check_dead_time(&self, samples: T) -> Result<usize, Error> {
+        let room = self.ring.as_ref().len().min(self.markov.as_ref().len());
+        whole_samples(
+            samples,
+            room,
+            "the generalized predictor takes a dead time of whole samples",
+        )
+    }
     /// Redesigns `F1` and `F2` for `samples` (whole samples, within the
     /// buffers' capacity) without allocating. `Γ` and `F2`'s denominator
     /// (`Gn`'s numerator) do not depend on the dead time, so `Γ`'s and
@@ -316,14 +320,6 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
     /// difference `Δ` of the two designs' next `ȳ`, which is exactly what the
     /// new design would hold at a steady state (at a steady state of a
     /// perfect model `Δ = 0`: `ȳ = Gm(1)·u` for any dead time).
-    fn check_dead_time(&self, samples: T) -> Result<usize, Error> {
-        let room = self.ring.as_ref().len().min(self.markov.as_ref().len());
-        whole_samples(
-            samples,
-            room,
-            "the generalized predictor takes a dead time of whole samples",
-        )
-    }
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         let h = self.check_dead_time(samples)?;
         let f2_num = f2_numerator(&self.gn, self.gn_num.len(), h)?;

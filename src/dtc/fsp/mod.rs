@@ -164,7 +164,7 @@ pub use self::design::{
 };
 #[cfg(feature = "alloc")]
 pub use self::runtime::Plan;
-pub(crate) use self::runtime::{taps_at, whole_samples};
+pub(crate) use self::runtime::{samples_of, taps_at, whole_samples};
 pub use self::runtime::{
     DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
 };

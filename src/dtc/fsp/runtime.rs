@@ -65,6 +65,12 @@ pub(crate) fn whole_samples<T: Real>(
     Ok(h)
 }
 
+/// `h` whole samples as a delay in `T`.
+pub(crate) fn samples_of<T: Real>(h: usize) -> Result<T, Error> {
+    let n = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
+    Ok(T::of(f64::from(n)))
+}
+
 /// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`.
 pub trait Primary<T: Real> {
     /// One sample (a non-finite `y` holds the output).
@@ -463,18 +469,11 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
         fr.set_state(self.fr.state());
         let mut s = DirectForm::new_in(d.s_num(), d.s_den.as_slice(), plan.storage)?;
         s.carry_from(&self.s)?;
-        let plan = Plan {
-            h,
-            max_h: plan.max_h,
-            nm: plan.nm,
-            dm: plan.dm,
-            ts: plan.ts,
-            spec: plan.spec,
-            storage: plan.storage,
-        };
         self.fr = fr;
         self.s = s;
-        self.plan = Some(plan);
+        if let Some(plan) = &mut self.plan {
+            plan.h = h;
+        }
         Ok(())
     }
     fn reset(&mut self) {
@@ -564,10 +563,10 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
         let one = T::one() - T::epsilon().sqrt();
         while r.progress >= one && now != r.target {
             let next = if r.target > now { now + 1 } else { now - 1 };
-            let Some(h) = u32::try_from(next).ok().map(|n| T::of(f64::from(n))) else {
-                return;
-            };
-            if self.pred.set_dead_time(h).is_err() {
+            if samples_of(next)
+                .and_then(|h| self.pred.set_dead_time(h))
+                .is_err()
+            {
                 return;
             }
             now = next;
