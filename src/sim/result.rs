@@ -38,22 +38,7 @@ pub struct SimResult {
 impl SimResult {
     /// Empties every column, keeping the allocations.
     pub(super) fn clear(&mut self) {
-        for v in [
-            &mut self.t,
-            &mut self.r,
-            &mut self.y,
-            &mut self.u,
-            &mut self.u_applied,
-            &mut self.d,
-            &mut self.d_out,
-            &mut self.y2,
-            &mut self.d_inner,
-        ] {
-            v.clear();
-        }
-        for (_, v) in &mut self.signals {
-            v.clear();
-        }
+        self.truncate(0);
         self.diverged_at = None;
     }
 

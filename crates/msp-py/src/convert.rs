@@ -10,25 +10,25 @@ use msp::study::{Perturbation, RunOutput, Scenario};
 use numpy::IntoPyArray;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
-pub(crate) fn setpoints(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<SetpointStep>> {
-    let Some(obj) = obj else {
-        return Ok(Vec::new());
-    };
+/// The set point from a number, ``"V@T"``, or a list or tuple of
+/// ``(value, time)`` pairs, ``"V@T"`` strings and numbers.
+pub(crate) fn setpoints(obj: &Bound<'_, PyAny>) -> PyResult<Vec<SetpointStep>> {
     if let Ok(v) = obj.extract::<f64>() {
         return Ok(vec![SetpointStep { value: v, at: 0.0 }]);
     }
     if let Ok(s) = obj.extract::<String>() {
         return Ok(vec![s.parse().map_err(value_err)?]);
     }
-    let list = obj.downcast::<PyList>().map_err(|_| {
+    // a list or a tuple (a string is neither here: it was read above)
+    let list: Vec<Bound<'_, PyAny>> = obj.extract().map_err(|_| {
         PyValueError::new_err(
             "setpoint: a number, 'V@T', or a list of (value, time) pairs or 'V@T' strings",
         )
     })?;
     let mut out = Vec::new();
-    for item in list.iter() {
+    for item in list {
         if let Ok((value, at)) = item.extract::<(f64, f64)>() {
             out.push(SetpointStep { value, at });
         } else if let Ok(s) = item.extract::<String>() {
@@ -44,14 +44,11 @@ pub(crate) fn setpoints(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Setpoint
     Ok(out)
 }
 
-pub(crate) fn disturbances(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Disturbance>> {
-    let Some(obj) = obj else {
-        return Ok(Vec::new());
-    };
-    let items: Vec<Bound<'_, PyAny>> = if obj.downcast::<PyList>().is_ok() {
-        obj.downcast::<PyList>()?.iter().collect()
-    } else {
-        vec![obj.clone()]
+/// The disturbances from one ``"input:V@T"`` or dict, or a list or tuple of them.
+pub(crate) fn disturbances(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Disturbance>> {
+    let items: Vec<Bound<'_, PyAny>> = match obj.extract::<String>() {
+        Ok(_) => vec![obj.clone()],
+        Err(_) => obj.extract().unwrap_or_else(|_| vec![obj.clone()]),
     };
     let mut out = Vec::new();
     for item in items {
@@ -251,8 +248,8 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
         "set" => sc.set = v.extract()?,
         "ts" => sc.ts = Some(v.extract()?),
         "duration" => sc.duration = Some(v.extract()?),
-        "setpoint" => sc.setpoint = setpoints(Some(v))?,
-        "disturbance" => sc.disturbance = disturbances(Some(v))?,
+        "setpoint" => sc.setpoint = setpoints(v)?,
+        "disturbance" => sc.disturbance = disturbances(v)?,
         "noise" => sc.noise = Some(v.extract()?),
         "seed" => sc.seed = Some(v.extract()?),
         "umin" => sc.umin = Some(v.extract()?),

@@ -497,6 +497,12 @@ def test_run_and_compare_take_every_scenario_field() -> None:
                   actuator=(-4.0, 4.0), reset_feedback=True, setpoint_ramp=10.0)
     assert res.controller["params"]["kp"] == 0.5 and len(res.t) == 401
     assert res.u_applied is not None and [e["at"] for e in res.operator_events] == [5.0, 6.0]
+    # sequences as tuples or lists alike (the compiled module reads either)
+    as_list = msp.run("2*e^-3s/(4s+1)", "pi", ts=0.1, duration=20.0, setpoint=[(1.0, 0.0), "2@10"],
+                      disturbance=["input:0.1@5"], events=["12:manual=0.3"])
+    as_tuple = msp.run("2*e^-3s/(4s+1)", "pi", ts=0.1, duration=20.0, setpoint=((1.0, 0.0), "2@10"),
+                       disturbance=("input:0.1@5",), events=("12:manual=0.3",))
+    assert np.array_equal(as_list.y, as_tuple.y) and as_list.r[-1] == 2.0 and as_list.d.max() == 0.1
 
 
 def test_hostile_expressions_raise_not_crash() -> None:

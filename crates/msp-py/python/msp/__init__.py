@@ -59,7 +59,7 @@ __all__ = [
 def _scenario(given: Mapping[str, Any], *apart: str) -> Dict[str, Any]:
     """The scenario keywords of a study function's arguments ``given`` (but those ``apart``)
     for the compiled module, which reads each once (``_msp.SCENARIO_KEYWORDS``) and refuses
-    any other: processes as expressions or ``Plant``, tuples as lists, ``None`` left out."""
+    any other: processes as expressions or ``Plant``, ``None`` left out."""
     out: Dict[str, Any] = {}
     for key, v in given.items():
         if key in apart or v is None:
@@ -68,8 +68,6 @@ def _scenario(given: Mapping[str, Any], *apart: str) -> Dict[str, Any]:
             v = _plant(v)
         elif key == "params":
             v = dict(v)
-        elif key in ("setpoint", "disturbance", "events") and isinstance(v, tuple):
-            v = list(v)
         elif key == "actuator":
             v = (float(v[0]), float(v[1]))
         out[key] = v
