@@ -235,9 +235,9 @@ pub fn loop_response(
 }
 
 /// The root of `f(w) = 0` between a sign change at `a < b`: regula falsi
-/// on `ln w` with the Illinois modification (the retained end's value is
-/// halved when it is kept twice, so both ends move and the convergence is
-/// superlinear), to the relative precision of `f64` in `w` — a few
+/// on `ln w` with the Illinois modification (Dowell & Jarratt (1971); the
+/// retained end's value is halved when it is kept twice, so both ends move
+/// and the convergence is superlinear), to the relative precision of `f64` in `w` — a few
 /// evaluations where bisection took 80, which matters for a long dead time,
 /// whose loop crosses the negative real axis hundreds of times.
 fn refine(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> f64 {

@@ -1656,6 +1656,63 @@ fn operator_events_and_an_outside_actuator_reach_the_csv_and_the_report() {
     );
 }
 
+/// A cascade process whose primary's transport delay grows at a steady
+/// state, the controller told at the same instant (García et al. (2010)
+/// Example 2, GPCC): the report shows the events and neither moves the
+/// output; the set-point step after them shows whether the controller was told.
+#[test]
+fn a_cascade_takes_dead_time_events() {
+    let run = |model_dead_time: &str| -> serde_json::Value {
+        let out = msp()
+            .args([
+                "run",
+                "-q",
+                "--plant",
+                "2e^-2s/s",
+                "--inner-plant",
+                "4e^-2s/(s+1)",
+                "-c",
+                "gpcc",
+                "--ts",
+                "0.1",
+                "--setpoint",
+                "1@0",
+                "--setpoint",
+                "2@250",
+                "--duration",
+                "350",
+                "--event",
+                "200:plant-dead-time=5",
+                "--event",
+            ])
+            .arg(format!("200:dead-time={model_dead_time}"))
+            .args(["-o", "/dev/null", "--report", "-"])
+            .assert()
+            .success();
+        serde_json::from_slice(&out.get_output().stdout).unwrap()
+    };
+    let told = run("5");
+    let ev = told["operator_events"].as_array().unwrap();
+    assert_eq!(ev.len(), 2);
+    assert_eq!(ev[0]["action"]["plant-dead-time"], 5.0);
+    let change = |r: &serde_json::Value| {
+        r["operator_events"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e["output_change"].as_f64().unwrap())
+            .fold(0.0f64, f64::max)
+    };
+    assert!(change(&told) < 1e-9, "{}", change(&told));
+    // the model left at 4 s: at the steady state nothing shows it (the
+    // output's change above is as small), the set-point step at 250 s does
+    let untold = run("4");
+    let iae = |r: &serde_json::Value| r["metrics"]["iae"].as_f64().unwrap();
+    // (the loop built for 5 s from the start is the told one: tests/operate.rs)
+    let (a, b) = (iae(&told), iae(&untold));
+    assert!((a - b).abs() > 1e-3, "{a} vs {b}");
+}
+
 #[test]
 fn bad_events_and_actuators_are_named() {
     for (args, needle) in [
