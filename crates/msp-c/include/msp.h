@@ -100,6 +100,25 @@ typedef struct {
 
 typedef msp_pid_config_float msp_pid_config;
 
+// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
+// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
+// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
+typedef struct {
+  double kp;
+  double ti;
+  double td;
+  double u_min;
+  double u_max;
+} msp_pid_params_double;
+
+// A PID controller sampled every `ts` seconds.
+typedef struct {
+  double ts;
+  msp_pid_params_double pid;
+} msp_pid_config_double;
+
+typedef msp_pid_config_double msp_pid_config_f64;
+
 // A process model: its kind (an `msp_model_kind`, held as an integer so
 // that any value a caller writes is read safely: an unknown one is
 // `MSP_OUT_OF_RANGE`), gain `k`, time constant `tau` (s) and dead time
@@ -120,56 +139,6 @@ typedef struct {
 } msp_smith_config_float;
 
 typedef msp_smith_config_float msp_smith_config;
-
-// The Karan–Dey modified Smith predictor for integrating plants (Bag
-// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
-// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
-typedef struct {
-  float ts;
-  msp_model_float model;
-  float kp;
-  float ti;
-  float beta;
-  float gamma;
-  float td;
-  float n;
-  float u_min;
-  float u_max;
-} msp_karan_dey_config_float;
-
-typedef msp_karan_dey_config_float msp_karan_dey_config;
-
-// The filtered Smith predictor for unstable, integrating and stable plants
-// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
-// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
-// `Fr` and `S` designed at initialization (in double precision).
-typedef struct {
-  float ts;
-  msp_model_float model;
-  msp_pid_params_float pid;
-  float tf;
-} msp_fsp_config_float;
-
-typedef msp_fsp_config_float msp_fsp_config;
-
-// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
-// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
-// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
-typedef struct {
-  double kp;
-  double ti;
-  double td;
-  double u_min;
-  double u_max;
-} msp_pid_params_double;
-
-// A PID controller sampled every `ts` seconds.
-typedef struct {
-  double ts;
-  msp_pid_params_double pid;
-} msp_pid_config_double;
-
-typedef msp_pid_config_double msp_pid_config_f64;
 
 // A process model: its kind (an `msp_model_kind`, held as an integer so
 // that any value a caller writes is read safely: an unknown one is
@@ -196,6 +165,24 @@ typedef msp_smith_config_double msp_smith_config_f64;
 // (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
 // `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
 typedef struct {
+  float ts;
+  msp_model_float model;
+  float kp;
+  float ti;
+  float beta;
+  float gamma;
+  float td;
+  float n;
+  float u_min;
+  float u_max;
+} msp_karan_dey_config_float;
+
+typedef msp_karan_dey_config_float msp_karan_dey_config;
+
+// The Karan–Dey modified Smith predictor for integrating plants (Bag
+// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
+// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
+typedef struct {
   double ts;
   msp_model_double model;
   double kp;
@@ -209,6 +196,19 @@ typedef struct {
 } msp_karan_dey_config_double;
 
 typedef msp_karan_dey_config_double msp_karan_dey_config_f64;
+
+// The filtered Smith predictor for unstable, integrating and stable plants
+// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
+// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
+// `Fr` and `S` designed at initialization (in double precision).
+typedef struct {
+  float ts;
+  msp_model_float model;
+  msp_pid_params_float pid;
+  float tf;
+} msp_fsp_config_float;
+
+typedef msp_fsp_config_float msp_fsp_config;
 
 // The filtered Smith predictor for unstable, integrating and stable plants
 // (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
@@ -285,6 +285,14 @@ size_t msp_pid_size(const msp_pid_config *config,
                     uint32_t max_dead_time_samples,
                     msp_status *status);
 
+// [`msp_pid_size`] in double precision.
+//
+// # Safety
+// As [`msp_pid_size`].
+size_t msp_pid_size_f64(const msp_pid_config_f64 *config,
+                        uint32_t max_dead_time_samples,
+                        msp_status *status);
+
 // The bytes a Smith predictor needs for its model's dead time, or for
 // `max_dead_time_samples` when that is longer (room to lengthen the dead
 // time at run time); 0 on an error, with the reason in `*status`.
@@ -295,6 +303,14 @@ size_t msp_smith_size(const msp_smith_config *config,
                       uint32_t max_dead_time_samples,
                       msp_status *status);
 
+// [`msp_smith_size`] in double precision.
+//
+// # Safety
+// As [`msp_smith_size`].
+size_t msp_smith_size_f64(const msp_smith_config_f64 *config,
+                          uint32_t max_dead_time_samples,
+                          msp_status *status);
+
 // [`msp_smith_size`] for the Karan–Dey predictor.
 //
 // # Safety
@@ -302,6 +318,14 @@ size_t msp_smith_size(const msp_smith_config *config,
 size_t msp_karan_dey_size(const msp_karan_dey_config *config,
                           uint32_t max_dead_time_samples,
                           msp_status *status);
+
+// [`msp_karan_dey_size`] in double precision.
+//
+// # Safety
+// As [`msp_karan_dey_size`].
+size_t msp_karan_dey_size_f64(const msp_karan_dey_config_f64 *config,
+                              uint32_t max_dead_time_samples,
+                              msp_status *status);
 
 // [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
 // included).
@@ -312,6 +336,14 @@ size_t msp_fsp_size(const msp_fsp_config *config,
                     uint32_t max_dead_time_samples,
                     msp_status *status);
 
+// [`msp_fsp_size`] in double precision.
+//
+// # Safety
+// As [`msp_fsp_size`].
+size_t msp_fsp_size_f64(const msp_fsp_config_f64 *config,
+                        uint32_t max_dead_time_samples,
+                        msp_status *status);
+
 // Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
 // is its handle.
 //
@@ -319,6 +351,15 @@ size_t msp_fsp_size(const msp_fsp_config *config,
 // `buf` is null or points to `len` writable bytes that stay in place while
 // the controller is used; `config` and `ctrl` are null or valid.
 msp_status msp_pid_init(void *buf, size_t len, const msp_pid_config *config, msp_controller **ctrl);
+
+// [`msp_pid_init`] in double precision.
+//
+// # Safety
+// As [`msp_pid_init`].
+msp_status msp_pid_init_f64(void *buf,
+                            size_t len,
+                            const msp_pid_config_f64 *config,
+                            msp_controller_f64 **ctrl);
 
 // Builds a Smith predictor in `buf`: its delay line takes the rest of the
 // buffer (the longest dead time it can be given later).
@@ -330,6 +371,15 @@ msp_status msp_smith_init(void *buf,
                           const msp_smith_config *config,
                           msp_controller **ctrl);
 
+// [`msp_smith_init`] in double precision.
+//
+// # Safety
+// As [`msp_smith_init`].
+msp_status msp_smith_init_f64(void *buf,
+                              size_t len,
+                              const msp_smith_config_f64 *config,
+                              msp_controller_f64 **ctrl);
+
 // Builds a Karan–Dey predictor in `buf`.
 //
 // # Safety
@@ -339,11 +389,29 @@ msp_status msp_karan_dey_init(void *buf,
                               const msp_karan_dey_config *config,
                               msp_controller **ctrl);
 
+// [`msp_karan_dey_init`] in double precision.
+//
+// # Safety
+// As [`msp_karan_dey_init`].
+msp_status msp_karan_dey_init_f64(void *buf,
+                                  size_t len,
+                                  const msp_karan_dey_config_f64 *config,
+                                  msp_controller_f64 **ctrl);
+
 // Designs and builds a filtered Smith predictor in `buf`.
 //
 // # Safety
 // As [`msp_pid_init`].
 msp_status msp_fsp_init(void *buf, size_t len, const msp_fsp_config *config, msp_controller **ctrl);
+
+// [`msp_fsp_init`] in double precision.
+//
+// # Safety
+// As [`msp_fsp_init`].
+msp_status msp_fsp_init_f64(void *buf,
+                            size_t len,
+                            const msp_fsp_config_f64 *config,
+                            msp_controller_f64 **ctrl);
 
 // One sample: the set point `r` and the measurement `y` in, the actuator
 // value out. A null handle gives NaN. This is the per-sample path, one
@@ -354,12 +422,24 @@ msp_status msp_fsp_init(void *buf, size_t len, const msp_fsp_config *config, msp
 // `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
 float msp_update(msp_controller *ctrl, float r, float y);
 
+// [`msp_update`] in double precision.
+//
+// # Safety
+// As [`msp_update`].
+double msp_update_f64(msp_controller_f64 *ctrl, double r, double y);
+
 // Clears the controller's state (integrators, model, delay lines) and
 // returns it to automatic mode.
 //
 // # Safety
 // As [`msp_update`].
 msp_status msp_reset(msp_controller *ctrl);
+
+// [`msp_reset`] in double precision.
+//
+// # Safety
+// As [`msp_reset`].
+msp_status msp_reset_f64(msp_controller_f64 *ctrl);
 
 // Whether the last update met a NaN or infinite input (the output was held
 // and the model kept following the actuator). A bad handle is a fault.
@@ -368,90 +448,10 @@ msp_status msp_reset(msp_controller *ctrl);
 // As [`msp_update`].
 bool msp_fault(const msp_controller *ctrl);
 
-// [`msp_pid_size`] in double precision.
-//
-// # Safety
-// As [`msp_pid_size`].
-size_t msp_pid_size_f64(const msp_pid_config_f64 *config,
-                        uint32_t max_dead_time_samples,
-                        msp_status *status);
-
-// [`msp_smith_size`] in double precision.
-//
-// # Safety
-// As [`msp_smith_size`].
-size_t msp_smith_size_f64(const msp_smith_config_f64 *config,
-                          uint32_t max_dead_time_samples,
-                          msp_status *status);
-
-// [`msp_karan_dey_size`] in double precision.
-//
-// # Safety
-// As [`msp_smith_size`].
-size_t msp_karan_dey_size_f64(const msp_karan_dey_config_f64 *config,
-                              uint32_t max_dead_time_samples,
-                              msp_status *status);
-
-// [`msp_fsp_size`] in double precision.
-//
-// # Safety
-// As [`msp_smith_size`].
-size_t msp_fsp_size_f64(const msp_fsp_config_f64 *config,
-                        uint32_t max_dead_time_samples,
-                        msp_status *status);
-
-// [`msp_pid_init`] in double precision.
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_pid_init_f64(void *buf,
-                            size_t len,
-                            const msp_pid_config_f64 *config,
-                            msp_controller_f64 **ctrl);
-
-// [`msp_smith_init`] in double precision.
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_smith_init_f64(void *buf,
-                              size_t len,
-                              const msp_smith_config_f64 *config,
-                              msp_controller_f64 **ctrl);
-
-// [`msp_karan_dey_init`] in double precision.
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_karan_dey_init_f64(void *buf,
-                                  size_t len,
-                                  const msp_karan_dey_config_f64 *config,
-                                  msp_controller_f64 **ctrl);
-
-// [`msp_fsp_init`] in double precision.
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_fsp_init_f64(void *buf,
-                            size_t len,
-                            const msp_fsp_config_f64 *config,
-                            msp_controller_f64 **ctrl);
-
-// [`msp_update`] in double precision.
-//
-// # Safety
-// As [`msp_update`].
-double msp_update_f64(msp_controller_f64 *ctrl, double r, double y);
-
-// [`msp_reset`] in double precision.
-//
-// # Safety
-// As [`msp_update`].
-msp_status msp_reset_f64(msp_controller_f64 *ctrl);
-
 // [`msp_fault`] in double precision.
 //
 // # Safety
-// As [`msp_update`].
+// As [`msp_fault`].
 bool msp_fault_f64(const msp_controller_f64 *ctrl);
 
 // Manual mode: the output is `u` from the next update on; the controller's
@@ -463,11 +463,23 @@ bool msp_fault_f64(const msp_controller_f64 *ctrl);
 // `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
 msp_status msp_manual(msp_controller *ctrl, float u);
 
+// [`msp_manual`] in double precision.
+//
+// # Safety
+// As [`msp_manual`].
+msp_status msp_manual_f64(msp_controller_f64 *ctrl, double u);
+
 // Automatic mode: the next output continues from the last applied one.
 //
 // # Safety
 // As [`msp_manual`].
 msp_status msp_auto(msp_controller *ctrl);
+
+// [`msp_auto`] in double precision.
+//
+// # Safety
+// As [`msp_auto`].
+msp_status msp_auto_f64(msp_controller_f64 *ctrl);
 
 // External reset: the value the actuator really applied for the last
 // output (after a limit or an override downstream), given before the next
@@ -476,6 +488,12 @@ msp_status msp_auto(msp_controller *ctrl);
 // # Safety
 // As [`msp_manual`].
 msp_status msp_applied(msp_controller *ctrl, float u_applied);
+
+// [`msp_applied`] in double precision.
+//
+// # Safety
+// As [`msp_applied`].
+msp_status msp_applied_f64(msp_controller_f64 *ctrl, double u_applied);
 
 // Gives the controller's model the dead time `samples` (fractional allowed),
 // within the buffer's capacity (`max_dead_time_samples` of the size call);
@@ -486,28 +504,10 @@ msp_status msp_applied(msp_controller *ctrl, float u_applied);
 // As [`msp_manual`].
 msp_status msp_set_dead_time(msp_controller *ctrl, float samples);
 
-// [`msp_manual`] in double precision.
-//
-// # Safety
-// As [`msp_manual`].
-msp_status msp_manual_f64(msp_controller_f64 *ctrl, double u);
-
-// [`msp_auto`] in double precision.
-//
-// # Safety
-// As [`msp_manual`].
-msp_status msp_auto_f64(msp_controller_f64 *ctrl);
-
-// [`msp_applied`] in double precision.
-//
-// # Safety
-// As [`msp_manual`].
-msp_status msp_applied_f64(msp_controller_f64 *ctrl, double u_applied);
-
 // [`msp_set_dead_time`] in double precision.
 //
 // # Safety
-// As [`msp_manual`].
+// As [`msp_set_dead_time`].
 msp_status msp_set_dead_time_f64(msp_controller_f64 *ctrl, double samples);
 
 // Changes a gain of the primary PID while running (`gain`: an
@@ -522,7 +522,7 @@ msp_status msp_retune(msp_controller *ctrl, uint32_t gain, float value);
 // [`msp_retune`] in double precision.
 //
 // # Safety
-// As [`msp_manual`].
+// As [`msp_retune`].
 msp_status msp_retune_f64(msp_controller_f64 *ctrl, uint32_t gain, double value);
 
 // Tunes a Smith predictor for the FOPDT model `k e^{−θs}/(τs + 1)`: Kaya's
@@ -541,7 +541,7 @@ msp_status msp_tune_smith_fopdt(float k,
 // [`msp_tune_smith_fopdt`] in double precision.
 //
 // # Safety
-// `config` is null or writable.
+// As [`msp_tune_smith_fopdt`].
 msp_status msp_tune_smith_fopdt_f64(double k,
                                     double tau,
                                     double theta,
@@ -564,7 +564,7 @@ msp_status msp_tune_karan_dey_ipdt(float k,
 // [`msp_tune_karan_dey_ipdt`] in double precision.
 //
 // # Safety
-// `config` is null or writable.
+// As [`msp_tune_karan_dey_ipdt`].
 msp_status msp_tune_karan_dey_ipdt_f64(double k,
                                        double theta,
                                        double ts,

@@ -1,167 +1,128 @@
 //! The C entry points: sizes, initialization, the per-sample calls and the
 //! operation of a controller.
 //!
-//! Each entry point is a one-line wrapper of a generic function of
-//! [`crate::handle`], written out for `float` and again for `double`:
-//! cbindgen reads the source as written, so wrappers made by a macro would
-//! not reach the header.
+//! Each entry point is a one-line call of a generic function of
+//! [`crate::handle`], written once in `twins!` (`lib.rs`) for `float` and its `_f64`
+//! twin for `double` (the precision is read from the argument types).
 
 use crate::handle::*;
 use crate::msp_status;
 
-/// The bytes a PID controller needs; 0 on an error, with the reason in
-/// `*status` (`status` may be null). `max_dead_time_samples` is not read.
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_size(
-    config: *const msp_pid_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Pid,
-            pid_samples,
-        )
+twins! {
+    /// The bytes a PID controller needs; 0 on an error, with the reason in
+    /// `*status` (`status` may be null). `max_dead_time_samples` is not read.
+    ///
+    /// # Safety
+    /// `config` and `status` are null or valid pointers.
+    fn msp_pid_size, msp_pid_size_f64(
+        config: *const msp_pid_config | *const msp_pid_config_f64,
+        max_dead_time_samples: u32,
+        status: *mut msp_status,
+    ) -> usize {
+        // SAFETY: forwarded
+        unsafe { config_size(config, max_dead_time_samples, status, Kind::Pid, pid_samples) }
     }
-}
 
-/// The bytes a Smith predictor needs for its model's dead time, or for
-/// `max_dead_time_samples` when that is longer (room to lengthen the dead
-/// time at run time); 0 on an error, with the reason in `*status`.
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_size(
-    config: *const msp_smith_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            smith_samples,
-        )
+    /// The bytes a Smith predictor needs for its model's dead time, or for
+    /// `max_dead_time_samples` when that is longer (room to lengthen the dead
+    /// time at run time); 0 on an error, with the reason in `*status`.
+    ///
+    /// # Safety
+    /// `config` and `status` are null or valid pointers.
+    fn msp_smith_size, msp_smith_size_f64(
+        config: *const msp_smith_config | *const msp_smith_config_f64,
+        max_dead_time_samples: u32,
+        status: *mut msp_status,
+    ) -> usize {
+        // SAFETY: forwarded
+        unsafe { config_size(config, max_dead_time_samples, status, Kind::Line, smith_samples) }
     }
-}
 
-/// [`msp_smith_size`] for the Karan–Dey predictor.
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_size(
-    config: *const msp_karan_dey_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            karan_dey_samples,
-        )
+    /// [`msp_smith_size`] for the Karan–Dey predictor.
+    ///
+    /// # Safety
+    /// `config` and `status` are null or valid pointers.
+    fn msp_karan_dey_size, msp_karan_dey_size_f64(
+        config: *const msp_karan_dey_config | *const msp_karan_dey_config_f64,
+        max_dead_time_samples: u32,
+        status: *mut msp_status,
+    ) -> usize {
+        // SAFETY: forwarded
+        unsafe { config_size(config, max_dead_time_samples, status, Kind::Line, karan_dey_samples) }
     }
-}
 
-/// [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
-/// included).
-///
-/// # Safety
-/// `config` and `status` are null or valid pointers.
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_size(
-    config: *const msp_fsp_config,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Fsp,
-            fsp_samples,
-        )
+    /// [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
+    /// included).
+    ///
+    /// # Safety
+    /// `config` and `status` are null or valid pointers.
+    fn msp_fsp_size, msp_fsp_size_f64(
+        config: *const msp_fsp_config | *const msp_fsp_config_f64,
+        max_dead_time_samples: u32,
+        status: *mut msp_status,
+    ) -> usize {
+        // SAFETY: forwarded
+        unsafe { config_size(config, max_dead_time_samples, status, Kind::Fsp, fsp_samples) }
     }
-}
 
-/// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
-/// is its handle.
-///
-/// # Safety
-/// `buf` is null or points to `len` writable bytes that stay in place while
-/// the controller is used; `config` and `ctrl` are null or valid.
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_pid_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
-}
+    /// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
+    /// is its handle.
+    ///
+    /// # Safety
+    /// `buf` is null or points to `len` writable bytes that stay in place while
+    /// the controller is used; `config` and `ctrl` are null or valid.
+    fn msp_pid_init, msp_pid_init_f64(
+        buf: *mut core::ffi::c_void,
+        len: usize,
+        config: *const msp_pid_config | *const msp_pid_config_f64,
+        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
+    }
 
-/// Builds a Smith predictor in `buf`: its delay line takes the rest of the
-/// buffer (the longest dead time it can be given later).
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_smith_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_smith) }
-}
+    /// Builds a Smith predictor in `buf`: its delay line takes the rest of the
+    /// buffer (the longest dead time it can be given later).
+    ///
+    /// # Safety
+    /// As [`msp_pid_init`].
+    fn msp_smith_init, msp_smith_init_f64(
+        buf: *mut core::ffi::c_void,
+        len: usize,
+        config: *const msp_smith_config | *const msp_smith_config_f64,
+        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { config_init(buf, len, config, ctrl, make_smith) }
+    }
 
-/// Builds a Karan–Dey predictor in `buf`.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_karan_dey_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
-}
+    /// Builds a Karan–Dey predictor in `buf`.
+    ///
+    /// # Safety
+    /// As [`msp_pid_init`].
+    fn msp_karan_dey_init, msp_karan_dey_init_f64(
+        buf: *mut core::ffi::c_void,
+        len: usize,
+        config: *const msp_karan_dey_config | *const msp_karan_dey_config_f64,
+        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
+    }
 
-/// Designs and builds a filtered Smith predictor in `buf`.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_init(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_fsp_config,
-    ctrl: *mut *mut msp_controller,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_fsp) }
+    /// Designs and builds a filtered Smith predictor in `buf`.
+    ///
+    /// # Safety
+    /// As [`msp_pid_init`].
+    fn msp_fsp_init, msp_fsp_init_f64(
+        buf: *mut core::ffi::c_void,
+        len: usize,
+        config: *const msp_fsp_config | *const msp_fsp_config_f64,
+        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { config_init(buf, len, config, ctrl, make_fsp) }
+    }
 }
 
 /// One sample: the set point `r` and the measurement `y` in, the actuator
@@ -175,7 +136,18 @@ pub unsafe extern "C" fn msp_fsp_init(
 #[no_mangle]
 pub unsafe extern "C" fn msp_update(ctrl: *mut msp_controller, r: f32, y: f32) -> f32 {
     // SAFETY: forwarded
-    unsafe { update_unchecked::<f32, _>(ctrl, r, y) }
+    unsafe { update_unchecked(ctrl, r, y) }
+}
+
+/// [`msp_update`] in double precision.
+///
+/// # Safety
+/// As [`msp_update`].
+#[cfg(not(all(target_arch = "arm", target_os = "none")))]
+#[no_mangle]
+pub unsafe extern "C" fn msp_update_f64(ctrl: *mut msp_controller_f64, r: f64, y: f64) -> f64 {
+    // SAFETY: forwarded
+    unsafe { update_unchecked(ctrl, r, y) }
 }
 
 /// The per-sample call through a handle's bound update: null gives NaN.
@@ -184,7 +156,7 @@ pub unsafe extern "C" fn msp_update(ctrl: *mut msp_controller, r: f32, y: f32) -
 /// `ctrl` is null or a handle of precision `T` made by `init`.
 #[cfg(not(all(target_arch = "arm", target_os = "none")))]
 #[inline(always)]
-unsafe fn update_unchecked<T: Precision, H>(ctrl: *mut H, r: T, y: T) -> T {
+unsafe fn update_unchecked<T: Precision, H: Opaque<T = T>>(ctrl: *mut H, r: T, y: T) -> T {
     // SAFETY: the caller's handle (or null)
     match unsafe { ctrl.cast::<Handle<T>>().as_ref() } {
         // SAFETY: `bind` pointed both at this handle's controller
@@ -257,311 +229,105 @@ mod trampoline {
     }
 }
 
-/// Clears the controller's state (integrators, model, delay lines) and
-/// returns it to automatic mode.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_reset(ctrl: *mut msp_controller) -> msp_status {
-    // SAFETY: forwarded
-    match unsafe { handle::<f32, _>(ctrl) } {
-        Some(h) => {
-            reset(h);
-            msp_status::MSP_OK
+twins! {
+    /// Clears the controller's state (integrators, model, delay lines) and
+    /// returns it to automatic mode.
+    ///
+    /// # Safety
+    /// As [`msp_update`].
+    fn msp_reset, msp_reset_f64(
+        ctrl: *mut msp_controller | *mut msp_controller_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        match unsafe { handle(ctrl) } {
+            Some(h) => {
+                reset(h);
+                msp_status::MSP_OK
+            }
+            None => bad(ctrl),
         }
-        None => bad(ctrl),
     }
-}
 
-/// Whether the last update met a NaN or infinite input (the output was held
-/// and the model kept following the actuator). A bad handle is a fault.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fault(ctrl: *const msp_controller) -> bool {
-    // SAFETY: forwarded
-    unsafe { handle::<f32, _>(ctrl.cast_mut()) }.is_none_or(fault)
-}
-
-/// [`msp_pid_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_size_f64(
-    config: *const msp_pid_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Pid,
-            pid_samples,
-        )
+    /// Whether the last update met a NaN or infinite input (the output was held
+    /// and the model kept following the actuator). A bad handle is a fault.
+    ///
+    /// # Safety
+    /// As [`msp_update`].
+    fn msp_fault, msp_fault_f64(
+        ctrl: *const msp_controller | *const msp_controller_f64,
+    ) -> bool {
+        // SAFETY: forwarded
+        unsafe { handle(ctrl.cast_mut()) }.is_none_or(fault)
     }
-}
 
-/// [`msp_smith_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_smith_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_size_f64(
-    config: *const msp_smith_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            smith_samples,
-        )
+    /// Manual mode: the output is `u` from the next update on; the controller's
+    /// model and integrators follow it, so that [`msp_auto`] is bumpless.
+    /// Tracking (the output follows an external value) is the same call, made
+    /// each sample with the value to follow.
+    ///
+    /// # Safety
+    /// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
+    fn msp_manual, msp_manual_f64(
+        ctrl: *mut msp_controller | *mut msp_controller_f64,
+        u: f32 | f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { operate(ctrl, |h| manual(h, u)) }
     }
-}
 
-/// [`msp_karan_dey_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_smith_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_size_f64(
-    config: *const msp_karan_dey_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Line,
-            karan_dey_samples,
-        )
+    /// Automatic mode: the next output continues from the last applied one.
+    ///
+    /// # Safety
+    /// As [`msp_manual`].
+    fn msp_auto, msp_auto_f64(ctrl: *mut msp_controller | *mut msp_controller_f64) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { operate(ctrl, auto) }
     }
-}
 
-/// [`msp_fsp_size`] in double precision.
-///
-/// # Safety
-/// As [`msp_smith_size`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_size_f64(
-    config: *const msp_fsp_config_f64,
-    max_dead_time_samples: u32,
-    status: *mut msp_status,
-) -> usize {
-    // SAFETY: forwarded
-    unsafe {
-        config_size(
-            config,
-            max_dead_time_samples,
-            status,
-            Kind::Fsp,
-            fsp_samples,
-        )
+    /// External reset: the value the actuator really applied for the last
+    /// output (after a limit or an override downstream), given before the next
+    /// [`msp_update`]; the integrators (back-calculation) and the model follow it.
+    ///
+    /// # Safety
+    /// As [`msp_manual`].
+    fn msp_applied, msp_applied_f64(
+        ctrl: *mut msp_controller | *mut msp_controller_f64,
+        u_applied: f32 | f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { operate(ctrl, |h| applied(h, u_applied)) }
     }
-}
 
-/// [`msp_pid_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_pid_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_pid_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
-}
-
-/// [`msp_smith_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_smith_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_smith_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_smith) }
-}
-
-/// [`msp_karan_dey_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_karan_dey_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_karan_dey_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
-}
-
-/// [`msp_fsp_init`] in double precision.
-///
-/// # Safety
-/// As [`msp_pid_init`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fsp_init_f64(
-    buf: *mut core::ffi::c_void,
-    len: usize,
-    config: *const msp_fsp_config_f64,
-    ctrl: *mut *mut msp_controller_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { config_init(buf, len, config, ctrl, make_fsp) }
-}
-
-/// [`msp_update`] in double precision.
-///
-/// # Safety
-/// As [`msp_update`].
-#[cfg(not(all(target_arch = "arm", target_os = "none")))]
-#[no_mangle]
-pub unsafe extern "C" fn msp_update_f64(ctrl: *mut msp_controller_f64, r: f64, y: f64) -> f64 {
-    // SAFETY: forwarded
-    unsafe { update_unchecked::<f64, _>(ctrl, r, y) }
-}
-
-/// [`msp_reset`] in double precision.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_reset_f64(ctrl: *mut msp_controller_f64) -> msp_status {
-    // SAFETY: forwarded
-    match unsafe { handle::<f64, _>(ctrl) } {
-        Some(h) => {
-            reset(h);
-            msp_status::MSP_OK
-        }
-        None => bad(ctrl),
+    /// Gives the controller's model the dead time `samples` (fractional allowed),
+    /// within the buffer's capacity (`max_dead_time_samples` of the size call);
+    /// `MSP_UNSUPPORTED` for a scheme whose design contains the dead time (FSP)
+    /// or that has none (PID).
+    ///
+    /// # Safety
+    /// As [`msp_manual`].
+    fn msp_set_dead_time, msp_set_dead_time_f64(
+        ctrl: *mut msp_controller | *mut msp_controller_f64,
+        samples: f32 | f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { operate(ctrl, |h| set_dead_time(h, samples)) }
     }
-}
 
-/// [`msp_fault`] in double precision.
-///
-/// # Safety
-/// As [`msp_update`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_fault_f64(ctrl: *const msp_controller_f64) -> bool {
-    // SAFETY: forwarded
-    unsafe { handle::<f64, _>(ctrl.cast_mut()) }.is_none_or(fault)
-}
-
-/// Manual mode: the output is `u` from the next update on; the controller's
-/// model and integrators follow it, so that [`msp_auto`] is bumpless.
-/// Tracking (the output follows an external value) is the same call, made
-/// each sample with the value to follow.
-///
-/// # Safety
-/// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
-#[no_mangle]
-pub unsafe extern "C" fn msp_manual(ctrl: *mut msp_controller, u: f32) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| manual(h, u)) }
-}
-
-/// Automatic mode: the next output continues from the last applied one.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_auto(ctrl: *mut msp_controller) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, auto) }
-}
-
-/// External reset: the value the actuator really applied for the last
-/// output (after a limit or an override downstream), given before the next
-/// [`msp_update`]; the integrators (back-calculation) and the model follow it.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_applied(ctrl: *mut msp_controller, u_applied: f32) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| applied(h, u_applied)) }
-}
-
-/// Gives the controller's model the dead time `samples` (fractional allowed),
-/// within the buffer's capacity (`max_dead_time_samples` of the size call);
-/// `MSP_UNSUPPORTED` for a scheme whose design contains the dead time (FSP)
-/// or that has none (PID).
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_set_dead_time(ctrl: *mut msp_controller, samples: f32) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| set_dead_time(h, samples)) }
-}
-
-/// [`msp_manual`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_manual_f64(ctrl: *mut msp_controller_f64, u: f64) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| manual(h, u)) }
-}
-
-/// [`msp_auto`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_auto_f64(ctrl: *mut msp_controller_f64) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, auto) }
-}
-
-/// [`msp_applied`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_applied_f64(
-    ctrl: *mut msp_controller_f64,
-    u_applied: f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| applied(h, u_applied)) }
-}
-
-/// [`msp_set_dead_time`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_set_dead_time_f64(
-    ctrl: *mut msp_controller_f64,
-    samples: f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| set_dead_time(h, samples)) }
+    /// Changes a gain of the primary PID while running (`gain`: an
+    /// `msp_gain`), bumpless: the output does not jump at the change.
+    /// `MSP_UNSUPPORTED` where the scheme's controllers share the gain
+    /// (Karan–Dey's `kp`) or the primary is not a PID.
+    ///
+    /// # Safety
+    /// As [`msp_manual`].
+    fn msp_retune, msp_retune_f64(
+        ctrl: *mut msp_controller | *mut msp_controller_f64,
+        gain: u32,
+        value: f32 | f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { operate(ctrl, |h| retune(h, gain, value)) }
+    }
 }
 
 /// A gain of the primary PID ([`msp_retune`]).
@@ -574,35 +340,4 @@ pub enum msp_gain {
     MSP_TI = 1,
     /// The derivative time `td` (s).
     MSP_TD = 2,
-}
-
-/// Changes a gain of the primary PID while running (`gain`: an
-/// `msp_gain`), bumpless: the output does not jump at the change.
-/// `MSP_UNSUPPORTED` where the scheme's controllers share the gain
-/// (Karan–Dey's `kp`) or the primary is not a PID.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_retune(
-    ctrl: *mut msp_controller,
-    gain: u32,
-    value: f32,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f32, _>(ctrl, |h| retune(h, gain, value)) }
-}
-
-/// [`msp_retune`] in double precision.
-///
-/// # Safety
-/// As [`msp_manual`].
-#[no_mangle]
-pub unsafe extern "C" fn msp_retune_f64(
-    ctrl: *mut msp_controller_f64,
-    gain: u32,
-    value: f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { operate::<f64, _>(ctrl, |h| retune(h, gain, value)) }
 }

@@ -125,6 +125,22 @@ pub struct msp_controller_f64 {
     _opaque: [u8; 0],
 }
 
+/// The opaque handle types of C, each with its precision: the entry points
+/// of both precisions are one body ([`crate::api`]), the precision read
+/// from the handle's type.
+pub(crate) trait Opaque {
+    /// The handle's precision.
+    type T: Precision;
+}
+
+impl Opaque for msp_controller {
+    type T = f32;
+}
+
+impl Opaque for msp_controller_f64 {
+    type T = f64;
+}
+
 /// Storage that lives in the caller's buffer.
 type Buf<T> = &'static mut [T];
 
@@ -587,13 +603,13 @@ pub(crate) fn make_fsp<T: Real>(
     )?))
 }
 
-/// The handle behind a pointer, when it is one of ours of precision `T`.
+/// The handle behind a pointer, when it is one of ours of its type's precision.
 ///
 /// # Safety
 /// `ctrl` is null or was given by an `msp_*_init` call of this precision.
 #[inline(always)]
-pub(crate) unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut Handle<T>> {
-    let p = ctrl.cast::<Handle<T>>();
+pub(crate) unsafe fn handle<'a, H: Opaque>(ctrl: *mut H) -> Option<&'a mut Handle<H::T>> {
+    let p = ctrl.cast::<Handle<H::T>>();
     if p.is_null() {
         return None;
     }
@@ -601,7 +617,7 @@ pub(crate) unsafe fn handle<'a, T: Precision, H>(ctrl: *mut H) -> Option<&'a mut
     // handle only when it matches, and a handle is aligned
     // SAFETY: non-null; the caller's memory holds at least the tag
     let magic = unsafe { core::ptr::addr_of!((*p).magic).read_unaligned() };
-    if magic != T::MAGIC {
+    if magic != H::T::MAGIC {
         return None;
     }
     // SAFETY: a tagged handle was written by `init`
@@ -711,12 +727,12 @@ pub(crate) fn bad<H>(ctrl: *mut H) -> msp_status {
 ///
 /// # Safety
 /// `ctrl` is null or from an `msp_*_init` call of precision `T`.
-pub(crate) unsafe fn operate<T: Precision, H>(
+pub(crate) unsafe fn operate<H: Opaque>(
     ctrl: *mut H,
-    f: impl FnOnce(&mut Handle<T>) -> Result<(), Error>,
+    f: impl FnOnce(&mut Handle<H::T>) -> Result<(), Error>,
 ) -> msp_status {
     // SAFETY: forwarded
-    match unsafe { handle::<T, _>(ctrl) } {
+    match unsafe { handle(ctrl) } {
         Some(h) => match f(h) {
             Ok(()) => msp_status::MSP_OK,
             Err(e) => e.into(),

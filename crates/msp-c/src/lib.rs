@@ -24,6 +24,32 @@
 #[cfg(test)]
 extern crate std;
 
+/// Writes each C entry point twice from one body: for `float` as given,
+/// and `_f64` for `double`, where every type written `float_type | double_type`
+/// takes its second form (the body calls generic functions, which read the
+/// precision from the arguments). The twin's documentation points to the
+/// `float` entry point. cbindgen reads the expanded crate (`tests/header.rs`).
+macro_rules! twins {
+    ($(
+        $(#[doc = $doc:literal])*
+        fn $name:ident, $name64:ident($($arg:ident: $t:ty $(| $t64:ty)?),* $(,)?)
+            -> $ret:ty $body:block
+    )*) => {$(
+        $(#[doc = $doc])*
+        #[no_mangle]
+        pub unsafe extern "C" fn $name($($arg: $t),*) -> $ret $body
+
+        #[doc = concat!(" [`", stringify!($name), "`] in double precision.")]
+        #[doc = ""]
+        #[doc = " # Safety"]
+        #[doc = concat!(" As [`", stringify!($name), "`].")]
+        #[no_mangle]
+        pub unsafe extern "C" fn $name64($($arg: twins!(@double $t $(| $t64)?)),*) -> $ret $body
+    )*};
+    (@double $t:ty) => { $t };
+    (@double $t:ty | $t64:ty) => { $t64 };
+}
+
 mod api;
 mod handle;
 mod relay;

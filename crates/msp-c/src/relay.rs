@@ -102,74 +102,41 @@ fn karan_dey_ipdt<T: Real>(
     })
 }
 
-/// Tunes a Smith predictor for the FOPDT model `k e^{−θs}/(τs + 1)`: Kaya's
-/// IMC PI `kp = τ/(kλ)`, `ti = τ` (Kaya (2003) Eqs. 20–21), with the
-/// closed-loop time constant `lambda` (0: `λ = θ`, Eq. 26), at the period `ts`.
-///
-/// # Safety
-/// `config` is null or writable.
-#[no_mangle]
-pub unsafe extern "C" fn msp_tune_smith_fopdt(
-    k: f32,
-    tau: f32,
-    theta: f32,
-    ts: f32,
-    lambda: f32,
-    config: *mut crate::msp_smith_config,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { tuned(config, smith_fopdt(k, tau, theta, ts, lambda)) }
-}
+twins! {
+    /// Tunes a Smith predictor for the FOPDT model `k e^{−θs}/(τs + 1)`: Kaya's
+    /// IMC PI `kp = τ/(kλ)`, `ti = τ` (Kaya (2003) Eqs. 20–21), with the
+    /// closed-loop time constant `lambda` (0: `λ = θ`, Eq. 26), at the period `ts`.
+    ///
+    /// # Safety
+    /// `config` is null or writable.
+    fn msp_tune_smith_fopdt, msp_tune_smith_fopdt_f64(
+        k: f32 | f64,
+        tau: f32 | f64,
+        theta: f32 | f64,
+        ts: f32 | f64,
+        lambda: f32 | f64,
+        config: *mut crate::msp_smith_config | *mut crate::msp_smith_config_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { tuned(config, smith_fopdt(k, tau, theta, ts, lambda)) }
+    }
 
-/// [`msp_tune_smith_fopdt`] in double precision.
-///
-/// # Safety
-/// `config` is null or writable.
-#[no_mangle]
-pub unsafe extern "C" fn msp_tune_smith_fopdt_f64(
-    k: f64,
-    tau: f64,
-    theta: f64,
-    ts: f64,
-    lambda: f64,
-    config: *mut crate::msp_smith_config_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { tuned(config, smith_fopdt(k, tau, theta, ts, lambda)) }
-}
-
-/// Tunes the Karan–Dey predictor for the IPDT model `k e^{−θs}/s` (Bag
-/// (2022) Eqs. 4.30–4.44), with the closed-loop time constant `lambda`
-/// (0: the thesis's default `λ = θ/4`, Eq. 4.32), at the period `ts`.
-///
-/// # Safety
-/// `config` is null or writable.
-#[no_mangle]
-pub unsafe extern "C" fn msp_tune_karan_dey_ipdt(
-    k: f32,
-    theta: f32,
-    ts: f32,
-    lambda: f32,
-    config: *mut crate::msp_karan_dey_config,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { tuned(config, karan_dey_ipdt(k, theta, ts, lambda)) }
-}
-
-/// [`msp_tune_karan_dey_ipdt`] in double precision.
-///
-/// # Safety
-/// `config` is null or writable.
-#[no_mangle]
-pub unsafe extern "C" fn msp_tune_karan_dey_ipdt_f64(
-    k: f64,
-    theta: f64,
-    ts: f64,
-    lambda: f64,
-    config: *mut crate::msp_karan_dey_config_f64,
-) -> msp_status {
-    // SAFETY: forwarded
-    unsafe { tuned(config, karan_dey_ipdt(k, theta, ts, lambda)) }
+    /// Tunes the Karan–Dey predictor for the IPDT model `k e^{−θs}/s` (Bag
+    /// (2022) Eqs. 4.30–4.44), with the closed-loop time constant `lambda`
+    /// (0: the thesis's default `λ = θ/4`, Eq. 4.32), at the period `ts`.
+    ///
+    /// # Safety
+    /// `config` is null or writable.
+    fn msp_tune_karan_dey_ipdt, msp_tune_karan_dey_ipdt_f64(
+        k: f32 | f64,
+        theta: f32 | f64,
+        ts: f32 | f64,
+        lambda: f32 | f64,
+        config: *mut crate::msp_karan_dey_config | *mut crate::msp_karan_dey_config_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { tuned(config, karan_dey_ipdt(k, theta, ts, lambda)) }
+    }
 }
 
 /// Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
@@ -210,6 +177,30 @@ pub struct msp_relay_result {
     pub mean_y: f32,
     pub cycles: u32,
 }
+
+/// The C structure and the library's type of the same fields, converted
+/// both ways field by field.
+macro_rules! same_fields {
+    ($c:ident, $lib:ty { $($f:ident),* $(,)? }) => {
+        impl From<&$lib> for $c {
+            fn from(v: &$lib) -> Self {
+                $c { $($f: v.$f),* }
+            }
+        }
+        impl From<&$c> for $lib {
+            fn from(v: &$c) -> Self {
+                Self { $($f: v.$f),* }
+            }
+        }
+    };
+}
+
+same_fields!(msp_relay_config, RelayConfig<f32> {
+    amplitude, hysteresis, bias, u0, y0, u_min, u_max, band, max_samples, cycles, tolerance, ts,
+});
+same_fields!(msp_relay_result, RelayResult<f32> {
+    amplitude, hysteresis, bias, t_up, t_down, period, a_max, a_min, mean_u, mean_y, cycles,
+});
 
 /// Where a relay experiment is.
 #[repr(C)]
@@ -253,26 +244,9 @@ pub unsafe extern "C" fn msp_relay_default_config(
     config: *mut msp_relay_config,
 ) -> msp_status {
     let c = RelayConfig::new(amplitude, ts);
-    let out = to_c(&c);
+    let out = msp_relay_config::from(&c);
     // SAFETY: forwarded
     unsafe { tuned(config, c.validate().map(|()| out)) }
-}
-
-fn to_c(c: &RelayConfig<f32>) -> msp_relay_config {
-    msp_relay_config {
-        amplitude: c.amplitude,
-        hysteresis: c.hysteresis,
-        bias: c.bias,
-        u0: c.u0,
-        y0: c.y0,
-        u_min: c.u_min,
-        u_max: c.u_max,
-        band: c.band,
-        max_samples: c.max_samples,
-        cycles: c.cycles,
-        tolerance: c.tolerance,
-        ts: c.ts,
-    }
 }
 
 /// The bytes [`msp_relay_init`] needs.
@@ -301,20 +275,7 @@ pub unsafe extern "C" fn msp_relay_init(
     let Some(c) = (unsafe { config.as_ref() }) else {
         return msp_status::MSP_NULL_POINTER;
     };
-    let cfg = RelayConfig {
-        amplitude: c.amplitude,
-        hysteresis: c.hysteresis,
-        bias: c.bias,
-        u0: c.u0,
-        y0: c.y0,
-        u_min: c.u_min,
-        u_max: c.u_max,
-        band: c.band,
-        max_samples: c.max_samples,
-        cycles: c.cycles,
-        tolerance: c.tolerance,
-        ts: c.ts,
-    };
+    let cfg = RelayConfig::from(c);
     let test = match RelayTest::new(cfg) {
         Ok(t) => t,
         Err(e) => return e.into(),
@@ -404,41 +365,9 @@ pub unsafe extern "C" fn msp_relay_poll(
     unsafe { state.write(s) };
     if let (Some(r), false) = (r, result.is_null()) {
         // SAFETY: non-null, the caller's
-        unsafe { result.write(result_to_c(&r)) };
+        unsafe { result.write(msp_relay_result::from(&r)) };
     }
     msp_status::MSP_OK
-}
-
-fn result_to_c(r: &RelayResult<f32>) -> msp_relay_result {
-    msp_relay_result {
-        amplitude: r.amplitude,
-        hysteresis: r.hysteresis,
-        bias: r.bias,
-        t_up: r.t_up,
-        t_down: r.t_down,
-        period: r.period,
-        a_max: r.a_max,
-        a_min: r.a_min,
-        mean_u: r.mean_u,
-        mean_y: r.mean_y,
-        cycles: r.cycles,
-    }
-}
-
-fn result_from_c(r: &msp_relay_result) -> RelayResult<f32> {
-    RelayResult {
-        amplitude: r.amplitude,
-        hysteresis: r.hysteresis,
-        bias: r.bias,
-        t_up: r.t_up,
-        t_down: r.t_down,
-        period: r.period,
-        a_max: r.a_max,
-        a_min: r.a_min,
-        mean_u: r.mean_u,
-        mean_y: r.mean_y,
-        cycles: r.cycles,
-    }
 }
 
 /// The IPDT model `k e^{−θs}/s` of a symmetric limit cycle: `k = 4a/(hP)`,
@@ -455,7 +384,7 @@ pub unsafe extern "C" fn msp_relay_ipdt(
     let Some(r) = (unsafe { result.as_ref() }) else {
         return msp_status::MSP_NULL_POINTER;
     };
-    let m = identify_ipdt(&result_from_c(r)).map(|m| msp_model_of {
+    let m = identify_ipdt(&RelayResult::from(r)).map(|m| msp_model_of {
         kind: msp_model_kind::MSP_IPDT as u32,
         k: m.k,
         tau: 0.0,
@@ -480,7 +409,7 @@ pub unsafe extern "C" fn msp_relay_fopdt(
     let Some(r) = (unsafe { result.as_ref() }) else {
         return msp_status::MSP_NULL_POINTER;
     };
-    let m = identify_fopdt(&result_from_c(r), k).map(|m| msp_model_of {
+    let m = identify_fopdt(&RelayResult::from(r), k).map(|m| msp_model_of {
         kind: msp_model_kind::MSP_FOPDT as u32,
         k: m.k,
         tau: m.t,
