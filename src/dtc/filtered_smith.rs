@@ -13,7 +13,7 @@
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, ErrorPath, AUX};
 use crate::params::ParamList;
-use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+use crate::{Error, Lti, Pid, PidConfig, Real};
 
 crate::tuning::pid_params! {
     /// Parameters of the filtered Smith predictor: the PID and the lead-lag
@@ -40,15 +40,7 @@ crate::params::design_struct! {
 /// The filter `F = (1 + a·s)/(1 + b·s)` ZOH-discretized (`a = 0`: first order `1/(b s + 1)`;
 /// `b = 0`: no filter).
 pub fn lead_lag_filter<T: Real>(a: T, b: T, ts: T) -> Result<Lti<T, AUX>, Error> {
-    if b == T::zero() && a == T::zero() {
-        return Lti::gain(T::one());
-    }
-    Lti::from_tf(
-        &[a, T::one()],
-        &[crate::real::positive(b, "b")?, T::one()],
-        ts,
-        Discretization::Zoh,
-    )
+    Lti::lead_lag(T::one(), a, b, ts)
 }
 
 /// The filtered Smith predictor with primary `pid` (its gains `p.kp`, `p.ti`,

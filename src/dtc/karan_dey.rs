@@ -30,7 +30,7 @@ use crate::delay::{Delay, DelayStorage};
 use crate::dtc::compensator::{Compensator, DisturbancePath};
 use crate::params::{param_struct, ParamList, ParamSet};
 use crate::real::finite;
-use crate::{Discretization, Error, Lti, Pid, PidConfig, ProcessModel, Real};
+use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
 
 param_struct! {
     /// Tuned parameters of the Karan–Dey MSP (names as in reports and `--set`).
@@ -67,18 +67,8 @@ pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     p.validate()?;
     let gc1 = Pid::new(PidConfig::isa(p.kp, p.ti, T::zero(), ts))?;
     let gc2 = Pid::new(PidConfig::parallel(p.beta * p.kp, T::zero(), T::zero(), ts))?;
-    let gk = p.gamma * p.kp;
     let tf = p.td / p.n;
-    let gc3 = if p.td > T::zero() {
-        Lti::from_tf(
-            &[gk * (p.td + tf), gk],
-            &[tf, T::one()],
-            ts,
-            Discretization::Zoh,
-        )?
-    } else {
-        Lti::gain(gk)?
-    };
+    let gc3 = Lti::lead_lag(p.gamma * p.kp, p.td + tf, tf, ts)?;
     Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
         .with_inner(gc2)
         .with_disturbance(DisturbancePath::Block(gc3)))

@@ -12,7 +12,7 @@
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, DisturbancePath};
 use crate::params::ParamList;
-use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+use crate::{Error, Lti, Pid, PidConfig, Real};
 
 /// Declares a parameter struct with the fields of [`KayaAthertonParams`]
 /// first (a scheme built around this predictor), then its own.
@@ -63,16 +63,7 @@ pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
     let gc1 = Pid::new(PidConfig::isa(kp, ti, T::zero(), ts))?;
     let gc2 = Pid::new(PidConfig::parallel(kf, T::zero(), kf * tf, ts))?;
     let td = crate::real::non_negative(td, "td")?;
-    let gc3 = if td > T::zero() {
-        Lti::from_tf(
-            &[kb * td, kb],
-            &[T::of(0.1) * td, T::one()],
-            ts,
-            Discretization::Zoh,
-        )?
-    } else {
-        Lti::gain(kb)?
-    };
+    let gc3 = Lti::lead_lag(kb, td, T::of(0.1) * td, ts)?;
     Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
         .with_inner(gc2)
         .with_disturbance(DisturbancePath::Block(gc3)))

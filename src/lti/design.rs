@@ -294,8 +294,13 @@ impl<T: Real, const N: usize> Lti<T, N> {
         )
     }
 
-    /// Lead-lag `k(a s + 1)/(b s + 1)`, ZOH-discretized.
+    /// Lead-lag `k(a s + 1)/(b s + 1)`, ZOH-discretized; `a = b = 0` is the
+    /// static gain `k` (a filter or a derivative switched off), `a > 0` needs
+    /// `b > 0` (a proper block).
     pub fn lead_lag(k: T, a: T, b: T, ts: T) -> Result<Self, Error> {
+        if a == T::zero() && b == T::zero() {
+            return Self::gain(k);
+        }
         let b = positive(b, "b")?;
         Self::from_tf(
             &[finite(k, "k")? * finite(a, "a")?, k],
