@@ -7,10 +7,10 @@ use alloc::vec::Vec;
 use super::common::*;
 use super::fsp::{fsp_predictor, room_samples, whole_samples};
 use super::integrating::{kaya_atherton_on, kaya_atherton_settings};
-use super::{Build, Builders, Design, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Design, Params, MAX_ORDER};
 use crate::dtc;
 use crate::poly::TransferFunction;
-use crate::{DesignSet, Lti, ParamList, ParamSet, Pid, PidConfig, Real};
+use crate::{Lti, ParamList, ParamSet, Pid, PidConfig, Real};
 
 use crate::dtc::cascade::{
     self, Cascade, CascadePrimary, CascadePrimaryTuning, FspccParams, FspccTuning, GpccParams,
@@ -147,7 +147,7 @@ const COMPENSATOR_SIGNALS: &[&str] = &[
     "u3",
 ];
 
-fn tune_fspcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
+pub fn tune_fspcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     let (c, gm, lambda) = cascade_primary_params(p1, p2, d)?;
     let t: FspccTuning = d.typed();
     let p = FspccParams {
@@ -173,7 +173,7 @@ fn fr_spec(f: &FspccParams) -> FrSpec {
     }
 }
 
-fn build_fspcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
+pub fn build_fspcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let f: FspccParams = p.typed()?;
     let pred = fsp_predictor(&c.gm, c.h, b, fr_spec(&f))?;
@@ -203,12 +203,7 @@ fn outer_model(
 
 /// FSPCC's `Fr` as García et al. (2010) print it (Example 1 at `Ts = 0.2`:
 /// `kf = 14.95`, `ρ2 = 0.9957`).
-fn describe_fspcc(
-    p: &Params,
-    p1: &Tf,
-    inner: Option<&Tf>,
-    ts: f64,
-) -> Result<super::DesignReport, crate::Error> {
+pub fn describe_fspcc(p: &Params, p1: &Tf, inner: Option<&Tf>, ts: f64) -> Described {
     let c = outer_model(p, p1, inner, ts)?;
     let f: FspccParams = p.typed()?;
     let spec = fr_spec(&f);
@@ -218,12 +213,7 @@ fn describe_fspcc(
 
 /// GPCC's filters (García et al. (2010) Sec. 3.2): `Γ`, `F2`, and `F1` by its
 /// number of taps and its static gain.
-fn describe_gpcc(
-    p: &Params,
-    p1: &Tf,
-    inner: Option<&Tf>,
-    ts: f64,
-) -> Result<super::DesignReport, crate::Error> {
+pub fn describe_gpcc(p: &Params, p1: &Tf, inner: Option<&Tf>, ts: f64) -> Described {
     use super::DesignValue::{Filter, Scalar};
     let c = outer_model(p, p1, inner, ts)?;
     let f = dtc::gpcc::GpccFilters::design(&c.gm, c.h)?;
@@ -249,7 +239,7 @@ fn describe_gpcc(
     ])
 }
 
-fn tune_gpcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
+pub fn tune_gpcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
     let p = GpccParams {
         tk: d.typed::<GpccTuning>().tk.unwrap_or(0.0),
@@ -258,7 +248,7 @@ fn tune_gpcc(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     Ok(tuned(p, &c, lambda))
 }
 
-fn build_gpcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
+pub fn build_gpcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let g: GpccParams = p.typed()?;
     let room = room_samples(b);
@@ -267,7 +257,7 @@ fn build_gpcc<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     Ok(Box::new(Cascade::new(outer, c.imc, PREDICTED_SIGNALS)))
 }
 
-fn tune_uma(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
+pub fn tune_uma(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     // Gcd: Uma et al. tune it on a Padé approximation of the dead time, a rule
     // the sources do not give: its gains are left to --set (NaN until then)
     let (c, _, lambda) = cascade_primary_params(p1, p2, d)?;
@@ -284,7 +274,7 @@ fn tune_uma(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     Ok(tuned(p, &c, lambda))
 }
 
-fn build_uma<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
+pub fn build_uma<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let u: UmaParams = p.typed()?;
     if [u.kpd, u.kid, u.kdd].iter().any(|v| v.is_nan()) {
@@ -328,7 +318,7 @@ fn build_uma<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     Ok(Box::new(Cascade::new(outer, c.imc, COMPENSATOR_SIGNALS)))
 }
 
-fn tune_kaya_cascade(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
+pub fn tune_kaya_cascade(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     let t: KayaCascadeTuning = d.typed();
     let lambda2 = lambda2_for(p2, t.lambda2)?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
@@ -341,67 +331,9 @@ fn tune_kaya_cascade(p1: &Tf, p2: &Tf, d: &Design) -> Tuned {
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_kaya_cascade<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
+pub fn build_kaya_cascade<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let k: KayaCascadeParams<T> = p.typed()?;
     let (gm, imc) = cascade_inner(k.lambda2.f64(), p1, p2, b)?;
     let outer = kaya_atherton_on::<T, MAX_ORDER>(p, &gm, b)?.with_params(ParamList::of(&k));
     Ok(Box::new(Cascade::new(outer, imc, COMPENSATOR_SIGNALS)))
 }
-
-pub(super) const FSPCC: Scheme = Scheme {
-    name: "fspcc",
-    aliases: &[],
-    summary: "cascade: filtered Smith predictor (Fr from Eq. 10) outside an IMC inner loop",
-    source: "García et al. (2010) Sec. 3.1, Figs. 5-6, Eq. 10",
-    plants: ALL,
-    params: FspccParams::<f64>::NAMES,
-    design: FspccTuning::NAMES,
-    describe: Some(describe_fspcc),
-    fns: SchemeFns::Cascade {
-        tune: tune_fspcc,
-        build: both!(build_fspcc),
-    },
-};
-pub(super) const GPCC: Scheme = Scheme {
-    name: "gpcc",
-    aliases: &[],
-    summary: "cascade: generalized predictor (F1, F2, Gamma, Fk) outside an IMC inner loop",
-    source: "García et al. (2010) Sec. 3.2, Fig. 7, Eqs. 1-4",
-    plants: ALL,
-    params: GpccParams::<f64>::NAMES,
-    design: GpccTuning::NAMES,
-    describe: Some(describe_gpcc),
-    fns: SchemeFns::Cascade {
-        tune: tune_gpcc,
-        build: both!(build_gpcc),
-    },
-};
-pub(super) const UMA: Scheme = Scheme {
-    name: "uma",
-    aliases: &["uma-2009"],
-    summary: "cascade competitor: Uma et al. 2009 modified Smith predictor (Gcs, Gcd, Gf; set Gcd's gains)",
-    source: "García et al. (2010) Sec. 2.3, Fig. 4",
-    plants: ALL,
-    params: UmaParams::<f64>::NAMES,
-    design: UmaTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Cascade {
-        tune: tune_uma,
-        build: both!(build_uma),
-    },
-};
-pub(super) const KAYA_CASCADE: Scheme = Scheme {
-    name: "kaya-cascade",
-    aliases: &["kaya-2008"],
-    summary:
-        "cascade competitor: Kaya et al. 2008 Smith predictor in the outer loop (Gc1, Gc3, Gd)",
-    source: "García et al. (2010) Sec. 2.2, Fig. 3",
-    plants: STABLE_INT,
-    params: KayaCascadeParams::<f64>::NAMES,
-    design: KayaCascadeTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Cascade {
-        tune: tune_kaya_cascade,
-        build: both!(build_kaya_cascade),
-    },
-};

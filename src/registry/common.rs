@@ -17,6 +17,8 @@ pub(super) type Tf = TransferFunction;
 pub(super) type Tuned = Result<Params, crate::Error>;
 /// What a scheme's construction returns.
 pub(super) type Built<T> = Result<DynControllerOf<T>, crate::Error>;
+/// What a scheme's `describe` returns.
+pub(super) type Described = Result<super::DesignReport, crate::Error>;
 
 /// The PID of a scheme's parameters (its `kp`, `ti`, `td`) with the build's
 /// period and actuator limits.
@@ -130,17 +132,17 @@ pub(super) fn integrating_model(
 /// A build function dispatched on the model order, so that the model block
 /// holds no more states than it needs (the update cost grows with them).
 macro_rules! by_order {
-    ($f:ident) => {{
+    ($($f:ident)::+) => {{
         pub(super) fn dispatch<T: Real>(
             p: &Params,
             m: &TransferFunction,
             b: &Build,
         ) -> Result<DynControllerOf<T>, crate::Error> {
             match m.model_order() {
-                0 | 1 => $f::<T, 1>(p, m, b),
-                2 => $f::<T, 2>(p, m, b),
-                3 | 4 => $f::<T, 4>(p, m, b),
-                _ => $f::<T, MAX_ORDER>(p, m, b),
+                0 | 1 => $($f)::+::<T, 1>(p, m, b),
+                2 => $($f)::+::<T, 2>(p, m, b),
+                3 | 4 => $($f)::+::<T, 4>(p, m, b),
+                _ => $($f)::+::<T, MAX_ORDER>(p, m, b),
             }
         }
         both!(dispatch)
@@ -149,10 +151,10 @@ macro_rules! by_order {
 
 /// A generic build function in both precisions.
 macro_rules! both {
-    ($f:ident) => {
+    ($($f:ident)::+) => {
         Builders {
-            f64: $f::<f64>,
-            f32: $f::<f32>,
+            f64: $($f)::+::<f64>,
+            f32: $($f)::+::<f32>,
         }
     };
 }

@@ -1,15 +1,14 @@
 //! `disturbance-estimator`: Draganović et al. (2001), Cases 1–6.
 
 use super::common::*;
-use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Design, Params};
 use crate::dtc;
 use crate::dtc::disturbance_estimator::{
     case_number, DisturbanceEstimatorParams, DisturbanceEstimatorTuning,
 };
-use crate::poly::TransferFunction;
-use crate::{tuning, DesignSet, ParamSet, Real};
+use crate::{tuning, Real};
 
-fn tune_disturbance_estimator(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_disturbance_estimator(plant: &Tf, d: &Design) -> Tuned {
     let m = integrating_model(
         plant,
         "the disturbance estimator needs an integrating plant",
@@ -37,25 +36,10 @@ fn tune_disturbance_estimator(plant: &Tf, d: &Design) -> Tuned {
     }))
 }
 
-fn build_disturbance_estimator<T: Real, const N: usize>(
+pub fn build_disturbance_estimator<T: Real, const N: usize>(
     p: &Params,
     model: &Tf,
     b: &Build,
 ) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::disturbance_estimator::build)
 }
-
-pub(super) const DISTURBANCE_ESTIMATOR: Scheme = Scheme {
-    name: "disturbance-estimator",
-    aliases: &["de"],
-    summary: "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)",
-    source: "Draganović et al. (2001)",
-    plants: INT,
-    params: DisturbanceEstimatorParams::<f64>::NAMES,
-    design: DisturbanceEstimatorTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_disturbance_estimator,
-        build: by_order!(build_disturbance_estimator),
-    },
-};

@@ -6,14 +6,14 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::common::*;
-use super::{Build, Builders, Design, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Design, Params, MAX_ORDER};
 use crate::dtc;
 use crate::dtc::fsp::{FspParams, FspTuning};
-use crate::{tuning, DesignSet, ParamList, ParamSet, PidConfig, ProcessModel, Real};
+use crate::{tuning, ParamList, PidConfig, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
-fn tune_fsp(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_fsp(plant: &Tf, d: &Design) -> Tuned {
     let t: FspTuning = d.typed();
     let m = plant.reduce(false)?;
     let lambda = lambda_for(&m, &t, 1.0);
@@ -47,7 +47,7 @@ pub(super) fn whole_samples(model: &Tf, ts: f64) -> Result<usize, crate::Error> 
     num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))
 }
 
-fn build_fsp<T: Real>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_fsp<T: Real>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let fp: FspParams<T> = p.typed()?;
     let h = whole_samples(model, b.ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(b.ts)?;
@@ -99,7 +99,7 @@ pub(super) fn fsp_predictor<T: Real>(
 pub(super) fn fr_report<const N: usize>(
     design: &dtc::fsp::FspDesign<Vec<f64>>,
     gm: &crate::Lti<f64, N>,
-) -> Result<super::DesignReport, crate::Error> {
+) -> Described {
     use super::DesignValue::{Filter, List, Scalar};
     const RHO: [&str; 4] = ["rho1", "rho2", "rho3", "rho4"];
     const GAMMA: [&str; 4] = ["gamma1", "gamma2", "gamma3", "gamma4"];
@@ -140,30 +140,10 @@ pub(super) fn fr_report<const N: usize>(
     Ok(out)
 }
 
-fn describe_fsp(
-    p: &Params,
-    model: &Tf,
-    _inner: Option<&Tf>,
-    ts: f64,
-) -> Result<super::DesignReport, crate::Error> {
+pub fn describe_fsp(p: &Params, model: &Tf, _inner: Option<&Tf>, ts: f64) -> Described {
     let fp: FspParams<f64> = p.typed()?;
     let h = whole_samples(model, ts)?;
     let gm = model.to_model_lti::<MAX_ORDER>(ts)?;
     let design = dtc::fsp::design::<Vec<f64>, MAX_ORDER>(&gm, h, ts, fp.tf)?;
     fr_report(&design, &gm)
 }
-
-pub(super) const FSP: Scheme = Scheme {
-    name: "fsp",
-    aliases: &["filtered-smith-unstable"],
-    summary: "filtered Smith predictor for unstable, integrating and stable plants: Fr(z) from the Diophantine condition",
-    source: "García et al. (2010) Sec. 3, Eq. 10",
-    plants: ALL,
-    params: FspParams::<f64>::NAMES,
-    design: FspTuning::NAMES,
-    describe: Some(describe_fsp),
-    fns: SchemeFns::Single {
-        tune: tune_fsp,
-        build: both!(build_fsp),
-    },
-};

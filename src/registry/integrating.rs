@@ -4,18 +4,18 @@
 use alloc::vec::Vec;
 
 use super::common::*;
-use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Design, Params};
 use crate::dtc::astrom_hang_lim::{AstromHangLimParams, AstromHangLimTuning};
 use crate::dtc::kaya_atherton::KayaAthertonParams;
 use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
 use crate::dtc::{self, Compensator, KaranDeyParams};
 use crate::poly::TransferFunction;
 use crate::tuning::{LambdaTuning, PidGains};
-use crate::{tuning, DesignSet, ParamSet, ProcessModel, Real};
+use crate::{tuning, DesignSet, ProcessModel, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
-fn tune_karan_dey(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_karan_dey(plant: &Tf, d: &Design) -> Tuned {
     // the MSP's three controllers are designed for K·e^{−θs}/s; its set-point
     // PI ignores a lag, which the predictor then keeps in the loop
     let m = match plant.exact_model() {
@@ -40,12 +40,7 @@ fn tune_karan_dey(plant: &Tf, d: &Design) -> Tuned {
 /// `Gc1 = Kp(1 + 1/(Ti s))`, `Gc2 = β·Kp`, `Gc3 = γ·Kp(1 + Td s/(1 + (Td/N)s))`,
 /// and the Routh range `0 < γ < 1/(θm·K·Kp)` of Eq. 4.49 that keeps the
 /// disturbance loop stable (the tuning takes its middle, Eq. 4.50).
-fn describe_karan_dey(
-    p: &Params,
-    model: &Tf,
-    _inner: Option<&Tf>,
-    _ts: f64,
-) -> Result<super::DesignReport, crate::Error> {
+pub fn describe_karan_dey(p: &Params, model: &Tf, _inner: Option<&Tf>, _ts: f64) -> Described {
     use super::DesignValue::{Scalar, StableRange};
     let k: KaranDeyParams<f64> = p.typed()?;
     let mut out = alloc::vec![
@@ -69,11 +64,11 @@ fn describe_karan_dey(
     Ok(out)
 }
 
-fn build_karan_dey<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_karan_dey<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::karan_dey::build)
 }
 
-fn tune_watanabe_ito(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_watanabe_ito(plant: &Tf, d: &Design) -> Tuned {
     // The W-I loop is 1 + C·Kv/(s(1 + Ls)) (see dtc::watanabe_ito): SIMC PI for
     // an integrator with the lag L folded into the delay, τc = λ (default L/2).
     let m = integrating_model(plant, WI_PLANT)?;
@@ -89,7 +84,7 @@ fn tune_watanabe_ito(plant: &Tf, d: &Design) -> Tuned {
 
 const WI_PLANT: &str = "the Watanabe-Ito predictor needs an integrating plant";
 
-fn build_watanabe_ito<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_watanabe_ito<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let m = integrating_model(model, WI_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::watanabe_ito::build(
@@ -105,7 +100,7 @@ fn build_watanabe_ito<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build
 
 const AHL_PLANT: &str = "the Astrom-Hang-Lim predictor needs an integrating plant";
 
-fn tune_astrom_hang_lim(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_astrom_hang_lim(plant: &Tf, d: &Design) -> Tuned {
     // set point k/(s + k) with k = 1/λ (λ = L/4 by default); load loop
     // (1 + k1)s² + k2 s + k3 = (s + a)² with a = 1/L.
     let m = integrating_model(plant, AHL_PLANT)?;
@@ -121,7 +116,11 @@ fn tune_astrom_hang_lim(plant: &Tf, d: &Design) -> Tuned {
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_astrom_hang_lim<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_astrom_hang_lim<T: Real, const N: usize>(
+    p: &Params,
+    model: &Tf,
+    b: &Build,
+) -> Built<T> {
     let m = integrating_model(model, AHL_PLANT)?;
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     // M's window: the dead time in whole samples, with the model's room
@@ -131,7 +130,7 @@ fn build_astrom_hang_lim<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Bu
     limited(c, b)
 }
 
-fn tune_matausek_micic(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_matausek_micic(plant: &Tf, d: &Design) -> Tuned {
     let m = integrating_model(
         plant,
         "the Matausek-Micic predictor needs an integrating plant",
@@ -150,7 +149,11 @@ fn tune_matausek_micic(plant: &Tf, d: &Design) -> Tuned {
     }))
 }
 
-fn build_matausek_micic<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_matausek_micic<T: Real, const N: usize>(
+    p: &Params,
+    model: &Tf,
+    b: &Build,
+) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::matausek_micic::build)
 }
 
@@ -201,7 +204,7 @@ pub(super) fn kaya_atherton_settings<D: DesignSet>(
     })
 }
 
-fn tune_kaya_atherton(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_kaya_atherton(plant: &Tf, d: &Design) -> Tuned {
     let (p, lambda) = kaya_atherton_settings(plant, &d.typed::<LambdaTuning>())?;
     Ok(Params::of(&p).with_lambda(lambda))
 }
@@ -216,79 +219,6 @@ pub(super) fn kaya_atherton_on<T: Real, const N: usize>(
     dtc::kaya_atherton::build(&p.typed()?, T::of(b.ts), lti, delay)
 }
 
-fn build_kaya_atherton<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_kaya_atherton<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     compensator::<T, _, N>(p, model, b, dtc::kaya_atherton::build)
 }
-
-pub(super) const WATANABE_ITO: Scheme = Scheme {
-    name: "watanabe-ito",
-    aliases: &["wi"],
-    summary: "Watanabe-Ito predictor for integrating plants: the predictor's static gain removed",
-    source: "Bag (2022) Sec. 4.4.1",
-    plants: INT,
-    params: PidGains::<f64>::NAMES,
-    design: LambdaTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_watanabe_ito,
-        build: by_order!(build_watanabe_ito),
-    },
-};
-pub(super) const ASTROM_HANG_LIM: Scheme = Scheme {
-    name: "astrom-hang-lim",
-    aliases: &["ahl"],
-    summary:
-        "Astrom-Hang-Lim predictor for integrating plants: set-point and load responses decoupled",
-    source: "Bag (2022) Sec. 4.4.2, Eqs. 4.13-4.17",
-    plants: INT,
-    params: AstromHangLimParams::<f64>::NAMES,
-    design: AstromHangLimTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_astrom_hang_lim,
-        build: by_order!(build_astrom_hang_lim),
-    },
-};
-pub(super) const MATAUSEK_MICIC: Scheme = Scheme {
-    name: "matausek-micic",
-    aliases: &["mm"],
-    summary: "Matausek-Micic predictor for integrating plants: P set point, P load feedback",
-    source: "Bag (2022) Sec. 4.4.3, refs [8], [52]",
-    plants: INT,
-    params: MatausekMicicParams::<f64>::NAMES,
-    design: MatausekMicicTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_matausek_micic,
-        build: by_order!(build_matausek_micic),
-    },
-};
-pub(super) const KAYA_ATHERTON: Scheme = Scheme {
-    name: "kaya-atherton",
-    aliases: &["ka", "pi-pd"],
-    summary: "Kaya-Atherton PI-PD Smith predictor: Gc1 PI, Gc2 P/PD, Gc3 = kb(Td s+1)/(0.1 Td s+1)",
-    source: "Bag (2022) Sec. 4.4.3, Eq. 4.18",
-    plants: STABLE_INT,
-    params: KayaAthertonParams::<f64>::NAMES,
-    design: LambdaTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_kaya_atherton,
-        build: by_order!(build_kaya_atherton),
-    },
-};
-pub(super) const KARAN_DEY: Scheme = Scheme {
-    name: "karan-dey",
-    aliases: &["msp"],
-    summary:
-        "Karan-Dey three-controller modified Smith predictor for integrating plants (lambda = L/4)",
-    source: "Bag (2022) Sec. 4.5",
-    plants: INT,
-    params: KaranDeyParams::<f64>::NAMES,
-    design: LambdaTuning::NAMES,
-    describe: Some(describe_karan_dey),
-    fns: SchemeFns::Single {
-        tune: tune_karan_dey,
-        build: by_order!(build_karan_dey),
-    },
-};

@@ -1,8 +1,8 @@
 //! The scheme registry: name → tuning rule + construction + parameter names.
 //!
-//! The CLI and Python read this one table. A scheme is one module here (its
-//! tuning, its construction from the model and its [`Scheme`] entry) plus one
-//! line in [`SCHEMES`].
+//! The CLI and Python read this one table. A scheme is its functions in a
+//! module here (its tuning, its construction from the model) plus its row in
+//! [`SCHEMES`].
 
 mod cascade;
 mod common;
@@ -17,10 +17,24 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
+use crate::dtc::astrom_hang_lim::{AstromHangLimParams, AstromHangLimTuning};
+use crate::dtc::cascade::{
+    FspccParams, FspccTuning, GpccParams, GpccTuning, KayaCascadeParams, KayaCascadeTuning,
+    UmaParams, UmaTuning,
+};
+use crate::dtc::disturbance_estimator::{DisturbanceEstimatorParams, DisturbanceEstimatorTuning};
+use crate::dtc::filtered_smith::{FilteredSmithParams, FilteredSmithTuning};
+use crate::dtc::fsp::{FspParams, FspTuning};
+use crate::dtc::huang::{HuangParams, HuangTuning};
+use crate::dtc::kaya_atherton::KayaAthertonParams;
+use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
+use crate::dtc::KaranDeyParams;
 use crate::params::{DesignSet, ParamList, ParamSet};
 use crate::poly::{PlantKind, TransferFunction};
+use crate::tuning::{LambdaTuning, PidGains};
 use crate::LoopController;
 use crate::Real;
+use common::{both, by_order};
 
 /// Largest model order the registry's controllers hold.
 pub const MAX_ORDER: usize = 8;
@@ -371,25 +385,98 @@ impl fmt::Debug for Scheme {
     }
 }
 
-/// Every scheme, in listing order.
-pub static SCHEMES: &[Scheme] = &[
-    pid::PID,
-    pid::PI,
-    smith::SMITH,
-    smith::FILTERED_SMITH,
-    smith::HUANG,
-    integrating::WATANABE_ITO,
-    integrating::ASTROM_HANG_LIM,
-    integrating::MATAUSEK_MICIC,
-    integrating::KAYA_ATHERTON,
-    integrating::KARAN_DEY,
-    fsp::FSP,
-    disturbance_estimator::DISTURBANCE_ESTIMATOR,
-    cascade::FSPCC,
-    cascade::GPCC,
-    cascade::UMA,
-    cascade::KAYA_CASCADE,
-];
+/// The rows of [`SCHEMES`], one a scheme: its name and aliases, the plant
+/// kinds it controls, its parameter and design types (their fields are the
+/// names `--set` takes and the report prints); `Single` or `Cascade` with its
+/// tuning, its construction and what it describes beyond its parameters; the
+/// line `msp list` prints and the publication it follows.
+macro_rules! schemes {
+    ($(
+        $name:literal [$($alias:literal),*] $plants:ident $params:ident $design:ident
+        $kind:ident($tune:path, $build:expr, $describe:expr) $summary:literal $source:literal;
+    )*) => {
+        &[$(Scheme {
+            name: $name,
+            aliases: &[$($alias),*],
+            summary: $summary,
+            source: $source,
+            plants: common::$plants,
+            params: $params::<f64>::NAMES,
+            design: $design::NAMES,
+            describe: $describe,
+            fns: SchemeFns::$kind { tune: $tune, build: $build },
+        }),*]
+    };
+}
+
+/// Every scheme, in listing order: adding one is its module (tuning and
+/// construction) and its row here.
+pub static SCHEMES: &[Scheme] = schemes! {
+    "pid" [] STABLE_INT PidGains LambdaTuning
+        Single(pid::tune_pid, both!(pid::build_pid), None)
+        "plain PI/PID feedback, the baseline: IMC-PID (default), SIMC, or an ultimate-cycle rule (--rule)"
+        "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3";
+    "pi" [] STABLE_INT PidGains LambdaTuning
+        Single(pid::tune_pi, both!(pid::build_pid), None)
+        "plain PI feedback (td = 0): SIMC on the first-order model (default), or a PI ultimate-cycle rule (--rule)"
+        "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3";
+    "smith" ["sp"] STABLE_INT PidGains LambdaTuning
+        Single(smith::tune_smith, by_order!(smith::build_smith), None)
+        "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants"
+        "Kaya (2003) Eqs. 18-33";
+    "filtered-smith" [] STABLE FilteredSmithParams FilteredSmithTuning
+        Single(smith::tune_filtered_smith, by_order!(smith::build_filtered_smith), None)
+        "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error"
+        "the MathWorks Smith predictor example";
+    "huang" [] STABLE HuangParams HuangTuning
+        Single(smith::tune_huang, by_order!(smith::build_huang), None)
+        "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)"
+        "the MathWorks Smith predictor example";
+    "watanabe-ito" ["wi"] INT PidGains LambdaTuning
+        Single(integrating::tune_watanabe_ito, by_order!(integrating::build_watanabe_ito), None)
+        "Watanabe-Ito predictor for integrating plants: the predictor's static gain removed"
+        "Bag (2022) Sec. 4.4.1";
+    "astrom-hang-lim" ["ahl"] INT AstromHangLimParams AstromHangLimTuning
+        Single(integrating::tune_astrom_hang_lim, by_order!(integrating::build_astrom_hang_lim), None)
+        "Astrom-Hang-Lim predictor for integrating plants: set-point and load responses decoupled"
+        "Bag (2022) Sec. 4.4.2, Eqs. 4.13-4.17";
+    "matausek-micic" ["mm"] INT MatausekMicicParams MatausekMicicTuning
+        Single(integrating::tune_matausek_micic, by_order!(integrating::build_matausek_micic), None)
+        "Matausek-Micic predictor for integrating plants: P set point, P load feedback"
+        "Bag (2022) Sec. 4.4.3, refs [8], [52]";
+    "kaya-atherton" ["ka", "pi-pd"] STABLE_INT KayaAthertonParams LambdaTuning
+        Single(integrating::tune_kaya_atherton, by_order!(integrating::build_kaya_atherton), None)
+        "Kaya-Atherton PI-PD Smith predictor: Gc1 PI, Gc2 P/PD, Gc3 = kb(Td s+1)/(0.1 Td s+1)"
+        "Bag (2022) Sec. 4.4.3, Eq. 4.18";
+    "karan-dey" ["msp"] INT KaranDeyParams LambdaTuning
+        Single(integrating::tune_karan_dey, by_order!(integrating::build_karan_dey), Some(integrating::describe_karan_dey))
+        "Karan-Dey three-controller modified Smith predictor for integrating plants (lambda = L/4)"
+        "Bag (2022) Sec. 4.5";
+    "fsp" ["filtered-smith-unstable"] ALL FspParams FspTuning
+        Single(fsp::tune_fsp, both!(fsp::build_fsp), Some(fsp::describe_fsp))
+        "filtered Smith predictor for unstable, integrating and stable plants: Fr(z) from the Diophantine condition"
+        "García et al. (2010) Sec. 3, Eq. 10";
+    "disturbance-estimator" ["de"] INT DisturbanceEstimatorParams DisturbanceEstimatorTuning
+        Single(disturbance_estimator::tune_disturbance_estimator, by_order!(disturbance_estimator::build_disturbance_estimator), None)
+        "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)"
+        "Draganović et al. (2001)";
+    "fspcc" [] ALL FspccParams FspccTuning
+        Cascade(cascade::tune_fspcc, both!(cascade::build_fspcc), Some(cascade::describe_fspcc))
+        "cascade: filtered Smith predictor (Fr from Eq. 10) outside an IMC inner loop"
+        "García et al. (2010) Sec. 3.1, Figs. 5-6, Eq. 10";
+    "gpcc" [] ALL GpccParams GpccTuning
+        Cascade(cascade::tune_gpcc, both!(cascade::build_gpcc), Some(cascade::describe_gpcc))
+        "cascade: generalized predictor (F1, F2, Gamma, Fk) outside an IMC inner loop"
+        "García et al. (2010) Sec. 3.2, Fig. 7, Eqs. 1-4";
+    "uma" ["uma-2009"] ALL UmaParams UmaTuning
+        Cascade(cascade::tune_uma, both!(cascade::build_uma), None)
+        "cascade competitor: Uma et al. 2009 modified Smith predictor (Gcs, Gcd, Gf; set Gcd's gains)"
+        "García et al. (2010) Sec. 2.3, Fig. 4";
+    "kaya-cascade" ["kaya-2008"] STABLE_INT KayaCascadeParams KayaCascadeTuning
+        Cascade(cascade::tune_kaya_cascade, both!(cascade::build_kaya_cascade), None)
+        "cascade competitor: Kaya et al. 2008 Smith predictor in the outer loop (Gc1, Gc3, Gd)"
+        "García et al. (2010) Sec. 2.2, Fig. 3";
+};
 
 /// All scheme names.
 pub fn names() -> Vec<&'static str> {

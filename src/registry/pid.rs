@@ -3,16 +3,16 @@
 use alloc::boxed::Box;
 
 use super::common::*;
-use super::{Build, Builders, Design, Params, Scheme, SchemeFns};
-use crate::tuning::{LambdaTuning, PidGains};
+use super::{Build, Design, Params};
+use crate::tuning::LambdaTuning;
 use crate::Pid;
-use crate::{tuning, DesignSet, Fopdt, Ipdt, ParamSet, ProcessModel, Real};
+use crate::{tuning, Fopdt, Ipdt, ProcessModel, Real};
 
-fn tune_pid(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_pid(plant: &Tf, d: &Design) -> Tuned {
     tune(plant, d, false)
 }
 
-fn tune_pi(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_pi(plant: &Tf, d: &Design) -> Tuned {
     tune(plant, d, true)
 }
 
@@ -84,35 +84,6 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
     })
 }
 
-fn build_pid<T: Real>(p: &Params, _m: &Tf, b: &Build) -> Built<T> {
+pub fn build_pid<T: Real>(p: &Params, _m: &Tf, b: &Build) -> Built<T> {
     Ok(Box::new(Pid::new(pid_cfg(p, b)?)?))
 }
-
-pub(super) const PID: Scheme = Scheme {
-    name: "pid",
-    aliases: &[],
-    summary: "plain PI/PID feedback, the baseline: IMC-PID (default), SIMC, or an ultimate-cycle rule (--rule)",
-    source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
-    plants: STABLE_INT,
-    params: PidGains::<f64>::NAMES,
-    design: LambdaTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_pid,
-        build: both!(build_pid),
-    },
-};
-pub(super) const PI: Scheme = Scheme {
-    name: "pi",
-    aliases: &[],
-    summary: "plain PI feedback (td = 0): SIMC on the first-order model (default), or a PI ultimate-cycle rule (--rule)",
-    source: "Bag (2022) Eqs. 3.19-3.27, Tables 3.2-3.3",
-    plants: STABLE_INT,
-    params: PidGains::<f64>::NAMES,
-    design: LambdaTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_pi,
-        build: both!(build_pid),
-    },
-};

@@ -4,12 +4,12 @@
 use alloc::boxed::Box;
 
 use super::common::*;
-use super::{Build, Builders, Design, DynControllerOf, Params, Scheme, SchemeFns, MAX_ORDER};
+use super::{Build, Design, Params};
 use crate::dtc::filtered_smith::{FilteredSmithParams, FilteredSmithTuning};
 use crate::dtc::huang::{HuangParams, HuangTuning};
 use crate::dtc::{self, SmithPredictor};
 use crate::poly::TransferFunction;
-use crate::tuning::{LambdaTuning, PidGains};
+use crate::tuning::LambdaTuning;
 use crate::{tuning, DesignSet, ParamSet, ProcessModel, Real};
 
 /// Kaya's PI/PID for a stable model, the thesis's IMC-PI for an integrating one.
@@ -35,12 +35,12 @@ fn primary_gains<D: DesignSet>(
     })
 }
 
-fn tune_smith(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_smith(plant: &Tf, d: &Design) -> Tuned {
     let (g, lambda, _) = primary_gains(plant, &d.typed::<LambdaTuning>(), 1.0)?;
     Ok(Params::of(&g).with_lambda(lambda))
 }
 
-fn build_smith<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_smith<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     Ok(Box::new(SmithPredictor::new(pid_cfg(p, b)?, lti, delay)?))
 }
@@ -54,7 +54,7 @@ fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
     }
 }
 
-fn tune_filtered_smith(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_filtered_smith(plant: &Tf, d: &Design) -> Tuned {
     // the MathWorks Smith predictor example: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
     let t: FilteredSmithTuning = d.typed();
     let (g, lambda, m) = primary_gains(plant, &t, 1.0 / 7.5)?;
@@ -69,13 +69,17 @@ fn tune_filtered_smith(plant: &Tf, d: &Design) -> Tuned {
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_filtered_smith<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_filtered_smith<T: Real, const N: usize>(
+    p: &Params,
+    model: &Tf,
+    b: &Build,
+) -> Built<T> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let c = dtc::filtered_smith::build(pid_cfg(p, b)?, &p.typed()?, lti, delay)?;
     limited(c, b)
 }
 
-fn tune_huang(plant: &Tf, d: &Design) -> Tuned {
+pub fn tune_huang(plant: &Tf, d: &Design) -> Tuned {
     // the MathWorks Smith predictor example: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
     let t: HuangTuning = d.typed();
     let (g, lambda, m) = primary_gains(plant, &t, 0.5)?;
@@ -90,53 +94,9 @@ fn tune_huang(plant: &Tf, d: &Design) -> Tuned {
     Ok(Params::of(&p).with_lambda(lambda))
 }
 
-fn build_huang<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
+pub fn build_huang<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     let line = delay_again(model, b)?;
     let c = dtc::huang::build(pid_cfg(p, b)?, &p.typed()?, lti, delay, line)?;
     limited(c, b)
 }
-
-pub(super) const SMITH: Scheme = Scheme {
-    name: "smith",
-    aliases: &["sp"],
-    summary:
-        "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants",
-    source: "Kaya (2003) Eqs. 18-33",
-    plants: STABLE_INT,
-    params: PidGains::<f64>::NAMES,
-    design: LambdaTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_smith,
-        build: by_order!(build_smith),
-    },
-};
-pub(super) const FILTERED_SMITH: Scheme = Scheme {
-    name: "filtered-smith",
-    aliases: &[],
-    summary: "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error",
-    source: "the MathWorks Smith predictor example",
-    plants: STABLE,
-    params: FilteredSmithParams::<f64>::NAMES,
-    design: FilteredSmithTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_filtered_smith,
-        build: by_order!(build_filtered_smith),
-    },
-};
-pub(super) const HUANG: Scheme = Scheme {
-    name: "huang",
-    aliases: &[],
-    summary: "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)",
-    source: "the MathWorks Smith predictor example",
-    plants: STABLE,
-    params: HuangParams::<f64>::NAMES,
-    design: HuangTuning::NAMES,
-    describe: None,
-    fns: SchemeFns::Single {
-        tune: tune_huang,
-        build: by_order!(build_huang),
-    },
-};
