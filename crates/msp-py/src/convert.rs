@@ -191,7 +191,20 @@ pub(crate) enum Takes {
     Only(&'static [&'static str]),
 }
 
+/// The scenario fields ``tune`` takes.
+pub(crate) const TUNE: &[&str] = &["inner_plant", "controller", "lambda", "rule", "set", "ts"];
+
 impl Takes {
+    /// The Python keywords of the fields taken (the plant apart), in the
+    /// order of [`Scenario::FIELDS`].
+    pub(crate) fn keywords(self) -> Vec<&'static str> {
+        Scenario::FIELDS
+            .iter()
+            .filter(|f| **f != "plant" && self.takes(f))
+            .map(|f| keyword(f))
+            .collect()
+    }
+
     fn takes(self, field: &str) -> bool {
         match self {
             Takes::All => true,

@@ -36,12 +36,13 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // the scenario's fields as the library defines them (tests check the keyword arguments)
     m.add("SCENARIO_FIELDS", msp::study::Scenario::FIELDS.to_vec())?;
-    // their keywords in Python (`set` is `params`, `lambda` is `lambda_`)
-    let keywords: Vec<&str> = msp::study::Scenario::FIELDS
-        .iter()
-        .filter(|f| **f != "plant")
-        .map(|f| convert::keyword(f))
-        .collect();
-    m.add("SCENARIO_KEYWORDS", keywords)?;
+    // their keywords in Python (`set` is `params`, `lambda` is `lambda_`): all of
+    // them (`run`, `compare`), a design's (`margins`, `sweep`) and a tuning's (`tune`)
+    m.add("SCENARIO_KEYWORDS", convert::Takes::All.keywords())?;
+    m.add("DESIGN_KEYWORDS", convert::Takes::Design(&[]).keywords())?;
+    m.add(
+        "TUNE_KEYWORDS",
+        convert::Takes::Only(convert::TUNE).keywords(),
+    )?;
     Ok(())
 }

@@ -1,6 +1,6 @@
 //! The study functions: run, compare, margins, sweep, autotune, identify, tune, controllers.
 
-use crate::convert::{fit_dict, output_dict, perturbation_of, scenario_from, Takes};
+use crate::convert::{fit_dict, output_dict, perturbation_of, scenario_from, Takes, TUNE};
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry;
@@ -269,7 +269,6 @@ pub(crate) fn tune<'py>(
     uncertainty: Option<&Bound<'py, PyAny>>,
     scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    const TUNE: &[&str] = &["inner_plant", "controller", "lambda", "rule", "set", "ts"];
     let sc = scenario_from(plant, scenario, Takes::Only(TUNE))?;
     let unc = perturbation_of(uncertainty)?;
     let r = py

@@ -472,9 +472,10 @@ def test_cascade_sweep_perturbs_the_primary() -> None:
 
 def test_run_and_compare_take_every_scenario_field() -> None:
     """The scenario's fields are defined once, in the library, and read once by the compiled
-    module (``SCENARIO_KEYWORDS``: ``set`` as ``params``, ``lambda`` as ``lambda_``): ``run``
-    spells each out as a keyword, ``compare`` passes them on, and a keyword that is no field
-    is refused by name."""
+    module (``SCENARIO_KEYWORDS``: ``set`` as ``params``, ``lambda`` as ``lambda_``); the
+    public functions type them once (``TuneOptions`` ⊂ ``DesignOptions`` ⊂ ``RunOptions``, with
+    ``controller`` and ``params`` in the signatures), each the set its compiled function reads,
+    and a keyword that is no field is refused by name."""
     import inspect
 
     from msp import _msp
@@ -482,9 +483,17 @@ def test_run_and_compare_take_every_scenario_field() -> None:
     renamed = {"set": "params", "lambda": "lambda_"}
     want = [renamed.get(f, f) for f in _msp.SCENARIO_FIELDS if f != "plant"]
     assert sorted(_msp.SCENARIO_KEYWORDS) == sorted(want)
-    params = inspect.signature(msp.run).parameters
-    missing = [k for k in _msp.SCENARIO_KEYWORDS if k not in params]
-    assert not missing, f"msp.run lacks the scenario keywords {missing}"
+    named = {"controller", "params"}
+    for options, compiled in ((msp.RunOptions, _msp.SCENARIO_KEYWORDS),
+                              (msp.DesignOptions, _msp.DESIGN_KEYWORDS),
+                              (msp.TuneOptions, _msp.TUNE_KEYWORDS)):
+        assert sorted(set(options.__annotations__) | named) == sorted(compiled), options
+    for fn, options in ((msp.run, "RunOptions"), (msp.compare, "RunOptions"),
+                        (msp.margins, "DesignOptions"), (msp.sweep, "DesignOptions"),
+                        (msp.tune, "TuneOptions")):
+        sig = inspect.signature(fn).parameters
+        assert sig["scenario"].annotation == f"Unpack[{options}]", fn
+        assert "params" in sig and ("controller" in sig or fn is msp.compare), fn
     for call in (lambda: msp.run("1/(s+1)", setpiont=1.0),
                  lambda: msp.compare("1/(s+1)", ["pi"], setpiont=1.0),
                  lambda: msp.margins("1/(s+1)", setpoint=1.0)):

@@ -11,14 +11,61 @@ sampled-data simulator, with numpy arrays out::
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+import sys
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 
 from . import _msp
 from ._msp import Controller, Pid, Plant, __version__, controllers, parse_plant
 
+if sys.version_info >= (3, 11):
+    from typing import Unpack
+elif TYPE_CHECKING:
+    from typing_extensions import Unpack
+
 PlantLike = Union[str, Plant, Any]
+
+
+# (every ancestor and ``TypedDict`` are named as bases of the derived options: before 3.12 a
+# TypedDict's ``__mro__`` omits its TypedDict bases, and the documentation tool reads it)
+class TuneOptions(TypedDict, total=False):
+    """The scenario keywords a tuning reads (:func:`tune`, and every study function): the
+    fields of the library's ``Scenario`` under their Python names, checked against it by the
+    tests. Each is documented at :func:`run`."""
+
+    inner_plant: PlantLike
+    ts: float
+    lambda_: float
+    rule: str
+
+
+class DesignOptions(TuneOptions, TypedDict, total=False):
+    """The scenario keywords of a designed loop (:func:`margins`, :func:`sweep`): the tuning's,
+    the models, the precision and the memory."""
+
+    model: PlantLike
+    inner_model: PlantLike
+    float32: bool
+    max_memory: int
+
+
+class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
+    """The scenario keywords of a run (:func:`run`, :func:`compare`): the design's, the time
+    line, the actuator and the operator."""
+
+    duration: float
+    setpoint: Union[float, str, Sequence[Union[float, str, Tuple[float, float]]]]
+    disturbance: Union[str, Mapping[str, Any], Sequence[Union[str, Mapping[str, Any]]]]
+    noise: float
+    seed: int
+    umin: float
+    umax: float
+    substeps: int
+    events: Union[str, Sequence[str]]
+    actuator: Tuple[float, float]
+    reset_feedback: bool
+    setpoint_ramp: float
 
 __all__ = [
     "AstromHangLim",
@@ -40,6 +87,9 @@ __all__ = [
     "PidLoop",
     "Plant",
     "Result",
+    "RunOptions",
+    "DesignOptions",
+    "TuneOptions",
     "SmithPredictor",
     "Uma",
     "WatanabeIto",
@@ -56,13 +106,13 @@ __all__ = [
 ]
 
 
-def _scenario(given: Mapping[str, Any], *apart: str) -> Dict[str, Any]:
-    """The scenario keywords of a study function's arguments ``given`` (but those ``apart``)
+def _scenario(given: Mapping[str, Any], **named: Any) -> Dict[str, Any]:
+    """The scenario keywords ``given`` (and those ``named`` in a study function's signature)
     for the compiled module, which reads each once (``_msp.SCENARIO_KEYWORDS``) and refuses
     any other: processes as expressions or ``Plant``, ``None`` left out."""
     out: Dict[str, Any] = {}
-    for key, v in given.items():
-        if key in apart or v is None:
+    for key, v in {**given, **named}.items():
+        if v is None:
             continue
         if key in ("model", "inner_plant", "inner_model"):
             v = _plant(v)
@@ -233,26 +283,7 @@ def run(
     params: Optional[Mapping[str, float]] = None,
     *,
     delay: Optional[float] = None,
-    model: Optional[PlantLike] = None,
-    inner_plant: Optional[PlantLike] = None,
-    inner_model: Optional[PlantLike] = None,
-    ts: Optional[float] = None,
-    duration: Optional[float] = None,
-    setpoint: Union[None, float, str, Sequence[Union[float, str, Tuple[float, float]]]] = None,
-    disturbance: Union[None, str, Mapping[str, Any], Sequence[Union[str, Mapping[str, Any]]]] = None,
-    noise: Optional[float] = None,
-    seed: Optional[int] = None,
-    umin: Optional[float] = None,
-    umax: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
-    substeps: Optional[int] = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
-    events: Union[None, str, Sequence[str]] = None,
-    actuator: Optional[Tuple[float, float]] = None,
-    reset_feedback: bool = False,
-    setpoint_ramp: Optional[float] = None,
+    **scenario: Unpack[RunOptions],
 ) -> Result:
     """Tune a controller for ``plant``, simulate the closed loop exactly, return a :class:`Result`.
 
@@ -271,6 +302,8 @@ def run(
         CLI's ``--set``.
     delay : float, optional
         The dead time (s) of a python-control ``plant``.
+    **scenario
+        The keywords of :class:`RunOptions`, one per field of the scenario:
     model : str, Plant or control.TransferFunction, optional
         The controller's model of the plant (default: the plant itself).
     inner_plant, inner_model : str, Plant or control.TransferFunction, optional
@@ -343,7 +376,7 @@ def run(
     >>> round(msp.run("0.2/s*e^-7.4s", setpoint=1.0).metrics["rise_time"], 2)
     2.02
     """
-    raw = _msp.run(_plant(plant, delay), **_scenario(locals(), "plant", "delay"))
+    raw = _msp.run(_plant(plant, delay), **_scenario(scenario, controller=controller, params=params))
     return Result(raw)
 
 
@@ -351,9 +384,10 @@ def compare(
     plant: PlantLike,
     controllers: Sequence[str],
     *,
+    params: Optional[Mapping[str, float]] = None,
     perturb: Union[None, str, Mapping[str, float]] = None,
     delay: Optional[float] = None,
-    **scenario: Any,
+    **scenario: Unpack[RunOptions],
 ) -> List[Result]:
     """Run each controller on the same scenario, as ``msp compare`` does.
 
@@ -363,6 +397,8 @@ def compare(
         The process, as :func:`run` takes it.
     controllers : list of str
         The schemes, by name (:func:`controllers`).
+    params : dict, optional
+        Overrides, as :func:`run`; keys ``"scheme.name"`` apply to one scheme only.
     perturb : str or dict, optional
         A change of the plant that every controller meets with the nominal model:
         ``"gain=+10%,delay=+10%"`` or ``{"gain": 0.1, "delay": 0.1, "tau": 0.0}``
@@ -370,7 +406,7 @@ def compare(
     delay : float, optional
         The dead time (s) of a python-control ``plant``.
     **scenario
-        The keywords of :func:`run`; ``params`` keys ``"scheme.name"`` apply to one scheme only.
+        The keywords of :class:`RunOptions`, as :func:`run` takes them.
 
     Returns
     -------
@@ -390,7 +426,7 @@ def compare(
     """
     raw = _msp.compare(_plant(plant, delay), list(controllers),
                        perturb=dict(perturb) if isinstance(perturb, Mapping) else perturb,
-                       **_scenario(scenario))
+                       **_scenario(scenario, params=params))
     return [Result(r) for r in raw]
 
 
@@ -418,17 +454,10 @@ def margins(
     params: Optional[Mapping[str, float]] = None,
     *,
     delay: Optional[float] = None,
-    model: Optional[PlantLike] = None,
-    inner_plant: Optional[PlantLike] = None,
-    inner_model: Optional[PlantLike] = None,
-    ts: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
     discrete: bool = False,
     continuous: bool = False,
     uncertainty: Union[None, str, Mapping[str, float], Tuple[float, float]] = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
+    **scenario: Unpack[DesignOptions],
 ) -> Dict[str, Any]:
     """Margins of the loop at the plant input with the exact dead time, as ``msp margins``.
 
@@ -445,14 +474,6 @@ def margins(
         Overrides of tuned parameters, as :func:`run`.
     delay : float, optional
         The dead time (s) of a python-control ``plant``.
-    model, inner_plant, inner_model : str, Plant or control.TransferFunction, optional
-        As :func:`run`; for a cascade scheme the loop is broken at the inner set point ``r2``.
-    ts : float, optional
-        The sample period (s); chosen from the plant when absent.
-    lambda_ : float, optional
-        The tuning rule's closed-loop time constant (s).
-    rule : str, optional
-        A named tuning rule for ``pid``/``pi``.
     discrete : bool, optional
         The plant's exact discrete equivalent instead of the continuous plant behind the hold.
     continuous : bool, optional
@@ -460,10 +481,10 @@ def margins(
     uncertainty : str, dict or (gain, delay), optional
         A perturbation (``"gain=10%,delay=10%,tau=-20%"``) for Eq. 17's robust-stability peak
         ``max|T·Δ|`` with the exact multiplicative uncertainty.
-    float32 : bool, optional
-        The controller in ``float32``, as :func:`run`.
-    max_memory : int, optional
-        As :func:`run` (the stability probe is a simulation).
+    **scenario
+        The keywords of :class:`DesignOptions`, as :func:`run` takes them (``max_memory``
+        bounds the stability probe, a simulation); with ``inner_plant`` the loop is broken at
+        the inner set point ``r2``.
 
     Returns
     -------
@@ -491,7 +512,7 @@ def margins(
         unc = uncertainty if isinstance(uncertainty, str) else {k: float(v) for k, v in uncertainty.items()}
     elif uncertainty is not None:
         unc = {"gain": float(uncertainty[0]), "delay": float(uncertainty[1])}
-    kw = _scenario(locals(), "plant", "delay", "discrete", "continuous", "uncertainty", "unc")
+    kw = _scenario(scenario, controller=controller, params=params)
     return Margins(_msp.margins(_plant(plant, delay), discrete=discrete, continuous=continuous,
                                 uncertainty=unc, **kw))
 
@@ -536,15 +557,8 @@ def sweep(
     samples: int = 0,
     seed: int = 1,
     shard: Tuple[int, int] = (0, 1),
-    model: Optional[PlantLike] = None,
-    inner_plant: Optional[PlantLike] = None,
-    inner_model: Optional[PlantLike] = None,
-    ts: Optional[float] = None,
     duration: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
-    float32: bool = False,
-    max_memory: Optional[int] = None,
+    **scenario: Unpack[DesignOptions],
 ) -> Dict[str, np.ndarray]:
     """Many closed-loop runs over relative plant perturbations, in parallel, as ``msp sweep``.
 
@@ -566,10 +580,11 @@ def sweep(
         The seed of the random points.
     shard : (int, int), optional
         ``(i, n)``: only the runs whose index is ``i`` modulo ``n`` (for distributed engines).
-    model, inner_plant, inner_model : str, Plant or control.TransferFunction, optional
-        As :func:`run`; with ``inner_plant`` the primary is perturbed, the secondary kept.
-    ts, duration, lambda_, rule, float32, max_memory : optional
+    duration : float, optional
         As :func:`run`.
+    **scenario
+        The keywords of :class:`DesignOptions`, as :func:`run` takes them; with
+        ``inner_plant`` the primary is perturbed, the secondary kept.
 
     Returns
     -------
@@ -588,7 +603,7 @@ def sweep(
     >>> len(cols["iae"]), bool(cols["stable"].all())
     (3, True)
     """
-    kw = _scenario(locals(), "plant", "gain", "delay", "tau", "grid", "samples", "seed", "shard")
+    kw = _scenario(scenario, controller=controller, params=params, duration=duration)
     return _msp.sweep(_plant(plant), gain=_range(gain), delay=_range(delay), tau=_range(tau), grid=grid,
                       samples=samples, seed=seed, shard=(int(shard[0]), int(shard[1])), **kw)
 
@@ -742,11 +757,8 @@ def tune(
     params: Optional[Mapping[str, float]] = None,
     *,
     delay: Optional[float] = None,
-    inner_plant: Optional[PlantLike] = None,
-    ts: Optional[float] = None,
-    lambda_: Optional[float] = None,
-    rule: Optional[str] = None,
     uncertainty: Union[None, str, Mapping[str, float]] = None,
+    **scenario: Unpack[TuneOptions],
 ) -> Dict[str, Any]:
     """The tuned controller as ``msp tune --json`` prints it.
 
@@ -760,16 +772,11 @@ def tune(
         Overrides of tuned parameters or design values, as :func:`run`.
     delay : float, optional
         The dead time (s) of a python-control ``plant``.
-    inner_plant : str, Plant or control.TransferFunction, optional
-        A cascade's secondary process.
-    ts : float, optional
-        The sample period (s) for the margins and Eq. 17.
-    lambda_ : float, optional
-        The tuning rule's closed-loop time constant (s).
-    rule : str, optional
-        A named tuning rule for ``pid``/``pi``.
     uncertainty : str or dict, optional
         ``"delay=20%,tau=-20%"`` or a dict: adds Eq. 17's ``robust_peak`` on the exact discrete loop.
+    **scenario
+        The keywords of :class:`TuneOptions`, as :func:`run` takes them (``ts``: the period of
+        the margins and of Eq. 17).
 
     Returns
     -------
@@ -792,7 +799,7 @@ def tune(
     ('karan-dey', 5.4054, ['lambda'])
     """
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
-    kw = _scenario(locals(), "plant", "delay", "uncertainty", "unc")
+    kw = _scenario(scenario, controller=controller, params=params)
     return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)
 
 

@@ -4,10 +4,12 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune"]
 __version__: str
 SCENARIO_FIELDS: List[str]
 SCENARIO_KEYWORDS: List[str]
+DESIGN_KEYWORDS: List[str]
+TUNE_KEYWORDS: List[str]
 
 @final
 class Plant:
