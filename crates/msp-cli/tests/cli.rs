@@ -12,6 +12,11 @@ fn msp() -> Command {
     Command::cargo_bin("msp").unwrap()
 }
 
+/// A command line's words (arguments without spaces).
+fn words(line: &str) -> std::str::SplitWhitespace<'_> {
+    line.split_whitespace()
+}
+
 #[test]
 fn run_writes_csv_report_and_plot() {
     let dir = tempfile::tempdir().unwrap();
@@ -19,7 +24,7 @@ fn run_writes_csv_report_and_plot() {
     let report = dir.path().join("report.json");
     let plot = dir.path().join("plot.svg");
     msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .args(words("run --plant 0.2/s*e^-7.4s -o"))
         .arg(&csv)
         .arg("--report")
         .arg(&report)
@@ -80,14 +85,7 @@ fn float32_runs_the_controller_in_f32() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("report.json");
     let out = msp()
-        .args([
-            "run",
-            "-q",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "--float32",
-            "--report",
-        ])
+        .args(words("run -q --plant 0.2/s*e^-7.4s --float32 --report"))
         .arg(&report)
         .assert()
         .success()
@@ -118,18 +116,9 @@ fn stderr_of<const N: usize>(args: [&str; N], status: i32) -> String {
 
 #[test]
 fn csv_goes_to_stdout_and_set_overrides() {
-    let text = stdout_of(msp().args([
-        "run",
-        "--plant",
-        "5.6*e^-93.9s/(40.2s+1)",
-        "--controller",
-        "smith",
-        "--set",
-        "kp=0.05",
-        "--ts",
-        "1",
-        "-q",
-    ]));
+    let text = stdout_of(msp().args(words(
+        "run --plant 5.6*e^-93.9s/(40.2s+1) --controller smith --set kp=0.05 --ts 1 -q",
+    )));
     assert!(text.starts_with("t,r,y,u,d,ym,ym_delayed,model_error"));
     // u[0] = kp·(r − y) = 0.05
     let second = text.lines().nth(1).unwrap();
@@ -222,7 +211,7 @@ fn scenario_file_and_unknown_fields() {
     )
     .unwrap();
     msp()
-        .args(["run", "-q", "--scenario"])
+        .args(words("run -q --scenario"))
         .arg(&good)
         .assert()
         .success();
@@ -234,7 +223,7 @@ fn scenario_file_and_unknown_fields() {
     )
     .unwrap();
     msp()
-        .args(["run", "-q", "--scenario"])
+        .args(words("run -q --scenario"))
         .arg(&json)
         .arg("-o")
         .arg(dir.path().join("o.csv"))
@@ -263,7 +252,7 @@ fn scenario_file_and_unknown_fields() {
     assert!(err.contains("has no plant"), "{err}");
     // --plant given with the file supplies it
     msp()
-        .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "--scenario"])
+        .args(words("run -q --plant 0.2/s*e^-7.4s --scenario"))
         .arg(&none)
         .assert()
         .success();
@@ -272,14 +261,7 @@ fn scenario_file_and_unknown_fields() {
 #[test]
 fn tune_prints_kaya_settings() {
     msp()
-        .args([
-            "tune",
-            "--plant",
-            "e^-10s/(s+1)^2",
-            "--set",
-            "alpha=0.5",
-            "--json",
-        ])
+        .args(words("tune --plant e^-10s/(s+1)^2 --set alpha=0.5 --json"))
         .assert()
         .success()
         .stdout(
@@ -311,13 +293,7 @@ fn sweep_of_10000_runs_and_its_worst_case_by_a_single_run() {
     msp()
         .arg("sweep")
         .args(common)
-        .args([
-            "--gain=-20%..+20%",
-            "--delay=-10%..+10%",
-            "--grid",
-            "100",
-            "-o",
-        ])
+        .args(words("--gain=-20%..+20% --delay=-10%..+10% --grid 100 -o"))
         .arg(&csv)
         .assert()
         .success()
@@ -347,15 +323,7 @@ fn sweep_of_10000_runs_and_its_worst_case_by_a_single_run() {
             "--model",
             "0.2/s*e^-7.4s",
         ])
-        .args([
-            "-c",
-            "karan-dey",
-            "--ts",
-            "0.074",
-            "--duration",
-            "100",
-            "-o",
-        ])
+        .args(words("-c karan-dey --ts 0.074 --duration 100 -o"))
         .arg(dir.path().join("worst.csv"))
         .arg("--report")
         .arg(&report)
@@ -425,39 +393,23 @@ fn sweep_shards_merge_into_the_whole() {
 /// MATLAB), and the JSON says which view it is.
 #[test]
 fn margins_of_the_bare_plant() {
-    let j = json_of(msp().args([
-        "margins",
-        "--plant",
-        "1/(s^3+2s^2+3s+4)",
-        "--continuous",
-        "--json",
-    ]));
+    let j = json_of(msp().args(words(
+        "margins --plant 1/(s^3+2s^2+3s+4) --continuous --json",
+    )));
     assert_eq!(j["controller"]["name"], "none");
     assert_eq!(j["view"], "continuous");
     assert!((j["gm"].as_f64().unwrap() - 2.0).abs() < 1e-9);
     msp()
-        .args([
-            "margins",
-            "--plant",
-            "1/(s^3+2s^2+3s+4)",
-            "-c",
-            "none",
-            "--set",
-            "kp=0.5",
-        ])
+        .args(words(
+            "margins --plant 1/(s^3+2s^2+3s+4) -c none --set kp=0.5",
+        ))
         .assert()
         .success()
         .stdout(
             predicate::str::contains("L = 0.5·G").and(predicate::str::contains("behind a hold")),
         );
     msp()
-        .args([
-            "margins",
-            "--plant",
-            "1/(s+1)",
-            "--continuous",
-            "--discrete",
-        ])
+        .args(words("margins --plant 1/(s+1) --continuous --discrete"))
         .assert()
         .code(2);
 }
@@ -472,7 +424,7 @@ fn step_prints_the_open_loop_response() {
     let (csv, svg) = (dir.path().join("s.csv"), dir.path().join("s.svg"));
     let j = json_of(
         msp()
-            .args(["step", "--plant", "2*e^-1.3s/(5s+1)", "--json", "-o"])
+            .args(words("step --plant 2*e^-1.3s/(5s+1) --json -o"))
             .arg(&csv)
             .arg("--plot")
             .arg(&svg),
@@ -486,7 +438,7 @@ fn step_prints_the_open_loop_response() {
         .unwrap()
         .contains("final value 2"));
     msp()
-        .args(["step", "--plant", "1/s"])
+        .args(words("step --plant 1/s"))
         .assert()
         .success()
         .stdout(predicate::str::contains("does not settle"));
@@ -502,7 +454,7 @@ fn step_prints_the_open_loop_response() {
 #[test]
 fn tune_prints_robustness_and_warns() {
     msp()
-        .args(["tune", "--plant", "0.2/s*e^-7.4s"])
+        .args(words("tune --plant 0.2/s*e^-7.4s"))
         .assert()
         .success()
         .stdout(
@@ -510,7 +462,7 @@ fn tune_prints_robustness_and_warns() {
                 "warning: robustness: the sensitivity peak Ms = 2.52",
             )),
         );
-    let j = json_of(msp().args(["tune", "--plant", "e^-2s/(5s+1)", "--json"]));
+    let j = json_of(msp().args(words("tune --plant e^-2s/(5s+1) --json")));
     assert!(j["robustness"]["ms"].as_f64().unwrap() < 2.0);
     assert_eq!(j["warnings"], serde_json::json!([]));
 }
@@ -529,7 +481,7 @@ fn stale_temporaries_are_removed() {
     std::fs::write(&dead, "half a file").unwrap();
     std::fs::write(&live, "being written").unwrap();
     msp()
-        .args(["run", "--plant", "e^-2s/(5s+1)", "--duration", "10", "-o"])
+        .args(words("run --plant e^-2s/(5s+1) --duration 10 -o"))
         .arg(dir.path().join("run.csv"))
         .assert()
         .success();
@@ -544,18 +496,9 @@ fn an_interrupt_stops_cleanly() {
     let dir = tempfile::tempdir().unwrap();
     let bin = assert_cmd::cargo::cargo_bin("msp");
     let mut child = std::process::Command::new(bin)
-        .args([
-            "sweep",
-            "--plant",
-            "5e^-6s/(100s-1)",
-            "--gain",
-            "-20%..20%",
-            "--delay",
-            "-20%..20%",
-            "--grid",
-            "40",
-            "-o",
-        ])
+        .args(words(
+            "sweep --plant 5e^-6s/(100s-1) --gain -20%..20% --delay -20%..20% --grid 40 -o",
+        ))
         .arg(dir.path().join("sweep.csv"))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
@@ -591,7 +534,7 @@ fn a_terminal_gets_the_summary_not_the_csv() {
     );
     assert!(!text.contains("t,r,y,u"), "{text}");
     let piped = msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "-q"])
+        .args(words("run --plant 0.2/s*e^-7.4s -q"))
         .output()
         .unwrap();
     assert!(String::from_utf8_lossy(&piped.stdout).starts_with("t,r,y,u"));
@@ -645,7 +588,7 @@ fn a_report_reruns_as_itself() {
         assert_eq!(j["msp_version"], env!("CARGO_PKG_VERSION"));
         assert!(j["scenario"]["plant"].is_string());
         msp()
-            .args(["run", "-q", "--scenario"])
+            .args(words("run -q --scenario"))
             .arg(p("a.json"))
             .arg("-o")
             .arg(p("b.csv"))
@@ -665,15 +608,7 @@ fn a_report_reruns_as_itself() {
 /// The report of `msp run --scenario FILE`, printed to standard output.
 fn report_of_scenario(file: &std::path::Path) -> serde_json::Value {
     let out = msp()
-        .args([
-            "run",
-            "-q",
-            "-o",
-            "/dev/null",
-            "--report",
-            "-",
-            "--scenario",
-        ])
+        .args(words("run -q -o /dev/null --report - --scenario"))
         .arg(file)
         .assert()
         .success()
@@ -756,7 +691,7 @@ fn tune_prints_the_designed_filter() {
         msp()
             .arg("tune")
             .args(&args[..6])
-            .args(["-c", "gpcc", "--json"]),
+            .args(words("-c gpcc --json")),
     );
     assert_eq!(g["design"]["f1_taps"], 30.0);
     assert!(g["design"]["gamma"]["num"].is_array());
@@ -776,15 +711,7 @@ fn plots_carry_what_a_report_needs() {
         dir.path().join("n.svg"),
     );
     msp()
-        .args([
-            "run",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-q",
-            "-o",
-            "/dev/null",
-            "--plot",
-        ])
+        .args(words("run --plant 0.2/s*e^-7.4s -q -o /dev/null --plot"))
         .arg(&run)
         .assert()
         .success();
@@ -799,14 +726,7 @@ fn plots_carry_what_a_report_needs() {
         assert!(svg.contains(text), "{text}");
     }
     msp()
-        .args([
-            "margins",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey",
-            "--plot",
-        ])
+        .args(words("margins --plant 0.2/s*e^-7.4s -c karan-dey --plot"))
         .arg(&bode)
         .arg("--nyquist")
         .arg(&nyq)
@@ -842,7 +762,7 @@ fn a_long_run_shows_it_is_running() {
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("simulating"));
     let piped = msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "-q", "-o", "/dev/null"])
+        .args(words("run --plant 0.2/s*e^-7.4s -q -o /dev/null"))
         .output()
         .unwrap();
     assert!(!String::from_utf8_lossy(&piped.stderr).contains("simulating"));
@@ -855,15 +775,7 @@ fn a_dash_is_standard_output() {
     let dir = tempfile::tempdir().unwrap();
     let out = msp()
         .current_dir(dir.path())
-        .args([
-            "run",
-            "--plant",
-            "e^-2s/(5s+1)",
-            "--duration",
-            "10",
-            "-o",
-            "-",
-        ])
+        .args(words("run --plant e^-2s/(5s+1) --duration 10 -o -"))
         .assert()
         .success()
         .get_output()
@@ -873,7 +785,7 @@ fn a_dash_is_standard_output() {
     assert!(!dir.path().join("-").exists());
     msp()
         .current_dir(dir.path())
-        .args(["run", "--plant", "e^-2s/(5s+1)", "-o", "-", "--report", "-"])
+        .args(words("run --plant e^-2s/(5s+1) -o - --report -"))
         .assert()
         .code(2)
         .stderr(predicate::str::contains("both name standard output"));
@@ -888,7 +800,7 @@ fn run_says_what_it_chose() {
     let report = dir.path().join("report.json");
     msp()
         .current_dir(dir.path())
-        .args(["run", "--plant", "1/(s+1)^2", "-o", "-", "--report"])
+        .args(words("run --plant 1/(s+1)^2 -o - --report"))
         .arg(&report)
         .assert()
         .success()
@@ -898,18 +810,9 @@ fn run_says_what_it_chose() {
     assert_eq!(j["chosen"], serde_json::json!(["ts", "duration", "lambda"]));
     assert_eq!(j["controller"]["params"]["lambda"], 0.5);
     msp()
-        .args([
-            "run",
-            "--plant",
-            "1/(s+1)^2",
-            "--lambda",
-            "1",
-            "--ts",
-            "0.1",
-            "-o",
-            "-",
-            "--report",
-        ])
+        .args(words(
+            "run --plant 1/(s+1)^2 --lambda 1 --ts 0.1 -o - --report",
+        ))
         .arg(&report)
         .assert()
         .success()
@@ -922,10 +825,9 @@ fn run_says_what_it_chose() {
 #[test]
 fn margins_call_a_p_only_loop_stable() {
     msp()
-        .args([
-            "margins", "--plant", "1/(s+1)", "-c", "pid", "--set", "kp=1", "--set", "ti=inf",
-            "--set", "td=0",
-        ])
+        .args(words(
+            "margins --plant 1/(s+1) -c pid --set kp=1 --set ti=inf --set td=0",
+        ))
         .assert()
         .success()
         .stdout(predicates::str::contains("nominal loop  stable"));
@@ -933,20 +835,7 @@ fn margins_call_a_p_only_loop_stable() {
 
 #[test]
 fn margins_json_has_the_matlab_keys() {
-    let j = json_of(msp().args([
-        "margins",
-        "--plant",
-        "5.6*e^-93.9s/(40.2s+1)",
-        "-c",
-        "pid",
-        "--set",
-        "kp=0.0501",
-        "--set",
-        "ti=47.3",
-        "--set",
-        "td=0",
-        "--json",
-    ]));
+    let j = json_of(msp().args(words("margins --plant 5.6*e^-93.9s/(40.2s+1) -c pid --set kp=0.0501 --set ti=47.3 --set td=0 --json")));
     for k in ["gm", "gm_db", "pm", "wcg", "wcp", "dm", "ms", "mt"] {
         assert!(j[k].is_number(), "{k}");
     }
@@ -956,15 +845,9 @@ fn margins_json_has_the_matlab_keys() {
 #[test]
 fn compare_prints_the_frequency_rows() {
     msp()
-        .args([
-            "compare",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey,smith",
-            "--duration",
-            "60",
-        ])
+        .args(words(
+            "compare --plant 0.2/s*e^-7.4s -c karan-dey,smith --duration 60",
+        ))
         .assert()
         .success()
         .stdout(
@@ -979,14 +862,9 @@ fn autotune_reports_the_identified_and_the_true_model() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("at.json");
     msp()
-        .args([
-            "autotune",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "--hysteresis",
-            "0.05",
-            "--report",
-        ])
+        .args(words(
+            "autotune --plant 0.2/s*e^-7.4s --hysteresis 0.05 --report",
+        ))
         .arg(&report)
         .assert()
         .success()
@@ -1000,7 +878,7 @@ fn autotune_reports_the_identified_and_the_true_model() {
     assert!(j["relay"]["period"].is_number() && j["metrics"]["iae"].is_number());
     assert_eq!(j["controller"]["name"], "karan-dey");
     msp()
-        .args(["autotune", "--plant", "0.2/s*e^-7.4s", "--band", "0.5"])
+        .args(words("autotune --plant 0.2/s*e^-7.4s --band 0.5"))
         .assert()
         .code(1)
         .stderr(predicate::str::contains("aborted"));
@@ -1028,7 +906,7 @@ fn identify_reads_a_step_test() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("step.csv");
     std::fs::write(&data, step_test_csv("t,u,y")).unwrap();
-    let j = json_of(msp().args(["identify", "--json", "--data"]).arg(&data));
+    let j = json_of(msp().args(words("identify --json --data")).arg(&data));
     assert!(
         (j["k"].as_f64().unwrap() - 2.0).abs() < 0.02
             && (j["t"].as_f64().unwrap() - 5.0).abs() < 0.1
@@ -1055,9 +933,7 @@ fn identify_takes_named_columns_and_refuses_closed_loop_data() {
     std::fs::write(&data, step_test_csv("time,valve,level")).unwrap();
     let j = json_of(
         msp()
-            .args([
-                "identify", "--json", "--input", "valve", "--output", "level", "--data",
-            ])
+            .args(words("identify --json --input valve --output level --data"))
             .arg(&data),
     );
     assert!((j["k"].as_f64().unwrap() - 2.0).abs() < 0.02, "{j}");
@@ -1071,16 +947,9 @@ fn identify_takes_named_columns_and_refuses_closed_loop_data() {
         ));
     let closed = dir.path().join("closed.csv");
     msp()
-        .args([
-            "run",
-            "--plant",
-            "5.6*e^-93.9s/(40.2s+1)",
-            "-c",
-            "pi",
-            "--noise",
-            "0.01",
-            "-o",
-        ])
+        .args(words(
+            "run --plant 5.6*e^-93.9s/(40.2s+1) -c pi --noise 0.01 -o",
+        ))
         .arg(&closed)
         .assert()
         .success();
@@ -1122,20 +991,9 @@ fn an_unstable_loop_ends_with_a_warning_and_keeps_its_data() {
     let (csv, report) = (dir.path().join("u.csv"), dir.path().join("u.json"));
     // the plain PI far too aggressive for this dead time
     msp()
-        .args([
-            "run",
-            "--plant",
-            "5.6*e^-93.9s/(40.2s+1)",
-            "-c",
-            "pid",
-            "--set",
-            "kp=2",
-            "--ts",
-            "1",
-            "--duration",
-            "5000",
-            "-o",
-        ])
+        .args(words(
+            "run --plant 5.6*e^-93.9s/(40.2s+1) -c pid --set kp=2 --ts 1 --duration 5000 -o",
+        ))
         .arg(&csv)
         .arg("--report")
         .arg(&report)
@@ -1232,7 +1090,7 @@ fn a_full_device_is_an_error_not_a_panic() {
         .open("/dev/full")
         .unwrap();
     let out = std::process::Command::new(msp_path())
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .args(words("run --plant 0.2/s*e^-7.4s -o"))
         .arg(&csv)
         .stderr(full)
         .output()
@@ -1248,7 +1106,7 @@ fn outputs_are_all_or_nothing() {
     std::fs::write(&keep, "old").unwrap();
     // the report's directory is missing: nothing is written, keep.csv stays
     msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .args(words("run --plant 0.2/s*e^-7.4s -o"))
         .arg(&keep)
         .arg("--report")
         .arg(dir.path().join("missing_dir/r.json"))
@@ -1258,7 +1116,7 @@ fn outputs_are_all_or_nothing() {
     assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
     // two outputs on one path
     msp()
-        .args(["run", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .args(words("run --plant 0.2/s*e^-7.4s -o"))
         .arg(&keep)
         .arg("--report")
         .arg(&keep)
@@ -1268,7 +1126,7 @@ fn outputs_are_all_or_nothing() {
     assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
     // a run that succeeds leaves its files and no temporary beside them
     msp()
-        .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "-o"])
+        .args(words("run -q --plant 0.2/s*e^-7.4s -o"))
         .arg(&keep)
         .arg("--report")
         .arg(dir.path().join("r.json"))
@@ -1333,23 +1191,7 @@ fn merging_a_shard_twice_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     let a = dir.path().join("a.csv");
     msp()
-        .args([
-            "sweep",
-            "-q",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "-c",
-            "karan-dey",
-            "--gain",
-            "-10%..10%",
-            "--grid",
-            "3",
-            "--duration",
-            "30",
-            "--shard",
-            "0/2",
-            "-o",
-        ])
+        .args(words("sweep -q --plant 0.2/s*e^-7.4s -c karan-dey --gain -10%..10% --grid 3 --duration 30 --shard 0/2 -o"))
         .arg(&a)
         .assert()
         .success();
@@ -1517,20 +1359,9 @@ fn a_reverse_acting_plant_is_tuned_with_negative_gains() {
 #[test]
 fn ti_inf_switches_the_integral_off() {
     // P-only on e^{-s}/(s+1) with kp = 1: y settles at K·kp/(1 + K·kp) = 1/2
-    let text = stdout_of(msp().args([
-        "run",
-        "-q",
-        "--plant",
-        "e^-1s/(s+1)",
-        "--controller",
-        "pi",
-        "--set",
-        "kp=1",
-        "--set",
-        "ti=inf",
-        "--duration",
-        "40",
-    ]));
+    let text = stdout_of(msp().args(words(
+        "run -q --plant e^-1s/(s+1) --controller pi --set kp=1 --set ti=inf --duration 40",
+    )));
     let y: f64 = text
         .lines()
         .last()
@@ -1543,7 +1374,7 @@ fn ti_inf_switches_the_integral_off() {
     assert!((y - 0.5).abs() < 1e-9, "y = {y}");
     // a gain of inf is still refused, by name
     msp()
-        .args(["run", "--plant", "e^-1s/(s+1)", "--set", "kp=inf"])
+        .args(words("run --plant e^-1s/(s+1) --set kp=inf"))
         .assert()
         .code(2)
         .stderr(predicate::str::contains("kp"));
@@ -1556,7 +1387,7 @@ fn output_to_a_device_writes_into_it_and_leaves_it_a_device() {
     // an atomic write renames a temporary over its target: over /dev/null
     // that would replace the device by a regular file (as root)
     msp()
-        .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "--duration", "10"])
+        .args(words("run -q --plant 0.2/s*e^-7.4s --duration 10"))
         .args(["-o", "/dev/null"])
         .assert()
         .success();
@@ -1579,7 +1410,7 @@ fn outputs_have_the_usual_permissions() {
     let report = dir.path().join("report.json");
     let run = || {
         msp()
-            .args(["run", "-q", "--plant", "0.2/s*e^-7.4s", "--duration", "10"])
+            .args(words("run -q --plant 0.2/s*e^-7.4s --duration 10"))
             .arg("-o")
             .arg(&csv)
             .arg("--report")
@@ -1611,24 +1442,7 @@ fn operator_events_and_an_outside_actuator_reach_the_csv_and_the_report() {
     let dir = tempfile::tempdir().unwrap();
     let (csv, rep) = (dir.path().join("r.csv"), dir.path().join("r.json"));
     msp()
-        .args([
-            "run",
-            "-q",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "--setpoint",
-            "1",
-            "--duration",
-            "200",
-            "--event",
-            "60:manual=0.3",
-            "--event",
-            "120:auto",
-            "--actuator",
-            "-1..1",
-            "--reset-feedback",
-            "-o",
-        ])
+        .args(words("run -q --plant 0.2/s*e^-7.4s --setpoint 1 --duration 200 --event 60:manual=0.3 --event 120:auto --actuator -1..1 --reset-feedback -o"))
         .arg(&csv)
         .arg("--report")
         .arg(&rep)
@@ -1644,7 +1458,7 @@ fn operator_events_and_an_outside_actuator_reach_the_csv_and_the_report() {
     assert_eq!(ev[1]["action"], "auto");
     // the scenario runs again from its report, events included
     msp()
-        .args(["run", "-q", "--scenario"])
+        .args(words("run -q --scenario"))
         .arg(&rep)
         .arg("-o")
         .arg(dir.path().join("again.csv"))
@@ -1664,29 +1478,9 @@ fn operator_events_and_an_outside_actuator_reach_the_csv_and_the_report() {
 fn a_cascade_takes_dead_time_events() {
     let run = |model_dead_time: &str| -> serde_json::Value {
         let out = msp()
-            .args([
-                "run",
-                "-q",
-                "--plant",
-                "2e^-2s/s",
-                "--inner-plant",
-                "4e^-2s/(s+1)",
-                "-c",
-                "gpcc",
-                "--ts",
-                "0.1",
-                "--setpoint",
-                "1@0",
-                "--setpoint",
-                "2@250",
-                "--duration",
-                "350",
-                "--event",
-                "200:plant-dead-time=5",
-                "--event",
-            ])
+            .args(words("run -q --plant 2e^-2s/s --inner-plant 4e^-2s/(s+1) -c gpcc --ts 0.1 --setpoint 1@0 --setpoint 2@250 --duration 350 --event 200:plant-dead-time=5 --event"))
             .arg(format!("200:dead-time={model_dead_time}"))
-            .args(["-o", "/dev/null", "--report", "-"])
+            .args(words("-o /dev/null --report -"))
             .assert()
             .success();
         serde_json::from_slice(&out.get_output().stdout).unwrap()
@@ -1725,7 +1519,7 @@ fn bad_events_and_actuators_are_named() {
         (vec!["--actuator", "0...1"], "MIN..MAX"),
     ] {
         msp()
-            .args(["run", "--plant", "0.2/s*e^-7.4s"])
+            .args(words("run --plant 0.2/s*e^-7.4s"))
             .args(&args)
             .assert()
             .code(2)
