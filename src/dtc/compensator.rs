@@ -28,7 +28,7 @@
 
 use crate::delay::Delay;
 use crate::metrics::Sum;
-use crate::params::ParamList;
+use crate::params::{ParamList, ParamSet};
 use crate::real::finite;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Complex, Error, Lti, Pid, Real};
@@ -274,6 +274,46 @@ pub struct Compensator<T, const N: usize, S> {
     u: T,
     fault: bool,
     failsafe: Option<T>,
+}
+
+/// The controllers a scheme of this family sets around its model: `Gc1` on
+/// the set-point error, an inner `Gc2` on the model output, and a block on
+/// the model error (Bag (2022) Fig. 4.9's structure; Karan–Dey Eqs.
+/// 4.22–4.24, Kaya–Atherton Eq. 4.18, Matausek–Micić, Draganović et al.'s
+/// estimator).
+#[derive(Debug, Clone)]
+pub struct Controllers<T> {
+    /// `Gc1`.
+    pub gc1: Pid<T>,
+    /// `Gc2` (`None`: no inner feedback).
+    pub gc2: Option<Pid<T>>,
+    /// The block on the model error (`None`: no disturbance path).
+    pub gc3: Option<Lti<T, AUX>>,
+}
+
+/// A scheme's parameters that design its [`Controllers`].
+pub trait CompensatorParams<T: Real>: ParamSet<T> {
+    /// The controllers, sampled every `ts`.
+    fn controllers(&self, ts: T) -> Result<Controllers<T>, Error>;
+}
+
+/// The compensator of the scheme `p` around the delay-free model `model`
+/// (strictly proper) and its dead-time line, sampled every `ts`.
+pub fn build<T: Real, P: CompensatorParams<T>, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
+    p: &P,
+    ts: T,
+    model: Lti<T, N>,
+    delay: Delay<T, S>,
+) -> Result<Compensator<T, N, S>, Error> {
+    let c = p.controllers(ts)?;
+    let mut out = Compensator::new(c.gc1, model, delay, ParamList::of(p))?;
+    if let Some(gc2) = c.gc2 {
+        out = out.with_inner(gc2);
+    }
+    if let Some(gc3) = c.gc3 {
+        out = out.with_disturbance(DisturbancePath::Block(gc3));
+    }
+    Ok(out)
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {

@@ -10,9 +10,8 @@
 //! and the load response is governed by `1 + A/C·Kν e^{−Ls}/s = 0` (Eq. 19).
 //! The six designs of `A/C` are in [`crate::tuning::disturbance_estimator`].
 
-use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, DisturbancePath, AUX};
-use crate::params::{param_struct, ParamList};
+use crate::dtc::compensator::{CompensatorParams, Controllers};
+use crate::params::param_struct;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
 param_struct! {
@@ -112,17 +111,16 @@ impl<T: Real> Estimator<T> {
     }
 }
 
-/// The predictor with main gain `p.kr` and the estimator of case `p.case`,
-/// sampled every `ts`.
-pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    p: &DisturbanceEstimatorParams<T>,
-    ts: T,
-    model: Lti<T, N>,
-    delay: Delay<T, S>,
-) -> Result<Compensator<T, N, S>, Error> {
-    let est = Estimator::from_case(case_number(p.case)?, p.ka, p.ta, p.tc, p.w0)?;
-    let gc1 = Pid::new(PidConfig::parallel(p.kr, T::zero(), T::zero(), ts))?;
-    let ac: Lti<T, AUX> = Lti::from_tf(&est.a, &est.c, ts, Discretization::Zoh)?;
-    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
-        .with_disturbance(DisturbancePath::Block(ac)))
+/// The predictor's main gain `p.kr` and the estimator `A(s)/C(s)` of case
+/// `p.case` on the model error, sampled every `ts`.
+impl<T: Real> CompensatorParams<T> for DisturbanceEstimatorParams<T> {
+    fn controllers(&self, ts: T) -> Result<Controllers<T>, Error> {
+        let p = self;
+        let est = Estimator::from_case(case_number(p.case)?, p.ka, p.ta, p.tc, p.w0)?;
+        Ok(Controllers {
+            gc1: Pid::new(PidConfig::parallel(p.kr, T::zero(), T::zero(), ts))?,
+            gc2: None,
+            gc3: Some(Lti::from_tf(&est.a, &est.c, ts, Discretization::Zoh)?),
+        })
+    }
 }

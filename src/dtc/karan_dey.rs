@@ -27,8 +27,8 @@
 //! drives `ym → r − ε`, so `y → r` (zero steady-state error) and `u → −d`.
 
 use crate::delay::{Delay, DelayStorage};
-use crate::dtc::compensator::{Compensator, DisturbancePath};
-use crate::params::{param_struct, ParamList, ParamSet};
+use crate::dtc::compensator::{self, Compensator, CompensatorParams, Controllers};
+use crate::params::{param_struct, ParamSet};
 use crate::real::finite;
 use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
 
@@ -55,31 +55,34 @@ param_struct! {
 /// `Gc2 = β·Kp` on the model output and `Gc3` on the model error.
 pub type KaranDey<T, const N: usize, S> = Compensator<T, N, S>;
 
-/// Builds the MSP around the delay-free model `Gm` (strictly proper) and its
-/// dead time, sampled every `ts`. `Gc3 = γKp(1 + Td s/(1 + (Td/N)s))` is the
-/// lead-lag `γKp(1 + (Td + Td/N)s)/(1 + (Td/N)s)`, ZOH-discretized.
-pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    p: &KaranDeyParams<T>,
-    ts: T,
-    model: Lti<T, N>,
-    delay: Delay<T, S>,
-) -> Result<KaranDey<T, N, S>, Error> {
-    p.validate()?;
-    let gc1 = Pid::new(PidConfig::isa(p.kp, p.ti, T::zero(), ts))?;
-    let gc2 = Pid::new(PidConfig::parallel(p.beta * p.kp, T::zero(), T::zero(), ts))?;
-    let tf = p.td / p.n;
-    let gc3 = Lti::lead_lag(p.gamma * p.kp, p.td + tf, tf, ts)?;
-    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
-        .with_inner(gc2)
-        .with_disturbance(DisturbancePath::Block(gc3)))
+/// The MSP's controllers, sampled every `ts` (built around the delay-free
+/// model by [`compensator::build`]): `Gc1` PI, `Gc2 = β·Kp`, and
+/// `Gc3 = γKp(1 + Td s/(1 + (Td/N)s))` as the lead-lag
+/// `γKp(1 + (Td + Td/N)s)/(1 + (Td/N)s)`, ZOH-discretized.
+impl<T: Real> CompensatorParams<T> for KaranDeyParams<T> {
+    fn controllers(&self, ts: T) -> Result<Controllers<T>, Error> {
+        self.validate()?;
+        let p = self;
+        let tf = p.td / p.n;
+        Ok(Controllers {
+            gc1: Pid::new(PidConfig::isa(p.kp, p.ti, T::zero(), ts))?,
+            gc2: Some(Pid::new(PidConfig::parallel(
+                p.beta * p.kp,
+                T::zero(),
+                T::zero(),
+                ts,
+            ))?),
+            gc3: Some(Lti::lead_lag(p.gamma * p.kp, p.td + tf, tf, ts)?),
+        })
+    }
 }
 
-/// [`build`] with the model ZOH-discretized from a process model.
+/// [`compensator::build`] with the model ZOH-discretized from a process model.
 pub fn from_model<T: Real, const N: usize, S: DelayStorage<T>>(
     p: &KaranDeyParams<T>,
     model: &ProcessModel<T>,
     ts: T,
 ) -> Result<KaranDey<T, N, S>, Error> {
     let (block, d) = model.discretize::<N>(finite(ts, "ts")?)?;
-    build(p, ts, block, Delay::new_in(d)?)
+    compensator::build(p, ts, block, Delay::new_in(d)?)
 }

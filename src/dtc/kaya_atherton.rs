@@ -9,9 +9,7 @@
 //! thesis; the realization is the same skeleton as the Karan–Dey MSP
 //! ([`crate::dtc::compensator`]), which the thesis derives from it.
 
-use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, DisturbancePath};
-use crate::params::ParamList;
+use crate::dtc::compensator::{CompensatorParams, Controllers};
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
 /// Declares a parameter struct with the fields of [`KayaAthertonParams`]
@@ -45,26 +43,22 @@ kaya_atherton_params! {
     pub struct KayaAthertonParams {}
 }
 
-/// The PI-PD Smith predictor.
-pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    p: &KayaAthertonParams<T>,
-    ts: T,
-    model: Lti<T, N>,
-    delay: Delay<T, S>,
-) -> Result<Compensator<T, N, S>, Error> {
-    let KayaAthertonParams {
-        kp,
-        ti,
-        kf,
-        tf,
-        kb,
-        td,
-    } = *p;
-    let gc1 = Pid::new(PidConfig::isa(kp, ti, T::zero(), ts))?;
-    let gc2 = Pid::new(PidConfig::parallel(kf, T::zero(), kf * tf, ts))?;
-    let td = crate::real::non_negative(td, "td")?;
-    let gc3 = Lti::lead_lag(kb, td, T::of(0.1) * td, ts)?;
-    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
-        .with_inner(gc2)
-        .with_disturbance(DisturbancePath::Block(gc3)))
+/// The PI-PD Smith predictor's controllers.
+impl<T: Real> CompensatorParams<T> for KayaAthertonParams<T> {
+    fn controllers(&self, ts: T) -> Result<Controllers<T>, Error> {
+        let Self {
+            kp,
+            ti,
+            kf,
+            tf,
+            kb,
+            td,
+        } = *self;
+        let td = crate::real::non_negative(td, "td")?;
+        Ok(Controllers {
+            gc1: Pid::new(PidConfig::isa(kp, ti, T::zero(), ts))?,
+            gc2: Some(Pid::new(PidConfig::parallel(kf, T::zero(), kf * tf, ts))?),
+            gc3: Some(Lti::lead_lag(kb, td, T::of(0.1) * td, ts)?),
+        })
+    }
 }

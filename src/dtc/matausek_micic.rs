@@ -13,9 +13,8 @@
 //! set-point response `e^{−Ls}/(Tr s + 1)` and zero steady-state error under
 //! a constant load.
 
-use crate::delay::Delay;
-use crate::dtc::compensator::{Compensator, DisturbancePath};
-use crate::params::{param_struct, ParamList};
+use crate::dtc::compensator::{CompensatorParams, Controllers};
+use crate::params::param_struct;
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
 param_struct! {
@@ -38,14 +37,13 @@ crate::params::design_struct! {
     }
 }
 
-/// The predictor with set-point gain `p.kr` and load feedback `p.k0`.
-pub fn build<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>>(
-    p: &MatausekMicicParams<T>,
-    ts: T,
-    model: Lti<T, N>,
-    delay: Delay<T, S>,
-) -> Result<Compensator<T, N, S>, Error> {
-    let gc1 = Pid::new(PidConfig::parallel(p.kr, T::zero(), T::zero(), ts))?;
-    Ok(Compensator::new(gc1, model, delay, ParamList::of(p))?
-        .with_disturbance(DisturbancePath::Block(Lti::gain(p.k0)?)))
+/// The predictor's set-point gain `p.kr` and load feedback `p.k0`.
+impl<T: Real> CompensatorParams<T> for MatausekMicicParams<T> {
+    fn controllers(&self, ts: T) -> Result<Controllers<T>, Error> {
+        Ok(Controllers {
+            gc1: Pid::new(PidConfig::parallel(self.kr, T::zero(), T::zero(), ts))?,
+            gc2: None,
+            gc3: Some(Lti::gain(self.k0)?),
+        })
+    }
 }

@@ -6,10 +6,10 @@ use alloc::vec::Vec;
 
 use super::{Build, DynControllerOf, Params};
 use crate::delay::Delay;
-use crate::dtc::Compensator;
+use crate::dtc::{self, compensator::CompensatorParams, Compensator};
 use crate::poly::{PlantKind, TransferFunction};
 use crate::tuning::PidGains;
-use crate::{DesignSet, Ipdt, Lti, ParamSet, PidConfig, ProcessModel, Real};
+use crate::{DesignSet, Ipdt, Lti, PidConfig, ProcessModel, Real};
 
 /// A plant or model, as the registry's functions take it.
 pub(super) type Tf = TransferFunction;
@@ -88,21 +88,18 @@ pub(super) fn delay_again<T: Real>(
     Delay::with_storage(line.into_storage(), T::of(d))
 }
 
-/// A compensator's construction from its typed parameters, the period and
-/// the model's parts (the `build` of most `dtc` modules).
-pub(super) type CompensatorFn<T, P, const N: usize> =
-    fn(&P, T, Lti<T, N>, Delay<T, Vec<T>>) -> Result<Compensator<T, N, Vec<T>>, crate::Error>;
-
-/// The compensator `f` builds from the scheme's parameters and the model's
-/// parts, with the build's actuator limits, boxed.
-pub(super) fn compensator<T: Real, P: ParamSet<T>, const N: usize>(
+/// The compensator of the scheme whose parameters are `P`, around the
+/// model's parts, with the build's actuator limits, boxed.
+pub(super) fn compensator<T: Real, P: CompensatorParams<T>, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-    f: CompensatorFn<T, P, N>,
 ) -> Result<DynControllerOf<T>, crate::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    limited(f(&p.typed()?, T::of(b.ts), lti, delay)?, b)
+    limited(
+        dtc::compensator::build(&p.typed::<T, P>()?, T::of(b.ts), lti, delay)?,
+        b,
+    )
 }
 
 /// A compensator with the build's actuator limits, boxed.

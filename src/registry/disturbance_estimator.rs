@@ -2,7 +2,6 @@
 
 use super::common::*;
 use super::{Build, Design, Params};
-use crate::dtc;
 use crate::dtc::disturbance_estimator::{
     case_number, DisturbanceEstimatorParams, DisturbanceEstimatorTuning,
 };
@@ -41,5 +40,5 @@ pub fn build_disturbance_estimator<T: Real, const N: usize>(
     model: &Tf,
     b: &Build,
 ) -> Built<T> {
-    compensator::<T, _, N>(p, model, b, dtc::disturbance_estimator::build)
+    compensator::<T, DisturbanceEstimatorParams<T>, N>(p, model, b)
 }

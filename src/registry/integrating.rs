@@ -65,7 +65,7 @@ pub fn describe_karan_dey(p: &Params, model: &Tf, _inner: Option<&Tf>, _ts: f64)
 }
 
 pub fn build_karan_dey<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
-    compensator::<T, _, N>(p, model, b, dtc::karan_dey::build)
+    compensator::<T, KaranDeyParams<T>, N>(p, model, b)
 }
 
 pub fn tune_watanabe_ito(plant: &Tf, d: &Design) -> Tuned {
@@ -154,7 +154,7 @@ pub fn build_matausek_micic<T: Real, const N: usize>(
     model: &Tf,
     b: &Build,
 ) -> Built<T> {
-    compensator::<T, _, N>(p, model, b, dtc::matausek_micic::build)
+    compensator::<T, MatausekMicicParams<T>, N>(p, model, b)
 }
 
 const KA_PLANT: &str = "the Kaya-Atherton predictor needs a stable or integrating plant";
@@ -216,9 +216,14 @@ pub(super) fn kaya_atherton_on<T: Real, const N: usize>(
     b: &Build,
 ) -> Result<Compensator<T, N, Vec<T>>, crate::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
-    dtc::kaya_atherton::build(&p.typed()?, T::of(b.ts), lti, delay)
+    dtc::compensator::build(
+        &p.typed::<T, KayaAthertonParams<T>>()?,
+        T::of(b.ts),
+        lti,
+        delay,
+    )
 }
 
 pub fn build_kaya_atherton<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
-    compensator::<T, _, N>(p, model, b, dtc::kaya_atherton::build)
+    compensator::<T, KayaAthertonParams<T>, N>(p, model, b)
 }

@@ -4,8 +4,9 @@
 
 use core::mem::{align_of, size_of};
 
+use msp_core::dtc::compensator;
 use msp_core::dtc::fsp::{design_in, FilteredSmith, FrSpec, FspPredictor};
-use msp_core::dtc::karan_dey::{self, KaranDey, KaranDeyParams};
+use msp_core::dtc::karan_dey::{KaranDey, KaranDeyParams};
 use msp_core::{
     Controller, Delay, Error, Fopdt, Ipdt, Operate, ParamList, Pid, PidConfig, ProcessModel, Real,
     SmithPredictor, Tracking, Ufopdt,
@@ -561,7 +562,7 @@ pub(crate) fn make_karan_dey<T: Real>(
     };
     let (block, _) = m.discretize::<1>(c.ts)?;
     let line = Delay::with_storage(a.rest::<T>()?, d)?;
-    let k = karan_dey::build(&p, c.ts, block, line)?.with_limits(c.u_min, c.u_max)?;
+    let k = compensator::build(&p, c.ts, block, line)?.with_limits(c.u_min, c.u_max)?;
     Ok(Scheme::KaranDey(k))
 }
 
