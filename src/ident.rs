@@ -47,6 +47,24 @@ pub struct Fit {
     pub r2: f64,
 }
 
+/// As `msp identify --json` and Python's `identify` give it: `{"model":
+/// "fopdt", "k", "t", "l" (the model's parameters by name), "rmse", "r2"}`.
+#[cfg(feature = "serde")]
+impl serde::Serialize for Fit {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let (ps, n) = self.model.params();
+        let mut m = s.serialize_map(Some(n + 3))?;
+        m.serialize_entry("model", self.model.kind())?;
+        for (k, v) in ps.iter().take(n) {
+            m.serialize_entry(k, v)?;
+        }
+        m.serialize_entry("rmse", &self.rmse)?;
+        m.serialize_entry("r2", &self.r2)?;
+        m.end()
+    }
+}
+
 /// Nelder–Mead minimization of `f` from `x0` with initial steps `step`.
 pub fn nelder_mead(f: &dyn Fn(&[f64]) -> f64, x0: &[f64], step: &[f64], iters: usize) -> Vec<f64> {
     let n = x0.len();
@@ -500,6 +518,37 @@ pub struct AutotuneOutput {
     pub fit: Fit,
     /// The closed loop of the tuned controller on the true plant.
     pub run: crate::study::RunOutput,
+}
+
+impl AutotuneOutput {
+    /// What the relay experiment measured, as the reports give it.
+    pub fn relay_report(&self) -> RelayReport {
+        let (ku, tu) = self.result.ultimate();
+        RelayReport {
+            cycle: self.result,
+            gain: self.result.gain(),
+            ku,
+            tu,
+        }
+    }
+}
+
+/// A relay experiment as `msp autotune --report` and Python's `autotune` give
+/// it: the limit cycle's figures (Kaya (2003) Sec. 3.1), then the static gain
+/// a biased relay gives, the describing function's ultimate gain `4h/(πa)`
+/// and the ultimate period.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RelayReport {
+    /// The limit cycle (its fields at the top level of the report).
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub cycle: RelayResult<f64>,
+    /// The static gain from a biased relay's means (`None` without a bias).
+    pub gain: Option<f64>,
+    /// The ultimate gain `Ku`.
+    pub ku: f64,
+    /// The ultimate period `Tu` (s).
+    pub tu: f64,
 }
 
 /// Why autotuning failed.

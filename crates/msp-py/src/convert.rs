@@ -333,13 +333,6 @@ pub(crate) fn fit_dict<'py>(
     py: Python<'py>,
     fit: &msp::ident::Fit,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("model", fit.model.kind())?;
-    let (ps, n) = fit.model.params();
-    for (k, v) in ps.iter().take(n) {
-        d.set_item(*k, *v)?;
-    }
-    d.set_item("rmse", fit.rmse)?;
-    d.set_item("r2", fit.r2)?;
-    Ok(d)
+    // the library's report: the keys of `msp identify --json`
+    Ok(pythonize::pythonize(py, fit)?.downcast_into::<PyDict>()?)
 }

@@ -194,26 +194,8 @@ pub(crate) fn autotune<'py>(
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     let d = PyDict::new(py);
     d.set_item("identified", fit_dict(py, &out.fit)?)?;
-    let r = &out.result;
-    let (ku, tu) = r.ultimate();
-    let relay = PyDict::new(py);
-    for (k, v) in [
-        ("amplitude", r.amplitude),
-        ("hysteresis", r.hysteresis),
-        ("bias", r.bias),
-        ("t_up", r.t_up),
-        ("t_down", r.t_down),
-        ("period", r.period),
-        ("a_max", r.a_max),
-        ("a_min", r.a_min),
-        ("ku", ku),
-        ("tu", tu),
-    ] {
-        relay.set_item(k, v)?;
-    }
-    relay.set_item("gain", r.gain())?;
-    relay.set_item("cycles", r.cycles)?;
-    d.set_item("relay", relay)?;
+    // the library's report: the keys of `msp autotune --report`
+    d.set_item("relay", pythonize::pythonize(py, &out.relay_report())?)?;
     d.set_item("run", output_dict(py, out.run)?)?;
     Ok(d)
 }

@@ -412,6 +412,22 @@ def test_autotune_and_identify() -> None:
     assert abs(fit["k"] - 2) < 0.02 and abs(fit["t"] - 5) < 0.1 and abs(fit["l"] - 4) < 0.1
 
 
+@pytest.mark.skipif(not pathlib.Path(MSP_BIN).exists(), reason="the msp binary is not built")
+def test_autotune_reports_as_the_cli(tmp_path: pathlib.Path) -> None:
+    """The relay and the fit are the library's reports: the same keys and numbers as
+    ``msp autotune --report``."""
+    path = tmp_path / "a.json"
+    subprocess.run([MSP_BIN, "autotune", "--plant", "2*e^-4s/(5s+1)", "--bias", "0.2", "--report", str(path)],
+                   check=True, capture_output=True)
+    cli = json.loads(path.read_text())
+    out = msp.autotune("2*e^-4s/(5s+1)", bias=0.2)
+    for key in ("relay", "identified"):
+        assert sorted(out[key]) == sorted(cli[key]), key
+        for k, v in out[key].items():
+            assert v == cli[key][k] or (isinstance(v, float) and abs(v - cli[key][k]) <= 1e-12 * abs(v)), (key, k)
+    assert out["relay"]["gain"] is not None and {"ku", "tu", "cycles"} <= set(out["relay"])
+
+
 GARCIA_1 = {"plant": "e^-4s/(20s-1)", "inner_plant": "2e^-2s/(20s+1)"}
 
 

@@ -22,8 +22,7 @@ pub(crate) fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
     if a.json {
         export::outln!(
             "{}",
-            serde_json::to_string_pretty(&export::json::fit_json(&fit))
-                .map_err(|e| CliError::Runtime(e.to_string()))?
+            serde_json::to_string_pretty(&fit).map_err(|e| CliError::Runtime(e.to_string()))?
         )?;
     } else {
         export::outln!(
