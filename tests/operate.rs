@@ -15,17 +15,11 @@ struct Loop {
 
 impl Loop {
     fn new(scheme: &'static Scheme) -> Loop {
-        let common::Tuned {
-            p1,
-            p2,
-            ts,
-            params: p,
-            build: b,
-        } = common::tuned(scheme, 0.0);
-        let c = scheme.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
-        let (single, cascade) = match &p2 {
-            Some(p2) => (None, Some(CascadeStepper::new(&p1, p2, ts).unwrap())),
-            None => (Some(PlantStepper::new(&p1, ts).unwrap()), None),
+        let t = common::tuned(scheme, 0.0);
+        let c = t.controller::<f64>();
+        let (single, cascade) = match &t.p2 {
+            Some(p2) => (None, Some(CascadeStepper::new(&t.p1, p2, t.ts).unwrap())),
+            None => (Some(PlantStepper::new(&t.p1, t.ts).unwrap()), None),
         };
         Loop {
             c: Operated::new(c),

@@ -9,23 +9,16 @@ use msp::sim::{CascadeStepper, PlantStepper};
 /// The largest difference of the plant outputs of the f32 and f64 loops,
 /// relative to the largest output of the f64 loop.
 fn worst(scheme: &'static Scheme) -> f64 {
-    let common::Tuned {
-        p1,
-        p2,
-        ts,
-        params: p,
-        build: b,
-    } = common::tuned(scheme, 0.0);
-    let mut c64 = scheme.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
-    let mut c32 = scheme
-        .build_process_as::<f32>(&p, &p1, p2.as_ref(), &b)
-        .unwrap();
+    let t = common::tuned(scheme, 0.0);
+    let (p1, p2, ts) = (&t.p1, &t.p2, t.ts);
+    let mut c64 = t.controller::<f64>();
+    let mut c32 = t.controller::<f32>();
     let n = 4000;
     let run = |update: &mut dyn FnMut(f64, f64, f64) -> f64| -> Vec<f64> {
         let mut ys = Vec::with_capacity(n);
         match &p2 {
             Some(p2) => {
-                let mut sim = CascadeStepper::new(&p1, p2, ts).unwrap();
+                let mut sim = CascadeStepper::new(p1, p2, ts).unwrap();
                 for k in 0..n {
                     let (y, y2) = sim.outputs();
                     ys.push(y);
@@ -34,7 +27,7 @@ fn worst(scheme: &'static Scheme) -> f64 {
                 }
             }
             None => {
-                let mut sim = PlantStepper::new(&p1, ts).unwrap();
+                let mut sim = PlantStepper::new(p1, ts).unwrap();
                 for k in 0..n {
                     let y = sim.output();
                     ys.push(y);

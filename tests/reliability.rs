@@ -153,6 +153,16 @@ fn f32_runs_do_not_drift() {
     }
 }
 
+/// Every internal signal of the controller of `scheme` is finite.
+fn signals_are_finite<C: Introspect<f64> + ?Sized>(c: &C, scheme: &str) {
+    for (i, name) in c.signal_names().iter().enumerate() {
+        assert!(
+            c.signal(i).is_finite(),
+            "{scheme}: signal {name} is not finite"
+        );
+    }
+}
+
 #[test]
 fn a_nan_measurement_never_reaches_the_state_and_recovery_is_bumpless() {
     for scheme in SCHEMES {
@@ -194,14 +204,7 @@ fn a_nan_measurement_never_reaches_the_state_and_recovery_is_bumpless() {
             let u = c.update(1.0, y_meas);
             assert!(u.is_finite(), "{}", scheme.name);
             assert_eq!(c.fault(), y_meas.is_nan(), "{}", scheme.name);
-            for i in 0..c.signal_names().len() {
-                assert!(
-                    c.signal(i).is_finite(),
-                    "{}: signal {} is not finite",
-                    scheme.name,
-                    c.signal_names()[i]
-                );
-            }
+            signals_are_finite(&*c, scheme.name);
             us.push(u);
             sim.advance(u);
         }
@@ -281,14 +284,7 @@ fn cascade_nan(scheme: &'static msp::registry::Scheme) {
             "{} at {k}",
             scheme.name
         );
-        for i in 0..c.signal_names().len() {
-            assert!(
-                c.signal(i).is_finite(),
-                "{}: {}",
-                scheme.name,
-                c.signal_names()[i]
-            );
-        }
+        signals_are_finite(&*c, scheme.name);
         sim.advance(u);
         last = (y, y2);
     }

@@ -60,6 +60,7 @@ pub fn plant_for(
 /// and the build options of the tests that run it in a loop: actuator
 /// limits ±10, `max_dead_time` seconds of room for the model's dead time.
 pub struct Tuned {
+    pub scheme: &'static msp::registry::Scheme,
     pub p1: msp::poly::TransferFunction,
     pub p2: Option<msp::poly::TransferFunction>,
     pub ts: f64,
@@ -80,10 +81,21 @@ pub fn tuned(scheme: &'static msp::registry::Scheme, max_dead_time: f64) -> Tune
         max_dead_time,
     };
     Tuned {
+        scheme,
         p1,
         p2,
         ts,
         params,
         build,
+    }
+}
+
+impl Tuned {
+    /// The tuned controller in precision `T`, for the plant.
+    #[allow(dead_code)] // not every test file builds one
+    pub fn controller<T: msp::registry::Precision>(&self) -> msp::registry::DynControllerOf<T> {
+        self.scheme
+            .build_process_as::<T>(&self.params, &self.p1, self.p2.as_ref(), &self.build)
+            .unwrap()
     }
 }
