@@ -179,18 +179,7 @@ fn a_nan_measurement_never_reaches_the_state_and_recovery_is_bumpless() {
         let plant: TransferFunction = expr.parse().unwrap();
         let ts = if integrating { 0.074 } else { 0.939 };
         let p = scheme.tune_with(&plant, None, &[]).unwrap();
-        let mut c = scheme
-            .build_with(
-                &p,
-                &plant,
-                &Build {
-                    ts,
-                    u_min: -10.0,
-                    u_max: 10.0,
-                    max_dead_time: 0.0,
-                },
-            )
-            .unwrap();
+        let mut c = scheme.build_with(&p, &plant, &common::limits(ts)).unwrap();
         let mut sim = msp::sim::PlantStepper::new(&plant, ts).unwrap();
         let mut us = Vec::new();
         for k in 0..6000 {
@@ -250,17 +239,7 @@ fn cascade_nan(scheme: &'static msp::registry::Scheme) {
         .tune_process(&p1, Some(&p2), None, None, &gcd)
         .unwrap();
     let mut c = scheme
-        .build_process(
-            &p,
-            &p1,
-            Some(&p2),
-            &Build {
-                ts,
-                u_min: -10.0,
-                u_max: 10.0,
-                max_dead_time: 0.0,
-            },
-        )
+        .build_process(&p, &p1, Some(&p2), &common::limits(ts))
         .unwrap();
     let mut sim = msp::sim::CascadeStepper::new(&p1, &p2, ts).unwrap();
     let mut last = (0.0, 0.0);

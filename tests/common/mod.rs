@@ -68,6 +68,18 @@ pub struct Tuned {
     pub build: msp::registry::Build,
 }
 
+/// The build options of the tests' loops: period `ts`, actuator limits ±10,
+/// no room beyond the model's dead time.
+#[allow(dead_code)] // not every test file builds a controller
+pub fn limits(ts: f64) -> msp::registry::Build {
+    msp::registry::Build {
+        ts,
+        u_min: -10.0,
+        u_max: 10.0,
+        max_dead_time: 0.0,
+    }
+}
+
 pub fn tuned(scheme: &'static msp::registry::Scheme, max_dead_time: f64) -> Tuned {
     let (p1, p2, ts) = plant_for(scheme);
     let set = required_settings(scheme.name);
@@ -75,10 +87,8 @@ pub fn tuned(scheme: &'static msp::registry::Scheme, max_dead_time: f64) -> Tune
         .tune_process(&p1, p2.as_ref(), None, None, &set)
         .unwrap();
     let build = msp::registry::Build {
-        ts,
-        u_min: -10.0,
-        u_max: 10.0,
         max_dead_time,
+        ..limits(ts)
     };
     Tuned {
         scheme,
