@@ -306,10 +306,8 @@ mod tests {
         let mut d: DelayLine<f64, 0> = DelayLine::new(0.0)?;
         assert_eq!(d.process(2.5), 2.5);
         assert_eq!(
-            DelayLine::<f64, 0>::new(0.5)
-                .err()
-                .ok_or("an error was expected")?,
-            Error::DelayTooLong("delay")
+            DelayLine::<f64, 0>::new(0.5).err(),
+            Some(Error::DelayTooLong("delay"))
         );
         Ok(())
     }
@@ -321,16 +319,12 @@ mod tests {
         assert_eq!(out, [0.0, 0.0, 0.0, 1.0, 2.0]);
         assert!(DelayLine::<f64, 3>::new(3.0001).is_err());
         assert_eq!(
-            DelayLine::<f64, 3>::new(f64::NAN)
-                .err()
-                .ok_or("an error was expected")?,
-            Error::NonFinite("delay")
+            DelayLine::<f64, 3>::new(f64::NAN).err(),
+            Some(Error::NonFinite("delay"))
         );
         assert_eq!(
-            DelayLine::<f64, 3>::new(-1.0)
-                .err()
-                .ok_or("an error was expected")?,
-            Error::Negative("delay")
+            DelayLine::<f64, 3>::new(-1.0).err(),
+            Some(Error::Negative("delay"))
         );
         Ok(())
     }

@@ -758,22 +758,16 @@ mod tests {
     fn validation_names_the_field() -> Result<(), Box<dyn std::error::Error>> {
         let ok = PidConfig::isa(1.0, 2.0, 0.0, 0.1);
         assert_eq!(
-            Pid::new(PidConfig { ts: 0.0, ..ok })
-                .err()
-                .ok_or("an error was expected")?,
-            Error::NotPositive("ts")
+            Pid::new(PidConfig { ts: 0.0, ..ok }).err(),
+            Some(Error::NotPositive("ts"))
         );
         assert_eq!(
-            Pid::new(PidConfig { kp: f64::NAN, ..ok })
-                .err()
-                .ok_or("an error was expected")?,
-            Error::NonFinite("kp")
+            Pid::new(PidConfig { kp: f64::NAN, ..ok }).err(),
+            Some(Error::NonFinite("kp"))
         );
         assert_eq!(
-            Pid::new(ok.with_limits(1.0, -1.0))
-                .err()
-                .ok_or("an error was expected")?,
-            Error::InvalidLimits("u_min")
+            Pid::new(ok.with_limits(1.0, -1.0)).err(),
+            Some(Error::InvalidLimits("u_min"))
         );
         Ok(())
     }
