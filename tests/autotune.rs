@@ -21,15 +21,31 @@ fn tune(plant: &str, o: AutotuneOptions) -> msp::ident::AutotuneOutput {
 /// (an IPDT `k`, `l`; an FOPDT `k`, `t`, `l`).
 fn worst(plant: &str, o: AutotuneOptions, want: &[(&str, f64)]) -> f64 {
     let out = tune(plant, o);
-    let (ps, n) = out.fit.model.params();
-    let got = |name: &str| match ps.iter().take(n).find(|(k, _)| *k == name) {
-        Some((_, v)) => *v,
-        None => panic!("{plant}: {:?} has no {name}", out.fit.model),
-    };
     assert!(out.run.result.diverged_at.is_none(), "{plant}");
     want.iter()
-        .map(|(k, v)| rel(got(k), *v))
+        .map(|(k, v)| rel(param(&out.fit.model, k), *v))
         .fold(0.0, f64::max)
+}
+
+/// The parameter `name` of the model `m` (which must have it).
+fn param(m: &ProcessModel<f64>, name: &str) -> f64 {
+    let (ps, n) = m.params();
+    match ps.iter().take(n).find(|(k, _)| *k == name) {
+        Some((_, v)) => *v,
+        None => panic!("{m:?} has no {name}"),
+    }
+}
+
+/// Asserts that each parameter of `m` named in `want` is within its relative
+/// tolerance of the value: `(name, value, tolerance)`.
+fn check(m: &ProcessModel<f64>, want: &[(&str, f64, f64)]) {
+    for (name, v, tol) in want {
+        let e = rel(param(m, name), *v);
+        assert!(
+            e < *tol,
+            "{name}: relative error {e} (limit {tol}) in {m:?}"
+        );
+    }
 }
 
 const IPDT: (&str, [(&str, f64); 2]) = ("0.2/s*e^-7.4s", [("k", 0.2), ("l", 7.4)]);
@@ -72,13 +88,10 @@ fn kaya_example_2_models_and_a_robust_smith_predictor() {
             ..Default::default()
         },
     );
-    let ProcessModel::Fopdt(f) = o.fit.model else {
-        panic!()
-    };
     // Kaya (Kaya (2003) Example 2): e^{-10.87s}/(1.27s+1)
-    assert!(
-        rel(f.k, 1.0) < 0.02 && rel(f.t, 1.27) < 0.15 && rel(f.l, 10.87) < 0.03,
-        "{f:?}"
+    check(
+        &o.fit.model,
+        &[("k", 1.0, 0.02), ("t", 1.27, 0.15), ("l", 10.87, 0.03)],
     );
     let s = tune(
         plant,
@@ -88,15 +101,14 @@ fn kaya_example_2_models_and_a_robust_smith_predictor() {
             ..Default::default()
         },
     );
-    let ProcessModel::Sopdt(m) = s.fit.model else {
-        panic!()
-    };
-    assert!(
-        rel(m.k, 1.0) < 0.02
-            && rel(m.t1, 1.0) < 0.05
-            && rel(m.t2, 1.0) < 0.05
-            && rel(m.l, 10.0) < 0.02,
-        "{m:?}"
+    check(
+        &s.fit.model,
+        &[
+            ("k", 1.0, 0.02),
+            ("t1", 1.0, 0.05),
+            ("t2", 1.0, 0.05),
+            ("l", 10.0, 0.02),
+        ],
     );
     // the autotuned Smith predictor stays stable with +30 % dead time
     let model = TransferFunction::from_model(&o.fit.model);
@@ -163,30 +175,23 @@ fn step_data(plant: &str, ts: f64, n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
 fn step_tests_recover_the_parameters() {
     let (t, u, y) = step_data("2*e^-4s/(5s+1)", 0.05, 1200);
     let f = identify_step(ModelKind::Fopdt, &t, &u, &y).unwrap();
-    let ProcessModel::Fopdt(m) = f.model else {
-        panic!()
-    };
-    assert!(
-        rel(m.k, 2.0) < 0.01 && rel(m.t, 5.0) < 0.01 && rel(m.l, 4.0) < 0.01,
-        "{m:?}"
+    check(
+        &f.model,
+        &[("k", 2.0, 0.01), ("t", 5.0, 0.01), ("l", 4.0, 0.01)],
     );
     let (t, u, y) = step_data("0.2/s*e^-7.4s", 0.05, 1200);
     let f = identify_step(ModelKind::Ipdt, &t, &u, &y).unwrap();
-    let ProcessModel::Ipdt(m) = f.model else {
-        panic!()
-    };
-    assert!(rel(m.k, 0.2) < 0.01 && rel(m.l, 7.4) < 0.01, "{m:?}");
+    check(&f.model, &[("k", 0.2, 0.01), ("l", 7.4, 0.01)]);
     let (t, u, y) = step_data("1.5*e^-3s/((6s+1)(2s+1))", 0.05, 1600);
     let f = identify_step(ModelKind::Sopdt, &t, &u, &y).unwrap();
-    let ProcessModel::Sopdt(m) = f.model else {
-        panic!()
-    };
-    assert!(
-        rel(m.k, 1.5) < 0.01
-            && rel(m.t1, 6.0) < 0.01
-            && rel(m.t2, 2.0) < 0.01
-            && rel(m.l, 3.0) < 0.01,
-        "{m:?}"
+    check(
+        &f.model,
+        &[
+            ("k", 1.5, 0.01),
+            ("t1", 6.0, 0.01),
+            ("t2", 2.0, 0.01),
+            ("l", 3.0, 0.01),
+        ],
     );
     assert!(f.r2 > 0.9999);
 }
@@ -198,12 +203,9 @@ fn step_tests_recover_the_parameters() {
 fn long_step_tests_are_fitted_in_linear_time() {
     let (t, u, y) = step_data("2*e^-4s/(5s+1)", 0.0007, 250_000);
     let f = identify_step(ModelKind::Fopdt, &t, &u, &y).unwrap();
-    let ProcessModel::Fopdt(m) = f.model else {
-        panic!()
-    };
-    assert!(
-        rel(m.k, 2.0) < 1e-6 && rel(m.t, 5.0) < 1e-6 && rel(m.l, 4.0) < 1e-4,
-        "{m:?}"
+    check(
+        &f.model,
+        &[("k", 2.0, 1e-6), ("t", 5.0, 1e-6), ("l", 4.0, 1e-4)],
     );
     assert!(f.r2 > 1.0 - 1e-9, "{f:?}");
 }
