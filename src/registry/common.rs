@@ -127,19 +127,21 @@ pub(super) fn integrating_model(
 }
 
 /// A build function dispatched on the model order, so that the model block
-/// holds no more states than it needs (the update cost grows with them).
+/// holds no more states than it needs (the update cost grows with them);
+/// `by_order!(common::compensator<KaranDeyParams>)` builds the compensator
+/// of a parameter type.
 macro_rules! by_order {
-    ($($f:ident)::+) => {{
+    ($($f:ident)::+ $(<$p:ident>)?) => {{
         pub(super) fn dispatch<T: Real>(
             p: &Params,
             m: &TransferFunction,
             b: &Build,
         ) -> Result<DynControllerOf<T>, crate::Error> {
             match m.model_order() {
-                0 | 1 => $($f)::+::<T, 1>(p, m, b),
-                2 => $($f)::+::<T, 2>(p, m, b),
-                3 | 4 => $($f)::+::<T, 4>(p, m, b),
-                _ => $($f)::+::<T, MAX_ORDER>(p, m, b),
+                0 | 1 => $($f)::+::<T, $($p<T>,)? 1>(p, m, b),
+                2 => $($f)::+::<T, $($p<T>,)? 2>(p, m, b),
+                3 | 4 => $($f)::+::<T, $($p<T>,)? 4>(p, m, b),
+                _ => $($f)::+::<T, $($p<T>,)? MAX_ORDER>(p, m, b),
             }
         }
         both!(dispatch)

@@ -1,11 +1,11 @@
 //! `disturbance-estimator`: Draganović et al. (2001), Cases 1–6.
 
 use super::common::*;
-use super::{Build, Design, Params};
+use super::{Design, Params};
 use crate::dtc::disturbance_estimator::{
     case_number, DisturbanceEstimatorParams, DisturbanceEstimatorTuning,
 };
-use crate::{tuning, Real};
+use crate::tuning;
 
 pub fn tune_disturbance_estimator(plant: &Tf, d: &Design) -> Tuned {
     let m = integrating_model(
@@ -33,12 +33,4 @@ pub fn tune_disturbance_estimator(plant: &Tf, d: &Design) -> Tuned {
         alpha: design.alpha,
         w0: design.w0,
     }))
-}
-
-pub fn build_disturbance_estimator<T: Real, const N: usize>(
-    p: &Params,
-    model: &Tf,
-    b: &Build,
-) -> Built<T> {
-    compensator::<T, DisturbanceEstimatorParams<T>, N>(p, model, b)
 }

@@ -64,10 +64,6 @@ pub fn describe_karan_dey(p: &Params, model: &Tf, _inner: Option<&Tf>, _ts: f64)
     Ok(out)
 }
 
-pub fn build_karan_dey<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
-    compensator::<T, KaranDeyParams<T>, N>(p, model, b)
-}
-
 pub fn tune_watanabe_ito(plant: &Tf, d: &Design) -> Tuned {
     // The W-I loop is 1 + C·Kv/(s(1 + Ls)) (see dtc::watanabe_ito): SIMC PI for
     // an integrator with the lag L folded into the delay, τc = λ (default L/2).
@@ -149,14 +145,6 @@ pub fn tune_matausek_micic(plant: &Tf, d: &Design) -> Tuned {
     }))
 }
 
-pub fn build_matausek_micic<T: Real, const N: usize>(
-    p: &Params,
-    model: &Tf,
-    b: &Build,
-) -> Built<T> {
-    compensator::<T, MatausekMicicParams<T>, N>(p, model, b)
-}
-
 const KA_PLANT: &str = "the Kaya-Atherton predictor needs a stable or integrating plant";
 
 /// Kaya–Atherton's settings for `plant` and the `λ` they were tuned for.
@@ -222,8 +210,4 @@ pub(super) fn kaya_atherton_on<T: Real, const N: usize>(
         lti,
         delay,
     )
-}
-
-pub fn build_kaya_atherton<T: Real, const N: usize>(p: &Params, model: &Tf, b: &Build) -> Built<T> {
-    compensator::<T, KayaAthertonParams<T>, N>(p, model, b)
 }

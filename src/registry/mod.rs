@@ -441,15 +441,15 @@ pub static SCHEMES: &[Scheme] = schemes! {
         "Astrom-Hang-Lim predictor for integrating plants: set-point and load responses decoupled"
         "Bag (2022) Sec. 4.4.2, Eqs. 4.13-4.17";
     "matausek-micic" ["mm"] INT MatausekMicicParams MatausekMicicTuning
-        Single(integrating::tune_matausek_micic, by_order!(integrating::build_matausek_micic), None)
+        Single(integrating::tune_matausek_micic, by_order!(common::compensator<MatausekMicicParams>), None)
         "Matausek-Micic predictor for integrating plants: P set point, P load feedback"
         "Bag (2022) Sec. 4.4.3, refs [8], [52]";
     "kaya-atherton" ["ka", "pi-pd"] STABLE_INT KayaAthertonParams LambdaTuning
-        Single(integrating::tune_kaya_atherton, by_order!(integrating::build_kaya_atherton), None)
+        Single(integrating::tune_kaya_atherton, by_order!(common::compensator<KayaAthertonParams>), None)
         "Kaya-Atherton PI-PD Smith predictor: Gc1 PI, Gc2 P/PD, Gc3 = kb(Td s+1)/(0.1 Td s+1)"
         "Bag (2022) Sec. 4.4.3, Eq. 4.18";
     "karan-dey" ["msp"] INT KaranDeyParams LambdaTuning
-        Single(integrating::tune_karan_dey, by_order!(integrating::build_karan_dey), Some(integrating::describe_karan_dey))
+        Single(integrating::tune_karan_dey, by_order!(common::compensator<KaranDeyParams>), Some(integrating::describe_karan_dey))
         "Karan-Dey three-controller modified Smith predictor for integrating plants (lambda = L/4)"
         "Bag (2022) Sec. 4.5";
     "fsp" ["filtered-smith-unstable"] ALL FspParams FspTuning
@@ -457,7 +457,7 @@ pub static SCHEMES: &[Scheme] = schemes! {
         "filtered Smith predictor for unstable, integrating and stable plants: Fr(z) from the Diophantine condition"
         "García et al. (2010) Sec. 3, Eq. 10";
     "disturbance-estimator" ["de"] INT DisturbanceEstimatorParams DisturbanceEstimatorTuning
-        Single(disturbance_estimator::tune_disturbance_estimator, by_order!(disturbance_estimator::build_disturbance_estimator), None)
+        Single(disturbance_estimator::tune_disturbance_estimator, by_order!(common::compensator<DisturbanceEstimatorParams>), None)
         "Smith predictor with a disturbance estimator for integrating plants, cases 1-6 (--set case=N)"
         "Draganović et al. (2001)";
     "fspcc" [] ALL FspccParams FspccTuning
