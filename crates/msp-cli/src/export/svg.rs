@@ -16,6 +16,13 @@ fn points(t: &[f64], v: &[f64]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A legend's mark: a short line in the series' color.
+fn mark<C: plotters::style::Color + Copy>(
+    col: C,
+) -> impl Fn((i32, i32)) -> plotters::element::PathElement<(i32, i32)> {
+    move |(x, y)| plotters::element::PathElement::new(vec![(x, y), (x + 20, y)], col)
+}
+
 /// An SVG with r and every run's y on top and u below.
 pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
@@ -49,6 +56,16 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         (lo - pad, hi + pad)
     };
     let pts = |t: &Vec<f64>, v: &Vec<f64>| points(t, v);
+    // each run's color and label: `one` (in `one_color`) for a single run,
+    // the signal's name with the controller's for several
+    let style = |i: usize, one: &str, one_color: RGBColor, name: &str| {
+        if runs.len() == 1 {
+            (one.to_string(), one_color)
+        } else {
+            let who = runs.get(i).map_or("", |r| r.controller);
+            (format!("{name} {who}"), color(i))
+        }
+    };
     let mut ys: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.y).collect();
     ys.push(&first.result.r);
     let mut us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
@@ -96,17 +113,12 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             BLACK.stroke_width(2),
         ))?
         .label("r (set point)")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        .legend(mark(BLACK));
         for (i, r) in runs.iter().enumerate() {
-            let col = color(i);
-            let label = if runs.len() == 1 {
-                "y".to_string()
-            } else {
-                format!("y {}", r.controller)
-            };
+            let (label, col) = style(i, "y", color(0), "y");
             c.draw_series(LineSeries::new(pts(&r.result.t, &r.result.y), &col))?
                 .label(label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col));
+                .legend(mark(col));
         }
         c.configure_series_labels()
             .background_style(WHITE.mix(0.8))
@@ -128,15 +140,10 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             })
             .draw()?;
         for (i, r) in runs.iter().enumerate() {
-            let col = if runs.len() == 1 { RED } else { color(i) };
-            let label = if runs.len() == 1 {
-                "u (control)".to_string()
-            } else {
-                format!("u {}", r.controller)
-            };
+            let (label, col) = style(i, "u (control)", RED, "u");
             c2.draw_series(LineSeries::new(pts(&r.result.t, &r.result.u), &col))?
                 .label(label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col));
+                .legend(mark(col));
         }
         if has_d {
             let grey = RGBColor(90, 90, 90);
@@ -147,7 +154,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
                 grey.stroke_width(2),
             ))?
             .label("d (load)")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
+            .legend(mark(grey));
         }
         c2.configure_series_labels()
             .background_style(WHITE.mix(0.8))
@@ -350,7 +357,7 @@ where
         grey.stroke_width(1),
     ))?
     .label("unit circle")
-    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
+    .legend(mark(grey));
     if an.margins.ms.is_finite() && an.margins.ms > 0.0 {
         let green = RGBColor(0, 140, 0);
         c.draw_series(LineSeries::new(
@@ -361,15 +368,13 @@ where
             "Ms circle (radius 1/Ms = {})",
             fmt_sig(1.0 / an.margins.ms)
         ))
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], green));
+        .legend(mark(green));
     }
     let mut first = true;
     for seg in segs.into_iter().filter(|s| s.len() > 1) {
         let series = c.draw_series(LineSeries::new(seg, &BLUE))?;
         if first {
-            series
-                .label("L(jω), ω > 0")
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+            series.label("L(jω), ω > 0").legend(mark(BLUE));
             first = false;
         }
     }
@@ -416,11 +421,11 @@ pub(crate) fn step_svg(
                 BLACK.stroke_width(1),
             ))?
             .label(format!("final value {}", fmt_sig(k)))
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+            .legend(mark(BLACK));
         }
         c.draw_series(LineSeries::new(pts, &BLUE))?
             .label("y (unit step at t = 0)")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+            .legend(mark(BLUE));
         c.configure_series_labels()
             .position(SeriesLabelPosition::LowerRight)
             .background_style(WHITE.mix(0.8))
