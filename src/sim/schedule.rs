@@ -2,12 +2,14 @@
 
 use std::vec::Vec;
 
-/// Where a disturbance acts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+/// Where a disturbance acts (serialized by its name, read by any of its
+/// names: [`Location::from_name`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Location {
     /// Added to the actuator value at the plant input (a load).
+    #[default]
     Input,
     /// Added to the plant output.
     Output,
@@ -15,6 +17,30 @@ pub enum Location {
     /// and drives the primary process (`d0` of García et al. (2010)
     /// Fig. 1; `input` is its `d2`, `output` its `d1`).
     Inner,
+}
+
+impl Location {
+    /// The place called `name`: `input` (or `load`, García et al. (2010)'s
+    /// `d2`), `output` (`d1`) or `inner` (`d0`); an error naming them
+    /// otherwise.
+    pub fn from_name(name: &str) -> Result<Location, std::string::String> {
+        match name {
+            "input" | "load" | "d2" => Ok(Location::Input),
+            "output" | "d1" => Ok(Location::Output),
+            "inner" | "d0" => Ok(Location::Inner),
+            _ => Err(std::format!(
+                "disturbance location must be 'input' (d2), 'output' (d1) or 'inner' (d0), got '{name}'"
+            )),
+        }
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for Location {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = std::string::String::deserialize(d)?;
+        Location::from_name(&name).map_err(serde::de::Error::custom)
+    }
 }
 
 /// The shape of a disturbance.
@@ -36,7 +62,8 @@ pub enum Shape {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Disturbance {
-    /// Input (load) or output.
+    /// Input (load), output or a cascade's inner output; input when absent.
+    #[cfg_attr(feature = "serde", serde(default))]
     pub location: Location,
     /// Step, ramp or sine.
     #[cfg_attr(feature = "serde", serde(default))]
@@ -187,5 +214,40 @@ impl<'a> Track<'a> {
                 .iter()
                 .fold(self.steps, |acc, d| acc + d.at_time(t))
         }
+    }
+}
+
+#[cfg(all(test, feature = "serde"))]
+mod tests {
+    use super::{Disturbance, Location};
+
+    /// A structured disturbance (a scenario file's, a Python dict's) names its
+    /// place as the flag does, at the plant input when it names none; an
+    /// unknown place or field is refused by name.
+    #[test]
+    fn a_structured_disturbance_reads_the_flags_names() -> Result<(), serde_json::Error> {
+        let read = |s: &str| serde_json::from_str::<Disturbance>(s);
+        assert_eq!(
+            read(r#"{"value": 0.1, "at": 5}"#)?.location,
+            Location::Input
+        );
+        assert_eq!(
+            read(r#"{"location": "d0", "value": 1}"#)?.location,
+            Location::Inner
+        );
+        assert_eq!(
+            read(r#"{"location": "load", "value": 1}"#)?.location,
+            Location::Input
+        );
+        let flag: Disturbance = "d1:-0.5@100".parse().map_err(serde::de::Error::custom)?;
+        assert_eq!(
+            read(r#"{"location": "d1", "value": -0.5, "at": 100}"#)?,
+            flag
+        );
+        let bad = read(r#"{"location": "middle", "value": 1}"#).map(|_| ());
+        assert!(bad.is_err_and(|e| e.to_string().contains("'input' (d2)")));
+        let typo = read(r#"{"valeu": 1}"#).map(|_| ());
+        assert!(typo.is_err_and(|e| e.to_string().contains("unknown field `valeu`")));
+        Ok(())
     }
 }

@@ -66,17 +66,7 @@ impl core::str::FromStr for Disturbance {
     /// `input:0.1@20`; for cascade plants `d2`, `d1`, `d0` name the same places.
     fn from_str(s: &str) -> Result<Self, String> {
         let mut parts = s.splitn(3, ':');
-        let loc = match parts.next().map(str::trim) {
-            Some("input") | Some("load") | Some("d2") => Location::Input,
-            Some("output") | Some("d1") => Location::Output,
-            Some("inner") | Some("d0") => Location::Inner,
-            other => {
-                return Err(std::format!(
-                    "disturbance location must be 'input' (d2), 'output' (d1) or 'inner' (d0), got '{}'",
-                    other.unwrap_or("")
-                ))
-            }
-        };
+        let loc = Location::from_name(parts.next().map_or("", str::trim))?;
         let a = parts.next().ok_or("expected LOCATION:VALUE[@TIME]")?;
         let (shape, rest) = match a.trim() {
             "step" => (

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry::Params;
-use msp::sim::{Disturbance, Location, SetpointStep, Shape};
+use msp::sim::{Disturbance, SetpointStep};
 use msp::study::{Perturbation, RunOutput, Scenario};
 use numpy::IntoPyArray;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -56,63 +56,15 @@ pub(crate) fn disturbances(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Disturbance>>
             out.push(s.parse().map_err(value_err)?);
             continue;
         }
-        let d = item.downcast::<PyDict>().map_err(|_| {
-            PyValueError::new_err(
+        if !item.is_instance_of::<PyDict>() {
+            return Err(PyValueError::new_err(
                 "disturbance: 'input:V@T' or a dict with location, value, at, shape, freq",
-            )
-        })?;
-        let get = |k: &str| -> PyResult<Option<Bound<'_, PyAny>>> { d.get_item(k) };
-        for key in d.keys() {
-            let k: String = key.extract()?;
-            if !["location", "value", "at", "shape", "freq"].contains(&k.as_str()) {
-                return Err(PyValueError::new_err(format!(
-                    "disturbance: unknown field '{k}'"
-                )));
-            }
+            ));
         }
-        let location = match get("location")?
-            .map(|v| v.extract::<String>())
-            .transpose()?
-            .as_deref()
-        {
-            Some("input") | Some("load") | Some("d2") | None => Location::Input,
-            Some("output") | Some("d1") => Location::Output,
-            Some("inner") | Some("d0") => Location::Inner,
-            Some(o) => {
-                return Err(PyValueError::new_err(format!(
-                    "disturbance location '{o}': use 'input' (d2), 'output' (d1) or 'inner' (d0)"
-                )))
-            }
-        };
-        let shape = match get("shape")?
-            .map(|v| v.extract::<String>())
-            .transpose()?
-            .as_deref()
-        {
-            Some("step") | None => Shape::Step,
-            Some("ramp") => Shape::Ramp,
-            Some("sine") => Shape::Sine,
-            Some(o) => {
-                return Err(PyValueError::new_err(format!(
-                    "disturbance shape '{o}': use step, ramp or sine"
-                )))
-            }
-        };
-        let num = |k: &str, default: Option<f64>| -> PyResult<f64> {
-            match get(k)? {
-                Some(v) => v.extract::<f64>(),
-                None => default.ok_or_else(|| {
-                    PyValueError::new_err(format!("disturbance: '{k}' is required"))
-                }),
-            }
-        };
-        out.push(Disturbance {
-            location,
-            shape,
-            value: num("value", None)?,
-            at: num("at", Some(0.0))?,
-            freq: num("freq", Some(0.0))?,
-        });
+        // the structured form of a scenario file, read by the library's serde
+        let d: Disturbance = pythonize::depythonize(&item)
+            .map_err(|e| PyValueError::new_err(format!("disturbance: {e}")))?;
+        out.push(d);
     }
     Ok(out)
 }

@@ -428,6 +428,19 @@ def test_autotune_reports_as_the_cli(tmp_path: pathlib.Path) -> None:
     assert out["relay"]["gain"] is not None and {"ku", "tu", "cycles"} <= set(out["relay"])
 
 
+def test_disturbance_dicts_are_the_scenario_files_form() -> None:
+    """A dict is read as a scenario file's structured disturbance (the library's serde): the
+    flag's place names, the input when none, and an unknown field refused by name."""
+    kw = dict(ts=0.1, duration=20.0)
+    flag = msp.run("2*e^-3s/(4s+1)", "pi", disturbance="load:0.1@5", **kw)
+    as_dict = msp.run("2*e^-3s/(4s+1)", "pi", disturbance={"value": 0.1, "at": 5}, **kw)
+    assert np.array_equal(flag.y, as_dict.y) and as_dict.d.max() == 0.1
+    with pytest.raises(ValueError, match="unknown field `valeu`"):
+        msp.run("2*e^-3s/(4s+1)", "pi", disturbance={"valeu": 0.1}, **kw)
+    with pytest.raises(ValueError, match=r"'input' \(d2\)"):
+        msp.run("2*e^-3s/(4s+1)", "pi", disturbance={"location": "middle", "value": 0.1}, **kw)
+
+
 GARCIA_1 = {"plant": "e^-4s/(20s-1)", "inner_plant": "2e^-2s/(20s+1)"}
 
 
