@@ -317,9 +317,9 @@ def run(
     setpoint : float, "V@T" or list of them or of (value, time), optional
         The set-point steps.
     disturbance : "input:V@T", dict or list of them, optional
-        Dicts have ``location`` ("input", "output", and "inner" for a cascade's secondary output;
-        the paper's ``d2``/``d1``/``d0`` are accepted too), ``value``, ``at``, ``shape``
-        ("step", "ramp", "sine") and ``freq`` (Hz).
+        Dicts are a scenario file's structured form: ``location`` ("input", the default,
+        "output", and "inner" for a cascade's secondary output; the paper's ``d2``/``d1``/``d0``
+        are accepted too), ``value``, ``at``, ``shape`` ("step", "ramp", "sine") and ``freq`` (Hz).
     noise : float, optional
         The standard deviation of white measurement noise.
     seed : int, optional
