@@ -17,6 +17,23 @@ pub struct Range {
     pub hi: f64,
 }
 
+impl Range {
+    /// The range `lo..hi` of relative changes: numbers with `lo ≤ hi` and
+    /// `lo > −1` (a change of −100 % or less leaves nothing of the plant);
+    /// otherwise what is wrong.
+    pub fn new(lo: f64, hi: f64) -> Result<Range, &'static str> {
+        if lo.is_nan() || hi.is_nan() {
+            Err("an end is not a number")
+        } else if lo > hi {
+            Err("the lower end is above the upper end")
+        } else if lo <= -1.0 {
+            Err("a change of -100 % or less leaves nothing of the plant")
+        } else {
+            Ok(Range { lo, hi })
+        }
+    }
+}
+
 /// What to sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepSpec {
@@ -229,5 +246,28 @@ pub fn sweep(
     #[cfg(not(feature = "parallel"))]
     {
         pts.iter().map(one).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Range;
+
+    /// A range is refused when it is not one of relative changes the plant
+    /// survives, by the flag's grammar and by the constructor alike.
+    #[test]
+    fn ranges_are_checked_once() {
+        assert_eq!(Range::new(-0.2, 0.2), Ok(Range { lo: -0.2, hi: 0.2 }));
+        assert!(Range::new(0.2, -0.2).is_err_and(|e| e.contains("lower end")));
+        assert!(Range::new(-1.0, 0.0).is_err_and(|e| e.contains("-100 %")));
+        assert!(Range::new(f64::NAN, 0.0).is_err());
+        assert_eq!(
+            "-20%..+20%".parse(),
+            Range::new(-0.2, 0.2).map_err(String::from)
+        );
+        let flag = "+20%..-20%".parse::<Range>();
+        assert!(
+            flag.is_err_and(|e| e == "range '+20%..-20%': the lower end is above the upper end")
+        );
     }
 }

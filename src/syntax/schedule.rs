@@ -178,17 +178,7 @@ impl core::str::FromStr for Range {
                 (v, v)
             }
         };
-        if lo > hi {
-            return Err(std::format!(
-                "range '{s}': the lower end is above the upper end"
-            ));
-        }
-        if lo <= -1.0 {
-            return Err(std::format!(
-                "range '{s}': a change of -100 % or less leaves nothing of the plant"
-            ));
-        }
-        Ok(Range { lo, hi })
+        Range::new(lo, hi).map_err(|why| std::format!("range '{s}': {why}"))
     }
 }
 

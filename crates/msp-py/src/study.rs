@@ -101,10 +101,7 @@ pub(crate) fn sweep<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     use msp::sweep::{Range, SweepSpec};
     let range = |(lo, hi): (f64, f64), name: &str| -> PyResult<Range> {
-        if lo.is_nan() || hi.is_nan() || lo > hi || lo <= -1.0 {
-            return Err(PyValueError::new_err(format!("{name}: need -1 < lo <= hi")));
-        }
-        Ok(Range { lo, hi })
+        Range::new(lo, hi).map_err(|why| PyValueError::new_err(format!("{name}: {why}")))
     };
     let spec = SweepSpec {
         gain: range(gain, "gain")?,
@@ -123,23 +120,13 @@ pub(crate) fn sweep<'py>(
         rows.iter().map(f).collect::<Vec<_>>().into_pyarray(py)
     };
     let d = PyDict::new(py);
-    d.set_item(
-        "index",
-        rows.iter()
-            .map(|r| r.index)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
+    let index: Vec<usize> = rows.iter().map(|r| r.index).collect();
+    let stable: Vec<bool> = rows.iter().map(|r| r.stable).collect();
+    d.set_item("index", index.into_pyarray(py))?;
     d.set_item("gain", col(&|r| r.gain))?;
     d.set_item("delay", col(&|r| r.delay))?;
     d.set_item("tau", col(&|r| r.tau))?;
-    d.set_item(
-        "stable",
-        rows.iter()
-            .map(|r| r.stable)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
+    d.set_item("stable", stable.into_pyarray(py))?;
     if let Some(first) = rows.first() {
         for (i, (k, _)) in first.metrics.fields().iter().enumerate() {
             let metric = col(&|r| r.metrics.fields().get(i).map_or(f64::NAN, |f| f.1));

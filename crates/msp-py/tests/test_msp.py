@@ -441,6 +441,13 @@ def test_disturbance_dicts_are_the_scenario_files_form() -> None:
         msp.run("2*e^-3s/(4s+1)", "pi", disturbance={"location": "middle", "value": 0.1}, **kw)
 
 
+def test_sweep_ranges_refused_by_name() -> None:
+    with pytest.raises(ValueError, match="gain: the lower end is above the upper end"):
+        msp.sweep("0.2/s*e^-7.4s", "karan-dey", gain=(0.2, -0.2), grid=2)
+    with pytest.raises(ValueError, match="delay: a change of -100 %"):
+        msp.sweep("0.2/s*e^-7.4s", "karan-dey", delay="-100%..0%", grid=2)
+
+
 GARCIA_1 = {"plant": "e^-4s/(20s-1)", "inner_plant": "2e^-2s/(20s+1)"}
 
 
