@@ -171,19 +171,22 @@ fn step_data(plant: &str, ts: f64, n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (t, u, y)
 }
 
+/// The model of `kind` fitted to `plant`'s step test ([`step_data`]).
+fn step_fit(plant: &str, ts: f64, n: usize, kind: ModelKind) -> msp::ident::Fit {
+    let (t, u, y) = step_data(plant, ts, n);
+    identify_step(kind, &t, &u, &y).unwrap_or_else(|e| panic!("{plant}: {e}"))
+}
+
 #[test]
 fn step_tests_recover_the_parameters() {
-    let (t, u, y) = step_data("2*e^-4s/(5s+1)", 0.05, 1200);
-    let f = identify_step(ModelKind::Fopdt, &t, &u, &y).unwrap();
+    let f = step_fit("2*e^-4s/(5s+1)", 0.05, 1200, ModelKind::Fopdt);
     check(
         &f.model,
         &[("k", 2.0, 0.01), ("t", 5.0, 0.01), ("l", 4.0, 0.01)],
     );
-    let (t, u, y) = step_data("0.2/s*e^-7.4s", 0.05, 1200);
-    let f = identify_step(ModelKind::Ipdt, &t, &u, &y).unwrap();
+    let f = step_fit("0.2/s*e^-7.4s", 0.05, 1200, ModelKind::Ipdt);
     check(&f.model, &[("k", 0.2, 0.01), ("l", 7.4, 0.01)]);
-    let (t, u, y) = step_data("1.5*e^-3s/((6s+1)(2s+1))", 0.05, 1600);
-    let f = identify_step(ModelKind::Sopdt, &t, &u, &y).unwrap();
+    let f = step_fit("1.5*e^-3s/((6s+1)(2s+1))", 0.05, 1600, ModelKind::Sopdt);
     check(
         &f.model,
         &[
@@ -201,8 +204,7 @@ fn step_tests_recover_the_parameters() {
 /// scored on every row: the same model, the fit figures of the whole record.
 #[test]
 fn long_step_tests_are_fitted_in_linear_time() {
-    let (t, u, y) = step_data("2*e^-4s/(5s+1)", 0.0007, 250_000);
-    let f = identify_step(ModelKind::Fopdt, &t, &u, &y).unwrap();
+    let f = step_fit("2*e^-4s/(5s+1)", 0.0007, 250_000, ModelKind::Fopdt);
     check(
         &f.model,
         &[("k", 2.0, 1e-6), ("t", 5.0, 1e-6), ("l", 4.0, 1e-4)],
