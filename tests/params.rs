@@ -2,7 +2,6 @@
 //! reports and accepts in `--set` are exactly the serde keys of the scheme's
 //! parameter struct, and a name the type does not have is refused.
 mod common;
-use common::{plant_for, required_settings};
 use msp::dtc::astrom_hang_lim::AstromHangLimParams;
 use msp::dtc::cascade::{FspccParams, GpccParams, KayaCascadeParams, UmaParams};
 use msp::dtc::disturbance_estimator::DisturbanceEstimatorParams;
@@ -75,14 +74,11 @@ fn every_scheme_lists_exactly_its_types_fields() {
 #[test]
 fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
     for s in SCHEMES {
-        let (p1, p2, ts) = plant_for(s);
-        let set = required_settings(s.name);
-        let tuned = s
-            .tune_process(&p1, p2.as_ref(), None, None, &set)
-            .unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        let t = common::tuned(s, 0.0);
+        let tuned = &t.params;
 
         // the report's parameters (without the design value lambda) are the struct
-        let mut report = serde_json::to_value(&tuned).unwrap();
+        let mut report = serde_json::to_value(tuned).unwrap();
         let lambda = report.as_object_mut().unwrap().remove("lambda");
         assert_eq!(lambda.is_some(), tuned.lambda().is_some(), "{}", s.name);
         let (_, de) = typed(s.name);
@@ -105,19 +101,11 @@ fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
                 continue; // a design key re-tunes: checked by its own scheme tests
             }
             let v = tuned.get(name).unwrap();
-            let mut over = set.clone();
-            over.push((name.to_string(), v));
-            let p = s
-                .tune_process(&p1, p2.as_ref(), None, None, &over)
+            let p = t
+                .retune(name, v)
                 .unwrap_or_else(|e| panic!("{} {name}: {e}", s.name));
             assert_eq!(p.get(name).map(f64::to_bits), Some(v.to_bits()));
-            let b = msp::registry::Build {
-                ts,
-                u_min: f64::NEG_INFINITY,
-                u_max: f64::INFINITY,
-                max_dead_time: 0.0,
-            };
-            let c = s.build_process(&p, &p1, p2.as_ref(), &b).unwrap();
+            let c = t.controller_of::<f64>(&p);
             if !c.param_names().is_empty() {
                 assert_eq!(c.param_names().get(i), Some(name), "{}", s.name);
             }
@@ -128,9 +116,7 @@ fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
             if s.params.contains(&bogus) || s.design.contains(&bogus) {
                 continue;
             }
-            let mut over = set.clone();
-            over.push((bogus.to_string(), 1.0));
-            match s.tune_process(&p1, p2.as_ref(), None, None, &over) {
+            match t.retune(bogus, 1.0) {
                 Err(RegistryError::UnknownParam { name, allowed, .. }) => {
                     assert_eq!(name, bogus);
                     for f in s.params {
@@ -149,11 +135,7 @@ fn the_tuned_parameters_are_the_type_and_set_reaches_only_its_fields() {
 #[test]
 fn every_design_key_is_read_by_its_tuning() {
     for s in SCHEMES {
-        let (p1, p2, _) = plant_for(s);
-        let set = required_settings(s.name);
-        let base = s
-            .tune_process(&p1, p2.as_ref(), None, None, &set)
-            .unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        let t = common::tuned(s, 0.0);
         let bits = |p: &msp::registry::Params| -> Vec<u64> {
             p.iter()
                 .map(|(_, v)| v.to_bits())
@@ -164,12 +146,9 @@ fn every_design_key_is_read_by_its_tuning() {
         for key in s.design {
             // a value no default takes: case 2 of the estimator, else 0.37 or 3.7
             let candidates: &[f64] = if *key == "case" { &[2.0] } else { &[0.37, 3.7] };
-            let changed = candidates.iter().any(|v| {
-                let mut over = set.clone();
-                over.push((key.to_string(), *v));
-                s.tune_process(&p1, p2.as_ref(), None, None, &over)
-                    .is_ok_and(|p| bits(&p) != bits(&base))
-            });
+            let changed = candidates
+                .iter()
+                .any(|v| t.retune(key, *v).is_ok_and(|p| bits(&p) != bits(&t.params)));
             assert!(changed, "{}: --set {key}=… changes nothing", s.name);
         }
     }

@@ -4,11 +4,18 @@ use common::assert_close;
 use msp::sim::{Disturbance, Location, SetpointStep, Shape};
 use msp::study::{RunOutput, Scenario};
 
+/// The default scenario on `plant`.
+fn scenario(plant: &str) -> Scenario {
+    Scenario {
+        plant: Some(plant.parse().unwrap_or_else(|e| panic!("{plant}: {e}"))),
+        ..Default::default()
+    }
+}
+
 fn run(plant: &str, controller: &str, f: impl FnOnce(&mut Scenario)) -> RunOutput {
     let mut sc = Scenario {
-        plant: Some(plant.parse().unwrap()),
         controller: Some(controller.into()),
-        ..Default::default()
+        ..scenario(plant)
     };
     f(&mut sc);
     sc.run().unwrap_or_else(|e| panic!("{controller}: {e}"))
@@ -261,9 +268,8 @@ fn pid_rules_from_the_ultimate_point() {
 #[test]
 fn compare_runs_every_controller_on_the_perturbed_plant_with_the_nominal_model() {
     let base = Scenario {
-        plant: Some(IPDT.parse().unwrap()),
         duration: Some(60.0),
-        ..Default::default()
+        ..scenario(IPDT)
     };
     let p = msp::study::Perturbation {
         delay: 0.1,
@@ -310,9 +316,8 @@ fn fsp_controls_unstable_and_integrating_plants_and_rejects_loads() {
         ("0.2/s*e^-7.4s", Some("fsp")),
     ] {
         let mut sc = Scenario {
-            plant: Some(plant.parse().unwrap()),
             controller: controller.map(Into::into),
-            ..Default::default()
+            ..scenario(plant)
         };
         sc.duration = Some(300.0);
         sc.disturbance = vec![load(-0.1, 150.0)];
@@ -343,11 +348,10 @@ fn fsp_controls_unstable_and_integrating_plants_and_rejects_loads() {
 #[test]
 fn fsp_handles_a_biproper_model() {
     let sc = Scenario {
-        plant: Some("(0.1251s+1)*e^-0.8s/(2.828s-1)".parse().unwrap()),
         ts: Some(0.01),
         duration: Some(40.0),
         disturbance: vec![load(0.1, 20.0)],
-        ..Default::default()
+        ..scenario("(0.1251s+1)*e^-0.8s/(2.828s-1)")
     };
     let o = sc.run().unwrap();
     assert_eq!(o.controller, "fsp");
@@ -440,11 +444,10 @@ fn every_scheme_controls_a_reverse_acting_plant_as_its_mirror() {
         let negated = format!("-({p1})");
         let base = |plant: &str| {
             let mut sc = Scenario {
-                plant: Some(plant.parse().unwrap()),
                 inner_plant: p2.clone(),
                 controller: Some(s.name.into()),
                 ts: Some(ts),
-                ..Default::default()
+                ..scenario(plant)
             };
             // Uma et al.'s Gcd is set by hand: mirrored with the plant
             let sign = if plant == negated { -1.0 } else { 1.0 };
@@ -545,10 +548,9 @@ fn the_defaults_control_everyday_plants() {
         ("2/(5s+1)", "smith"),
     ] {
         let sc = Scenario {
-            plant: Some(plant.parse().unwrap()),
             duration: Some(900.0),
             disturbance: vec![load(-0.1, 450.0)],
-            ..Default::default()
+            ..scenario(plant)
         };
         let o = sc.run().unwrap_or_else(|e| panic!("{plant}: {e}"));
         assert_eq!(o.controller, scheme, "{plant}");
@@ -576,9 +578,8 @@ fn the_defaults_control_everyday_plants() {
 #[test]
 fn karan_dey_names_the_scheme_for_an_integrating_plant_with_lags() {
     let sc = Scenario {
-        plant: Some("2/(s*(3s+1))*e^-1s".parse().unwrap()),
         controller: Some("karan-dey".into()),
-        ..Default::default()
+        ..scenario("2/(s*(3s+1))*e^-1s")
     };
     let e = sc.run().unwrap_err().to_string();
     assert!(e.contains("IPDT") && e.contains("matausek-micic"), "{e}");
@@ -603,10 +604,7 @@ fn pi_has_no_derivative_on_an_integrator_with_a_lag() {
 /// single time constant (10 s) is a quarter of what it takes (their sum, 40 s).
 #[test]
 fn the_chosen_duration_covers_a_chain_of_lags() {
-    let sc = Scenario {
-        plant: Some("2*e^-5s/(10s+1)^4".parse().unwrap()),
-        ..Default::default()
-    };
+    let sc = scenario("2*e^-5s/(10s+1)^4");
     let o = sc.run().unwrap();
     assert!(o.duration_chosen);
     let settle = o.metrics.step.settling_time;
@@ -647,9 +645,8 @@ fn uncontrollable_plants_are_named_as_such() {
         ("2", Some("pid"), "static gain or a pure dead time"),
     ] {
         let sc = Scenario {
-            plant: Some(plant.parse().unwrap()),
             controller: controller.map(Into::into),
-            ..Default::default()
+            ..scenario(plant)
         };
         let e = sc.run().unwrap_err().to_string();
         assert!(e.contains(words), "{plant}: {e}");
@@ -665,10 +662,9 @@ fn uncontrollable_plants_are_named_as_such() {
 #[test]
 fn a_diverging_loop_never_reads_as_perfect() {
     let sc = Scenario {
-        plant: Some("0.2/s*e^-7.4s".parse().unwrap()),
         controller: Some("pid".into()),
         set: [("kp".to_string(), 1e308)].into_iter().collect(),
-        ..Default::default()
+        ..scenario("0.2/s*e^-7.4s")
     };
     let o = sc.run().unwrap();
     assert!(o.result.diverged_at.is_some());
@@ -689,14 +685,13 @@ fn a_diverging_loop_never_reads_as_perfect() {
 fn the_chosen_duration_is_extended_until_the_loop_settles() {
     let run = |kp: f64, duration: Option<f64>| {
         Scenario {
-            plant: Some("e^-1s/(s+1)".parse().unwrap()),
             controller: Some("pid".into()),
             set: [("kp", kp), ("ti", f64::INFINITY), ("td", 0.0)]
                 .into_iter()
                 .map(|(k, v)| (k.to_string(), v))
                 .collect(),
             duration,
-            ..Default::default()
+            ..scenario("e^-1s/(s+1)")
         }
         .run()
         .unwrap()
@@ -724,10 +719,7 @@ fn the_chosen_duration_is_extended_until_the_loop_settles() {
 /// gives, by `msp margins`' own analysis, Ms ≤ 2 with dm ≥ 0.2θ.
 #[test]
 fn runs_warn_of_fragile_tunings_and_name_a_better_one() {
-    let sc = Scenario {
-        plant: Some("0.2/s*e^-7.4s".parse().unwrap()),
-        ..Default::default()
-    };
+    let sc = scenario("0.2/s*e^-7.4s");
     let o = sc.run().unwrap();
     let m = o.robustness.unwrap();
     assert!(
@@ -742,9 +734,8 @@ fn runs_warn_of_fragile_tunings_and_name_a_better_one() {
     );
 
     let sc = Scenario {
-        plant: Some("5e^-6s/(100s-1)".parse().unwrap()),
         ts: Some(0.06),
-        ..Default::default()
+        ..scenario("5e^-6s/(100s-1)")
     };
     let o = sc.run().unwrap();
     assert!(o.robustness.unwrap().ms > 2.0);
@@ -779,7 +770,6 @@ fn runs_warn_of_fragile_tunings_and_name_a_better_one() {
 fn metrics_per_event_are_the_closed_forms() {
     use msp::study::Event;
     let sc = Scenario {
-        plant: Some("1/(s+1)".parse().unwrap()),
         controller: Some("pid".into()),
         set: [("kp", 1.0), ("ti", 1.0), ("td", 0.0)]
             .into_iter()
@@ -798,7 +788,7 @@ fn metrics_per_event_are_the_closed_forms() {
             },
         ],
         disturbance: vec![load(-1.0, 40.0)],
-        ..Default::default()
+        ..scenario("1/(s+1)")
     };
     let o = sc.run().unwrap();
     let tol = 5e-3;

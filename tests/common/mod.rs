@@ -85,7 +85,7 @@ pub fn tuned(scheme: &'static msp::registry::Scheme, max_dead_time: f64) -> Tune
     let set = required_settings(scheme.name);
     let params = scheme
         .tune_process(&p1, p2.as_ref(), None, None, &set)
-        .unwrap();
+        .unwrap_or_else(|e| panic!("{}: {e}", scheme.name));
     let build = msp::registry::Build {
         max_dead_time,
         ..limits(ts)
@@ -100,12 +100,34 @@ pub fn tuned(scheme: &'static msp::registry::Scheme, max_dead_time: f64) -> Tune
     }
 }
 
+// not every test file uses every helper
+#[allow(dead_code)]
 impl Tuned {
     /// The tuned controller in precision `T`, for the plant.
-    #[allow(dead_code)] // not every test file builds one
     pub fn controller<T: msp::registry::Precision>(&self) -> msp::registry::DynControllerOf<T> {
+        self.controller_of(&self.params)
+    }
+
+    /// The controller of the parameters `p`, in precision `T`, for the plant.
+    pub fn controller_of<T: msp::registry::Precision>(
+        &self,
+        p: &msp::registry::Params,
+    ) -> msp::registry::DynControllerOf<T> {
         self.scheme
-            .build_process_as::<T>(&self.params, &self.p1, self.p2.as_ref(), &self.build)
-            .unwrap()
+            .build_process_as::<T>(p, &self.p1, self.p2.as_ref(), &self.build)
+            .unwrap_or_else(|e| panic!("{}: {e}", self.scheme.name))
+    }
+
+    /// The scheme tuned again for the plant with `--set name=value` after
+    /// the settings it needs.
+    pub fn retune(
+        &self,
+        name: &str,
+        value: f64,
+    ) -> Result<msp::registry::Params, msp::registry::RegistryError> {
+        let mut set = required_settings(self.scheme.name);
+        set.push((name.to_string(), value));
+        self.scheme
+            .tune_process(&self.p1, self.p2.as_ref(), None, None, &set)
     }
 }
