@@ -15,103 +15,90 @@
 use crate::real::{finite, non_negative, positive};
 use crate::{Discretization, Error, Lti, Real};
 
+/// A model's struct, and its constructor checking each parameter with the
+/// function written after its name (`nonzero`, `positive`, `non_negative`).
 macro_rules! model_struct {
-    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $f:ident),* }) => {
+    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $f:ident: $check:ident),* $(,)? }) => {
         $(#[$m])*
         #[derive(Debug, Clone, Copy, PartialEq)]
         #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
         pub struct $name<T> {
             $($(#[$fm])* pub $f: T,)*
         }
+
+        impl<T: Real> $name<T> {
+            /// The model from its parameters, each checked: finite, the gain
+            /// not zero, the time constants positive, the dead time not
+            /// negative.
+            pub fn new($($f: T),*) -> Result<Self, Error> {
+                Ok($name {
+                    $($f: $check($f, stringify!($f))?,)*
+                })
+            }
+        }
     };
 }
 
-model_struct!(
+model_struct! {
     /// First order plus dead time `K e^{−Ls}/(T s + 1)`.
-    Fopdt { /// Static gain `K`.
-    k, /// Time constant `T` (s).
-    t, /// Dead time `L` (s).
-    l });
-model_struct!(
+    Fopdt {
+        /// Static gain `K`.
+        k: nonzero,
+        /// Time constant `T` (s).
+        t: positive,
+        /// Dead time `L` (s).
+        l: non_negative,
+    }
+}
+model_struct! {
     /// Second order plus dead time `K e^{−Ls}/((T1 s + 1)(T2 s + 1))`.
-    Sopdt { /// Static gain `K`.
-    k, /// First time constant `T1` (s).
-    t1, /// Second time constant `T2` (s).
-    t2, /// Dead time `L` (s).
-    l });
-model_struct!(
+    Sopdt {
+        /// Static gain `K`.
+        k: nonzero,
+        /// First time constant `T1` (s).
+        t1: positive,
+        /// Second time constant `T2` (s).
+        t2: positive,
+        /// Dead time `L` (s).
+        l: non_negative,
+    }
+}
+model_struct! {
     /// Integrator plus dead time `K e^{−Ls}/s`.
-    Ipdt { /// Velocity gain `K` (1/s).
-    k, /// Dead time `L` (s).
-    l });
-model_struct!(
+    Ipdt {
+        /// Velocity gain `K` (1/s).
+        k: nonzero,
+        /// Dead time `L` (s).
+        l: non_negative,
+    }
+}
+model_struct! {
     /// First-order integrator plus dead time `K e^{−Ls}/(s (T s + 1))`.
-    Foipdt { /// Velocity gain `K`.
-    k, /// Time constant `T` (s).
-    t, /// Dead time `L` (s).
-    l });
-model_struct!(
+    Foipdt {
+        /// Velocity gain `K`.
+        k: nonzero,
+        /// Time constant `T` (s).
+        t: positive,
+        /// Dead time `L` (s).
+        l: non_negative,
+    }
+}
+model_struct! {
     /// Unstable first order plus dead time `K e^{−Ls}/(T s − 1)`.
-    Ufopdt { /// Gain `K` (the static gain is `−K`).
-    k, /// Time constant `T` of the unstable pole `+1/T` (s).
-    t, /// Dead time `L` (s).
-    l });
-
-impl<T: Real> Fopdt<T> {
-    /// Validated FOPDT model.
-    pub fn new(k: T, t: T, l: T) -> Result<Self, Error> {
-        Ok(Fopdt {
-            k: nonzero(k)?,
-            t: positive(t, "t")?,
-            l: non_negative(l, "l")?,
-        })
-    }
-}
-impl<T: Real> Sopdt<T> {
-    /// Validated SOPDT model.
-    pub fn new(k: T, t1: T, t2: T, l: T) -> Result<Self, Error> {
-        Ok(Sopdt {
-            k: nonzero(k)?,
-            t1: positive(t1, "t1")?,
-            t2: positive(t2, "t2")?,
-            l: non_negative(l, "l")?,
-        })
-    }
-}
-impl<T: Real> Ipdt<T> {
-    /// Validated IPDT model.
-    pub fn new(k: T, l: T) -> Result<Self, Error> {
-        Ok(Ipdt {
-            k: nonzero(k)?,
-            l: non_negative(l, "l")?,
-        })
-    }
-}
-impl<T: Real> Foipdt<T> {
-    /// Validated FOIPDT model.
-    pub fn new(k: T, t: T, l: T) -> Result<Self, Error> {
-        Ok(Foipdt {
-            k: nonzero(k)?,
-            t: positive(t, "t")?,
-            l: non_negative(l, "l")?,
-        })
-    }
-}
-impl<T: Real> Ufopdt<T> {
-    /// Validated UFOPDT model.
-    pub fn new(k: T, t: T, l: T) -> Result<Self, Error> {
-        Ok(Ufopdt {
-            k: nonzero(k)?,
-            t: positive(t, "t")?,
-            l: non_negative(l, "l")?,
-        })
+    Ufopdt {
+        /// Gain `K` (the static gain is `−K`).
+        k: nonzero,
+        /// Time constant `T` of the unstable pole `+1/T` (s).
+        t: positive,
+        /// Dead time `L` (s).
+        l: non_negative,
     }
 }
 
-fn nonzero<T: Real>(k: T) -> Result<T, Error> {
-    finite(k, "k")?;
+fn nonzero<T: Real>(k: T, field: &'static str) -> Result<T, Error> {
+    finite(k, field)?;
     if k == T::zero() {
-        Err(Error::OutOfRange("k"))
+        Err(Error::OutOfRange(field))
     } else {
         Ok(k)
     }
