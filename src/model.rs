@@ -96,12 +96,9 @@ model_struct! {
 }
 
 fn nonzero<T: Real>(k: T, field: &'static str) -> Result<T, Error> {
-    finite(k, field)?;
-    if k == T::zero() {
-        Err(Error::OutOfRange(field))
-    } else {
-        Ok(k)
-    }
+    (finite(k, field)? != T::zero())
+        .then_some(k)
+        .ok_or(Error::OutOfRange(field))
 }
 
 /// Any of the low-order process models.

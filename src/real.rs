@@ -52,33 +52,25 @@ impl Real for f64 {
 /// Checks that `x` is finite.
 #[inline]
 pub(crate) fn finite<T: Real>(x: T, field: &'static str) -> Result<T, crate::Error> {
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        Err(crate::Error::NonFinite(field))
-    }
+    x.is_finite()
+        .then_some(x)
+        .ok_or(crate::Error::NonFinite(field))
 }
 
 /// Checks that `x` is finite and strictly positive.
 #[inline]
 pub(crate) fn positive<T: Real>(x: T, field: &'static str) -> Result<T, crate::Error> {
-    finite(x, field)?;
-    if x > T::zero() {
-        Ok(x)
-    } else {
-        Err(crate::Error::NotPositive(field))
-    }
+    (finite(x, field)? > T::zero())
+        .then_some(x)
+        .ok_or(crate::Error::NotPositive(field))
 }
 
 /// Checks that `x` is finite and not negative.
 #[inline]
 pub(crate) fn non_negative<T: Real>(x: T, field: &'static str) -> Result<T, crate::Error> {
-    finite(x, field)?;
-    if x >= T::zero() {
-        Ok(x)
-    } else {
-        Err(crate::Error::Negative(field))
-    }
+    (finite(x, field)? >= T::zero())
+        .then_some(x)
+        .ok_or(crate::Error::Negative(field))
 }
 
 /// `x` limited to `[lo, hi]` by comparisons (on a Cortex-M4 `f32::max`/`min`
