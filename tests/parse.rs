@@ -57,6 +57,23 @@ fn expressions_of_the_sources() {
     check("1e-3/(s + .5)", &[1e-3], &[1.0, 0.5], 0.0);
     check("e^-1s*e^-2s/(s+1)", &[1.0], &[1.0, 1.0], 3.0);
     check(" 2 e^-2 s / s ", &[2.0], &[1.0, 0.0], 2.0);
+    // signs before a power and in the delay's exponent
+    check("1/(s+1)^+2", &[1.0], &[1.0, 2.0, 1.0], 0.0);
+    check("s^-1*e^(-2s)", &[1.0], &[1.0, 0.0], 2.0);
+}
+
+/// The schedules' `VALUE[@TIME]`: the time 0 when absent, never negative.
+#[test]
+fn schedules_read_value_at_time() {
+    use msp::sim::{Disturbance, SetpointStep};
+    let step: SetpointStep = "2@10".parse().unwrap();
+    assert_eq!((step.value, step.at), (2.0, 10.0));
+    let d: Disturbance = "input:-0.1".parse().unwrap();
+    assert_eq!((d.value, d.at), (-0.1, 0.0));
+    let e = "1@-2".parse::<SetpointStep>().unwrap_err();
+    assert_eq!(e, "the set point time must not be negative");
+    let e = "output:0.5@-1".parse::<Disturbance>().unwrap_err();
+    assert_eq!(e, "the disturbance time must not be negative");
 }
 
 fn bad(expr: &str, col: usize, words: &str) {

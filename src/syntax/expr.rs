@@ -347,23 +347,28 @@ impl Parser<'_> {
         }
     }
 
+    /// An optional `+` or `-` (taken): whether it is a minus.
+    fn sign_is_minus(&mut self) -> bool {
+        match self.peek().0 {
+            Tok::Minus => {
+                self.bump();
+                true
+            }
+            Tok::Plus => {
+                self.bump();
+                false
+            }
+            _ => false,
+        }
+    }
+
     fn power(&mut self) -> PResult<Val> {
         let base = self.atom()?;
         if self.peek().0 != Tok::Caret {
             return Ok(base);
         }
         let (_, caret_col) = self.bump();
-        let mut sign = 1i32;
-        match self.peek().0 {
-            Tok::Minus => {
-                self.bump();
-                sign = -1;
-            }
-            Tok::Plus => {
-                self.bump();
-            }
-            _ => {}
-        }
+        let sign = if self.sign_is_minus() { -1i32 } else { 1 };
         let (t, col) = self.bump();
         let Tok::Num(n) = t else {
             return Err((
@@ -437,17 +442,7 @@ impl Parser<'_> {
                     return delay_of(&v, c3.saturating_add(1));
                 }
                 // [+|-] [number] ['*'] 's'
-                let mut sign = 1.0;
-                match self.peek().0 {
-                    Tok::Minus => {
-                        self.bump();
-                        sign = -1.0;
-                    }
-                    Tok::Plus => {
-                        self.bump();
-                    }
-                    _ => {}
-                }
+                let sign = if self.sign_is_minus() { -1.0 } else { 1.0 };
                 let mut coef = 1.0;
                 if let Tok::Num(v) = self.peek().0 {
                     self.bump();

@@ -42,21 +42,25 @@ fn parse_fraction(s: &str, what: &str) -> Result<f64, String> {
     }
 }
 
+/// `VALUE[@TIME]`: the value of `what` and its time (0 when absent, not
+/// negative).
+fn value_at(s: &str, what: &str) -> Result<(f64, f64), String> {
+    let (v, at) = match s.split_once('@') {
+        Some((v, t)) => (v, parse_number(t, "time")?),
+        None => (s, 0.0),
+    };
+    if at < 0.0 {
+        return Err(std::format!("the {what} time must not be negative"));
+    }
+    Ok((parse_number(v, what)?, at))
+}
+
 impl core::str::FromStr for SetpointStep {
     type Err = String;
     /// `VALUE[@TIME]`, e.g. `1@0`.
     fn from_str(s: &str) -> Result<Self, String> {
-        let (v, at) = match s.split_once('@') {
-            Some((v, t)) => (v, parse_number(t, "time")?),
-            None => (s, 0.0),
-        };
-        if at < 0.0 {
-            return Err("the step time must not be negative".into());
-        }
-        Ok(SetpointStep {
-            value: parse_number(v, "set point")?,
-            at,
-        })
+        let (value, at) = value_at(s, "set point")?;
+        Ok(SetpointStep { value, at })
     }
 }
 
@@ -107,17 +111,11 @@ impl core::str::FromStr for Disturbance {
                 "a sine disturbance needs a frequency: input:sine:AMPLITUDE@TIME~HZ".into(),
             );
         }
-        let (v, at) = match rest.split_once('@') {
-            Some((v, t)) => (v, parse_number(t, "time")?),
-            None => (rest, 0.0),
-        };
-        if at < 0.0 {
-            return Err("the disturbance time must not be negative".into());
-        }
+        let (value, at) = value_at(rest, "disturbance")?;
         Ok(Disturbance {
             location: loc,
             shape,
-            value: parse_number(v, "disturbance")?,
+            value,
             at,
             freq,
         })
