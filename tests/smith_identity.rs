@@ -41,25 +41,27 @@ fn max_mismatch(num: &[f64], den: &[f64], k: usize, pid: PidConfig<f64>, ts: f64
     worst
 }
 
+/// The identity for Kaya's FOPDT plant with its PI, an SOPDT with a PID and
+/// the IPDT of Bag (2022): numerator, denominator, dead time in samples, the
+/// controller and its period.
 #[test]
-fn fopdt_model() {
-    let pid = PidConfig::isa(0.0764, 40.2, 0.0, 1.0);
-    let e = max_mismatch(&[5.6], &[40.2, 1.0], 94, pid, 1.0, 10_000);
-    assert!(e < 1e-12, "{e}");
-}
-
-#[test]
-fn sopdt_model_with_pid() {
-    let pid = PidConfig::isa(0.4, 2.0, 0.5, 0.1);
-    let e = max_mismatch(&[1.0], &[1.0, 2.0, 1.0], 100, pid, 0.1, 10_000);
-    assert!(e < 1e-12, "{e}");
-}
-
-#[test]
-fn ipdt_model() {
-    let pid = PidConfig::isa(5.4, 3.7, 0.0, 0.074);
-    let e = max_mismatch(&[0.2], &[1.0, 0.0], 100, pid, 0.074, 10_000);
-    assert!(e < 1e-12, "{e}");
+fn fopdt_sopdt_and_ipdt_models() {
+    let cases = [
+        (
+            "fopdt",
+            &[5.6][..],
+            &[40.2, 1.0][..],
+            94,
+            [0.0764, 40.2, 0.0],
+            1.0,
+        ),
+        ("sopdt", &[1.0], &[1.0, 2.0, 1.0], 100, [0.4, 2.0, 0.5], 0.1),
+        ("ipdt", &[0.2], &[1.0, 0.0], 100, [5.4, 3.7, 0.0], 0.074),
+    ];
+    for (name, num, den, k, [kp, ti, td], ts) in cases {
+        let e = max_mismatch(num, den, k, PidConfig::isa(kp, ti, td, ts), ts, 10_000);
+        assert!(e < 1e-12, "{name}: {e}");
+    }
 }
 
 #[test]
