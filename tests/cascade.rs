@@ -111,37 +111,39 @@ fn fspcc_filter(
     Ok((kf, rho2))
 }
 
+/// FSPCC's biproper `Fr` with the filter time constant `tf` and, when given,
+/// the lead `(ρ1, γ1)` time constants (García et al. (2010) Eq. 10).
+fn biproper(tf: f64, lead: Option<(f64, f64)>) -> FrSpec {
+    FrSpec {
+        tf,
+        lead,
+        biproper: true,
+    }
+}
+
 #[test]
 fn fspcc_filters_match_the_paper() -> R {
-    // Example 1: γ1 = e^{−T/0.144}, ρ1 = e^{−T/3}, γ2 = e^{−T/36}; ρ2 = 0.9957, kf = 14.9524
-    let spec = FrSpec {
-        tf: 36.0,
-        lead: Some((3.0, 0.144)),
-        biproper: true,
-    };
-    let (kf, rho2) = fspcc_filter(&EX1, &spec, 30)?;
-    assert!(close(kf, 14.9524, 5e-3), "{kf}");
-    assert!((rho2 - 0.9957).abs() < 5e-4, "{rho2}");
-    // Example 3: γ1 = e^{−T/0.4077}, ρ1 = e^{−T/0.5}, γ2 = e^{−T/6}; ρ2 = 0.9894, kf = 1.8739
-    let spec = FrSpec {
-        tf: 6.0,
-        lead: Some((0.5, 0.4077)),
-        biproper: true,
-    };
-    let (kf, rho2) = fspcc_filter(&EX3, &spec, 10)?;
-    assert!(close(kf, 1.8739, 5e-3), "{kf}");
-    assert!((rho2 - 0.9894).abs() < 5e-4, "{rho2}");
+    // (example, spec, h, kf, ρ2 as printed)
+    // Example 1: γ1 = e^{−T/0.144}, ρ1 = e^{−T/3}, γ2 = e^{−T/36}; ρ2 = 0.9957, kf = 14.9524.
+    // Example 3: γ1 = e^{−T/0.4077}, ρ1 = e^{−T/0.5}, γ2 = e^{−T/6}; ρ2 = 0.9894, kf = 1.8739.
     // Example 2: Fr = kf (z − ρ)/(z − e^{−T}); ρ = 0.9753, kf = 3.8549 come out
     // with h = 30, not with the plant's 40 samples (the paper's own value; see
-    // the fsp module)
-    let spec = FrSpec {
-        tf: 1.0,
-        lead: None,
-        biproper: true,
-    };
-    let (kf, rho) = fspcc_filter(&EX2, &spec, 30)?;
-    assert!(close(kf, 3.8549, 5e-3), "{kf}");
-    assert!((rho - 0.9753).abs() < 5e-4, "{rho}");
+    // the fsp module).
+    for (ex, spec, h, kf_paper, rho_paper) in [
+        (
+            &EX1,
+            biproper(36.0, Some((3.0, 0.144))),
+            30,
+            14.9524,
+            0.9957,
+        ),
+        (&EX3, biproper(6.0, Some((0.5, 0.4077))), 10, 1.8739, 0.9894),
+        (&EX2, biproper(1.0, None), 30, 3.8549, 0.9753),
+    ] {
+        let (kf, rho) = fspcc_filter(ex, &spec, h)?;
+        assert!(close(kf, kf_paper, 5e-3), "{kf} (paper {kf_paper})");
+        assert!((rho - rho_paper).abs() < 5e-4, "{rho} (paper {rho_paper})");
+    }
     Ok(())
 }
 
@@ -503,11 +505,7 @@ fn outer_loops_equal_the_delayed_delay_free_loop() -> R {
     let h = 30;
     let gm = cascade::primary_model(&tf(EX1.p1)?, &tf(EX1.p2)?, 2.0)?.to_lti::<8>(ts)?;
     let k = cascade::series_pid(4.6571, 0.1829, 12.2857, 2.8571, 0.3, ts)?;
-    let spec = FrSpec {
-        tf: 36.0,
-        lead: Some((3.0, 0.144)),
-        biproper: true,
-    };
+    let spec = biproper(36.0, Some((3.0, 0.144)));
     let design = design_with::<[f64; 48], 8>(&gm, h, ts, &spec)?;
     let none = ParamList::default;
     let fsp = FilteredSmith::<f64, [f64; 48]>::new(k, &design, none())?;
