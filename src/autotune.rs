@@ -414,14 +414,24 @@ mod tests {
         test.state()
     }
 
+    /// The limit cycle of a relay test that finished.
+    fn cycle(
+        num: &[f64],
+        den: &[f64],
+        delay: f64,
+        cfg: RelayConfig<f64>,
+    ) -> Result<RelayResult<f64>, String> {
+        match run(num, den, delay, cfg) {
+            RelayState::Done(r) => Ok(r),
+            other => Err(std::format!("the relay test did not finish: {other:?}")),
+        }
+    }
+
     #[test]
     fn ipdt_exact() -> Result<(), Box<dyn std::error::Error>> {
         let mut cfg = RelayConfig::new(1.0, 0.0074);
         cfg.hysteresis = 0.1;
-        let RelayState::Done(r) = run(&[0.2], &[1.0, 0.0], 7.4, cfg) else {
-            return Err("the relay test did not finish".into());
-        };
-        let m = identify_ipdt(&r)?;
+        let m = identify_ipdt(&cycle(&[0.2], &[1.0, 0.0], 7.4, cfg)?)?;
         assert!(
             (m.k - 0.2).abs() < 0.002 && (m.l - 7.4).abs() < 0.074,
             "{m:?}"
@@ -434,9 +444,7 @@ mod tests {
         let mut cfg = RelayConfig::new(1.0, 0.004);
         cfg.bias = 0.3;
         cfg.hysteresis = 0.05;
-        let RelayState::Done(r) = run(&[2.0], &[5.0, 1.0], 4.0, cfg) else {
-            return Err("the relay test did not finish".into());
-        };
+        let r = cycle(&[2.0], &[5.0, 1.0], 4.0, cfg)?;
         let k = r.gain().ok_or("no gain from a biased relay")?;
         assert!((k - 2.0).abs() < 0.01, "{k}");
         let m = identify_fopdt(&r, k)?;
