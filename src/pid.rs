@@ -705,24 +705,17 @@ impl<T: Real> crate::Introspect<T> for Pid<T> {
     }
     fn signal(&self, i: usize) -> T {
         let t = self.terms();
-        match i {
-            0 => t.p,
-            1 => t.i,
-            2 => t.d,
-            _ => T::nan(),
-        }
+        [t.p, t.i, t.d].get(i).copied().unwrap_or_else(T::nan)
     }
     fn param_names(&self) -> &'static [&'static str] {
         &["kp", "ti", "td"]
     }
     fn param(&self, i: usize) -> T {
         let c = self.config();
-        match i {
-            0 => c.kp,
-            1 => c.ti(),
-            2 => c.td(),
-            _ => T::nan(),
-        }
+        [c.kp, c.ti(), c.td()]
+            .get(i)
+            .copied()
+            .unwrap_or_else(T::nan)
     }
 }
 
