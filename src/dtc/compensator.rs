@@ -701,14 +701,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Comp
     }
 
     fn signal(&self, i: usize) -> T {
-        match i {
-            0 => self.ym,
-            1 => self.ym_delayed,
-            2 => self.eps,
-            3 => self.u1,
-            4 => self.u3,
-            _ => T::nan(),
-        }
+        [self.ym, self.ym_delayed, self.eps, self.u1, self.u3]
+            .get(i)
+            .copied()
+            .unwrap_or_else(T::nan)
     }
 
     fn param_names(&self) -> &'static [&'static str] {

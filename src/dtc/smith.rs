@@ -165,12 +165,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T>
     }
 
     fn signal(&self, i: usize) -> T {
-        match i {
-            0 => self.ym,
-            1 => self.ym_delayed,
-            2 => self.model_error,
-            _ => T::nan(),
-        }
+        [self.ym, self.ym_delayed, self.model_error]
+            .get(i)
+            .copied()
+            .unwrap_or_else(T::nan)
     }
 
     fn write_signals(&self, out: &mut [T]) {
