@@ -429,8 +429,10 @@ mod tests {
 
     #[test]
     fn ipdt_exact() -> Result<(), Box<dyn std::error::Error>> {
-        let mut cfg = RelayConfig::new(1.0, 0.0074);
-        cfg.hysteresis = 0.1;
+        let cfg = RelayConfig {
+            hysteresis: 0.1,
+            ..RelayConfig::new(1.0, 0.0074)
+        };
         let m = identify_ipdt(&cycle(&[0.2], &[1.0, 0.0], 7.4, cfg)?)?;
         assert!(
             (m.k - 0.2).abs() < 0.002 && (m.l - 7.4).abs() < 0.074,
@@ -441,9 +443,11 @@ mod tests {
 
     #[test]
     fn fopdt_exact_with_bias() -> Result<(), Box<dyn std::error::Error>> {
-        let mut cfg = RelayConfig::new(1.0, 0.004);
-        cfg.bias = 0.3;
-        cfg.hysteresis = 0.05;
+        let cfg = RelayConfig {
+            bias: 0.3,
+            hysteresis: 0.05,
+            ..RelayConfig::new(1.0, 0.004)
+        };
         let r = cycle(&[2.0], &[5.0, 1.0], 4.0, cfg)?;
         let k = r.gain().ok_or("no gain from a biased relay")?;
         assert!((k - 2.0).abs() < 0.01, "{k}");
@@ -457,9 +461,11 @@ mod tests {
 
     #[test]
     fn aborts_out_of_band() -> Result<(), Box<dyn std::error::Error>> {
-        let mut cfg = RelayConfig::new(1.0, 0.01);
-        cfg.band = 0.5;
-        cfg.u0 = 0.25;
+        let cfg = RelayConfig {
+            band: 0.5,
+            u0: 0.25,
+            ..RelayConfig::new(1.0, 0.01)
+        };
         assert_eq!(
             run(&[0.2], &[1.0, 0.0], 7.4, cfg),
             RelayState::Aborted(RelayAbort::OutOfBand)
