@@ -20,13 +20,24 @@ fn main() {
     let (mut c, mut p) = loops::fsp::<f64>();
     let fsp = loops::run(&mut c, &mut p, |_| {});
     let (mut c, mut p) = loops::smith_operated::<f64>();
-    let operated = loops::run_operated(&mut c, &mut p, |_| {}, |c, r, y| {
-        use msp::Controller;
-        c.update(r, y)
-    });
+    let operated = loops::run_operated(
+        &mut c,
+        &mut p,
+        |_| {},
+        |c, r, y| {
+            use msp::Controller;
+            c.update(r, y)
+        },
+    );
     let mut f = std::fs::File::create(out.join("reference.rs")).expect("reference.rs");
     writeln!(f, "pub const SMITH: [f64; {}] = {:?};", smith.len(), smith).expect("write");
     writeln!(f, "pub const KARAN_DEY: [f64; {}] = {:?};", kd.len(), kd).expect("write");
     writeln!(f, "pub const FSP: [f64; {}] = {:?};", fsp.len(), fsp).expect("write");
-    writeln!(f, "pub const OPERATED: [f64; {}] = {:?};", operated.len(), operated).expect("write");
+    writeln!(
+        f,
+        "pub const OPERATED: [f64; {}] = {:?};",
+        operated.len(),
+        operated
+    )
+    .expect("write");
 }

@@ -2,10 +2,12 @@
 // included by build.rs): the controller against an exactly discretized plant
 // with its dead time in a delay line.
 
-use msp::ParamList;
 use msp::dtc::fsp::{design, FilteredSmith};
 use msp::dtc::karan_dey::{self, KaranDey};
-use msp::{Controller, Delay, DelayLine, Lti, Operated, PidConfig, ProcessModel, Real, SmithPredictor};
+use msp::ParamList;
+use msp::{
+    Controller, Delay, DelayLine, Lti, Operated, PidConfig, ProcessModel, Real, SmithPredictor,
+};
 
 pub const SAMPLES: usize = 10_000;
 pub const CHECKS: usize = 20;

@@ -231,6 +231,17 @@ fn per_call<C>(
     (y, ticks.mean(loops::SAMPLES))
 }
 
+/// A loop built by `loops` run through [`per_call`]: the controller's RAM,
+/// its outputs at the checkpoints and the mean SysTick per call.
+fn measured<C>(
+    (mut c, mut plant): (C, loops::Plant<f32>),
+    update: impl FnMut(&mut C, f32, f32) -> f32,
+) -> (usize, [f32; loops::CHECKS], f64) {
+    let ram = core::mem::size_of_val(&c);
+    let (y, t) = per_call(&mut c, &mut plant, update);
+    (ram, y, t)
+}
+
 /// SysTick read around calls (see [`per_call`]).
 #[derive(Default)]
 struct Ticks {
@@ -298,20 +309,10 @@ fn main() -> ! {
     hprintln!("SysTick: {:.2} instructions per tick", ipt);
 
     // the loop's own cost (plant, set point, bookkeeping): the same run with an empty update
-    let (mut c0, mut plant0) = loops::smith::<f32>();
-    let (_, base) = per_call(&mut c0, &mut plant0, empty_update);
-
-    let (mut sp, mut plant) = loops::smith::<f32>();
-    let ram_sp = core::mem::size_of_val(&sp);
-    let (y_sp, t_sp) = per_call(&mut sp, &mut plant, smith_update);
-
-    let (mut kd, mut plant) = loops::karan_dey::<f32>();
-    let ram_kd = core::mem::size_of_val(&kd);
-    let (y_kd, t_kd) = per_call(&mut kd, &mut plant, karan_dey_update);
-
-    let (mut fs, mut plant) = loops::fsp::<f32>();
-    let ram_fs = core::mem::size_of_val(&fs);
-    let (y_fs, t_fs) = per_call(&mut fs, &mut plant, fsp_update);
+    let (_, _, base) = measured(loops::smith::<f32>(), empty_update);
+    let (ram_sp, y_sp, t_sp) = measured(loops::smith::<f32>(), smith_update);
+    let (ram_kd, y_kd, t_kd) = measured(loops::karan_dey::<f32>(), karan_dey_update);
+    let (ram_fs, y_fs, t_fs) = measured(loops::fsp::<f32>(), fsp_update);
 
     // the same loop with an operator: manual, back to auto, a dead-time change
     let (mut op, mut plant) = loops::smith_operated::<f32>();
@@ -348,12 +349,9 @@ fn main() -> ! {
     let per = |t: f64| (t - base) * ipt + 3.0;
     // known costs through the same harness (64 nops; 64 dependent VFP
     // multiply-adds), and the PID alone for the Smith predictor's breakdown
-    let (mut c1, mut plant1) = loops::smith::<f32>();
-    let (_, t_nop) = per_call(&mut c1, &mut plant1, nop_update);
-    let (mut c2, mut plant2) = loops::smith::<f32>();
-    let (_, t_pid) = per_call(&mut c2, &mut plant2, pid_update);
-    let (mut c3, mut plant3) = loops::smith::<f32>();
-    let (_, t_fma) = per_call(&mut c3, &mut plant3, fma_update);
+    let (_, _, t_nop) = measured(loops::smith::<f32>(), nop_update);
+    let (_, _, t_pid) = measured(loops::smith::<f32>(), pid_update);
+    let (_, _, t_fma) = measured(loops::smith::<f32>(), fma_update);
     // one line per function, read by scripts/firmware to compare with the
     // single-stepped count
     for (name, t) in [
@@ -398,7 +396,11 @@ fn main() -> ! {
     // the Smith predictor's f32 output at the check points, which the C
     // example's run (examples/c/smith.c) is compared with by scripts/c
     for (i, y) in y_sp.iter().enumerate() {
-        hprintln!("y smith {} {:e}", (i + 1) * (loops::SAMPLES / loops::CHECKS), y);
+        hprintln!(
+            "y smith {} {:e}",
+            (i + 1) * (loops::SAMPLES / loops::CHECKS),
+            y
+        );
     }
     hprintln!("verdict: {}", if ok { "PASS" } else { "FAIL" });
     debug::exit(if ok {
