@@ -397,6 +397,13 @@ def test_sweep_columns_and_shards() -> None:
 
 
 def test_autotune_and_identify() -> None:
+    import inspect
+
+    from msp import _msp
+
+    # the public keywords are the compiled function's
+    compiled = set(inspect.signature(_msp.autotune).parameters) - {"plant"}
+    assert set(msp.RelayOptions.__annotations__) == compiled
     out = msp.autotune("2*e^-4s/(5s+1)")
     ident = out["identified"]
     assert ident["model"] == "fopdt"

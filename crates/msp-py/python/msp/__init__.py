@@ -86,6 +86,7 @@ __all__ = [
     "PiLoop",
     "PidLoop",
     "Plant",
+    "RelayOptions",
     "Result",
     "RunOptions",
     "DesignOptions",
@@ -608,20 +609,27 @@ def sweep(
                       samples=samples, seed=seed, shard=(int(shard[0]), int(shard[1])), **kw)
 
 
+class RelayOptions(TypedDict, total=False):
+    """The keywords of :func:`autotune` (each documented there), as the compiled module reads
+    them (checked against it by the tests)."""
+
+    relay_amplitude: float
+    hysteresis: float
+    bias: float
+    noise: float
+    seed: int
+    model: str
+    controller: str
+    ts: float
+    band: float
+    duration: float
+
+
 def autotune(
     plant: PlantLike,
     *,
     delay: Optional[float] = None,
-    relay_amplitude: float = 1.0,
-    hysteresis: Optional[float] = None,
-    bias: Optional[float] = None,
-    noise: float = 0.0,
-    seed: int = 0,
-    model: Optional[str] = None,
-    controller: Optional[str] = None,
-    ts: Optional[float] = None,
-    band: float = float("inf"),
-    duration: Optional[float] = None,
+    **options: Unpack[RelayOptions],
 ) -> Dict[str, Any]:
     """Relay test on ``plant``, model identification, tuning and the closed loop, as ``msp autotune``.
 
@@ -631,16 +639,18 @@ def autotune(
         The process, as :func:`run` takes it.
     delay : float, optional
         The dead time (s) of a python-control ``plant``.
+    **options
+        The keywords of :class:`RelayOptions`:
     relay_amplitude : float, optional
-        The relay's output amplitude.
+        The relay's output amplitude (default 1).
     hysteresis : float, optional
         The relay's hysteresis (default: from the noise level).
     bias : float, optional
         A relay bias, which makes the cycle asymmetric and gives the static gain.
     noise : float, optional
-        The standard deviation of measurement noise during the test.
+        The standard deviation of measurement noise during the test (default 0).
     seed : int, optional
-        The noise seed.
+        The noise seed (default 0).
     model : str, optional
         The model to identify: ``"ipdt"``, ``"fopdt"`` or ``"sopdt"`` (default by plant kind).
     controller : str, optional
@@ -648,7 +658,7 @@ def autotune(
     ts : float, optional
         The sample period (s).
     band : float, optional
-        The safety band: the test aborts when the output leaves it.
+        The safety band: the test aborts when the output leaves it (default: none).
     duration : float, optional
         The closed-loop run's duration (s).
 
@@ -671,9 +681,7 @@ def autotune(
     >>> out["identified"]["model"]
     'fopdt'
     """
-    raw = _msp.autotune(_plant(plant, delay), relay_amplitude=relay_amplitude, hysteresis=hysteresis, bias=bias,
-                        noise=noise, seed=seed, model=model, controller=controller, ts=ts, band=band,
-                        duration=duration)
+    raw = _msp.autotune(_plant(plant, delay), **options)
     raw["run"] = Result(raw["run"])
     return raw
 
