@@ -195,6 +195,9 @@ pub trait DesignSet: Copy + Default + PartialEq + core::fmt::Debug {
     fn set(&mut self, name: &str, v: f64) -> bool;
     /// The closed-loop time constant `λ` (s), if given.
     fn lambda(&self) -> Option<f64>;
+    /// Gives the closed-loop time constant `λ` (s) (`--lambda`, which wins
+    /// over `--set lambda=`).
+    fn set_lambda(&mut self, lambda: f64);
     /// `λ/θ`, if given.
     fn alpha(&self) -> Option<f64>;
 }
@@ -244,6 +247,9 @@ macro_rules! design_struct {
             }
             fn lambda(&self) -> Option<f64> {
                 self.lambda
+            }
+            fn set_lambda(&mut self, lambda: f64) {
+                self.lambda = Some(lambda);
             }
             fn alpha(&self) -> Option<f64> {
                 self.alpha

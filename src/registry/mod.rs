@@ -208,7 +208,7 @@ impl Design {
             d.set(k, *v);
         }
         if let Some(l) = self.lambda {
-            d.set("lambda", l);
+            d.set_lambda(l);
         }
         d
     }
