@@ -289,6 +289,31 @@ pub fn samples<T: Real>(delay_s: T, ts: T) -> Result<T, Error> {
     Ok(d / ts)
 }
 
+/// `samples` as a whole number of samples, at most `room` (within
+/// rounding: 7.2 s / 0.06 s is 120.00000000000001); `what` names the
+/// predictor in the error.
+pub(crate) fn whole_samples<T: Real>(
+    samples: T,
+    room: usize,
+    what: &'static str,
+) -> Result<usize, Error> {
+    let whole = samples.round();
+    let h = whole
+        .to_usize()
+        .filter(|_| (samples - whole).abs() <= T::of(1e-6))
+        .ok_or(Error::Unsupported(what))?;
+    if h > room {
+        return Err(Error::DelayTooLong("delay"));
+    }
+    Ok(h)
+}
+
+/// `h` whole samples as a delay in `T`.
+pub(crate) fn samples_of<T: Real>(h: usize) -> Result<T, Error> {
+    let n = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
+    Ok(T::of(f64::from(n)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -210,12 +210,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     /// the integrator's balance `−k2·m + k4·m − k3·W = 0` holds for any `L`,
     /// so the filter is the one built for the new dead time.
     fn set_delay(&mut self, samples: T) -> Result<(), Error> {
-        let n = crate::dtc::fsp::whole_samples(
+        let n = crate::delay::whole_samples(
             samples,
             self.line.capacity(),
             "Åström–Hang–Lim's M takes a dead time of whole samples",
         )?;
-        let whole = crate::dtc::fsp::samples_of(n)?;
+        let whole = crate::delay::samples_of(n)?;
         let mut w = Sum::default();
         for j in 1..=n {
             w.add(self.h * self.line.peek_back(T::zero(), j));

@@ -27,10 +27,8 @@
 //! `S`); the predictor runs in `T` (`f32` or `f64`).
 
 use crate::complex::Complex;
-use crate::delay::{Delay, DelayStorage};
-use crate::dtc::fsp::{
-    buffer, model_tf, samples_of, taps_at, whole_samples, Predictor, SmallPoly, SMALL,
-};
+use crate::delay::{samples_of, whole_samples, Delay, DelayStorage};
+use crate::dtc::fsp::{buffer, model_tf, taps_at, Predictor, SmallPoly, SMALL};
 use crate::{Discretization, Error, Lti, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;

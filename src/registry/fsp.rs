@@ -37,14 +37,11 @@ pub fn tune_fsp(plant: &Tf, d: &Design) -> Tuned {
 /// The dead time of `model` in whole samples: the predictors of García et al. (2010)
 /// realize `z^{−h}` inside `S` and `F1`, so `h` must be an integer.
 pub(super) fn whole_samples(model: &Tf, ts: f64) -> Result<usize, crate::Error> {
-    let d = model.delay_samples(ts)?;
-    let h = d.round();
-    if (d - h).abs() > 1e-6 {
-        return Err(crate::Error::Unsupported(
-            "the predictor needs a dead time of a whole number of samples: choose ts = L/n",
-        ));
-    }
-    num_traits::ToPrimitive::to_usize(&h).ok_or(crate::Error::DelayTooLong("delay"))
+    crate::delay::whole_samples(
+        model.delay_samples(ts)?,
+        usize::MAX,
+        "the predictor needs a dead time of a whole number of samples: choose ts = L/n",
+    )
 }
 
 pub fn build_fsp<T: Real>(p: &Params, model: &Tf, b: &Build) -> Built<T> {

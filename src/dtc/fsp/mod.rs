@@ -162,9 +162,9 @@ pub(crate) use self::design::buffer;
 pub use self::design::{
     design, design_in, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL,
 };
+pub(crate) use self::runtime::taps_at;
 #[cfg(feature = "alloc")]
 pub use self::runtime::Plan;
-pub(crate) use self::runtime::{samples_of, taps_at, whole_samples};
 pub use self::runtime::{
     DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
 };

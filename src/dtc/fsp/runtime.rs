@@ -4,7 +4,7 @@
 use super::design::{buffer, sized, FspDesign, SMALL};
 #[cfg(feature = "alloc")]
 use super::design::{FrSpec, SmallPoly};
-use crate::delay::DelayStorage;
+use crate::delay::{samples_of, DelayStorage};
 use crate::params::ParamList;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
@@ -44,31 +44,6 @@ pub trait Predictor<T: Real> {
     fn reset(&mut self);
     /// `(Su, Sy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
-}
-
-/// `samples` as a whole number of samples, at most `room` (within
-/// rounding: 7.2 s / 0.06 s is 120.00000000000001); `what` names the
-/// predictor in the error.
-pub(crate) fn whole_samples<T: Real>(
-    samples: T,
-    room: usize,
-    what: &'static str,
-) -> Result<usize, Error> {
-    let whole = samples.round();
-    let h = whole
-        .to_usize()
-        .filter(|_| (samples - whole).abs() <= T::of(1e-6))
-        .ok_or(Error::Unsupported(what))?;
-    if h > room {
-        return Err(Error::DelayTooLong("delay"));
-    }
-    Ok(h)
-}
-
-/// `h` whole samples as a delay in `T`.
-pub(crate) fn samples_of<T: Real>(h: usize) -> Result<T, Error> {
-    let n = u32::try_from(h).map_err(|_| Error::DelayTooLong("delay"))?;
-    Ok(T::of(f64::from(n)))
 }
 
 /// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`.
@@ -438,7 +413,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
         ))?;
         const WHOLE: &str =
             "the filtered Smith predictor takes a dead time of whole samples (at least one)";
-        match whole_samples(samples, plan.max_h, WHOLE)? {
+        match crate::delay::whole_samples(samples, plan.max_h, WHOLE)? {
             0 => Err(Error::Unsupported(WHOLE)),
             h => Ok(h),
         }
