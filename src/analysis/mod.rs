@@ -36,7 +36,7 @@ use crate::{Discretization, Error, Lti};
 mod report;
 mod step;
 
-pub use report::{analyze, process_response, Analysis, MarginsReport, RegionPoint};
+pub use report::{analyze, analyze_tuned, process_response, Analysis, MarginsReport, RegionPoint};
 pub use step::{step_response, OpenLoopStep};
 
 /// Which plant view the loop uses.

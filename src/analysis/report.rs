@@ -197,15 +197,38 @@ pub fn analyze(
     view: View,
     uncertainty: Option<crate::study::Perturbation>,
 ) -> Result<Analysis, crate::study::RunError> {
+    let bare = matches!(sc.controller.as_deref().map(str::trim), None | Some("none"));
+    if bare {
+        return analysis_of(sc, &bare_gain(sc)?, true, view, uncertainty);
+    }
+    let (_, model) = sc.plant_and_model()?;
+    let inner = sc.inner_process()?;
+    let tuned = sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+    analysis_of(sc, &tuned, false, view, uncertainty)
+}
+
+/// [`analyze`] of a controller already tuned for the scenario's process
+/// (as `msp tune --uncertainty` has it), not tuned again.
+pub fn analyze_tuned(
+    sc: &crate::study::Scenario,
+    tuned: &crate::study::Tuned,
+    view: View,
+    uncertainty: Option<crate::study::Perturbation>,
+) -> Result<Analysis, crate::study::RunError> {
+    analysis_of(sc, tuned, false, view, uncertainty)
+}
+
+/// The analysis of `tuned` (`bare`: the plant alone or a pure gain).
+fn analysis_of(
+    sc: &crate::study::Scenario,
+    tuned: &crate::study::Tuned,
+    bare: bool,
+    view: View,
+    uncertainty: Option<crate::study::Perturbation>,
+) -> Result<Analysis, crate::study::RunError> {
     let (plant, model) = sc.plant_and_model()?;
     let inner = sc.inner_process()?;
-    let bare = matches!(sc.controller.as_deref().map(str::trim), None | Some("none"));
-    let tuned = if bare {
-        bare_gain(sc)?
-    } else {
-        sc.tune_for(&model, inner.as_ref().map(|(_, m)| m))?
-    };
-    let built = sc.build_tuned(&tuned, &model, inner.as_ref().map(|(_, m)| m))?;
+    let built = sc.build_tuned(tuned, &model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();
     let ts = built.ts;
     if ctrl.response(0.1).is_none() {
@@ -297,7 +320,7 @@ pub fn analyze(
     probe.disturbance.clear();
     probe.noise = None;
     let (stable, probe_note) =
-        match probe.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone()) {
+        match probe.run_tuned(tuned, plant.clone(), model.clone(), inner.clone()) {
             Ok(out) => (Some(crate::sweep::stable(&out)), None),
             Err(e) => (
                 None,

@@ -243,9 +243,8 @@ impl super::Scenario {
         )?;
         let robust_peak = match uncertainty {
             Some(u) => {
-                let mut sc = self.clone();
-                sc.controller = Some(tuned.scheme.name.to_string());
-                crate::analysis::analyze(&sc, crate::analysis::View::Discrete, Some(u))?.robust_peak
+                let view = crate::analysis::View::Discrete;
+                crate::analysis::analyze_tuned(self, &tuned, view, Some(u))?.robust_peak
             }
             None => None,
         };

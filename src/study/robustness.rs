@@ -97,7 +97,6 @@ impl Scenario {
                     .find_map(|l2| {
                         let mut sc = self.clone();
                         sc.lambda = Some(l2);
-                        sc.set.remove("lambda");
                         let t = sc.tune_for(model, None).ok()?;
                         let m = margins_of(&t)?;
                         fine(&m).then_some((l2, m.ms))
