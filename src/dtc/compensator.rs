@@ -278,9 +278,10 @@ pub struct Compensator<T, const N: usize, S> {
 
 /// The controllers a scheme of this family sets around its model: `Gc1` on
 /// the set-point error, an inner `Gc2` on the model output, and a block on
-/// the model error (Bag (2022) Fig. 4.9's structure; Karan–Dey Eqs.
-/// 4.22–4.24, Kaya–Atherton Eq. 4.18, Matausek–Micić, Draganović et al.'s
-/// estimator).
+/// the model error — the structure of the Karan–Dey MSP (Bag (2022)
+/// Fig. 4.11, Eqs. 4.22–4.24), which also holds Kaya–Atherton's PI-PD
+/// predictor (Fig. 4.10, Eq. 4.18), Matausek–Micić's (Sec. 4.4.3) and the
+/// disturbance estimator of Draganović, Stojić & Matijević (`Gc2` absent).
 #[derive(Debug, Clone)]
 pub struct Controllers<T> {
     /// `Gc1`.
