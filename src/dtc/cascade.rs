@@ -23,6 +23,7 @@
 #[cfg(feature = "alloc")]
 use alloc::vec::Vec;
 
+use super::DelayedModel;
 use crate::delay::Delay;
 #[cfg(feature = "alloc")]
 use crate::delay::DelayStorage;
@@ -196,8 +197,7 @@ pub const P2_ORDER: usize = 4;
 #[derive(Debug, Clone)]
 pub struct Imc<T, S> {
     q: Lti<T, Q_ORDER>,
-    model: Lti<T, P2_ORDER>,
-    line: Delay<T, S>,
+    model: DelayedModel<T, P2_ORDER, S>,
     u_min: T,
     u_max: T,
     error: T,
@@ -212,13 +212,10 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
         model: Lti<T, P2_ORDER>,
         line: Delay<T, S>,
     ) -> Result<Self, Error> {
-        if model.feedthrough() != T::zero() {
-            return Err(Error::Improper("inner model"));
-        }
+        let model = DelayedModel::new(model, line).map_err(|_| Error::Improper("inner model"))?;
         Ok(Imc {
             q,
             model,
-            line,
             u_min: T::neg_infinity(),
             u_max: T::infinity(),
             error: T::zero(),
@@ -239,8 +236,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     /// One sample: inner set point `r2`, secondary measurement `y2` (`None`: the
     /// model error is taken as zero).
     pub fn update(&mut self, r2: T, y2: Option<T>) -> T {
-        let ym = self.model.free_output();
-        let ymd = self.line.process(ym);
+        let (_, ymd) = self.model.predict();
         self.error = y2.map_or(T::zero(), |y| y - ymd);
         let u = self.q.step(r2 - self.error).max(self.u_min).min(self.u_max);
         self.model.advance(u);
@@ -283,7 +279,6 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     pub fn reset(&mut self) {
         self.q.reset();
         self.model.reset();
-        self.line.reset();
         self.error = T::zero();
         self.u = T::zero();
     }

@@ -26,6 +26,7 @@
 //! (Bag (2022) Eq. 4.20); the load response is shaped by `Gd`
 //! and `F` alone. Each scheme's module documents its configuration and tuning.
 
+use super::DelayedModel;
 use crate::delay::Delay;
 use crate::metrics::Sum;
 use crate::params::{ParamList, ParamSet};
@@ -259,15 +260,12 @@ pub struct Compensator<T, const N: usize, S> {
     /// beside the other flags, and the per-sample fields keep the offsets
     /// a Cortex-M's loads reach without an address computation.
     corr_integrating: bool,
-    model: Lti<T, N>,
-    delay: Delay<T, S>,
+    model: DelayedModel<T, N, S>,
     u_min: T,
     u_max: T,
     /// A finite actuator limit: the output is clamped.
     limited: bool,
     params: ParamList<T>,
-    ym: T,
-    ym_delayed: T,
     eps: T,
     u1: T,
     u3: T,
@@ -327,9 +325,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         delay: Delay<T, S>,
         params: ParamList<T>,
     ) -> Result<Self, Error> {
-        if model.output(T::one()) != model.free_output() {
-            return Err(Error::Improper("model"));
-        }
+        let model = DelayedModel::new(model, delay)?;
         Ok(Compensator {
             gc1,
             gc2: InnerPath::Off,
@@ -338,13 +334,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             corr: None,
             corr_integrating: false,
             model,
-            delay,
             u_min: T::neg_infinity(),
             u_max: T::infinity(),
             limited: false,
             params,
-            ym: T::zero(),
-            ym_delayed: T::zero(),
             eps: T::zero(),
             u1: T::zero(),
             u3: T::zero(),
@@ -483,8 +476,8 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         } else {
             self.u
         };
-        self.ym = self.model.step(drive);
-        self.delay.process(self.ym);
+        self.model.predict();
+        self.model.advance(drive);
         self.u
     }
 
@@ -501,12 +494,9 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
             return self.on_fault();
         }
         self.fault = false;
-        let ym = self.model.free_output();
-        let ym_d = self.delay.process(ym);
-        let eps = y - ym_d;
         // the signals are stored as soon as they are known: fewer live registers
-        self.ym = ym;
-        self.ym_delayed = ym_d;
+        let (ym, ym_d) = self.model.predict();
+        let eps = y - ym_d;
         self.eps = eps;
         let fed = if let ErrorPath::Direct = self.err {
             eps
@@ -560,9 +550,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
             c.reset();
         }
         self.model.reset();
-        self.delay.reset();
-        self.ym = T::zero();
-        self.ym_delayed = T::zero();
         self.eps = T::zero();
         self.u1 = T::zero();
         self.u3 = T::zero();
@@ -604,7 +591,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     }
 
     fn dead_time(&self) -> Option<T> {
-        Some(self.delay.delay())
+        Some(self.model.line().delay())
     }
 
     /// The model's line, and with it Huang's filter's line, Åström–Hang–Lim's
@@ -622,7 +609,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
             }
             (Some(m), true) => {
                 let ts = self.gc1.config().ts;
-                let (l_old, l_new) = (self.delay.delay() * ts, samples * ts);
+                let (l_old, l_new) = (self.model.line().delay() * ts, samples * ts);
                 // m(0) = Kv·L
                 let kv = m.dc_gain()? / l_old;
                 let mut fresh = Self::integrating_correction(kv, l_new, ts)?;
@@ -634,7 +621,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         };
         // Åström–Hang–Lim's M holds the dead time as a window: it moves with
         // the model (whole samples)
-        self.delay.check(samples)?;
+        self.model.line().check(samples)?;
         // Huang's F delays its output by the model's dead time too (its B
         // does not depend on it): both lines move together, or neither
         if let ErrorPath::Huang { line, .. } = &self.err {
@@ -643,7 +630,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
         if let DisturbancePath::AstromHangLim(m) = &mut self.dist {
             m.set_delay(samples)?;
         }
-        self.delay.set_delay(samples)?;
+        self.model.line_mut().set_delay(samples)?;
         if let ErrorPath::Huang { line, .. } = &mut self.err {
             line.set_delay(samples)?;
         }
@@ -664,12 +651,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
             ));
         }
         let per_sample = crate::real::positive(per_sample, "slew")?;
-        self.delay.check(samples)?;
+        self.model.line().check(samples)?;
         if let ErrorPath::Huang { line, .. } = &self.err {
             line.check(samples)?;
         }
-        self.delay.set_slew(per_sample)?;
-        self.delay.ramp_delay(samples)?;
+        let line = self.model.line_mut();
+        line.set_slew(per_sample)?;
+        line.ramp_delay(samples)?;
         if let ErrorPath::Huang { line, .. } = &mut self.err {
             line.set_slew(per_sample)?;
             line.ramp_delay(samples)?;
@@ -702,10 +690,16 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Comp
     }
 
     fn signal(&self, i: usize) -> T {
-        [self.ym, self.ym_delayed, self.eps, self.u1, self.u3]
-            .get(i)
-            .copied()
-            .unwrap_or_else(T::nan)
+        [
+            self.model.prediction(),
+            self.model.delayed_prediction(),
+            self.eps,
+            self.u1,
+            self.u3,
+        ]
+        .get(i)
+        .copied()
+        .unwrap_or_else(T::nan)
     }
 
     fn param_names(&self) -> &'static [&'static str] {
@@ -727,8 +721,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
         let one = Complex::real(T::one());
         let (g1r, g1y) = self.gc1.response(theta);
         let g2 = self.gc2.response(theta);
-        let gm = self.model.response(theta);
-        let d = Complex::delay_response(theta, self.delay.delay());
+        let (gm, d) = self.model.response(theta);
         let f = match &self.err {
             ErrorPath::Direct => one,
             ErrorPath::Blocked => Complex::default(),
@@ -761,6 +754,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     fn inner_response(&self, theta: T) -> Option<Complex<T>> {
         let g1y = self.gc1.response(theta).1;
         let g2 = self.gc2.response(theta);
-        Some(g1y.add(g2).mul(self.model.response(theta)))
+        Some(g1y.add(g2).mul(self.model.response(theta).0))
     }
 }

@@ -13,6 +13,7 @@
 //! delay this identity holds sample for sample. A fractional delay is read
 //! from the model output by linear interpolation (see [`crate::delay`]).
 
+use super::DelayedModel;
 use crate::delay::{Delay, DelayStorage};
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
@@ -23,29 +24,19 @@ use core::ops::{Add, Div, Mul, Sub};
 #[derive(Debug, Clone)]
 pub struct SmithPredictor<T, const N: usize, S> {
     pid: Pid<T>,
-    model: Lti<T, N>,
-    delay: Delay<T, S>,
-    ym: T,
-    ym_delayed: T,
+    model: DelayedModel<T, N, S>,
     model_error: T,
-    fault: bool,
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S> {
     /// A predictor from its parts. The model must be strictly proper (no direct
     /// feed-through), or the loop would be algebraic.
     pub fn new(pid: PidConfig<T>, model: Lti<T, N>, delay: Delay<T, S>) -> Result<Self, Error> {
-        if model.output(T::one()) != model.free_output() {
-            return Err(Error::Improper("model"));
-        }
+        let model = DelayedModel::new(model, delay)?;
         Ok(SmithPredictor {
             pid: Pid::new(pid)?,
             model,
-            delay,
-            ym: T::zero(),
-            ym_delayed: T::zero(),
             model_error: T::zero(),
-            fault: false,
         })
     }
 
@@ -59,15 +50,23 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S
     }
     /// Output of the delay-free model `y_m[k]` (the prediction of `y[k + d]`).
     pub fn prediction(&self) -> T {
-        self.ym
+        self.model.prediction()
     }
     /// The delayed model output `y_m[k − d]`.
     pub fn delayed_prediction(&self) -> T {
-        self.ym_delayed
+        self.model.delayed_prediction()
     }
     /// The model error `y[k] − y_m[k − d]`.
     pub fn model_error(&self) -> T {
         self.model_error
+    }
+
+    fn signals(&self) -> [T; 3] {
+        [
+            self.model.prediction(),
+            self.model.delayed_prediction(),
+            self.model_error,
+        ]
     }
 }
 
@@ -86,19 +85,15 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     // the plain one) would otherwise pay a call on the per-sample path
     #[inline(always)]
     fn update(&mut self, r: T, y: T) -> T {
-        let ym = self.model.free_output();
-        let ym_d = self.delay.process(ym);
+        let (ym, ym_d) = self.model.predict();
         let err = y - ym_d;
         // a non-finite set point or measurement reaches the PID as such (NaN
         // propagates through `ym + err`): it holds its output (or gives its
         // fail-safe value), and the model keeps running on what the actuator
         // receives, so it still tracks the plant
         let u = self.pid.update(r, ym + err);
-        self.fault = self.pid.fault();
         self.model.advance(u);
-        self.ym = ym;
-        self.ym_delayed = ym_d;
-        if !self.fault {
+        if !self.pid.fault() {
             // during a fault the error is unknown: the last one stays
             self.model_error = err;
         }
@@ -108,15 +103,12 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     fn reset(&mut self) {
         self.pid.reset();
         self.model.reset();
-        self.delay.reset();
-        self.ym = T::zero();
-        self.ym_delayed = T::zero();
         self.model_error = T::zero();
-        self.fault = false;
     }
 
+    /// The PID's: a non-finite set point or measurement.
     fn fault(&self) -> bool {
-        self.fault
+        self.pid.fault()
     }
 }
 
@@ -135,16 +127,17 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     }
 
     fn dead_time(&self) -> Option<T> {
-        Some(self.delay.delay())
+        Some(self.model.line().delay())
     }
 
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
-        self.delay.set_delay(samples)
+        self.model.line_mut().set_delay(samples)
     }
 
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
-        self.delay.set_slew(per_sample)?;
-        self.delay.ramp_delay(samples)
+        let line = self.model.line_mut();
+        line.set_slew(per_sample)?;
+        line.ramp_delay(samples)
     }
 
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
@@ -165,17 +158,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T>
     }
 
     fn signal(&self, i: usize) -> T {
-        [self.ym, self.ym_delayed, self.model_error]
-            .get(i)
-            .copied()
-            .unwrap_or_else(T::nan)
+        self.signals().get(i).copied().unwrap_or_else(T::nan)
     }
 
     fn write_signals(&self, out: &mut [T]) {
-        for (o, v) in out
-            .iter_mut()
-            .zip([self.ym, self.ym_delayed, self.model_error])
-        {
+        for (o, v) in out.iter_mut().zip(self.signals()) {
             *o = v;
         }
     }
@@ -196,14 +183,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
         use crate::Complex;
         let (g1r, g1y) = self.pid.response(theta);
-        let gm = self.model.response(theta);
-        let d = Complex::delay_response(theta, self.delay.delay());
+        let (gm, d) = self.model.response(theta);
         let one = Complex::real(T::one());
         let den = one.add(g1y.mul(gm).mul(one.sub(d)));
         Some((g1r.div(den), g1y.div(den)))
     }
 
     fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
-        Some(self.pid.response(theta).1.mul(self.model.response(theta)))
+        Some(self.pid.response(theta).1.mul(self.model.response(theta).0))
     }
 }

@@ -1,0 +1,144 @@
+//! The delay-free model of a predictor and its dead-time line.
+//!
+//! Every scheme that runs a model of the plant beside it (the Smith
+//! predictor, the compensators of the Karan–Dey family, the inner IMC loop
+//! of a cascade) needs the same two signals each sample:
+//!
+//! `y_m[k] = G_m·u` (the prediction of `y[k + d]`) and `y_m[k − d]`,
+//!
+//! the first read from the model before it is advanced (the model is
+//! strictly proper, so `y_m[k]` does not depend on `u[k]`), the second from
+//! the delay line. With a perfect model `y[k] − y_m[k − d]` is the
+//! disturbance alone (Smith's structure, Bag (2022) Eq. 4.5).
+
+use crate::delay::Delay;
+use crate::{Complex, Error, Lti, Real};
+
+/// The model `G_m` (order `≤ N`, strictly proper) and its dead time `d`
+/// (a [`Delay`] over storage `S`), with the last `y_m[k]` and `y_m[k − d]`.
+#[derive(Debug, Clone)]
+pub struct DelayedModel<T, const N: usize, S> {
+    model: Lti<T, N>,
+    line: Delay<T, S>,
+    ym: T,
+    ym_delayed: T,
+}
+
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> {
+    /// The model and its line. A model with direct feed-through is refused
+    /// (`Error::Improper("model")`): the predictor's loop would be algebraic.
+    pub fn new(model: Lti<T, N>, line: Delay<T, S>) -> Result<Self, Error> {
+        if model.feedthrough() != T::zero() {
+            return Err(Error::Improper("model"));
+        }
+        Ok(DelayedModel {
+            model,
+            line,
+            ym: T::zero(),
+            ym_delayed: T::zero(),
+        })
+    }
+
+    /// The sample's `(y_m[k], y_m[k − d])`; the line takes `y_m[k]` in.
+    /// Call [`Self::advance`] with the sample's input after it.
+    #[inline(always)]
+    pub fn predict(&mut self) -> (T, T) {
+        let ym = self.model.free_output();
+        let ym_d = self.line.process(ym);
+        self.ym = ym;
+        self.ym_delayed = ym_d;
+        (ym, ym_d)
+    }
+
+    /// Advances the model with the sample's input `u[k]`.
+    #[inline(always)]
+    pub fn advance(&mut self, u: T) {
+        self.model.advance(u);
+    }
+
+    /// Amends the last input by `du` (the plant received `u + du`).
+    pub fn amend_input(&mut self, du: T) {
+        self.model.amend_input(du);
+    }
+
+    /// `y_m[k]` of the last sample.
+    pub fn prediction(&self) -> T {
+        self.ym
+    }
+
+    /// `y_m[k − d]` of the last sample.
+    pub fn delayed_prediction(&self) -> T {
+        self.ym_delayed
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Lti<T, N> {
+        &self.model
+    }
+
+    /// The dead-time line.
+    pub fn line(&self) -> &Delay<T, S> {
+        &self.line
+    }
+
+    /// The dead-time line, mutable (a new dead time at run time).
+    pub fn line_mut(&mut self) -> &mut Delay<T, S> {
+        &mut self.line
+    }
+
+    /// `(G_m(e^{jθ}), e^{−jθd})` at the normalized frequency `θ = ωTs`.
+    pub fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        (
+            self.model.response(theta),
+            Complex::delay_response(theta, self.line.delay()),
+        )
+    }
+
+    /// Zeroes the model, the line and the stored signals.
+    pub fn reset(&mut self) {
+        self.model.reset();
+        self.line.reset();
+        self.ym = T::zero();
+        self.ym_delayed = T::zero();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{DelayLine, Discretization};
+
+    /// A first-order lag `1/(s + 1)` behind 3 samples: `y_m[k − 3]` is
+    /// `y_m[k]` three samples late, and the step response of the ZOH model
+    /// is `1 − e^{−k·Ts}` (its closed form).
+    #[test]
+    fn delayed_prediction_is_the_prediction_d_samples_late() {
+        let ts = 0.1_f64;
+        let model = Lti::<f64, 2>::from_tf(&[1.0], &[1.0, 1.0], ts, Discretization::Zoh).unwrap();
+        let line = DelayLine::<f64, 8>::new(3.0).unwrap();
+        let mut m = DelayedModel::new(model, line).unwrap();
+        let mut ym = [0.0; 20];
+        for k in 0..ym.len() {
+            let (now, late) = m.predict();
+            assert!((now - (1.0 - (-(k as f64) * ts).exp())).abs() < 1e-12);
+            ym[k] = now;
+            let want = if k >= 3 { ym[k - 3] } else { 0.0 };
+            assert_eq!(late, want);
+            m.advance(1.0);
+        }
+        m.reset();
+        assert_eq!((m.prediction(), m.delayed_prediction()), (0.0, 0.0));
+        assert_eq!(m.predict(), (0.0, 0.0));
+    }
+
+    #[test]
+    fn a_model_with_feedthrough_is_refused() {
+        let model =
+            Lti::<f64, 2>::from_tf(&[1.0, 0.0], &[1.0, 1.0], 0.1, Discretization::Zoh).unwrap();
+        let line = DelayLine::<f64, 4>::new(1.0).unwrap();
+        assert_eq!(
+            DelayedModel::new(model, line).err(),
+            Some(Error::Improper("model"))
+        );
+    }
+}
