@@ -164,22 +164,39 @@ macro_rules! param_struct {
 }
 pub(crate) use param_struct;
 
-/// A parameter struct whose fields begin with a shared prefix (the fields
-/// of a predictor's PID, of a cascade's primary controller…):
-/// `prefixed! { { prefix fields } #[doc] pub struct Name { own fields } }`.
-/// A family's macro (`tuning::pid_params!`, …) passes its prefix once.
-macro_rules! prefixed {
-    ({ $($prefix:tt)* } $(#[$meta:meta])* pub struct $name:ident { $($rest:tt)* }) => {
-        crate::params::param_struct! {
-            $(#[$meta])*
-            pub struct $name {
-                $($prefix)*
-                $($rest)*
-            }
+/// Declares a parameter struct (as [`param_struct!`]) whose fields others
+/// begin with — the gains of a predictor's PID, a cascade's primary
+/// controller — and the macro `$extend!` that declares those:
+///
+/// ```text
+/// base_struct! { $ pid_params;
+///     /// PID settings …
+///     pub struct PidGains { kp: Finite, ti: Positive, td: NonNegative, }
+/// }
+/// pid_params! { /// Huang's … pub struct HuangParams { kb: Finite, tb: Positive, } }
+/// ```
+///
+/// (`$` is passed in to write the inner macro's repetitions on stable Rust;
+/// every base field ends with a comma.)
+macro_rules! base_struct {
+    (
+        $d:tt $extend:ident;
+        $(#[$meta:meta])* pub struct $name:ident { $($fields:tt)* }
+    ) => {
+        crate::params::param_struct! { $(#[$meta])* pub struct $name { $($fields)* } }
+
+        macro_rules! $extend {
+            ($d(#[$d m:meta])* pub struct $d n:ident { $d($d rest:tt)* }) => {
+                crate::params::param_struct! {
+                    $d(#[$d m])* pub struct $d n { $($fields)* $d($d rest)* }
+                }
+            };
         }
+        #[allow(unused_imports)] // a family used only in its own module
+        pub(crate) use $extend;
     };
 }
-pub(crate) use prefixed;
+pub(crate) use base_struct;
 
 /// A scheme's design inputs: what its tuning rule reads besides the model
 /// (implemented by the crate's `design_struct!` macro). Every scheme has the

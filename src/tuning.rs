@@ -4,29 +4,18 @@ use crate::dtc::KaranDeyParams;
 use crate::real::positive;
 use crate::{Error, Ipdt, ProcessModel, Real};
 
-/// Declares a parameter struct with the fields of [`PidGains`] first (a
-/// predictor around an ISA PID), then its own.
-macro_rules! pid_params {
-    ($($item:tt)*) => {
-        crate::params::prefixed! {
-            {
-                /// Proportional gain `Kp`.
-                kp: Finite,
-                /// Integral time `Ti` (s).
-                ti: Positive,
-                /// Derivative time `Td` (s).
-                td: NonNegative,
-            }
-            $($item)*
-        }
-    };
-}
-pub(crate) use pid_params;
-
-pid_params! {
+crate::params::base_struct! { $ pid_params;
     /// PID settings in ISA form `Kp(1 + 1/(Ti s) + Td s)`; `td = 0` for PI.
-    /// The parameters of the `pid`, `smith` and `watanabe-ito` schemes.
-    pub struct PidGains {}
+    /// The parameters of the `pid`, `smith` and `watanabe-ito` schemes;
+    /// `pid_params!` declares a predictor's around an ISA PID (these first).
+    pub struct PidGains {
+        /// Proportional gain `Kp`.
+        kp: Finite,
+        /// Integral time `Ti` (s).
+        ti: Positive,
+        /// Derivative time `Td` (s).
+        td: NonNegative,
+    }
 }
 
 impl<T: Real> PidGains<T> {

@@ -36,35 +36,25 @@ use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
-/// Declares a cascade scheme's parameter struct: the fields of
-/// [`CascadePrimary`] first, then the scheme's own.
-macro_rules! cascade_params {
-    ($($item:tt)*) => {
-        crate::params::prefixed! {
-            {
-                /// Proportional gain of the primary PID.
-                kp: Finite,
-                /// Integral gain of the primary PID (1/s).
-                ki: Finite,
-                /// Derivative gain of the primary PID (s).
-                kd: Finite,
-                /// Filter time constant `τ` of the primary PID (s).
-                tau: NonNegative,
-                /// Set-point weight `ε` of the proportional term.
-                epsilon: Finite,
-                /// Inner IMC filter time constant `λ2` (s).
-                lambda2: Positive,
-            }
-            $($item)*
-        }
-    };
-}
-
-cascade_params! {
+crate::params::base_struct! { $ cascade_params;
     /// What every cascade scheme of García et al. (2010) shares: the primary
     /// series PID `(kp + ki/s + kd s)/(τ s + 1)` with set-point weight `ε`,
-    /// and the inner IMC filter time constant `λ2`.
-    pub struct CascadePrimary {}
+    /// and the inner IMC filter time constant `λ2`; `cascade_params!`
+    /// declares a cascade scheme's (these first).
+    pub struct CascadePrimary {
+        /// Proportional gain of the primary PID.
+        kp: Finite,
+        /// Integral gain of the primary PID (1/s).
+        ki: Finite,
+        /// Derivative gain of the primary PID (s).
+        kd: Finite,
+        /// Filter time constant `τ` of the primary PID (s).
+        tau: NonNegative,
+        /// Set-point weight `ε` of the proportional term.
+        epsilon: Finite,
+        /// Inner IMC filter time constant `λ2` (s).
+        lambda2: Positive,
+    }
 }
 
 cascade_params! {

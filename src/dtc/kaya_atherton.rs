@@ -12,35 +12,25 @@
 use crate::dtc::compensator::{CompensatorParams, Controllers};
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
-/// Declares a parameter struct with the fields of [`KayaAthertonParams`]
-/// first (a scheme built around this predictor), then its own.
-macro_rules! kaya_atherton_params {
-    ($($item:tt)*) => {
-        crate::params::prefixed! {
-            {
-                /// Proportional gain of `Gc1`.
-                kp: Finite,
-                /// Integral time of `Gc1` (s).
-                ti: Positive,
-                /// Gain of `Gc2`.
-                kf: Finite,
-                /// Derivative time of `Gc2` (s).
-                tf: NonNegative,
-                /// Gain of `Gc3`.
-                kb: Finite,
-                /// Lead time of `Gc3` (s).
-                td: NonNegative,
-            }
-            $($item)*
-        }
-    };
-}
-pub(crate) use kaya_atherton_params;
-
-kaya_atherton_params! {
+crate::params::base_struct! { $ kaya_atherton_params;
     /// Parameters of the PI-PD Smith predictor: `Gc1 = kp(1 + 1/(ti s))`,
-    /// `Gc2 = kf(1 + tf s)`, `Gc3 = kb(td s + 1)/(0.1 td s + 1)`.
-    pub struct KayaAthertonParams {}
+    /// `Gc2 = kf(1 + tf s)`, `Gc3 = kb(td s + 1)/(0.1 td s + 1)`;
+    /// `kaya_atherton_params!` declares a scheme's built around this
+    /// predictor (these first).
+    pub struct KayaAthertonParams {
+        /// Proportional gain of `Gc1`.
+        kp: Finite,
+        /// Integral time of `Gc1` (s).
+        ti: Positive,
+        /// Gain of `Gc2`.
+        kf: Finite,
+        /// Derivative time of `Gc2` (s).
+        tf: NonNegative,
+        /// Gain of `Gc3`.
+        kb: Finite,
+        /// Lead time of `Gc3` (s).
+        td: NonNegative,
+    }
 }
 
 /// The PI-PD Smith predictor's controllers.
