@@ -330,14 +330,14 @@ twins! {
     }
 }
 
-/// A gain of the primary PID ([`msp_retune`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum msp_gain {
-    /// The proportional gain `kp`.
-    MSP_KP = 0,
-    /// The integral time `ti` (s; `INFINITY` turns the integral off).
-    MSP_TI = 1,
-    /// The derivative time `td` (s).
-    MSP_TD = 2,
+c_enum! {
+    /// A gain of the primary PID ([`msp_retune`]).
+    msp_gain {
+        /// The proportional gain `kp`.
+        MSP_KP = 0,
+        /// The integral time `ti` (s; `INFINITY` turns the integral off).
+        MSP_TI = 1,
+        /// The derivative time `td` (s).
+        MSP_TD = 2,
+    }
 }

@@ -14,16 +14,16 @@ use msp_core::{
 
 use crate::{msp_status, report};
 
-/// The kind of process model a controller is built around.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum msp_model_kind {
-    /// First order plus dead time `k e^{−θs}/(τs + 1)`.
-    MSP_FOPDT = 0,
-    /// Integrator plus dead time `k e^{−θs}/s` (`tau` is not read).
-    MSP_IPDT = 1,
-    /// Unstable first order plus dead time `k e^{−θs}/(τs − 1)`.
-    MSP_UFOPDT = 2,
+c_enum! {
+    /// The kind of process model a controller is built around.
+    msp_model_kind {
+        /// First order plus dead time `k e^{−θs}/(τs + 1)`.
+        MSP_FOPDT = 0,
+        /// Integrator plus dead time `k e^{−θs}/s` (`tau` is not read).
+        MSP_IPDT = 1,
+        /// Unstable first order plus dead time `k e^{−θs}/(τs − 1)`.
+        MSP_UFOPDT = 2,
+    }
 }
 
 /// A process model: its kind (an `msp_model_kind`, held as an integer so

@@ -50,6 +50,17 @@ macro_rules! twins {
     (@double $t:ty | $t64:ty) => { $t64 };
 }
 
+/// Declares a C enumeration: `#[repr(C)]`, each value numbered as
+/// written (the numbers are the ABI: a new value takes a new number).
+macro_rules! c_enum {
+    ($(#[$meta:meta])* $name:ident { $($(#[$vmeta:meta])* $v:ident = $n:literal,)+ }) => {
+        $(#[$meta])*
+        #[repr(C)]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub enum $name { $($(#[$vmeta])* $v = $n,)+ }
+    };
+}
+
 mod api;
 mod handle;
 mod relay;
@@ -60,37 +71,37 @@ pub use api::*;
 pub use handle::*;
 pub use relay::*;
 
-/// The result of every call that can fail.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum msp_status {
-    /// Success.
-    MSP_OK = 0,
-    /// A pointer argument is null.
-    MSP_NULL_POINTER = 1,
-    /// The buffer is smaller than `msp_<scheme>_size` said.
-    MSP_BUFFER_TOO_SMALL = 2,
-    /// A parameter is NaN or infinite where a finite value is needed.
-    MSP_NOT_FINITE = 3,
-    /// A parameter must be greater than zero.
-    MSP_NOT_POSITIVE = 4,
-    /// A parameter must not be negative.
-    MSP_NEGATIVE = 5,
-    /// A parameter is outside its range (e.g. a model kind the scheme does
-    /// not take, or a bias at least the relay amplitude).
-    MSP_OUT_OF_RANGE = 6,
-    /// The lower actuator limit is above the upper one.
-    MSP_INVALID_LIMITS = 7,
-    /// The dead time, in samples, is longer than the buffer holds (or than
-    /// `max_dead_time_samples`).
-    MSP_DEAD_TIME_TOO_LONG = 8,
-    /// The scheme cannot be built for this model (e.g. an unstable model for
-    /// the classic Smith predictor).
-    MSP_UNSUPPORTED = 9,
-    /// A numerical step of the design failed (a singular system).
-    MSP_NUMERICAL = 10,
-    /// The handle was not made by an `msp_*_init` of this precision.
-    MSP_BAD_HANDLE = 11,
+c_enum! {
+    /// The result of every call that can fail.
+    msp_status {
+        /// Success.
+        MSP_OK = 0,
+        /// A pointer argument is null.
+        MSP_NULL_POINTER = 1,
+        /// The buffer is smaller than `msp_<scheme>_size` said.
+        MSP_BUFFER_TOO_SMALL = 2,
+        /// A parameter is NaN or infinite where a finite value is needed.
+        MSP_NOT_FINITE = 3,
+        /// A parameter must be greater than zero.
+        MSP_NOT_POSITIVE = 4,
+        /// A parameter must not be negative.
+        MSP_NEGATIVE = 5,
+        /// A parameter is outside its range (e.g. a model kind the scheme does
+        /// not take, or a bias at least the relay amplitude).
+        MSP_OUT_OF_RANGE = 6,
+        /// The lower actuator limit is above the upper one.
+        MSP_INVALID_LIMITS = 7,
+        /// The dead time, in samples, is longer than the buffer holds (or than
+        /// `max_dead_time_samples`).
+        MSP_DEAD_TIME_TOO_LONG = 8,
+        /// The scheme cannot be built for this model (e.g. an unstable model for
+        /// the classic Smith predictor).
+        MSP_UNSUPPORTED = 9,
+        /// A numerical step of the design failed (a singular system).
+        MSP_NUMERICAL = 10,
+        /// The handle was not made by an `msp_*_init` of this precision.
+        MSP_BAD_HANDLE = 11,
+    }
 }
 
 impl From<msp_core::Error> for msp_status {

@@ -202,20 +202,20 @@ same_fields!(msp_relay_result, RelayResult<f32> {
     amplitude, hysteresis, bias, t_up, t_down, period, a_max, a_min, mean_u, mean_y, cycles,
 });
 
-/// Where a relay experiment is.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum msp_relay_state {
-    /// Still oscillating.
-    MSP_RELAY_RUNNING = 0,
-    /// A settled limit cycle: the result is there, the actuator back at `u0`.
-    MSP_RELAY_DONE = 1,
-    /// No settled limit cycle within the sample budget (actuator at `u0`).
-    MSP_RELAY_TIMEOUT = 2,
-    /// The output left its safety band (actuator at `u0`).
-    MSP_RELAY_OUT_OF_BAND = 3,
-    /// A measurement was NaN or infinite (actuator at `u0`).
-    MSP_RELAY_BAD_MEASUREMENT = 4,
+c_enum! {
+    /// Where a relay experiment is.
+    msp_relay_state {
+        /// Still oscillating.
+        MSP_RELAY_RUNNING = 0,
+        /// A settled limit cycle: the result is there, the actuator back at `u0`.
+        MSP_RELAY_DONE = 1,
+        /// No settled limit cycle within the sample budget (actuator at `u0`).
+        MSP_RELAY_TIMEOUT = 2,
+        /// The output left its safety band (actuator at `u0`).
+        MSP_RELAY_OUT_OF_BAND = 3,
+        /// A measurement was NaN or infinite (actuator at `u0`).
+        MSP_RELAY_BAD_MEASUREMENT = 4,
+    }
 }
 
 /// A relay experiment built by [`msp_relay_init`] (opaque).
