@@ -98,6 +98,7 @@ typedef struct {
   msp_pid_params_float pid;
 } msp_pid_config_float;
 
+// In `float`, the device's type.
 typedef msp_pid_config_float msp_pid_config;
 
 // A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
@@ -117,6 +118,7 @@ typedef struct {
   msp_pid_params_double pid;
 } msp_pid_config_double;
 
+// In `double`, a host's type.
 typedef msp_pid_config_double msp_pid_config_f64;
 
 // A process model: its kind (an `msp_model_kind`, held as an integer so
@@ -138,6 +140,7 @@ typedef struct {
   msp_pid_params_float pid;
 } msp_smith_config_float;
 
+// In `float`, the device's type.
 typedef msp_smith_config_float msp_smith_config;
 
 // A process model: its kind (an `msp_model_kind`, held as an integer so
@@ -159,6 +162,7 @@ typedef struct {
   msp_pid_params_double pid;
 } msp_smith_config_double;
 
+// In `double`, a host's type.
 typedef msp_smith_config_double msp_smith_config_f64;
 
 // The Karan–Dey modified Smith predictor for integrating plants (Bag
@@ -177,6 +181,7 @@ typedef struct {
   float u_max;
 } msp_karan_dey_config_float;
 
+// In `float`, the device's type.
 typedef msp_karan_dey_config_float msp_karan_dey_config;
 
 // The Karan–Dey modified Smith predictor for integrating plants (Bag
@@ -195,6 +200,7 @@ typedef struct {
   double u_max;
 } msp_karan_dey_config_double;
 
+// In `double`, a host's type.
 typedef msp_karan_dey_config_double msp_karan_dey_config_f64;
 
 // The filtered Smith predictor for unstable, integrating and stable plants
@@ -208,6 +214,7 @@ typedef struct {
   float tf;
 } msp_fsp_config_float;
 
+// In `float`, the device's type.
 typedef msp_fsp_config_float msp_fsp_config;
 
 // The filtered Smith predictor for unstable, integrating and stable plants
@@ -221,6 +228,7 @@ typedef struct {
   double tf;
 } msp_fsp_config_double;
 
+// In `double`, a host's type.
 typedef msp_fsp_config_double msp_fsp_config_f64;
 
 // Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
@@ -258,14 +266,16 @@ typedef struct {
   uint32_t cycles;
 } msp_relay_result;
 
-// `float` configurations (the device's type).
+// In `float`, the device's type.
 typedef msp_model_float msp_model;
 
+// In `float`, the device's type.
 typedef msp_pid_params_float msp_pid_params;
 
+// In `double`, a host's type.
 typedef msp_pid_params_double msp_pid_params_f64;
 
-// `double` configurations (a host's type).
+// In `double`, a host's type.
 typedef msp_model_double msp_model_f64;
 
 #ifdef __cplusplus

@@ -26,95 +26,80 @@ c_enum! {
     }
 }
 
-/// A process model: its kind (an `msp_model_kind`, held as an integer so
-/// that any value a caller writes is read safely: an unknown one is
-/// `MSP_OUT_OF_RANGE`), gain `k`, time constant `tau` (s) and dead time
-/// `theta` (s).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct msp_model_of<T> {
-    pub kind: u32,
-    pub k: T,
-    pub tau: T,
-    pub theta: T,
+c_config! {
+    /// A process model: its kind (an `msp_model_kind`, held as an integer so
+    /// that any value a caller writes is read safely: an unknown one is
+    /// `MSP_OUT_OF_RANGE`), gain `k`, time constant `tau` (s) and dead time
+    /// `theta` (s).
+    msp_model_of: msp_model, msp_model_f64 {
+        kind: u32,
+        k: T,
+        tau: T,
+        theta: T,
+    }
 }
 
-/// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
-/// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
-/// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct msp_pid_params_of<T> {
-    pub kp: T,
-    pub ti: T,
-    pub td: T,
-    pub u_min: T,
-    pub u_max: T,
+c_config! {
+    /// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
+    /// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
+    /// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
+    msp_pid_params_of: msp_pid_params, msp_pid_params_f64 {
+        kp: T,
+        ti: T,
+        td: T,
+        u_min: T,
+        u_max: T,
+    }
 }
 
-/// A PID controller sampled every `ts` seconds.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct msp_pid_config_of<T> {
-    pub ts: T,
-    pub pid: msp_pid_params_of<T>,
+c_config! {
+    /// A PID controller sampled every `ts` seconds.
+    msp_pid_config_of: msp_pid_config, msp_pid_config_f64 {
+        ts: T,
+        pid: msp_pid_params_of<T>,
+    }
 }
 
-/// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
-/// model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct msp_smith_config_of<T> {
-    pub ts: T,
-    pub model: msp_model_of<T>,
-    pub pid: msp_pid_params_of<T>,
+c_config! {
+    /// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
+    /// model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
+    msp_smith_config_of: msp_smith_config, msp_smith_config_f64 {
+        ts: T,
+        model: msp_model_of<T>,
+        pid: msp_pid_params_of<T>,
+    }
 }
 
-/// The Karan–Dey modified Smith predictor for integrating plants (Bag
-/// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
-/// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct msp_karan_dey_config_of<T> {
-    pub ts: T,
-    pub model: msp_model_of<T>,
-    pub kp: T,
-    pub ti: T,
-    pub beta: T,
-    pub gamma: T,
-    pub td: T,
-    pub n: T,
-    pub u_min: T,
-    pub u_max: T,
+c_config! {
+    /// The Karan–Dey modified Smith predictor for integrating plants (Bag
+    /// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
+    /// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
+    msp_karan_dey_config_of: msp_karan_dey_config, msp_karan_dey_config_f64 {
+        ts: T,
+        model: msp_model_of<T>,
+        kp: T,
+        ti: T,
+        beta: T,
+        gamma: T,
+        td: T,
+        n: T,
+        u_min: T,
+        u_max: T,
+    }
 }
 
-/// The filtered Smith predictor for unstable, integrating and stable plants
-/// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
-/// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
-/// `Fr` and `S` designed at initialization (in double precision).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct msp_fsp_config_of<T> {
-    pub ts: T,
-    pub model: msp_model_of<T>,
-    pub pid: msp_pid_params_of<T>,
-    pub tf: T,
+c_config! {
+    /// The filtered Smith predictor for unstable, integrating and stable plants
+    /// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
+    /// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
+    /// `Fr` and `S` designed at initialization (in double precision).
+    msp_fsp_config_of: msp_fsp_config, msp_fsp_config_f64 {
+        ts: T,
+        model: msp_model_of<T>,
+        pid: msp_pid_params_of<T>,
+        tf: T,
+    }
 }
-
-/// `float` configurations (the device's type).
-pub type msp_model = msp_model_of<f32>;
-pub type msp_pid_params = msp_pid_params_of<f32>;
-pub type msp_pid_config = msp_pid_config_of<f32>;
-pub type msp_smith_config = msp_smith_config_of<f32>;
-pub type msp_karan_dey_config = msp_karan_dey_config_of<f32>;
-pub type msp_fsp_config = msp_fsp_config_of<f32>;
-/// `double` configurations (a host's type).
-pub type msp_model_f64 = msp_model_of<f64>;
-pub type msp_pid_params_f64 = msp_pid_params_of<f64>;
-pub type msp_pid_config_f64 = msp_pid_config_of<f64>;
-pub type msp_smith_config_f64 = msp_smith_config_of<f64>;
-pub type msp_karan_dey_config_f64 = msp_karan_dey_config_of<f64>;
-pub type msp_fsp_config_f64 = msp_fsp_config_of<f64>;
 
 /// A `float` controller built by an `msp_*_init` call (opaque).
 pub struct msp_controller {

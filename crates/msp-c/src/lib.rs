@@ -61,6 +61,26 @@ macro_rules! c_enum {
     };
 }
 
+/// Declares a C configuration struct `name_of<T>` (`#[repr(C)]`, every
+/// field public) and its two precisions: `name` in `float` (the device's
+/// type) and `name_f64` in `double` (a host's).
+macro_rules! c_config {
+    (
+        $(#[$meta:meta])*
+        $generic:ident: $float:ident, $double:ident { $($field:ident: $t:ty,)+ }
+    ) => {
+        $(#[$meta])*
+        #[repr(C)]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct $generic<T> { $(pub $field: $t,)+ }
+
+        /// In `float`, the device's type.
+        pub type $float = $generic<f32>;
+        /// In `double`, a host's type.
+        pub type $double = $generic<f64>;
+    };
+}
+
 mod api;
 mod handle;
 mod relay;
