@@ -225,9 +225,9 @@ pub trait DesignSet: Copy + Default + PartialEq + core::fmt::Debug {
 /// ```text
 /// design_struct! {
 ///     /// Design inputs of …
-///     pub struct HuangTuning {
-///         /// Gain of `B` (default 0.05).
-///         kb,
+///     pub struct GpccTuning {
+///         /// Time constant of `Fk` (s); default …
+///         tk,
 ///     }
 /// }
 /// ```

@@ -17,23 +17,15 @@ use crate::{Error, Lti, Pid, PidConfig, Real};
 
 crate::tuning::pid_params! {
     /// Parameters of the filtered Smith predictor: the PID and the lead-lag
-    /// filter `F = (1 + a·s)/(1 + b·s)` on the model error.
+    /// filter `F = (1 + a·s)/(1 + b·s)` on the model error (Normey-Rico &
+    /// Camacho's filter). The PID's design does not read `F`: the tuning
+    /// gives the MathWorks example's defaults, and `--set a=…` replaces them.
     pub struct FilteredSmithParams {
-        /// Lead time constant `a` of `F` (s).
+        /// Lead time constant `a` of `F` (s); tuned: 0.
         a: NonNegative,
-        /// Lag time constant `b` of `F` (s); `a = b = 0`: no filter.
+        /// Lag time constant `b` of `F` (s), tuned: half the model's dominant
+        /// lag; `a = b = 0`: no filter.
         b: NonNegative,
-    }
-}
-
-crate::params::design_struct! {
-    /// Design inputs of the filtered Smith predictor (Normey-Rico & Camacho's
-    /// filter on the model error; defaults of the MathWorks example).
-    pub struct FilteredSmithTuning {
-        /// Lead `a` of `F` (s); default 0.
-        a,
-        /// Lag `b` of `F` (s); default half the model's dominant lag.
-        b,
     }
 }
 

@@ -20,22 +20,14 @@ use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
 crate::tuning::pid_params! {
     /// Parameters of Huang's predictor: the PID and `B = kb/(tb·s + 1)`.
+    /// The PID's design does not read `B`: the tuning gives the MathWorks
+    /// example's (`B = 0.05/(40 s + 1)` for the 40.2 s lag), and `--set kb=…`
+    /// replaces it.
     pub struct HuangParams {
-        /// Gain of `B`.
+        /// Gain of `B`; tuned: 0.05.
         kb: Finite,
-        /// Time constant of `B` (s).
+        /// Time constant of `B` (s); tuned: the model's dominant lag.
         tb: Positive,
-    }
-}
-
-crate::params::design_struct! {
-    /// Design inputs of Huang's predictor (defaults of the MathWorks example:
-    /// `B = 0.05/(40 s + 1)` for the 40.2 s lag).
-    pub struct HuangTuning {
-        /// Gain of `B`; default 0.05.
-        kb,
-        /// Time constant of `B` (s); default the model's dominant lag.
-        tb,
     }
 }
 

@@ -23,9 +23,9 @@ use crate::dtc::cascade::{
     UmaParams, UmaTuning,
 };
 use crate::dtc::disturbance_estimator::{DisturbanceEstimatorParams, DisturbanceEstimatorTuning};
-use crate::dtc::filtered_smith::{FilteredSmithParams, FilteredSmithTuning};
+use crate::dtc::filtered_smith::FilteredSmithParams;
 use crate::dtc::fsp::{FspParams, FspTuning};
-use crate::dtc::huang::{HuangParams, HuangTuning};
+use crate::dtc::huang::HuangParams;
 use crate::dtc::kaya_atherton::KayaAthertonParams;
 use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
 use crate::dtc::KaranDeyParams;
@@ -424,11 +424,11 @@ pub static SCHEMES: &[Scheme] = schemes! {
         Single(smith::tune_smith, by_order!(smith::build_smith), None)
         "classic Smith predictor; PI/PID by Kaya 2003 (lambda = L), IMC-PI for integrating plants"
         "Kaya (2003) Eqs. 18-33";
-    "filtered-smith" [] STABLE FilteredSmithParams FilteredSmithTuning
+    "filtered-smith" [] STABLE FilteredSmithParams LambdaTuning
         Single(smith::tune_filtered_smith, by_order!(smith::build_filtered_smith), None)
         "Smith predictor with a filter F = (1 + a s)/(1 + b s) on the model error"
         "the MathWorks Smith predictor example";
-    "huang" [] STABLE HuangParams HuangTuning
+    "huang" [] STABLE HuangParams LambdaTuning
         Single(smith::tune_huang, by_order!(smith::build_huang), None)
         "Smith predictor with Huang's approximate inverse of dead time F = (1+B)/(1+B e^-Ls)"
         "the MathWorks Smith predictor example";

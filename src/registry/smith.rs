@@ -5,8 +5,8 @@ use alloc::boxed::Box;
 
 use super::common::*;
 use super::{Build, Design, Params};
-use crate::dtc::filtered_smith::{FilteredSmithParams, FilteredSmithTuning};
-use crate::dtc::huang::{HuangParams, HuangTuning};
+use crate::dtc::filtered_smith::FilteredSmithParams;
+use crate::dtc::huang::HuangParams;
 use crate::dtc::{self, SmithPredictor};
 use crate::poly::TransferFunction;
 use crate::tuning::LambdaTuning;
@@ -56,13 +56,10 @@ fn dominant_lag(m: &ProcessModel<f64>) -> f64 {
 
 pub fn tune_filtered_smith(plant: &Tf, d: &Design) -> Tuned {
     // the MathWorks Smith predictor example: λ = 12.5 s for L = 93.9 s (bandwidth 0.08 rad/s) → λ = L/7.5
-    let t: FilteredSmithTuning = d.typed();
-    let (g, lambda, m) = primary_gains(plant, &t, 1.0 / 7.5)?;
-    let b = t.b.unwrap_or(0.5 * dominant_lag(&m));
-    let a = t.a.unwrap_or(0.0);
+    let (g, lambda, m) = primary_gains(plant, &d.typed::<LambdaTuning>(), 1.0 / 7.5)?;
     let p = FilteredSmithParams {
-        a,
-        b,
+        a: 0.0,
+        b: 0.5 * dominant_lag(&m),
         ..Default::default()
     }
     .with_fields_of(&g);
@@ -81,13 +78,10 @@ pub fn build_filtered_smith<T: Real, const N: usize>(
 
 pub fn tune_huang(plant: &Tf, d: &Design) -> Tuned {
     // the MathWorks Smith predictor example: Kp = 0.144 (λ ≈ 50 s ≈ L/2), B = 0.05/(40 s + 1)
-    let t: HuangTuning = d.typed();
-    let (g, lambda, m) = primary_gains(plant, &t, 0.5)?;
-    let kb = t.kb.unwrap_or(0.05);
-    let tb = t.tb.unwrap_or(dominant_lag(&m));
+    let (g, lambda, m) = primary_gains(plant, &d.typed::<LambdaTuning>(), 0.5)?;
     let p = HuangParams {
-        kb,
-        tb,
+        kb: 0.05,
+        tb: dominant_lag(&m),
         ..Default::default()
     }
     .with_fields_of(&g);

@@ -117,10 +117,11 @@ def test_every_registry_scheme_has_a_class() -> None:
 
 
 def test_controllers_list_their_design_keys() -> None:
-    # a design key changes the tuning: lambda of the default Smith predictor
     by_name = {c["name"]: c for c in msp.controllers()}
-    assert by_name["filtered-smith"]["design"] == ["lambda", "alpha", "a", "b"]
-    assert by_name["smith"]["design"][:2] == ["lambda", "alpha"]
+    assert by_name["gpcc"]["design"] == ["lambda", "alpha", "lambda2", "epsilon", "tk"]
+    # F's a and b are parameters (the PI's design does not read them): a
+    # value given replaces the tuned one
+    assert by_name["filtered-smith"]["design"] == ["lambda", "alpha"]
     base = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith")["controller"]["params"]
     tuned = msp.tune("5.6*e^-93.9s/(40.2s+1)", "filtered-smith", params={"b": 7.0})["controller"]["params"]
     assert tuned["b"] == 7.0 and base["b"] != 7.0
