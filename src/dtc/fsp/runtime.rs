@@ -46,46 +46,22 @@ pub trait Predictor<T: Real> {
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
 }
 
-/// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`.
-pub trait Primary<T: Real> {
-    /// One sample (a non-finite `y` holds the output).
-    fn update(&mut self, r: T, y: T) -> T;
-    /// Zeroes every state.
-    fn reset(&mut self);
+/// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`,
+/// run and operated as any controller (a non-finite `ŷ` holds the output
+/// and is a fault), with its response and last output.
+pub trait Primary<T: Real>: crate::Operate<T> {
     /// `(Cr, Cy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
     /// The last output.
     fn output(&self) -> T;
-    /// Amends the last update as if the output had been `applied`
-    /// (see [`crate::Operate::apply`]).
-    fn apply(&mut self, applied: T, how: crate::Tracking);
-    /// Changes a gain while running (see [`crate::Operate::retune`]).
-    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
-        let _ = (gain, value);
-        Err(Error::Unsupported(
-            "this primary controller is a designed filter, not a PID: rebuild it",
-        ))
-    }
 }
 
 impl<T: Real> Primary<T> for Pid<T> {
-    fn update(&mut self, r: T, y: T) -> T {
-        Pid::update(self, r, y)
-    }
-    fn reset(&mut self) {
-        Pid::reset(self)
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        Pid::response(self, theta)
     }
     fn output(&self) -> T {
         Pid::output(self)
-    }
-    fn apply(&mut self, applied: T, how: crate::Tracking) {
-        Pid::apply(self, applied, how);
-    }
-    fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
-        Pid::retune(self, gain, value)
-    }
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        Pid::response(self, theta)
     }
 }
 
@@ -99,18 +75,25 @@ pub struct Matched2Dof<T> {
     f: Lti<T, 4>,
     k: Lti<T, 4>,
     u: T,
+    fault: bool,
 }
 
 impl<T: Real> Matched2Dof<T> {
     /// From the discrete prefilter `f` and controller `k`.
     pub fn new(f: Lti<T, 4>, k: Lti<T, 4>) -> Self {
-        Matched2Dof { f, k, u: T::zero() }
+        Matched2Dof {
+            f,
+            k,
+            u: T::zero(),
+            fault: false,
+        }
     }
 }
 
-impl<T: Real> Primary<T> for Matched2Dof<T> {
+impl<T: Real> crate::Controller<T> for Matched2Dof<T> {
     fn update(&mut self, r: T, y: T) -> T {
-        if !(r.is_finite() && y.is_finite()) {
+        self.fault = !(r.is_finite() && y.is_finite());
+        if self.fault {
             return self.u;
         }
         let rf = self.f.step(r);
@@ -121,10 +104,14 @@ impl<T: Real> Primary<T> for Matched2Dof<T> {
         self.f.reset();
         self.k.reset();
         self.u = T::zero();
+        self.fault = false;
     }
-    fn output(&self) -> T {
-        self.u
+    fn fault(&self) -> bool {
+        self.fault
     }
+}
+
+impl<T: Real> crate::Operate<T> for Matched2Dof<T> {
     /// `K`'s state moves so that its output continues from `applied` (as a
     /// PID's integrator is set in manual mode).
     fn apply(&mut self, applied: T, _how: crate::Tracking) {
@@ -132,9 +119,20 @@ impl<T: Real> Primary<T> for Matched2Dof<T> {
             self.u = applied;
         }
     }
+    fn retune(&mut self, _gain: crate::operate::Gain, _value: T) -> Result<(), Error> {
+        Err(Error::Unsupported(
+            "this primary controller is a designed filter, not a PID: rebuild it",
+        ))
+    }
+}
+
+impl<T: Real> Primary<T> for Matched2Dof<T> {
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         let k = self.k.response(theta);
         (k * self.f.response(theta), k)
+    }
+    fn output(&self) -> T {
+        self.u
     }
 }
 
@@ -471,7 +469,6 @@ pub struct Predicted<T, P, K = Pid<T>> {
     pred: P,
     params: ParamList<T>,
     yhat: T,
-    fault: bool,
     /// A dead time on its way to a target ([`crate::Operate::ramp_dead_time`]).
     ramp: Option<Ramp<T>>,
 }
@@ -514,7 +511,6 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
             pred,
             params,
             yhat: T::zero(),
-            fault: false,
             ramp: None,
         }
     }
@@ -556,8 +552,8 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
 impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, K> {
     fn update(&mut self, r: T, y: T) -> T {
         if !(r.is_finite() && y.is_finite()) {
-            // the output is held; the predictor keeps following the actuator
-            self.fault = true;
+            // the output is held (the primary's fault); the predictor keeps
+            // following the actuator
             self.pred.predict_held();
             let u = self.k.update(r, T::nan());
             self.pred.commit(u);
@@ -566,7 +562,6 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, 
             }
             return u;
         }
-        self.fault = false;
         let yhat = self.pred.predict(y);
         let u = self.k.update(r, yhat);
         self.pred.commit(u);
@@ -581,11 +576,11 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, 
         self.k.reset();
         self.pred.reset();
         self.yhat = T::zero();
-        self.fault = false;
     }
 
+    /// The primary's: a non-finite set point or measurement.
     fn fault(&self) -> bool {
-        self.fault
+        self.k.fault()
     }
 }
 
