@@ -190,7 +190,7 @@ pub struct Imc<T, S> {
     model: DelayedModel<T, P2_ORDER, S>,
     u_min: T,
     u_max: T,
-    error: T,
+    r2: T,
     u: T,
 }
 
@@ -208,7 +208,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
             model,
             u_min: T::neg_infinity(),
             u_max: T::infinity(),
-            error: T::zero(),
+            r2: T::zero(),
             u: T::zero(),
         })
     }
@@ -226,10 +226,17 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     /// One sample: inner set point `r2`, secondary measurement `y2` (`None`: the
     /// model error is taken as zero).
     pub fn update(&mut self, r2: T, y2: Option<T>) -> T {
-        let (_, ymd) = self.model.predict();
-        self.error = y2.map_or(T::zero(), |y| y - ymd);
-        let u = self.q.step(r2 - self.error).max(self.u_min).min(self.u_max);
+        // without the secondary measurement the model is taken as exact
+        let error = match y2 {
+            Some(y) => self.model.predict(y).1,
+            None => {
+                self.model.predict_exact();
+                T::zero()
+            }
+        };
+        let u = self.q.step(r2 - error).max(self.u_min).min(self.u_max);
         self.model.advance(u);
+        self.r2 = r2;
         self.u = u;
         u
     }
@@ -237,27 +244,29 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     /// Amends the last update as if the loop's output had been `applied`:
     /// the model follows it, and `Q`'s last input moves by
     /// `(applied − u)/Q(∞)` so that `Q`'s output was `applied` too (`Q` is
-    /// biproper). Returns that change of the inner set point `r2`.
-    pub fn apply(&mut self, applied: T) -> T {
+    /// biproper): the inner set point `r2` that gives it.
+    pub fn apply(&mut self, applied: T) {
         if !(applied.is_finite() && self.u.is_finite()) {
-            return T::zero();
+            return;
         }
         self.model.amend_input(applied - self.u);
         let d = self.q.feedthrough();
-        let dr2 = if d != T::zero() {
+        if d != T::zero() {
             let dv = (applied - self.u) / d;
             self.q.amend_input(dv);
-            dv
-        } else {
-            T::zero()
-        };
+            self.r2 = self.r2 + dv;
+        }
         self.u = applied;
-        dr2
+    }
+
+    /// The inner set point `r2` of the last sample.
+    pub fn setpoint(&self) -> T {
+        self.r2
     }
 
     /// The model error `y2 − P2m z^{−d2} u` of the last sample.
     pub fn error(&self) -> T {
-        self.error
+        self.model.error()
     }
 
     /// `Q(e^{jθ})`.
@@ -269,7 +278,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     pub fn reset(&mut self) {
         self.q.reset();
         self.model.reset();
-        self.error = T::zero();
+        self.r2 = T::zero();
         self.u = T::zero();
     }
 }
@@ -510,7 +519,6 @@ pub struct Cascade<T, O, S> {
     outer: O,
     inner: Imc<T, S>,
     names: &'static [&'static str],
-    r2: T,
     fault: bool,
 }
 
@@ -525,7 +533,6 @@ impl<T: Real, O, S> Cascade<T, O, S> {
             outer,
             inner,
             names,
-            r2: T::zero(),
             fault: false,
         }
     }
@@ -541,9 +548,9 @@ impl<T: Real, O, S> Cascade<T, O, S> {
 
 impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Cascade<T, O, S> {
     fn step(&mut self, r: T, y: T, y2: Option<T>) -> T {
-        self.r2 = self.outer.update(r, y);
+        let r2 = self.outer.update(r, y);
         let y2 = y2.filter(|v| v.is_finite());
-        let u = self.inner.update(self.r2, y2);
+        let u = self.inner.update(r2, y2);
         self.fault = self.outer.fault() || y2.is_none();
         u
     }
@@ -560,7 +567,6 @@ impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Ca
     fn reset(&mut self) {
         self.outer.reset();
         self.inner.reset();
-        self.r2 = T::zero();
         self.fault = false;
     }
 
@@ -575,9 +581,8 @@ impl<T: Real, O: crate::Operate<T>, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T
     /// The inner loop follows `applied` (its model and `Q`), and the outer
     /// controller the inner set point that gives it.
     fn apply(&mut self, applied: T, how: crate::Tracking) {
-        let dr2 = self.inner.apply(applied);
-        self.r2 = self.r2 + dr2;
-        self.outer.apply(self.r2, how);
+        self.inner.apply(applied);
+        self.outer.apply(self.inner.setpoint(), how);
     }
 
     /// The outer controller's gains.
@@ -618,7 +623,7 @@ impl<T: Real, O: Introspect<T>, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Ca
 
     fn signal(&self, i: usize) -> T {
         match i {
-            0 => self.r2,
+            0 => self.inner.setpoint(),
             1 => self.inner.error(),
             _ => self.outer.signal(i.saturating_sub(SIGNALS.len())),
         }

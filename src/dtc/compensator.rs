@@ -266,7 +266,6 @@ pub struct Compensator<T, const N: usize, S> {
     /// A finite actuator limit: the output is clamped.
     limited: bool,
     params: ParamList<T>,
-    eps: T,
     u1: T,
     u3: T,
     u: T,
@@ -338,7 +337,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             u_max: T::infinity(),
             limited: false,
             params,
-            eps: T::zero(),
             u1: T::zero(),
             u3: T::zero(),
             u: T::zero(),
@@ -466,7 +464,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
     /// value given); the model keeps following what the plant receives.
     #[cold]
     #[inline(never)]
-    fn on_fault(&mut self) -> T {
+    fn on_fault(&mut self, y: T) -> T {
         self.fault = true;
         if let Some(f) = self.failsafe {
             self.u = f;
@@ -476,7 +474,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
         } else {
             self.u
         };
-        self.model.predict();
+        self.model.predict(y);
         self.model.advance(drive);
         self.u
     }
@@ -491,13 +489,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
     fn update(&mut self, r: T, y: T) -> T {
         // NaN or ±∞ in r or y (or a difference beyond the float range)
         if !(r - y).is_finite() {
-            return self.on_fault();
+            return self.on_fault(y);
         }
         self.fault = false;
-        // the signals are stored as soon as they are known: fewer live registers
-        let (ym, ym_d) = self.model.predict();
-        let eps = y - ym_d;
-        self.eps = eps;
+        // y is finite (r − y is)
+        let (ym, eps) = self.model.predict_finite(y);
         let fed = if let ErrorPath::Direct = self.err {
             eps
         } else {
@@ -550,7 +546,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
             c.reset();
         }
         self.model.reset();
-        self.eps = T::zero();
         self.u1 = T::zero();
         self.u3 = T::zero();
         self.u = T::zero();
@@ -690,16 +685,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Comp
     }
 
     fn signal(&self, i: usize) -> T {
-        [
-            self.model.prediction(),
-            self.model.delayed_prediction(),
-            self.eps,
-            self.u1,
-            self.u3,
-        ]
-        .get(i)
-        .copied()
-        .unwrap_or_else(T::nan)
+        let [ym, ym_delayed, eps] = self.model.signals();
+        [ym, ym_delayed, eps, self.u1, self.u3]
+            .get(i)
+            .copied()
+            .unwrap_or_else(T::nan)
     }
 
     fn param_names(&self) -> &'static [&'static str] {

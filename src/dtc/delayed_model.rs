@@ -2,26 +2,33 @@
 //!
 //! Every scheme that runs a model of the plant beside it (the Smith
 //! predictor, the compensators of the Karan–Dey family, the inner IMC loop
-//! of a cascade) needs the same two signals each sample:
+//! of a cascade) needs the same signals each sample:
 //!
-//! `y_m[k] = G_m·u` (the prediction of `y[k + d]`) and `y_m[k − d]`,
+//! `y_m[k] = G_m·u` (the prediction of `y[k + d]`), `y_m[k − d]` and the
+//! model error `ε[k] = y[k] − y_m[k − d]`,
 //!
 //! the first read from the model before it is advanced (the model is
 //! strictly proper, so `y_m[k]` does not depend on `u[k]`), the second from
-//! the delay line. With a perfect model `y[k] − y_m[k − d]` is the
-//! disturbance alone (Smith's structure, Bag (2022) Eq. 4.5).
+//! the delay line. With a perfect model `ε` is the disturbance's effect
+//! alone (Smith's structure, Bag (2022) Eq. 4.5).
 
 use crate::delay::Delay;
 use crate::{Complex, Error, Lti, Real};
 
 /// The model `G_m` (order `≤ N`, strictly proper) and its dead time `d`
-/// (a [`Delay`] over storage `S`), with the last `y_m[k]` and `y_m[k − d]`.
+/// (a [`Delay`] over storage `S`), with the last `y_m[k]`, `y_m[k − d]` and `ε[k]`.
+///
+/// `repr(C)`, the signals first: a line over an array is stored in place,
+/// and the per-sample stores stay within the short offsets a Cortex-M's
+/// load and store instructions reach from the block's address.
 #[derive(Debug, Clone)]
+#[repr(C)]
 pub struct DelayedModel<T, const N: usize, S> {
-    model: Lti<T, N>,
-    line: Delay<T, S>,
     ym: T,
     ym_delayed: T,
+    error: T,
+    model: Lti<T, N>,
+    line: Delay<T, S>,
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> {
@@ -36,13 +43,46 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
             line,
             ym: T::zero(),
             ym_delayed: T::zero(),
+            error: T::zero(),
         })
     }
 
-    /// The sample's `(y_m[k], y_m[k − d])`; the line takes `y_m[k]` in.
-    /// Call [`Self::advance`] with the sample's input after it.
+    /// The sample's `(y_m[k], ε[k])` for the measurement `y[k]`; the line
+    /// takes `y_m[k]` in. A non-finite `y` gives a non-finite `ε` to the
+    /// caller, and the stored error keeps its last finite value (the state
+    /// and the reported signals never hold a NaN). Call [`Self::advance`]
+    /// with the sample's input after it.
     #[inline(always)]
-    pub fn predict(&mut self) -> (T, T) {
+    pub fn predict(&mut self, y: T) -> (T, T) {
+        let (ym, ym_d) = self.read();
+        let error = y - ym_d;
+        if error.is_finite() {
+            self.error = error;
+        }
+        (ym, error)
+    }
+
+    /// [`Self::predict`] for a caller that has checked that `y` is finite:
+    /// the error is stored as it is, one test less on the per-sample path.
+    #[inline(always)]
+    pub fn predict_finite(&mut self, y: T) -> (T, T) {
+        let (ym, ym_d) = self.read();
+        let error = y - ym_d;
+        self.error = error;
+        (ym, error)
+    }
+
+    /// The sample's `y_m[k]` without a measurement: the model is taken as
+    /// exact (`ε[k] = 0`).
+    #[inline(always)]
+    pub fn predict_exact(&mut self) -> T {
+        self.error = T::zero();
+        self.read().0
+    }
+
+    /// `(y_m[k], y_m[k − d])`, stored; the line takes `y_m[k]` in.
+    #[inline(always)]
+    fn read(&mut self) -> (T, T) {
         let ym = self.model.free_output();
         let ym_d = self.line.process(ym);
         self.ym = ym;
@@ -69,6 +109,16 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
     /// `y_m[k − d]` of the last sample.
     pub fn delayed_prediction(&self) -> T {
         self.ym_delayed
+    }
+
+    /// `ε = y − y_m[k − d]` of the last sample.
+    pub fn error(&self) -> T {
+        self.error
+    }
+
+    /// `[y_m[k], y_m[k − d], ε[k]]`: the signals a predictor reports.
+    pub fn signals(&self) -> [T; 3] {
+        [self.ym, self.ym_delayed, self.error]
     }
 
     /// The model.
@@ -100,6 +150,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
         self.line.reset();
         self.ym = T::zero();
         self.ym_delayed = T::zero();
+        self.error = T::zero();
     }
 }
 
@@ -109,8 +160,8 @@ mod tests {
     use crate::{DelayLine, Discretization};
 
     /// A first-order lag `1/(s + 1)` behind 3 samples: `y_m[k − 3]` is
-    /// `y_m[k]` three samples late, and the step response of the ZOH model
-    /// is `1 − e^{−k·Ts}` (its closed form).
+    /// `y_m[k]` three samples late, the step response of the ZOH model is
+    /// `1 − e^{−k·Ts}` (its closed form), and `ε = y − y_m[k − 3]`.
     #[test]
     fn delayed_prediction_is_the_prediction_d_samples_late() {
         let ts = 0.1_f64;
@@ -118,17 +169,27 @@ mod tests {
         let line = DelayLine::<f64, 8>::new(3.0).unwrap();
         let mut m = DelayedModel::new(model, line).unwrap();
         let mut ym = [0.0; 20];
+        let mut last = 0.0;
         for k in 0..ym.len() {
-            let (now, late) = m.predict();
+            let (now, error) = m.predict(0.5);
             assert!((now - (1.0 - (-(k as f64) * ts).exp())).abs() < 1e-12);
             ym[k] = now;
-            let want = if k >= 3 { ym[k - 3] } else { 0.0 };
-            assert_eq!(late, want);
+            let late = if k >= 3 { ym[k - 3] } else { 0.0 };
+            assert_eq!(m.delayed_prediction(), late);
+            assert_eq!(error, 0.5 - late);
+            assert_eq!(m.signals(), [now, late, error]);
+            last = error;
             m.advance(1.0);
         }
+        let (_, nan) = m.predict(f64::NAN);
+        assert!(nan.is_nan());
+        assert!(m.signals().iter().all(|v| v.is_finite()));
+        assert_eq!(m.error(), last);
+        assert_eq!(m.predict_exact(), m.prediction());
+        assert_eq!(m.error(), 0.0);
         m.reset();
-        assert_eq!((m.prediction(), m.delayed_prediction()), (0.0, 0.0));
-        assert_eq!(m.predict(), (0.0, 0.0));
+        assert_eq!(m.signals(), [0.0; 3]);
+        assert_eq!(m.predict(1.0), (0.0, 1.0));
     }
 
     #[test]

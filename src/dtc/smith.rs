@@ -25,7 +25,6 @@ use core::ops::{Add, Div, Mul, Sub};
 pub struct SmithPredictor<T, const N: usize, S> {
     pid: Pid<T>,
     model: DelayedModel<T, N, S>,
-    model_error: T,
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S> {
@@ -36,7 +35,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S
         Ok(SmithPredictor {
             pid: Pid::new(pid)?,
             model,
-            model_error: T::zero(),
         })
     }
 
@@ -56,17 +54,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S
     pub fn delayed_prediction(&self) -> T {
         self.model.delayed_prediction()
     }
-    /// The model error `y[k] − y_m[k − d]`.
+    /// The model error `y[k] − y_m[k − d]` (not finite while the
+    /// measurement is not).
     pub fn model_error(&self) -> T {
-        self.model_error
-    }
-
-    fn signals(&self) -> [T; 3] {
-        [
-            self.model.prediction(),
-            self.model.delayed_prediction(),
-            self.model_error,
-        ]
+        self.model.error()
     }
 }
 
@@ -85,25 +76,19 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     // the plain one) would otherwise pay a call on the per-sample path
     #[inline(always)]
     fn update(&mut self, r: T, y: T) -> T {
-        let (ym, ym_d) = self.model.predict();
-        let err = y - ym_d;
+        let (ym, err) = self.model.predict(y);
         // a non-finite set point or measurement reaches the PID as such (NaN
         // propagates through `ym + err`): it holds its output (or gives its
         // fail-safe value), and the model keeps running on what the actuator
         // receives, so it still tracks the plant
         let u = self.pid.update(r, ym + err);
         self.model.advance(u);
-        if !self.pid.fault() {
-            // during a fault the error is unknown: the last one stays
-            self.model_error = err;
-        }
         u
     }
 
     fn reset(&mut self) {
         self.pid.reset();
         self.model.reset();
-        self.model_error = T::zero();
     }
 
     /// The PID's: a non-finite set point or measurement.
@@ -158,11 +143,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T>
     }
 
     fn signal(&self, i: usize) -> T {
-        self.signals().get(i).copied().unwrap_or_else(T::nan)
+        self.model.signals().get(i).copied().unwrap_or_else(T::nan)
     }
 
     fn write_signals(&self, out: &mut [T]) {
-        for (o, v) in out.iter_mut().zip(self.signals()) {
+        for (o, v) in out.iter_mut().zip(self.model.signals()) {
             *o = v;
         }
     }
