@@ -137,15 +137,8 @@ pub(crate) struct RunArgs {
     /// Controller name (see `msp list`); default by plant kind.
     #[arg(long, short = 'c')]
     pub(crate) controller: Option<String>,
-    /// CSV output file (absent or `-`: standard output).
-    #[arg(long, short = 'o')]
-    pub(crate) output: Option<PathBuf>,
-    /// JSON report file (`-`: standard output).
-    #[arg(long)]
-    pub(crate) report: Option<PathBuf>,
-    /// SVG plot of r, y and u.
-    #[arg(long)]
-    pub(crate) plot: Option<PathBuf>,
+    #[command(flatten)]
+    pub(crate) files: SimulationFiles,
     /// No summary on standard error.
     #[arg(long, short = 'q')]
     pub(crate) quiet: bool,
@@ -162,13 +155,22 @@ pub(crate) struct CompareArgs {
     /// inner_tau for the secondary of a cascade); the controllers keep the nominal model.
     #[arg(long, value_parser = str::parse::<Perturbation>, allow_hyphen_values = true)]
     pub(crate) perturb: Option<Perturbation>,
-    /// CSV with a column group per controller (`-`: standard output).
+    #[command(flatten)]
+    pub(crate) files: SimulationFiles,
+}
+
+/// The files a simulation writes (`msp run`, `msp compare`).
+#[derive(Debug, Args)]
+pub(crate) struct SimulationFiles {
+    /// CSV of the simulated signals, a column group per controller (`-`:
+    /// standard output; `msp run` without it prints the CSV into a pipe or a
+    /// redirection, a summary on a terminal).
     #[arg(long, short = 'o')]
     pub(crate) output: Option<PathBuf>,
-    /// JSON report: one entry per controller (`-`: standard output).
+    /// JSON report, an entry per controller (`-`: standard output).
     #[arg(long)]
     pub(crate) report: Option<PathBuf>,
-    /// SVG plot of every controller's y and u.
+    /// SVG plot of r, y and u (of every controller).
     #[arg(long)]
     pub(crate) plot: Option<PathBuf>,
 }

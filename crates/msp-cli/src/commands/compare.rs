@@ -7,11 +7,7 @@ use crate::export;
 
 pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
     let sc = scenario_from(&a.scenario)?;
-    let mut files = export::Outputs::plan(&[
-        ("--output", a.output.as_ref()),
-        ("--report", a.report.as_ref()),
-        ("--plot", a.plot.as_ref()),
-    ])?;
+    let mut files = super::run::plan(&a.files)?;
     let runs = msp::study::compare(&sc, &a.controllers, a.perturb.unwrap_or_default())?;
     let margins: Vec<Option<msp::analysis::Margins>> = a
         .controllers
@@ -45,17 +41,17 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
         .collect();
     let table = export::text::compare_table(&runs, &margins, a.perturb.unwrap_or_default());
     let refs: Vec<&msp::study::RunOutput> = runs.iter().collect();
-    if let Some(p) = &a.output {
+    if let Some(p) = &a.files.output {
         let csv = export::csv::compare_csv(&refs)
             .map_err(|e| CliError::Runtime(format!("writing CSV: {e}")))?;
         files.add(p, csv);
     }
-    if let Some(p) = &a.report {
+    if let Some(p) = &a.files.report {
         let j: Vec<serde_json::Value> = runs.iter().map(export::json::report_json).collect();
         let text = serde_json::to_vec_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?;
         files.add(p, text);
     }
-    if let Some(p) = &a.plot {
+    if let Some(p) = &a.files.plot {
         let svg =
             export::svg::plot_svg(&refs).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         files.add(p, svg.into_bytes());

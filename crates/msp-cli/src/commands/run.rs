@@ -1,7 +1,7 @@
 //! `msp run`.
 
 use super::scenario::scenario_from;
-use crate::cli::RunArgs;
+use crate::cli::{RunArgs, SimulationFiles};
 use crate::error::CliError;
 use crate::export;
 
@@ -11,20 +11,16 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         sc.controller.clone_from(&a.controller);
     }
     // every output path is checked before the run
-    let planned = export::Outputs::plan(&[
-        ("--output", a.output.as_ref()),
-        ("--report", a.report.as_ref()),
-        ("--plot", a.plot.as_ref()),
-    ])?;
+    let planned = plan(&a.files)?;
     let out = export::busy("simulating", a.quiet, || sc.run())?;
     let mut files = planned; // after `out`: the CSV streams from its columns
     let warnings = out.warnings();
-    if let Some(p) = &a.report {
+    if let Some(p) = &a.files.report {
         let text = serde_json::to_vec_pretty(&export::json::report_json(&out))
             .map_err(|e| CliError::Runtime(e.to_string()))?;
         files.add(p, text);
     }
-    if let Some(p) = &a.plot {
+    if let Some(p) = &a.files.plot {
         let svg =
             export::svg::plot_svg(&[&out]).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
         files.add(p, svg.into_bytes());
@@ -32,9 +28,9 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
     // on a terminal without -o, the summary alone: thousands of CSV rows are
     // for a pipe, a redirection or a file
     use std::io::IsTerminal;
-    let to_terminal = a.output.is_none() && std::io::stdout().is_terminal();
+    let to_terminal = a.files.output.is_none() && std::io::stdout().is_terminal();
     if !to_terminal {
-        files.add_or_print(a.output.as_ref(), export::csv::run_csv(&out))?;
+        files.add_or_print(a.files.output.as_ref(), export::csv::run_csv(&out))?;
     }
     // everything is computed: now the files, all or none
     files.commit()?;
@@ -48,4 +44,13 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// Every output path of a simulation, checked before it runs.
+pub(crate) fn plan(f: &SimulationFiles) -> Result<export::Outputs<'_>, CliError> {
+    export::Outputs::plan(&[
+        ("--output", f.output.as_ref()),
+        ("--report", f.report.as_ref()),
+        ("--plot", f.plot.as_ref()),
+    ])
 }
