@@ -519,15 +519,24 @@ pub(crate) fn make_pid<T: Real>(c: &msp_pid_config_of<T>) -> Result<Scheme<T>, E
     Ok(Scheme::Pid(Pid::new(pid_config(&c.pid, c.ts)?)?))
 }
 
+/// A predictor's model (first order) and its dead-time line in the buffer.
+type ModelParts<T> = (msp_core::Lti<T, 1>, Delay<T, Buf<T>>);
+
+/// The model ZOH-discretized at `ts`, and its dead-time line over the rest
+/// of the arena.
+fn model_in<T: Real>(m: &msp_model_of<T>, ts: T, a: &mut Arena) -> Result<ModelParts<T>, Error> {
+    let (m, d) = dead_time(m, ts)?;
+    let (block, _) = m.discretize::<1>(ts)?;
+    Ok((block, Delay::with_storage(a.rest::<T>()?, d)?))
+}
+
 pub(crate) fn make_smith<T: Real>(
     c: &msp_smith_config_of<T>,
     a: &mut Arena,
 ) -> Result<Scheme<T>, Error> {
     smith_samples(c)?;
-    let (m, d) = dead_time(&c.model, c.ts)?;
     let pid = pid_config(&c.pid, c.ts)?;
-    let (block, _) = m.discretize::<1>(c.ts)?;
-    let line = Delay::with_storage(a.rest::<T>()?, d)?;
+    let (block, line) = model_in(&c.model, c.ts, a)?;
     Ok(Scheme::Smith(SmithPredictor::new(pid, block, line)?))
 }
 
@@ -536,7 +545,6 @@ pub(crate) fn make_karan_dey<T: Real>(
     a: &mut Arena,
 ) -> Result<Scheme<T>, Error> {
     karan_dey_samples(c)?;
-    let (m, d) = dead_time(&c.model, c.ts)?;
     let p = KaranDeyParams {
         kp: c.kp,
         ti: c.ti,
@@ -545,8 +553,7 @@ pub(crate) fn make_karan_dey<T: Real>(
         td: c.td,
         n: c.n,
     };
-    let (block, _) = m.discretize::<1>(c.ts)?;
-    let line = Delay::with_storage(a.rest::<T>()?, d)?;
+    let (block, line) = model_in(&c.model, c.ts, a)?;
     let k = compensator::build(&p, c.ts, block, line)?.with_limits(c.u_min, c.u_max)?;
     Ok(Scheme::KaranDey(k))
 }
