@@ -326,11 +326,10 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         flags: Flags {
             ts,
             bound: 1e6 * scale,
-            all,
+            columns,
             ramp: cfg.setpoint_ramp * ts,
             applies,
             limited: cfg.u_min > f64::NEG_INFINITY || cfg.u_max < f64::INFINITY,
-            cascade,
         },
     };
     let plain = run.is_plain(cfg);

@@ -13,6 +13,7 @@
 use std::vec::Vec;
 
 use super::closed_loop::{Action, Noise, Process, SimConfig};
+use super::result::Columns;
 use super::schedule::Track;
 use super::SimResult;
 use crate::operate::{feed_back, in_mode, Mode};
@@ -49,16 +50,15 @@ pub(super) struct Flags {
     pub(super) ts: f64,
     /// An output beyond this is divergence.
     pub(super) bound: f64,
-    /// Every column recorded (not only `y` and `u`).
-    pub(super) all: bool,
+    /// The columns recorded (`all`: not only `y` and `u`; `cascade`: the
+    /// process is a cascade, `y2` measured and recorded).
+    pub(super) columns: Columns,
     /// The largest set-point change per sample the controller sees (∞: none).
     pub(super) ramp: f64,
     /// The plant may receive another value than the controller's output.
     pub(super) applies: bool,
     /// The controller's output is limited (`u_min`, `u_max` not infinite).
     pub(super) limited: bool,
-    /// The process is a cascade (`y2` measured and recorded).
-    pub(super) cascade: bool,
 }
 
 impl Run<'_> {
@@ -148,14 +148,14 @@ fn record_others<const OPERATED: bool>(f: Flags, o: &mut Others, k: usize, row: 
     if OPERATED && f.applies {
         put(o.u_applied, row.u_plant);
     }
-    if f.cascade {
+    if f.columns.cascade {
         put(o.y2, row.y2);
     }
-    if f.all {
+    if f.columns.all {
         put(o.r, row.r);
         put(o.d, row.d_in);
         put(o.d_out, row.d_out);
-        if f.cascade {
+        if f.columns.cascade {
             put(o.d_inner, row.d_mid);
         }
         for ((_, v), x) in o.signals.iter_mut().zip(sig) {
@@ -359,8 +359,8 @@ where
             *t_out = i as f64 * f.ts;
             *y_out = y;
             *u_out = u;
-            if (OPERATED && f.applies) || f.all {
-                if f.all {
+            if (OPERATED && f.applies) || f.columns.all {
+                if f.columns.all {
                     controller.write_signals(sig);
                 }
                 let row = Row {
@@ -401,7 +401,7 @@ where
         } else {
             y
         };
-        let y2 = f.cascade.then_some(y2);
+        let y2 = f.columns.cascade.then_some(y2);
         let (u, u_plant) = control::<C, OPERATED>(controller, cfg, f, op, y_meas, y2);
         run.sub.clear();
         match &mut run.process {
@@ -412,7 +412,7 @@ where
                 joint.advance(u_plant + d_in, d_mid, &mut run.sub);
             }
         }
-        if f.all {
+        if f.columns.all {
             controller.write_signals(sig);
         }
         let mut row = Row {
