@@ -715,16 +715,6 @@ fn plots_carry_what_a_report_needs() {
         .arg(&run)
         .assert()
         .success();
-    let svg = std::fs::read_to_string(&run).unwrap();
-    for text in [
-        "time t (s)",
-        "r (set point)",
-        "d (load)",
-        "u (control)",
-        "karan-dey (kp = 5.4054",
-    ] {
-        assert!(svg.contains(text), "{text}");
-    }
     msp()
         .args(words("margins --plant 0.2/s*e^-7.4s -c karan-dey --plot"))
         .arg(&bode)
@@ -732,14 +722,20 @@ fn plots_carry_what_a_report_needs() {
         .arg(&nyq)
         .assert()
         .success();
-    let svg = std::fs::read_to_string(&bode).unwrap();
-    for text in [
-        "gm 4.554 dB",
-        "pm 33.11°",
-        "arg L (deg, wrapped)",
-        "Ms circle",
-    ] {
-        assert!(svg.contains(text), "{text}");
+    let shows = [
+        (&run, "time t (s)"),
+        (&run, "r (set point)"),
+        (&run, "d (load)"),
+        (&run, "u (control)"),
+        (&run, "karan-dey (kp = 5.4054"),
+        (&bode, "gm 4.554 dB"),
+        (&bode, "pm 33.11°"),
+        (&bode, "arg L (deg, wrapped)"),
+        (&bode, "Ms circle"),
+    ];
+    for (file, text) in shows {
+        let svg = std::fs::read_to_string(file).unwrap();
+        assert!(svg.contains(text), "{}: {text}", file.display());
     }
     let svg = std::fs::read_to_string(&nyq).unwrap();
     assert!(svg.contains("unit circle") && svg.contains("Ms circle (radius 1/Ms = 0.39725)"));
@@ -1104,26 +1100,22 @@ fn outputs_are_all_or_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let keep = dir.path().join("keep.csv");
     std::fs::write(&keep, "old").unwrap();
-    // the report's directory is missing: nothing is written, keep.csv stays
-    msp()
-        .args(words("run --plant 0.2/s*e^-7.4s -o"))
-        .arg(&keep)
-        .arg("--report")
-        .arg(dir.path().join("missing_dir/r.json"))
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("does not exist"));
-    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
-    // two outputs on one path
-    msp()
-        .args(words("run --plant 0.2/s*e^-7.4s -o"))
-        .arg(&keep)
-        .arg("--report")
-        .arg(&keep)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("name the same file"));
-    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
+    // the report's directory is missing, or two outputs on one path:
+    // nothing is written, keep.csv stays
+    for (report, says) in [
+        (dir.path().join("missing_dir/r.json"), "does not exist"),
+        (keep.clone(), "name the same file"),
+    ] {
+        msp()
+            .args(words("run --plant 0.2/s*e^-7.4s -o"))
+            .arg(&keep)
+            .arg("--report")
+            .arg(&report)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(says));
+        assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
+    }
     // a run that succeeds leaves its files and no temporary beside them
     msp()
         .args(words("run -q --plant 0.2/s*e^-7.4s -o"))
