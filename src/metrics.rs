@@ -56,20 +56,22 @@ pub struct IntegralIndices<T> {
     tv: Sum<T>,
 }
 
-/// The values of the integral indices.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Indices<T> {
-    /// Integral of the absolute error.
-    pub iae: T,
-    /// Integral of the squared error.
-    pub ise: T,
-    /// Integral of time times the absolute error.
-    pub itae: T,
-    /// Integral of time times the squared error.
-    pub itse: T,
-    /// Total variation of the control signal.
-    pub tv: T,
+crate::params::figures! {
+    /// The values of the integral indices.
+    #[derive(Debug, Clone, Copy, PartialEq, Default)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct Indices<T> {
+        /// Integral of the absolute error.
+        pub iae: T,
+        /// Integral of the squared error.
+        pub ise: T,
+        /// Integral of time times the absolute error.
+        pub itae: T,
+        /// Integral of time times the squared error.
+        pub itse: T,
+        /// Total variation of the control signal.
+        pub tv: T,
+    }
 }
 
 impl<T: Real> IntegralIndices<T> {
@@ -128,28 +130,30 @@ impl<T: Real> IntegralIndices<T> {
     }
 }
 
-/// Step-response characteristics with MATLAB's `stepinfo` definitions
-/// (python-control's `step_info` key names); NaN where a figure cannot be computed.
 #[cfg(feature = "std")]
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct StepInfo {
-    /// Time from 10 % to 90 % of the step (s).
-    pub rise_time: f64,
-    /// Time after which `|y − y_final|` stays within 2 % of the step (s).
-    pub settling_time: f64,
-    /// Smallest `y` once the response has risen (reached 90 %).
-    pub settling_min: f64,
-    /// Largest `y` once the response has risen.
-    pub settling_max: f64,
-    /// Overshoot beyond the final value, % of the step.
-    pub overshoot: f64,
-    /// Undershoot below the initial value (opposite to the step), % of the step.
-    pub undershoot: f64,
-    /// Peak of `|y|`.
-    pub peak: f64,
-    /// Time of the peak (s).
-    pub peak_time: f64,
+crate::params::figures! {
+    /// Step-response characteristics with MATLAB's `stepinfo` definitions
+    /// (python-control's `step_info` key names); NaN where a figure cannot be computed.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct StepInfo {
+        /// Time from 10 % to 90 % of the step (s).
+        pub rise_time: f64,
+        /// Time after which `|y − y_final|` stays within 2 % of the step (s).
+        pub settling_time: f64,
+        /// Smallest `y` once the response has risen (reached 90 %).
+        pub settling_min: f64,
+        /// Largest `y` once the response has risen.
+        pub settling_max: f64,
+        /// Overshoot beyond the final value, % of the step.
+        pub overshoot: f64,
+        /// Undershoot below the initial value (opposite to the step), % of the step.
+        pub undershoot: f64,
+        /// Peak of `|y|`.
+        pub peak: f64,
+        /// Time of the peak (s).
+        pub peak_time: f64,
+    }
 }
 
 /// Step information of `y(t)` for a step from `y0` to `y_final`; times are

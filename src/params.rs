@@ -164,6 +164,37 @@ macro_rules! param_struct {
 }
 pub(crate) use param_struct;
 
+/// Declares a struct of figures (metrics, margins) whose report names are
+/// its field names, as serde writes them, and `fields()`: each figure with
+/// its name, in declaration order (the CSV columns, the text table,
+/// Python's arrays). Every field is public, of one type, and ends with a
+/// comma.
+macro_rules! figures {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident $(<$t:ident>)? {
+            $(#[$m0:meta])* pub $f0:ident: $ft:ty,
+            $( $(#[$m:meta])* pub $field:ident: $ft_:ty, )*
+        }
+    ) => {
+        $(#[$meta])*
+        pub struct $name $(<$t>)? {
+            $(#[$m0])* pub $f0: $ft,
+            $( $(#[$m])* pub $field: $ft_, )*
+        }
+
+        impl $(<$t: Copy>)? $name $(<$t>)? {
+            /// Every figure with its report name, in report order.
+            pub fn fields(
+                &self,
+            ) -> [(&'static str, $ft); [stringify!($f0) $(, stringify!($field))*].len()] {
+                [(stringify!($f0), self.$f0) $(, (stringify!($field), self.$field))*]
+            }
+        }
+    };
+}
+pub(crate) use figures;
+
 /// Declares a parameter struct (as [`param_struct!`]) whose fields others
 /// begin with — the gains of a predictor's PID, a cascade's primary
 /// controller — and the macro `$extend!` that declares those:

@@ -389,6 +389,28 @@ fn scenario_fields_are_the_serde_fields() {
     assert_eq!(got, want);
 }
 
+/// The figures' names (the CSV columns, the text table, Python's sweep
+/// arrays) are the keys of the JSON report, each once, with the value
+/// serde writes under it.
+#[test]
+fn figure_names_are_the_report_keys() {
+    fn check<S: serde::Serialize>(s: &S, fields: Vec<(&'static str, f64)>) {
+        let v = serde_json::to_value(s).unwrap();
+        let object = v.as_object().unwrap();
+        assert_eq!(object.len(), fields.len(), "{object:?}");
+        for (k, x) in fields {
+            // JSON has no NaN or infinity: serde writes null
+            assert_eq!(object[k].as_f64(), x.is_finite().then_some(x), "{k}");
+        }
+    }
+    let o = scenario("0.2/s*e^-7.4s").run().unwrap();
+    check(&o.metrics, o.metrics.fields().collect());
+    check(&o.metrics.step, o.metrics.step.fields().to_vec());
+    check(&o.metrics.indices, o.metrics.indices.fields().to_vec());
+    let m = o.robustness.unwrap();
+    check(&m, m.fields().to_vec());
+}
+
 /// Every scheme's CSV has unique column names: its internal signals never
 /// take the name of a column of the run (`d`, the disturbance, was also the
 /// PID's derivative term).

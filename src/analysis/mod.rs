@@ -157,45 +157,30 @@ pub fn loop_at(
     Some(cy.mul(process(w)))
 }
 
-/// Stability margins and sensitivity peaks (names as MATLAB's `margin` and python-control).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Margins {
-    /// Gain margin (absolute ratio); infinite without a phase crossover.
-    pub gm: f64,
-    /// Gain margin in dB.
-    pub gm_db: f64,
-    /// Phase margin (degrees); infinite without a gain crossover.
-    pub pm: f64,
-    /// Phase-crossover frequency (rad/s).
-    pub wcg: f64,
-    /// Gain-crossover frequency (rad/s).
-    pub wcp: f64,
-    /// Delay margin (s): the extra dead time that makes the loop oscillate.
-    pub dm: f64,
-    /// Peak of the sensitivity `|1/(1 + L)|`.
-    pub ms: f64,
-    /// Peak of the complementary sensitivity `|L/(1 + L)|`.
-    pub mt: f64,
-    /// Lower gain limit (a loop that is only conditionally stable loses
-    /// stability when its gain falls below this factor; 0 if none).
-    pub gm_lower: f64,
-}
-
-impl Margins {
-    /// Every figure with its report name.
-    pub fn fields(&self) -> [(&'static str, f64); 9] {
-        [
-            ("gm", self.gm),
-            ("gm_db", self.gm_db),
-            ("pm", self.pm),
-            ("wcg", self.wcg),
-            ("wcp", self.wcp),
-            ("dm", self.dm),
-            ("ms", self.ms),
-            ("mt", self.mt),
-            ("gm_lower", self.gm_lower),
-        ]
+crate::params::figures! {
+    /// Stability margins and sensitivity peaks (names as MATLAB's `margin` and python-control).
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct Margins {
+        /// Gain margin (absolute ratio); infinite without a phase crossover.
+        pub gm: f64,
+        /// Gain margin in dB.
+        pub gm_db: f64,
+        /// Phase margin (degrees); infinite without a gain crossover.
+        pub pm: f64,
+        /// Phase-crossover frequency (rad/s).
+        pub wcg: f64,
+        /// Gain-crossover frequency (rad/s).
+        pub wcp: f64,
+        /// Delay margin (s): the extra dead time that makes the loop oscillate.
+        pub dm: f64,
+        /// Peak of the sensitivity `|1/(1 + L)|`.
+        pub ms: f64,
+        /// Peak of the complementary sensitivity `|L/(1 + L)|`.
+        pub mt: f64,
+        /// Lower gain limit (a loop that is only conditionally stable loses
+        /// stability when its gain falls below this factor; 0 if none).
+        pub gm_lower: f64,
     }
 }
 

@@ -22,23 +22,10 @@ pub struct Metrics {
 }
 
 impl Metrics {
-    /// Every figure with its report name, in report order.
-    pub fn fields(&self) -> [(&'static str, f64); 13] {
-        [
-            ("iae", self.indices.iae),
-            ("ise", self.indices.ise),
-            ("itae", self.indices.itae),
-            ("itse", self.indices.itse),
-            ("tv", self.indices.tv),
-            ("rise_time", self.step.rise_time),
-            ("settling_time", self.step.settling_time),
-            ("settling_min", self.step.settling_min),
-            ("settling_max", self.step.settling_max),
-            ("overshoot", self.step.overshoot),
-            ("undershoot", self.step.undershoot),
-            ("peak", self.step.peak),
-            ("peak_time", self.step.peak_time),
-        ]
+    /// Every figure with its report name, in report order: the integral
+    /// indices, then the step information.
+    pub fn fields(&self) -> impl Iterator<Item = (&'static str, f64)> {
+        self.indices.fields().into_iter().chain(self.step.fields())
     }
 }
 

@@ -128,9 +128,9 @@ pub(crate) fn sweep<'py>(
     d.set_item("tau", col(&|r| r.tau))?;
     d.set_item("stable", stable.into_pyarray(py))?;
     if let Some(first) = rows.first() {
-        for (i, (k, _)) in first.metrics.fields().iter().enumerate() {
-            let metric = col(&|r| r.metrics.fields().get(i).map_or(f64::NAN, |f| f.1));
-            d.set_item(*k, metric)?;
+        for (i, (k, _)) in first.metrics.fields().enumerate() {
+            let metric = col(&|r| r.metrics.fields().nth(i).map_or(f64::NAN, |f| f.1));
+            d.set_item(k, metric)?;
         }
     }
     d.set_item("max_abs_u", col(&|r| r.max_abs_u))?;

@@ -55,7 +55,7 @@ pub(crate) fn sweep_csv(rows: &[msp::sweep::SweepRow]) -> Result<Vec<u8>, csv::E
     let mut header: Vec<&str> = SWEEP_HEAD.to_vec();
     let names: Vec<&str> = rows
         .first()
-        .map(|r| r.metrics.fields().iter().map(|(k, _)| *k).collect())
+        .map(|r| r.metrics.fields().map(|(k, _)| k).collect())
         .unwrap_or_default();
     header.extend(&names);
     header.push("max_abs_u");
@@ -68,7 +68,7 @@ pub(crate) fn sweep_csv(rows: &[msp::sweep::SweepRow]) -> Result<Vec<u8>, csv::E
             fmt_f(r.tau),
             r.stable.to_string(),
         ];
-        rec.extend(r.metrics.fields().iter().map(|(_, v)| fmt_f(*v)));
+        rec.extend(r.metrics.fields().map(|(_, v)| fmt_f(v)));
         rec.push(fmt_f(r.max_abs_u));
         w.write_record(&rec)?;
     }

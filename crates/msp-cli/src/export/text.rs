@@ -135,9 +135,8 @@ pub(crate) const ROWS: &[(&str, &str)] = &[
 
 pub(crate) fn metric(m: &Metrics, key: &str) -> f64 {
     m.fields()
-        .iter()
         .find(|(k, _)| *k == key)
-        .map_or(f64::NAN, |(_, v)| *v)
+        .map_or(f64::NAN, |(_, v)| v)
 }
 
 /// The thesis-style table: a row per figure, a column per controller.
