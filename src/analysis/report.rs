@@ -63,16 +63,9 @@ pub struct RegionPoint {
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct MarginsReport {
-    /// The plant.
-    pub plant: String,
-    /// The controller's model.
-    pub model: String,
-    /// A cascade's secondary process.
-    pub inner_plant: Option<String>,
-    /// The controller's model of the secondary process.
-    pub inner_model: Option<String>,
-    /// Sample period (s).
-    pub ts: f64,
+    /// The process.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub process: crate::study::ProcessReport,
     /// How the plant is seen: `sampled` (behind the hold), `discrete`, `continuous`.
     pub view: &'static str,
     /// The controller (`none`: the bare plant or a pure gain).
@@ -98,11 +91,12 @@ impl Analysis {
     /// The report of this analysis.
     pub fn report(&self) -> MarginsReport {
         MarginsReport {
-            plant: self.plant.to_string(),
-            model: self.model.to_string(),
-            inner_plant: self.inner_process.as_ref().map(|(p, _)| p.to_string()),
-            inner_model: self.inner_process.as_ref().map(|(_, m)| m.to_string()),
-            ts: self.ts,
+            process: crate::study::ProcessReport::new(
+                &self.plant,
+                &self.model,
+                self.inner_process.as_ref(),
+                self.ts,
+            ),
             view: self.view.name(),
             controller: crate::study::ControllerReport {
                 name: self.controller,

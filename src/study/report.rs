@@ -6,6 +6,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::{Metrics, RunOutput};
+use crate::poly::TransferFunction;
 use crate::registry::Params;
 
 /// The controller of a report: the scheme's name and its parameters.
@@ -16,6 +17,45 @@ pub struct ControllerReport {
     pub name: &'static str,
     /// Its tuned (and `--set`) parameters, by name.
     pub params: Params,
+}
+
+/// The process of a loop as the reports print it (`msp run --report`,
+/// `msp margins --json`, Python's `run` and `margins`).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ProcessReport {
+    /// The plant.
+    pub plant: String,
+    /// Its kind: stable, integrating or unstable.
+    pub plant_kind: String,
+    /// The controller's model.
+    pub model: String,
+    /// The secondary process of a cascade.
+    pub inner_plant: Option<String>,
+    /// The controller's model of the secondary process.
+    pub inner_model: Option<String>,
+    /// Sample period (s).
+    pub ts: f64,
+}
+
+impl ProcessReport {
+    /// The plant, the controller's model and a cascade's secondary process
+    /// with its model, as expressions, sampled every `ts`.
+    pub fn new(
+        plant: &TransferFunction,
+        model: &TransferFunction,
+        inner: Option<&(TransferFunction, TransferFunction)>,
+        ts: f64,
+    ) -> Self {
+        ProcessReport {
+            plant: plant.to_string(),
+            plant_kind: plant.kind().to_string(),
+            model: model.to_string(),
+            inner_plant: inner.map(|(p, _)| p.to_string()),
+            inner_model: inner.map(|(_, m)| m.to_string()),
+            ts,
+        }
+    }
 }
 
 /// An operator's event of a run and what it did to the controller's output.
@@ -40,18 +80,9 @@ pub struct Report {
     /// The scenario as it was given: `msp run --scenario report.json` (or
     /// `Scenario::run` on it) runs it again and gives this report again.
     pub scenario: super::Scenario,
-    /// The plant simulated.
-    pub plant: String,
-    /// Its kind: stable, integrating or unstable.
-    pub plant_kind: String,
-    /// The controller's model.
-    pub model: String,
-    /// The secondary process of a cascade.
-    pub inner_plant: Option<String>,
-    /// The model of the secondary process.
-    pub inner_model: Option<String>,
-    /// Sample period (s).
-    pub ts: f64,
+    /// The process simulated.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub process: ProcessReport,
     /// The values msp chose because the run did not give them, of `ts`,
     /// `duration` and `lambda` (each can be given to repeat or change the run).
     pub chosen: Vec<&'static str>,
@@ -101,12 +132,7 @@ impl RunOutput {
         Report {
             msp_version: env!("CARGO_PKG_VERSION"),
             scenario: self.scenario.clone(),
-            plant: self.plant.to_string(),
-            plant_kind: self.plant.kind().to_string(),
-            model: self.model.to_string(),
-            inner_plant: self.inner.as_ref().map(|(p, _)| p.to_string()),
-            inner_model: self.inner.as_ref().map(|(_, m)| m.to_string()),
-            ts: self.ts,
+            process: ProcessReport::new(&self.plant, &self.model, self.inner.as_ref(), self.ts),
             chosen: [
                 ("ts", self.ts_chosen),
                 ("duration", self.duration_chosen),
