@@ -163,18 +163,20 @@ mod tests {
     /// `y_m[k]` three samples late, the step response of the ZOH model is
     /// `1 − e^{−k·Ts}` (its closed form), and `ε = y − y_m[k − 3]`.
     #[test]
-    fn delayed_prediction_is_the_prediction_d_samples_late() {
+    fn delayed_prediction_is_the_prediction_d_samples_late() -> Result<(), Error> {
         let ts = 0.1_f64;
-        let model = Lti::<f64, 2>::from_tf(&[1.0], &[1.0, 1.0], ts, Discretization::Zoh).unwrap();
-        let line = DelayLine::<f64, 8>::new(3.0).unwrap();
-        let mut m = DelayedModel::new(model, line).unwrap();
+        let model = Lti::<f64, 2>::from_tf(&[1.0], &[1.0, 1.0], ts, Discretization::Zoh)?;
+        let line = DelayLine::<f64, 8>::new(3.0)?;
+        let mut m = DelayedModel::new(model, line)?;
         let mut ym = [0.0; 20];
         let mut last = 0.0;
         for k in 0..ym.len() {
             let (now, error) = m.predict(0.5);
             assert!((now - (1.0 - (-(k as f64) * ts).exp())).abs() < 1e-12);
-            ym[k] = now;
-            let late = if k >= 3 { ym[k - 3] } else { 0.0 };
+            if let Some(slot) = ym.get_mut(k) {
+                *slot = now;
+            }
+            let late = k.checked_sub(3).and_then(|j| ym.get(j)).map_or(0.0, |v| *v);
             assert_eq!(m.delayed_prediction(), late);
             assert_eq!(error, 0.5 - late);
             assert_eq!(m.signals(), [now, late, error]);
@@ -190,16 +192,17 @@ mod tests {
         m.reset();
         assert_eq!(m.signals(), [0.0; 3]);
         assert_eq!(m.predict(1.0), (0.0, 1.0));
+        Ok(())
     }
 
     #[test]
-    fn a_model_with_feedthrough_is_refused() {
-        let model =
-            Lti::<f64, 2>::from_tf(&[1.0, 0.0], &[1.0, 1.0], 0.1, Discretization::Zoh).unwrap();
-        let line = DelayLine::<f64, 4>::new(1.0).unwrap();
+    fn a_model_with_feedthrough_is_refused() -> Result<(), Error> {
+        let model = Lti::<f64, 2>::from_tf(&[1.0, 0.0], &[1.0, 1.0], 0.1, Discretization::Zoh)?;
+        let line = DelayLine::<f64, 4>::new(1.0)?;
         assert_eq!(
             DelayedModel::new(model, line).err(),
             Some(Error::Improper("model"))
         );
+        Ok(())
     }
 }
