@@ -121,11 +121,6 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
         [self.ym, self.ym_delayed, self.error]
     }
 
-    /// The model.
-    pub fn model(&self) -> &Lti<T, N> {
-        &self.model
-    }
-
     /// The dead-time line.
     pub fn line(&self) -> &Delay<T, S> {
         &self.line

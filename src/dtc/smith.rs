@@ -54,8 +54,8 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S
     pub fn delayed_prediction(&self) -> T {
         self.model.delayed_prediction()
     }
-    /// The model error `y[k] − y_m[k − d]` (not finite while the
-    /// measurement is not).
+    /// The model error `y[k] − y_m[k − d]` (while the measurement is not
+    /// finite, the last finite one).
     pub fn model_error(&self) -> T {
         self.model.error()
     }
