@@ -11,3 +11,16 @@ pub(crate) mod scenario;
 pub(crate) mod step;
 pub(crate) mod sweep;
 pub(crate) mod tune;
+
+use crate::cli::SimulationFiles;
+use crate::error::CliError;
+use crate::export;
+
+/// Every output path of a simulation (`run`, `compare`), checked before it runs.
+pub(crate) fn plan(f: &SimulationFiles) -> Result<export::Outputs<'_>, CliError> {
+    export::Outputs::plan(&[
+        ("--output", f.output.as_ref()),
+        ("--report", f.report.as_ref()),
+        ("--plot", f.plot.as_ref()),
+    ])
+}

@@ -1,7 +1,7 @@
 //! `msp run`.
 
 use super::scenario::scenario_from;
-use crate::cli::{RunArgs, SimulationFiles};
+use crate::cli::RunArgs;
 use crate::error::CliError;
 use crate::export;
 
@@ -11,7 +11,7 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         sc.controller.clone_from(&a.controller);
     }
     // every output path is checked before the run
-    let planned = plan(&a.files)?;
+    let planned = super::plan(&a.files)?;
     let out = export::busy("simulating", a.quiet, || sc.run())?;
     let mut files = planned; // after `out`: the CSV streams from its columns
     let warnings = out.warnings();
@@ -44,13 +44,4 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
-}
-
-/// Every output path of a simulation, checked before it runs.
-pub(crate) fn plan(f: &SimulationFiles) -> Result<export::Outputs<'_>, CliError> {
-    export::Outputs::plan(&[
-        ("--output", f.output.as_ref()),
-        ("--report", f.report.as_ref()),
-        ("--plot", f.plot.as_ref()),
-    ])
 }
