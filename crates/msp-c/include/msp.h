@@ -166,8 +166,9 @@ typedef struct {
 typedef msp_smith_config_double msp_smith_config_f64;
 
 // The Karan–Dey modified Smith predictor for integrating plants (Bag
-// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
-// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
+// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
+// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
+// IPDT model.
 typedef struct {
   float ts;
   msp_model_float model;
@@ -185,8 +186,9 @@ typedef struct {
 typedef msp_karan_dey_config_float msp_karan_dey_config;
 
 // The Karan–Dey modified Smith predictor for integrating plants (Bag
-// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
-// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
+// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
+// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
+// IPDT model.
 typedef struct {
   double ts;
   msp_model_double model;

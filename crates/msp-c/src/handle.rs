@@ -72,8 +72,9 @@ c_config! {
 
 c_config! {
     /// The Karan–Dey modified Smith predictor for integrating plants (Bag
-    /// (2022)): `Gc1 = kp(1 + 1/(ti s))`, `Gc2 = beta·kp`,
-    /// `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an IPDT model.
+    /// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
+    /// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
+    /// IPDT model.
     msp_karan_dey_config_of: msp_karan_dey_config, msp_karan_dey_config_f64 {
         ts: T,
         model: msp_model_of<T>,
