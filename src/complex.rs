@@ -40,6 +40,11 @@ impl<T: Real> Complex<T> {
     pub fn abs(self) -> T {
         self.re.hypot(self.im)
     }
+    /// The complex conjugate `re − j·im`.
+    #[inline]
+    pub fn conj(self) -> Self {
+        Complex::new(self.re, -self.im)
+    }
     /// Argument in (−π, π].
     #[inline]
     pub fn arg(self) -> T {

@@ -104,6 +104,24 @@ pub trait FrequencyResponse<T: Real> {
         let _ = theta;
         None
     }
+    /// The feedback path split as `Cy = Nc/Dc` at `z = e^{jθ}`, where `Dc` is
+    /// the determinant of the controller's own internal loops (`1` for a
+    /// controller without one) and neither part has a pole but those of the
+    /// controller's blocks (PID, filters, the model, delay lines). With the
+    /// process `P = Np/Dp` split the same way, `Dc·Dp + Nc·Np` is the closed
+    /// loop's characteristic polynomial divided by its blocks' denominators,
+    /// which is what the stability verdict counts the roots of
+    /// ([`crate::analysis::stability`]). The default is `(Cy, 1)`: right for
+    /// a controller whose `Cy` is its blocks in series and parallel.
+    fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        self.response(theta)
+            .map(|(_, cy)| (cy, Complex::real(T::one())))
+    }
+    /// How many poles of the controller's blocks lie outside the unit circle
+    /// (an unstable model's; a PID, a filter or a delay line has none).
+    fn unstable_poles(&self) -> usize {
+        0
+    }
 }
 
 /// A controller as the simulator, the analysis and the registry see it: every
@@ -188,6 +206,12 @@ macro_rules! forward {
             fn inner_response(&self, theta: T) -> Option<Complex<T>> {
                 (**self).inner_response(theta)
             }
+            fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+                (**self).feedback_parts(theta)
+            }
+            fn unstable_poles(&self) -> usize {
+                (**self).unstable_poles()
+            }
         }
     )*};
 }
@@ -267,6 +291,14 @@ impl<C: FrequencyResponse<f32>> FrequencyResponse<f64> for Widened<C> {
     }
     fn inner_response(&self, theta: f64) -> Option<Complex<f64>> {
         self.0.inner_response(f32::of(theta)).map(widen)
+    }
+    fn feedback_parts(&self, theta: f64) -> Option<(Complex<f64>, Complex<f64>)> {
+        self.0
+            .feedback_parts(f32::of(theta))
+            .map(|(a, b)| (widen(a), widen(b)))
+    }
+    fn unstable_poles(&self) -> usize {
+        self.0.unstable_poles()
     }
 }
 

@@ -431,9 +431,16 @@ impl<T: Real> Pid<T> {
         Ok(())
     }
 
-    /// Switches to auto mode; the integrator already tracks the manual output,
-    /// so the output does not jump (bumpless manual→auto).
+    /// Switches to auto mode continuing from the manual output (bumpless
+    /// manual→auto): the integrator tracks the manual output at every update
+    /// in manual, and is set to it here too, so that a manual output given
+    /// just before (with no update since) is where auto mode starts.
     pub fn set_auto(&mut self) {
+        if self.mode == Mode::Manual {
+            let t = self.terms;
+            self.integral = self.manual - t.p - t.d;
+            self.terms.output = self.manual;
+        }
         self.mode = Mode::Auto;
         self.refresh();
     }
@@ -487,8 +494,14 @@ impl<T: Real> Pid<T> {
             ));
         }
         let isa = PidConfig::try_isa(kp, ti, td, c.ts)?;
-        let ratio = if c.td() > T::zero() && c.tf > T::zero() {
-            c.td() / c.tf
+        // N = Td/Tf as it was: an unfiltered derivative (Tf = 0, N = ∞) stays
+        // unfiltered; a derivative turned on from none gets the default N = 10
+        let ratio = if c.td() > T::zero() {
+            if c.tf > T::zero() {
+                c.td() / c.tf
+            } else {
+                T::infinity()
+            }
         } else {
             T::of(10.0)
         };
@@ -569,7 +582,13 @@ impl<T: Real> Pid<T> {
         let p = self.cfg.kp * (self.cfg.b * r - y);
         let i = self.integral;
         let u = p + i;
-        self.integral = i + self.bi * e;
+        let next = i + self.bi * e;
+        // finite inputs whose terms leave the float range: a fault, never a
+        // state that latches ±∞ or NaN
+        if !(u + next).is_finite() {
+            return self.hold();
+        }
+        self.integral = next;
         // `started` is already set and `terms.d` is zero (no derivative)
         self.terms.p = p;
         self.terms.i = i;
@@ -613,11 +632,12 @@ impl<T: Real> Pid<T> {
         } else {
             T::zero()
         };
-        if recovering && self.started {
+        let i = if recovering && self.started {
             // continue from the output given during the fault, as manual→auto does
-            self.integral = self.terms.output - p - d;
-        }
-        let i = self.integral;
+            self.terms.output - p - d
+        } else {
+            self.integral
+        };
         let v = p + i + d;
         let u = match self.mode {
             Mode::Manual => self.manual,
@@ -637,7 +657,7 @@ impl<T: Real> Pid<T> {
             Some(t) if t.is_finite() => t,
             _ => u,
         };
-        self.integral = match self.mode {
+        let next = match self.mode {
             Mode::Manual => applied - p - d,
             // nothing limits the output: no windup to guard against
             Mode::Auto if !self.has_limits && !self.has_rate && track.is_none() => i + self.bi * e,
@@ -663,6 +683,13 @@ impl<T: Real> Pid<T> {
                 AntiWindup::None => i + self.bi * e,
             },
         };
+        // finite inputs whose terms leave the float range (a measurement near
+        // f64::MAX times a gain): a fault, the state untouched, never a state
+        // that latches ±∞ or NaN
+        if !(v + next).is_finite() {
+            return self.hold();
+        }
+        self.integral = next;
         self.deriv = d;
         self.ed_prev = ed;
         self.started = true;

@@ -182,6 +182,23 @@ impl TransferFunction {
         poly_roots(&self.num)
     }
 
+    /// A stable first-order model with this one's dead time and the size of
+    /// its gain and of its fastest unstable pole, `|K|/(T s + 1)·e^{−θs}`
+    /// (`T = 1/|p|`): what a tuning rule that needs a stable model is given
+    /// when every parameter it would set is set by the user anyway.
+    pub fn stable_stand_in(&self) -> Result<Self, Error> {
+        let fastest = self
+            .poles()?
+            .iter()
+            .filter(|(re, _)| *re > 0.0)
+            .map(|(re, im)| re.hypot(*im))
+            .fold(0.0f64, f64::max);
+        let tau = if fastest > 0.0 { 1.0 / fastest } else { 1.0 };
+        let k = self.gain().abs();
+        let k = if k.is_finite() && k > 0.0 { k } else { 1.0 };
+        TransferFunction::new(&[k], &[tau, 1.0], self.delay)
+    }
+
     /// Number of poles at the origin (exact zeros at the end of the denominator).
     pub fn integrators(&self) -> usize {
         self.den.iter().rev().take_while(|v| **v == 0.0).count()

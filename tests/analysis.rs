@@ -242,14 +242,25 @@ fn stability_verdicts_are_true() {
         }
         sc.max_memory = max_memory;
         let an = msp::analysis::analyze(&sc, View::Sampled, None).unwrap();
-        (an.stable, an.probe_note)
+        (an.stable, an.stability)
     };
-    assert_eq!(verdict("1/(s+1)", "1", None), (Some(true), None));
-    assert_eq!(verdict("e^-1s/(s+1)", "2", None), (Some(true), None));
-    assert_eq!(verdict("e^-1s/(s+1)", "3", None), (Some(false), None));
-    let (stable, note) = verdict("e^-1s/(s+1)", "1", Some(100_000));
-    assert_eq!(stable, None);
-    assert!(note.unwrap().contains("could not run"));
+    for (plant, kp, want) in [
+        ("1/(s+1)", "1", true),
+        ("e^-1s/(s+1)", "2", true),
+        ("e^-1s/(s+1)", "3", false),
+    ] {
+        let (stable, why) = verdict(plant, kp, None);
+        assert_eq!(stable, Some(want), "{plant} kp {kp}: {why:?}");
+        // the simulation agrees
+        assert_eq!(why.simulation, Some(want), "{why:?}");
+        assert!(why.reason.contains("agrees"), "{}", why.reason);
+    }
+    // the verdict is the characteristic equation's: a simulation that cannot
+    // run only loses the cross-check, and says so
+    let (stable, why) = verdict("e^-1s/(s+1)", "1", Some(100_000));
+    assert_eq!(stable, Some(true));
+    assert_eq!(why.simulation, None);
+    assert!(why.reason.contains("could not run"), "{}", why.reason);
 }
 
 /// Without a controller the loop is the bare plant (MATLAB's `margin(G)`):

@@ -163,3 +163,67 @@ fn imc_pid_for_an_integrator_with_a_lag_is_the_series_form() {
         );
     }
 }
+
+/// Retuning `Td` keeps the derivative filter's `N = Td/Tf`: an unfiltered
+/// derivative (`N = ∞`, `Tf = 0`) stays unfiltered, a filtered one keeps its
+/// ratio, and a derivative switched on from none takes the default `N = 10`.
+#[test]
+fn retune_keeps_the_derivative_filter_ratio() {
+    use msp::operate::Gain;
+    let unfiltered = PidConfig::<f64>::isa(2.0, 5.0, 1.0, 0.1).with_filter(f64::INFINITY);
+    let mut c = Pid::new(unfiltered).unwrap();
+    c.retune(Gain::Td, 0.4).unwrap();
+    assert_eq!(c.config().tf, 0.0);
+    let mut c = Pid::<f64>::new(PidConfig::isa(2.0, 5.0, 1.0, 0.1).with_filter(4.0)).unwrap();
+    c.retune(Gain::Td, 2.0).unwrap();
+    assert!((c.config().tf - 0.5).abs() < 1e-15, "{}", c.config().tf);
+    let mut c = Pid::<f64>::new(PidConfig::isa(2.0, 5.0, 0.0, 0.1)).unwrap();
+    c.retune(Gain::Td, 2.0).unwrap();
+    assert!((c.config().tf - 0.2).abs() < 1e-15, "{}", c.config().tf);
+}
+
+/// A manual output given and then auto mode: the next output continues from
+/// the manual value (for an unchanged error, the proportional term moves it
+/// by nothing more), as the operator left it; pid-rs and simple-pid users
+/// expect `set_auto_mode` to start from the last output.
+#[test]
+fn auto_mode_continues_from_the_manual_output() {
+    let mut c = Pid::new(PidConfig::isa(2.0, 10.0, 0.0, 0.1)).unwrap();
+    c.set_manual();
+    c.set_manual_output(25.0).unwrap();
+    c.set_auto();
+    // zero error: no proportional or integral change, the output is 25
+    let u = c.update(3.0, 3.0);
+    assert_eq!(u, 25.0);
+}
+
+/// Finite measurements whose terms leave the float range are a fault: the
+/// output is held, the fault raised, and the next normal samples give finite
+/// outputs again (no state latches ±∞ or NaN) — with and without limits.
+#[test]
+fn finite_inputs_never_latch_non_finite_states() {
+    for limits in [false, true] {
+        let mut cfg = PidConfig::isa(3.0, 5.0, 0.5, 0.1);
+        if limits {
+            cfg = cfg.with_limits(-10.0, 10.0);
+        }
+        let mut c = Pid::new(cfg).unwrap();
+        let before = c.update(1.0, 0.5);
+        let u = c.update(0.0, f64::MAX);
+        assert!(u.is_finite(), "limits {limits}: {u}");
+        assert!(c.fault(), "limits {limits}: the sample is a fault");
+        let mut last = f64::NAN;
+        for _ in 0..50 {
+            last = c.update(1.0, 0.5);
+            assert!(last.is_finite(), "limits {limits}: {last}");
+        }
+        assert!(!c.fault());
+        assert!(before.is_finite() && last.is_finite());
+        let mut c = Pid::new(cfg).unwrap();
+        let u = c.update(0.0, 1.7e308);
+        assert!(
+            u.is_finite() && c.update(0.0, 0.0).is_finite(),
+            "limits {limits}"
+        );
+    }
+}

@@ -34,9 +34,14 @@ use crate::FrequencyResponse;
 use crate::{Discretization, Error, Lti};
 
 mod report;
+pub mod stability;
 mod step;
 
-pub use report::{analyze, analyze_tuned, process_response, Analysis, MarginsReport, RegionPoint};
+pub use report::{
+    analyze, analyze_tuned, loop_stability, process_response, tuned_stability, Analysis,
+    MarginsReport, RegionPoint,
+};
+pub use stability::Stability;
 pub use step::{step_response, OpenLoopStep};
 
 /// Which plant view the loop uses.
@@ -181,6 +186,25 @@ crate::params::figures! {
         /// Lower gain limit (a loop that is only conditionally stable loses
         /// stability when its gain falls below this factor; 0 if none).
         pub gm_lower: f64,
+    }
+}
+
+impl Margins {
+    /// The figures of an unstable loop: every margin and peak NaN (`null` in
+    /// JSON). A crossover margin is the distance to instability of a stable
+    /// loop; of an unstable loop it measures nothing.
+    pub fn unstable() -> Self {
+        Margins {
+            gm: f64::NAN,
+            gm_db: f64::NAN,
+            pm: f64::NAN,
+            wcg: f64::NAN,
+            wcp: f64::NAN,
+            dm: f64::NAN,
+            ms: f64::NAN,
+            mt: f64::NAN,
+            gm_lower: f64::NAN,
+        }
     }
 }
 

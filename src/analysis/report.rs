@@ -33,13 +33,15 @@ pub struct Analysis {
     pub margins: Margins,
     /// Margins of the inner (model) loop, for schemes that have one.
     pub inner: Option<Margins>,
-    /// Whether a simulation of the nominal loop comes to rest (bounded and
-    /// settling, wherever it settles; [`crate::sweep::stable`]), or `None`
-    /// when that simulation could not run ([`Analysis::probe_note`] says why).
+    /// The nominal loop's verdict: [`Analysis::stability`]'s, `None` when
+    /// it could not be decided.
     pub stable: Option<bool>,
-    /// Why the stability probe could not run, when it could not.
-    pub probe_note: Option<String>,
-    /// `(gain factor, delay margin)` pairs: the combined gain/delay stability region.
+    /// The verdict from the characteristic equation, what decided it and
+    /// the simulation's cross-check ([`super::stability`]).
+    pub stability: super::Stability,
+    /// `(gain factor, delay margin)` pairs: the combined gain/delay stability
+    /// region (empty for an unstable loop; a NaN delay margin where the
+    /// factor is below the lower gain limit, i.e. unstable).
     pub region: Vec<(f64, f64)>,
     /// `max|T·Δ|` (Eq. 17) for the given perturbation, if one was given.
     pub robust_peak: Option<f64>,
@@ -73,10 +75,10 @@ pub struct MarginsReport {
     /// The margins and peaks at the top level (MATLAB's and python-control's names).
     #[cfg_attr(feature = "serde", serde(flatten))]
     pub margins: Margins,
-    /// The nominal loop's verdict (`None`: the probe could not run).
+    /// The nominal loop's verdict (`None`: it could not be decided; `stability` says why).
     pub stable: Option<bool>,
-    /// Why the probe could not run.
-    pub probe_note: Option<String>,
+    /// The verdict, what decided it, and the simulation's cross-check.
+    pub stability: super::Stability,
     /// The margins of the inner (model) loop.
     pub inner: Option<Margins>,
     /// The gain/delay stability region.
@@ -104,7 +106,7 @@ impl Analysis {
             },
             margins: self.margins,
             stable: self.stable,
-            probe_note: self.probe_note.clone(),
+            stability: self.stability.clone(),
             inner: self.inner,
             region: self
                 .region
@@ -175,6 +177,97 @@ pub fn process_response(
     })
 }
 
+/// How many poles of `p` lie in the open right half-plane (outside the unit
+/// circle once sampled), or why that is not a count the verdict can use
+/// (poles on the imaginary axis away from the origin sample onto the unit
+/// circle, where the indentation at `z = 1` does not reach).
+fn right_half_plane_poles(p: &TransferFunction) -> Result<usize, String> {
+    let poles = p
+        .poles()
+        .map_err(|e| std::format!("the plant's poles could not be found: {e}"))?;
+    let mut n = 0;
+    for (re, im) in poles {
+        let size = re.hypot(im);
+        if re > 1e-9 * size {
+            n += 1;
+        } else if im != 0.0 && re.abs() <= 1e-9 * size {
+            return Err(String::from(
+                "the plant has undamped poles on the imaginary axis: the verdict is left to the simulation",
+            ));
+        }
+    }
+    Ok(n)
+}
+
+/// The stability verdict of `controller` on `plant` (for a cascade scheme,
+/// the primary process with the secondary `inner` loop closed) at `ts`: the
+/// characteristic equation of the exact sampled loop
+/// ([`super::stability`]), the process being the plant's ZOH equivalent
+/// with its dead time, `P = Np/1`, or for a cascade
+/// `P = P12·Q / (1 + Q(P2 − P2m))` (its determinant apart).
+pub fn loop_stability(
+    controller: &dyn crate::LoopController<f64>,
+    plant: &TransferFunction,
+    inner: Option<InnerLoop<'_>>,
+    ts: f64,
+) -> super::Stability {
+    let unknown = super::Stability::unknown;
+    let whole = match inner {
+        Some((p2, _, _)) => match plant.series(p2) {
+            Ok(w) => w,
+            Err(e) => return unknown(std::format!("{e}")),
+        },
+        None => plant.clone(),
+    };
+    let open = match (right_half_plane_poles(plant), inner) {
+        (Err(e), _) => return unknown(e),
+        (Ok(n), None) => n,
+        (Ok(n), Some((p2, _, _))) => match right_half_plane_poles(p2) {
+            Ok(0) => n,
+            Ok(_) => {
+                return unknown(String::from(
+                    "the secondary process is unstable: the verdict is left to the simulation",
+                ))
+            }
+            Err(e) => return unknown(e),
+        },
+    } + controller.unstable_poles();
+    let delay = whole.delay_samples(ts).unwrap_or(0.0);
+    let own = controller.dead_time().unwrap_or(0.0);
+    #[allow(clippy::cast_precision_loss)]
+    let rate = delay + 2.0 * own + whole.order() as f64 + 16.0;
+    let parts = |theta: f64| controller.feedback_parts(theta);
+    let fail = |e: Error| unknown(std::format!("{e}"));
+    match inner {
+        None => {
+            let dp = match DiscretePlant::new(plant, ts) {
+                Ok(d) => d,
+                Err(e) => return fail(e),
+            };
+            let process = |theta: f64| (dp.response(theta), Complex::real(1.0));
+            super::stability::verdict(&parts, &process, open, rate)
+        }
+        Some((p2, imc, p2m)) => {
+            let (p12, d2, m2) = match (
+                DiscretePlant::new(&whole, ts),
+                DiscretePlant::new(p2, ts),
+                DiscretePlant::new(p2m, ts),
+            ) {
+                (Ok(a), Ok(b), Ok(c)) => (a, b, c),
+                (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => return fail(e),
+            };
+            let process = |theta: f64| {
+                let q = imc.q_response(theta);
+                (
+                    p12.response(theta).mul(q),
+                    Complex::real(1.0).add(q.mul(d2.response(theta).sub(m2.response(theta)))),
+                )
+            };
+            super::stability::verdict(&parts, &process, open, rate)
+        }
+    }
+}
+
 /// Margins, stability region and the robust-stability test of Eq. 17 of a
 /// scenario's controller on its process. `uncertainty` perturbs the plant (and,
 /// for a cascade process, the secondary through its `inner_*` fields): the
@@ -232,17 +325,7 @@ fn analysis_of(
     }
     let cascade = ctrl.is_cascade();
     // the process as the controller's loop sees it, and its perturbed twin
-    let imc = match (&inner, cascade) {
-        (Some((_, m2)), true) => Some(crate::dtc::cascade::Imc::<f64, Vec<f64>>::design(
-            m2,
-            tuned
-                .params
-                .typed::<f64, crate::dtc::cascade::CascadePrimary>()?
-                .lambda2,
-            ts,
-        )?),
-        _ => None,
-    };
+    let imc = inner_imc(tuned, inner.as_ref(), cascade, ts)?;
     let whole =
         |p1: &TransferFunction, p2: Option<&TransferFunction>| -> Result<TransferFunction, Error> {
             match (p2, cascade) {
@@ -273,18 +356,42 @@ fn analysis_of(
             None => Complex::new(f64::NAN, f64::NAN),
         }
     };
+    let inner_loop = match (p2, &imc, &inner) {
+        (Some(p2), Some(q), Some((_, m2))) => Some((p2, q, m2)),
+        _ => None,
+    };
+    let verdict = loop_stability(ctrl, &shown, inner_loop, ts);
     let m = margins_of(&loop_fn, &w);
+    // the crossover margins are distances to instability from a stable loop:
+    // of an unstable loop they are no margins at all
+    let m = if verdict.stable == Some(false) {
+        Margins::unstable()
+    } else {
+        m
+    };
     let inner_m = if cascade {
         None
     } else {
         inner_margins(ctrl, &shown, ts)
     };
     let top = if m.gm.is_finite() { m.gm } else { 4.0 };
-    let reg: Vec<(f64, f64)> = (1..=12)
-        .map(|i| 0.25 + (top - 0.25) * f64::from(i) / 12.0)
-        .filter(|k| *k < top)
-        .map(|k| (k, margins_of(&|wi| loop_fn(wi).scale(k), &w).dm))
-        .collect();
+    let reg: Vec<(f64, f64)> = if verdict.stable == Some(false) {
+        Vec::new()
+    } else {
+        (1..=12)
+            .map(|i| 0.25 + (top - 0.25) * f64::from(i) / 12.0)
+            .filter(|k| *k < top)
+            .map(|k| {
+                // a factor below the lower gain limit is unstable: no delay margin
+                let dm = if k <= m.gm_lower {
+                    f64::NAN
+                } else {
+                    margins_of(&|wi| loop_fn(wi).scale(k), &w).dm
+                };
+                (k, dm)
+            })
+            .collect()
+    };
     let robust_peak = match uncertainty {
         Some(u) => {
             let p1u = plant.perturbed(u.gain, u.delay, u.tau)?;
@@ -313,14 +420,16 @@ fn analysis_of(
     probe.duration = Some(crate::study::choose_duration(&grid_plant, ts) * 3.0);
     probe.disturbance.clear();
     probe.noise = None;
-    let (stable, probe_note) =
-        match probe.run_tuned(tuned, plant.clone(), model.clone(), inner.clone()) {
-            Ok(out) => (Some(crate::sweep::stable(&out)), None),
-            Err(e) => (
-                None,
-                Some(std::format!("the probe simulation could not run: {e}")),
-            ),
-        };
+    let stability = match probe.run_tuned(tuned, plant.clone(), model.clone(), inner.clone()) {
+        Ok(out) => verdict.with_simulation(crate::sweep::stable(&out), out.duration),
+        Err(e) => {
+            let mut v = verdict;
+            v.reason.push_str(&std::format!(
+                "; the cross-checking simulation could not run: {e}"
+            ));
+            v
+        }
+    };
     Ok(Analysis {
         plant,
         model,
@@ -332,12 +441,58 @@ fn analysis_of(
         params: built.params,
         margins: m,
         inner: inner_m,
-        stable,
-        probe_note,
+        stable: stability.stable,
+        stability,
         region: reg,
         robust_peak,
         response,
     })
+}
+
+/// The IMC loop a cascade scheme closes around the secondary process (as the
+/// controller builds it), or `None` for a single loop.
+fn inner_imc(
+    tuned: &crate::study::Tuned,
+    inner: Option<&(TransferFunction, TransferFunction)>,
+    cascade: bool,
+    ts: f64,
+) -> Result<Option<crate::dtc::cascade::Imc<f64, Vec<f64>>>, crate::study::RunError> {
+    Ok(match (inner, cascade) {
+        (Some((_, m2)), true) => Some(crate::dtc::cascade::Imc::<f64, Vec<f64>>::design(
+            m2,
+            tuned
+                .params
+                .typed::<f64, crate::dtc::cascade::CascadePrimary>()?
+                .lambda2,
+            ts,
+        )?),
+        _ => None,
+    })
+}
+
+/// The stability verdict ([`loop_stability`]) of the scenario's loop with
+/// the controller `tuned` for `model` on `plant` (and a cascade's
+/// secondary process and model), not yet cross-checked by a simulation.
+pub fn tuned_stability(
+    sc: &crate::study::Scenario,
+    tuned: &crate::study::Tuned,
+    plant: &TransferFunction,
+    model: &TransferFunction,
+    inner: Option<&(TransferFunction, TransferFunction)>,
+) -> super::Stability {
+    let run = || -> Result<super::Stability, crate::study::RunError> {
+        let built = sc.build_tuned(tuned, model, inner.map(|(_, m)| m))?;
+        let ctrl = built.controller.as_ref();
+        let cascade = ctrl.is_cascade();
+        let imc = inner_imc(tuned, inner, cascade, built.ts)?;
+        let (whole, parts) = match (inner, &imc) {
+            (Some((p2, m2)), Some(q)) => (plant.clone(), Some((p2, q, m2))),
+            (Some((p2, _)), None) => (plant.series(p2)?, None),
+            (None, _) => (plant.clone(), None),
+        };
+        Ok(loop_stability(ctrl, &whole, parts, built.ts))
+    };
+    run().unwrap_or_else(|e| super::Stability::unknown(std::format!("{e}")))
 }
 
 /// The P-only "controller" of a bare loop: `kp` from `set` (default 1),

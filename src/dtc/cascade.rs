@@ -650,6 +650,14 @@ impl<T: Real, O: FrequencyResponse<T>, S: AsRef<[T]> + AsMut<[T]>> FrequencyResp
     fn inner_response(&self, theta: T) -> Option<Complex<T>> {
         self.outer.inner_response(theta)
     }
+
+    fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        self.outer.feedback_parts(theta)
+    }
+
+    fn unstable_poles(&self) -> usize {
+        self.outer.unstable_poles()
+    }
 }
 
 #[cfg(all(test, feature = "alloc"))]

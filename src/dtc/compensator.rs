@@ -230,6 +230,13 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     /// `M(z)` of the sampled filter: with `q = h/(z − 1)` and `D = z^{−d}`,
     /// `M = (k4 + q·k3)/Kv / ((1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1))`.
     fn response(&self, theta: T) -> Complex<T> {
+        let (num, den) = self.parts(theta);
+        num.div(den)
+    }
+
+    /// `M = num/den` as in [`AhlFilter::response`], the two parts apart: `den`
+    /// is the determinant of the filter's own loop (its integrator and window).
+    fn parts(&self, theta: T) -> (Complex<T>, Complex<T>) {
         let z = Complex::cis(theta);
         let one = Complex::real(T::one());
         let zm1 = z.sub(one);
@@ -242,7 +249,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
         let den = Complex::real(T::one() + self.k1)
             .add(q.mul(Complex::real(self.k2).sub(d.scale(self.k4))))
             .add(q.mul(w));
-        num.div(den)
+        (num, den)
     }
 }
 
@@ -745,5 +752,56 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
         let g1y = self.gc1.response(theta).1;
         let g2 = self.gc2.response(theta);
         Some(g1y.add(g2).mul(self.model.response(theta).0))
+    }
+
+    /// [`Compensator::response`]'s `Cy` over one determinant, with
+    /// `F = Fn/Fd` (Huang's `Fd = 1 + B·z^{−d}`) and `Gd = Mn/Md`
+    /// (Åström–Hang–Lim's `M` with its own loop):
+    /// `Dc = Md·(Fd(1 + G1y(Gm − Mc) + G2·Gm) − G1y·Fn·D·Gm)`,
+    /// `Nc = G1y·Fn·(Md + Mn·D·Gm) + Mn·Dc/Md`.
+    fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        let one = Complex::real(T::one());
+        let zero = Complex::default();
+        let (_, g1y) = self.gc1.response(theta);
+        let g2 = self.gc2.response(theta);
+        let (gm, d) = self.model.response(theta);
+        let (f_num, f_den) = match &self.err {
+            ErrorPath::Direct => (one, one),
+            ErrorPath::Blocked => (zero, one),
+            ErrorPath::Filter(f) => (f.response(theta), one),
+            ErrorPath::Huang { b, line } => {
+                let bb = b.response(theta);
+                let dl = Complex::delay_response(theta, line.delay());
+                (one.add(bb), one.add(bb.mul(dl)))
+            }
+        };
+        let (m_num, m_den) = match &self.dist {
+            DisturbancePath::Off => (zero, one),
+            DisturbancePath::Block(b) => (b.response(theta), one),
+            DisturbancePath::AstromHangLim(m) => m.parts(theta),
+        };
+        let mc = self.corr.as_ref().map_or(zero, |c| c.response(theta));
+        let den = f_den
+            .mul(one.add(g1y.mul(gm.sub(mc))).add(g2.mul(gm)))
+            .sub(g1y.mul(f_num).mul(d).mul(gm));
+        let nc = g1y
+            .mul(f_num)
+            .mul(m_den.add(m_num.mul(d).mul(gm)))
+            .add(m_num.mul(den));
+        Some((nc, m_den.mul(den)))
+    }
+
+    /// The model's unstable poles and those of the filters (none, as designed).
+    fn unstable_poles(&self) -> usize {
+        let filter = match &self.err {
+            ErrorPath::Filter(f) => f.unstable_poles(),
+            ErrorPath::Huang { b, .. } => b.unstable_poles(),
+            ErrorPath::Direct | ErrorPath::Blocked => 0,
+        };
+        let dist = match &self.dist {
+            DisturbancePath::Block(b) => b.unstable_poles(),
+            DisturbancePath::Off | DisturbancePath::AstromHangLim(_) => 0,
+        };
+        self.model.unstable_poles() + filter + dist
     }
 }

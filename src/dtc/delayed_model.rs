@@ -131,6 +131,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
         &mut self.line
     }
 
+    /// How many poles of the model lie outside the unit circle.
+    pub fn unstable_poles(&self) -> usize {
+        self.model.unstable_poles()
+    }
+
     /// `(G_m(e^{jθ}), e^{−jθd})` at the normalized frequency `θ = ωTs`.
     pub fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         (

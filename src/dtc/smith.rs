@@ -177,4 +177,17 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
         Some(self.pid.response(theta).1.mul(self.model.response(theta).0))
     }
+
+    /// `Nc = G1y`, `Dc = 1 + G1y·Gm(1 − z^{−d})`: the predictor's own loop.
+    fn feedback_parts(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        use crate::Complex;
+        let (_, g1y) = self.pid.response(theta);
+        let (gm, d) = self.model.response(theta);
+        let one = Complex::real(T::one());
+        Some((g1y, one.add(g1y.mul(gm).mul(one.sub(d)))))
+    }
+
+    fn unstable_poles(&self) -> usize {
+        self.model.unstable_poles()
+    }
 }

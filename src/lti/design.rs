@@ -6,7 +6,7 @@ use super::{Discretization, Lti};
 use crate::complex::Complex;
 use crate::real::{finite, positive};
 use crate::{Error, Real};
-use core::ops::{Mul, Sub};
+use core::ops::{Add, Div, Mul, Sub};
 
 /// Strips leading zeros of a descending coefficient slice.
 fn trim<T: Real>(c: &[T]) -> &[T] {
@@ -581,4 +581,103 @@ fn poly_from_roots<T: Real>(r: &[Complex<T>], ts: T) -> [T; MAX_MATCHED + 1] {
         *o = v.re;
     }
     out
+}
+
+/// Capacity of [`char_poly`]: blocks up to this order.
+pub(crate) const CHAR_POLY: usize = 25;
+
+/// The characteristic polynomial `det(zI − Φ) = zⁿ + c₁zⁿ⁻¹ + … + cₙ` of a
+/// block (descending coefficients, `n + 1` of them) by Faddeev–LeVerrier:
+/// `M₀ = I`, `cₖ = −tr(Φ·Mₖ₋₁)/k`, `Mₖ = Φ·Mₖ₋₁ + cₖI`.
+pub(crate) fn char_poly<T: Real, const N: usize>(b: &Lti<T, N>) -> ([f64; CHAR_POLY], usize) {
+    let n = b.order().min(N).min(CHAR_POLY - 1);
+    let mut c = [0.0; CHAR_POLY];
+    if let Some(c0) = c.first_mut() {
+        *c0 = 1.0;
+    }
+    let at = |m: &[[f64; N]; N], i: usize, j: usize| {
+        m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
+    };
+    let mut m = [[0.0; N]; N];
+    for (i, row) in m.iter_mut().enumerate() {
+        if let Some(x) = row.get_mut(i) {
+            *x = 1.0;
+        }
+    }
+    for k in 1..=n {
+        let mut am = [[0.0; N]; N];
+        for (i, row) in am.iter_mut().enumerate().take(n) {
+            for (j, x) in row.iter_mut().enumerate().take(n) {
+                *x = (0..n).map(|q| b.phi_entry(i, q).f64() * at(&m, q, j)).sum();
+            }
+        }
+        let tr: f64 = (0..n).map(|i| at(&am, i, i)).sum();
+        let ck = -tr / f64::from(u32::try_from(k).unwrap_or(u32::MAX));
+        if let Some(x) = c.get_mut(k) {
+            *x = ck;
+        }
+        for (i, row) in am.iter_mut().enumerate() {
+            if let Some(x) = row.get_mut(i) {
+                *x += ck;
+            }
+        }
+        m = am;
+    }
+    (c, n + 1)
+}
+
+/// How many roots of the real polynomial `p` (descending coefficients) lie
+/// outside the unit circle. Roots on the circle at `z = ±1` (integrators,
+/// and the Nyquist-frequency pole) are divided out first and count as
+/// inside; the rest are counted by the argument principle: the winding
+/// number of `p(e^{jθ})` about the origin is the number of roots inside the
+/// circle (a polynomial has no poles), sampled finely enough that no step
+/// turns by more than a quarter turn.
+pub(crate) fn roots_outside(p: &[f64]) -> usize {
+    let mut c = [0.0; CHAR_POLY];
+    let p = trim(p);
+    let mut len = p.len().min(CHAR_POLY);
+    for (x, v) in c.iter_mut().zip(p) {
+        *x = *v;
+    }
+    let scale = |c: &[f64]| c.iter().fold(0.0f64, |s, v| s + v.abs());
+    // divide out roots at z = 1 and z = −1: p(z) = (z − r)·q(z)
+    for r in [1.0f64, -1.0] {
+        while len > 1 {
+            let at = c.iter().take(len).fold(0.0f64, |acc, v| acc * r + *v);
+            if at.abs() > 1e-10 * scale(c.get(..len).unwrap_or(&[])) {
+                break;
+            }
+            let mut acc = 0.0;
+            for x in c.iter_mut().take(len - 1) {
+                acc = acc * r + *x;
+                *x = acc;
+            }
+            len -= 1;
+        }
+    }
+    let deg = len.saturating_sub(1);
+    if deg == 0 {
+        return 0;
+    }
+    let coeffs = c.get(..len).unwrap_or(&[]);
+    let eval = |theta: f64| {
+        let z = Complex::cis(theta);
+        coeffs.iter().fold(Complex::real(0.0), |acc, v| {
+            acc.mul(z).add(Complex::real(*v))
+        })
+    };
+    let steps = 64 * (deg + 1);
+    let mut turned = 0.0;
+    let mut prev = eval(0.0);
+    for k in 1..=steps {
+        #[allow(clippy::cast_precision_loss)] // at most 64·25
+        let theta = core::f64::consts::TAU * k as f64 / steps as f64;
+        let next = eval(theta);
+        turned += next.div(prev).arg();
+        prev = next;
+    }
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let inside = Real::round(turned / core::f64::consts::TAU).max(0.0) as usize;
+    deg.saturating_sub(inside)
 }

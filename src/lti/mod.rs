@@ -382,6 +382,14 @@ impl<T: Real, const N: usize> Lti<T, N> {
         }
     }
 
+    /// How many poles of the block (eigenvalues of `Φ`) lie outside the unit
+    /// circle; poles at `z = ±1` count as inside (an integrator is marginal,
+    /// not unstable).
+    pub fn unstable_poles(&self) -> usize {
+        let (c, len) = design::char_poly(self);
+        design::roots_outside(c.get(..len).unwrap_or(&[]))
+    }
+
     /// The DC gain `C (I − Φ)⁻¹ Γ + D`, or an error for a pole at `z = 1`.
     pub fn dc_gain(&self) -> Result<T, Error> {
         let mut probe = *self;

@@ -582,6 +582,22 @@ impl Scheme {
             p2.check_controllable()?;
         }
         let kind = model.kind();
+        // every parameter given: the user's controller is run as given (the
+        // stability verdict says whether the loop holds), the tuning only
+        // fills the parameter set on a stable stand-in of the model
+        let stand_in;
+        let all_given = !self.params.is_empty()
+            && self
+                .params
+                .iter()
+                .all(|p| overrides.iter().any(|(k, _)| k == p));
+        let model = if !self.plants.contains(&kind) && all_given && !self.is_cascade() {
+            stand_in = model.stable_stand_in()?;
+            &stand_in
+        } else {
+            model
+        };
+        let kind = model.kind();
         if !self.plants.contains(&kind) {
             return Err(RegistryError::PlantKind {
                 scheme: self.name,

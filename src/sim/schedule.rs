@@ -20,6 +20,15 @@ pub enum Location {
 }
 
 impl Location {
+    /// Its name in flags, files and reports: `input`, `output`, `inner`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Location::Input => "input",
+            Location::Output => "output",
+            Location::Inner => "inner",
+        }
+    }
+
     /// The place called `name`: `input` (or `load`, García et al. (2010)'s
     /// `d2`), `output` (`d1`) or `inner` (`d0`); an error naming them
     /// otherwise.

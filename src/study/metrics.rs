@@ -64,18 +64,19 @@ pub fn metrics(
         rows(&res.y, first, stride),
         rows(&res.u, first, stride),
     );
+    let nan = f64::NAN;
+    let unbounded = Indices {
+        iae: nan,
+        ise: nan,
+        itae: nan,
+        itse: nan,
+        tv: nan,
+    };
     // no sample in the window (a run that diverged before `shift`): no
     // figure, never a 0 that reads as a perfect loop
     if tt.len() < 2 {
-        let nan = f64::NAN;
         return Ok(Metrics {
-            indices: Indices {
-                iae: nan,
-                ise: nan,
-                itae: nan,
-                itse: nan,
-                tv: nan,
-            },
+            indices: unbounded,
             step: step_info(&[], &[], 0.0, nan, shift),
         });
     }
@@ -96,7 +97,13 @@ pub fn metrics(
         }
         ind.push(r - y, *u);
     }
-    let indices = ind.value();
+    // the integrals of a run that diverged grow without bound: no number
+    // measures them (the sum up to the divergence would read as a figure)
+    let indices = if res.diverged_at.is_some() {
+        unbounded
+    } else {
+        ind.value()
+    };
     let y0 = yy.first().copied().unwrap_or(0.0);
     let y_final = steps.last().map_or(0.0, |s| s.value);
     let first_step = steps.first().map_or(0.0, |s| s.at.max(0.0));

@@ -158,6 +158,9 @@ pub struct RunOutput {
     /// The tuned loop's margins (sampled view), for a single loop run by
     /// [`Scenario::run`].
     pub robustness: Option<crate::analysis::Margins>,
+    /// The loop's stability verdict ([`crate::analysis::stability`]),
+    /// cross-checked by this run, for a run by [`Scenario::run`].
+    pub stability: crate::analysis::Stability,
     /// Whether the tuning's `lambda` was chosen automatically.
     pub lambda_chosen: bool,
     /// Controller name.
@@ -202,6 +205,8 @@ pub enum RunError {
     Invalid(Error),
     /// A requested size is beyond a limit (the message names both).
     Limit(String),
+    /// Something scheduled falls outside the run (the message names it).
+    Schedule(String),
 }
 
 impl core::fmt::Display for RunError {
@@ -210,7 +215,7 @@ impl core::fmt::Display for RunError {
             RunError::Missing(field) => write!(f, "the scenario has no {field}"),
             RunError::Registry(e) => write!(f, "{e}"),
             RunError::Invalid(e) => write!(f, "{e}"),
-            RunError::Limit(m) => f.write_str(m),
+            RunError::Limit(m) | RunError::Schedule(m) => f.write_str(m),
         }
     }
 }
@@ -241,6 +246,45 @@ impl Scenario {
                 _ => None,
             })
             .fold(0.0, f64::max)
+    }
+
+    /// The latest thing the scenario schedules — a set-point step, a
+    /// disturbance or an operator event — as `(time, what)`.
+    pub fn last_scheduled(&self) -> Option<(f64, String)> {
+        let fmt = crate::poly::fmt_num;
+        self.setpoint
+            .iter()
+            .map(|s| {
+                (
+                    s.at,
+                    std::format!("the set-point step to {} at {} s", fmt(s.value), fmt(s.at)),
+                )
+            })
+            .chain(self.disturbance.iter().map(|d| {
+                (
+                    d.at,
+                    std::format!("the {} disturbance at {} s", d.location.name(), fmt(d.at)),
+                )
+            }))
+            .chain(
+                self.events
+                    .iter()
+                    .map(|e| (e.at, std::format!("the operator event at {} s", fmt(e.at)))),
+            )
+            .filter(|(at, _)| at.is_finite())
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+    }
+
+    /// A duration that ends before something the scenario schedules is an
+    /// error naming it: the run would drop it without a word.
+    fn check_duration_covers(&self, duration: f64) -> Result<(), RunError> {
+        match self.last_scheduled() {
+            Some((at, what)) if at > duration => Err(RunError::Schedule(std::format!(
+                "{what} is after the end of the run ({} s): give a longer duration, or leave it out to have msp cover every scheduled step and its settling",
+                crate::poly::fmt_num(duration)
+            ))),
+            _ => Ok(()),
+        }
     }
 
     /// The events' values and the actuator's range, checked (a scenario file
@@ -327,7 +371,7 @@ impl Scenario {
     /// Tunes, builds and simulates; the output carries the tuned loop's
     /// robustness ([`Scenario::robustness`]).
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        let (plant, model, inner, tuned, robust) = self.tuned_loop()?;
+        let (plant, model, inner, tuned, robust, stability) = self.tuned_loop()?;
         let mut out =
             if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
                 self.run_default_protocol(&tuned, &plant, &model, &inner)?
@@ -345,6 +389,15 @@ impl Scenario {
             out.notes.extend(r.warnings);
             out.robustness = Some(r.margins);
         }
+        let settled = out.result.diverged_at.is_none() && out.has_settled();
+        out.stability = stability.with_simulation(settled, out.duration);
+        if out.stability.stable == Some(false) && out.result.diverged_at.is_none() {
+            out.notes.push(std::format!(
+                "the closed loop with {} is unstable: {}",
+                out.controller,
+                out.stability.reason
+            ));
+        }
         Ok(out)
     }
 
@@ -360,17 +413,25 @@ impl Scenario {
             Option<(TransferFunction, TransferFunction)>,
             Tuned,
             Option<Robustness>,
+            crate::analysis::Stability,
         ),
         RunError,
     > {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-        let robust = match inner {
-            None => self.robustness(&tuned, &plant, &model),
-            Some(_) => None,
+        let stability =
+            crate::analysis::tuned_stability(self, &tuned, &plant, &model, inner.as_ref());
+        let robust = match (&inner, stability.stable) {
+            // an unstable loop has no margins: the verdict says why
+            (None, Some(false)) => Some(Robustness {
+                margins: crate::analysis::Margins::unstable(),
+                warnings: Vec::new(),
+            }),
+            (None, _) => self.robustness(&tuned, &plant, &model),
+            (Some(_), _) => None,
         };
-        Ok((plant, model, inner, tuned, robust))
+        Ok((plant, model, inner, tuned, robust, stability))
     }
 
     /// The default scenario of a run that names no set point, disturbance or
@@ -421,6 +482,15 @@ impl Scenario {
             _ => -0.2 / gain,
         };
         let at = nice_ceil(1.25 * settle.max(first.ts));
+        // operator events of the scenario stay inside every run of the
+        // protocol: the first run's chosen duration covers the last of them
+        let cover = |d: f64| {
+            if self.events.is_empty() {
+                d
+            } else {
+                d.max(first.duration)
+            }
+        };
         sc.disturbance = std::vec![Disturbance {
             location: crate::sim::Location::Input,
             shape: crate::sim::Shape::Step,
@@ -433,7 +503,7 @@ impl Scenario {
         let mut span = first.duration.max(2.0 * settle);
         let mut recovery = f64::NAN;
         for _ in 0..4 {
-            sc.duration = Some(at + span);
+            sc.duration = Some(cover(at + span));
             let Ok(probe) = run(&sc) else {
                 return Ok(first);
             };
@@ -456,7 +526,7 @@ impl Scenario {
         if !recovery.is_finite() {
             return Ok(first);
         }
-        sc.duration = Some(nice_ceil(at + 1.25 * recovery.max(settle)));
+        sc.duration = Some(cover(nice_ceil(at + 1.25 * recovery.max(settle))));
         let Ok(mut out) = run(&sc) else {
             return Ok(first);
         };
@@ -527,7 +597,11 @@ impl Scenario {
         );
         let (u_min, u_max) = (built.u_min, built.u_max);
         let (duration, duration_chosen) = match self.duration {
-            Some(d) => (crate::real::positive(d, "duration")?, false),
+            Some(d) => {
+                let d = crate::real::positive(d, "duration")?;
+                self.check_duration_covers(d)?;
+                (d, false)
+            }
             // the plant's settling, or twenty closed-loop time constants λ
             // where the loop is slower (a delay-free integrator has no time
             // constant of its own)
@@ -548,6 +622,12 @@ impl Scenario {
                 ),
                 true,
             ),
+        };
+        // the chosen duration covers settling from a step at 0: from the last
+        // thing scheduled as well
+        let duration = match (duration_chosen, self.last_scheduled()) {
+            (true, Some((at, _))) if at > 0.0 => at + duration,
+            _ => duration,
         };
         let substeps = self.substeps.unwrap_or(1);
         if substeps == 0 || substeps > 1000 {
@@ -669,6 +749,9 @@ impl Scenario {
             scenario: self.clone(),
             notes: Vec::new(),
             robustness: None,
+            stability: crate::analysis::Stability::unknown(
+                "the run was not analysed (a run by Scenario::run is)",
+            ),
             design: Vec::new(),
         })
     }

@@ -118,8 +118,12 @@ pub struct Report {
     /// The tuned loop's gain, phase and delay margins and sensitivity peaks
     /// (the loop broken at the plant input, the plant behind the hold).
     pub robustness: Option<crate::analysis::Margins>,
-    /// False when the output diverged.
-    pub stable: bool,
+    /// The loop's verdict: `true` stable, `false` unstable, `null` when it
+    /// could not be decided (`stability.reason` says why).
+    pub stable: Option<bool>,
+    /// The verdict from the characteristic equation, what decided it, and
+    /// this run's cross-check.
+    pub stability: crate::analysis::Stability,
     /// When the output diverged (s); the signals stop there.
     pub diverged_at: Option<f64>,
     /// What the user should know about the run.
@@ -155,7 +159,8 @@ impl RunOutput {
             operator_events: self.operator_events(),
             design: self.design.clone(),
             robustness: self.robustness,
-            stable: self.result.diverged_at.is_none(),
+            stable: self.stable(),
+            stability: self.stability.clone(),
             diverged_at: self.result.diverged_at,
             warnings: self.warnings(),
         }
@@ -183,6 +188,17 @@ impl RunOutput {
                 }
             })
             .collect()
+    }
+
+    /// The loop's verdict: the characteristic equation's, or where that is
+    /// unknown and the output diverged, `false` (a divergence proves
+    /// instability, a quiet run proves nothing).
+    pub fn stable(&self) -> Option<bool> {
+        match (self.stability.stable, self.result.diverged_at) {
+            (Some(s), _) => Some(s),
+            (None, Some(_)) => Some(false),
+            (None, None) => None,
+        }
     }
 
     /// Whether the output has come to rest: the step information has a
@@ -241,6 +257,10 @@ pub struct TuneReport {
     pub design: crate::registry::DesignReport,
     /// The sample period the design is for (s).
     pub ts: f64,
+    /// The loop's verdict on the plant (`null`: undecided, `stability` says why).
+    pub stable: Option<bool>,
+    /// The verdict from the characteristic equation and what decided it.
+    pub stability: crate::analysis::Stability,
     /// The loop's margins and sensitivity peaks (single loops).
     pub robustness: Option<crate::analysis::Margins>,
     /// `max|T·Δ|` (García et al. (2010) Eq. 17) for the perturbation given.
@@ -259,7 +279,7 @@ impl super::Scenario {
         &self,
         uncertainty: Option<super::Perturbation>,
     ) -> Result<TuneReport, super::RunError> {
-        let (plant, model, inner, tuned, robust) = self.tuned_loop()?;
+        let (plant, model, inner, tuned, robust, stability) = self.tuned_loop()?;
         let (ts, _) = self.check_size(&model, inner.as_ref().map(|(_, m)| m))?;
         let design = tuned.scheme.design_report(
             &tuned.params,
@@ -287,12 +307,23 @@ impl super::Scenario {
             } else {
                 Vec::new()
             },
+            stable: stability.stable,
             robustness: robust.as_ref().map(|r| r.margins),
+            warnings: {
+                let mut w = robust.map(|r| r.warnings).unwrap_or_default();
+                if stability.stable == Some(false) {
+                    w.insert(
+                        0,
+                        std::format!("the closed loop is unstable: {}", stability.reason),
+                    );
+                }
+                w
+            },
+            stability,
             design,
             ts,
             robust_peak,
             robustly_stable: robust_peak.map(|p| p < 1.0),
-            warnings: robust.map(|r| r.warnings).unwrap_or_default(),
         })
     }
 }

@@ -41,7 +41,7 @@ pub(crate) enum Cmd {
 #[derive(Debug, Args)]
 pub(crate) struct DesignArgs {
     /// Closed-loop time constant for tuning (s).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) lambda: Option<f64>,
     /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
     #[arg(long)]
@@ -74,20 +74,20 @@ pub(crate) struct ScenarioArgs {
     #[command(flatten)]
     pub(crate) design: DesignArgs,
     /// Sample period (s); chosen from the plant when absent.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) ts: Option<f64>,
     /// Duration (s); chosen from the plant when absent.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) duration: Option<f64>,
     /// Set-point step VALUE[@TIME] (repeatable); default 1@0.
-    #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>)]
+    #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>, allow_hyphen_values = true)]
     pub(crate) setpoint: Vec<SetpointStep>,
     /// Disturbance input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable);
     /// for a cascade process d2 = input, d1 = output, d0 = inner (at the secondary output).
     #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]
     pub(crate) disturbance: Vec<Disturbance>,
     /// Measurement-noise standard deviation.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) noise: Option<f64>,
     /// Noise seed.
     #[arg(long)]
@@ -126,7 +126,7 @@ pub(crate) struct ScenarioArgs {
     pub(crate) reset_feedback: bool,
     /// The controller's set point moves by at most RATE per second (a
     /// set-point ramp, as industrial blocks have; off by default).
-    #[arg(long, value_name = "RATE")]
+    #[arg(long, value_name = "RATE", allow_hyphen_values = true)]
     pub(crate) setpoint_ramp: Option<f64>,
 }
 
@@ -267,16 +267,16 @@ pub(crate) struct AutotuneArgs {
     #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
     pub(crate) plant: TransferFunction,
     /// Relay amplitude h.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub(crate) relay_amplitude: f64,
     /// Relay hysteresis (default: three noise standard deviations).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) hysteresis: Option<f64>,
     /// Relay bias for the static gain (default: 0 for integrating plants, 0.2 h otherwise).
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) bias: Option<f64>,
     /// Measurement-noise standard deviation.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub(crate) noise: f64,
     /// Noise seed.
     #[arg(long, default_value_t = 0)]
@@ -288,13 +288,13 @@ pub(crate) struct AutotuneArgs {
     #[arg(long, short = 'c')]
     pub(crate) controller: Option<String>,
     /// Sample period (s).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) ts: Option<f64>,
     /// Safety band on the output during the relay test.
-    #[arg(long, default_value_t = f64::INFINITY)]
+    #[arg(long, default_value_t = f64::INFINITY, allow_hyphen_values = true)]
     pub(crate) band: f64,
     /// Duration of the closed-loop run (s).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) duration: Option<f64>,
     /// CSV of the closed-loop run (`-`: standard output).
     #[arg(long, short = 'o')]
@@ -310,10 +310,10 @@ pub(crate) struct StepArgs {
     #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
     pub(crate) plant: TransferFunction,
     /// Sample period of the response (s); the duration over 4000 when absent.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) ts: Option<f64>,
     /// Duration (s); chosen from the plant when absent.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) duration: Option<f64>,
     /// CSV with columns t, y (`-`: standard output).
     #[arg(long, short = 'o')]
@@ -357,7 +357,7 @@ pub(crate) struct TuneArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
     pub(crate) inner_plant: Option<TransferFunction>,
     /// Sample period (s) for the robust-stability test; chosen from the plant when absent.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) ts: Option<f64>,
     /// Also report the robust-stability test (Eq. 17, max|T·Δ| < 1) for this perturbation,
     /// e.g. delay=20%,tau=-20%.

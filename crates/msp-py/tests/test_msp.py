@@ -382,9 +382,18 @@ def test_run_says_what_it_chose() -> None:
 
 def test_margins_call_a_p_only_loop_stable_where_it_settles_off_the_set_point() -> None:
     m = msp.margins("1/(s+1)", "pid", {"kp": 1.0, "ti": math.inf, "td": 0.0})
-    assert m["stable"] is True and m["probe_note"] is None
+    assert m["stable"] is True and m["stability"]["simulation"] is True
     m = msp.margins("e^-1s/(s+1)", "pid", {"kp": 3.0, "ti": math.inf, "td": 0.0})
-    assert m["stable"] is False
+    assert m["stable"] is False and m["stability"]["unstable_poles"] >= 1
+    # an unstable loop has no margins: NaN (null in the JSON), with the reason
+    assert math.isnan(m["gm"]) and math.isnan(m["ms"])
+
+
+def test_run_reports_the_verdict() -> None:
+    res = msp.run("0.2/s*e^-7.4s", "pid", {"kp": 5.0, "ti": 20.0, "td": 0.0})
+    assert res.stable is False and res.stability["stable"] is False
+    assert "outside the unit circle" in res.stability["reason"]
+    assert msp.run("0.2/s*e^-7.4s").stable is True
 
 
 def test_sweep_columns_and_shards() -> None:

@@ -659,6 +659,15 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> FrequencyResponse<T> for Predicted
         let d = Complex::real(T::one()) + ky * su;
         Some((kr / d, ky * sy / d))
     }
+
+    /// `Nc = K_y·Sy`, `Dc = 1 + K_y·Su`: the primary's loop around the
+    /// predictor, whose blocks are stable by design (the predictor is
+    /// realized without the model's unstable poles).
+    fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
+        let (_, ky) = self.k.response(theta);
+        let (su, sy) = self.pred.response(theta);
+        Some((ky * sy, Complex::real(T::one()) + ky * su))
+    }
 }
 
 #[cfg(test)]

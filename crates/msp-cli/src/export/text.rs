@@ -66,7 +66,14 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         }
     ));
     s.push_str(&design_block(&out.design));
-    if let Some(r) = &out.robustness {
+    s.push_str(&format!(
+        "stability   {}: {}\n",
+        out.stability.summary(),
+        out.stability.reason
+    ));
+    if out.stability.stable == Some(false) {
+        s.push_str("robustness  none: the loop is unstable, margins do not apply\n");
+    } else if let Some(r) = &out.robustness {
         s.push_str(&robustness_line(r));
     }
     let m = &out.metrics;
@@ -270,24 +277,33 @@ pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
         ));
     }
     s.push_str(&format!(
-        "gain margin   gm = {} ({} dB) at wcg = {} rad/s\n",
-        fmt_sig(m.gm),
-        fmt_sig(m.gm_db),
-        fmt_sig(m.wcg)
+        "nominal loop  {}: {}\n",
+        an.stability.summary(),
+        an.stability.reason
     ));
-    s.push_str(&format!(
-        "phase margin  pm = {} deg at wcp = {} rad/s\n",
-        fmt_sig(m.pm),
-        fmt_sig(m.wcp)
-    ));
-    s.push_str(&format!("delay margin  dm = {} s\n", fmt_sig(m.dm)));
-    s.push_str(&format!(
-        "peaks         ms = {}, mt = {}\n",
-        fmt_sig(m.ms),
-        fmt_sig(m.mt)
-    ));
-    if m.gm_lower > 0.0 {
-        s.push_str(&format!("lower gain limit {}\n", fmt_sig(m.gm_lower)));
+    if an.stable == Some(false) {
+        s.push_str("margins       none: the loop is unstable, margins do not apply\n");
+    } else {
+        s.push_str(&format!(
+            "gain margin   gm = {} ({} dB) at wcg = {} rad/s\n",
+            fmt_sig(m.gm),
+            fmt_sig(m.gm_db),
+            fmt_sig(m.wcg)
+        ));
+        s.push_str(&format!(
+            "phase margin  pm = {} deg at wcp = {} rad/s\n",
+            fmt_sig(m.pm),
+            fmt_sig(m.wcp)
+        ));
+        s.push_str(&format!("delay margin  dm = {} s\n", fmt_sig(m.dm)));
+        s.push_str(&format!(
+            "peaks         ms = {}, mt = {}\n",
+            fmt_sig(m.ms),
+            fmt_sig(m.mt)
+        ));
+        if m.gm_lower > 0.0 {
+            s.push_str(&format!("lower gain limit {}\n", fmt_sig(m.gm_lower)));
+        }
     }
     if let Some(i) = &an.inner {
         s.push_str(&format!(
@@ -297,16 +313,15 @@ pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
             fmt_sig(i.wcp)
         ));
     }
-    let verdict = match (an.stable, &an.probe_note) {
-        (Some(true), _) => "stable (simulated: bounded and settling)".to_string(),
-        (Some(false), _) => "NOT stable in simulation: the margins are not limits".to_string(),
-        (None, Some(why)) => format!("stability not determined: {why}"),
-        (None, None) => "stability not determined".to_string(),
-    };
-    s.push_str(&format!("nominal loop  {verdict}\n"));
-    s.push_str("stability region: gain factor -> delay margin (s)\n");
-    for (k, d) in &an.region {
-        s.push_str(&format!("  {:>8} -> {}\n", fmt_sig(*k), fmt_sig(*d)));
+    if !an.region.is_empty() {
+        s.push_str("stability region: gain factor -> delay margin (s)\n");
+        for (k, d) in &an.region {
+            if d.is_nan() {
+                s.push_str(&format!("  {:>8} -> unstable\n", fmt_sig(*k)));
+            } else {
+                s.push_str(&format!("  {:>8} -> {}\n", fmt_sig(*k), fmt_sig(*d)));
+            }
+        }
     }
     if let Some(p) = an.robust_peak {
         s.push_str(&format!(

@@ -200,7 +200,13 @@ class Result:
         the load is rejected.
     chosen : list of str
         Which of ``ts``, ``duration`` and ``lambda`` msp chose because the call did not give them.
-    plant, plant_kind, model, ts, duration, samples, float32, stable, diverged_at, warnings
+    stable : bool or None
+        The loop's stability verdict from its characteristic equation (``None`` when it could not
+        be decided; ``stability["reason"]`` says why).
+    stability : dict
+        ``stable``, ``unstable_poles`` (closed-loop poles outside the unit circle),
+        ``open_loop_unstable_poles``, ``simulation`` (the run's cross-check) and ``reason``.
+    plant, plant_kind, model, ts, duration, samples, float32, diverged_at, warnings
         The rest of the run report: the same keys and values as
         ``msp run --report`` writes (:meth:`report` returns them as one dict).
     """
@@ -234,7 +240,8 @@ class Result:
     robustness: Optional[Dict[str, float]]
     duration: float
     samples: int
-    stable: bool
+    stable: Optional[bool]
+    stability: Dict[str, Any]
     diverged_at: Optional[float]
     float32: bool
     warnings: List[str]
@@ -484,7 +491,7 @@ def margins(
         ``max|T·Δ|`` with the exact multiplicative uncertainty.
     **scenario
         The keywords of :class:`DesignOptions`, as :func:`run` takes them (``max_memory``
-        bounds the stability probe, a simulation); with ``inner_plant`` the loop is broken at
+        bounds the simulation that cross-checks the verdict); with ``inner_plant`` the loop is broken at
         the inner set point ``r2``.
 
     Returns
@@ -492,8 +499,10 @@ def margins(
     Margins
         A dict with ``gm``, ``gm_db``, ``pm`` (degrees), ``wcg``, ``wcp``, ``dm`` (s), ``ms``,
         ``mt`` (python-control / MATLAB names), ``view``, ``controller``, ``inner`` (the model
-        loop's margins), ``region`` (``{"gain", "dm"}`` points), ``stable`` (``None`` with
-        ``probe_note`` when the probe simulation could not run), ``robust_peak`` and the loop
+        loop's margins), ``region`` (``{"gain", "dm"}`` points), ``stable`` (the verdict of the
+        characteristic equation, ``None`` when it could not be decided), ``stability`` (the
+        verdict with ``unstable_poles``, ``simulation`` and ``reason``; an unstable loop's margins
+        are NaN), ``robust_peak`` and the loop
         response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``); keys read as attributes too, and
         :meth:`Margins.plot` draws Bode and Nyquist.
 

@@ -1,0 +1,211 @@
+//! Verdicts an engineer acts on, end to end: the stability verdict, margins
+//! and metrics of unstable loops, durations that keep what was scheduled,
+//! and negative numbers on the command line.
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn msp() -> Command {
+    Command::cargo_bin("msp").unwrap()
+}
+
+/// Runs `msp ARGS --report R` and reads the report.
+fn report(args: &[&str]) -> serde_json::Value {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("r.json");
+    msp()
+        .args(args)
+        .args(["-o", "-", "--report"])
+        .arg(&path)
+        .assert()
+        .success();
+    serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
+}
+
+/// The relay test's IPDT fit of a plant with a lag leaves karan-dey's loop
+/// unstable (it oscillates, growing): the verdict says so, with the
+/// closed-loop poles counted, and the simulation agrees.
+#[test]
+fn a_diverging_loop_is_not_reported_stable() {
+    let j = report(&[
+        "autotune",
+        "--plant",
+        "0.7*e^-2s/(s*(4s+1))",
+        "--model",
+        "ipdt",
+    ]);
+    assert_eq!(j["stable"], false, "{}", j["stability"]);
+    assert_eq!(j["stability"]["stable"], false);
+    assert!(j["stability"]["unstable_poles"].as_u64().unwrap() >= 1);
+    // the same loop by run with that model, and by margins
+    let model = "0.356*e^-5s/s";
+    let r = report(&[
+        "run",
+        "--plant",
+        "0.7*e^-2s/(s*(4s+1))",
+        "--model",
+        model,
+        "-c",
+        "karan-dey",
+    ]);
+    assert_eq!(r["stable"], false);
+    let out = msp()
+        .args([
+            "margins",
+            "--plant",
+            "0.7*e^-2s/(s*(4s+1))",
+            "--model",
+            model,
+            "-c",
+            "karan-dey",
+            "--json",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(m["stable"], false);
+}
+
+/// Margins of an unstable loop are null, with the reason; so are the
+/// integral indices of a run that diverged (they are unbounded, not 0).
+#[test]
+fn unstable_loops_have_no_margins_and_diverged_runs_no_indices() {
+    let j = report(&["run", "--plant", "0.2/s*e^-7.4s", "--set", "kp=1e5"]);
+    assert_eq!(j["stable"], false);
+    for k in ["gm", "pm", "dm", "ms", "mt"] {
+        assert!(
+            j["robustness"][k].is_null(),
+            "robustness.{k} = {}",
+            j["robustness"][k]
+        );
+    }
+    for set in ["metrics", "metrics_delayed_reference"] {
+        for k in ["iae", "ise", "itae", "itse", "tv"] {
+            assert!(j[set][k].is_null(), "{set}.{k} = {}", j[set][k]);
+        }
+    }
+    let out = msp()
+        .args(["margins", "--plant", "1e308/(s+1)", "--json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_ne!(m["stable"], true, "{}", m["stability"]);
+    if m["stable"] == false {
+        assert!(m["ms"].is_null() && m["gm"].is_null());
+    }
+    msp()
+        .args([
+            "margins",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "pid",
+            "--set",
+            "kp=5",
+        ])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("UNSTABLE")
+                .and(predicate::str::contains("margins do not apply")),
+        );
+}
+
+/// The automatic duration covers the last thing scheduled and its settling;
+/// a duration that ends before one is an error naming it.
+#[test]
+fn durations_keep_what_was_scheduled() {
+    let j = report(&[
+        "run",
+        "--plant",
+        "0.2/s*e^-7.4s",
+        "--setpoint",
+        "1@0",
+        "--setpoint",
+        "3@150",
+    ]);
+    let duration = j["duration"].as_f64().unwrap();
+    assert!(duration > 150.0, "{duration}");
+    // the step at 150 s was taken, and settled
+    let last = j["events"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(last["at"], 150.0, "{last}");
+    assert!(last["settling_time"].is_number(), "{last}");
+    msp()
+        .args([
+            "run",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "--setpoint",
+            "1@0",
+            "--setpoint",
+            "3@150",
+            "--duration",
+            "100",
+            "-o",
+            "-",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "set-point step to 3 at 150 s is after the end of the run (100 s)",
+        ));
+    // an operator event of the default scenario stays inside the run
+    let j = report(&[
+        "run",
+        "--plant",
+        "0.2/s*e^-7.4s",
+        "--ts",
+        "0.01",
+        "--event",
+        "200:auto",
+    ]);
+    assert!(j["duration"].as_f64().unwrap() > 200.0, "{}", j["duration"]);
+}
+
+/// Negative values are values: `--setpoint -1@0`, `--lambda -1` (then refused
+/// as a λ), `--relay-amplitude -1` parse as numbers.
+#[test]
+fn negative_values_need_no_equals_sign() {
+    let j = report(&["run", "--plant", "e^-1s/(5s+1)", "--setpoint", "-1@0"]);
+    assert_eq!(j["scenario"]["setpoint"][0]["value"], -1.0);
+    for args in [
+        vec!["tune", "--plant", "e^-1s/(5s+1)", "--lambda", "-1"],
+        vec![
+            "autotune",
+            "--plant",
+            "e^-1s/(5s+1)",
+            "--relay-amplitude",
+            "-1",
+        ],
+    ] {
+        let out = msp().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("unexpected argument"), "{args:?}: {err}");
+    }
+}
+
+/// A loop the user specifies in full runs when it is stable, on any plant
+/// (PI on an unstable lag), with the verdict printed.
+#[test]
+fn what_the_user_gives_runs_when_stable() {
+    let j = report(&[
+        "run",
+        "--plant",
+        "e^-1s/(5s-1)",
+        "-c",
+        "pid",
+        "--set",
+        "kp=3",
+        "--set",
+        "ti=10",
+        "--set",
+        "td=0.4",
+    ]);
+    assert_eq!(j["stable"], true, "{}", j["stability"]);
+    assert_eq!(j["stability"]["open_loop_unstable_poles"], 1);
+}
