@@ -678,6 +678,6 @@ pub(crate) fn roots_outside(p: &[f64]) -> usize {
         prev = next;
     }
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-    let inside = Real::round(turned / core::f64::consts::TAU).max(0.0) as usize;
+    let inside = num_traits::Float::round(turned / core::f64::consts::TAU).max(0.0) as usize;
     deg.saturating_sub(inside)
 }
