@@ -64,7 +64,9 @@ pub struct SweepRow {
     pub delay: f64,
     /// Relative time-constant change.
     pub tau: f64,
-    /// The stability verdict ([`stable`]).
+    /// The stability verdict of the perturbed loop: its characteristic
+    /// equation's ([`crate::analysis::stability`]), or where that cannot be
+    /// decided the run's ([`stable`]).
     pub stable: bool,
     /// Figures of the run (on `e = r − y`).
     pub metrics: Metrics,
@@ -225,15 +227,19 @@ pub fn sweep(
     let done = core::sync::atomic::AtomicUsize::new(0);
     let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
         let plant = nominal.perturbed(gain, delay, tau)?;
-        let out = sc.run_tuned(&tuned, plant, model.clone(), inner.clone())?;
+        let out = sc.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone())?;
         let max_abs_u = out.result.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+        // the characteristic equation's verdict; the run's where it is unknown
+        let verdict = crate::analysis::tuned_stability(&sc, &tuned, &plant, &model, inner.as_ref())
+            .stable
+            .unwrap_or_else(|| stable(&out));
         progress(done.fetch_add(1, core::sync::atomic::Ordering::Relaxed) + 1);
         Ok(SweepRow {
             index,
             gain,
             delay,
             tau,
-            stable: stable(&out),
+            stable: verdict,
             metrics: out.metrics,
             max_abs_u,
         })

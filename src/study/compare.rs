@@ -71,7 +71,12 @@ pub fn compare(
             let mut one = sc.clone();
             one.controller = Some(c.clone());
             let tuned = one.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-            one.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone())
+            let mut out = one.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone())?;
+            let settled = out.result.diverged_at.is_none() && out.has_settled();
+            out.stability =
+                crate::analysis::tuned_stability(&one, &tuned, &plant, &model, inner.as_ref())
+                    .with_simulation(settled, out.duration);
+            Ok(out)
         })
         .collect()
 }

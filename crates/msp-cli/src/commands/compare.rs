@@ -14,6 +14,10 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
         .iter()
         .zip(&runs)
         .map(|(c, run)| {
+            // an unstable loop has no margins
+            if run.stability.stable == Some(false) {
+                return Some(msp::analysis::Margins::unstable());
+            }
             let mut one = sc.clone();
             one.controller = Some(c.clone());
             one.ts = Some(run.ts);

@@ -197,6 +197,11 @@ pub(crate) fn compare_table(
         s.push('\n');
     };
     head(&mut s, "e = r - y");
+    s.push_str(&format!("{:<30}", "stable (characteristic eq.)"));
+    for r in runs {
+        s.push_str(&format!("{:>w$}", r.stability.summary()));
+    }
+    s.push('\n');
     for (label, key) in ROWS {
         s.push_str(&format!("{label:<30}"));
         for r in runs {
@@ -206,11 +211,12 @@ pub(crate) fn compare_table(
     }
     head(&mut s, "frequency domain (loop at the controller output)");
     type Figure = fn(&msp::analysis::Margins) -> f64;
-    let freq: [(&str, Figure); 4] = [
+    let freq: [(&str, Figure); 5] = [
         ("Gm (dB)", |m| m.gm_db),
         ("Pm (Degrees)", |m| m.pm),
         ("Wco (rad/s)", |m| m.wcg),
         ("Wpm (rad/s)", |m| m.wcp),
+        ("Ms", |m| m.ms),
     ];
     for (label, f) in freq {
         s.push_str(&format!("{label:<30}"));
