@@ -34,7 +34,10 @@ use crate::{Error, Fopdt, Ipdt, Real};
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RelayConfig<T> {
-    /// Relay amplitude `h` (actuator units).
+    /// Relay amplitude `h` (actuator units); negative for a reverse-acting
+    /// process (its output falls as its input rises): the relay then lowers
+    /// the input while the output is below its reference, and the identified
+    /// gains come out negative.
     pub amplitude: T,
     /// Hysteresis `ε` on the error (output units).
     pub hysteresis: T,
@@ -83,10 +86,14 @@ impl<T: Real> RelayConfig<T> {
 
     /// Checks every field.
     pub fn validate(&self) -> Result<(), Error> {
-        positive(self.amplitude, "amplitude")?;
+        // a negative amplitude is a reverse-acting relay (for a process whose
+        // output falls as its input rises): the high state lowers the input
+        if finite(self.amplitude, "amplitude")? == T::zero() {
+            return Err(Error::OutOfRange("amplitude"));
+        }
         non_negative(self.hysteresis, "hysteresis")?;
         finite(self.bias, "bias")?;
-        if self.bias.abs() >= self.amplitude {
+        if self.bias.abs() >= self.amplitude.abs() {
             return Err(Error::OutOfRange("bias"));
         }
         finite(self.u0, "u0")?;

@@ -7,7 +7,7 @@ use crate::autotune::{
     identify_fopdt, identify_ipdt, RelayConfig, RelayResult, RelayState, RelayTest,
 };
 use crate::poly::TransferFunction;
-use crate::{Error, Fopdt, Ipdt, ProcessModel, Sopdt};
+use crate::{Error, Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt};
 
 /// Which model to fit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -20,6 +20,8 @@ pub enum ModelKind {
     Sopdt,
     /// Integrator plus dead time.
     Ipdt,
+    /// Integrator with a first-order lag plus dead time `K e^{−Ls}/(s(Ts + 1))`.
+    Foipdt,
 }
 
 impl core::str::FromStr for ModelKind {
@@ -29,8 +31,9 @@ impl core::str::FromStr for ModelKind {
             "fopdt" => Ok(ModelKind::Fopdt),
             "sopdt" => Ok(ModelKind::Sopdt),
             "ipdt" => Ok(ModelKind::Ipdt),
+            "foipdt" => Ok(ModelKind::Foipdt),
             o => Err(std::format!(
-                "unknown model '{o}': use fopdt, sopdt or ipdt"
+                "unknown model '{o}': use fopdt, sopdt, ipdt or foipdt"
             )),
         }
     }
@@ -165,6 +168,9 @@ fn model_from(kind: ModelKind, p: &[f64]) -> Option<ProcessModel<f64>> {
             .ok()
             .map(Into::into),
         ModelKind::Ipdt => Ipdt::new(g(0)?, g(1)?.exp()).ok().map(Into::into),
+        ModelKind::Foipdt => Foipdt::new(g(0)?, g(1)?.exp(), g(2)?.exp())
+            .ok()
+            .map(Into::into),
         ModelKind::Sopdt => {
             let (a, b) = (g(1)?.exp(), g(2)?.exp());
             Sopdt::new(g(0)?, a.max(b), a.min(b), g(3)?.exp())
@@ -186,8 +192,16 @@ fn params_of(m: &ProcessModel<f64>) -> Vec<f64> {
 }
 
 /// The model's response to the deviations `u − u0` at period `ts`, plus `y0`.
+/// A dead time beyond the data is the data's length: the input never
+/// arrives within it either way (and a search that tries a huge dead time
+/// allocates no line for it).
 fn response(m: &ProcessModel<f64>, ts: f64, du: &[f64], y0: f64) -> Option<Vec<f64>> {
-    let tf = TransferFunction::from_model(m);
+    let mut tf = TransferFunction::from_model(m);
+    #[allow(clippy::cast_precision_loss)]
+    let span = (du.len() as f64 + 1.0) * ts;
+    if !(tf.delay <= span) {
+        tf.delay = span;
+    }
     crate::sim::open_loop(&tf, ts, du)
         .ok()
         .map(|y| y.into_iter().map(|v| v + y0).collect())
@@ -365,6 +379,10 @@ pub fn identify_step(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result
     let (u0, y0) = (*u.first().unwrap_or(&0.0), *y.first().unwrap_or(&0.0));
     let start: ProcessModel<f64> = match kind {
         ModelKind::Ipdt => slope_intercept(t, u, y)?.into(),
+        ModelKind::Foipdt => {
+            let i = slope_intercept(t, u, y)?;
+            Foipdt::new(i.k, (0.3 * i.l).max(ts), 0.7 * i.l)?.into()
+        }
         ModelKind::Fopdt | ModelKind::Sopdt => two_point(t, u, y)?.into(),
     };
     // Each cost evaluation of the fit simulates the model over the data, and
@@ -454,6 +472,11 @@ pub fn identify_relay(
 ) -> Result<Fit, Error> {
     let start: ProcessModel<f64> = match kind {
         ModelKind::Ipdt => identify_ipdt(r)?.into(),
+        ModelKind::Foipdt => {
+            // the IPDT fit's dead time split between the lag and the delay
+            let i = identify_ipdt(r)?;
+            Foipdt::new(i.k, (0.3 * i.l).max(run.ts), 0.7 * i.l)?.into()
+        }
         ModelKind::Fopdt | ModelKind::Sopdt => {
             let k = r.gain().ok_or(Error::Unsupported(
                 "FOPDT/SOPDT identification needs the gain: run the relay with a bias",
@@ -462,10 +485,18 @@ pub fn identify_relay(
         }
     };
     let du: Vec<f64> = run.u.iter().map(|v| v - cfg.u0).collect();
-    if !refine && kind != ModelKind::Sopdt {
+    if !refine && matches!(kind, ModelKind::Fopdt | ModelKind::Ipdt) {
         return Ok(score(&start, run.ts, &du, &run.y, cfg.y0));
     }
-    least_squares(kind, run.ts, &run.u, &run.y, cfg.u0, cfg.y0, &start)
+    let fit = least_squares(kind, run.ts, &run.u, &run.y, cfg.u0, cfg.y0, &start)?;
+    // a dead time past the experiment is no fit, whatever the number says
+    #[allow(clippy::cast_precision_loss)]
+    if !(fit.model.delay() < run.ts * run.u.len() as f64) {
+        return Err(Error::Unsupported(
+            "the model does not fit the relay data: its dead time runs past the experiment (for an integrating process use the ipdt or foipdt model)",
+        ));
+    }
+    Ok(fit)
 }
 
 /// Settings of `msp autotune`.
@@ -584,19 +615,41 @@ pub fn autotune(
     base: &crate::study::Scenario,
 ) -> Result<AutotuneOutput, AutotuneError> {
     let integrating = plant.kind() == crate::poly::PlantKind::Integrating;
-    let kind = o.model.unwrap_or(if integrating {
-        ModelKind::Ipdt
-    } else {
-        ModelKind::Fopdt
-    });
+    // the candidate models: the one asked for, or the plain one and the one
+    // with a lag, the lag kept where the relay data shows it
+    let candidates: &[ModelKind] = match (o.model, integrating) {
+        (Some(ModelKind::Ipdt), _) => &[ModelKind::Ipdt],
+        (Some(ModelKind::Foipdt), _) => &[ModelKind::Foipdt],
+        (Some(ModelKind::Fopdt), _) => &[ModelKind::Fopdt],
+        (Some(ModelKind::Sopdt), _) => &[ModelKind::Sopdt],
+        (None, true) => &[ModelKind::Ipdt, ModelKind::Foipdt],
+        (None, false) => &[ModelKind::Fopdt, ModelKind::Sopdt],
+    };
+    let integrating_model = candidates
+        .iter()
+        .all(|k| matches!(k, ModelKind::Ipdt | ModelKind::Foipdt));
     let ts = o.ts.unwrap_or_else(|| crate::study::choose_ts(plant));
-    let mut cfg = RelayConfig::new(o.amplitude, ts);
-    cfg.hysteresis = o.hysteresis.unwrap_or(3.0 * o.noise);
-    cfg.bias = o.bias.unwrap_or(if kind == ModelKind::Ipdt {
-        0.0
+    // the relay acts against the process's direction: a reverse-acting
+    // process (its output falls as its input rises) gets a negative amplitude
+    let direction = match plant.kind() {
+        crate::poly::PlantKind::Unstable => {
+            plant.num.first().copied().unwrap_or(1.0) / plant.den.first().copied().unwrap_or(1.0)
+        }
+        _ => plant.gain(),
+    };
+    let amplitude = if direction < 0.0 {
+        -o.amplitude.abs()
     } else {
-        0.2 * o.amplitude
-    });
+        o.amplitude.abs()
+    };
+    let mut cfg = RelayConfig::new(amplitude, ts);
+    cfg.hysteresis = o.hysteresis.unwrap_or(3.0 * o.noise);
+    cfg.bias = match o.bias {
+        // a given bias is relative to the relay's direction, as its amplitude
+        Some(b) => b * amplitude.signum() * o.amplitude.signum(),
+        None if integrating_model => 0.0,
+        None => 0.2 * amplitude,
+    };
     cfg.band = o.band;
     cfg.tolerance = if o.noise > 0.0 { 0.05 } else { 0.002 };
     let slow = plant
@@ -625,8 +678,42 @@ pub fn autotune(
             return Err(AutotuneError::Aborted(crate::autotune::RelayAbort::Timeout))
         }
     };
-    let fit =
-        identify_relay(&run, &result, kind, &cfg, o.noise > 0.0).map_err(AutotuneError::Ident)?;
+    // each candidate fitted; a model with a lag only where it fits clearly
+    // better (less than half the plain model's rms error)
+    let mut fits = Vec::new();
+    let mut last_err = None;
+    for kind in candidates {
+        // compared models are both fitted by least squares
+        let refine = o.noise > 0.0 || candidates.len() > 1;
+        match identify_relay(&run, &result, *kind, &cfg, refine) {
+            Ok(f) if f.rmse.is_finite() => fits.push(f),
+            Ok(_) => {}
+            Err(e) => last_err = Some(e),
+        }
+    }
+    let mut notes = Vec::new();
+    let fit = match fits.as_slice() {
+        [] => {
+            return Err(AutotuneError::Ident(last_err.unwrap_or(Error::Numerical(
+                "relay identification (no model fits the limit cycle)",
+            ))))
+        }
+        [only] => *only,
+        [plain, lag, ..] => {
+            if lag.rmse < 0.5 * plain.rmse {
+                notes.push(std::format!(
+                    "the relay data shows a lag: {} fits with rms error {} against {}'s {}",
+                    lag.model.kind(),
+                    crate::poly::fmt_num(crate::poly::round_sig(lag.rmse, 3)),
+                    plain.model.kind(),
+                    crate::poly::fmt_num(crate::poly::round_sig(plain.rmse, 3))
+                ));
+                *lag
+            } else {
+                *plain
+            }
+        }
+    };
     let mut sc = base.clone();
     sc.plant = Some(plant.clone());
     sc.model = Some(TransferFunction::from_model(&fit.model));
@@ -634,7 +721,49 @@ pub fn autotune(
     (sc.inner_plant, sc.inner_model) = (None, None);
     sc.controller = o.controller.clone().or(sc.controller);
     sc.ts = Some(ts);
-    let out = sc.run().map_err(AutotuneError::Run)?;
+    let mut out = sc.run().map_err(AutotuneError::Run)?;
+    // the loop is checked on the process before it is handed over: unstable
+    // or fragile (Ms > 2), λ is raised until it is neither
+    let fragile = |o: &crate::study::RunOutput| {
+        o.stability.stable == Some(false) || o.robustness.is_some_and(|m| !(m.ms <= 2.0))
+    };
+    if fragile(&out) {
+        if let Some(l0) = out.params.lambda().filter(|l| l.is_finite() && *l > 0.0) {
+            let was = match (out.stability.stable, out.robustness) {
+                (Some(false), _) => String::from("unstable"),
+                (_, Some(m)) => std::format!(
+                    "fragile (Ms = {})",
+                    crate::poly::fmt_num(crate::poly::round_sig(m.ms, 3))
+                ),
+                _ => String::from("fragile"),
+            };
+            let better = [1.5, 2.0, 3.0, 4.0, 6.0, 8.0].into_iter().find_map(|f| {
+                let mut s2 = sc.clone();
+                s2.lambda = Some(crate::poly::round_sig(l0 * f, 3));
+                let o2 = s2.run().ok()?;
+                (!fragile(&o2) && o2.stability.stable == Some(true)).then_some((s2.lambda, o2))
+            });
+            match better {
+                Some((Some(l), o2)) => {
+                    let ms = o2.robustness.map_or(f64::NAN, |m| m.ms);
+                    out = o2;
+                    notes.push(std::format!(
+                        "the loop tuned at lambda = {} was {was} on the process (the model's error): lambda raised to {} (Ms = {})",
+                        crate::poly::fmt_num(crate::poly::round_sig(l0, 3)),
+                        crate::poly::fmt_num(l),
+                        crate::poly::fmt_num(crate::poly::round_sig(ms, 3))
+                    ));
+                }
+                // a fragile loop's robustness warning already says what does better
+                _ if out.stability.stable != Some(false) => {}
+                _ => notes.push(std::format!(
+                    "the loop tuned at lambda = {} is {was} on the process, and no lambda up to 8 times it does better: choose another controller or model",
+                    crate::poly::fmt_num(crate::poly::round_sig(l0, 3))
+                )),
+            }
+        }
+    }
+    out.notes.splice(0..0, notes);
     Ok(AutotuneOutput {
         relay: cfg,
         result,

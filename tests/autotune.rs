@@ -85,9 +85,19 @@ fn kaya_example_2_models_and_a_robust_smith_predictor() {
         plant,
         AutotuneOptions {
             ts: Some(0.02),
+            model: Some(ModelKind::Fopdt),
             ..Default::default()
         },
     );
+    // by default the second-order model is kept: the relay data shows the lag
+    let default = tune(
+        plant,
+        AutotuneOptions {
+            ts: Some(0.02),
+            ..Default::default()
+        },
+    );
+    assert_eq!(default.fit.model.kind(), "sopdt");
     // Kaya (Kaya (2003) Example 2): e^{-10.87s}/(1.27s+1)
     check(
         &o.fit.model,
@@ -210,4 +220,85 @@ fn long_step_tests_are_fitted_in_linear_time() {
         &[("k", 2.0, 1e-6), ("t", 5.0, 1e-6), ("l", 4.0, 1e-4)],
     );
     assert!(f.r2 > 1.0 - 1e-9, "{f:?}");
+}
+
+/// An integrating plant with a lag: the relay data shows the lag, the
+/// FOIPDT model is kept (its parameters the plant's), and the loop handed
+/// over is stable by the characteristic equation, where the IPDT fit's
+/// Karan–Dey loop is not (and says so).
+#[test]
+fn an_integrating_plant_with_a_lag_gets_a_model_with_the_lag() {
+    let out = tune("0.7*e^-2s/(s*(4s+1))", AutotuneOptions::default());
+    assert_eq!(out.fit.model.kind(), "foipdt", "{:?}", out.fit);
+    check(
+        &out.fit.model,
+        &[("k", 0.7, 1e-3), ("t", 4.0, 1e-3), ("l", 2.0, 1e-3)],
+    );
+    assert_eq!(
+        out.run.stability.stable,
+        Some(true),
+        "{:?}",
+        out.run.stability
+    );
+    assert!(out.run.warnings().iter().any(|w| w.contains("shows a lag")));
+    let forced = tune(
+        "0.7*e^-2s/(s*(4s+1))",
+        AutotuneOptions {
+            model: Some(ModelKind::Ipdt),
+            ..Default::default()
+        },
+    );
+    assert_eq!(forced.run.stability.stable, Some(false));
+    assert!(forced
+        .run
+        .warnings()
+        .iter()
+        .any(|w| w.contains("unstable on the process")));
+}
+
+/// A model that cannot fit (SOPDT on an integrating plant: its dead time
+/// runs away in the search) is an error, never an allocation of its dead time.
+#[test]
+fn every_model_ends_in_a_fit_or_an_error() {
+    let tf: TransferFunction = "0.7*e^-2s/(s*(4s+1))".parse().unwrap();
+    for kind in [
+        ModelKind::Ipdt,
+        ModelKind::Foipdt,
+        ModelKind::Fopdt,
+        ModelKind::Sopdt,
+    ] {
+        let o = AutotuneOptions {
+            model: Some(kind),
+            ..Default::default()
+        };
+        match autotune(&tf, &o, &Scenario::default()) {
+            Ok(out) => assert!(out.fit.rmse.is_finite(), "{kind:?}"),
+            Err(AutotuneError::Ident(e)) => {
+                assert!(e.to_string().contains("does not fit"), "{kind:?}: {e}")
+            }
+            Err(e) => panic!("{kind:?}: {e}"),
+        }
+    }
+}
+
+/// A reverse-acting plant: the relay acts in its direction, the identified
+/// gain is negative (the plant's), and the tuned loop is stable; a negative
+/// amplitude asks for the same relay.
+#[test]
+fn a_reverse_acting_plant_is_autotuned() {
+    for amplitude in [1.0, -1.0] {
+        let out = tune(
+            "-1.5*e^-4s/(10s+1)",
+            AutotuneOptions {
+                amplitude,
+                ..Default::default()
+            },
+        );
+        check(
+            &out.fit.model,
+            &[("k", -1.5, 1e-3), ("t", 10.0, 1e-3), ("l", 4.0, 1e-3)],
+        );
+        assert_eq!(out.run.stability.stable, Some(true));
+        assert!(out.run.metrics.step.settling_time.is_finite());
+    }
 }

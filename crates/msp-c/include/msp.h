@@ -234,7 +234,8 @@ typedef struct {
 typedef msp_fsp_config_double msp_fsp_config_f64;
 
 // Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
-// amplitude `h`, hysteresis `ε` on the error, a bias on both levels (for
+// amplitude `h` (negative for a reverse-acting process: the identified
+// gains come out negative), hysteresis `ε` on the error, a bias on both levels (for
 // the static gain), the steady state `(u0, y0)` it starts from, actuator
 // limits, a safety band on `|y − y0|`, a sample budget, the agreeing
 // periods needed and their relative tolerance, the period `ts` (s).

@@ -266,7 +266,8 @@ pub(crate) struct AutotuneArgs {
     /// The (simulated) plant the relay test runs on.
     #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
     pub(crate) plant: TransferFunction,
-    /// Relay amplitude h.
+    /// Relay amplitude h; the relay acts in the plant's direction (a reverse-acting
+    /// plant gets -|h|).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub(crate) relay_amplitude: f64,
     /// Relay hysteresis (default: three noise standard deviations).
@@ -281,7 +282,8 @@ pub(crate) struct AutotuneArgs {
     /// Noise seed.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,
-    /// Model to identify: ipdt, fopdt or sopdt (default by plant kind).
+    /// Model to identify: ipdt, foipdt, fopdt or sopdt (default: the plain model of the
+    /// plant's kind, or the one with a lag where the relay data shows it).
     #[arg(long, value_parser = str::parse::<msp::ident::ModelKind>)]
     pub(crate) model: Option<msp::ident::ModelKind>,
     /// Controller to tune (default by the identified model).

@@ -178,7 +178,11 @@ pub(crate) fn autotune<'py>(
     };
     let out = py
         .allow_threads(|| msp::ident::autotune(&tf, &o, &base))
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        .map_err(|e| match e {
+            // the experiment itself stopped: a run-time failure, not a bad argument
+            msp::ident::AutotuneError::Aborted(_) => PyRuntimeError::new_err(e.to_string()),
+            _ => PyValueError::new_err(e.to_string()),
+        })?;
     let d = PyDict::new(py);
     d.set_item("identified", fit_dict(py, &out.fit)?)?;
     // the library's report: the keys of `msp autotune --report`

@@ -651,7 +651,8 @@ def autotune(
     **options
         The keywords of :class:`RelayOptions`:
     relay_amplitude : float, optional
-        The relay's output amplitude (default 1).
+        The relay's output amplitude (default 1); the relay acts in the process's direction
+        (a reverse-acting plant gets the negative amplitude), whatever its sign here.
     hysteresis : float, optional
         The relay's hysteresis (default: from the noise level).
     bias : float, optional
@@ -661,7 +662,8 @@ def autotune(
     seed : int, optional
         The noise seed (default 0).
     model : str, optional
-        The model to identify: ``"ipdt"``, ``"fopdt"`` or ``"sopdt"`` (default by plant kind).
+        The model to identify: ``"ipdt"``, ``"foipdt"``, ``"fopdt"`` or ``"sopdt"`` (default: the
+        plain model of the plant's kind, or the one with a lag where the relay data shows it).
     controller : str, optional
         The scheme to tune on the identified model.
     ts : float, optional
@@ -682,7 +684,7 @@ def autotune(
     RuntimeError
         When the relay test aborts (timeout, band).
     ValueError
-        For a bad setting.
+        For a bad setting, or a model that does not fit the relay data.
 
     Examples
     --------
