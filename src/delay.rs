@@ -79,7 +79,12 @@ impl<T: Real> DelayStorage<T> for alloc::vec::Vec<T> {
     fn for_delay(samples: T) -> Result<Self, Error> {
         let d = non_negative(samples, "delay")?;
         let cap = d.ceil().to_usize().ok_or(Error::DelayTooLong("delay"))?;
-        Ok(alloc::vec![T::zero(); cap])
+        // taken fallibly: a line the system cannot provide is an error, not an abort
+        let mut v = alloc::vec::Vec::new();
+        v.try_reserve_exact(cap)
+            .map_err(|_| Error::OutOfMemory("delay line"))?;
+        v.resize(cap, T::zero());
+        Ok(v)
     }
 }
 

@@ -36,6 +36,8 @@ pub enum Error {
     /// A column of data does not increase at a row (0-based): a time that is
     /// not after the one before.
     NotIncreasing(&'static str, usize),
+    /// The memory for this could not be allocated (the system refused it).
+    OutOfMemory(&'static str),
 }
 
 impl Error {
@@ -53,7 +55,8 @@ impl Error {
             | Error::Unsupported(f)
             | Error::Numerical(f)
             | Error::NonFiniteAt(f, _)
-            | Error::NotIncreasing(f, _) => f,
+            | Error::NotIncreasing(f, _)
+            | Error::OutOfMemory(f) => f,
         }
     }
 }
@@ -77,6 +80,10 @@ impl fmt::Display for Error {
                 "`{n}`: improper transfer function (numerator degree above denominator degree, or zero leading coefficient)"
             ),
             Error::Unsupported(n) => write!(f, "not supported: {n}"),
+            Error::OutOfMemory(n) => write!(
+                f,
+                "`{n}`: the system could not provide the memory it needs"
+            ),
             Error::Numerical(n) => write!(f, "numerical failure in {n}"),
             Error::NonFiniteAt(n, row) => {
                 write!(f, "`{n}` is not a finite number at data row {}", row.saturating_add(1))

@@ -328,3 +328,41 @@ fn bare_plant_margins_are_matlabs() {
         .to_string();
     assert!(e.contains("kp"), "{e}");
 }
+
+/// The step grid resolves the fastest mode that matters: a slow pole
+/// cancelled by a zero leaves `y ≈ 1 − e^{−t/τf}`, whose 10–90 % rise is
+/// `τf·ln 9` with `τf` the fast pole's time constant — msp picked its grid
+/// from the slow pole and reported 17 times that.
+#[test]
+fn the_step_grid_resolves_the_fast_mode() {
+    let plant: TransferFunction = "(1.067e5s + 5.791e4)/(10.67s^2 + 1.067e5s + 5.791e4)"
+        .parse()
+        .unwrap();
+    // the fast pole: the larger root of 10.67 s² + 1.067e5 s + 5.791e4
+    let (a, b, c) = (10.67f64, 1.067e5f64, 5.791e4f64);
+    let fast = (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+    let want = -(9f64.ln()) / fast;
+    let s = msp::analysis::step_response(&plant, None, None).unwrap();
+    assert!(
+        (s.info.rise_time - want).abs() < 0.01 * want,
+        "{} vs {want}",
+        s.info.rise_time
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    // a grid the user gives is kept, and a coarse one is said to be coarse
+    let s = msp::analysis::step_response(&"1/(s+1)".parse().unwrap(), Some(1.0), None).unwrap();
+    assert_eq!(s.ts, 1.0);
+    assert!(s.warnings[0].contains("coarse"));
+}
+
+/// An integrating or unstable plant's response does not settle: every step
+/// figure is NaN (null in JSON), not the window's last peak.
+#[test]
+fn step_information_of_unsettled_responses_is_nan() {
+    for plant in ["0.2/s*e^-7.4s", "e^-1s/(5s-1)"] {
+        let s = msp::analysis::step_response(&plant.parse().unwrap(), None, None).unwrap();
+        for (k, v) in s.info.fields() {
+            assert!(v.is_nan(), "{plant}: {k} = {v}");
+        }
+    }
+}

@@ -42,7 +42,7 @@ pub use report::{
     MarginsReport, RegionPoint,
 };
 pub use stability::Stability;
-pub use step::{step_response, OpenLoopStep};
+pub use step::{step_grid, step_response, OpenLoopStep};
 
 /// Which plant view the loop uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -156,7 +156,7 @@ impl JointSim {
         let room = (max_delay / ts).floor().to_usize_checked()?;
         let kv = kv.to_usize_checked()?;
         let kd = kd.to_usize_checked()?;
-        let line = |k: usize| Delay::with_storage(vec_zeros(k.max(room).saturating_add(2)), 0.0);
+        let line = |k: usize| Delay::with_storage(vec_zeros(k.max(room).saturating_add(2))?, 0.0);
         Ok(JointSim {
             c,
             dv: d1 * d2,

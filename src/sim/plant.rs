@@ -62,7 +62,7 @@ impl PlantSim {
         // `k + 1` keeps `v[n−k−1]` too for a fractional delay (and room for
         // the longest dead time the run will set)
         let room = (max_delay / ts).floor().max(kf).to_usize_checked()?;
-        let line = Delay::with_storage(vec_zeros(room.saturating_add(1)), kf)?;
+        let line = Delay::with_storage(vec_zeros(room.saturating_add(1))?, kf)?;
         Ok(PlantSim {
             feedthrough: out.output(1.0) - out.free_output(),
             out,
@@ -139,8 +139,14 @@ impl PlantSim {
     }
 }
 
-pub(super) fn vec_zeros(n: usize) -> Vec<f64> {
-    std::vec![0.0; n]
+/// `n` zeros, taken fallibly: a line the system cannot provide is an
+/// error, not an abort.
+pub(super) fn vec_zeros(n: usize) -> Result<Vec<f64>, Error> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| Error::OutOfMemory("plant dead-time line"))?;
+    v.resize(n, 0.0);
+    Ok(v)
 }
 
 pub(super) trait ToUsize {

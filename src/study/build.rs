@@ -64,21 +64,71 @@ pub struct BuiltController {
     pub u_max: f64,
 }
 
-impl Scenario {
-    /// Refuses a run whose estimated memory (`bytes`, described by `what`)
-    /// is above the scenario's budget.
-    pub(crate) fn within_budget(&self, bytes: f64, what: &str) -> Result<(), RunError> {
-        let limit = self.max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
-        #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
-        let limit_f = limit as f64;
-        if bytes.is_nan() || bytes > limit_f {
+/// The memory the system can still give (Linux's `MemAvailable`), or `None`
+/// where that cannot be read.
+fn available_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+/// Refuses what needs about `bytes` (described by `what`) when that is above
+/// the budget `max_memory` (default [`DEFAULT_MAX_MEMORY`]) or above what the
+/// machine can still give: checked before anything is allocated, so that a
+/// budget raised past the machine ends in this error, not in an abort.
+pub fn check_budget(max_memory: Option<u64>, bytes: f64, what: &str) -> Result<(), RunError> {
+    let limit = max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
+    #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
+    let limit_f = limit as f64;
+    if bytes.is_nan() || bytes > limit_f {
+        return Err(RunError::Limit(std::format!(
+            "the run needs about {} ({what}); the limit is {}: raise it with --max-memory (Python: max_memory=)",
+            human(bytes),
+            human(limit_f)
+        )));
+    }
+    if let Some(free) = available_memory() {
+        // small needs pass whatever the reading says
+        if bytes > free && bytes > 64.0 * 1024.0 * 1024.0 {
             return Err(RunError::Limit(std::format!(
-                "the run needs about {} ({what}); the limit is {}: raise it with --max-memory (Python: max_memory=)",
+                "the run needs about {} ({what}); the machine has {} available",
                 human(bytes),
-                human(limit_f)
+                human(free)
             )));
         }
-        Ok(())
+    }
+    Ok(())
+}
+
+/// [`check_budget`] for a controller built at `ts` for a model of dead time
+/// `delay` (s) that may be given dead times up to `max_dead_time` (s): its
+/// delay lines, as the registry's constructors will allocate them.
+pub fn check_controller_memory(
+    delay: f64,
+    max_dead_time: f64,
+    ts: f64,
+    max_memory: Option<u64>,
+) -> Result<(), RunError> {
+    let ts = crate::real::positive(ts, "ts")?;
+    let max_dead_time = crate::real::non_negative(max_dead_time, "max_dead_time")?;
+    let samples = delay.max(max_dead_time) / ts;
+    check_budget(
+        max_memory,
+        samples * CONTROLLER_BYTES_PER_SAMPLE,
+        &std::format!(
+            "{} samples of dead time at ts = {} s",
+            crate::poly::fmt_num(samples.ceil()),
+            crate::poly::fmt_num(ts)
+        ),
+    )
+}
+
+impl Scenario {
+    /// Refuses a run whose estimated memory (`bytes`, described by `what`)
+    /// is above the scenario's budget ([`check_budget`]).
+    pub(crate) fn within_budget(&self, bytes: f64, what: &str) -> Result<(), RunError> {
+        check_budget(self.max_memory, bytes, what)
     }
 
     /// Chooses the controller (by name or by the model's kind) and the sample
@@ -156,16 +206,35 @@ impl Scenario {
             Some(ts) => (crate::real::positive(ts, "ts")?, false),
             None => (choose_ts(&whole), true),
         };
-        // the controller's delay lines, before tuning or building allocates them
-        let samples = whole.delay / ts;
-        self.within_budget(
-            samples * CONTROLLER_BYTES_PER_SAMPLE,
-            &std::format!(
+        // the controller's delay lines, before tuning or building allocates
+        // them: as long as the model's dead time, or an event's, whichever is longer
+        let event = self.event_dead_time(false);
+        let samples = whole.delay.max(event) / ts;
+        let what = if event > whole.delay {
+            let at =
+                self.events
+                    .iter()
+                    .find(|e| match e.action {
+                        crate::sim::Action::DeadTime(d)
+                        | crate::sim::Action::DeadTimeRamp(d, _) => d == event,
+                        _ => false,
+                    })
+                    .map_or(0.0, |e| e.at);
+            std::format!(
+                "the event at {} s sets a dead time of {} s: {} samples at ts = {} s",
+                crate::poly::fmt_num(at),
+                crate::poly::fmt_num(event),
+                crate::poly::fmt_num(samples.ceil()),
+                crate::poly::fmt_num(ts)
+            )
+        } else {
+            std::format!(
                 "{} samples of the model's dead time at ts = {} s",
                 crate::poly::fmt_num(samples.ceil()),
                 crate::poly::fmt_num(ts)
-            ),
-        )?;
+            )
+        };
+        self.within_budget(samples * CONTROLLER_BYTES_PER_SAMPLE, &what)?;
         Ok((ts, ts_chosen))
     }
 

@@ -10,7 +10,7 @@ mod report;
 mod robustness;
 
 pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
-pub use build::{BuiltController, Tuned};
+pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
 use build::{BYTES_PER_ROW, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};

@@ -132,7 +132,7 @@ impl From<msp_core::Error> for msp_status {
             E::NotPositive(_) | E::NotIncreasing(..) => msp_status::MSP_NOT_POSITIVE,
             E::Negative(_) => msp_status::MSP_NEGATIVE,
             E::InvalidLimits(_) => msp_status::MSP_INVALID_LIMITS,
-            E::DelayTooLong(_) => msp_status::MSP_DEAD_TIME_TOO_LONG,
+            E::DelayTooLong(_) | E::OutOfMemory(_) => msp_status::MSP_DEAD_TIME_TOO_LONG,
             E::Unsupported(_) | E::Improper(_) | E::OrderTooHigh(_) => msp_status::MSP_UNSUPPORTED,
             E::Numerical(_) => msp_status::MSP_NUMERICAL,
             _ => msp_status::MSP_OUT_OF_RANGE,

@@ -317,7 +317,8 @@ pub(crate) struct StepArgs {
     /// Duration (s); chosen from the plant when absent.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) duration: Option<f64>,
-    /// CSV with columns t, y (`-`: standard output).
+    /// CSV with columns t, u, y (`-`: standard output): the plant at rest one
+    /// sample before the unit step, then its response, as `msp identify` reads it.
     #[arg(long, short = 'o')]
     pub(crate) output: Option<PathBuf>,
     /// SVG plot of the response.
@@ -326,6 +327,10 @@ pub(crate) struct StepArgs {
     /// Print JSON.
     #[arg(long)]
     pub(crate) json: bool,
+    /// The memory the response and its CSV may take, e.g. 4G (default 1G): a longer
+    /// one is refused before anything is computed.
+    #[arg(long, value_name = "BYTES", value_parser = msp::syntax::parse_bytes)]
+    pub(crate) max_memory: Option<u64>,
 }
 
 #[derive(Debug, Args)]

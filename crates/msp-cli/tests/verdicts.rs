@@ -213,3 +213,47 @@ fn what_the_user_gives_runs_when_stable() {
     assert_eq!(j["stable"], true, "{}", j["stability"]);
     assert_eq!(j["stability"]["open_loop_unstable_poles"], 1);
 }
+
+/// `msp step -o` writes what `msp identify` reads: the input steps from rest,
+/// and the model identified from it is the plant.
+#[test]
+fn step_output_identifies_the_plant() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("st.csv");
+    msp()
+        .args(["step", "--plant", "2*e^-4s/(5s+1)", "-o"])
+        .arg(&csv)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("t,u,y\n"), "{}", &text[..20]);
+    let out = msp()
+        .args(["identify", "--json", "--data"])
+        .arg(&csv)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let j: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    for (k, v) in [("k", 2.0), ("t", 5.0), ("l", 4.0)] {
+        let got = j[k].as_f64().unwrap();
+        assert!((got - v).abs() < 1e-3 * v, "{k}: {got}");
+    }
+    // a step too long for the budget is refused before it is computed
+    msp()
+        .args([
+            "step",
+            "--plant",
+            "1/(s+1)",
+            "--ts",
+            "1e-3",
+            "--duration",
+            "9.9e4",
+            "-o",
+            "-",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("the limit is 1 GiB"));
+}

@@ -93,6 +93,10 @@ impl Controller {
     ) -> PyResult<Self> {
         let tf = plant_of(plant)?;
         let p2 = inner_plant.map(plant_of).transpose()?;
+        // the delay lines, checked against the budget before anything is taken
+        let delay = tf.delay + p2.as_ref().map_or(0.0, |p| p.delay);
+        msp::study::check_controller_memory(delay, max_dead_time, ts, None)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let scheme = registry::find(name).map_err(value_err)?;
         let overrides: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
         let p = scheme

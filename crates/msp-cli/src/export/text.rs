@@ -543,5 +543,8 @@ pub(crate) fn step_text(s: &msp::analysis::OpenLoopStep) -> String {
         fmt_sig(i.peak),
         fmt_sig(i.peak_time)
     ));
+    for w in &s.warnings {
+        out.push_str(&format!("warning: {w}\n"));
+    }
     out
 }
