@@ -576,15 +576,14 @@ impl<T: Real> Pid<T> {
     #[inline(always)]
     fn step_pi(&mut self, r: T, y: T) -> T {
         let e = r - y;
-        if !e.is_finite() {
-            return self.hold();
-        }
         let p = self.cfg.kp * (self.cfg.b * r - y);
         let i = self.integral;
         let u = p + i;
         let next = i + self.bi * e;
-        // finite inputs whose terms leave the float range: a fault, never a
-        // state that latches ±∞ or NaN
+        // one test before any state is written: a NaN or ±∞ set point or
+        // measurement makes `next` NaN or ±∞ (`bi·e`, even for bi = 0), and
+        // finite inputs whose terms leave the float range make `u` or `next`
+        // ±∞ — a fault either way, never a state that latches ±∞ or NaN
         if !(u + next).is_finite() {
             return self.hold();
         }

@@ -2,10 +2,12 @@
  * Every entry point of msp.h, called with bad arguments, returns a status
  * (or the documented NaN / fault), never crashes: null pointers, buffers too
  * small, NaN and out-of-range parameters, dead times beyond the buffer, a
- * handle of the other precision and a buffer that is not a controller (for
- * the calls that check the tag: all but msp_update). Then the
+ * handle of the other precision and a buffer that is not a controller (every
+ * call checks the tag, msp_update included: NaN out), finite measurements
+ * at the float range's end (never a latched NaN). Then the
  * good calls work, on a buffer at an odd address. Exit status 0 when all hold.
  */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -141,12 +143,16 @@ int main(void) {
     EXPECT(isnan(msp_update(NULL, 1.0f, 0.0f)));
     EXPECT(msp_reset(NULL) == MSP_NULL_POINTER);
     EXPECT(msp_fault(NULL));
-    /* not a handle: reset and fault check the tag (update, the per-sample
-       call, checks only for NULL) */
+    /* not a handle: every call checks the tag, the per-sample one too */
     memset(memory, 0xA5, 256);
     EXPECT(msp_reset((msp_controller *)memory) == MSP_BAD_HANDLE);
     EXPECT(msp_fault((msp_controller *)memory));
     EXPECT(msp_reset((msp_controller *)(memory + 1)) == MSP_BAD_HANDLE);
+    EXPECT(isnan(msp_update((msp_controller *)memory, 1.0f, 0.0f)));
+    EXPECT(isnan(msp_update_f64((msp_controller_f64 *)(memory + 1), 1.0, 0.0)));
+    memset(memory, 0, 256);
+    EXPECT(isnan(msp_update((msp_controller *)memory, 1.0f, 0.0f)));
+    EXPECT(isnan(msp_update_f64((msp_controller_f64 *)memory, 1.0, 0.0)));
     EXPECT(isnan(msp_update_f64(NULL, 1.0, 0.0)));
     EXPECT(msp_reset_f64(NULL) == MSP_NULL_POINTER);
     EXPECT(msp_fault_f64(NULL));
@@ -160,6 +166,11 @@ int main(void) {
     EXPECT(msp_update(c, NAN, 0.0f) == msp_update(c, NAN, 0.0f)); /* held */
     EXPECT(msp_fault(c));
     EXPECT(msp_reset(c) == MSP_OK);
+    /* a valid handle cleared by memset is no handle */
+    EXPECT(msp_smith_init(odd, room, &sc, &c) == MSP_OK);
+    memset(odd, 0, 64);
+    EXPECT(isnan(msp_update(c, 1.0f, 0.0f)));
+    EXPECT(msp_smith_init(odd, room, &sc, &c) == MSP_OK);
     /* a float handle is not a double one */
     EXPECT(msp_reset_f64((msp_controller_f64 *)c) == MSP_BAD_HANDLE);
     EXPECT(msp_fault_f64((msp_controller_f64 *)c));
@@ -234,7 +245,7 @@ int main(void) {
 
     /* the relay experiment */
     msp_relay_config rc;
-    EXPECT(msp_relay_default_config(0.0f, 0.1f, &rc) == MSP_NOT_POSITIVE);
+    EXPECT(msp_relay_default_config(0.0f, 0.1f, &rc) == MSP_OUT_OF_RANGE);
     EXPECT(msp_relay_default_config(1.0f, NAN, &rc) == MSP_NOT_FINITE);
     EXPECT(msp_relay_default_config(1.0f, 0.1f, NULL) == MSP_NULL_POINTER);
     EXPECT(msp_relay_default_config(1.0f, 0.1f, &rc) == MSP_OK);
@@ -289,6 +300,24 @@ int main(void) {
         /* and the Karan-Dey predictor tuned from it */
         EXPECT(msp_tune_karan_dey_ipdt(m.k, m.theta, 0.01f, 0.0f, &kc) == MSP_OK);
         EXPECT(msp_karan_dey_init(odd, room, &kc, &c) == MSP_OK);
+    }
+
+    /* a finite measurement at the float range's end is a fault, never a
+       latched NaN: later normal samples give finite outputs again */
+    {
+        msp_pid_config lim = pc;
+        lim.pid.u_min = -10.0f;
+        lim.pid.u_max = 10.0f;
+        EXPECT(msp_pid_init(odd, room, &lim, &c) == MSP_OK);
+        EXPECT(isfinite(msp_update(c, 0.0f, FLT_MAX)));
+        float u = 0.0f;
+        for (int i = 0; i < 20; i++) {
+            u = msp_update(c, 1.0f, 0.5f);
+        }
+        EXPECT(isfinite(u) && !msp_fault(c));
+        EXPECT(msp_pid_init(odd, room, &pc, &c) == MSP_OK);
+        EXPECT(isfinite(msp_update(c, 0.0f, FLT_MAX)));
+        EXPECT(isfinite(msp_update(c, 1.0f, 0.5f)) && !msp_fault(c));
     }
 
     printf("%s: %d failures\n", failures ? "FAIL" : "ok", failures);

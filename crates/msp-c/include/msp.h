@@ -427,12 +427,15 @@ msp_status msp_fsp_init_f64(void *buf,
                             msp_controller_f64 **ctrl);
 
 // One sample: the set point `r` and the measurement `y` in, the actuator
-// value out. A null handle gives NaN. This is the per-sample path, one
-// indirect call into the scheme: it does not check the handle's tag, which
-// [`msp_reset`] and [`msp_fault`] do (`MSP_BAD_HANDLE`, `true`).
+// value out. The handle's tag is checked first, as every call does: a null
+// pointer, or memory that holds no handle of this precision (never
+// initialized, cleared, overwritten), gives NaN and touches nothing else.
+// Then one indirect call into the scheme.
 //
 // # Safety
-// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
+// `ctrl` is null or points to readable memory of at least four bytes; it
+// controls only when it is a handle from an `msp_*_init` call whose buffer
+// is in place.
 float msp_update(msp_controller *ctrl, float r, float y);
 
 // [`msp_update`] in double precision.

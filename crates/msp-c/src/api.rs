@@ -126,12 +126,15 @@ twins! {
 }
 
 /// One sample: the set point `r` and the measurement `y` in, the actuator
-/// value out. A null handle gives NaN. This is the per-sample path, one
-/// indirect call into the scheme: it does not check the handle's tag, which
-/// [`msp_reset`] and [`msp_fault`] do (`MSP_BAD_HANDLE`, `true`).
+/// value out. The handle's tag is checked first, as every call does: a null
+/// pointer, or memory that holds no handle of this precision (never
+/// initialized, cleared, overwritten), gives NaN and touches nothing else.
+/// Then one indirect call into the scheme.
 ///
 /// # Safety
-/// `ctrl` is null or a handle from an `msp_*_init` call whose buffer is in place.
+/// `ctrl` is null or points to readable memory of at least four bytes; it
+/// controls only when it is a handle from an `msp_*_init` call whose buffer
+/// is in place.
 #[cfg(not(all(target_arch = "arm", target_os = "none")))]
 #[no_mangle]
 pub unsafe extern "C" fn msp_update(ctrl: *mut msp_controller, r: f32, y: f32) -> f32 {
@@ -153,12 +156,13 @@ pub unsafe extern "C" fn msp_update_f64(ctrl: *mut msp_controller_f64, r: f64, y
 /// The per-sample call through a handle's bound update: null gives NaN.
 ///
 /// # Safety
-/// `ctrl` is null or a handle of precision `T` made by `init`.
+/// `ctrl` is null or points to at least four readable bytes.
 #[cfg(not(all(target_arch = "arm", target_os = "none")))]
 #[inline(always)]
 unsafe fn update_unchecked<T: Precision, H: Opaque<T = T>>(ctrl: *mut H, r: T, y: T) -> T {
-    // SAFETY: the caller's handle (or null)
-    match unsafe { ctrl.cast::<Handle<T>>().as_ref() } {
+    // SAFETY: the caller's handle (or null, or memory that holds no handle:
+    // its tag is read first, and nothing else unless it is ours)
+    match unsafe { crate::handle::handle(ctrl) } {
         // SAFETY: `bind` pointed both at this handle's controller
         Some(h) => unsafe { (h.update)(h.ctrl, r, y) },
         None => T::nan(),
@@ -167,15 +171,25 @@ unsafe fn update_unchecked<T: Precision, H: Opaque<T = T>>(ctrl: *mut H, r: T, y
 
 /// `msp_update` and `msp_update_f64` on a Cortex-M: the same call written as
 /// a frameless trampoline (the target keeps a frame pointer in every Rust
-/// function, three instructions of the dispatch's cost): NULL gives NaN,
-/// otherwise the bound update is tail-called with the controller's address
-/// in `r0` and the arguments untouched in `s0`/`s1` (`d0`/`d1`).
+/// function, three instructions of the dispatch's cost): NULL, or memory
+/// whose first word is not the precision's tag (a buffer that holds no
+/// handle, or a handle cleared by `memset`), gives NaN; otherwise the bound
+/// update is tail-called with the controller's address in `r0` and the
+/// arguments untouched in `s0`/`s1` (`d0`/`d1`). The tag is one byte
+/// repeated, a Thumb-2 immediate: the check is a load, a compare and a branch.
 ///
 /// cbindgen:ignore
 #[cfg(all(target_arch = "arm", target_os = "none"))]
 mod trampoline {
     use super::{msp_controller, msp_controller_f64, Handle};
+    use crate::handle::Precision;
     use core::mem::offset_of;
+
+    const MAGIC: u32 = <f32 as Precision>::MAGIC;
+    const MAGIC_F64: u32 = <f64 as Precision>::MAGIC;
+    // the tag is the handle's first word
+    const _: () = assert!(offset_of!(Handle<f32>, magic) == 0);
+    const _: () = assert!(offset_of!(Handle<f64>, magic) == 0);
 
     const UPDATE: usize = offset_of!(Handle<f32>, update);
     const UPDATE_F64: usize = offset_of!(Handle<f64>, update);
@@ -192,6 +206,9 @@ mod trampoline {
     pub unsafe extern "C" fn msp_update(_ctrl: *mut msp_controller, _r: f32, _y: f32) -> f32 {
         core::arch::naked_asm!(
             "cbz r0, 2f",
+            "ldr r1, [r0]",
+            "cmp r1, #{magic}",
+            "bne 2f",
             "ldrd r1, r0, [r0, #{update}]",
             "bx r1",
             "2:",
@@ -200,6 +217,7 @@ mod trampoline {
             "vmov s0, r1",
             "bx lr",
             update = const UPDATE,
+            magic = const MAGIC,
         )
     }
 
@@ -216,6 +234,9 @@ mod trampoline {
     ) -> f64 {
         core::arch::naked_asm!(
             "cbz r0, 2f",
+            "ldr r1, [r0]",
+            "cmp r1, #{magic}",
+            "bne 2f",
             "ldrd r1, r0, [r0, #{update}]",
             "bx r1",
             "2:",
@@ -225,6 +246,7 @@ mod trampoline {
             "vmov d0, r1, r2",
             "bx lr",
             update = const UPDATE_F64,
+            magic = const MAGIC_F64,
         )
     }
 }

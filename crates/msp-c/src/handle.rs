@@ -148,7 +148,7 @@ pub(crate) enum Scheme<T: Real> {
 /// tag check and one indirect call, without a dispatch on the scheme.
 #[repr(C)]
 pub(crate) struct Handle<T: Real> {
-    magic: u32,
+    pub(crate) magic: u32,
     pub(crate) update: UpdateFn<T>,
     pub(crate) ctrl: *mut u8,
     /// The output in manual or tracking mode (then `update` is

@@ -8,6 +8,7 @@ mod commands;
 mod data;
 mod error;
 mod export;
+mod input;
 
 use std::process::ExitCode;
 

@@ -6,7 +6,7 @@ use crate::export;
 
 pub(crate) fn identify(a: &IdentifyArgs) -> Result<(), CliError> {
     let name = a.data.display().to_string();
-    let file = std::fs::File::open(&a.data).map_err(|e| CliError::Input(format!("{name}: {e}")))?;
+    let file = crate::input::open(&a.data, &name, crate::input::CSV_CAP)?;
     let crate::data::StepData { t, u, y } = crate::data::read_step_data(
         std::io::BufReader::new(file),
         &name,

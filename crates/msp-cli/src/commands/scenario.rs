@@ -9,9 +9,12 @@ use crate::error::CliError;
 
 /// A scenario file, or the scenario a run report carries (then `true`).
 pub(crate) fn load_scenario(path: &Path) -> Result<(Scenario, bool), CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        CliError::Input(format!("cannot read scenario file {}: {e}", path.display()))
-    })?;
+    let text = crate::input::open(
+        path,
+        &format!("scenario file {}", path.display()),
+        crate::input::SCENARIO_CAP,
+    )?
+    .text()?;
     // a byte-order mark (as some editors write) is not part of the document
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_json = path

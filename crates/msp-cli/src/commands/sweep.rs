@@ -13,9 +13,9 @@ pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
             .merge
             .iter()
             .map(|p| {
-                std::fs::File::open(p)
-                    .map(|f| (p.display().to_string(), std::io::BufReader::new(f)))
-                    .map_err(|e| CliError::Input(format!("{}: {e}", p.display())))
+                let name = p.display().to_string();
+                crate::input::open(p, &name, crate::input::CSV_CAP)
+                    .map(|f| (name, std::io::BufReader::new(f)))
             })
             .collect::<Result<Vec<_>, _>>()?;
         let csv = crate::data::merge_sweeps(files_in).map_err(CliError::Input)?;

@@ -83,28 +83,42 @@ fn temp_prefix() -> String {
     format!(".msp-{}-", std::process::id())
 }
 
+/// The random part of a temporary's name: this many letters and digits.
+const TEMP_RANDOM: usize = 12;
+
+/// Whether `name` is a temporary's name as [`Outputs::commit`] makes them:
+/// `.msp-PID-` then exactly [`TEMP_RANDOM`] letters and digits, then `.tmp`;
+/// `Some(PID)`.
+fn temporary_pid(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix(".msp-")?.strip_suffix(".tmp")?;
+    let (pid, random) = rest.split_once('-')?;
+    let ours = random.len() == TEMP_RANDOM && random.bytes().all(|b| b.is_ascii_alphanumeric());
+    ours.then(|| pid.parse().ok()).flatten()
+}
+
 /// Removes the temporaries that a process killed without a chance to clean
-/// up (SIGKILL, a power cut) left in `dir`: `.msp-PID-*.tmp` of a PID that no
-/// longer runs (Linux, where `/proc` says which do).
+/// up (SIGKILL, a power cut) left in `dir`: only files that are certainly
+/// such temporaries — named as [`temporary_pid`] reads them, of a PID that
+/// no longer runs, regular files owned by this user — so that no file of
+/// anyone else's goes (Linux, where `/proc` says which processes run).
 fn remove_stale_temporaries(dir: &Path) {
     #[cfg(target_os = "linux")]
     {
+        use std::os::unix::fs::MetadataExt;
+        let Ok(me) = std::fs::metadata("/proc/self").map(|m| m.uid()) else {
+            return;
+        };
         let Ok(entries) = std::fs::read_dir(dir) else {
             return;
         };
         for e in entries.flatten() {
             let name = e.file_name();
-            let Some(name) = name.to_str() else { continue };
-            let Some(rest) = name.strip_prefix(".msp-") else {
+            let Some(pid) = name.to_str().and_then(temporary_pid) else {
                 continue;
             };
-            let Some((pid, _)) = rest.split_once('-') else {
-                continue;
-            };
-            if name.ends_with(".tmp")
-                && pid.parse::<u32>().is_ok()
-                && !Path::new("/proc").join(pid).exists()
-            {
+            let mine = std::fs::symlink_metadata(e.path())
+                .is_ok_and(|m| m.file_type().is_file() && m.uid() == me);
+            if mine && !Path::new("/proc").join(pid.to_string()).exists() {
                 let _ = std::fs::remove_file(e.path());
             }
         }
@@ -113,9 +127,115 @@ fn remove_stale_temporaries(dir: &Path) {
     let _ = dir;
 }
 
-/// Whether a path given to a flag means standard output.
+/// Where an output goes: the file to replace atomically (a symbolic link's
+/// target, so that the link stays a link), or a file written in place (a
+/// device, a FIFO, anything under `/dev` or `/proc`, such as `/dev/stdout`
+/// or a `/proc/self/fd/N` link: renaming over those would replace the
+/// system's link or the redirection's file).
+enum Target {
+    Replace(PathBuf),
+    InPlace(PathBuf),
+}
+
+fn target_of(path: &Path) -> Result<Target, String> {
+    let link = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    // a link into /proc or /dev may lead to no path (a pipe's fd): written in place
+    let resolved = if link {
+        std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+    } else {
+        path.to_path_buf()
+    };
+    // every hop of a chain of links: one through /dev or /proc (a link to
+    // /proc/self/fd/1) is the redirection's file, written in place
+    let mut hops = vec![std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())];
+    let mut at = path.to_path_buf();
+    for _ in 0..40 {
+        let Ok(next) = std::fs::read_link(&at) else {
+            break;
+        };
+        at = parent(&at).join(next);
+        hops.push(at.clone());
+    }
+    hops.push(resolved.clone());
+    let system = hops
+        .iter()
+        .any(|p| p.starts_with("/dev") || p.starts_with("/proc"));
+    let special = std::fs::metadata(&resolved).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    if system || special {
+        return Ok(Target::InPlace(path.to_path_buf()));
+    }
+    if link && !resolved.is_absolute() {
+        return Err(format!("the link {} leads nowhere", path.display()));
+    }
+    if link && std::fs::canonicalize(path).is_err() {
+        return Err(format!("the link {} leads nowhere", path.display()));
+    }
+    Ok(Target::Replace(resolved))
+}
+
+/// An existing file this user may not write is not replaced (as `cp` would
+/// not): writing it through a rename would step over its permissions.
+fn check_writable(path: &Path) -> Result<(), String> {
+    match std::fs::OpenOptions::new().write(true).open(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => Err(format!(
+            "{}: permission denied (the file is not writable for you)",
+            path.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Opens a file written in place; a FIFO without a reader is an error,
+/// not a wait that never ends.
+fn open_in_place(path: &Path) -> std::io::Result<std::fs::File> {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        use std::os::unix::fs::OpenOptionsExt;
+        if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
+            // O_NONBLOCK: the open fails with ENXIO when nobody reads
+            let probe = std::fs::OpenOptions::new()
+                .write(true)
+                .custom_flags(0o4000)
+                .open(path)
+                .map_err(|e| {
+                    std::io::Error::new(e.kind(), format!("a FIFO nobody reads from ({e})"))
+                })?;
+            // a reader is there: the blocking open returns at once
+            let f = std::fs::OpenOptions::new().write(true).open(path);
+            drop(probe);
+            return f;
+        }
+    }
+    std::fs::OpenOptions::new().write(true).open(path)
+}
+
+/// Whether a path given to a flag means standard output: `-` (as for most
+/// Unix tools), `/dev/stdout`, `/proc/self/fd/1`, or a link that leads to
+/// one of them. Such an output is written to the process's standard output,
+/// after the files, never renamed over (that would replace the system's link
+/// or the redirection's file).
 pub(crate) fn is_stdout(path: &Path) -> bool {
-    path.as_os_str() == "-"
+    let named = |p: &Path| {
+        p.as_os_str() == "-"
+            || p == Path::new("/dev/stdout")
+            || p == Path::new("/proc/self/fd/1")
+            || p == Path::new("/dev/fd/1")
+    };
+    if named(path) {
+        return true;
+    }
+    let mut at = path.to_path_buf();
+    for _ in 0..40 {
+        let Ok(next) = std::fs::read_link(&at) else {
+            return false;
+        };
+        at = parent(&at).join(next);
+        if named(&at) {
+            return true;
+        }
+    }
+    false
 }
 
 impl<'a> Outputs<'a> {
@@ -134,7 +254,6 @@ impl<'a> Outputs<'a> {
                 continue;
             }
             let dir = parent(path);
-            remove_stale_temporaries(&dir);
             if !dir.is_dir() {
                 return Err(CliError::Input(format!(
                     "{flag} {}: the directory {} does not exist",
@@ -148,7 +267,15 @@ impl<'a> Outputs<'a> {
                     path.display()
                 )));
             }
-            let key = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+            // the same file by any spelling: `x.csv`, `sub/../x.csv`, a link to it
+            let key = std::fs::canonicalize(path)
+                .or_else(|_| {
+                    std::fs::canonicalize(&dir).map(|d| match path.file_name() {
+                        Some(f) => d.join(f),
+                        None => d,
+                    })
+                })
+                .unwrap_or_else(|_| path.to_path_buf());
             if let Some((_, other)) = seen.iter().find(|(k, _)| *k == key) {
                 return Err(CliError::Input(format!(
                     "{other} and {flag} name the same file {}",
@@ -193,42 +320,65 @@ impl<'a> Outputs<'a> {
     pub(crate) fn commit(self) -> Result<(), CliError> {
         let mut staged = Vec::with_capacity(self.files.len());
         let mut devices = Vec::new();
+        let mut dirs: Vec<PathBuf> = Vec::new();
         for (path, content) in self.files {
             let fail = |e: std::io::Error| {
                 CliError::Runtime(format!("cannot write {}: {e}", path.display()))
             };
-            // a device or pipe (`-o /dev/null`, a FIFO) is written in place:
-            // renaming a temporary over it would replace the device by a file
-            if std::fs::metadata(&path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
-                devices.push((path, content));
-                continue;
+            let target = match target_of(&path) {
+                Ok(Target::Replace(t)) => t,
+                Ok(Target::InPlace(t)) => {
+                    devices.push((t, content));
+                    continue;
+                }
+                Err(why) => return Err(CliError::Input(format!("cannot write {why}"))),
+            };
+            if target.exists() {
+                check_writable(&target)
+                    .map_err(|why| CliError::Input(format!("cannot write {why}")))?;
             }
             let mut builder = tempfile::Builder::new();
             let prefix = temp_prefix();
-            builder.prefix(&prefix).suffix(".tmp");
+            builder
+                .prefix(&prefix)
+                .suffix(".tmp")
+                .rand_bytes(TEMP_RANDOM);
             // the file gets the mode `File::create` would give it (0666 less
-            // the umask), or keeps the mode of the file it replaces, not the
-            // temporary's private 0600
+            // the umask), or the permission bits of the file it replaces —
+            // never a set-user-ID, set-group-ID or sticky bit
             #[cfg(unix)]
             {
                 use std::os::unix::fs::PermissionsExt;
-                let mode = std::fs::metadata(&path).map_or(0o666, |m| m.permissions().mode());
-                builder.permissions(std::fs::Permissions::from_mode(mode & 0o7777));
+                let mode = std::fs::metadata(&target).map_or(0o666, |m| m.permissions().mode());
+                builder.permissions(std::fs::Permissions::from_mode(mode & 0o777));
             }
-            let mut tmp = builder.tempfile_in(parent(&path)).map_err(fail)?;
+            let dir = parent(&target);
+            let mut tmp = builder.tempfile_in(&dir).map_err(fail)?;
             if let Ok(mut list) = PENDING.lock() {
                 list.push(tmp.path().to_path_buf());
             }
             content.write_to(&mut tmp).map_err(fail)?;
             tmp.as_file().sync_all().map_err(fail)?;
-            staged.push((tmp, path));
+            staged.push((tmp, target));
+            if !dirs.contains(&dir) {
+                dirs.push(dir);
+            }
         }
         for (path, content) in devices {
-            std::fs::OpenOptions::new()
-                .write(true)
-                .open(&path)
-                .and_then(|mut f| content.write_to(&mut f))
-                .map_err(|e| CliError::Runtime(format!("cannot write {}: {e}", path.display())))?;
+            let written = open_in_place(&path).and_then(|mut f| content.write_to(&mut f));
+            match written {
+                Ok(()) => {}
+                // a reader that went away ends the output quietly, as for `-o -`
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+                    return Err(CliError::BrokenPipe)
+                }
+                Err(e) => {
+                    return Err(CliError::Runtime(format!(
+                        "cannot write {}: {e}",
+                        path.display()
+                    )))
+                }
+            }
         }
         // every file is written: now the renames (a dropped temporary deletes itself)
         let renamed = staged.into_iter().try_for_each(|(tmp, path)| {
@@ -240,6 +390,10 @@ impl<'a> Outputs<'a> {
             list.clear();
         }
         renamed?;
+        // what killed runs left behind, once this one has succeeded
+        for dir in &dirs {
+            remove_stale_temporaries(dir);
+        }
         match self.stdout {
             Some(content) => print_content(content),
             None => Ok(()),

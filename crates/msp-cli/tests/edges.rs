@@ -1,0 +1,282 @@
+//! Hostile inputs and outputs at the edges: allocations sized by input
+//! (under a `ulimit -v`, so that an abort fails the test), special files that
+//! could hang, and output paths that must not be replaced.
+#![cfg(target_os = "linux")]
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use std::time::{Duration, Instant};
+
+fn msp() -> Command {
+    Command::cargo_bin("msp").unwrap()
+}
+
+/// Runs `msp ARGS` under a 4 GiB address-space limit; the exit status
+/// (never a signal: an abort or a kill fails the test) and stderr.
+fn limited(args: &[&str]) -> (i32, String) {
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let mut line = format!("ulimit -v 4194304; exec '{}'", bin.display());
+    for a in args {
+        line.push_str(&format!(" '{a}'"));
+    }
+    let out = std::process::Command::new("bash")
+        .args(["-c", &line])
+        .output()
+        .unwrap();
+    let code = out
+        .status
+        .code()
+        .unwrap_or_else(|| panic!("{args:?} ended by a signal: {:?}", out.status));
+    (code, String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// A run-time dead time far beyond memory is refused by the budget before
+/// the robustness and stability rebuilds allocate it, naming the event;
+/// raised past the machine, the budget still ends in an error.
+#[test]
+fn dead_time_events_beyond_memory_are_refused() {
+    for d in ["1e7", "1e9", "1e12"] {
+        let event = format!("20:dead-time={d}");
+        let (code, err) = limited(&[
+            "margins",
+            "--plant",
+            "2*e^-3s/(4s+1)",
+            "-c",
+            "smith",
+            "--event",
+            &event,
+        ]);
+        assert_eq!(code, 2, "margins {event}: {err}");
+        let (code, err) = limited(&[
+            "run",
+            "--plant",
+            "2*e^-3s/(4s+1)",
+            "-c",
+            "smith",
+            "--event",
+            &event,
+            "-o",
+            "/dev/null",
+        ]);
+        assert_eq!(code, 2);
+        assert!(err.contains("the event at 20 s"), "{err}");
+    }
+    let (code, err) = limited(&[
+        "run",
+        "--plant",
+        "2*e^-3s/(4s+1)",
+        "-c",
+        "smith",
+        "--event",
+        "20:dead-time=1e9",
+        "--max-memory",
+        "100000T",
+        "-o",
+        "/dev/null",
+    ]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// Files that never end, never come or are not text: a clean error, fast.
+#[test]
+fn special_inputs_end_in_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let sparse = dir.path().join("sparse.csv");
+    std::fs::File::create(&sparse)
+        .unwrap()
+        .set_len(2 << 30)
+        .unwrap();
+    let sparse = sparse.to_str().unwrap().to_string();
+    for args in [
+        vec!["identify", "--data", "/dev/zero"],
+        vec!["identify", "--data", sparse.as_str()],
+        vec!["run", "--scenario", "/dev/zero"],
+        vec!["sweep", "--merge", "/dev/zero", "-o", "-"],
+    ] {
+        let (code, err) = limited(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains("binary data") || err.contains("more than"),
+            "{args:?}: {err}"
+        );
+    }
+    // a FIFO nobody writes to: an error after the read's timeout, not a hang
+    let fifo = dir.path().join("fifo");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let started = Instant::now();
+    msp()
+        .args(["identify", "--data"])
+        .arg(&fifo)
+        .timeout(Duration::from_secs(60))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("no data came"));
+    assert!(started.elapsed() < Duration::from_secs(30));
+    // and nobody reads from: an error at once
+    msp()
+        .args(["step", "--plant", "1/(s+1)", "-o"])
+        .arg(&fifo)
+        .timeout(Duration::from_secs(60))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("nobody reads"));
+}
+
+/// `-o` through a link to standard output writes to standard output: the
+/// link stays a link, the redirection gets the CSV. A link to a file
+/// replaces the file, not the link.
+#[test]
+fn links_are_followed_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let link = dir.path().join("out.csv");
+    std::os::unix::fs::symlink("/proc/self/fd/1", &link).unwrap();
+    let out = msp()
+        .args(["step", "--plant", "1/(s+1)", "-o"])
+        .arg(&link)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    assert!(String::from_utf8_lossy(&out).starts_with("t,u,y\n"));
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let target = dir.path().join("target.csv");
+    std::fs::write(&target, "old").unwrap();
+    let to_file = dir.path().join("to_file.csv");
+    std::os::unix::fs::symlink(&target, &to_file).unwrap();
+    msp()
+        .args(["step", "--plant", "1/(s+1)", "-o"])
+        .arg(&to_file)
+        .assert()
+        .success();
+    assert!(std::fs::symlink_metadata(&to_file)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read_to_string(&target)
+        .unwrap()
+        .starts_with("t,u,y"));
+    // a closed pipe on -o /dev/stdout ends quietly, as on -o -
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let o = std::process::Command::new("bash")
+        .args(["-c", &format!("'{}' run --plant '1/(s+1)' -o /dev/stdout | head -c 10 >/dev/null; echo ${{PIPESTATUS[0]}}", bin.display())])
+        .output()
+        .unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&o.stdout).trim(),
+        "0",
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("error"));
+    // one file by two spellings
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    let x = dir.path().join("x.csv");
+    let y = dir.path().join("sub/../x.csv");
+    msp()
+        .args(["run", "--plant", "1/(s+1)", "-o"])
+        .arg(&x)
+        .arg("--report")
+        .arg(&y)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("name the same file"));
+}
+
+/// A replaced file keeps its permission bits but not a set-user-ID bit; a
+/// temporary-looking file of a user's is left alone, and nothing is cleaned
+/// when the command fails.
+#[test]
+fn replacing_files_keeps_what_is_not_ours() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("su.csv");
+    std::fs::write(&f, "x").unwrap();
+    std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o4755)).unwrap();
+    msp()
+        .args(["step", "--plant", "1/(s+1)", "-o"])
+        .arg(&f)
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::metadata(&f).unwrap().permissions().mode() & 0o7777,
+        0o755
+    );
+    let users = dir.path().join(".msp-99999999-x.tmp");
+    std::fs::write(&users, "mine").unwrap();
+    msp()
+        .args(["step", "--plant", "1/(s+1)", "-o"])
+        .arg(dir.path().join("a.csv"))
+        .assert()
+        .success();
+    assert!(users.exists(), "a user's file was deleted");
+    // a stale temporary of ours (a dead PID, our name) goes, but only after a success
+    let stale = dir.path().join(".msp-99999999-abcdefghijkl.tmp");
+    std::fs::write(&stale, "").unwrap();
+    msp()
+        .args(["step", "--plant", "1/(s+1)", "--ts", "-1", "-o"])
+        .arg(dir.path().join("b.csv"))
+        .assert()
+        .code(2);
+    assert!(stale.exists(), "cleaned up by a command that failed");
+    msp()
+        .args(["step", "--plant", "1/(s+1)", "-o"])
+        .arg(dir.path().join("b.csv"))
+        .assert()
+        .success();
+    assert!(!stale.exists());
+}
+
+/// An existing file the user may not write is not replaced, even in a
+/// directory anyone may write to (as `cp` refuses). As root, the command
+/// runs as `nobody` for this (setpriv); otherwise the file is made read-only.
+#[test]
+fn a_file_the_user_may_not_write_is_not_replaced() {
+    use std::os::unix::fs::PermissionsExt;
+    // under /tmp, which anyone may enter (so `nobody` reaches the copy below)
+    let dir = tempfile::Builder::new().tempdir_in("/tmp").unwrap();
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
+    let f = dir.path().join("theirs.csv");
+    std::fs::write(&f, "keep").unwrap();
+    let root = std::fs::read_to_string("/proc/self/status")
+        .unwrap()
+        .lines()
+        .any(|l| l.starts_with("Uid:") && l.split_whitespace().nth(2) == Some("0"));
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let out = if root {
+        std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o644)).unwrap();
+        // the binary must be reachable for nobody
+        let copy = dir.path().join("msp");
+        std::fs::copy(&bin, &copy).unwrap();
+        std::fs::set_permissions(&copy, std::fs::Permissions::from_mode(0o755)).unwrap();
+        std::process::Command::new("setpriv")
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(&copy)
+            .args(["step", "--plant", "1/(s+1)", "-o"])
+            .arg(&f)
+            .output()
+            .expect("setpriv (util-linux) runs the command as nobody")
+    } else {
+        std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o444)).unwrap();
+        std::process::Command::new(&bin)
+            .args(["step", "--plant", "1/(s+1)", "-o"])
+            .arg(&f)
+            .output()
+            .unwrap()
+    };
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("permission denied"));
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "keep");
+}
