@@ -353,6 +353,51 @@ pub struct PyPid {
     inner: Pid<f64>,
 }
 
+impl PyPid {
+    /// The weights, limits, rate limit and anti-windup of either form, checked.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        cfg: PidConfig<f64>,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = cfg
+            .with_weights(b, c)
+            .with_limits(umin, umax)
+            .with_rate_limit(rate_limit);
+        // the name is checked whatever the form needs
+        let integral = cfg.ki != 0.0;
+        cfg.anti_windup = match (anti_windup, cfg.anti_windup) {
+            ("back-calculation" | "clamping" | "conditional" | "none", _) if !integral => {
+                AntiWindup::None
+            }
+            ("back-calculation", AntiWindup::BackCalculation { tt: d }) => {
+                AntiWindup::BackCalculation {
+                    tt: tt.unwrap_or(d),
+                }
+            }
+            ("back-calculation", _) => AntiWindup::BackCalculation {
+                tt: tt.unwrap_or(cfg.ts),
+            },
+            ("clamping" | "conditional", _) => AntiWindup::Conditional,
+            ("none", _) => AntiWindup::None,
+            (o, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "anti_windup '{o}': use back-calculation, clamping (conditional) or none"
+                )))
+            }
+        };
+        Ok(PyPid {
+            inner: Pid::new(cfg).map_err(value_err)?,
+        })
+    }
+}
+
 #[pymethods]
 impl PyPid {
     #[new]
@@ -373,33 +418,78 @@ impl PyPid {
         tt: Option<f64>,
         rate_limit: f64,
     ) -> PyResult<Self> {
-        let mut cfg = PidConfig::try_isa(kp, ti, td, ts)
+        // in the ISA form kp scales every term: with kp = 0 a given ti or td
+        // would do nothing, and is not dropped without a word
+        if kp == 0.0 && (ti.is_finite() || td > 0.0) {
+            return Err(PyValueError::new_err(
+                "kp = 0 with ti or td: in the ISA form kp scales every term, so ti and td would do nothing; use Pid.parallel(kp, ki, kd) for a pure I or D controller",
+            ));
+        }
+        let cfg = PidConfig::try_isa(kp, ti, td, ts)
             .map_err(value_err)?
-            .with_filter(n)
-            .with_weights(b, c)
-            .with_limits(umin, umax)
-            .with_rate_limit(rate_limit);
-        cfg.anti_windup = match (anti_windup, cfg.anti_windup) {
-            (_, AntiWindup::None) if ti.is_infinite() => AntiWindup::None,
-            ("back-calculation", AntiWindup::BackCalculation { tt: d }) => {
-                AntiWindup::BackCalculation {
-                    tt: tt.unwrap_or(d),
-                }
-            }
-            ("back-calculation", _) => AntiWindup::BackCalculation {
-                tt: tt.unwrap_or(ti),
-            },
-            ("conditional", _) => AntiWindup::Conditional,
-            ("none", _) => AntiWindup::None,
-            (o, _) => {
-                return Err(PyValueError::new_err(format!(
-                    "anti_windup '{o}': use back-calculation, conditional or none"
-                )))
-            }
+            .with_filter(n);
+        Self::finish(cfg, b, c, umin, umax, anti_windup, tt, rate_limit)
+    }
+
+    /// The parallel form ``u = kp·(b·r − y) + ki·∫(r − y) + kd·d(c·r − y)/dt``
+    /// (pid-rs's and simple-pid's gains): ``kp = 0`` is allowed (a pure I or
+    /// D controller). ``tf`` is the derivative filter's time constant (default
+    /// ``kd/(10·kp)``, ``0`` — unfiltered — when ``kp = 0``).
+    #[staticmethod]
+    #[pyo3(signature = (kp, ki=0.0, kd=0.0, ts=1.0, *, tf=None, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
+                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
+    #[allow(clippy::too_many_arguments)]
+    fn parallel(
+        kp: f64,
+        ki: f64,
+        kd: f64,
+        ts: f64,
+        tf: Option<f64>,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = PidConfig::parallel(kp, ki, kd, ts);
+        if let Some(tf) = tf {
+            cfg = cfg.with_filter_time(tf);
+        }
+        Self::finish(cfg, b, c, umin, umax, anti_windup, tt, rate_limit)
+    }
+
+    /// Sets the integral so that the next output is ``u`` for zero error (a
+    /// bumpless start from a steady state with the actuator at ``u``).
+    fn preset(&mut self, u: f64) -> PyResult<()> {
+        self.inner.preset(u).map_err(value_err)
+    }
+
+    fn __repr__(&self) -> String {
+        let c = self.inner.config();
+        let n = if c.tf > 0.0 {
+            c.td() / c.tf
+        } else {
+            f64::INFINITY
         };
-        Ok(PyPid {
-            inner: Pid::new(cfg).map_err(value_err)?,
-        })
+        let mode = match self.inner.mode() {
+            msp::pid::Mode::Auto => "auto",
+            msp::pid::Mode::Manual => "manual",
+        };
+        format!(
+            "Pid(kp={}, ti={}, td={}, ts={}, n={}, b={}, c={}, umin={}, umax={}, mode={mode}, output={})",
+            c.kp,
+            c.ti(),
+            c.td(),
+            c.ts,
+            if c.td() > 0.0 { n } else { f64::NAN },
+            c.b,
+            c.c,
+            c.u_min,
+            c.u_max,
+            self.inner.output()
+        )
     }
     /// One sample.
     fn update(&mut self, r: f64, y: f64) -> f64 {

@@ -145,6 +145,23 @@ class Pid:
         tt: Optional[float] = None,
         rate_limit: float = ...,
     ) -> "Pid": ...
+    @staticmethod
+    def parallel(
+        kp: float,
+        ki: float = 0.0,
+        kd: float = 0.0,
+        ts: float = 1.0,
+        *,
+        tf: Optional[float] = None,
+        b: float = 1.0,
+        c: float = 1.0,
+        umin: float = ...,
+        umax: float = ...,
+        anti_windup: str = "back-calculation",
+        tt: Optional[float] = None,
+        rate_limit: float = ...,
+    ) -> "Pid": ...
+    def preset(self, u: float) -> None: ...
     def update(self, r: float, y: float) -> float: ...
     def update_tracking(self, r: float, y: float, u_actual: float) -> float: ...
     def update_many(self, r: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
