@@ -643,7 +643,11 @@ pub fn autotune(
         o.amplitude.abs()
     };
     let mut cfg = RelayConfig::new(amplitude, ts);
-    cfg.hysteresis = o.hysteresis.unwrap_or(3.0 * o.noise);
+    let noise = crate::real::non_negative(o.noise, "noise").map_err(AutotuneError::Ident)?;
+    if o.hysteresis.is_none() && !(3.0 * noise).is_finite() {
+        return Err(AutotuneError::Ident(Error::OutOfRange("noise")));
+    }
+    cfg.hysteresis = o.hysteresis.unwrap_or(3.0 * noise);
     cfg.bias = match o.bias {
         // a given bias is relative to the relay's direction, as its amplitude
         Some(b) => b * amplitude.signum() * o.amplitude.signum(),

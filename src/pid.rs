@@ -116,6 +116,14 @@ impl<T: Real> PidConfig<T> {
         }
         non_negative(td, "td")?;
         positive(ts, "ts")?;
+        // the parallel gains kp/ti and kp·td must exist: a message names the
+        // ISA value that breaks them, not the derived one
+        if !(kp / ti).is_finite() {
+            return Err(Error::OutOfRange("ti"));
+        }
+        if !(kp * td).is_finite() {
+            return Err(Error::OutOfRange("td"));
+        }
         Ok(Self::isa(kp, ti, td, ts))
     }
 

@@ -315,6 +315,10 @@ fn analysis_of(
 ) -> Result<Analysis, crate::study::RunError> {
     let (plant, model) = sc.plant_and_model()?;
     let inner = sc.inner_process()?;
+    // a duration given is a duration, even where the analysis chooses its own
+    if let Some(d) = sc.duration {
+        crate::real::positive(d, "duration")?;
+    }
     let built = sc.build_tuned(tuned, &model, inner.as_ref().map(|(_, m)| m))?;
     let ctrl = built.controller.as_ref();
     let ts = built.ts;

@@ -86,7 +86,8 @@ impl fmt::Display for RegistryError {
             RegistryError::UnknownScheme(n) => {
                 write!(
                     f,
-                    "unknown controller '{n}'; available: {}",
+                    "unknown controller '{}'; available: {}",
+                    clip(n),
                     names().join(", ")
                 )
             }
@@ -97,7 +98,8 @@ impl fmt::Display for RegistryError {
             } => {
                 write!(
                     f,
-                    "controller '{scheme}' has no parameter '{name}'; it has: {}",
+                    "controller '{scheme}' has no parameter '{}'; it has: {}",
+                    clip(name),
                     allowed.join(", ")
                 )
             }
@@ -107,11 +109,12 @@ impl fmt::Display for RegistryError {
                 alternatives,
             } => {
                 if alternatives.is_empty() {
-                    write!(f, "controller '{scheme}' cannot control an {kind} plant, and no controller in msp can yet")
+                    write!(f, "controller '{scheme}' cannot control {} {kind} plant, and no controller in msp can yet", article(*kind))
                 } else {
                     write!(
                         f,
-                        "controller '{scheme}' cannot control an {kind} plant; use one of: {}",
+                        "controller '{scheme}' cannot control {} {kind} plant; use one of: {}",
+                        article(*kind),
                         alternatives.join(", ")
                     )
                 }
@@ -121,6 +124,23 @@ impl fmt::Display for RegistryError {
 }
 
 impl core::error::Error for RegistryError {}
+
+/// A name as a message shows it: at most 60 characters (a 10 MB name is not
+/// echoed whole).
+fn clip(name: &str) -> String {
+    match name.char_indices().nth(60) {
+        Some((i, _)) => std::format!("{}…", name.get(..i).unwrap_or(name)),
+        None => name.to_string(),
+    }
+}
+
+/// "a" or "an" before a plant kind.
+fn article(kind: PlantKind) -> &'static str {
+    match kind {
+        PlantKind::Integrating => "an",
+        PlantKind::Stable | PlantKind::Unstable => "a",
+    }
+}
 
 /// A scheme's tuned parameters: the names and values of its typed struct
 /// (a [`ParamSet`], in `f64`) and the closed-loop time constant `lambda` the
@@ -577,9 +597,20 @@ impl Scheme {
             }
             _ => model,
         };
+        // the order first: a model beyond the blocks' capacity says so,
+        // whatever else is wrong with it
+        if model.model_order() > MAX_ORDER {
+            return Err(crate::Error::OrderTooHigh("model").into());
+        }
         model.check_controllable()?;
         if let Some(p2) = inner {
             p2.check_controllable()?;
+        }
+        // a named rule is for the PID schemes; elsewhere it would be ignored
+        if rule.is_some() && !matches!(self.name, "pid" | "pi") {
+            return Err(RegistryError::Core(crate::Error::Unsupported(
+                "--rule (rule=) names a PID tuning rule: only the pid and pi schemes have them; tune the others with --lambda or --set",
+            )));
         }
         let kind = model.kind();
         // every parameter given: the user's controller is run as given (the

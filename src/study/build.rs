@@ -166,6 +166,17 @@ impl Scenario {
         }
         let params =
             scheme.tune_process(model, inner, self.lambda, self.rule.as_deref(), &overrides)?;
+        // a tuning that overflows (a gain of 5e-324, a λ of 5e-324) is no tuning:
+        // refused here, as the run's construction would refuse it
+        if let Some((name, value)) = params
+            .iter()
+            .find(|(n, v)| v.is_nan() || (v.is_infinite() && !(*n == "ti" && *v > 0.0)))
+        {
+            return Err(RunError::Limit(std::format!(
+                "the tuning gives {name} = {}: the plant's numbers or lambda are beyond what the rule can use (a gain of 1e-300 asks for a controller gain of 1e300)",
+                crate::poly::fmt_num(value)
+            )));
+        }
         let lambda_chosen = self.lambda.is_none()
             && params.lambda().is_some()
             && !overrides.iter().any(|(k, _)| k == "lambda");

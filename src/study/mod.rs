@@ -93,6 +93,7 @@ pub struct Scenario {
     pub events: Vec<crate::sim::Operation>,
     /// An actuator limit outside the controller, `(min, max)`: the plant
     /// receives the controller's output clamped to it.
+    #[cfg_attr(feature = "serde", serde(with = "crate::syntax::exact_pair"))]
     pub actuator: Option<(f64, f64)>,
     /// The value the plant received is fed back to the controller each
     /// sample (external reset: no windup against the outside actuator).

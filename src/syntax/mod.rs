@@ -10,6 +10,6 @@ mod schedule;
 
 pub use expr::{parse_plant, ParseError};
 #[cfg(all(feature = "std", feature = "serde"))]
-pub use schedule::text_or_struct;
+pub use schedule::{exact_pair, text_or_struct};
 #[cfg(feature = "std")]
 pub use schedule::{parse_actuator, parse_bytes, parse_number, parse_setting};

@@ -111,6 +111,11 @@ impl core::str::FromStr for Disturbance {
                 "a sine disturbance needs a frequency: input:sine:AMPLITUDE@TIME~HZ".into(),
             );
         }
+        if shape != Shape::Sine && freq != 0.0 {
+            return Err(
+                "a frequency (~HZ) belongs to a sine disturbance only: input:sine:AMPLITUDE@TIME~HZ".into(),
+            );
+        }
         let (value, at) = value_at(rest, "disturbance")?;
         Ok(Disturbance {
             location: loc,
@@ -332,5 +337,31 @@ pub mod text_or_struct {
         T: serde::Serialize,
     {
         serde::Serialize::serialize(v, s)
+    }
+}
+
+/// A `(min, max)` pair from a file's two-element list (`actuator = [0, 1]`):
+/// a list of another length is an error, not a pair taken from its first
+/// two values.
+#[cfg(feature = "serde")]
+pub mod exact_pair {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// Writes the pair as a two-element list.
+    pub fn serialize<S: Serializer>(v: &Option<(f64, f64)>, s: S) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+
+    /// Reads a two-element list (or nothing).
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<(f64, f64)>, D::Error> {
+        let v: Option<std::vec::Vec<f64>> = Option::deserialize(d)?;
+        match v.as_deref() {
+            None => Ok(None),
+            Some([lo, hi]) => Ok(Some((*lo, *hi))),
+            Some(other) => Err(serde::de::Error::custom(std::format!(
+                "a pair [min, max] has two values, not {}",
+                other.len()
+            ))),
+        }
     }
 }

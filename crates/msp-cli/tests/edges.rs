@@ -280,3 +280,107 @@ fn a_file_the_user_may_not_write_is_not_replaced() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("permission denied"));
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "keep");
 }
+
+/// Inputs that were accepted and gave something wrong: each a clear error
+/// now, exit 2, naming the field the user gave.
+#[test]
+fn wrong_inputs_that_were_accepted_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("a.toml");
+    std::fs::write(&toml, "plant = \"1/(s+1)\"\nactuator = [1, 2, 3]\n").unwrap();
+    let json = dir.path().join("a.json");
+    std::fs::write(&json, r#"{"plant": "1/(s+1)", "ts": 0.1, "ts": 0.2}"#).unwrap();
+    let long = "x".repeat(100_000);
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["tune", "--plant", "5e-324*e^-1s/(s+1)"], "kp = inf"),
+        (
+            vec!["tune", "--plant", "e^-1s/(s+1)", "--lambda", "5e-324"],
+            "kp = inf",
+        ),
+        (vec!["tune", "--plant", "1/(s+1)^56*e^-1s"], "order exceeds"),
+        (
+            vec![
+                "tune",
+                "--plant",
+                "e^-1s/(s+1)",
+                "-c",
+                "smith",
+                "--rule",
+                "zn",
+            ],
+            "only the pid and pi",
+        ),
+        (
+            vec!["margins", "--plant", "e^-1s/(s+1)", "--duration=-1"],
+            "duration",
+        ),
+        (
+            vec![
+                "run",
+                "--plant",
+                "e^-1s/(s+1)",
+                "--disturbance",
+                "input:1@1~5",
+                "-o",
+                "-",
+            ],
+            "sine disturbance only",
+        ),
+        (
+            vec![
+                "run",
+                "--plant",
+                "e^-1s/(s+1)",
+                "--set",
+                "ti=1e-320",
+                "-o",
+                "-",
+            ],
+            "`ti`",
+        ),
+        (
+            vec!["autotune", "--plant", "e^-1s/(s+1)", "--noise", "1e308"],
+            "`noise`",
+        ),
+        (
+            vec!["run", "--scenario", toml.to_str().unwrap(), "-o", "-"],
+            "two values, not 3",
+        ),
+        (
+            vec!["run", "--scenario", json.to_str().unwrap(), "-o", "-"],
+            "'ts' is given twice",
+        ),
+        (
+            vec![
+                "run",
+                "--plant",
+                "e^-1s/(s+1)",
+                "--duration",
+                "10",
+                "--event",
+                "1e308:manual=0.5",
+                "-o",
+                "-",
+            ],
+            "after the end of the run",
+        ),
+    ];
+    for (args, words) in cases {
+        msp()
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(words));
+    }
+    // a long name is not echoed whole
+    let out = msp()
+        .args(["run", "--plant", "1/(s+1)", "-c", &long])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        out.stderr.len() < 1000,
+        "{} bytes of message",
+        out.stderr.len()
+    );
+}

@@ -25,7 +25,7 @@ pub(crate) fn load_scenario(path: &Path) -> Result<(Scenario, bool), CliError> {
             CliError::Input(format!("scenario file {}: {e}", path.display()))
         };
         // a run report (msp run --report) carries the scenario it ran
-        let value: serde_json::Value = serde_json::from_str(text).map_err(fail)?;
+        let Strict(value) = serde_json::from_str(text).map_err(fail)?;
         match value.get("scenario") {
             Some(inner) if value.get("msp_version").is_some() => {
                 Ok((serde_json::from_value(inner.clone()).map_err(fail)?, true))
@@ -101,4 +101,72 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         }));
     }
     Ok(sc)
+}
+
+/// A JSON document whose objects name no key twice: a scenario file that
+/// gives `ts` twice is an error, not its last `ts` taken silently.
+struct Strict(serde_json::Value);
+
+impl<'de> serde::Deserialize<'de> for Strict {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(StrictVisitor).map(Strict)
+    }
+}
+
+struct StrictVisitor;
+
+impl<'de> serde::de::Visitor<'de> for StrictVisitor {
+    type Value = serde_json::Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_bool<E>(self, v: bool) -> Result<Self::Value, E> {
+        Ok(v.into())
+    }
+    fn visit_i64<E>(self, v: i64) -> Result<Self::Value, E> {
+        Ok(v.into())
+    }
+    fn visit_u64<E>(self, v: u64) -> Result<Self::Value, E> {
+        Ok(v.into())
+    }
+    fn visit_f64<E>(self, v: f64) -> Result<Self::Value, E> {
+        Ok(serde_json::Number::from_f64(v).map_or(serde_json::Value::Null, Into::into))
+    }
+    fn visit_str<E>(self, v: &str) -> Result<Self::Value, E> {
+        Ok(v.into())
+    }
+    fn visit_string<E>(self, v: String) -> Result<Self::Value, E> {
+        Ok(v.into())
+    }
+    fn visit_unit<E>(self) -> Result<Self::Value, E> {
+        Ok(serde_json::Value::Null)
+    }
+    fn visit_none<E>(self) -> Result<Self::Value, E> {
+        Ok(serde_json::Value::Null)
+    }
+    fn visit_some<D: serde::Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        serde::Deserialize::deserialize(d).map(|Strict(v)| v)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut a: A) -> Result<Self::Value, A::Error> {
+        let mut v = Vec::new();
+        while let Some(Strict(x)) = a.next_element()? {
+            v.push(x);
+        }
+        Ok(serde_json::Value::Array(v))
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut a: A) -> Result<Self::Value, A::Error> {
+        let mut m = serde_json::Map::new();
+        while let Some(k) = a.next_key::<String>()? {
+            let Strict(v) = a.next_value()?;
+            if m.contains_key(&k) {
+                return Err(serde::de::Error::custom(format!(
+                    "the key '{}' is given twice",
+                    k.chars().take(60).collect::<String>()
+                )));
+            }
+            m.insert(k, v);
+        }
+        Ok(serde_json::Value::Object(m))
+    }
 }

@@ -120,7 +120,10 @@ def _scenario(given: Mapping[str, Any], **named: Any) -> Dict[str, Any]:
         elif key == "params":
             v = dict(v)
         elif key == "actuator":
-            v = (float(v[0]), float(v[1]))
+            pair = tuple(v)
+            if len(pair) != 2:
+                raise ValueError(f"actuator: a pair (min, max) has two values, not {len(pair)}")
+            v = (float(pair[0]), float(pair[1]))
         out[key] = v
     return out
 
