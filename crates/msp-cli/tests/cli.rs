@@ -433,7 +433,11 @@ fn step_prints_the_open_loop_response() {
     let rise = j["rise_time"].as_f64().unwrap();
     assert!((rise - 5.0 * 9f64.ln()).abs() < 1e-3, "{rise}");
     let text = std::fs::read_to_string(&csv).unwrap();
-    assert!(text.starts_with("t,y\n0,0\n"));
+    // the rest state one sample before the step, then the response from 0
+    let rows: Vec<&str> = text.lines().take(3).collect();
+    assert_eq!(rows[0], "t,u,y");
+    assert!(rows[1].starts_with('-') && rows[1].ends_with(",0,0"), "{rows:?}");
+    assert_eq!(rows[2], "0,1,0");
     assert!(std::fs::read_to_string(&svg)
         .unwrap()
         .contains("final value 2"));
@@ -467,17 +471,18 @@ fn tune_prints_robustness_and_warns() {
     assert_eq!(j["warnings"], serde_json::json!([]));
 }
 
-/// Temporaries of a process that died without cleaning up (`.msp-PID-*.tmp`
-/// of a PID that no longer runs) are removed by the next run that writes
-/// there; those of a live process are left alone.
+/// Temporaries of a process that died without cleaning up (`.msp-PID-` and
+/// twelve letters or digits, `.tmp`, of a PID that no longer runs) are
+/// removed by the next run that writes there; those of a live process are
+/// left alone.
 #[cfg(target_os = "linux")]
 #[test]
 fn stale_temporaries_are_removed() {
     let dir = tempfile::tempdir().unwrap();
-    let dead = dir.path().join(".msp-4000000000-abc123.tmp");
+    let dead = dir.path().join(".msp-4000000000-abc123def456.tmp");
     let live = dir
         .path()
-        .join(format!(".msp-{}-def456.tmp", std::process::id()));
+        .join(format!(".msp-{}-def456abc123.tmp", std::process::id()));
     std::fs::write(&dead, "half a file").unwrap();
     std::fs::write(&live, "being written").unwrap();
     msp()
@@ -1018,7 +1023,7 @@ fn bad_flags_exit_2_without_a_panic_trace() {
         vec!["sweep", "--plant", "1/(s+1)", "--gain", "20%..10%"],
         vec!["sweep", "--plant", "1/(s+1)", "--shard", "3/2"],
         vec!["margins", "--plant", "1/(s+1)", "-c", "karan-dey"],
-        vec!["autotune", "--plant", "1/(s+1)", "--relay-amplitude", "-1"],
+        vec!["autotune", "--plant", "1/(s+1)", "--relay-amplitude", "0"],
     ] {
         msp()
             .args(&args)
