@@ -15,6 +15,10 @@ pub(super) const CONTROLLER_BYTES_PER_SAMPLE: f64 = 32.0;
 pub(crate) const PLANT_BYTES_PER_SAMPLE: f64 = 16.0;
 /// Bytes per recorded row: up to 16 columns of `f64`.
 pub(super) const BYTES_PER_ROW: f64 = 128.0;
+/// Bytes per scheduled set-point step, disturbance or operator event, as a
+/// run holds them, rounded up (measured: 700 000 events from a TOML file ran
+/// in 186 MB with their 700 000 recorded rows).
+pub(super) const BYTES_PER_SCHEDULED: f64 = 256.0;
 
 /// `bytes` as people read it: `1.5 GiB`, `12 MiB`.
 fn human(bytes: f64) -> String {

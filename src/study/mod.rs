@@ -11,7 +11,7 @@ mod robustness;
 
 pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
-use build::{BYTES_PER_ROW, CONTROLLER_BYTES_PER_SAMPLE};
+use build::{BYTES_PER_ROW, BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
@@ -644,12 +644,18 @@ impl Scenario {
         self.check_operation()?;
         #[allow(clippy::cast_precision_loss)] // at most 1000
         let rows = (duration / ts + 1.0) * substeps as f64;
+        // each scheduled item is held several times over (the schedule, the
+        // scenario and the report's copies, the event figures)
+        #[allow(clippy::cast_precision_loss)]
+        let items = (self.setpoint.len() + self.disturbance.len() + self.events.len()) as f64;
         self.within_budget(
             model_samples * CONTROLLER_BYTES_PER_SAMPLE
                 + plant_samples * PLANT_BYTES_PER_SAMPLE
-                + rows * BYTES_PER_ROW,
+                + rows * BYTES_PER_ROW
+                + items * BYTES_PER_SCHEDULED,
             &std::format!(
-                "{} recorded rows ({} s at ts = {} s{}) and {} samples of dead time",
+                "{} scheduled steps and events, {} recorded rows ({} s at ts = {} s{}) and {} samples of dead time",
+                items,
                 crate::poly::fmt_num(rows.ceil()),
                 crate::poly::fmt_num(duration),
                 crate::poly::fmt_num(ts),
