@@ -100,10 +100,7 @@ impl Analysis {
                 self.ts,
             ),
             view: self.view.name(),
-            controller: crate::study::ControllerReport {
-                name: self.controller,
-                params: self.params.clone(),
-            },
+            controller: crate::study::ControllerReport::new(self.controller, self.params.clone()),
             margins: self.margins,
             stable: self.stable,
             stability: self.stability.clone(),

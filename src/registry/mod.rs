@@ -152,6 +152,21 @@ fn article(kind: PlantKind) -> &'static str {
 pub struct Params {
     list: ParamList<f64>,
     lambda: Option<f64>,
+    rule: Option<Rule>,
+}
+
+/// The named rule a PI/PID was tuned by, with the ultimate gain and period
+/// an ultimate-cycle rule read from the plant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Rule {
+    /// `imc` (IMC-PID, Bag (2022) Eqs. 3.19–3.27), `simc` (Skogestad
+    /// (2003)) or an ultimate-cycle rule of Bag (2022) Tables 3.2/3.3 (`zn`, …).
+    pub name: &'static str,
+    /// The ultimate gain (ultimate-cycle rules).
+    pub ku: Option<f64>,
+    /// The ultimate period (s; ultimate-cycle rules).
+    pub tu: Option<f64>,
 }
 
 impl Params {
@@ -160,7 +175,18 @@ impl Params {
         Params {
             list: ParamList::of(p),
             lambda: None,
+            rule: None,
         }
+    }
+    /// The same, tuned by the named `rule`.
+    pub fn with_rule(mut self, rule: Rule) -> Self {
+        self.rule = Some(rule);
+        self
+    }
+    /// The named rule a PI/PID was tuned by (`None` for a scheme whose
+    /// tuning is its source's own: the report's `source` names it).
+    pub fn rule(&self) -> Option<Rule> {
+        self.rule
     }
     /// The same, tuned for the closed-loop time constant `lambda`.
     pub fn with_lambda(mut self, lambda: f64) -> Self {
@@ -521,7 +547,8 @@ pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
 /// compensate and a predictor tuned on `θ + T` can even destabilise
 /// `2/(s(2s + 1)^2)` — the SIMC PID on the reduction, which rejects an input
 /// load with zero steady error. The Smith predictor (Kaya tuning) for stable
-/// models, the filtered Smith predictor for unstable ones.
+/// models with a dead time, the PID (IMC-PID or SIMC) for delay-free ones,
+/// the filtered Smith predictor for unstable ones.
 pub fn default_for(model: &TransferFunction) -> Result<&'static Scheme, RegistryError> {
     match model.kind() {
         PlantKind::Integrating => match (model.exact_model(), model.integrating_half_rule()) {
@@ -529,6 +556,9 @@ pub fn default_for(model: &TransferFunction) -> Result<&'static Scheme, Registry
             (_, Some((theta, t))) if theta >= t && theta > 0.0 => find("matausek-micic"),
             _ => find("pid"),
         },
+        // a predictor has no dead time to compensate on a delay-free plant:
+        // the PID it would run anyway, named as what it is
+        PlantKind::Stable if model.delay <= 0.0 => find("pid"),
         PlantKind::Stable => find("smith"),
         PlantKind::Unstable => find("fsp"),
     }

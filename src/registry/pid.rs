@@ -39,7 +39,12 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
     };
     let rule = d.rule.as_deref().unwrap_or(default_rule);
     let t: LambdaTuning = d.typed();
-    let (g, lambda) = match rule {
+    let named = |name: &'static str| super::Rule {
+        name,
+        ku: None,
+        tu: None,
+    };
+    let (g, lambda, named) = match rule {
         "imc" | "imc-pid" if pi_only => {
             return Err(crate::Error::Unsupported(
                 "IMC-PID is a PID: use --controller pid, or --rule simc for a PI",
@@ -55,11 +60,11 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
                 }
             };
             let lambda = lambda_for(&f.into(), &t, 1.0);
-            (tuning::imc_pid(&f, lambda)?, lambda)
+            (tuning::imc_pid(&f, lambda)?, lambda, named("imc"))
         }
         "simc" => {
             let lambda = lambda_for(&m, &t, 1.0);
-            (tuning::simc(&m, lambda)?, lambda)
+            (tuning::simc(&m, lambda)?, lambda, named("simc"))
         }
         name => {
             let r = tuning::ultimate_rule(name).ok_or(crate::Error::Unsupported(
@@ -73,10 +78,15 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
             let (ku, tu) = plant
                 .ultimate()
                 .ok_or(crate::Error::Unsupported("the plant has no ultimate point"))?;
-            (tuning::ultimate_cycle(r, ku, tu)?, f64::NAN)
+            let rule = super::Rule {
+                name: r.name,
+                ku: Some(ku),
+                tu: Some(tu),
+            };
+            (tuning::ultimate_cycle(r, ku, tu)?, f64::NAN, rule)
         }
     };
-    let p = Params::of(&g);
+    let p = Params::of(&g).with_rule(named);
     Ok(if lambda.is_nan() {
         p
     } else {

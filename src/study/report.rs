@@ -17,6 +17,52 @@ pub struct ControllerReport {
     pub name: &'static str,
     /// Its tuned (and `--set`) parameters, by name.
     pub params: Params,
+    /// How a PI/PID was tuned and what form it runs in (`null` for a
+    /// scheme tuned by its source's own rule, which `source` names).
+    pub tuning: Option<TuningReport>,
+}
+
+/// The tuning of a PI/PID scheme as a process engineer reads it: the rule
+/// (with the ultimate gain and period an ultimate-cycle rule used), the form
+/// of the controller, its derivative filter and set-point weights.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct TuningReport {
+    /// The rule: `imc`, `simc`, or an ultimate-cycle rule (`zn`, …).
+    pub rule: &'static str,
+    /// The ultimate gain an ultimate-cycle rule used.
+    pub ku: Option<f64>,
+    /// The ultimate period (s) an ultimate-cycle rule used.
+    pub tu: Option<f64>,
+    /// The form: `isa` (`Kp·(1 + 1/(Ti·s) + Td·s/(1 + Td·s/N))`).
+    pub form: &'static str,
+    /// The derivative filter ratio `N` (`Tf = Td/N`).
+    pub n: f64,
+    /// The proportional term's set-point weight.
+    pub b: f64,
+    /// The derivative term's set-point weight.
+    pub c: f64,
+}
+
+impl ControllerReport {
+    /// The report of scheme `name` with `params`.
+    pub fn new(name: &'static str, params: Params) -> Self {
+        let tuning = params.rule().map(|r| TuningReport {
+            rule: r.name,
+            ku: r.ku,
+            tu: r.tu,
+            // the defaults of PidConfig::isa, which the PI/PID schemes build
+            form: "isa",
+            n: 10.0,
+            b: 1.0,
+            c: 1.0,
+        });
+        ControllerReport {
+            name,
+            params,
+            tuning,
+        }
+    }
 }
 
 /// The process of a loop as the reports print it (`msp run --report`,
@@ -147,10 +193,7 @@ impl RunOutput {
             .collect(),
             duration: self.duration,
             samples: self.result.t.len(),
-            controller: ControllerReport {
-                name: self.controller,
-                params: self.params.clone(),
-            },
+            controller: ControllerReport::new(self.controller, self.params.clone()),
             float32: self.float32,
             metrics: self.metrics,
             metrics_delayed_reference: self.metrics_delayed_reference,
@@ -297,10 +340,7 @@ impl super::Scenario {
         Ok(TuneReport {
             plant: plant.to_string(),
             inner_plant: inner.as_ref().map(|(p, _)| p.to_string()),
-            controller: ControllerReport {
-                name: tuned.scheme.name,
-                params: tuned.params.clone(),
-            },
+            controller: ControllerReport::new(tuned.scheme.name, tuned.params.clone()),
             source: tuned.scheme.source,
             chosen: if tuned.lambda_chosen {
                 std::vec!["lambda"]

@@ -436,7 +436,10 @@ fn step_prints_the_open_loop_response() {
     // the rest state one sample before the step, then the response from 0
     let rows: Vec<&str> = text.lines().take(3).collect();
     assert_eq!(rows[0], "t,u,y");
-    assert!(rows[1].starts_with('-') && rows[1].ends_with(",0,0"), "{rows:?}");
+    assert!(
+        rows[1].starts_with('-') && rows[1].ends_with(",0,0"),
+        "{rows:?}"
+    );
     assert_eq!(rows[2], "0,1,0");
     assert!(std::fs::read_to_string(&svg)
         .unwrap()

@@ -40,6 +40,9 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         };
         export::outln!("  {k:<8} = {}{note}", export::fmt_sig(v))?;
     }
+    if let Some(t) = &r.controller.tuning {
+        export::print(export::text::tuning_line(t).as_bytes())?;
+    }
     export::print(export::text::design_block(&r.design).as_bytes())?;
     if let Some(m) = &r.robustness {
         export::print(export::text::robustness_line(m).as_bytes())?;

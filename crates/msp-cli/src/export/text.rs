@@ -65,6 +65,9 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             ""
         }
     ));
+    if let Some(t) = msp::study::ControllerReport::new(out.controller, out.params.clone()).tuning {
+        s.push_str(&tuning_line(&t));
+    }
     s.push_str(&design_block(&out.design));
     s.push_str(&format!(
         "stability   {}: {}\n",
@@ -547,4 +550,20 @@ pub(crate) fn step_text(s: &msp::analysis::OpenLoopStep) -> String {
         out.push_str(&format!("warning: {w}\n"));
     }
     out
+}
+
+/// `tuning      rule zn (Ku 2.26, Tu 3.1 s); ISA form, N = 10, b = 1, c = 1`.
+pub(crate) fn tuning_line(t: &msp::study::TuningReport) -> String {
+    let ultimate = match (t.ku, t.tu) {
+        (Some(ku), Some(tu)) => format!(" (Ku {}, Tu {} s)", fmt_sig(ku), fmt_sig(tu)),
+        _ => String::new(),
+    };
+    format!(
+        "tuning      rule {}{ultimate}; {} form, N = {}, b = {}, c = {}\n",
+        t.rule,
+        t.form.to_uppercase(),
+        fmt_sig(t.n),
+        fmt_sig(t.b),
+        fmt_sig(t.c)
+    )
 }
