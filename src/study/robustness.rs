@@ -29,7 +29,55 @@ fn round3(v: f64) -> f64 {
 /// loop's response has no narrow resonance between two of its points.
 const SCREEN: usize = 300;
 
+/// What a tuning costs in the time domain: the set-point step's overshoot
+/// (%) and settling time (s), and the IAE of a unit step load at the plant
+/// input.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Price {
+    overshoot: f64,
+    settling: f64,
+    load_iae: f64,
+}
+
 impl Scenario {
+    /// The [`Price`] of `tuned` on `plant`: a unit set-point step alone, then
+    /// a unit input load alone, each at the durations msp chooses.
+    fn price(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+    ) -> Option<Price> {
+        let mut sc = self.clone();
+        (sc.disturbance, sc.events, sc.duration, sc.noise) = (Vec::new(), Vec::new(), None, None);
+        sc.setpoint = std::vec![crate::sim::SetpointStep {
+            value: 1.0,
+            at: 0.0
+        }];
+        let step = sc
+            .run_tuned(tuned, plant.clone(), model.clone(), None)
+            .ok()?;
+        sc.setpoint = std::vec![crate::sim::SetpointStep {
+            value: 0.0,
+            at: 0.0
+        }];
+        sc.disturbance = std::vec![crate::sim::Disturbance {
+            location: crate::sim::Location::Input,
+            shape: crate::sim::Shape::Step,
+            value: 1.0,
+            at: 0.0,
+            freq: 0.0,
+        }];
+        let load = sc
+            .run_tuned(tuned, plant.clone(), model.clone(), None)
+            .ok()?;
+        Some(Price {
+            overshoot: step.metrics.step.overshoot,
+            settling: step.metrics.step.settling_time,
+            load_iae: load.metrics.indices.iae,
+        })
+    }
+
     /// The margins of a tuned controller on `plant` (sampled view) on a
     /// grid of `points` frequencies.
     fn margins_of_tuned(
@@ -118,16 +166,51 @@ impl Scenario {
                     })
                     .min_by(|a, b| a.1.total_cmp(&b.1))
             };
+            let now = self.price(tuned, plant, model);
+            let cost = |other: Option<Price>| {
+                match (now, other) {
+                (Some(a), Some(b)) => std::format!(
+                    ", at a price: overshoot {} % → {} %, settling {} s → {} s, IAE of a unit input load {} → {}",
+                    crate::poly::fmt_num(round3(a.overshoot)),
+                    crate::poly::fmt_num(round3(b.overshoot)),
+                    crate::poly::fmt_num(round3(a.settling)),
+                    crate::poly::fmt_num(round3(b.settling)),
+                    crate::poly::fmt_num(round3(a.load_iae)),
+                    crate::poly::fmt_num(round3(b.load_iae))
+                ),
+                _ => String::new(),
+            }
+            };
             let advice = match (better, (advise && better.is_none()).then(other).flatten()) {
-                (Some((l, ms)), _) => std::format!(
-                    "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time",
-                    crate::poly::fmt_num(l),
-                    crate::poly::fmt_num(round3(ms))
-                ),
-                (None, Some((name, ms))) => std::format!(
-                    "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time",
-                    crate::poly::fmt_num(round3(ms))
-                ),
+                (Some((l, ms)), _) => {
+                    let mut sc = self.clone();
+                    sc.lambda = Some(l);
+                    let price = sc
+                        .tune_for(model, None)
+                        .ok()
+                        .and_then(|t| sc.price(&t, plant, model));
+                    std::format!(
+                        "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time{}",
+                        crate::poly::fmt_num(l),
+                        crate::poly::fmt_num(round3(ms)),
+                        cost(price)
+                    )
+                }
+                (None, Some((name, ms))) => {
+                    let mut sc = self.clone();
+                    sc.controller = Some(name.to_string());
+                    (sc.lambda, sc.rule) = (None, None);
+                    sc.set.clear();
+                    let price = sc
+                        .tune_for(model, None)
+                        .ok()
+                        .and_then(|t| sc.price(&t, plant, model));
+                    std::format!(
+                        "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time{}",
+                        crate::poly::fmt_num(round3(ms)),
+                        cost(price)
+                    )
+                }
                 (None, None) => String::new(),
             };
             if !what.is_empty() {

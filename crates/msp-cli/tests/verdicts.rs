@@ -257,3 +257,19 @@ fn step_output_identifies_the_plant() {
         .code(2)
         .stderr(predicate::str::contains("the limit is 1 GiB"));
 }
+
+/// Advice comes with its price: the scheme (or λ) a robustness warning
+/// suggests shows the overshoot, settling time and load IAE it would give
+/// beside the present ones.
+#[test]
+fn advice_shows_its_price() {
+    msp()
+        .args(["tune", "--plant", "0.2/s*e^-7.4s"])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("at a price: overshoot")
+                .and(predicate::str::contains("settling"))
+                .and(predicate::str::contains("IAE of a unit input load")),
+        );
+}
