@@ -566,8 +566,10 @@ fn the_defaults_control_everyday_plants() {
         ("2/(s*(2s+1)^2)", "pid"),
         ("1/s", "pid"),
         ("0.2/s*e^-7.4s", "karan-dey"),
-        ("1/(s+1)^2", "smith"),
-        ("2/(5s+1)", "smith"),
+        // delay-free stable plants: the PID the Smith predictor would run anyway
+        ("1/(s+1)^2", "pid"),
+        ("2/(5s+1)", "pid"),
+        ("2*e^-1s/(5s+1)", "smith"),
     ] {
         let sc = Scenario {
             duration: Some(900.0),

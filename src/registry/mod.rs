@@ -129,7 +129,7 @@ impl core::error::Error for RegistryError {}
 /// echoed whole).
 fn clip(name: &str) -> String {
     match name.char_indices().nth(60) {
-        Some((i, _)) => std::format!("{}…", name.get(..i).unwrap_or(name)),
+        Some((i, _)) => alloc::format!("{}…", name.get(..i).unwrap_or(name)),
         None => name.to_string(),
     }
 }
@@ -137,8 +137,8 @@ fn clip(name: &str) -> String {
 /// "a" or "an" before a plant kind.
 fn article(kind: PlantKind) -> &'static str {
     match kind {
-        PlantKind::Integrating => "an",
-        PlantKind::Stable | PlantKind::Unstable => "a",
+        PlantKind::Integrating | PlantKind::Unstable => "an",
+        PlantKind::Stable => "a",
     }
 }
 

@@ -65,18 +65,189 @@ pub fn compare(
     if controllers.is_empty() {
         return Err(RunError::Invalid(Error::OutOfRange("controllers")));
     }
-    controllers
-        .iter()
-        .map(|c| {
-            let mut one = sc.clone();
-            one.controller = Some(c.clone());
-            let tuned = one.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-            let mut out = one.run_tuned(&tuned, plant.clone(), model.clone(), inner.clone())?;
+    // every scheme tuned for the nominal model, at equal robustness where
+    // the user left its tuning to msp
+    let mut tuned = Vec::with_capacity(controllers.len());
+    for c in controllers {
+        let mut one = sc.clone();
+        one.controller = Some(c.clone());
+        let t = one.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+        tuned.push((one, t));
+    }
+    let target = if inner.is_none() {
+        equal_robustness(&mut tuned, &nominal, &model)
+    } else {
+        None
+    };
+    // the default scenario of `run`: a set-point step, then a load at a
+    // common time after the slowest response settled
+    let default =
+        base.setpoint.is_empty() && base.disturbance.is_empty() && base.duration.is_none();
+    if default {
+        let mut settle = 0.0f64;
+        for (one, t) in &tuned {
+            let probe = one.run_tuned(t, plant.clone(), model.clone(), inner.clone())?;
+            settle = settle.max(probe.metrics.step.settling_time);
+        }
+        if let Some(load) = super::default_load(&whole_plant).filter(|_| settle.is_finite()) {
+            let at = super::nice_ceil(1.25 * settle.max(sc.ts.unwrap_or(1.0)));
+            for (one, _) in &mut tuned {
+                one.setpoint = std::vec![crate::sim::SetpointStep {
+                    value: 1.0,
+                    at: 0.0
+                }];
+                one.disturbance = std::vec![crate::sim::Disturbance {
+                    location: crate::sim::Location::Input,
+                    shape: crate::sim::Shape::Step,
+                    value: load,
+                    at,
+                    freq: 0.0,
+                }];
+                one.duration = Some(super::nice_ceil(at + 2.0 * at.max(settle)));
+            }
+        }
+    }
+    tuned
+        .into_iter()
+        .map(|(one, t)| {
+            let mut out = one.run_tuned(&t, plant.clone(), model.clone(), inner.clone())?;
             let settled = out.result.diverged_at.is_none() && out.has_settled();
             out.stability =
-                crate::analysis::tuned_stability(&one, &tuned, &plant, &model, inner.as_ref())
+                crate::analysis::tuned_stability(&one, &t, &plant, &model, inner.as_ref())
                     .with_simulation(settled, out.duration);
+            out.default_scenario = default;
+            if let (Some(ms), Some(l)) = (target, one.lambda.filter(|_| base.lambda.is_none())) {
+                let got = one
+                    .margins_of_tuned(&t, &nominal, &model, 300)
+                    .map_or(f64::NAN, |m| m.ms);
+                out.notes.push(std::format!(
+                    "{}: tuned for the common Ms = {}: lambda = {} gives Ms = {}",
+                    out.controller,
+                    crate::poly::fmt_num(crate::poly::round_sig(ms, 3)),
+                    crate::poly::fmt_num(crate::poly::round_sig(l, 4)),
+                    crate::poly::fmt_num(crate::poly::round_sig(got, 3))
+                ));
+            }
             Ok(out)
         })
         .collect()
+}
+
+/// The sensitivity peak a comparison tunes every scheme to by default.
+pub const COMPARE_MS: f64 = 1.6;
+
+/// Retunes, at equal robustness, each scheme whose tuning the user left to
+/// msp (no `--lambda`, no `--set` for it) and whose rule has a `λ`: the
+/// largest `Ms ≤ 1.6` ([`COMPARE_MS`]) every such scheme reaches, each
+/// scheme's `λ` found by bisection on `ln λ` where its `Ms` crosses the
+/// target (the branch of the larger `λ` where `Ms(λ)` is not monotone).
+/// Returns the common target.
+fn equal_robustness(
+    tuned: &mut [(Scenario, super::Tuned)],
+    plant: &crate::poly::TransferFunction,
+    model: &crate::poly::TransferFunction,
+) -> Option<f64> {
+    const FACTORS: [f64; 9] = [0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
+    let free = |one: &Scenario, t: &super::Tuned| {
+        one.lambda.is_none()
+            && !one.set.keys().any(|k| match k.split_once('.') {
+                Some((scheme, _)) => {
+                    crate::registry::find(scheme).is_ok_and(|s| s.name == t.scheme.name)
+                }
+                None => true,
+            })
+            && t.params.lambda().is_some_and(|l| l.is_finite() && l > 0.0)
+    };
+    let ms_at = |one: &Scenario, l: f64| -> Option<f64> {
+        let mut sc = one.clone();
+        sc.lambda = Some(l);
+        let t = sc.tune_for(model, None).ok()?;
+        sc.margins_of_tuned(&t, plant, model, 300)
+            .map(|m| m.ms)
+            .filter(|m| m.is_finite())
+    };
+    // each free scheme's Ms over a range of λ around its own
+    let mut curves = std::vec::Vec::new();
+    for (i, (one, t)) in tuned.iter().enumerate() {
+        if !free(one, t) {
+            continue;
+        }
+        let l0 = t.params.lambda()?;
+        let pts: std::vec::Vec<(f64, f64)> = FACTORS
+            .iter()
+            .filter_map(|f| ms_at(one, l0 * f).map(|m| (l0 * f, m)))
+            .collect();
+        if pts.len() >= 2 {
+            curves.push((i, pts));
+        }
+    }
+    if curves.is_empty() {
+        return None;
+    }
+    // a scheme whose Ms does not move with λ keeps its own tuning
+    let span = |p: &[(f64, f64)]| {
+        let (lo, hi) = p
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x.1), b.max(x.1))
+            });
+        (lo, hi)
+    };
+    curves.retain(|(_, p)| {
+        let (lo, hi) = span(p);
+        hi - lo > 0.01 * lo
+    });
+    if curves.is_empty() {
+        return None;
+    }
+    // the largest Ms up to 1.6 that every scheme reaches from its less robust side
+    let highest = curves
+        .iter()
+        .map(|(_, p)| span(p).1)
+        .fold(f64::INFINITY, f64::min);
+    let target = COMPARE_MS.min(highest);
+    for (i, pts) in curves {
+        let Some((one, t)) = tuned.get_mut(i) else {
+            continue;
+        };
+        // the bracket of the largest λ where Ms crosses the target
+        let bracket = pts
+            .windows(2)
+            .rev()
+            .find(|w| match (w.first(), w.get(1)) {
+                (Some(a), Some(b)) => (a.1 - target) * (b.1 - target) <= 0.0,
+                _ => false,
+            })
+            .and_then(|w| Some((*w.first()?, *w.get(1)?)));
+        let l = match bracket {
+            Some(((mut lo, mut mlo), (mut hi, _))) => {
+                for _ in 0..30 {
+                    let mid = (lo * hi).sqrt();
+                    let Some(m) = ms_at(one, mid) else { break };
+                    if (m - target) * (mlo - target) <= 0.0 {
+                        hi = mid;
+                    } else {
+                        (lo, mlo) = (mid, m);
+                    }
+                    if hi / lo < 1.0 + 1e-4 {
+                        break;
+                    }
+                }
+                (lo * hi).sqrt()
+            }
+            // not reached: the λ whose Ms is nearest
+            None => pts
+                .iter()
+                .min_by(|a, b| (a.1 - target).abs().total_cmp(&(b.1 - target).abs()))
+                .map_or(f64::NAN, |p| p.0),
+        };
+        if !l.is_finite() {
+            continue;
+        }
+        one.lambda = Some(crate::poly::round_sig(l, 4));
+        if let Ok(t2) = one.tune_for(model, None) {
+            *t = t2;
+        }
+    }
+    Some(target)
 }

@@ -106,9 +106,33 @@ pub struct Scenario {
 /// The memory a run may take unless the scenario says otherwise: 1 GiB.
 pub const DEFAULT_MAX_MEMORY: u64 = 1 << 30;
 
+/// The step load of the default scenario at the plant input: a fifth of a
+/// unit set-point step at the output in steady state, `−0.2/K` for a plant
+/// of gain `K`, `−0.02/Kv` for an integrator `Kv/s` (the thesis's −0.1 on
+/// `0.2/s`); the gain's sign as the actuator acts (the high-frequency sign
+/// for an unstable plant: `K/(Ts − 1)` has `G(0) = −K` but rises with `u`).
+/// `None` for a plant without a usable gain.
+pub(crate) fn default_load(whole: &TransferFunction) -> Option<f64> {
+    let gain = match whole.kind() {
+        PlantKind::Unstable => {
+            let hf = whole.num.first().copied().unwrap_or(1.0)
+                / whole.den.first().copied().unwrap_or(1.0);
+            whole.gain().abs() * hf.signum()
+        }
+        _ => whole.gain(),
+    };
+    if !(gain.abs() > 0.0 && gain.is_finite()) {
+        return None;
+    }
+    Some(match whole.kind() {
+        PlantKind::Integrating => -0.1 * (0.2 / gain),
+        _ => -0.2 / gain,
+    })
+}
+
 /// The smallest round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 times a
 /// power of ten) at or above `x > 0`.
-fn nice_ceil(x: f64) -> f64 {
+pub(crate) fn nice_ceil(x: f64) -> f64 {
     if !(x > 0.0 && x.is_finite()) {
         return x;
     }
@@ -464,24 +488,12 @@ impl Scenario {
             Some((p2, _)) => plant.series(p2)?,
             None => plant.clone(),
         };
-        // the gain's sign as the actuator acts: the static gain of a stable
-        // or integrating plant, the high-frequency sign for an unstable one
-        // (K/(Ts − 1) has G(0) = −K but rises with u)
-        let gain = match whole.kind() {
-            PlantKind::Unstable => {
-                let hf = whole.num.first().copied().unwrap_or(1.0)
-                    / whole.den.first().copied().unwrap_or(1.0);
-                whole.gain().abs() * hf.signum()
-            }
-            _ => whole.gain(),
+        let Some(load) = default_load(&whole) else {
+            return Ok(first);
         };
-        if first.result.diverged_at.is_some() || !settle.is_finite() || !(gain.abs() > 0.0) {
+        if first.result.diverged_at.is_some() || !settle.is_finite() {
             return Ok(first);
         }
-        let load = match whole.kind() {
-            PlantKind::Integrating => -0.1 * (0.2 / gain),
-            _ => -0.2 / gain,
-        };
         let at = nice_ceil(1.25 * settle.max(first.ts));
         // operator events of the scenario stay inside every run of the
         // protocol: the first run's chosen duration covers the last of them

@@ -80,7 +80,7 @@ impl Scenario {
 
     /// The margins of a tuned controller on `plant` (sampled view) on a
     /// grid of `points` frequencies.
-    fn margins_of_tuned(
+    pub(crate) fn margins_of_tuned(
         &self,
         tuned: &Tuned,
         plant: &TransferFunction,

@@ -273,3 +273,96 @@ fn advice_shows_its_price() {
                 .and(predicate::str::contains("IAE of a unit input load")),
         );
 }
+
+/// compare is a fair race by default: every scheme whose tuning is left to
+/// msp gets the same Ms (the largest common one up to 1.6, checked here on
+/// the exact analysis by `msp margins` of each tuned loop), on run's default
+/// scenario (a set-point step, then a load).
+#[test]
+fn compare_runs_at_equal_robustness() {
+    let out = msp()
+        .args([
+            "compare",
+            "--plant",
+            "1.5*e^-4s/(10s+1)",
+            "-c",
+            "smith,filtered-smith,pid",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let ms_row = text
+        .lines()
+        .find(|l| l.starts_with("Ms "))
+        .expect("an Ms row");
+    let ms: Vec<f64> = ms_row
+        .split_whitespace()
+        .skip(1)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(ms.len(), 3, "{ms_row}");
+    for m in &ms {
+        assert!(
+            (m - ms[0]).abs() < 0.01 * ms[0] && *m <= 1.6 + 1e-9,
+            "{ms:?}"
+        );
+    }
+    for scheme in ["smith", "filtered-smith", "pid"] {
+        let line = text
+            .lines()
+            .find(|l| l.contains(&format!(" {scheme}: tuned for the common Ms")))
+            .unwrap_or_else(|| panic!("{text}"));
+        // the lambda it names gives that Ms, by margins' own analysis
+        let lambda = line
+            .split("lambda = ")
+            .nth(1)
+            .unwrap()
+            .split(" gives")
+            .next()
+            .unwrap()
+            .trim_end_matches(')');
+        let m = msp()
+            .args([
+                "margins",
+                "--plant",
+                "1.5*e^-4s/(10s+1)",
+                "-c",
+                scheme,
+                "--lambda",
+                lambda,
+                "--json",
+            ])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let j: serde_json::Value = serde_json::from_slice(&m).unwrap();
+        let got = j["ms"].as_f64().unwrap();
+        assert!(
+            (got - ms[0]).abs() < 0.01 * ms[0],
+            "{scheme}: {got} vs {}",
+            ms[0]
+        );
+    }
+    // the load is part of the race
+    assert!(text.contains("IAE"));
+    // a lambda given keeps its tuning
+    let out = msp()
+        .args([
+            "compare",
+            "--plant",
+            "1.5*e^-4s/(10s+1)",
+            "-c",
+            "smith,pid",
+            "--lambda",
+            "4",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("tuned for the common Ms"));
+}
