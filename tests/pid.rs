@@ -227,3 +227,51 @@ fn finite_inputs_never_latch_non_finite_states() {
         );
     }
 }
+
+/// pid-rs's tests (braincore/pid-rs, `src/lib.rs`: `pid`, `derivative`,
+/// `output_limit`) on msp's Pid: per-sample gains are the parallel form at
+/// `Ts = 1`, pid-rs's derivative on the measurement is `c = 0` unfiltered.
+/// The proportional and derivative terms are pid-rs's at every sample; the
+/// integral differs by msp's convention (forward Euler: the error of sample
+/// `k` enters at `k + 1`), so msp's `i` at `k` is pid-rs's at `k − 1`.
+#[test]
+fn pid_rs_combined_operation() {
+    let cfg = PidConfig::<f64>::parallel(1.0, 0.1, 1.0, 1.0)
+        .with_filter_time(0.0)
+        .with_weights(1.0, 0.0);
+    let mut c = Pid::new(cfg).unwrap();
+    // pid-rs: (y, p, i, d) with its i including the present error
+    let pid_rs: [(f64, f64, f64, f64); 4] = [
+        (0.0, 10.0, 1.0, 0.0),
+        (5.0, 5.0, 1.5, -5.0),
+        (11.0, -1.0, 1.4, -6.0),
+        (10.0, 0.0, 1.4, 1.0),
+    ];
+    let mut i_before = 0.0f64;
+    for (y, p, i, d) in pid_rs {
+        let u = c.update(10.0, y);
+        let t = c.terms();
+        assert!((t.p - p).abs() < 1e-12, "p at y = {y}: {} vs {p}", t.p);
+        assert!((t.d - d).abs() < 1e-12, "d at y = {y}: {} vs {d}", t.d);
+        assert!(
+            (t.i - i_before).abs() < 1e-12,
+            "i at y = {y}: {} vs {i_before}",
+            t.i
+        );
+        assert!((u - (p + i_before + d)).abs() < 1e-12);
+        i_before = i;
+    }
+    // output limits clamp the sum (pid-rs `output_limit`)
+    let mut c = Pid::new(PidConfig::parallel(1.0, 0.0, 0.0, 1.0).with_limits(-1.0, 1.0)).unwrap();
+    assert_eq!(c.update(10.0, 0.0), 1.0);
+    assert_eq!(c.terms().p, 10.0);
+    assert_eq!(c.update(10.0, 20.0), -1.0);
+    assert_eq!(c.terms().p, -10.0);
+    // derivative alone: none on the first measurement, then −kd·Δy (pid-rs `derivative`)
+    let cfg = PidConfig::parallel(0.0, 0.0, 2.0, 1.0)
+        .with_filter_time(0.0)
+        .with_weights(1.0, 0.0);
+    let mut c = Pid::new(cfg).unwrap();
+    assert_eq!(c.update(10.0, 0.0), 0.0);
+    assert_eq!(c.update(10.0, 5.0), -10.0);
+}
