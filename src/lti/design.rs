@@ -588,8 +588,13 @@ pub(crate) const CHAR_POLY: usize = 25;
 
 /// The characteristic polynomial `det(zI − Φ) = zⁿ + c₁zⁿ⁻¹ + … + cₙ` of a
 /// block (descending coefficients, `n + 1` of them) by Faddeev–LeVerrier:
-/// `M₀ = I`, `cₖ = −tr(Φ·Mₖ₋₁)/k`, `Mₖ = Φ·Mₖ₋₁ + cₖI`.
-pub(crate) fn char_poly<T: Real, const N: usize>(b: &Lti<T, N>) -> ([f64; CHAR_POLY], usize) {
+/// `M₀ = I`, `cₖ = −tr(Φ·Mₖ₋₁)/k`, `Mₖ = Φ·Mₖ₋₁ + cₖI`. `each(k, Mₖ)` sees
+/// `M₀ … Mₙ₋₁` (the adjugate's coefficients: `adj(zI − Φ) = Σ Mₖ zⁿ⁻¹⁻ᵏ`,
+/// from which a transfer function's numerator follows).
+pub(crate) fn faddeev<T: Real, const N: usize>(
+    b: &Lti<T, N>,
+    mut each: impl FnMut(usize, &[[f64; N]; N]),
+) -> ([f64; CHAR_POLY], usize) {
     let n = b.order().min(N).min(CHAR_POLY - 1);
     let mut c = [0.0; CHAR_POLY];
     if let Some(c0) = c.first_mut() {
@@ -605,6 +610,8 @@ pub(crate) fn char_poly<T: Real, const N: usize>(b: &Lti<T, N>) -> ([f64; CHAR_P
         }
     }
     for k in 1..=n {
+        each(k - 1, &m);
+        // Φ·M_{k−1}
         let mut am = [[0.0; N]; N];
         for (i, row) in am.iter_mut().enumerate().take(n) {
             for (j, x) in row.iter_mut().enumerate().take(n) {
@@ -624,6 +631,11 @@ pub(crate) fn char_poly<T: Real, const N: usize>(b: &Lti<T, N>) -> ([f64; CHAR_P
         m = am;
     }
     (c, n + 1)
+}
+
+/// The characteristic polynomial of a block ([`faddeev`]).
+pub(crate) fn char_poly<T: Real, const N: usize>(b: &Lti<T, N>) -> ([f64; CHAR_POLY], usize) {
+    faddeev(b, |_, _| {})
 }
 
 /// How many roots of the real polynomial `p` (descending coefficients) lie

@@ -73,7 +73,7 @@ mod serde_arrays;
 
 #[cfg(feature = "alloc")]
 pub(crate) use design::companion_entry;
-pub(crate) use design::{divide_in_place, roots, roots_upto};
+pub(crate) use design::{divide_in_place, faddeev, roots, roots_upto};
 pub use design::{realize, Realization};
 use matrix::{array_of, mat_of, vector_of};
 #[cfg(feature = "serde")]

@@ -88,6 +88,17 @@ pub struct Disturbance {
 }
 
 impl Disturbance {
+    /// A step load of `value` at the plant input from `at` (s).
+    pub fn input_step(value: f64, at: f64) -> Self {
+        Disturbance {
+            location: Location::Input,
+            shape: Shape::Step,
+            value,
+            at,
+            freq: 0.0,
+        }
+    }
+
     pub(super) fn at_time(&self, t: f64) -> f64 {
         if t + 1e-9 * t.abs().max(1.0) < self.at {
             return 0.0;

@@ -96,13 +96,7 @@ pub fn compare(
                     value: 1.0,
                     at: 0.0
                 }];
-                one.disturbance = std::vec![crate::sim::Disturbance {
-                    location: crate::sim::Location::Input,
-                    shape: crate::sim::Shape::Step,
-                    value: load,
-                    at,
-                    freq: 0.0,
-                }];
+                one.disturbance = std::vec![crate::sim::Disturbance::input_step(load, at)];
                 one.duration = Some(super::nice_ceil(at + 2.0 * at.max(settle)));
             }
         }

@@ -504,13 +504,7 @@ impl Scenario {
                 d.max(first.duration)
             }
         };
-        sc.disturbance = std::vec![Disturbance {
-            location: crate::sim::Location::Input,
-            shape: crate::sim::Shape::Step,
-            value: load,
-            at,
-            freq: 0.0,
-        }];
+        sc.disturbance = std::vec![crate::sim::Disturbance::input_step(load, at)];
         // probes: the load's segment as long as the set point needed, doubled
         // until the load is rejected
         let mut span = first.duration.max(2.0 * settle);

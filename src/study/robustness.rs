@@ -61,13 +61,7 @@ impl Scenario {
             value: 0.0,
             at: 0.0
         }];
-        sc.disturbance = std::vec![crate::sim::Disturbance {
-            location: crate::sim::Location::Input,
-            shape: crate::sim::Shape::Step,
-            value: 1.0,
-            at: 0.0,
-            freq: 0.0,
-        }];
+        sc.disturbance = std::vec![crate::sim::Disturbance::input_step(1.0, 0.0)];
         let load = sc
             .run_tuned(tuned, plant.clone(), model.clone(), None)
             .ok()?;

@@ -82,44 +82,10 @@ pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
     let at = |m: &[[f64; N]; N], i: usize, j: usize| {
         m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
     };
-    let mut den = [0.0; SMALL];
-    if let Some(d0) = den.first_mut() {
-        *d0 = 1.0;
-    }
-    let mut m = [[0.0; N]; N];
-    for (i, row) in m.iter_mut().enumerate() {
-        if let Some(x) = row.get_mut(i) {
-            *x = 1.0;
-        }
-    }
-    let mut ms = [[[0.0; N]; N]; N];
-    for k in 1..=n {
-        // A·M_{k−1}
-        let mut am = [[0.0; N]; N];
-        for (i, row) in am.iter_mut().enumerate().take(n) {
-            for (j, x) in row.iter_mut().enumerate().take(n) {
-                *x = (0..n).map(|q| b.phi_entry(i, q) * at(&m, q, j)).sum();
-            }
-        }
-        let tr: f64 = (0..n).map(|i| at(&am, i, i)).sum();
-        let ck = -tr / f64::from(u32::try_from(k).unwrap_or(u32::MAX));
-        if let Some(slot) = ms.get_mut(k - 1) {
-            *slot = m;
-        }
-        if let Some(d) = den.get_mut(k) {
-            *d = ck;
-        }
-        for (i, row) in am.iter_mut().enumerate() {
-            if let Some(x) = row.get_mut(i) {
-                *x += ck;
-            }
-        }
-        m = am;
-    }
     // numerator: C·M_k·Γ for k = 0..n−1 (the coefficient of z^{n−1−k}), plus D·den
     let (cv, g, d) = (b.output_vector(), b.input_vector(), b.feedthrough());
     let mut num = [0.0; SMALL];
-    for (k, mk) in ms.iter().enumerate().take(n) {
+    let (c, len) = crate::lti::faddeev(b, |k, mk| {
         let v: f64 = (0..n)
             .map(|i| {
                 cv.get(i).copied().unwrap_or(0.0)
@@ -131,11 +97,15 @@ pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
         if let Some(x) = num.get_mut(k + 1) {
             *x = v;
         }
+    });
+    let len = len.min(SMALL);
+    let mut den = [0.0; SMALL];
+    for (x, v) in den.iter_mut().zip(c.iter()).take(len) {
+        *x = *v;
     }
-    for (x, ck) in num.iter_mut().zip(den.iter()).take(n + 1) {
+    for (x, ck) in num.iter_mut().zip(den.iter()).take(len) {
         *x += d * ck;
     }
-    let len = n + 1;
     (SmallPoly { c: num, len }, SmallPoly { c: den, len })
 }
 
