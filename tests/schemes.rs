@@ -1,7 +1,7 @@
 //! The dead-time compensators of the sources: each one's defining property.
 mod common;
 use common::assert_close;
-use msp::sim::{Disturbance, Location, SetpointStep, Shape};
+use msp::sim::{Disturbance, SetpointStep, Shape};
 use msp::study::{RunOutput, Scenario};
 
 /// The default scenario on `plant`.
@@ -22,13 +22,7 @@ fn run(plant: &str, controller: &str, f: impl FnOnce(&mut Scenario)) -> RunOutpu
 }
 
 fn load(value: f64, at: f64) -> Disturbance {
-    Disturbance {
-        location: Location::Input,
-        shape: Shape::Step,
-        value,
-        at,
-        freq: 0.0,
-    }
+    Disturbance::input_step(value, at)
 }
 
 fn set(sc: &mut Scenario, kv: &[(&str, f64)]) {

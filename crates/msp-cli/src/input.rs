@@ -94,6 +94,25 @@ impl Input {
     }
 }
 
+impl Input {
+    /// A pause of a pipe or FIFO with no data yet: an error once it has
+    /// been silent for [`SILENCE`].
+    fn wait(&self, started: Instant) -> std::io::Result<()> {
+        if started.elapsed() > SILENCE {
+            return Err(std::io::Error::new(
+                ErrorKind::TimedOut,
+                format!(
+                    "cannot read {}: no data came for {} s (a pipe or FIFO nobody writes to?)",
+                    self.name,
+                    SILENCE.as_secs()
+                ),
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+        Ok(())
+    }
+}
+
 impl Read for Input {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let err = |kind: ErrorKind, msg: String| std::io::Error::new(kind, msg);
@@ -101,19 +120,7 @@ impl Read for Input {
         loop {
             match self.inner.read(buf) {
                 // a FIFO whose writer has not come yet reads as closed: wait for it
-                Ok(0) if self.fifo && self.read == 0 && !buf.is_empty() => {
-                    if started.elapsed() > SILENCE {
-                        return Err(err(
-                            ErrorKind::TimedOut,
-                            format!(
-                                "cannot read {}: no data came for {} s (a FIFO nobody writes to?)",
-                                self.name,
-                                SILENCE.as_secs()
-                            ),
-                        ));
-                    }
-                    std::thread::sleep(Duration::from_millis(5));
-                }
+                Ok(0) if self.fifo && self.read == 0 && !buf.is_empty() => self.wait(started)?,
                 Ok(n) => {
                     let got = buf.get(..n).unwrap_or(&[]);
                     if got.contains(&0) {
@@ -139,17 +146,7 @@ impl Read for Input {
                     return Ok(n);
                 }
                 Err(e) if e.kind() == ErrorKind::WouldBlock && self.special => {
-                    if started.elapsed() > SILENCE {
-                        return Err(err(
-                            ErrorKind::TimedOut,
-                            format!(
-                                "cannot read {}: no data came for {} s (a pipe or FIFO nobody writes to?)",
-                                self.name,
-                                SILENCE.as_secs()
-                            ),
-                        ));
-                    }
-                    std::thread::sleep(Duration::from_millis(5));
+                    self.wait(started)?
                 }
                 Err(e) if e.kind() == ErrorKind::Interrupted => {}
                 Err(e) => return Err(err(e.kind(), format!("cannot read {}: {e}", self.name))),

@@ -8,6 +8,18 @@ fn msp() -> Command {
     Command::cargo_bin("msp").unwrap()
 }
 
+/// Runs `msp ARGS` (which prints JSON) and reads its standard output.
+fn json_out(args: &[&str]) -> serde_json::Value {
+    let out = msp()
+        .args(args)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    serde_json::from_slice(&out).unwrap()
+}
+
 /// Runs `msp ARGS --report R` and reads the report.
 fn report(args: &[&str]) -> serde_json::Value {
     let dir = tempfile::tempdir().unwrap();
@@ -52,23 +64,16 @@ fn a_diverging_loop_is_not_reported_stable() {
         "karan-dey",
     ]);
     assert_eq!(r["stable"], false);
-    let out = msp()
-        .args([
-            "margins",
-            "--plant",
-            "0.7*e^-2s/(s*(4s+1))",
-            "--model",
-            model,
-            "-c",
-            "karan-dey",
-            "--json",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let m = json_out(&[
+        "margins",
+        "--plant",
+        "0.7*e^-2s/(s*(4s+1))",
+        "--model",
+        model,
+        "-c",
+        "karan-dey",
+        "--json",
+    ]);
     assert_eq!(m["stable"], false);
 }
 
@@ -90,14 +95,7 @@ fn unstable_loops_have_no_margins_and_diverged_runs_no_indices() {
             assert!(j[set][k].is_null(), "{set}.{k} = {}", j[set][k]);
         }
     }
-    let out = msp()
-        .args(["margins", "--plant", "1e308/(s+1)", "--json"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let m = json_out(&["margins", "--plant", "1e308/(s+1)", "--json"]);
     assert_ne!(m["stable"], true, "{}", m["stability"]);
     if m["stable"] == false {
         assert!(m["ms"].is_null() && m["gm"].is_null());
@@ -323,23 +321,16 @@ fn compare_runs_at_equal_robustness() {
             .next()
             .unwrap()
             .trim_end_matches(')');
-        let m = msp()
-            .args([
-                "margins",
-                "--plant",
-                "1.5*e^-4s/(10s+1)",
-                "-c",
-                scheme,
-                "--lambda",
-                lambda,
-                "--json",
-            ])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
-        let j: serde_json::Value = serde_json::from_slice(&m).unwrap();
+        let j = json_out(&[
+            "margins",
+            "--plant",
+            "1.5*e^-4s/(10s+1)",
+            "-c",
+            scheme,
+            "--lambda",
+            lambda,
+            "--json",
+        ]);
         let got = j["ms"].as_f64().unwrap();
         assert!(
             (got - ms[0]).abs() < 0.01 * ms[0],
