@@ -348,6 +348,25 @@ pub fn slope_intercept(t: &[f64], u: &[f64], y: &[f64]) -> Result<Ipdt<f64>, Err
 /// is correlated with the output's disturbances and noise and a step-test
 /// fit is biased (a PI loop's data gave a gain of 14.9 for a plant of 5.6).
 pub fn identify_step(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result<Fit, Error> {
+    let fit = identify_step_fit(kind, t, u, y)?;
+    // a fit without a finite error fitted nothing (times or values beyond
+    // what the model's numbers can hold, such as times scaled by 1e-300)
+    if !fit.rmse.is_finite() {
+        return Err(Error::Numerical(
+            "identification (the model's response is not finite on these data: rescale the time or the values)",
+        ));
+    }
+    // worse than the data's mean: no model of this kind was found in them
+    if fit.r2 < 0.0 {
+        return Err(Error::Numerical(
+            "identification (the best model fits worse than a constant, r² < 0: the time scale or the values are beyond what the fit can use, or the data hold no step response)",
+        ));
+    }
+    Ok(fit)
+}
+
+/// [`identify_step`] before its fit is checked.
+fn identify_step_fit(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result<Fit, Error> {
     if t.len() != u.len() || t.len() != y.len() || t.len() < 10 {
         return Err(Error::OutOfRange("data"));
     }

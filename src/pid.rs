@@ -121,7 +121,8 @@ impl<T: Real> PidConfig<T> {
         if !(kp / ti).is_finite() {
             return Err(Error::OutOfRange("ti"));
         }
-        if !(kp * td).is_finite() {
+        // and so must the tracking time √(Ti·Td) that isa derives
+        if !(kp * td).is_finite() || !(ti.is_infinite() || (ti * td).sqrt().is_finite()) {
             return Err(Error::OutOfRange("td"));
         }
         Ok(Self::isa(kp, ti, td, ts))

@@ -291,6 +291,19 @@ fn wrong_inputs_that_were_accepted_are_refused() {
     let json = dir.path().join("a.json");
     std::fs::write(&json, r#"{"plant": "1/(s+1)", "ts": 0.1, "ts": 0.2}"#).unwrap();
     let long = "x".repeat(100_000);
+    // a step test whose times are scaled by 1e-300
+    let tiny = dir.path().join("tiny.csv");
+    let mut text = String::from("t,u,y\n0,0,0\n");
+    for k in 1..2000 {
+        let t = f64::from(k) * 0.05;
+        let y = if t > 4.0 {
+            2.0 * (1.0 - (-(t - 4.0) / 5.0).exp())
+        } else {
+            0.0
+        };
+        text.push_str(&format!("{:e},1,{y}\n", t * 1e-300));
+    }
+    std::fs::write(&tiny, text).unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["tune", "--plant", "5e-324*e^-1s/(s+1)"], "kp = inf"),
         (
@@ -363,6 +376,10 @@ fn wrong_inputs_that_were_accepted_are_refused() {
                 "-",
             ],
             "after the end of the run",
+        ),
+        (
+            vec!["identify", "--data", tiny.to_str().unwrap()],
+            "identification",
         ),
     ];
     for (args, words) in cases {
