@@ -357,3 +357,51 @@ fn compare_runs_at_equal_robustness() {
         .clone();
     assert!(!String::from_utf8_lossy(&out.stdout).contains("tuned for the common Ms"));
 }
+
+/// The tuning is named: the rule (IMC-PID by default for a FOPDT, SIMC when
+/// asked, Ziegler–Nichols with the ultimate gain and period it used — here
+/// against the plant's own ultimate point, found independently by
+/// bisection on the phase), the form, filter and weights; a delay-free
+/// plant's default is the PID it is.
+#[test]
+fn the_tuning_is_named() {
+    let plant = "e^-1s/(5s+1)";
+    let tuning = |extra: &[&str]| {
+        let mut args = vec!["tune", "--plant", plant, "-c", "pid", "--json"];
+        args.extend_from_slice(extra);
+        json_out(&args)["controller"]["tuning"].clone()
+    };
+    assert_eq!(tuning(&[])["rule"], "imc");
+    assert_eq!(tuning(&["--rule", "simc"])["rule"], "simc");
+    let zn = tuning(&["--rule", "zn"]);
+    assert_eq!(zn["rule"], "zn");
+    assert_eq!(
+        (zn["form"].clone(), zn["n"].clone(), zn["b"].clone()),
+        ("isa".into(), 10.0.into(), 1.0.into())
+    );
+    // the ultimate point of e^-s/(5s+1): phase −ω − atan(5ω) = −π
+    let (mut lo, mut hi) = (0.1f64, 3.0f64);
+    for _ in 0..100 {
+        let w = 0.5 * (lo + hi);
+        if w + (5.0 * w).atan() < std::f64::consts::PI {
+            lo = w;
+        } else {
+            hi = w;
+        }
+    }
+    let wu = 0.5 * (lo + hi);
+    let ku = (1.0 + 25.0 * wu * wu).sqrt();
+    let tu = 2.0 * std::f64::consts::PI / wu;
+    assert!((zn["ku"].as_f64().unwrap() - ku).abs() < 1e-6 * ku, "{zn}");
+    assert!((zn["tu"].as_f64().unwrap() - tu).abs() < 1e-6 * tu, "{zn}");
+    // a scheme tuned by its source's own rule names the source instead
+    assert!(
+        json_out(&["tune", "--plant", plant, "-c", "smith", "--json"])["controller"]["tuning"]
+            .is_null()
+    );
+    // a delay-free stable plant: the PID, named so
+    assert_eq!(
+        json_out(&["tune", "--plant", "1/(5s+1)", "--json"])["controller"]["name"],
+        "pid"
+    );
+}
