@@ -29,6 +29,9 @@ fn round3(v: f64) -> f64 {
 /// loop's response has no narrow resonance between two of its points.
 const SCREEN: usize = 300;
 
+/// The memory the runs that price a piece of advice may take.
+const PRICE_MEMORY: u64 = 32 << 20;
+
 /// What a tuning costs in the time domain: the set-point step's overshoot
 /// (%) and settling time (s), and the IAE of a unit step load at the plant
 /// input.
@@ -50,6 +53,9 @@ impl Scenario {
     ) -> Option<Price> {
         let mut sc = self.clone();
         (sc.disturbance, sc.events, sc.duration, sc.noise) = (Vec::new(), Vec::new(), None, None);
+        // advice, not the run: a small budget (the runs stop extending at it,
+        // or there is no price), so that it never weighs on the run itself
+        sc.max_memory = Some(self.max_memory.unwrap_or(super::DEFAULT_MAX_MEMORY).min(PRICE_MEMORY));
         sc.setpoint = std::vec![crate::sim::SetpointStep {
             value: 1.0,
             at: 0.0
