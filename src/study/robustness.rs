@@ -55,7 +55,11 @@ impl Scenario {
         (sc.disturbance, sc.events, sc.duration, sc.noise) = (Vec::new(), Vec::new(), None, None);
         // advice, not the run: a small budget (the runs stop extending at it,
         // or there is no price), so that it never weighs on the run itself
-        sc.max_memory = Some(self.max_memory.unwrap_or(super::DEFAULT_MAX_MEMORY).min(PRICE_MEMORY));
+        sc.max_memory = Some(
+            self.max_memory
+                .unwrap_or(super::DEFAULT_MAX_MEMORY)
+                .min(PRICE_MEMORY),
+        );
         sc.setpoint = std::vec![crate::sim::SetpointStep {
             value: 1.0,
             at: 0.0
