@@ -153,7 +153,9 @@ impl JointSim {
         }
         // both lines hold `k + 1` samples back (a fractional delay reads
         // `x[n−k−1]`), with room for the longest dead time the run will set
-        let room = (max_delay / ts).floor().to_usize_checked()?;
+        // rounded up: a dead time a rounding below a whole number of samples
+        // (7.199999999999999 s) is set as that whole number
+        let room = (max_delay / ts).ceil().to_usize_checked()?;
         let kv = kv.to_usize_checked()?;
         let kd = kd.to_usize_checked()?;
         let line = |k: usize| Delay::with_storage(vec_zeros(k.max(room).saturating_add(2))?, 0.0);

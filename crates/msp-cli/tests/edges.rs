@@ -401,3 +401,28 @@ fn wrong_inputs_that_were_accepted_are_refused() {
         out.stderr.len()
     );
 }
+
+/// A cascade plant's dead time a rounding below a whole number of samples
+/// is that whole number, within the line's room (it was "beyond capacity"
+/// while 7.2 worked).
+#[test]
+fn a_dead_time_a_rounding_short_of_whole_samples_fits() {
+    for d in ["7.2", "7.199999999999999"] {
+        msp()
+            .args([
+                "run",
+                "--plant",
+                "e^-4s/(20s-1)",
+                "--inner-plant",
+                "2*e^-2s/(20s+1)",
+                "-c",
+                "gpcc",
+                "--event",
+                &format!("40:plant-dead-time={d}"),
+                "-o",
+                "/dev/null",
+            ])
+            .assert()
+            .success();
+    }
+}
