@@ -319,3 +319,17 @@ fn smith_predictor_on_an_unstable_plant_is_unstable() {
         assert_eq!(v.unstable_poles, Some(1), "{v:?}");
     }
 }
+
+/// Where the count cannot be made the verdict says so: a plant with
+/// undamped poles (on the imaginary axis away from the origin) samples onto
+/// the unit circle, beyond the indentation at z = 1 — `stable` is unknown,
+/// with the reason, never a guess.
+#[test]
+fn an_undecidable_loop_is_unknown_with_its_reason() {
+    let plant: TransferFunction = "e^-0.5s/(s^2+1)".parse().unwrap();
+    let c = msp::Pid::new(msp::PidConfig::isa(0.1, f64::INFINITY, 0.0, 0.05)).unwrap();
+    let v = msp::analysis::loop_stability(&c, &plant, None, 0.05);
+    assert_eq!(v.stable, None, "{v:?}");
+    assert!(v.reason.contains("undamped"), "{}", v.reason);
+    assert_eq!(v.summary(), "unknown");
+}

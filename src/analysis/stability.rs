@@ -118,19 +118,12 @@ impl Stability {
     }
 }
 
-/// How the characteristic function `Δ(θ)` at `z = e^{jθ}` winds: the phase
-/// followed over `θ ∈ (0, π]`, the indentation's order at `z = 1`.
-struct Winding {
-    /// The winding number about the origin over the whole indented circle.
-    turns: i64,
-}
-
 /// The winding number of `f(e^{jθ})` (a real-coefficient rational function:
 /// `f(e^{−jθ}) = conj f(e^{jθ})`) about the origin, on the unit circle
 /// indented outwards around `z = 1`. `rate` bounds how fast the phase of
 /// `f`'s terms turns (rad per rad of `θ`: the longest delay in samples,
 /// plus the order), which sets the initial step.
-fn winding(f: &dyn Fn(f64) -> Complex<f64>, rate: f64) -> Result<Winding, String> {
+fn winding(f: &dyn Fn(f64) -> Complex<f64>, rate: f64) -> Result<i64, String> {
     let rate = rate.max(1.0);
     let ln = |theta: f64| f(theta).abs().ln();
     // the order m of f's pole at z = 1 (negative: a zero): |f| ~ θ^{−m}
@@ -185,9 +178,7 @@ fn winding(f: &dyn Fn(f64) -> Complex<f64>, rate: f64) -> Result<Winding, String
         ));
     }
     #[allow(clippy::cast_possible_truncation)]
-    Ok(Winding {
-        turns: w.round() as i64,
-    })
+    Ok(w.round() as i64)
 }
 
 /// The phase turned by `f` from `a` to `b`, halving the step where it turns
@@ -243,15 +234,14 @@ pub fn verdict(
         return Stability::unknown("this controller has no frequency response");
     }
     match winding(&delta, rate) {
-        Ok(w) => {
+        Ok(turns) => {
             let open_i = i64::try_from(open).unwrap_or(i64::MAX);
-            let outside = open_i - w.turns;
+            let outside = open_i - turns;
             if outside < 0 {
                 return Stability {
                     open_loop_unstable_poles: Some(open),
                     ..Stability::unknown(std::format!(
-                        "the characteristic equation winds {} times for {open} open-loop unstable poles: the count is inconsistent",
-                        w.turns
+                        "the characteristic equation winds {turns} times for {open} open-loop unstable poles: the count is inconsistent"
                     ))
                 };
             }

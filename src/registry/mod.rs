@@ -642,7 +642,6 @@ impl Scheme {
                 "--rule (rule=) names a PID tuning rule: only the pid and pi schemes have them; tune the others with --lambda or --set",
             )));
         }
-        let kind = model.kind();
         // every parameter given: the user's controller is run as given (the
         // stability verdict says whether the loop holds), the tuning only
         // fills the parameter set on a stable stand-in of the model
@@ -652,7 +651,7 @@ impl Scheme {
                 .params
                 .iter()
                 .all(|p| overrides.iter().any(|(k, _)| k == p));
-        let model = if !self.plants.contains(&kind) && all_given && !self.is_cascade() {
+        let model = if !self.plants.contains(&model.kind()) && all_given && !self.is_cascade() {
             stand_in = model.stable_stand_in()?;
             &stand_in
         } else {

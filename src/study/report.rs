@@ -47,15 +47,16 @@ pub struct TuningReport {
 impl ControllerReport {
     /// The report of scheme `name` with `params`.
     pub fn new(name: &'static str, params: Params) -> Self {
+        // the filter and weights of PidConfig::isa, which the PI/PID schemes build
+        let isa = crate::PidConfig::<f64>::isa(1.0, 1.0, 1.0, 1.0);
         let tuning = params.rule().map(|r| TuningReport {
             rule: r.name,
             ku: r.ku,
             tu: r.tu,
-            // the defaults of PidConfig::isa, which the PI/PID schemes build
             form: "isa",
-            n: 10.0,
-            b: 1.0,
-            c: 1.0,
+            n: 1.0 / isa.tf,
+            b: isa.b,
+            c: isa.c,
         });
         ControllerReport {
             name,
