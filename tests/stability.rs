@@ -333,3 +333,29 @@ fn an_undecidable_loop_is_unknown_with_its_reason() {
     assert!(v.reason.contains("undamped"), "{}", v.reason);
     assert_eq!(v.summary(), "unknown");
 }
+
+/// The cross-check's words: agreement, disagreement (the equation decides,
+/// and the reason says what the simulation showed) and a verdict from the
+/// simulation alone, which is said to prove nothing.
+#[test]
+fn the_simulation_cross_check_is_said_in_words() {
+    use msp::analysis::Stability;
+    let proven = |stable| Stability {
+        stable: Some(stable),
+        reason: "from the equation".into(),
+        ..Stability::default()
+    };
+    let agree = proven(true).with_simulation(true, 12.0);
+    assert_eq!((agree.stable, agree.simulation), (Some(true), Some(true)));
+    assert!(
+        agree.reason.ends_with("the simulation over 12 s agrees"),
+        "{}",
+        agree.reason
+    );
+    let disagree = proven(false).with_simulation(true, 12.0);
+    assert_eq!(disagree.stable, Some(false), "the equation decides");
+    assert!(disagree.reason.contains("disagrees"), "{}", disagree.reason);
+    let alone = Stability::unknown("undecided").with_simulation(true, 12.0);
+    assert_eq!(alone.stable, None);
+    assert!(alone.reason.contains("not a proof"), "{}", alone.reason);
+}
