@@ -194,6 +194,32 @@ fn capacity(c: &mut Criterion) {
     line!(1024);
     line!(65536);
     g.finish();
+    // the filtered Smith predictor of a stable plant: model-sized blocks around
+    // the input line, the same cost at every dead time
+    let mut g = c.benchmark_group("fsp/stable-dead-time");
+    g.throughput(Throughput::Elements(1));
+    for h in [16usize, 1024, 65536] {
+        let (gm, _) = ProcessModel::from(Fopdt::new(1.0, 10.0, 1.0).expect("model"))
+            .discretize::<1>(0.1)
+            .expect("model");
+        let d = msp::dtc::fsp::design::<Vec<f64>, 1>(&gm, h, 0.1, 5.0).expect("design");
+        let mut fsp: msp::dtc::fsp::FilteredSmith<f64, Vec<f64>> =
+            msp::dtc::fsp::FilteredSmith::new(
+                PidConfig::isa(1.0, 10.0, 0.0, 0.1),
+                &d,
+                Default::default(),
+            )
+            .expect("fsp");
+        let mut y = 0.0;
+        g.bench_with_input(BenchmarkId::from_parameter(h), &h, |b, _| {
+            b.iter(|| {
+                let u = fsp.update(black_box(1.0), y);
+                y = 0.99 * y + 0.01 * u;
+                u
+            })
+        });
+    }
+    g.finish();
 }
 
 fn all(c: &mut Criterion) {

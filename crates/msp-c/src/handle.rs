@@ -136,7 +136,7 @@ pub(crate) enum Scheme<T: Real> {
     Pid(Pid<T>),
     Smith(SmithPredictor<T, 1, Buf<T>>),
     KaranDey(KaranDey<T, 1, Buf<T>>),
-    Fsp(FilteredSmith<T, Buf<T>>),
+    Fsp(FilteredSmith<T, Buf<T>, 2>),
 }
 
 /// What sits at the start of the caller's buffer: a tag saying the handle is

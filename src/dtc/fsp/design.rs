@@ -125,27 +125,71 @@ pub struct FrSpec {
     pub biproper: bool,
 }
 
-/// The designed predictor: `ŷ = S(z)·u + Fr(z)·y` with `S = Gm(1 − z^{−h}Fr)`
-/// realized without the unstable poles, `S = z^{−h}·Nm(z − 1)p/(Dm⁻·Dr)`.
+/// The designed predictor: `ŷ = S(z)·u + Fr(z)·y`, `S = Gm(1 − z^{−h}Fr)`
+/// realized without the model's unstable poles.
 #[derive(Debug, Clone)]
 pub struct FspDesign<S> {
     /// `Fr = Nr/Dr` (descending powers of z).
     pub nr: SmallPoly,
     /// Its denominator.
     pub dr: SmallPoly,
-    /// Numerator of `S` in powers of `z^{−1}` (starting at `z^{−delay}`):
-    /// the first [`FspDesign::s_len`] entries.
-    pub s_num: S,
-    /// Length of the numerator of `S`.
-    pub s_len: usize,
-    /// Denominator of `S` in powers of `z^{−1}` (monic).
-    pub s_den: SmallPoly,
+    /// The dead time `h` (samples).
+    pub h: usize,
+    /// How `S` is realized.
+    pub s: Realization<S>,
+}
+
+/// The two realizations of the predictor's `S = Gm(1 − z^{−h}Fr)`.
+///
+/// A model with an unstable pole needs the direct form: `S` is stable only
+/// once Eq. 10 has cancelled the pole, so its numerator is the long
+/// polynomial `Nm(z − 1)p` (García et al. (2010) Eq. 10), as long as the dead
+/// time, and each sample costs `O(h)`.
+///
+/// A stable model, or one with a single integrator, has no pole to cancel
+/// but `z = 1`, and `S` splits into model-sized blocks around a line of the
+/// last `h` inputs, `O(1)` per sample whatever the dead time:
+/// - stable `Gm`: `S = A·(1 − z^{−h}B)` with `A = Gm`, `B = Fr`;
+/// - `Gm = Nm/((z − 1)Dm⁻)`: `1 − z^{−h}Fr = (1 − z^{−h}) + z^{−h}(1 − Fr)`,
+///   `(1 − z^{−h})/(z − 1) = Σ_{k=1}^{h} z^{−k}` (the sum of the last `h`
+///   inputs) and `(1 − Fr)/(z − 1) = R/Dr` with `R = (Dr − Nr)/(z − 1)` (a
+///   polynomial: `Fr(1) = 1`), so `S = A·(Σ_{k=1}^{h} z^{−k} + z^{−h}B)`
+///   with `A = Nm/Dm⁻`, `B = R/Dr` — every block stable.
+#[derive(Debug, Clone)]
+// a design-time value, built once and read by the predictor's constructor:
+// boxing the larger variant would need a heap a device does not have
+#[allow(clippy::large_enum_variant)]
+pub enum Realization<S> {
+    /// `S = num/den` in powers of `z^{−1}`: the numerator (starting at
+    /// `z^{−1}`) in the first `len` entries of `num`, the denominator monic.
+    Direct {
+        /// The numerator's storage.
+        num: S,
+        /// Its length.
+        len: usize,
+        /// The denominator `Dm⁻·Dr`.
+        den: SmallPoly,
+    },
+    /// `S = A·(W + z^{−h}·s·B)` from the model's blocks (descending powers
+    /// of z): `W = 1`, `s = −1` for a stable model, `W = Σ_{k=1}^{h} z^{−k}`,
+    /// `s = 1` with `window` (a single integrator).
+    Split {
+        /// `A`'s numerator and denominator.
+        a: (SmallPoly, SmallPoly),
+        /// `B`'s numerator and denominator.
+        b: (SmallPoly, SmallPoly),
+        /// The model integrates: `W` is the sum of the last `h` inputs.
+        window: bool,
+    },
 }
 
 impl<S: AsRef<[f64]>> FspDesign<S> {
-    /// The numerator of `S`.
+    /// The numerator of `S` in direct form (empty when split).
     pub fn s_num(&self) -> &[f64] {
-        self.s_num.as_ref().get(..self.s_len).unwrap_or(&[])
+        match &self.s {
+            Realization::Direct { num, len, .. } => num.as_ref().get(..*len).unwrap_or(&[]),
+            Realization::Split { .. } => &[],
+        }
     }
 }
 
@@ -244,7 +288,21 @@ pub fn design_tf_in<S: AsRef<[f64]> + AsMut<[f64]>, const D: usize>(
     h: usize,
     ts: f64,
     spec: &FrSpec,
+    storage: impl FnMut(usize) -> Result<S, Error>,
+) -> Result<FspDesign<S>, Error> {
+    design_form::<S, D>(nm, dm, h, ts, spec, storage, true)
+}
+
+/// [`design_tf_in`], in direct form unless `allow_split` (the direct form of
+/// a stable model is what the split one is checked against).
+pub(crate) fn design_form<S: AsRef<[f64]> + AsMut<[f64]>, const D: usize>(
+    nm: &SmallPoly,
+    dm: &SmallPoly,
+    h: usize,
+    ts: f64,
+    spec: &FrSpec,
     mut storage: impl FnMut(usize) -> Result<S, Error>,
+    allow_split: bool,
 ) -> Result<FspDesign<S>, Error> {
     let deg = dm.len().saturating_sub(1);
     let mut rts = [Complex::<f64>::default(); SMALL];
@@ -305,6 +363,11 @@ pub fn design_tf_in<S: AsRef<[f64]> + AsMut<[f64]>, const D: usize>(
     };
     let (c, k) = solve(h, dr.as_slice(), q.as_slice(), cond)?;
     let nr = q.mul(c.get(..k).unwrap_or(&[]))?;
+    if allow_split {
+        if let Some(s) = split(nm, dm, (&dplus, &dminus), &nr, &dr)? {
+            return Ok(FspDesign { nr, dr, h, s });
+        }
+    }
     // diff = z^h·Dr − Nr, then p = diff/(Dm⁺(z − 1)) in place (quotient in front)
     let dlen = h.saturating_add(dr.len());
     let mut diff: S = sized(storage(dlen)?, dlen)?;
@@ -367,8 +430,71 @@ pub fn design_tf_in<S: AsRef<[f64]> + AsMut<[f64]>, const D: usize>(
     Ok(FspDesign {
         nr,
         dr,
-        s_num,
-        s_len,
-        s_den: SmallPoly::new(s_den.get(..a.len()).unwrap_or(&[1.0]))?,
+        h,
+        s: Realization::Direct {
+            num: s_num,
+            len: s_len,
+            den: SmallPoly::new(s_den.get(..a.len()).unwrap_or(&[1.0]))?,
+        },
     })
+}
+
+/// The split realization of `S` ([`Realization::Split`]) when the model's
+/// poles on or outside the unit circle (`Dm⁺`) are none or a single `z = 1`;
+/// `None` for any other model (the direct form).
+fn split<S>(
+    nm: &SmallPoly,
+    dm: &SmallPoly,
+    (dplus, dminus): (&SmallPoly, &SmallPoly),
+    nr: &SmallPoly,
+    dr: &SmallPoly,
+) -> Result<Option<Realization<S>>, Error> {
+    let integrator = match dplus.as_slice() {
+        [_] => false,
+        [_, r] if (r + 1.0).abs() < 1e-6 => true,
+        _ => return Ok(None),
+    };
+    if !integrator {
+        return Ok(Some(Realization::Split {
+            a: (*nm, *dm),
+            b: (*nr, *dr),
+            window: false,
+        }));
+    }
+    // A = Nm/Dm⁻ (Dm = lead·(z − 1)·Dm⁻ with Dm⁻ monic)
+    let lead = dm.lead();
+    let mut an = [0.0; SMALL];
+    for (x, v) in an.iter_mut().zip(nm.as_slice()) {
+        *x = v / lead;
+    }
+    let a = (SmallPoly::new(an.get(..nm.len()).unwrap_or(&[]))?, *dminus);
+    // R = (Dr − Nr)/(z − 1): Horner's synthetic division by z − 1
+    let (d, n) = (dr.as_slice(), nr.as_slice());
+    let off = d.len().saturating_sub(n.len());
+    let mut diff = [0.0; SMALL];
+    for (i, x) in diff.iter_mut().enumerate().take(d.len()) {
+        let ni = i
+            .checked_sub(off)
+            .and_then(|j| n.get(j))
+            .copied()
+            .unwrap_or(0.0);
+        *x = d.get(i).copied().unwrap_or(0.0) - ni;
+    }
+    let len = d.len();
+    let mut acc = 0.0;
+    let scale = diff.iter().take(len).fold(1.0f64, |m, v| m.max(v.abs()));
+    for x in diff.iter_mut().take(len) {
+        acc += *x;
+        *x = acc;
+    }
+    // the last running sum is Dr(1) − Nr(1): zero when Fr(1) = 1
+    if acc.abs() > 1e-9 * scale {
+        return Err(Error::Numerical("robustness filter (Fr(1) is not 1)"));
+    }
+    let r = SmallPoly::new(diff.get(..len.saturating_sub(1)).unwrap_or(&[]))?;
+    Ok(Some(Realization::Split {
+        a,
+        b: (r, *dr),
+        window: true,
+    }))
 }

@@ -160,13 +160,14 @@ mod runtime;
 
 pub(crate) use self::design::buffer;
 pub use self::design::{
-    design, design_in, design_with, model_tf, FrSpec, FspDesign, SmallPoly, SMALL,
+    design, design_in, design_tf_in, design_with, model_tf, FrSpec, FspDesign, Realization,
+    SmallPoly, SMALL,
 };
 pub(crate) use self::runtime::taps_at;
 #[cfg(feature = "alloc")]
 pub use self::runtime::Plan;
 pub use self::runtime::{
-    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary,
+    DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary, SplitForm,
 };
 
 crate::params::param_struct! {

@@ -1,7 +1,7 @@
 //! The controllers: generic over `f32`/`f64` and over the storage of the
 //! dead-time-sized buffers (`Vec` on a host, arrays on a device).
 
-use super::design::{buffer, sized, FspDesign, SMALL};
+use super::design::{buffer, sized, FspDesign, Realization, SMALL};
 #[cfg(feature = "alloc")]
 use super::design::{FrSpec, SmallPoly};
 use crate::delay::{samples_of, DelayStorage};
@@ -304,14 +304,269 @@ pub(crate) fn taps_at<T: Real>(p: &[T], w: Complex<T>) -> Complex<T> {
     a0 + w * a1 + w2 * (a2 + w * a3)
 }
 
-/// The filtered Smith predictor's output predictor `ŷ = S(z)·u + Fr(z)·y`
-/// (García et al. (2010) Fig. 6). `S` is evaluated in direct form over
-/// the input history (its numerator spans the dead time, so the cost is
-/// proportional to it).
+/// `S` from the model's blocks around a line of the last `h` inputs
+/// ([`Realization::Split`]): `S = A·(W + z^{−h}·σ·B)`, `O(1)` per sample
+/// whatever the dead time.
+///
+/// With `window` (a single integrator) `W·u` is the sum of the last `h`
+/// inputs, kept as a double word (Knuth's TwoSum carries each addition's
+/// rounding error), so that rounding does not accumulate over a long run,
+/// and `σ = 1`; without it `W = 1`, `σ = −1`.
 #[derive(Debug, Clone)]
-pub struct FspPredictor<T, S> {
-    fr: Lti<T, 8>,
-    s: DirectForm<T, S>,
+pub struct SplitForm<T, S, const N: usize> {
+    a: Lti<T, N>,
+    b: Lti<T, N>,
+    window: bool,
+    /// `u[n − h] … u[n − 1]`, the oldest at `at`.
+    line: S,
+    h: usize,
+    at: usize,
+    /// The sliding sum `hi + lo` of the line.
+    sum: (T, T),
+    /// `A`'s input at this sample (with `window`).
+    q: T,
+}
+
+/// `a + b` as a double word `(s, e)`, `s + e = a + b` exactly (Knuth's TwoSum).
+#[inline(always)]
+fn two_sum<T: Real>(a: T, b: T) -> (T, T) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> SplitForm<T, S, N> {
+    /// The blocks `A = a.0/a.1`, `B = b.0/b.1` (descending powers of z) and
+    /// a line of `h ≥ 1` inputs in storage from `storage`.
+    pub fn new_in(
+        a: (&[f64], &[f64]),
+        b: (&[f64], &[f64]),
+        window: bool,
+        h: usize,
+        mut storage: impl FnMut(usize) -> Result<S, Error>,
+    ) -> Result<Self, Error> {
+        let a: Lti<T, N> = Lti::from_discrete_tf_of(a.0, a.1)?;
+        let b: Lti<T, N> = Lti::from_discrete_tf_of(b.0, b.1)?;
+        if h == 0 || (!window && a.feedthrough() != T::zero()) {
+            return Err(Error::Unsupported(
+                "the split predictor needs a dead time of a sample or more and a strictly proper model",
+            ));
+        }
+        let mut line: S = sized(storage(h)?, h)?;
+        line.as_mut().iter_mut().for_each(|v| *v = T::zero());
+        Ok(SplitForm {
+            a,
+            b,
+            window,
+            line,
+            h,
+            at: 0,
+            sum: (T::zero(), T::zero()),
+            q: T::zero(),
+        })
+    }
+
+    /// `S`'s output at this sample (from the past inputs).
+    #[inline]
+    pub fn output(&mut self) -> T {
+        if self.window {
+            self.q = self.sum.0 + self.sum.1 + self.b.free_output();
+            self.a.output(self.q)
+        } else {
+            self.a.free_output()
+        }
+    }
+
+    /// Records `u[n]`.
+    #[inline]
+    pub fn push(&mut self, u: T) {
+        let Some(slot) = self.line.as_mut().get_mut(self.at) else {
+            return;
+        };
+        let old = *slot;
+        *slot = u;
+        self.at = if self.at + 1 >= self.h {
+            0
+        } else {
+            self.at + 1
+        };
+        if self.window {
+            self.a.advance(self.q);
+            self.b.advance(old);
+            // each term on its own: `u − old` would round
+            self.add(u);
+            self.add(-old);
+        } else {
+            let f = self.b.step(old);
+            self.a.advance(u - f);
+        }
+    }
+
+    fn add(&mut self, v: T) {
+        let (s, e) = two_sum(self.sum.0, v);
+        let (hi, lo) = two_sum(s, self.sum.1 + e);
+        self.sum = (hi, lo);
+    }
+
+    /// Amends the newest input by `du`.
+    pub fn amend_last(&mut self, du: T) {
+        let newest = if self.at == 0 {
+            self.h - 1
+        } else {
+            self.at - 1
+        };
+        if let Some(x) = self.line.as_mut().get_mut(newest) {
+            *x = *x + du;
+        }
+        if self.window {
+            self.add(du);
+        } else {
+            self.a.amend_input(du);
+        }
+    }
+
+    /// Takes over `old`'s line (the newest inputs, the oldest repeated
+    /// beyond what it held) and its blocks' states: `A` is the same block
+    /// and `B`'s denominator `Dr` does not depend on the dead time (its
+    /// controllable canonical state carries over with the new numerator).
+    pub fn carry_from(&mut self, old: &Self) {
+        let past = |k: usize| -> T {
+            // u[n − k], 1 ≤ k ≤ old.h
+            let i = (old.at + old.h - k.min(old.h)) % old.h.max(1);
+            old.line.as_ref().get(i).copied().unwrap_or(T::zero())
+        };
+        let h = self.h;
+        for j in 0..h {
+            if let Some(x) = self.line.as_mut().get_mut(h - 1 - j) {
+                *x = past(j + 1);
+            }
+        }
+        self.at = 0;
+        self.a.set_state(old.a.state());
+        self.b.set_state(old.b.state());
+        self.sum = (T::zero(), T::zero());
+        if self.window {
+            for k in 0..h {
+                let v = self.line.as_ref().get(k).copied().unwrap_or(T::zero());
+                self.add(v);
+            }
+        }
+    }
+
+    /// Zeroes the line and the blocks.
+    pub fn reset(&mut self) {
+        self.line.as_mut().iter_mut().for_each(|v| *v = T::zero());
+        self.a.reset();
+        self.b.reset();
+        self.at = 0;
+        self.sum = (T::zero(), T::zero());
+        self.q = T::zero();
+    }
+
+    /// The response at `z = e^{jθ}`, in closed form: `W(e^{jθ})` is the
+    /// Dirichlet kernel `e^{−jθ(h+1)/2}·sin(hθ/2)/sin(θ/2)` (`h` at θ = 0).
+    pub fn response(&self, theta: T) -> Complex<T> {
+        let h = T::of(self.h as f64);
+        let two = T::of(2.0);
+        let delay = Complex::cis(-theta * h);
+        if self.window {
+            let half = (theta / two).sin();
+            let ratio = if half.abs() > T::epsilon() {
+                (theta * h / two).sin() / half
+            } else {
+                h
+            };
+            let w = Complex::cis(-theta * (h + T::one()) / two).scale(ratio);
+            self.a.response(theta) * (w + delay * self.b.response(theta))
+        } else {
+            self.a.response(theta) * (Complex::real(T::one()) - delay * self.b.response(theta))
+        }
+    }
+}
+
+/// `S` in one of its two realizations.
+#[derive(Debug, Clone)]
+enum SBlock<T, S, const N: usize> {
+    Direct(DirectForm<T, S>),
+    Split(SplitForm<T, S, N>),
+}
+
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> SBlock<T, S, N> {
+    fn of<D: AsRef<[f64]>>(
+        d: &FspDesign<D>,
+        h: usize,
+        storage: impl FnMut(usize) -> Result<S, Error>,
+    ) -> Result<Self, Error> {
+        Ok(match &d.s {
+            Realization::Direct { den, .. } => {
+                SBlock::Direct(DirectForm::new_in(d.s_num(), den.as_slice(), storage)?)
+            }
+            Realization::Split { a, b, window } => SBlock::Split(SplitForm::new_in(
+                (a.0.as_slice(), a.1.as_slice()),
+                (b.0.as_slice(), b.1.as_slice()),
+                *window,
+                h,
+                storage,
+            )?),
+        })
+    }
+    #[inline]
+    fn output(&mut self) -> T {
+        match self {
+            SBlock::Direct(s) => s.output(),
+            SBlock::Split(s) => s.output(),
+        }
+    }
+    #[inline]
+    fn push(&mut self, u: T, s_now: T) {
+        match self {
+            SBlock::Direct(s) => s.push(u, s_now),
+            SBlock::Split(s) => s.push(u),
+        }
+    }
+    fn amend_last(&mut self, du: T) {
+        match self {
+            SBlock::Direct(s) => s.amend_last(du),
+            SBlock::Split(s) => s.amend_last(du),
+        }
+    }
+    #[cfg(feature = "alloc")]
+    fn carry_from(&mut self, old: &Self) -> Result<(), Error> {
+        match (self, old) {
+            (SBlock::Direct(s), SBlock::Direct(o)) => s.carry_from(o),
+            (SBlock::Split(s), SBlock::Split(o)) => {
+                s.carry_from(o);
+                Ok(())
+            }
+            _ => Err(Error::Unsupported(
+                "a new realization: the history does not carry over",
+            )),
+        }
+    }
+    fn reset(&mut self) {
+        match self {
+            SBlock::Direct(s) => s.reset(),
+            SBlock::Split(s) => s.reset(),
+        }
+    }
+    fn response(&self, theta: T) -> Complex<T> {
+        match self {
+            SBlock::Direct(s) => s.response(theta),
+            SBlock::Split(s) => s.response(theta),
+        }
+    }
+}
+
+/// The filtered Smith predictor's output predictor `ŷ = S(z)·u + Fr(z)·y`
+/// (García et al. (2010) Fig. 6). For a model with an unstable pole `S` is
+/// evaluated in direct form over the input history (its numerator spans the
+/// dead time, so the cost is proportional to it); for a stable or
+/// integrating model from model-sized blocks ([`SplitForm`], `O(1)`).
+/// `N` bounds the order of `Fr` and of the model's blocks.
+#[derive(Debug, Clone)]
+pub struct FspPredictor<T, S, const N: usize = 8> {
+    fr: Lti<T, N>,
+    s: SBlock<T, S, N>,
     last_s: T,
     /// What a redesign for another dead time needs (with `alloc`: the
     /// redesign allocates its scratch; a device build carries none of it).
@@ -335,7 +590,7 @@ pub struct Plan<S> {
     storage: fn(usize) -> Result<S, Error>,
 }
 
-impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
+impl<T: Real, S: DelayStorage<T>, const N: usize> FspPredictor<T, S, N> {
     /// The predictor of a design.
     pub fn new<D: AsRef<[f64]>>(d: &FspDesign<D>) -> Result<Self, Error> {
         FspPredictor::new_in(d, buffer)
@@ -368,16 +623,17 @@ impl<T: Real, S: DelayStorage<T>> FspPredictor<T, S> {
     }
 }
 
-impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> FspPredictor<T, S> {
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> FspPredictor<T, S, N> {
     /// [`FspPredictor::new`] with its two dead-time-sized buffers from
     /// `storage` (see [`DirectForm::new_in`]).
     pub fn new_in<D: AsRef<[f64]>>(
         d: &FspDesign<D>,
         storage: impl FnMut(usize) -> Result<S, Error>,
     ) -> Result<Self, Error> {
+        let h = d.h;
         Ok(FspPredictor {
             fr: Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?,
-            s: DirectForm::new_in(d.s_num(), d.s_den.as_slice(), storage)?,
+            s: SBlock::of(d, h, storage)?,
             last_s: T::zero(),
             #[cfg(feature = "alloc")]
             plan: None,
@@ -385,7 +641,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> FspPredictor<T, S> {
     }
 }
 
-impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
+impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> Predictor<T> for FspPredictor<T, S, N> {
     fn predict(&mut self, y: T) -> T {
         self.last_s = self.s.output();
         self.last_s + self.fr.step(y)
@@ -430,17 +686,20 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for FspPredictor<T, S> {
         let Some(plan) = &self.plan else {
             return Err(Error::Unsupported("no redesign plan"));
         };
-        let d = super::design::design_tf_in::<alloc::vec::Vec<f64>, 16>(
+        // the same realization as before (its history carries over)
+        let split = matches!(self.s, SBlock::Split(_));
+        let d = super::design::design_form::<alloc::vec::Vec<f64>, 16>(
             &plan.nm,
             &plan.dm,
             h,
             plan.ts,
             &plan.spec,
             |n| Ok(alloc::vec![0.0; n]),
+            split,
         )?;
-        let mut fr: Lti<T, 8> = Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?;
+        let mut fr: Lti<T, N> = Lti::from_discrete_tf_of(d.nr.as_slice(), d.dr.as_slice())?;
         fr.set_state(self.fr.state());
-        let mut s = DirectForm::new_in(d.s_num(), d.s_den.as_slice(), plan.storage)?;
+        let mut s = SBlock::of(&d, h, plan.storage)?;
         s.carry_from(&self.s)?;
         self.fr = fr;
         self.s = s;
@@ -483,9 +742,9 @@ struct Ramp<T> {
 }
 
 /// The filtered Smith predictor (with a PID primary controller).
-pub type FilteredSmith<T, S> = Predicted<T, FspPredictor<T, S>>;
+pub type FilteredSmith<T, S, const N: usize = 8> = Predicted<T, FspPredictor<T, S, N>>;
 
-impl<T: Real, S: DelayStorage<T>> FilteredSmith<T, S> {
+impl<T: Real, S: DelayStorage<T>, const N: usize> FilteredSmith<T, S, N> {
     /// The controller `k` around the designed predictor.
     pub fn new<D: AsRef<[f64]>>(
         k: PidConfig<T>,
@@ -691,5 +950,182 @@ mod tests {
                 assert!(err < 1e-13, "n {n}, θ {theta}: {err:e}");
             }
         }
+    }
+}
+
+#[cfg(all(test, feature = "std"))]
+mod split_tests {
+    use super::*;
+    use crate::dtc::fsp::design::design_form;
+    use crate::dtc::fsp::{model_tf, FrSpec};
+    use crate::test_util::ExpectOk;
+    use std::vec::Vec;
+
+    /// The models of the split realization: stable of orders one and two,
+    /// an integrator alone and with a lag (continuous `num/den`).
+    const MODELS: [(&[f64], &[f64]); 4] = [
+        (&[2.0], &[4.0, 1.0]),
+        (&[1.5], &[3.0, 4.0, 1.0]),
+        (&[0.2], &[1.0, 0.0]),
+        (&[0.5], &[2.0, 1.0, 0.0]),
+    ];
+
+    fn predictors(
+        num: &[f64],
+        den: &[f64],
+        h: usize,
+        spec: &FrSpec,
+    ) -> (FspPredictor<f64, Vec<f64>>, FspPredictor<f64, Vec<f64>>) {
+        let ts = 0.5;
+        let gm: Lti<f64, 8> =
+            Lti::from_tf(num, den, ts, crate::lti::Discretization::Zoh).expect_ok();
+        let (nm, dm) = model_tf(&gm);
+        let vecs = |n: usize| Ok(std::vec![0.0; n]);
+        let split = design_form::<Vec<f64>, 8>(&nm, &dm, h, ts, spec, vecs, true).expect_ok();
+        let direct = design_form::<Vec<f64>, 8>(&nm, &dm, h, ts, spec, vecs, false).expect_ok();
+        assert!(matches!(split.s, Realization::Split { .. }));
+        assert!(matches!(direct.s, Realization::Direct { .. }));
+        (
+            FspPredictor::new(&split).expect_ok(),
+            FspPredictor::new(&direct).expect_ok(),
+        )
+    }
+
+    fn specs() -> [FrSpec; 2] {
+        [
+            FrSpec {
+                tf: 1.5,
+                lead: None,
+                biproper: false,
+            },
+            // FSPCC's biproper filter with a lead
+            FrSpec {
+                tf: 1.0,
+                lead: Some((2.0, 0.7)),
+                biproper: true,
+            },
+        ]
+    }
+
+    /// The split realization is the direct form of García et al. (2010)
+    /// Eq. 10, sample by sample (inputs of a pseudo-random sequence, amended
+    /// now and then as a tracking actuator does) and at every frequency: the
+    /// two differ by the rounding of a sum over the dead time.
+    #[test]
+    fn split_equals_the_direct_form() {
+        for (num, den) in MODELS {
+            for spec in specs() {
+                for h in [1usize, 2, 7, 60] {
+                    let (mut a, mut b) = predictors(num, den, h, &spec);
+                    let mut seed = 12345u64;
+                    let mut scale = 0.0f64;
+                    let mut worst = 0.0f64;
+                    for k in 0..400 {
+                        seed = seed
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        let u = ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.3;
+                        let y = (k as f64 * 0.05).sin();
+                        let (pa, pb) = (a.predict(y), b.predict(y));
+                        scale = scale.max(pb.abs());
+                        worst = worst.max((pa - pb).abs());
+                        a.commit(u);
+                        b.commit(u);
+                        if k % 37 == 5 {
+                            a.amend(0.25);
+                            b.amend(0.25);
+                        }
+                    }
+                    assert!(
+                        worst <= 1e-10 * scale.max(1.0),
+                        "{num:?}/{den:?} h {h}: {worst:e} of {scale:e}"
+                    );
+                    for theta in [0.0, 1e-7, 0.01, 0.3, 1.0, 3.0] {
+                        let (sa, fa) = a.response(theta);
+                        let (sb, fb) = b.response(theta);
+                        let err = (sa - sb).abs() + (fa - fb).abs();
+                        assert!(
+                            err <= 1e-9 * (sb.abs() + fb.abs()).max(1.0),
+                            "{num:?}/{den:?} h {h} θ {theta}: {err:e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A run-time dead-time change redesigns the split predictor for the new
+    /// dead time as it does the direct one: both carry the same inputs over,
+    /// their internal states differ (the direct form's past outputs, the
+    /// split form's blocks), so they agree once the blocks' slowest pole
+    /// (`e^{−0.5/4} ≈ 0.88` per sample) has forgotten the change: 100
+    /// samples later to `0.88¹⁰⁰ ≈ 3·10⁻⁶` of the transient.
+    #[test]
+    fn split_redesign_equals_the_direct_form() {
+        let spec = specs()[0];
+        for (num, den) in MODELS {
+            let ts = 0.5;
+            let gm: Lti<f64, 8> =
+                Lti::from_tf(num, den, ts, crate::lti::Discretization::Zoh).expect_ok();
+            let (nm, dm) = model_tf(&gm);
+            let vecs = |n: usize| Ok(std::vec![0.0; n]);
+            let mk = |split: bool| -> FspPredictor<f64, Vec<f64>> {
+                let d =
+                    design_form::<Vec<f64>, 8>(&nm, &dm, 10, ts, &spec, vecs, split).expect_ok();
+                FspPredictor::new(&d)
+                    .expect_ok()
+                    .with_redesign(nm, dm, ts, spec, (10, 40))
+            };
+            let (mut a, mut b) = (mk(true), mk(false));
+            let mut worst = 0.0f64;
+            for k in 0..400 {
+                if k == 100 {
+                    a.set_dead_time(17.0).expect_ok();
+                    b.set_dead_time(17.0).expect_ok();
+                }
+                if k == 250 {
+                    a.set_dead_time(4.0).expect_ok();
+                    b.set_dead_time(4.0).expect_ok();
+                }
+                let y = (k as f64 * 0.07).cos();
+                let u = if k < 150 { 1.0 } else { -0.5 } + 0.1 * (k as f64 * 0.3).sin();
+                let d = (a.predict(y) - b.predict(y)).abs();
+                if (200..250).contains(&k) || k >= 350 {
+                    worst = worst.max(d);
+                }
+                a.commit(u);
+                b.commit(u);
+            }
+            assert!(worst < 1e-6, "{num:?}/{den:?}: {worst:e}");
+        }
+    }
+
+    /// The double-word sliding sum does not drift: after a million inputs
+    /// of mixed magnitude it equals the exact sum of the line.
+    #[test]
+    fn sliding_sum_does_not_drift() {
+        let mut s: SplitForm<f32, Vec<f32>, 2> = SplitForm::new_in(
+            (&[1.0], &[1.0, -0.5]),
+            (&[0.5], &[1.0, -0.5]),
+            true,
+            13,
+            |n| Ok(std::vec![0.0f32; n]),
+        )
+        .expect_ok();
+        let mut seed = 7u64;
+        for _ in 0..1_000_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = ((seed >> 40) as f32 / (1u32 << 24) as f32 - 0.5) * 1000.0;
+            s.push(u);
+        }
+        let exact: f64 = s.line.iter().map(|v| f64::from(*v)).sum();
+        let got = f64::from(s.sum.0) + f64::from(s.sum.1);
+        // the line's sum exactly, to the double word's rounding (2⁻⁴⁸ of the terms)
+        assert!(
+            (got - exact).abs() < 1e-9 * 500.0 * 13.0,
+            "{got} vs {exact}"
+        );
     }
 }
