@@ -38,8 +38,8 @@ pub mod stability;
 mod step;
 
 pub use report::{
-    analyze, analyze_tuned, loop_stability, process_response, tuned_stability, Analysis,
-    MarginsReport, RegionPoint,
+    analyze, analyze_tuned, loop_stability, process_response, published_note, tuned_stability,
+    Analysis, MarginsReport, RegionPoint,
 };
 pub use stability::Stability;
 pub use step::{step_grid, step_response, OpenLoopStep};

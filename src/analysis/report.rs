@@ -87,6 +87,41 @@ pub struct MarginsReport {
     pub robust_peak: Option<f64>,
     /// `robust_peak < 1`.
     pub robustly_stable: Option<bool>,
+    /// Where a publication prints other margins for this loop, and why
+    /// they differ ([`published_note`]).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub published: Option<&'static str>,
+}
+
+/// Bag (2022) prints margins for its two benchmark plants `0.2e^{−7.4s}/s`
+/// and `0.05e^{−6s}/s` under the Karan–Dey MSP and (model 1) the Smith
+/// predictor (Tables 5.1–5.17) that are not the feedback loop's: a note
+/// saying so for those plants and schemes (`docs/fidelity.md`; the
+/// computation that reproduces every printed row is `tests/thesis_margins.rs`).
+pub fn published_note(plant: &TransferFunction, controller: &str) -> Option<&'static str> {
+    let Some(crate::ProcessModel::Ipdt(m)) = plant.exact_model() else {
+        return None;
+    };
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    let model1 = near(m.k, 0.2) && near(m.l, 7.4);
+    let model2 = near(m.k, 0.05) && near(m.l, 6.0);
+    match controller {
+        "karan-dey" if model1 => Some(
+            "Bag (2022) Table 5.1 prints 7.56 dB, 26.4 deg for this plant: the open loop with the \
+             measured output disconnected and a first-order Pade delay, not the feedback loop msp \
+             reports; see docs/fidelity.md",
+        ),
+        "karan-dey" if model2 => Some(
+            "Bag (2022) Table 5.5 prints 7.57 dB, 26.3 deg for this plant: the open loop with the \
+             measured output disconnected and a first-order Pade delay, not the feedback loop msp \
+             reports; see docs/fidelity.md",
+        ),
+        "smith" if model1 => Some(
+            "Bag (2022) Table 5.1 prints 6.02 dB, 56.0 deg for this plant: the Smith predictor's \
+             loop with a first-order Pade delay, not the exact delay msp uses; see docs/fidelity.md",
+        ),
+        _ => None,
+    }
 }
 
 impl Analysis {
@@ -112,6 +147,7 @@ impl Analysis {
                 .collect(),
             robust_peak: self.robust_peak,
             robustly_stable: self.robust_peak.map(|p| p < 1.0),
+            published: published_note(&self.plant, self.controller),
         }
     }
 }

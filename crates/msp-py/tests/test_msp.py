@@ -251,6 +251,12 @@ def test_margins_of_the_bare_plant_are_matlabs() -> None:
         msp.margins("1/(s+1)", discrete=True, continuous=True)
 
 
+def test_margins_of_the_thesis_plant_point_to_the_printed_tables() -> None:
+    m = msp.margins("0.2/s*e^-7.4s", "karan-dey")
+    assert "Table 5.1" in m["published"] and math.isclose(m["gm_db"], 4.55, abs_tol=0.01)
+    assert "published" not in msp.margins("0.3/s*e^-7.4s", "karan-dey")
+
+
 def test_tune_reports_robustness_as_the_cli() -> None:
     t = msp.tune("0.2/s*e^-7.4s")
     assert t["controller"]["name"] == "karan-dey" and t["chosen"] == ["lambda"]

@@ -314,6 +314,9 @@ pub(crate) fn margins_text(an: &msp::analysis::Analysis) -> String {
             s.push_str(&format!("lower gain limit {}\n", fmt_sig(m.gm_lower)));
         }
     }
+    if let Some(note) = msp::analysis::published_note(&an.plant, an.controller) {
+        s.push_str(&format!("note          {note}\n"));
+    }
     if let Some(i) = &an.inner {
         s.push_str(&format!(
             "inner loop    gm = {} pm = {} deg at {} rad/s\n",
