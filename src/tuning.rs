@@ -188,6 +188,72 @@ pub fn simc<T: Real>(model: &ProcessModel<T>, tc: T) -> Result<PidGains<T>, Erro
     }
 }
 
+/// The AMIGO rules (Åström & Hägglund (2004), *J. Process Control* 14,
+/// Sec. 6; Åström & Hägglund (2006), *Advanced PID Control*, Secs. 7.6–7.7):
+/// PI (`pi_only`) or PID settings with the set-point weight `b` of the
+/// proportional term, from a FOPDT `K e^{−Ls}/(Ts + 1)` or an IPDT
+/// `Kv e^{−Ls}/s` model. With `τ = L/(L + T)`:
+///
+/// - PI, FOPDT: `Kp = 0.15/K + (0.35 − LT/(L + T)²)·T/(K L)`,
+///   `Ti = 0.35 L + 13 L T²/(T² + 12 L T + 7 L²)`;
+/// - PI, IPDT: `Kp = 0.35/(Kv L)`, `Ti = 13.4 L`;
+/// - PID, FOPDT: `Kp = (0.2 + 0.45 T/L)/K`, `Ti = (0.4 L + 0.8 T)/(L + 0.1 T)·L`,
+///   `Td = 0.5 L T/(0.3 L + T)`;
+/// - PID, IPDT: `Kp = 0.45/(Kv L)`, `Ti = 8 L`, `Td = 0.5 L`;
+/// - `b = 0` for `τ ≤ 0.5`, `b = 1` above (an IPDT has `τ = 0`); the
+///   derivative acts on the measurement only (`c = 0`; the registry's
+///   `amigo` rule sets both weights).
+///
+/// The IPDT settings are the FOPDT ones as `T → ∞` with `K/T = Kv`. The
+/// rules aim at `Ms ≈ 1.4`; the PID rule is meant for `τ ≥ 0.3` or so
+/// (below it the derivative gains less than a better-tuned PI would).
+/// A model without dead time has no AMIGO setting ([`Error::NotPositive`]).
+pub fn amigo<T: Real>(model: &ProcessModel<T>, pi_only: bool) -> Result<(PidGains<T>, T), Error> {
+    let c = T::of;
+    match *model {
+        ProcessModel::Fopdt(m) => {
+            let (k, t, l) = (m.k, m.t, positive(m.l, "dead time")?);
+            let tau = l / (l + t);
+            let b = if tau <= c(0.5) { T::zero() } else { T::one() };
+            let g = if pi_only {
+                PidGains {
+                    kp: c(0.15) / k + (c(0.35) - l * t / ((l + t) * (l + t))) * t / (k * l),
+                    ti: c(0.35) * l
+                        + c(13.0) * l * t * t / (t * t + c(12.0) * l * t + c(7.0) * l * l),
+                    td: T::zero(),
+                }
+            } else {
+                PidGains {
+                    kp: (c(0.2) + c(0.45) * t / l) / k,
+                    ti: (c(0.4) * l + c(0.8) * t) / (l + c(0.1) * t) * l,
+                    td: c(0.5) * l * t / (c(0.3) * l + t),
+                }
+            };
+            Ok((g, b))
+        }
+        ProcessModel::Ipdt(m) => {
+            let (kv, l) = (m.k, positive(m.l, "dead time")?);
+            let g = if pi_only {
+                PidGains {
+                    kp: c(0.35) / (kv * l),
+                    ti: c(13.4) * l,
+                    td: T::zero(),
+                }
+            } else {
+                PidGains {
+                    kp: c(0.45) / (kv * l),
+                    ti: c(8.0) * l,
+                    td: c(0.5) * l,
+                }
+            };
+            Ok((g, T::zero()))
+        }
+        _ => Err(Error::Unsupported(
+            "the AMIGO rules take a FOPDT or an IPDT model",
+        )),
+    }
+}
+
 /// An ultimate-cycle rule: `Kc = a·Ku`, `Ti = b·Tu`, `Td = c·Tu`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UltimateRule {

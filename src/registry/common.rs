@@ -24,8 +24,13 @@ pub(super) type Described = Result<super::DesignReport, crate::Error>;
 /// period and actuator limits.
 pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {
     let g: PidGains<T> = p.typed()?;
-    Ok(PidConfig::try_isa(g.kp, g.ti, g.td, T::of(b.ts))?
-        .with_limits(T::of(b.u_min), T::of(b.u_max)))
+    let cfg = PidConfig::try_isa(g.kp, g.ti, g.td, T::of(b.ts))?
+        .with_limits(T::of(b.u_min), T::of(b.u_max));
+    // a rule's own set-point weights (AMIGO)
+    Ok(match p.rule().and_then(|r| r.weights) {
+        Some((wb, wc)) => cfg.with_weights(T::of(wb), T::of(wc)),
+        None => cfg,
+    })
 }
 
 /// `λ`: given, or `alpha·L`, or `default_factor·L`; for a model without dead

@@ -167,6 +167,9 @@ pub struct Rule {
     pub ku: Option<f64>,
     /// The ultimate period (s; ultimate-cycle rules).
     pub tu: Option<f64>,
+    /// The set-point weights `(b, c)` of the proportional and derivative
+    /// terms the rule gives (AMIGO); `None`: the PID's defaults.
+    pub weights: Option<(f64, f64)>,
 }
 
 impl Params {

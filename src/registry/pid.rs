@@ -43,6 +43,7 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
         name,
         ku: None,
         tu: None,
+        weights: None,
     };
     let (g, lambda, named) = match rule {
         "imc" | "imc-pid" if pi_only => {
@@ -66,6 +67,20 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
             let lambda = lambda_for(&m, &t, 1.0);
             (tuning::simc(&m, lambda)?, lambda, named("simc"))
         }
+        "amigo" => {
+            // on the first-order model (the rules are for FOPDT and IPDT);
+            // an integrator with a lag: its lag in the dead time, as SIMC's PI
+            let f = match plant.reduce(false)? {
+                ProcessModel::Foipdt(f) => ProcessModel::Ipdt(Ipdt::new(f.k, f.l + f.t)?),
+                other => other,
+            };
+            let (g, b) = tuning::amigo(&f, pi_only)?;
+            let rule = super::Rule {
+                weights: Some((b, 0.0)),
+                ..named("amigo")
+            };
+            (g, f64::NAN, rule)
+        }
         name => {
             let r = tuning::ultimate_rule(name).ok_or(crate::Error::Unsupported(
                 "unknown tuning rule (see `msp list`)",
@@ -82,6 +97,7 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
                 name: r.name,
                 ku: Some(ku),
                 tu: Some(tu),
+                weights: None,
             };
             (tuning::ultimate_cycle(r, ku, tu)?, f64::NAN, rule)
         }

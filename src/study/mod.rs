@@ -15,7 +15,7 @@ use build::{BYTES_PER_ROW, BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
-pub use report::{ControllerReport, ProcessReport, Report, TuneReport, TuningReport};
+pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
 pub use robustness::Robustness;
 
 use std::string::String;

@@ -5,7 +5,7 @@ use std::format;
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::{Metrics, RunOutput};
+use super::{Metrics, RunOutput, Scenario};
 use crate::poly::TransferFunction;
 use crate::registry::Params;
 
@@ -55,8 +55,8 @@ impl ControllerReport {
             tu: r.tu,
             form: "isa",
             n: 1.0 / isa.tf,
-            b: isa.b,
-            c: isa.c,
+            b: r.weights.map_or(isa.b, |w| w.0),
+            c: r.weights.map_or(isa.c, |w| w.1),
         });
         ControllerReport {
             name,
@@ -366,5 +366,71 @@ impl super::Scenario {
             robust_peak,
             robustly_stable: robust_peak.map(|p| p < 1.0),
         })
+    }
+}
+
+/// One tuning rule of `msp list` applied to the plant: what it gives and
+/// the loop it makes ([`Scenario::rules_report`]).
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RuleRow {
+    /// The rule (`--rule`).
+    pub rule: &'static str,
+    /// The scheme it tunes: `pi` or `pid`.
+    pub controller: &'static str,
+    /// The scheme, its parameters and the rule's weights (absent when the
+    /// rule does not apply to this plant: `error` says why).
+    pub tuning: Option<ControllerReport>,
+    /// The loop's verdict.
+    pub stable: Option<bool>,
+    /// The loop's margins and peaks (NaN for an unstable loop).
+    pub robustness: Option<crate::analysis::Margins>,
+    /// Why the rule gives no controller for this plant.
+    pub error: Option<String>,
+}
+
+impl Scenario {
+    /// Every tuning rule of the PI and PID schemes applied to the plant
+    /// (IMC, SIMC, AMIGO and the ultimate-cycle rules of Bag (2022) Tables
+    /// 3.2/3.3), with the robustness each one gives: `msp tune --rules`.
+    pub fn rules_report(&self) -> Result<Vec<RuleRow>, super::RunError> {
+        // the plant must be usable before every rule is tried on it
+        self.plant_and_model()?;
+        let mut rules: Vec<(&'static str, &'static str)> = std::vec![
+            ("pid", "imc"),
+            ("pid", "simc"),
+            ("pid", "amigo"),
+            ("pi", "simc"),
+            ("pi", "amigo"),
+        ];
+        rules.extend(crate::tuning::PI_RULES.iter().map(|r| ("pi", r.name)));
+        rules.extend(crate::tuning::PID_RULES.iter().map(|r| ("pid", r.name)));
+        Ok(rules
+            .into_iter()
+            .map(|(controller, rule)| {
+                let mut sc = self.clone();
+                sc.controller = Some(controller.into());
+                sc.rule = Some(rule.into());
+                sc.lambda = self.lambda;
+                match sc.tuned_loop() {
+                    Ok((_, _, _, tuned, robust, stability)) => RuleRow {
+                        rule,
+                        controller,
+                        tuning: Some(ControllerReport::new(tuned.scheme.name, tuned.params)),
+                        stable: stability.stable,
+                        robustness: robust.map(|r| r.margins),
+                        error: None,
+                    },
+                    Err(e) => RuleRow {
+                        rule,
+                        controller,
+                        tuning: None,
+                        stable: None,
+                        robustness: None,
+                        error: Some(e.to_string()),
+                    },
+                }
+            })
+            .collect())
     }
 }

@@ -43,7 +43,7 @@ pub(crate) struct DesignArgs {
     /// Closed-loop time constant for tuning (s).
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) lambda: Option<f64>,
-    /// Tuning rule for `pid`: imc, simc, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`).
+    /// Tuning rule for `pid`/`pi`: imc, simc, amigo, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`; `msp tune --rules` compares them).
     #[arg(long)]
     pub(crate) rule: Option<String>,
     /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
@@ -375,6 +375,10 @@ pub(crate) struct TuneArgs {
     pub(crate) controller: Option<String>,
     #[command(flatten)]
     pub(crate) design: DesignArgs,
+    /// Every PI/PID tuning rule (imc, simc, amigo and the ultimate-cycle rules of
+    /// `msp list`) applied to the plant, with the Ms and margins each one gives.
+    #[arg(long, conflicts_with_all = ["controller", "uncertainty", "inner_plant"])]
+    pub(crate) rules: bool,
     /// Print JSON.
     #[arg(long)]
     pub(crate) json: bool,

@@ -415,12 +415,38 @@ fn margins_point_to_the_thesis_tables() {
         .args(["margins", "--plant", "0.2/s*e^-7.4s", "-c", "karan-dey"])
         .assert()
         .success()
-        .stdout(predicate::str::contains("Bag (2022) Table 5.1 prints 7.56 dB"))
+        .stdout(predicate::str::contains(
+            "Bag (2022) Table 5.1 prints 7.56 dB",
+        ))
         .stdout(predicate::str::contains("docs/fidelity.md"));
-    let j = json_out(&["margins", "--plant", "0.05e^-6s/s", "-c", "karan-dey", "--json"]);
-    assert!(j["published"].as_str().unwrap().contains("Table 5.5"), "{j}");
-    let j = json_out(&["margins", "--plant", "0.2/s*e^-7.4s", "-c", "smith", "--json"]);
+    let j = json_out(&[
+        "margins",
+        "--plant",
+        "0.05e^-6s/s",
+        "-c",
+        "karan-dey",
+        "--json",
+    ]);
+    assert!(
+        j["published"].as_str().unwrap().contains("Table 5.5"),
+        "{j}"
+    );
+    let j = json_out(&[
+        "margins",
+        "--plant",
+        "0.2/s*e^-7.4s",
+        "-c",
+        "smith",
+        "--json",
+    ]);
     assert!(j["published"].as_str().unwrap().contains("6.02 dB"), "{j}");
-    let j = json_out(&["margins", "--plant", "0.3/s*e^-7.4s", "-c", "karan-dey", "--json"]);
+    let j = json_out(&[
+        "margins",
+        "--plant",
+        "0.3/s*e^-7.4s",
+        "-c",
+        "karan-dey",
+        "--json",
+    ]);
     assert!(j.get("published").is_none(), "{j}");
 }

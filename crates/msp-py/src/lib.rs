@@ -15,7 +15,9 @@ mod study;
 
 use controller::{Controller, PyPid};
 use plant::{parse_plant, Plant};
-use study::{autotune, compare, controllers, identify, margins, run, step, sweep, tune};
+use study::{
+    autotune, compare, controllers, identify, margins, run, step, sweep, tune, tune_rules,
+};
 
 /// The compiled part of the ``msp`` package.
 #[pymodule]
@@ -26,6 +28,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(parse_plant, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(tune, m)?)?;
+    m.add_function(wrap_pyfunction!(tune_rules, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(margins, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;

@@ -251,6 +251,20 @@ pub(crate) fn tune<'py>(
     Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
 }
 
+/// Every PI/PID tuning rule applied to the plant with the loop each gives, as
+/// ``msp tune --rules --json`` prints its ``rules``.
+#[pyfunction]
+#[pyo3(signature = (plant, **scenario))]
+pub(crate) fn tune_rules<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    scenario: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let sc = scenario_from(plant, scenario, Takes::Only(TUNE))?;
+    let rows = py.allow_threads(|| sc.rules_report()).map_err(value_err)?;
+    Ok(pythonize::pythonize(py, &rows)?)
+}
+
 /// Every controller of the registry, as ``msp list`` prints them.
 ///
 /// Returns

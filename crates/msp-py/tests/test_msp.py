@@ -257,6 +257,22 @@ def test_margins_of_the_thesis_plant_point_to_the_printed_tables() -> None:
     assert "published" not in msp.margins("0.3/s*e^-7.4s", "karan-dey")
 
 
+def test_tune_rules_is_the_cli_table_and_amigo_is_the_published_rule() -> None:
+    rows = msp.tune_rules("2*e^-3s/(4s+1)")
+    cli = json.loads(subprocess.run([MSP_BIN, "tune", "--plant", "2*e^-3s/(4s+1)", "--rules", "--json"],
+                                    check=True, capture_output=True, text=True).stdout)["rules"]
+    assert [(r["rule"], r["controller"]) for r in rows] == [(r["rule"], r["controller"]) for r in cli]
+    amigo = next(r for r in rows if r["rule"] == "amigo" and r["controller"] == "pi")
+    k, t, l = 2.0, 4.0, 3.0  # Astrom & Hagglund (2004): AMIGO PI for a FOPDT
+    kp = 0.15 / k + (0.35 - l * t / (l + t) ** 2) * t / (k * l)
+    ti = 0.35 * l + 13 * l * t * t / (t * t + 12 * l * t + 7 * l * l)
+    p = amigo["tuning"]["params"]
+    assert math.isclose(p["kp"], kp, rel_tol=1e-12) and math.isclose(p["ti"], ti, rel_tol=1e-12)
+    assert amigo["tuning"]["tuning"]["b"] == 0.0
+    res = msp.run("2*e^-3s/(4s+1)", "pi", rule="amigo")
+    assert math.isclose(res.controller["params"]["kp"], kp, rel_tol=1e-12)
+
+
 def test_tune_reports_robustness_as_the_cli() -> None:
     t = msp.tune("0.2/s*e^-7.4s")
     assert t["controller"]["name"] == "karan-dey" and t["chosen"] == ["lambda"]

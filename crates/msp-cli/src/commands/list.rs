@@ -21,7 +21,7 @@ pub(crate) fn list() -> Result<(), CliError> {
             s.source
         )?;
     }
-    export::outln!("tuning rules for `pid` (--rule): imc (IMC-PID, Eqs. 3.25-3.27), simc (Skogestad), and from Ku, Tu:")?;
+    export::outln!("tuning rules for `pid`/`pi` (--rule): imc (IMC-PID, Bag (2022) Eqs. 3.25-3.27), simc (Skogestad (2003)), amigo (Astrom & Hagglund (2004), with set-point weight b), and from Ku, Tu:")?;
     for r in msp::tuning::PI_RULES.iter().chain(msp::tuning::PID_RULES) {
         export::outln!(
             "  {:<20} Kc = {} Ku, Ti = {} Tu, Td = {} Tu  ({})",

@@ -16,6 +16,9 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         ts: a.ts,
         ..Scenario::default()
     };
+    if a.rules {
+        return rules(&sc, a.json);
+    }
     let r = sc.tune_report(a.uncertainty)?;
     if a.json {
         export::outln!(
@@ -60,6 +63,69 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     }
     for w in &r.warnings {
         export::outln!("warning: {w}")?;
+    }
+    Ok(())
+}
+
+/// `msp tune --rules`: a row per rule, the loop's figures beside the settings.
+fn rules(sc: &Scenario, json: bool) -> Result<(), CliError> {
+    let rows = export::busy("tuning by every rule", false, || sc.rules_report())?;
+    if json {
+        let j = serde_json::json!({
+            "plant": sc.plant.as_ref().map(ToString::to_string),
+            "rules": rows,
+        });
+        export::outln!(
+            "{}",
+            serde_json::to_string_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?
+        )?;
+        return Ok(());
+    }
+    if let Some(p) = &sc.plant {
+        export::outln!("plant       {p} ({})", p.kind())?;
+    }
+    export::outln!(
+        "{:<20} {:<4} {:>10} {:>10} {:>10} {:>4} {:>7} {:>8} {:>8}",
+        "rule",
+        "",
+        "kp",
+        "ti",
+        "td",
+        "b",
+        "Ms",
+        "gm",
+        "pm"
+    )?;
+    for r in &rows {
+        let (Some(t), Some(m)) = (&r.tuning, &r.robustness) else {
+            let why = r.error.as_deref().unwrap_or("no controller");
+            export::outln!("{:<20} {:<4} {why}", r.rule, r.controller)?;
+            continue;
+        };
+        let get = |k: &str| t.params.get(k).map_or("-".into(), export::fmt_sig);
+        let b = t
+            .tuning
+            .as_ref()
+            .map_or("-".into(), |w| export::fmt_sig(w.b));
+        let figures = if r.stable == Some(false) {
+            "unstable".to_string()
+        } else {
+            format!(
+                "{:>7} {:>8} {:>8}",
+                export::fmt_sig(m.ms),
+                export::fmt_sig(m.gm),
+                export::fmt_sig(m.pm)
+            )
+        };
+        export::outln!(
+            "{:<20} {:<4} {:>10} {:>10} {:>10} {:>4} {figures}",
+            r.rule,
+            r.controller,
+            get("kp"),
+            get("ti"),
+            get("td"),
+            b
+        )?;
     }
     Ok(())
 }

@@ -104,6 +104,7 @@ __all__ = [
     "step",
     "sweep",
     "tune",
+    "tune_rules",
 ]
 
 
@@ -825,6 +826,44 @@ def tune(
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     kw = _scenario(scenario, controller=controller, params=params)
     return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)
+
+
+def tune_rules(
+    plant: PlantLike,
+    *,
+    delay: Optional[float] = None,
+    **scenario: Unpack[TuneOptions],
+) -> List[Dict[str, Any]]:
+    """Every PI/PID tuning rule applied to ``plant``, as ``msp tune --rules``.
+
+    The rules are IMC-PID, SIMC, AMIGO (Åström & Hägglund (2004), with its set-point
+    weight ``b``) and the ultimate-cycle rules of :func:`controllers`' ``pid``/``pi``.
+
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process, as :func:`run` takes it.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+    **scenario
+        The keywords of :class:`TuneOptions` (``lambda_`` for the λ rules, ``ts``).
+
+    Returns
+    -------
+    list of dict
+        A row per rule: ``{"rule", "controller"}`` (``"pi"`` or ``"pid"``), ``"tuning"`` (the
+        controller's ``name``, ``params`` and ``tuning`` with ``b`` and ``c``), ``"stable"``,
+        ``"robustness"`` (``gm``, ``pm``, ``dm``, ``ms``, ... of the loop) and ``"error"`` (why a
+        rule gives no controller for this plant, else ``None``).
+
+    Examples
+    --------
+    >>> rows = msp.tune_rules("2*e^-3s/(4s+1)")
+    >>> amigo = next(r for r in rows if r["rule"] == "amigo" and r["controller"] == "pid")
+    >>> round(amigo["robustness"]["ms"], 2), amigo["tuning"]["tuning"]["b"]
+    (1.44, 0.0)
+    """
+    return list(_msp.tune_rules(_plant(plant, delay), **_scenario(scenario)))
 
 
 class _Scheme(Controller):

@@ -4,7 +4,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune"]
+__all__ = ["Controller", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "step", "sweep", "tune", "tune_rules"]
 __version__: str
 SCENARIO_FIELDS: List[str]
 SCENARIO_KEYWORDS: List[str]
@@ -32,6 +32,7 @@ def compare(
     plant: Union[str, Plant], controllers: Sequence[str], *, perturb: Any = None, **scenario: Any
 ) -> List[Dict[str, Any]]: ...
 def tune(plant: Union[str, Plant], *, uncertainty: Any = None, **scenario: Any) -> Dict[str, Any]: ...
+def tune_rules(plant: Union[str, Plant], **scenario: Any) -> List[Dict[str, Any]]: ...
 def controllers() -> List[Dict[str, Any]]: ...
 def autotune(
     plant: Union[str, Plant],
