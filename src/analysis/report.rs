@@ -557,5 +557,6 @@ fn bare_gain(sc: &crate::study::Scenario) -> Result<crate::study::Tuned, crate::
             td: 0.0,
         }),
         lambda_chosen: false,
+        target: None,
     })
 }

@@ -48,6 +48,8 @@ pub struct Tuned {
     /// Whether `lambda` was chosen by the tuning rule (the parameters have
     /// one, and neither `--lambda` nor `--set lambda=` gave it).
     pub lambda_chosen: bool,
+    /// The design target `λ` was solved for, and what the loop reaches.
+    pub target: Option<super::TargetReport>,
 }
 
 /// A tuned and built controller with its sample period.
@@ -184,11 +186,36 @@ impl Scenario {
         let lambda_chosen = self.lambda.is_none()
             && params.lambda().is_some()
             && !overrides.iter().any(|(k, _)| k == "lambda");
-        Ok(Tuned {
+        let tuned = Tuned {
             scheme,
             params,
             lambda_chosen,
-        })
+            target: None,
+        };
+        match self.target {
+            // a target fixes λ where the user left it to the rule (a single
+            // loop: a cascade's figures are its outer loop's, not solved here)
+            Some(target) if lambda_chosen && inner.is_none() => {
+                let (lambda, report) = self.solve_target(target, model, &tuned)?;
+                let mut sc = self.clone();
+                sc.target = None;
+                sc.lambda = Some(lambda);
+                let mut t = sc.tune_for(model, None)?;
+                t.lambda_chosen = true;
+                t.target = Some(report);
+                Ok(t)
+            }
+            Some(_) if inner.is_some() => Err(RunError::Invalid(Error::Unsupported(
+                "a design target is for a single loop (not a cascade process)",
+            ))),
+            Some(_) if tuned.params.lambda().is_some() => Err(RunError::Invalid(Error::Unsupported(
+                "a design target solves lambda: give one or the other (no --lambda or --set lambda= with --target)",
+            ))),
+            Some(_) => Err(RunError::Invalid(Error::Unsupported(
+                "a design target solves the tuning's lambda, and this tuning has none (an ultimate-cycle or AMIGO rule, or parameters given): drop --rule, or the target",
+            ))),
+            _ => Ok(tuned),
+        }
     }
 
     /// [`Scenario::build_controller`] for a cascade process with the secondary

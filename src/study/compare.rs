@@ -74,7 +74,9 @@ pub fn compare(
         let t = one.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
         tuned.push((one, t));
     }
-    let target = if inner.is_none() {
+    // a design target given: each scheme solved for it (by `tune_for`);
+    // else equal robustness
+    let target = if inner.is_none() && base.target.is_none() {
         equal_robustness(&mut tuned, &nominal, &model)
     } else {
         None
@@ -110,6 +112,16 @@ pub fn compare(
                 crate::analysis::tuned_stability(&one, &t, &plant, &model, inner.as_ref())
                     .with_simulation(settled, out.duration);
             out.default_scenario = default;
+            if let Some(t) = &out.target {
+                out.notes.push(std::format!(
+                    "{}: tuned for the target {}: lambda = {} gives {} = {}",
+                    out.controller,
+                    t.target,
+                    crate::poly::fmt_num(crate::poly::round_sig(t.lambda, 4)),
+                    t.figure.name(),
+                    crate::poly::fmt_num(crate::poly::round_sig(t.achieved, 3))
+                ));
+            }
             if let (Some(ms), Some(l)) = (target, one.lambda.filter(|_| base.lambda.is_none())) {
                 let got = one
                     .margins_of_tuned(&t, &nominal, &model, 300)

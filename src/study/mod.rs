@@ -8,6 +8,7 @@ mod defaults;
 mod metrics;
 mod report;
 mod robustness;
+mod target;
 
 pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
@@ -17,6 +18,7 @@ pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
 pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
 pub use robustness::Robustness;
+pub use target::{Figure, Target, TargetReport};
 
 use std::string::String;
 use std::vec::Vec;
@@ -55,6 +57,9 @@ pub struct Scenario {
     pub lambda: Option<f64>,
     /// A named tuning rule (for `pid`: `imc`, `simc`, or a rule of Tables 3.2/3.3).
     pub rule: Option<String>,
+    /// A design target the tuning's `λ` is solved for (`ms=1.4`, `pm=60`,
+    /// `gm=3`, `dm=0.3θ`, `wc=0.2`), when `lambda` is not given.
+    pub target: Option<Target>,
     /// Parameter overrides, by the names in the report (`kp = 0.05`).
     pub set: std::collections::BTreeMap<String, f64>,
     /// Sample period (s); chosen from the plant when absent.
@@ -188,6 +193,9 @@ pub struct RunOutput {
     pub stability: crate::analysis::Stability,
     /// Whether the tuning's `lambda` was chosen automatically.
     pub lambda_chosen: bool,
+    /// The design target the tuning's `lambda` was solved for, and what the
+    /// loop reaches.
+    pub target: Option<TargetReport>,
     /// Controller name.
     pub controller: &'static str,
     /// Its parameters.
@@ -357,6 +365,7 @@ impl Scenario {
         "controller",
         "lambda",
         "rule",
+        "target",
         "set",
         "ts",
         "duration",
@@ -750,6 +759,7 @@ impl Scenario {
             duration,
             duration_chosen,
             lambda_chosen: tuned.lambda_chosen,
+            target: tuned.target.clone(),
             controller: scheme,
             params,
             result,

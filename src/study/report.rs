@@ -20,6 +20,10 @@ pub struct ControllerReport {
     /// How a PI/PID was tuned and what form it runs in (`null` for a
     /// scheme tuned by its source's own rule, which `source` names).
     pub tuning: Option<TuningReport>,
+    /// The design target `λ` was solved for and what the loop reaches
+    /// (`--target`; absent without one).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub target: Option<super::TargetReport>,
 }
 
 /// The tuning of a PI/PID scheme as a process engineer reads it: the rule
@@ -62,7 +66,14 @@ impl ControllerReport {
             name,
             params,
             tuning,
+            target: None,
         }
+    }
+
+    /// The same, with the design target its `λ` was solved for.
+    pub fn with_target(mut self, target: Option<super::TargetReport>) -> Self {
+        self.target = target;
+        self
     }
 }
 
@@ -194,7 +205,8 @@ impl RunOutput {
             .collect(),
             duration: self.duration,
             samples: self.result.t.len(),
-            controller: ControllerReport::new(self.controller, self.params.clone()),
+            controller: ControllerReport::new(self.controller, self.params.clone())
+                .with_target(self.target.clone()),
             float32: self.float32,
             metrics: self.metrics,
             metrics_delayed_reference: self.metrics_delayed_reference,
@@ -341,7 +353,8 @@ impl super::Scenario {
         Ok(TuneReport {
             plant: plant.to_string(),
             inner_plant: inner.as_ref().map(|(p, _)| p.to_string()),
-            controller: ControllerReport::new(tuned.scheme.name, tuned.params.clone()),
+            controller: ControllerReport::new(tuned.scheme.name, tuned.params.clone())
+                .with_target(tuned.target.clone()),
             source: tuned.scheme.source,
             chosen: if tuned.lambda_chosen {
                 std::vec!["lambda"]

@@ -46,6 +46,10 @@ pub(crate) struct DesignArgs {
     /// Tuning rule for `pid`/`pi`: imc, simc, amigo, or an ultimate-cycle rule (zn, zn-pi, ...; see `msp list`; `msp tune --rules` compares them).
     #[arg(long)]
     pub(crate) rule: Option<String>,
+    /// Design target the tuning's lambda is solved for on the exact analysis:
+    /// ms=1.4, pm=60 (deg), gm=3 (or 9.5dB), dm=0.3θ (of the dead time; or dm=2 s), wc=0.2 (rad/s).
+    #[arg(long, value_parser = str::parse::<msp::study::Target>)]
+    pub(crate) target: Option<msp::study::Target>,
     /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
     /// SCHEME.KEY=VALUE applies to one scheme only (for compare).
     #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]

@@ -450,3 +450,76 @@ fn margins_point_to_the_thesis_tables() {
     ]);
     assert!(j.get("published").is_none(), "{j}");
 }
+
+/// `--target` on tune, run and compare: the solved λ and the figure the
+/// loop reaches beside the target, in the text and the JSON; a target out
+/// of reach exits 2 naming the range and the schemes that reach it.
+#[test]
+fn design_targets_reach_every_command() {
+    let t = json_out(&[
+        "tune",
+        "--plant",
+        "2*e^-3s/(4s+1)",
+        "-c",
+        "pi",
+        "--target",
+        "pm=60",
+        "--json",
+    ]);
+    let target = &t["controller"]["target"];
+    assert_eq!(target["target"], "pm=60");
+    assert!(
+        (target["achieved"].as_f64().unwrap() - 60.0).abs() < 0.06,
+        "{t}"
+    );
+    assert!(
+        (t["robustness"]["pm"].as_f64().unwrap() - 60.0).abs() < 0.06,
+        "{t}"
+    );
+    msp()
+        .args([
+            "tune",
+            "--plant",
+            "2*e^-3s/(4s+1)",
+            "-c",
+            "pi",
+            "--target",
+            "ms=1.4",
+        ])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("target      ms=1.4: lambda = "));
+    let r = report(&[
+        "run",
+        "--plant",
+        "2*e^-3s/(4s+1)",
+        "-c",
+        "pi",
+        "--target",
+        "gm=3",
+    ]);
+    assert!(
+        (r["controller"]["target"]["achieved"].as_f64().unwrap() - 3.0).abs() < 3e-3,
+        "{r}"
+    );
+    msp()
+        .args([
+            "tune",
+            "--plant",
+            "0.2/s*e^-7.4s",
+            "-c",
+            "karan-dey",
+            "--target",
+            "ms=1.4",
+        ])
+        .assert()
+        .code(2)
+        .stderr(
+            predicate::str::contains("out of reach").and(predicate::str::contains("reached by:")),
+        );
+    msp()
+        .args(["tune", "--plant", "2*e^-3s/(4s+1)", "--target", "ms=0.5"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("Ms > 1"));
+}

@@ -128,6 +128,7 @@ const DESIGN: &[&str] = &[
     "model",
     "rule",
     "set",
+    "target",
     "ts",
 ];
 
@@ -144,7 +145,15 @@ pub(crate) enum Takes {
 }
 
 /// The scenario fields ``tune`` takes.
-pub(crate) const TUNE: &[&str] = &["inner_plant", "controller", "lambda", "rule", "set", "ts"];
+pub(crate) const TUNE: &[&str] = &[
+    "inner_plant",
+    "controller",
+    "lambda",
+    "rule",
+    "target",
+    "set",
+    "ts",
+];
 
 impl Takes {
     /// The Python keywords of the fields taken (the plant apart), in the
@@ -210,6 +219,10 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
         "controller" => sc.controller = Some(v.extract()?),
         "lambda" => sc.lambda = Some(v.extract()?),
         "rule" => sc.rule = Some(v.extract()?),
+        "target" => {
+            let t: String = v.extract()?;
+            sc.target = Some(t.parse().map_err(pyo3::exceptions::PyValueError::new_err)?);
+        }
         "set" => sc.set = v.extract()?,
         "ts" => sc.ts = Some(v.extract()?),
         "duration" => sc.duration = Some(v.extract()?),

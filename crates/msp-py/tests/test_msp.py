@@ -273,6 +273,18 @@ def test_tune_rules_is_the_cli_table_and_amigo_is_the_published_rule() -> None:
     assert math.isclose(res.controller["params"]["kp"], kp, rel_tol=1e-12)
 
 
+def test_design_target_is_met_and_reported() -> None:
+    t = msp.tune("2*e^-3s/(4s+1)", "pi", target="ms=1.4")
+    assert t["controller"]["target"]["target"] == "ms=1.4"
+    assert math.isclose(t["robustness"]["ms"], 1.4, rel_tol=1e-3)
+    res = msp.run("2*e^-3s/(4s+1)", "smith", target="pm=70")
+    assert math.isclose(res.controller["target"]["achieved"], 70.0, rel_tol=1e-3)
+    with pytest.raises(ValueError, match="out of reach"):
+        msp.tune("0.2/s*e^-7.4s", "karan-dey", target="ms=1.4")
+    with pytest.raises(ValueError, match="Ms > 1"):
+        msp.tune("2*e^-3s/(4s+1)", target="ms=0.9")
+
+
 def test_tune_reports_robustness_as_the_cli() -> None:
     t = msp.tune("0.2/s*e^-7.4s")
     assert t["controller"]["name"] == "karan-dey" and t["chosen"] == ["lambda"]

@@ -32,6 +32,7 @@ pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
                 scheme: msp::registry::find(run.controller).ok()?,
                 params: run.params.clone(),
                 lambda_chosen: run.lambda_chosen,
+                target: None,
             };
             let built = one.build_tuned(&tuned, &run.model, None).ok()?;
             msp::analysis::margins(

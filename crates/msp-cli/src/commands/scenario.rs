@@ -78,6 +78,9 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     if a.design.lambda.is_some() {
         sc.lambda = a.design.lambda;
     }
+    if a.design.target.is_some() {
+        sc.target = a.design.target;
+    }
     if a.design.rule.is_some() {
         sc.rule.clone_from(&a.design.rule);
     }

@@ -12,6 +12,7 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
         controller: a.controller.clone(),
         lambda: a.design.lambda,
         rule: a.design.rule.clone(),
+        target: a.design.target,
         set: a.design.set.iter().cloned().collect(),
         ts: a.ts,
         ..Scenario::default()
@@ -36,7 +37,9 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     }
     export::outln!("controller  {}  [{}]", r.controller.name, r.source)?;
     for (k, v) in r.controller.params.iter() {
-        let note = if k == "lambda" && r.chosen.contains(&"lambda") {
+        let note = if k == "lambda" && r.controller.target.is_some() {
+            "  [solved for the target]"
+        } else if k == "lambda" && r.chosen.contains(&"lambda") {
             "  [chosen from the plant; --lambda to change]"
         } else {
             ""
@@ -45,6 +48,9 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     }
     if let Some(t) = &r.controller.tuning {
         export::print(export::text::tuning_line(t).as_bytes())?;
+    }
+    if let Some(t) = &r.controller.target {
+        export::print(export::text::target_line(t).as_bytes())?;
     }
     export::print(export::text::design_block(&r.design).as_bytes())?;
     if let Some(m) = &r.robustness {

@@ -59,7 +59,9 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         "controller  {}: {}{}\n",
         out.controller,
         params,
-        if out.lambda_chosen {
+        if out.target.is_some() {
+            "  [lambda solved for the target]"
+        } else if out.lambda_chosen {
             "  [lambda chosen from the plant; --lambda to change]"
         } else {
             ""
@@ -67,6 +69,9 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
     ));
     if let Some(t) = msp::study::ControllerReport::new(out.controller, out.params.clone()).tuning {
         s.push_str(&tuning_line(&t));
+    }
+    if let Some(t) = &out.target {
+        s.push_str(&target_line(t));
     }
     s.push_str(&design_block(&out.design));
     s.push_str(&format!(
@@ -556,6 +561,21 @@ pub(crate) fn step_text(s: &msp::analysis::OpenLoopStep) -> String {
 }
 
 /// `tuning      rule zn (Ku 2.26, Tu 3.1 s); ISA form, N = 10, b = 1, c = 1`.
+/// The design target and what the loop reaches: `target      ms=1.4: lambda = 6.1 gives ms = 1.4`.
+pub(crate) fn target_line(t: &msp::study::TargetReport) -> String {
+    let mut s = format!(
+        "target      {}: lambda = {} gives {} = {}\n",
+        t.target,
+        fmt_sig(t.lambda),
+        t.figure.name(),
+        fmt_sig(t.achieved)
+    );
+    if let Some(b) = &t.branch {
+        s.push_str(&format!("            {b}\n"));
+    }
+    s
+}
+
 pub(crate) fn tuning_line(t: &msp::study::TuningReport) -> String {
     let ultimate = match (t.ku, t.tu) {
         (Some(ku), Some(tu)) => format!(" (Ku {}, Tu {} s)", fmt_sig(ku), fmt_sig(tu)),

@@ -38,6 +38,7 @@ class TuneOptions(TypedDict, total=False):
     ts: float
     lambda_: float
     rule: str
+    target: str
 
 
 class DesignOptions(TuneOptions, TypedDict, total=False):
@@ -341,7 +342,14 @@ def run(
     lambda_ : float, optional
         The closed-loop time constant of the tuning rule (s).
     rule : str, optional
-        A named tuning rule for ``pid``/``pi`` (``"imc"``, ``"simc"``, ``"zn"``, ...).
+        A named tuning rule for ``pid``/``pi`` (``"imc"``, ``"simc"``, ``"amigo"``, ``"zn"``, ...).
+    target : str, optional
+        A design target the tuning's λ is solved for on the exact analysis, as MATLAB's
+        ``pidtune`` options: ``"ms=1.4"``, ``"pm=60"`` (degrees), ``"gm=3"`` (or ``"gm=9.5dB"``),
+        ``"dm=0.3θ"`` (a fraction of the dead time; ``"dm=2"`` in seconds), ``"wc=0.2"``
+        (rad/s). The report's ``controller["target"]`` gives the λ and the figure reached; an
+        unreachable target raises ``ValueError`` naming this scheme's range and the schemes
+        that reach it.
     substeps : int, optional
         Plant outputs per controller period in the signals (smooth intersample curves).
     float32 : bool, optional
