@@ -156,11 +156,97 @@ crate::params::figures! {
     }
 }
 
+/// The thresholds of [`step_info_with`] (MATLAB's `SettlingTimeThreshold`
+/// and `RiseTimeLimits`, python-control's names).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepInfoOptions {
+    /// The settling band, a fraction of the step (default 0.02).
+    pub settling_threshold: f64,
+    /// The rise time's lower and upper fractions of the step (default 0.1, 0.9).
+    pub rise_limits: (f64, f64),
+}
+
+impl Default for StepInfoOptions {
+    fn default() -> Self {
+        StepInfoOptions {
+            settling_threshold: 0.02,
+            rise_limits: (0.1, 0.9),
+        }
+    }
+}
+
+/// Step information of recorded data (MATLAB's `stepinfo(y, t, yfinal,
+/// yinit)`, python-control's `step_info(y, T, yfinal)`): the step from
+/// `y_init` (default 0) to `y_final` (default the last sample), applied at
+/// `t = 0` (data that start later: at the first sample), times measured
+/// from it. The data are checked: as many
+/// times as values, at least two, finite, times strictly increasing; the
+/// thresholds within (0, 1), the rise limits increasing.
+#[cfg(feature = "std")]
+pub fn step_info_of_data(
+    t: &[f64],
+    y: &[f64],
+    y_init: Option<f64>,
+    y_final: Option<f64>,
+    opts: StepInfoOptions,
+) -> Result<StepInfo, crate::Error> {
+    use crate::Error;
+    if t.len() != y.len() {
+        return Err(Error::Unsupported("t and y must have the same length"));
+    }
+    if t.len() < 2 {
+        return Err(Error::OutOfRange("at least two samples"));
+    }
+    if t.iter().chain(y).any(|v| !v.is_finite()) {
+        return Err(Error::NonFinite("t and y"));
+    }
+    if t.windows(2).any(|w| matches!(w, [a, b] if b <= a)) {
+        return Err(Error::Unsupported("the times must increase strictly"));
+    }
+    let (lo, hi) = opts.rise_limits;
+    let in01 = |v: f64| v > 0.0 && v < 1.0;
+    if !(in01(opts.settling_threshold) && in01(lo) && in01(hi) && lo < hi) {
+        return Err(Error::OutOfRange(
+            "settling_threshold in (0, 1), rise_limits 0 < low < high < 1",
+        ));
+    }
+    let y0 = y_init.unwrap_or(0.0);
+    let yf = match y_final {
+        Some(v) => v,
+        None => y.last().copied().unwrap_or(f64::NAN),
+    };
+    if !(y0.is_finite() && yf.is_finite()) {
+        return Err(Error::NonFinite("yinit, yfinal"));
+    }
+    // the step at t = 0 (MATLAB's convention, and msp's own step data, whose
+    // first row is the rest before it), or at the first sample of data
+    // that start later
+    let origin = t.first().copied().unwrap_or(0.0).max(0.0);
+    Ok(step_info_with(t, y, y0, yf, origin, opts))
+}
+
 /// Step information of `y(t)` for a step from `y0` to `y_final`; times are
 /// measured from `origin`. Crossings are located by linear interpolation
 /// between samples.
 #[cfg(feature = "std")]
 pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64, origin: f64) -> StepInfo {
+    step_info_with(t, y, y0, y_final, origin, StepInfoOptions::default())
+}
+
+/// [`step_info`] with other thresholds: the rise time between the fractions
+/// `opts.rise_limits` of the step, the settling time into the band of
+/// `opts.settling_threshold` of the step, `settling_min`/`settling_max` once
+/// the response has reached the upper rise limit.
+#[cfg(feature = "std")]
+pub fn step_info_with(
+    t: &[f64],
+    y: &[f64],
+    y0: f64,
+    y_final: f64,
+    origin: f64,
+    opts: StepInfoOptions,
+) -> StepInfo {
+    let (r_lo, r_hi) = opts.rise_limits;
     let nan = f64::NAN;
     let mut out = StepInfo {
         rise_time: nan,
@@ -203,11 +289,11 @@ pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64, origin: f64) -> St
                 tp + (level - zp) / (z - zp) * (ti - tp)
             }
         };
-        if t10.is_none() && z >= 0.1 {
-            t10 = Some(cross(0.1));
+        if t10.is_none() && z >= r_lo {
+            t10 = Some(cross(r_lo));
         }
-        if t90.is_none() && z >= 0.9 {
-            t90 = Some(cross(0.9));
+        if t90.is_none() && z >= r_hi {
+            t90 = Some(cross(r_hi));
         }
         if t90.is_some() {
             smin = smin.min(*yi);
@@ -228,8 +314,8 @@ pub fn step_info(t: &[f64], y: &[f64], y0: f64, y_final: f64, origin: f64) -> St
         out.settling_min = smin;
         out.settling_max = smax;
     }
-    // settling: the last sample outside the 2 % band, interpolated to the band edge
-    let band = 0.02;
+    // settling: the last sample outside the band, interpolated to the band edge
+    let band = opts.settling_threshold;
     let z = |i: usize| y.get(i).map_or(nan, |v| (v - y0) * inv);
     out.settling_time = match (0..n).rev().find(|i| (z(*i) - 1.0).abs() > band) {
         None => 0.0,

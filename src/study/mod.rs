@@ -5,6 +5,7 @@
 mod build;
 mod compare;
 mod defaults;
+mod forced;
 mod metrics;
 mod report;
 mod robustness;
@@ -15,6 +16,7 @@ pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
 use build::{BYTES_PER_ROW, BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
+pub use forced::SampledInput;
 pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
 pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
 pub use robustness::Robustness;

@@ -33,6 +33,8 @@ pub(crate) enum Cmd {
     Autotune(Box<AutotuneArgs>),
     /// Identify a model from recorded step-test data (CSV with columns t, u, y).
     Identify(Box<IdentifyArgs>),
+    /// Step-response characteristics of recorded data (MATLAB's stepinfo): CSV with columns t, y.
+    Stepinfo(Box<StepinfoArgs>),
     /// List the controllers and the tuning rules.
     List,
 }
@@ -141,6 +143,11 @@ pub(crate) struct RunArgs {
     /// Controller name (see `msp list`); default by plant kind.
     #[arg(long, short = 'c')]
     pub(crate) controller: Option<String>,
+    /// Forced response: a CSV of the set point and loads, sampled (columns `t`, `r`, and
+    /// optionally `d` at the plant input and `d_out` at its output; the times uniform from 0,
+    /// their step the controller's period), held between samples.
+    #[arg(long, value_name = "FILE.csv")]
+    pub(crate) input: Option<PathBuf>,
     #[command(flatten)]
     pub(crate) files: SimulationFiles,
     /// No summary on standard error.
@@ -357,6 +364,47 @@ pub(crate) struct IdentifyArgs {
     /// Print JSON.
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct StepinfoArgs {
+    /// CSV with a time and an output column: a step response, the step at the first sample.
+    #[arg(long)]
+    pub(crate) data: PathBuf,
+    /// The time column (default: `t`, or `time`).
+    #[arg(long)]
+    pub(crate) time: Option<String>,
+    /// The output column (default: `y`).
+    #[arg(long, default_value = "y")]
+    pub(crate) output: String,
+    /// The final value (default: the last sample), MATLAB's yfinal.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) yfinal: Option<f64>,
+    /// The value before the step (default 0), MATLAB's yinit.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) yinit: Option<f64>,
+    /// The settling band, a fraction of the step.
+    #[arg(long, default_value_t = 0.02)]
+    pub(crate) settling_threshold: f64,
+    /// The rise time's limits, fractions of the step: LOW,HIGH.
+    #[arg(long, default_value = "0.1,0.9", value_parser = parse_pair)]
+    pub(crate) rise_limits: (f64, f64),
+    /// Print JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+/// `LOW,HIGH`.
+pub(crate) fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected LOW,HIGH, got '{s}'"))?;
+    let num = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("'{}' is not a number", v.trim()))
+    };
+    Ok((num(a)?, num(b)?))
 }
 
 #[derive(Debug, Args)]

@@ -25,28 +25,89 @@ pub(crate) fn read_step_data<R: Read>(
     input: &str,
     output: &str,
 ) -> Result<StepData, String> {
+    let mut cols = read_columns(
+        src,
+        name,
+        &[
+            Column::time(time),
+            Column::named("--input", input),
+            Column::named("--output", output),
+        ],
+    )?
+    .into_iter();
+    Ok(StepData {
+        t: cols.next().unwrap_or_default(),
+        u: cols.next().unwrap_or_default(),
+        y: cols.next().unwrap_or_default(),
+    })
+}
+
+/// A column asked for by name: the flag that names it, the header names
+/// accepted (the first is the one an error names), and whether it may be
+/// absent (then it is read as empty).
+pub(crate) struct Column<'a> {
+    pub(crate) flag: &'a str,
+    pub(crate) names: Vec<&'a str>,
+    pub(crate) optional: bool,
+}
+
+impl<'a> Column<'a> {
+    /// The time column: `col`, or `t` or `time`.
+    pub(crate) fn time(col: Option<&'a str>) -> Self {
+        Column {
+            flag: "--time",
+            names: col.map_or_else(|| vec!["t", "time"], |c| vec![c]),
+            optional: false,
+        }
+    }
+    /// A required column of the header `col`, named by `flag`.
+    pub(crate) fn named(flag: &'a str, col: &'a str) -> Self {
+        Column {
+            flag,
+            names: vec![col],
+            optional: false,
+        }
+    }
+    /// The same, read as empty when the file has none.
+    pub(crate) fn optional(mut self) -> Self {
+        self.optional = true;
+        self
+    }
+}
+
+/// Reads the columns `want` by their header names; every cell of them must
+/// be a finite number (the error names the row and the column).
+pub(crate) fn read_columns<R: Read>(
+    src: R,
+    name: &str,
+    want: &[Column<'_>],
+) -> Result<Vec<Vec<f64>>, String> {
     let mut r = csv::Reader::from_reader(src);
     let head = r.headers().map_err(|e| format!("{name}: {e}"))?.clone();
     let find = |col: &str| head.iter().position(|h| h.trim() == col);
-    let missing = |flag: &str, col: &str| {
-        format!(
-            "{name}: no column '{col}' ({flag} names it; the columns are: {})",
-            head.iter().map(str::trim).collect::<Vec<_>>().join(", ")
-        )
-    };
-    let ct = match time {
-        Some(col) => find(col).ok_or_else(|| missing("--time", col))?,
-        None => find("t")
-            .or_else(|| find("time"))
-            .ok_or_else(|| missing("--time", "t"))?,
-    };
-    let cu = find(input).ok_or_else(|| missing("--input", input))?;
-    let cy = find(output).ok_or_else(|| missing("--output", output))?;
-    let mut data = StepData::default();
+    let mut at = Vec::with_capacity(want.len());
+    for c in want {
+        let pos = c.names.iter().find_map(|n| find(n));
+        match (pos, c.optional) {
+            (Some(p), _) => at.push(Some(p)),
+            (None, true) => at.push(None),
+            (None, false) => {
+                return Err(format!(
+                    "{name}: no column '{}' ({} names it; the columns are: {})",
+                    c.names.first().copied().unwrap_or(""),
+                    c.flag,
+                    head.iter().map(str::trim).collect::<Vec<_>>().join(", ")
+                ))
+            }
+        }
+    }
+    let mut out: Vec<Vec<f64>> = vec![Vec::new(); want.len()];
     for (line, rec) in r.records().enumerate() {
         let rec = rec.map_err(|e| format!("{name}: {e}"))?;
-        let num = |c: usize| -> Result<f64, String> {
-            rec.get(c)
+        for (col, pos) in out.iter_mut().zip(&at) {
+            let Some(c) = *pos else { continue };
+            let v = rec
+                .get(c)
                 .and_then(|v| v.trim().parse::<f64>().ok())
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| {
@@ -55,13 +116,11 @@ pub(crate) fn read_step_data<R: Read>(
                         line + 2,
                         c + 1
                     )
-                })
-        };
-        data.t.push(num(ct)?);
-        data.u.push(num(cu)?);
-        data.y.push(num(cy)?);
+                })?;
+            col.push(v);
+        }
     }
-    Ok(data)
+    Ok(out)
 }
 
 /// Merges the CSVs of a sweep's shards (`--shard I/N`) into one, rows in

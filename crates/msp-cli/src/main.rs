@@ -30,6 +30,7 @@ fn main() -> ExitCode {
         Cmd::Sweep(a) => c::sweep::sweep(a),
         Cmd::Autotune(a) => c::autotune::autotune(a),
         Cmd::Identify(a) => c::identify::identify(a),
+        Cmd::Stepinfo(a) => c::identify::stepinfo(a),
         Cmd::List => c::list::list(),
     };
     match res {

@@ -1539,3 +1539,97 @@ fn bad_events_and_actuators_are_named() {
             .stderr(predicates::str::contains(needle));
     }
 }
+
+/// `msp stepinfo` reads `msp step -o`'s own CSV (the rest row before the
+/// step at t = 0 included) and gives the figures `msp step` prints for the
+/// same response; its errors name the file and the column.
+#[test]
+fn stepinfo_of_step_data_is_steps_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("st.csv");
+    let plant = "(8s^2+18s+32)/(s^3+6s^2+14s+24)";
+    let step = json_of(
+        msp()
+            .args([
+                "step",
+                "--plant",
+                plant,
+                "--ts",
+                "1e-3",
+                "--duration",
+                "10",
+                "--json",
+                "-o",
+            ])
+            .arg(&csv),
+    );
+    let info = json_of(
+        msp()
+            .args([
+                "stepinfo",
+                "--yfinal",
+                "1.3333333333333333",
+                "--json",
+                "--data",
+            ])
+            .arg(&csv),
+    );
+    for key in [
+        "rise_time",
+        "settling_time",
+        "overshoot",
+        "peak",
+        "peak_time",
+    ] {
+        let (a, b) = (info[key].as_f64().unwrap(), step[key].as_f64().unwrap());
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+            "{key}: {a} vs {b}"
+        );
+    }
+    msp()
+        .args(["stepinfo", "--output", "q", "--data"])
+        .arg(&csv)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("no column 'q'"));
+    msp()
+        .args(["stepinfo", "--rise-limits", "0.9,0.1", "--data"])
+        .arg(&csv)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("rise_limits"));
+}
+
+/// `msp run --input FILE.csv` (columns t, r, d, d_out) writes the CSV that
+/// the equivalent `--setpoint`/`--disturbance` steps write, byte for byte;
+/// non-uniform times are refused naming the sample.
+#[test]
+fn run_input_is_the_run_with_the_equivalent_steps() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    let mut text = String::from("t,r,d,d_out\n");
+    for k in 0..=200 {
+        let t = k as f64 * 0.5;
+        let d = if t >= 50.0 { -0.1 } else { 0.0 };
+        let d_out = if t >= 80.0 { 0.05 } else { 0.0 };
+        text.push_str(&format!("{t},1,{d},{d_out}\n"));
+    }
+    std::fs::write(&input, &text).unwrap();
+    let a = stdout_of(
+        msp()
+            .args(words("run --plant 2e^-3s/(4s+1) -c pi -q -o - --input"))
+            .arg(&input),
+    );
+    let b = stdout_of(msp().args(words(
+        "run --plant 2e^-3s/(4s+1) -c pi -q -o - --setpoint 1@0 --disturbance input:-0.1@50 --disturbance output:0.05@80 --ts 0.5 --duration 100",
+    )));
+    assert_eq!(a, b);
+    std::fs::write(&input, "t,r\n0,1\n0.5,1\n1.2,1\n1.5,1\n").unwrap();
+    msp()
+        .args(words("run --plant 2e^-3s/(4s+1) -q -o - --input"))
+        .arg(&input)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("sample 3"));
+}

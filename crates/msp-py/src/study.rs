@@ -24,6 +24,37 @@ pub(crate) fn run<'py>(
     output_dict(py, out)
 }
 
+/// The forced response (see ``msp.simulate``): ``run`` with the set point
+/// and loads given as sampled arrays.
+#[pyfunction]
+#[pyo3(signature = (plant, t, r, d, d_out, **scenario))]
+pub(crate) fn simulate<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    t: PyReadonlyArray1<'py, f64>,
+    r: PyReadonlyArray1<'py, f64>,
+    d: Option<PyReadonlyArray1<'py, f64>>,
+    d_out: Option<PyReadonlyArray1<'py, f64>>,
+    scenario: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let sc = scenario_from(plant, scenario, Takes::All)?;
+    let input = msp::study::SampledInput {
+        t: t.as_slice()?,
+        r: r.as_slice()?,
+        d: match &d {
+            Some(a) => a.as_slice()?,
+            None => &[],
+        },
+        d_out: match &d_out {
+            Some(a) => a.as_slice()?,
+            None => &[],
+        },
+    };
+    let sc = sc.with_input(input).map_err(value_err)?;
+    let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
+    output_dict(py, out)
+}
+
 /// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.
 #[pyfunction]
 #[pyo3(signature = (plant, controllers, *, perturb=None, **scenario))]
@@ -230,6 +261,27 @@ pub(crate) fn identify<'py>(
         .allow_threads(|| msp::ident::identify_step(kind, &t, &u, &y))
         .map_err(value_err)?;
     fit_dict(py, &fit)
+}
+
+/// MATLAB's ``stepinfo`` of recorded data (see ``msp.step_info``).
+#[pyfunction]
+#[pyo3(signature = (t, y, yinit, yfinal, settling_threshold, rise_limits))]
+pub(crate) fn step_info<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    yinit: Option<f64>,
+    yfinal: Option<f64>,
+    settling_threshold: f64,
+    rise_limits: (f64, f64),
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = msp::metrics::StepInfoOptions {
+        settling_threshold,
+        rise_limits,
+    };
+    let s = msp::metrics::step_info_of_data(t.as_slice()?, y.as_slice()?, yinit, yfinal, opts)
+        .map_err(value_err)?;
+    Ok(pythonize::pythonize(py, &s)?.downcast_into::<PyDict>()?)
 }
 
 /// Tuned parameters of a controller for a plant: ``{"name": ..., "params": {...}}``,

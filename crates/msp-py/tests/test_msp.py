@@ -285,6 +285,51 @@ def test_design_target_is_met_and_reported() -> None:
         msp.tune("2*e^-3s/(4s+1)", target="ms=0.9")
 
 
+def test_step_info_of_data_is_python_controls_and_the_clis(tmp_path: pathlib.Path) -> None:
+    import control
+
+    h = control.tf([8, 18, 32], [1, 6, 14, 24])  # MATLAB's documented stepinfo example
+    t = np.linspace(0.0, 10.0, 100001)
+    resp = control.step_response(h, t)
+    y = np.asarray(resp.outputs).ravel()
+    ours = msp.step_info(t, y, yfinal=32 / 24)
+    peer = control.step_info(y, t, yfinal=32 / 24)
+    # python-control takes the samples themselves, msp interpolates the crossings: within a step
+    for key, name in (("rise_time", "RiseTime"), ("settling_time", "SettlingTime"),
+                      ("peak", "Peak"), ("peak_time", "PeakTime"), ("overshoot", "Overshoot"),
+                      ("settling_min", "SettlingMin"), ("settling_max", "SettlingMax")):
+        assert math.isclose(ours[key], peer[name], abs_tol=2e-4), (key, ours[key], peer[name])
+    assert math.isclose(ours["rise_time"], 0.2087, abs_tol=6e-5)   # MATLAB's documented figures
+    assert math.isclose(ours["settling_time"], 3.4972, abs_tol=6e-5)
+    tight = msp.step_info(t, y, yfinal=32 / 24, settling_threshold=0.005)
+    assert math.isclose(tight["settling_time"], 4.8896, abs_tol=2e-4)
+    csv = tmp_path / "step.csv"
+    np.savetxt(csv, np.column_stack([t, y]), delimiter=",", header="t,y", comments="")
+    cli = json.loads(subprocess.run([MSP_BIN, "stepinfo", "--data", str(csv), "--yfinal", str(32 / 24),
+                                     "--json"], check=True, capture_output=True, text=True).stdout)
+    assert cli == pytest.approx(ours, rel=1e-12)
+    with pytest.raises(ValueError):
+        msp.step_info([0.0, 1.0], [0.0])
+    with pytest.raises(ValueError):
+        msp.step_info(t, y, rise_limits=(0.9, 0.1))
+
+
+def test_simulate_is_run_with_the_equivalent_steps() -> None:
+    t = np.arange(0.0, 200.0 + 1e-9, 0.5)
+    r = np.where(t >= 20.0, 1.0, 0.0)
+    d = np.where(t >= 120.0, -0.1, 0.0)
+    for plant, controller in (("2e^-3s/(4s+1)", "smith"), ("0.2/s*e^-4s", "karan-dey")):
+        res = msp.simulate(plant, controller, t=t, r=r, d=d, events="150:manual=0.2")
+        same = msp.run(plant, controller, setpoint=["0@0", "1@20"], disturbance="input:-0.1@120",
+                       ts=0.5, duration=200.0, events="150:manual=0.2")
+        assert np.array_equal(res.y, same.y) and np.array_equal(res.u, same.u)
+        assert np.array_equal(res.r, r)
+    with pytest.raises(ValueError, match="uniform"):
+        msp.simulate("2e^-3s/(4s+1)", t=np.array([0.0, 0.5, 1.2]), r=np.ones(3))
+    with pytest.raises(ValueError, match="same length"):
+        msp.simulate("2e^-3s/(4s+1)", t=t, r=r[:-1])
+
+
 def test_tune_reports_robustness_as_the_cli() -> None:
     t = msp.tune("0.2/s*e^-7.4s")
     assert t["controller"]["name"] == "karan-dey" and t["chosen"] == ["lambda"]

@@ -10,6 +10,9 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);
     }
+    if let Some(path) = &a.input {
+        sc = with_input(sc, path)?;
+    }
     // every output path is checked before the run
     let planned = super::plan(&a.files)?;
     let out = export::busy("simulating", a.quiet, || sc.run())?;
@@ -44,4 +47,35 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// The scenario driven by the sampled set point and loads of `path`
+/// (`--input`): columns `t` (or `time`), `r`, and optionally `d`, `d_out`.
+fn with_input(
+    sc: msp::study::Scenario,
+    path: &std::path::Path,
+) -> Result<msp::study::Scenario, CliError> {
+    use crate::data::{read_columns, Column};
+    let name = path.display().to_string();
+    let file = crate::input::open(path, &name, crate::input::CSV_CAP)?;
+    let cols = read_columns(
+        std::io::BufReader::new(file),
+        &name,
+        &[
+            Column::time(None),
+            Column::named("--input", "r"),
+            Column::named("--input", "d").optional(),
+            Column::named("--input", "d_out").optional(),
+        ],
+    )
+    .map_err(CliError::Input)?;
+    let col = |i: usize| cols.get(i).map_or(&[][..], Vec::as_slice);
+    let input = msp::study::SampledInput {
+        t: col(0),
+        r: col(1),
+        d: col(2),
+        d_out: col(3),
+    };
+    sc.with_input(input)
+        .map_err(|e| CliError::Input(format!("{name}: {e}")))
 }

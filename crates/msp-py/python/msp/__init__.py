@@ -102,7 +102,9 @@ __all__ = [
     "margins",
     "parse_plant",
     "run",
+    "simulate",
     "step",
+    "step_info",
     "sweep",
     "tune",
     "tune_rules",
@@ -782,6 +784,117 @@ def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:
     """
     arr = [np.ascontiguousarray(np.asarray(v, dtype=np.float64)) for v in (t, u, y)]
     return _msp.identify(arr[0], arr[1], arr[2], model)
+
+
+def simulate(
+    plant: PlantLike,
+    controller: Optional[str] = None,
+    params: Optional[Mapping[str, float]] = None,
+    *,
+    t: Any,
+    r: Any,
+    d: Any = None,
+    d_out: Any = None,
+    delay: Optional[float] = None,
+    **scenario: Unpack[RunOptions],
+) -> "Result":
+    """The forced response: :func:`run` with the set point and the loads as sampled arrays
+    (python-control's ``forced_response``, MATLAB's ``lsim``), as ``msp run --input FILE.csv``.
+
+    Parameters
+    ----------
+    plant, controller, params, delay
+        As :func:`run`.
+    t : array_like
+        Times, uniform from 0: their step is the controller's period ``ts`` (a ``ts`` given must
+        be it) and their end the duration.
+    r : array_like
+        The set point at each time, held until the next.
+    d, d_out : array_like, optional
+        Loads at the plant input and at its output at each time.
+    **scenario
+        The keywords of :class:`RunOptions` but ``setpoint`` and ``disturbance`` (the arrays
+        replace them): operator ``events``, ``noise``, the actuator and the rest apply.
+
+    Returns
+    -------
+    Result
+        As :func:`run`: each change of ``r`` is a set-point step and each change of ``d`` a load
+        step, so the result is the run with those steps, to the bit.
+
+    Raises
+    ------
+    ValueError
+        Arrays of different lengths, non-finite values, times that are not uniform from 0, a
+        ``ts`` that is not their step, or ``setpoint``/``disturbance`` given as well.
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 100.0 + 1e-9, 0.5)
+    >>> res = msp.simulate("2e^-3s/(4s+1)", "pi", t=t, r=np.ones_like(t), d=np.where(t >= 50, -0.1, 0.0))
+    >>> same = msp.run("2e^-3s/(4s+1)", "pi", setpoint="1@0", disturbance="input:-0.1@50", ts=0.5,
+    ...                duration=100.0)
+    >>> bool(np.array_equal(res.y, same.y))
+    True
+    """
+    arrays = [None if v is None else np.ascontiguousarray(np.asarray(v, dtype=np.float64))
+              for v in (t, r, d, d_out)]
+    kw = _scenario(scenario, controller=controller, params=params)
+    return Result(_msp.simulate(_plant(plant, delay), arrays[0], arrays[1], arrays[2], arrays[3], **kw))
+
+
+def step_info(
+    t: Any,
+    y: Any,
+    *,
+    yfinal: Optional[float] = None,
+    yinit: Optional[float] = None,
+    settling_threshold: float = 0.02,
+    rise_limits: Tuple[float, float] = (0.1, 0.9),
+) -> Dict[str, float]:
+    """Step-response characteristics of recorded data, as MATLAB's ``stepinfo(y, t, yfinal, yinit)``
+    and ``msp stepinfo``.
+
+    Parameters
+    ----------
+    t, y : array_like
+        Times (strictly increasing) and the response. The step is at ``t = 0`` (data that start
+        later: at the first sample); times are measured from it.
+    yfinal : float, optional
+        The final value; by default the last sample (MATLAB's and python-control's convention).
+    yinit : float, optional
+        The value before the step; default 0.
+    settling_threshold : float, optional
+        The settling band as a fraction of the step (MATLAB's ``SettlingTimeThreshold``).
+    rise_limits : (float, float), optional
+        The rise time's fractions of the step (``RiseTimeLimits``).
+
+    Returns
+    -------
+    dict
+        ``rise_time``, ``settling_time``, ``settling_min``, ``settling_max``, ``overshoot``,
+        ``undershoot`` (percent of the step), ``peak``, ``peak_time``: the keys of
+        :func:`step`'s ``info``; crossings interpolated linearly between samples, NaN where a
+        figure does not exist (a response that never rises).
+
+    Raises
+    ------
+    ValueError
+        Arrays of different lengths, fewer than two samples, non-finite values, times that do
+        not increase, or thresholds outside (0, 1).
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 20.0, 20001)
+    >>> info = msp.step_info(t, 1.0 - np.exp(-t / 2.0), yfinal=1.0)
+    >>> round(info["rise_time"], 4), round(2.0 * float(np.log(9.0)), 4)
+    (4.3944, 4.3944)
+    """
+    arr = [np.ascontiguousarray(np.asarray(v, dtype=np.float64)) for v in (t, y)]
+    lo, hi = rise_limits
+    return dict(_msp.step_info(arr[0], arr[1], None if yinit is None else float(yinit),
+                               None if yfinal is None else float(yfinal), float(settling_threshold),
+                               (float(lo), float(hi))))
 
 
 def tune(
