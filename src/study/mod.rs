@@ -10,6 +10,7 @@ mod metrics;
 mod report;
 mod robustness;
 mod target;
+mod tradeoff;
 
 pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
@@ -21,6 +22,7 @@ pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
 pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
 pub use robustness::Robustness;
 pub use target::{Figure, Target, TargetReport};
+pub use tradeoff::{tradeoff, tradeoff_factors, Tradeoff, TradeoffPoint};
 
 use std::string::String;
 use std::vec::Vec;

@@ -35,6 +35,8 @@ pub(crate) enum Cmd {
     Identify(Box<IdentifyArgs>),
     /// Step-response characteristics of recorded data (MATLAB's stepinfo): CSV with columns t, y.
     Stepinfo(Box<StepinfoArgs>),
+    /// Robustness against performance for every scheme that applies to the plant, lambda swept.
+    Tradeoff(Box<TradeoffArgs>),
     /// List the controllers and the tuning rules.
     List,
 }
@@ -364,6 +366,34 @@ pub(crate) struct IdentifyArgs {
     /// Print JSON.
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct TradeoffArgs {
+    /// Plant transfer function.
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) plant: TransferFunction,
+    /// The controllers' model (default: the plant).
+    #[arg(long, short = 'm', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
+    pub(crate) model: Option<TransferFunction>,
+    /// The schemes, comma separated (default: every single-loop scheme for the plant tuned by lambda).
+    #[arg(long, short = 'c', value_delimiter = ',')]
+    pub(crate) controllers: Vec<String>,
+    /// Sample period (s); chosen from the plant when absent.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) ts: Option<f64>,
+    /// The table as CSV (`-` for standard output).
+    #[arg(long, short = 'o')]
+    pub(crate) output: Option<PathBuf>,
+    /// The picture: Ms against IAE (load and set point), a curve per scheme, its own tuning marked.
+    #[arg(long)]
+    pub(crate) plot: Option<PathBuf>,
+    /// Print JSON.
+    #[arg(long)]
+    pub(crate) json: bool,
+    /// No progress on a terminal.
+    #[arg(long, short = 'q')]
+    pub(crate) quiet: bool,
 }
 
 #[derive(Debug, Args)]

@@ -31,6 +31,7 @@ fn main() -> ExitCode {
         Cmd::Autotune(a) => c::autotune::autotune(a),
         Cmd::Identify(a) => c::identify::identify(a),
         Cmd::Stepinfo(a) => c::identify::stepinfo(a),
+        Cmd::Tradeoff(a) => c::tradeoff::tradeoff(a),
         Cmd::List => c::list::list(),
     };
     match res {

@@ -1633,3 +1633,34 @@ fn run_input_is_the_run_with_the_equivalent_steps() {
         .code(2)
         .stderr(predicate::str::contains("sample 3"));
 }
+
+/// `msp tradeoff`: the table (text, CSV, JSON) and the picture, a curve and
+/// a ringed own tuning per scheme.
+#[test]
+fn tradeoff_writes_the_table_and_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, svg) = (dir.path().join("t.csv"), dir.path().join("t.svg"));
+    let j = json_of(
+        msp()
+            .args(words(
+                "tradeoff --plant 2*e^-3s/(4s+1) -c smith,pi -q --json -o",
+            ))
+            .arg(&csv)
+            .arg("--plot")
+            .arg(&svg),
+    );
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(points.len(), 26);
+    assert_eq!(points.iter().filter(|p| p["default"] == true).count(), 2);
+    let table = std::fs::read_to_string(&csv).unwrap();
+    assert!(table.starts_with("scheme,lambda,default,stable,ms,dm,iae_setpoint,iae_load,tv\n"));
+    assert_eq!(table.lines().count(), 27);
+    let pic = std::fs::read_to_string(&svg).unwrap();
+    // two panels, each with a ring (r = 6) per scheme's own tuning
+    assert_eq!(pic.matches("r=\"6\"").count(), 4, "rings");
+    assert!(pic.contains("smith") && pic.contains("IAE, unit input load"));
+    stderr_of(
+        ["tradeoff", "--plant", "2*e^-3s/(4s+1)", "-c", "nonesuch"],
+        2,
+    );
+}

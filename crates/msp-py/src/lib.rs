@@ -16,8 +16,8 @@ mod study;
 use controller::{Controller, PyPid};
 use plant::{parse_plant, Plant};
 use study::{
-    autotune, compare, controllers, identify, margins, run, simulate, step, step_info, sweep, tune,
-    tune_rules,
+    autotune, compare, controllers, identify, margins, run, simulate, step, step_info, sweep,
+    tradeoff, tune, tune_rules,
 };
 
 /// The compiled part of the ``msp`` package.
@@ -32,6 +32,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tune_rules, m)?)?;
     m.add_function(wrap_pyfunction!(step_info, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(tradeoff, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(margins, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;

@@ -263,6 +263,22 @@ pub(crate) fn identify<'py>(
     fit_dict(py, &fit)
 }
 
+/// Every scheme's λ swept: robustness against performance (see ``msp.tradeoff``).
+#[pyfunction]
+#[pyo3(signature = (plant, controllers, **scenario))]
+pub(crate) fn tradeoff<'py>(
+    py: Python<'py>,
+    plant: &Bound<'py, PyAny>,
+    controllers: Vec<String>,
+    scenario: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let sc = scenario_from(plant, scenario, Takes::Only(&["model", "ts"]))?;
+    let t = py
+        .allow_threads(|| msp::study::tradeoff(&sc, &controllers, &|_, _| {}))
+        .map_err(value_err)?;
+    Ok(pythonize::pythonize(py, &t)?.downcast_into::<PyDict>()?)
+}
+
 /// MATLAB's ``stepinfo`` of recorded data (see ``msp.step_info``).
 #[pyfunction]
 #[pyo3(signature = (t, y, yinit, yfinal, settling_threshold, rise_limits))]

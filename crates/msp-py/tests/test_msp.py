@@ -330,6 +330,21 @@ def test_simulate_is_run_with_the_equivalent_steps() -> None:
         msp.simulate("2e^-3s/(4s+1)", t=t, r=r[:-1])
 
 
+def test_tradeoff_is_the_clis_and_plots() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    t = msp.tradeoff("2*e^-3s/(4s+1)", ["smith", "pi"])
+    cli = json.loads(subprocess.run([MSP_BIN, "tradeoff", "--plant", "2*e^-3s/(4s+1)", "-c", "smith,pi",
+                                     "-q", "--json"], check=True, capture_output=True, text=True).stdout)
+    assert [(p["scheme"], p["lambda"]) for p in t.points] == [(p["scheme"], p["lambda"]) for p in cli["points"]]
+    smith = t.scheme("smith")
+    # Kaya's tuning with a perfect model: the set-point IAE is L + lambda (Kaya (2003) Eqs. 20-21)
+    assert all(abs(p["iae_setpoint"] - (3.0 + p["lambda"])) < 2 * t.ts for p in smith)
+    fig = t.plot()
+    assert len(fig.axes) == 2 and all(a.get_yscale() == "log" for a in fig.axes)
+
+
 def test_tune_reports_robustness_as_the_cli() -> None:
     t = msp.tune("0.2/s*e^-7.4s")
     assert t["controller"]["name"] == "karan-dey" and t["chosen"] == ["lambda"]

@@ -10,6 +10,7 @@ pub(crate) mod run;
 pub(crate) mod scenario;
 pub(crate) mod step;
 pub(crate) mod sweep;
+pub(crate) mod tradeoff;
 pub(crate) mod tune;
 
 use crate::cli::SimulationFiles;

@@ -106,6 +106,8 @@ __all__ = [
     "step",
     "step_info",
     "sweep",
+    "tradeoff",
+    "Tradeoff",
     "tune",
     "tune_rules",
 ]
@@ -569,6 +571,77 @@ class Margins(Dict[str, Any]):
         from .plotting import plot_margins
 
         return plot_margins(self, ax=ax)
+
+
+class Tradeoff(Dict[str, Any]):
+    """The result of :func:`tradeoff`: the keys of ``msp tradeoff --json`` (``plant``, ``ts``,
+    ``factors``, ``points``, ``skipped``), read as attributes too, and :meth:`plot`."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def scheme(self, name: str) -> List[Dict[str, Any]]:
+        """The points of one scheme, λ increasing."""
+        return [p for p in self["points"] if p["scheme"] == name]
+
+    def plot(self, ax: Any = None) -> Any:
+        """A matplotlib Figure as ``msp tradeoff --plot``: ``Ms`` against the IAE of a unit input load
+        (left) and of a unit set-point step (right), a curve per scheme, its own tuning ringed."""
+        from .plotting import plot_tradeoff
+
+        return plot_tradeoff(self, ax=ax)
+
+
+def tradeoff(
+    plant: PlantLike,
+    controllers: Optional[Sequence[str]] = None,
+    *,
+    model: Optional[PlantLike] = None,
+    ts: Optional[float] = None,
+    delay: Optional[float] = None,
+) -> Tradeoff:
+    """Robustness against performance for every scheme that applies to ``plant``, as
+    ``msp tradeoff``: each scheme's λ swept from 1/8 to 8 times its own (13 points), and per point
+    the loop's ``ms`` and delay margin ``dm`` beside the IAE of a unit set-point step
+    (``iae_setpoint``), of a unit input load (``iae_load``; infinite where the load leaves an
+    offset) and the control's total variation ``tv``.
+
+    Parameters
+    ----------
+    plant : str, Plant or control.TransferFunction
+        The process, as :func:`run` takes it.
+    controllers : list of str, optional
+        The schemes; by default every single-loop scheme for the plant tuned by λ.
+    model : str, Plant or control.TransferFunction, optional
+        The controllers' model (default: the plant).
+    ts : float, optional
+        The common sample period; chosen from the plant when absent.
+    delay : float, optional
+        The dead time (s) of a python-control ``plant``.
+
+    Returns
+    -------
+    Tradeoff
+        ``points``: a dict per point with ``scheme``, ``lambda``, ``default`` (the scheme's own
+        tuning), ``stable`` and the figures (NaN unless stable); ``skipped``: the schemes left
+        out and why. :meth:`Tradeoff.plot` draws the picture.
+
+    Examples
+    --------
+    >>> t = msp.tradeoff("0.2/s*e^-7.4s", ["karan-dey", "watanabe-ito"])
+    >>> own = [p for p in t.points if p["default"]]
+    >>> [p["scheme"] for p in own], all(p["stable"] for p in own)
+    (['karan-dey', 'watanabe-ito'], True)
+    """
+    kw: Dict[str, Any] = {}
+    if model is not None:
+        kw["model"] = _plant(model, None)
+    if ts is not None:
+        kw["ts"] = float(ts)
+    return Tradeoff(_msp.tradeoff(_plant(plant, delay), list(controllers or []), **kw))
 
 
 def sweep(

@@ -98,3 +98,42 @@ def plot_margins(m: Any, ax: Any = None) -> Any:
     a3.legend(loc="lower right")
     a3.set_title("Nyquist")
     return fig
+
+
+def plot_tradeoff(t: Any, ax: Any = None) -> Any:
+    """``Ms`` against the IAE of a unit input load and of a unit set-point step (log scale), a
+    curve per scheme through its λ sweep, its own tuning ringed, as ``msp tradeoff --plot``.
+    Returns the Figure; with ``ax`` (a pair of Axes) it draws there."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    if ax is None:
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 5), layout="constrained")
+    else:
+        a1, a2 = ax
+        fig = a1.figure
+    names: list[str] = []
+    for p in t["points"]:
+        if p["scheme"] not in names:
+            names.append(p["scheme"])
+    for a, key, what in ((a1, "iae_load", "IAE, unit input load"),
+                         (a2, "iae_setpoint", "IAE, unit set-point step")):
+        for name in names:
+            pts = [p for p in t["points"] if p["scheme"] == name and p["stable"]
+                   and p["ms"] is not None and p[key] is not None and np.isfinite(p[key])]
+            if not pts:
+                continue
+            x = np.array([p["ms"] for p in pts])
+            y = np.array([p[key] for p in pts])
+            (line,) = a.plot(x, y, "o-", ms=3, lw=1.5, label=name)
+            own = [p for p in pts if p["default"]]
+            if own:
+                a.plot([own[0]["ms"]], [own[0][key]], "o", ms=10, mfc="none", mew=2,
+                       color=line.get_color())
+        a.set_yscale("log")
+        a.set_xlabel("Ms (robustness: smaller is more robust)")
+        a.set_ylabel(what)
+        a.grid(True, which="both", alpha=0.3)
+        a.legend(loc="best", fontsize="small")
+    fig.suptitle(f"robustness against performance: {t['plant']}")
+    return fig
