@@ -427,3 +427,26 @@ fn step_info_of_data_is_matlab_s_stepinfo() {
     };
     assert!(step_info_of_data(&t, &y, None, None, wide).is_err());
 }
+
+/// The unwrapped phase is the closed form `−atan(ω) − ωθ` of the bare plant
+/// `e^{−θs}/(s + 1)` (continuous view), however far the delay turns it —
+/// thousands of degrees over the grid, many turns between neighbours.
+#[test]
+fn unwrapped_phase_is_the_closed_form() {
+    let sc = Scenario {
+        plant: Some("e^-20s/(s+1)".parse().unwrap()),
+        controller: Some("none".into()),
+        ..Default::default()
+    };
+    let an = msp::analysis::analyze(&sc, View::Continuous, None).unwrap();
+    let p = an.response.phase_unwrapped(20.0);
+    assert!(p.len() == an.response.w.len() && p.len() > 800);
+    for (w, got) in an.response.w.iter().zip(&p) {
+        let want = (-w.atan() - 20.0 * w).to_degrees();
+        assert!(
+            (got - want).abs() < 1e-9 * want.abs().max(1.0),
+            "ω {w}: {got} vs {want}"
+        );
+    }
+    assert!(p.last().unwrap() < &-10_000.0);
+}

@@ -151,6 +151,39 @@ pub struct LoopResponse {
     pub l: Vec<Complex<f64>>,
 }
 
+impl LoopResponse {
+    /// The unwrapped phase of `L` (degrees), as MATLAB's `bode` draws it:
+    /// continuous in `ω`, starting in `(−360°, 0°]`. The plant's dead time
+    /// `delay` (s) is taken out before unwrapping and its exact `−ωθ` put
+    /// back, so the phase stays right where the delay turns by more than
+    /// half a turn between two grid points; the rest is unwrapped by the
+    /// smallest step between neighbours.
+    pub fn phase_unwrapped(&self, delay: f64) -> Vec<f64> {
+        let delay = if delay.is_finite() { delay } else { 0.0 };
+        let mut out = Vec::with_capacity(self.l.len());
+        let mut prev = f64::NAN;
+        for (w, l) in self.w.iter().zip(&self.l) {
+            let rest = l.mul(Complex::cis(w * delay));
+            let mut p = rest.arg().to_degrees();
+            if prev.is_nan() {
+                while p > 0.0 {
+                    p -= 360.0;
+                }
+                while p <= -360.0 {
+                    p += 360.0;
+                }
+            } else if p.is_finite() {
+                p += 360.0 * ((prev - p) / 360.0).round();
+            }
+            if p.is_finite() {
+                prev = p;
+            }
+            out.push(p - (w * delay).to_degrees());
+        }
+        out
+    }
+}
+
 /// Evaluates `L` at `w` (rad/s).
 pub fn loop_at(
     controller: &dyn FrequencyResponse<f64>,

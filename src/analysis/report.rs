@@ -446,7 +446,29 @@ fn analysis_of(
         }
         None => None,
     };
-    let wr = grid(&grid_plant, ts, 800);
+    // the plotted response: the log grid, and up to ten times the highest
+    // crossover a point every 0.1/θ rad/s, so that the curve turns smoothly
+    // with the dead time (at most 4000 more points)
+    let mut wr = grid(&grid_plant, ts, 800);
+    let wc = [m.wcg, m.wcp]
+        .into_iter()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold(f64::NAN, f64::max);
+    let theta = plant.delay;
+    if wc.is_finite() && theta > 0.0 {
+        let top = (10.0 * wc).min(0.999 * core::f64::consts::PI / ts);
+        let step = (0.1 / theta).max(top / 4000.0);
+        let lo = wr.first().copied().unwrap_or(0.0);
+        let mut x = step;
+        while x < top {
+            if x > lo {
+                wr.push(x);
+            }
+            x += step;
+        }
+        wr.sort_by(f64::total_cmp);
+        wr.dedup();
+    }
     let response = LoopResponse {
         l: wr.iter().map(|wi| loop_fn(*wi)).collect(),
         w: wr,

@@ -708,8 +708,9 @@ fn tune_prints_the_designed_filter() {
 /// The plots carry what a report needs: the time plot names its axes with
 /// units, draws the set point (dashed) and the load with legends and titles
 /// the controller with its key parameters and the plant; the margins plot
-/// marks gm and pm, wraps the phase, and its Nyquist panel (alone with
-/// `--nyquist`) has the unit and Ms circles.
+/// marks gm and pm, draws the phase unwrapped (as MATLAB's `bode`, no
+/// wrap's jump), and its Nyquist panel (alone with `--nyquist`) has the unit
+/// and Ms circles.
 #[test]
 fn plots_carry_what_a_report_needs() {
     let dir = tempfile::tempdir().unwrap();
@@ -738,7 +739,7 @@ fn plots_carry_what_a_report_needs() {
         (&run, "karan-dey (kp = 5.4054"),
         (&bode, "gm 4.554 dB"),
         (&bode, "pm 33.11°"),
-        (&bode, "arg L (deg, wrapped)"),
+        (&bode, "arg L (deg)"),
         (&bode, "Ms circle"),
     ];
     for (file, text) in shows {

@@ -109,6 +109,10 @@ pub(crate) fn margins<'py>(
     let l: Vec<f64> = an.response.l.iter().flat_map(|c| [c.re, c.im]).collect();
     let arr = l.into_pyarray(py).reshape([an.response.w.len(), 2])?;
     d.set_item("l", arr)?;
+    d.set_item(
+        "phase_unwrapped",
+        an.response.phase_unwrapped(an.plant.delay).into_pyarray(py),
+    )?;
     Ok(d)
 }
 

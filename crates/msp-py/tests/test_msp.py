@@ -251,6 +251,16 @@ def test_margins_of_the_bare_plant_are_matlabs() -> None:
         msp.margins("1/(s+1)", discrete=True, continuous=True)
 
 
+def test_margins_phase_is_unwrapped_as_matlabs_bode() -> None:
+    m = msp.margins("e^-20s/(s+1)", continuous=True)
+    want = np.degrees(-np.arctan(m.w) - 20.0 * m.w)
+    assert np.allclose(m.phase_unwrapped, want, rtol=1e-9, atol=1e-9)
+    k = msp.margins("0.2/s*e^-7.4s", "karan-dey")
+    # where the plot shows it (dense in the delay's turning): no jump of a turn between points
+    shown = k.w <= 10 * max(k.wcg, k.wcp)
+    assert np.all(np.abs(np.diff(k.phase_unwrapped[shown])) < 90.0)
+
+
 def test_margins_of_the_thesis_plant_point_to_the_printed_tables() -> None:
     m = msp.margins("0.2/s*e^-7.4s", "karan-dey")
     assert "Table 5.1" in m["published"] and math.isclose(m["gm_db"], 4.55, abs_tol=0.01)

@@ -165,40 +165,48 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
     Ok(svg)
 }
 
+/// The frequencies a Bode plot shows: the grid's, up to ten times the
+/// highest crossover (beyond it the exact delay only turns the phase), as
+/// MATLAB's `bode` frames the dynamics.
+pub(crate) fn bode_range(an: &msp::analysis::Analysis) -> usize {
+    let m = &an.margins;
+    let wc = [m.wcg, m.wcp]
+        .into_iter()
+        .filter(|w| w.is_finite() && *w > 0.0)
+        .fold(f64::NAN, f64::max);
+    let r = &an.response;
+    if wc.is_finite() {
+        r.w.iter().position(|w| *w > 10.0 * wc).unwrap_or(r.w.len())
+    } else {
+        r.w.len()
+    }
+}
+
 /// Bode magnitude and phase and the Nyquist plot of the loop at the plant input.
 ///
-/// The phase is wrapped into (−360°, 0°] (the exact delay's phase falls
-/// without bound, and unwrapped it squashes the crossover region into a
-/// sliver); the lines break at each wrap. The gain margin is marked at the
-/// phase crossover `wcg` on the magnitude, the phase margin at the gain
-/// crossover `wcp` on the phase.
+/// The phase is unwrapped (`LoopResponse::phase_unwrapped`: continuous, the
+/// plant's dead time exact), as MATLAB's `bode` draws it, on a log-frequency
+/// axis up to ten times the highest crossover ([`bode_range`]). The gain
+/// margin is marked at the phase crossover `wcg` on the magnitude, the
+/// phase margin at the gain crossover `wcp` on the phase (from the −180°
+/// line of the phase's own turn).
 pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
     let r = &an.response;
+    let n = bode_range(an);
     let mag: Vec<(f64, f64)> =
         r.w.iter()
             .zip(&r.l)
+            .take(n)
             .map(|(w, l)| (*w, 20.0 * l.abs().log10()))
             .collect();
-    // the phase in (−360°, 0°], as segments between wraps
-    let mut phase: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-    let mut prev = f64::NAN;
-    for (w, l) in r.w.iter().zip(&r.l) {
-        let mut p = l.arg().to_degrees();
-        while p > 0.0 {
-            p -= 360.0;
-        }
-        while p <= -360.0 {
-            p += 360.0;
-        }
-        if (p - prev).abs() > 180.0 {
-            phase.push(Vec::new());
-        }
-        if let Some(seg) = phase.last_mut() {
-            seg.push((*w, p));
-        }
-        prev = p;
-    }
+    let unwrapped = r.phase_unwrapped(an.plant.delay);
+    let phase: Vec<(f64, f64)> =
+        r.w.iter()
+            .copied()
+            .zip(unwrapped.iter().copied())
+            .take(n)
+            .collect();
     let finite = |v: &[(f64, f64)]| {
         v.iter()
             .map(|p| p.1)
@@ -209,15 +217,23 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
     };
     let (w0, w1) = (
         r.w.first().copied().unwrap_or(1e-3),
-        r.w.last().copied().unwrap_or(1.0),
+        r.w.get(n.saturating_sub(1)).copied().unwrap_or(1.0),
     );
+    // the phase at the grid point nearest `w`
+    let at = |w: f64| {
+        phase
+            .iter()
+            .min_by(|a, b| (a.0 - w).abs().total_cmp(&(b.0 - w).abs()))
+            .map_or(-180.0, |p| p.1)
+    };
     let m = &an.margins;
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (1100, 700)).into_drawing_area();
+        // the Nyquist panel square, beside the two Bode panels
+        let root = SVGBackend::with_string(&mut svg, (1200, 600)).into_drawing_area();
         root.fill(&WHITE)?;
-        let (left, right) = root.split_horizontally(640);
-        let (top, bottom) = left.split_vertically(350);
+        let (left, right) = root.split_horizontally(620);
+        let (top, bottom) = left.split_vertically(300);
         let (mlo, mhi) = finite(&mag);
         let mut c = ChartBuilder::on(&top)
             .caption(
@@ -251,38 +267,40 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
                 ("sans-serif", 13).into_font().color(&RGBColor(0, 110, 0)),
             )))?;
         }
+        let (plo, phi) = finite(&phase);
+        let (plo, phi) = if plo.is_finite() {
+            (plo - 10.0, phi + 10.0)
+        } else {
+            (-370.0, 10.0)
+        };
         let mut c2 = ChartBuilder::on(&bottom)
             .margin(10)
             .margin_right(20)
             .x_label_area_size(35)
             .y_label_area_size(55)
-            .build_cartesian_2d((w0..w1).log_scale(), -370.0..10.0)?;
+            .build_cartesian_2d((w0..w1).log_scale(), plo..phi)?;
         c2.configure_mesh()
             .x_desc("ω (rad/s)")
-            .y_desc("arg L (deg, wrapped)")
+            .y_desc("arg L (deg)")
             .y_labels(9)
             .draw()?;
-        for seg in phase.into_iter().filter(|s| !s.is_empty()) {
-            c2.draw_series(LineSeries::new(seg, &RED))?;
-        }
-        c2.draw_series(LineSeries::new(
-            [(w0, -180.0), (w1, -180.0)],
-            &BLACK.mix(0.4),
-        ))?;
+        c2.draw_series(LineSeries::new(phase.iter().copied(), &RED))?;
         if m.wcp.is_finite() && m.pm.is_finite() {
+            // the −180° (mod 360°) line the margin is measured from
+            let p = at(m.wcp);
+            let line = p - m.pm;
+            c2.draw_series(LineSeries::new([(w0, line), (w1, line)], &BLACK.mix(0.4)))?;
             c2.draw_series(LineSeries::new(
-                [(m.wcp, -180.0), (m.wcp, -180.0 + m.pm)],
+                [(m.wcp, line), (m.wcp, p)],
                 RGBColor(0, 140, 0).stroke_width(3),
             ))?;
             c2.draw_series(std::iter::once(Text::new(
                 format!("pm {}°", fmt_sig(m.pm)),
-                (m.wcp, -180.0 + m.pm),
+                (m.wcp, p),
                 ("sans-serif", 13).into_font().color(&RGBColor(0, 110, 0)),
             )))?;
         }
-        // square, so that the circles are round
-        let (ny, _) = right.split_vertically(470);
-        nyquist_panel(&ny, an)?;
+        nyquist_panel(&right, an, n)?;
         root.present()?;
     }
     Ok(svg)
@@ -297,7 +315,7 @@ pub(crate) fn nyquist_svg(
     {
         let root = SVGBackend::with_string(&mut svg, (620, 640)).into_drawing_area();
         root.fill(&WHITE)?;
-        nyquist_panel(&root, an)?;
+        nyquist_panel(&root, an, an.response.l.len())?;
         root.present()?;
     }
     Ok(svg)
@@ -309,6 +327,7 @@ pub(crate) fn nyquist_svg(
 fn nyquist_panel<DB: plotters::prelude::DrawingBackend>(
     area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
     an: &msp::analysis::Analysis,
+    points: usize,
 ) -> Result<(), Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
@@ -321,7 +340,7 @@ where
     // the curve as segments inside the window (a line to a point outside it
     // would be drawn along the border)
     let mut segs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-    for l in &an.response.l {
+    for l in an.response.l.iter().take(points) {
         if inside(l) {
             if let Some(s) = segs.last_mut() {
                 s.push((l.re, l.im));

@@ -518,7 +518,8 @@ def margins(
         loop's margins), ``region`` (``{"gain", "dm"}`` points), ``stable`` (the verdict of the
         characteristic equation, ``None`` when it could not be decided), ``stability`` (the
         verdict with ``unstable_poles``, ``simulation`` and ``reason``; an unstable loop's margins
-        are NaN), ``robust_peak``, ``published`` (present for the plants of Bag (2022) whose
+        are NaN), ``phase_unwrapped`` (degrees at ``w``, continuous as MATLAB's ``bode`` draws
+        it, the plant's dead time exact), ``robust_peak``, ``published`` (present for the plants of Bag (2022) whose
         printed margins are another computation's: what the thesis computed, see
         ``docs/fidelity.md``) and the loop
         response ``w``, ``l`` (``l[:, 0] + 1j*l[:, 1]``); keys read as attributes too, and

@@ -45,15 +45,16 @@ def plot_result(res: Any, ax: Any = None, title: str | None = None) -> Any:
 
 
 def plot_margins(m: Any, ax: Any = None) -> Any:
-    """Bode (magnitude; phase wrapped into (-360, 0] deg) and Nyquist of a margins result, as
-    ``msp margins --plot``: gm marked at wcg, pm at wcp, the unit and Ms circles. Returns the Figure.
+    """Bode (magnitude; the unwrapped phase, as MATLAB's ``bode``, up to ten times the highest
+    crossover) and Nyquist of a margins result, as ``msp margins --plot``: gm marked at wcg, pm at
+    wcp, the unit and Ms circles. Returns the Figure.
     """
     import matplotlib.pyplot as plt
     import numpy as np
 
     if ax is None:
-        fig = plt.figure(figsize=(11, 6), layout="constrained")
-        grid = fig.add_gridspec(2, 2, width_ratios=[3, 2])
+        fig = plt.figure(figsize=(12, 6), layout="constrained")
+        grid = fig.add_gridspec(2, 2, width_ratios=[1, 1])
         a1 = fig.add_subplot(grid[0, 0])
         a2 = fig.add_subplot(grid[1, 0], sharex=a1)
         a3 = fig.add_subplot(grid[:, 1])
@@ -61,22 +62,24 @@ def plot_margins(m: Any, ax: Any = None) -> Any:
         a1, a2, a3 = ax
         fig = a1.figure
     w, l = m.w, m.l[:, 0] + 1j * m.l[:, 1]
+    crossings = [x for x in (m.wcg, m.wcp) if x is not None and np.isfinite(x) and x > 0]
+    shown = w <= 10 * max(crossings) if crossings else np.ones_like(w, dtype=bool)
+    w, l, phase = w[shown], l[shown], np.asarray(m.phase_unwrapped)[shown]
     a1.semilogx(w, 20 * np.log10(np.abs(l)), color="tab:blue")
     a1.axhline(0.0, color="0.5", lw=0.8)
     a1.set_ylabel("|L| (dB)")
-    phase = -np.mod(-np.degrees(np.angle(l)), 360.0)
-    phase[np.abs(np.diff(phase, prepend=phase[0])) > 180.0] = np.nan  # break at the wraps
     a2.semilogx(w, phase, color="tab:red")
-    a2.axhline(-180.0, color="0.5", lw=0.8)
-    a2.set_ylim(-370, 10)
-    a2.set_ylabel("arg L (deg, wrapped)")
+    a2.set_ylabel("arg L (deg)")
     a2.set_xlabel("ω (rad/s)")
+    if np.isfinite(m.wcp) and np.isfinite(m.pm):
+        # the -180 deg (mod 360) line the phase margin is measured from
+        p = phase[np.argmin(np.abs(w - m.wcp))]
+        a2.axhline(p - m.pm, color="0.5", lw=0.8)
+        a2.plot([m.wcp, m.wcp], [p - m.pm, p], color="tab:green", lw=3)
+        a2.annotate(f"pm {m.pm:.3g}°", (m.wcp, p), color="tab:green")
     if np.isfinite(m.wcg) and np.isfinite(m.gm_db):
         a1.plot([m.wcg, m.wcg], [0.0, -m.gm_db], color="tab:green", lw=3)
         a1.annotate(f"gm {m.gm_db:.3g} dB", (m.wcg, -m.gm_db), color="tab:green")
-    if np.isfinite(m.wcp) and np.isfinite(m.pm):
-        a2.plot([m.wcp, m.wcp], [-180.0, -180.0 + m.pm], color="tab:green", lw=3)
-        a2.annotate(f"pm {m.pm:.3g}°", (m.wcp, -180.0 + m.pm), color="tab:green")
     for a in (a1, a2):
         a.grid(True, which="both", alpha=0.3)
     a1.set_title(f"{m.controller['name']} on {m.plant}")
