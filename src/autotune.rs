@@ -196,6 +196,30 @@ pub enum RelayState<T> {
 }
 
 /// The relay experiment, one sample at a time (no_std, no allocation).
+///
+/// On the thesis's benchmark `0.2 e^{−7.4s}/s` (Bag (2022) Eq. 5.1), sampled
+/// every 0.1 s: the relay's limit cycle identifies the plant exactly.
+///
+/// ```
+/// use msp::autotune::{identify_ipdt, RelayConfig, RelayState, RelayTest};
+/// let ts = 0.1;
+/// let mut test = RelayTest::new(RelayConfig { hysteresis: 0.05, ..RelayConfig::new(1.0, ts) })?;
+/// // the plant: an integrator behind 74 samples of dead time
+/// let (mut y, mut line) = (0.0f64, [0.0f64; 74]);
+/// for k in 0.. {
+///     let u = test.update(y);
+///     let slot = &mut line[k % 74];
+///     y += 0.2 * ts * *slot; // the input of 74 samples ago
+///     *slot = u;
+///     if test.state() != RelayState::Running {
+///         break;
+///     }
+/// }
+/// let RelayState::Done(cycle) = test.state() else { panic!("{:?}", test.state()) };
+/// let m = identify_ipdt(&cycle)?;
+/// assert!((m.k - 0.2).abs() < 0.01 && (m.l - 7.4).abs() < 0.15, "{m:?}");
+/// # Ok::<(), msp::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RelayTest<T> {

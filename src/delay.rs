@@ -24,6 +24,19 @@ use crate::real::{finite, non_negative};
 use crate::{Error, Real};
 
 /// A delay line over any storage that dereferences to a slice of samples.
+///
+/// Three samples of delay in a line of eight, inline (no heap):
+///
+/// ```
+/// use msp::DelayLine;
+/// let mut line: DelayLine<f32, 8> = DelayLine::new(3.0)?;
+/// let out: Vec<f32> = [1.0, 2.0, 3.0, 4.0, 5.0].iter().map(|x| line.process(*x)).collect();
+/// assert_eq!(out, [0.0, 0.0, 0.0, 1.0, 2.0]);
+/// // a fractional delay interpolates between neighbours
+/// let mut half: DelayLine<f64, 4> = DelayLine::new(0.5)?;
+/// assert_eq!((half.process(2.0), half.process(4.0)), (1.0, 3.0));
+/// # Ok::<(), msp::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Delay<T, S> {

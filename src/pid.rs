@@ -290,6 +290,20 @@ pub enum Mode {
 }
 
 /// A PID controller (see the module documentation for the equations).
+///
+/// A PI in ISA form with output limits, one `update(setpoint, measurement)`
+/// per sample, as pid-rs and idsp are used:
+///
+/// ```
+/// use msp::{Controller, Pid, PidConfig};
+/// let mut pi = Pid::new(PidConfig::isa(2.0f32, 10.0, 0.0, 0.1).with_limits(-5.0, 5.0))?;
+/// let u = pi.update(1.0, 0.25); // the first sample: Kp·e (the integral, forward Euler, is 0)
+/// assert_eq!(u, 2.0 * 0.75);
+/// let u = pi.update(1.0, 0.25); // then I = Kp·Ts/Ti·e
+/// assert!((u - (2.0 * 0.75 + 2.0 * 0.1 / 10.0 * 0.75)).abs() < 1e-6);
+/// assert_eq!(pi.update(10.0, 0.0), 5.0); // at its limit
+/// # Ok::<(), msp::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Pid<T> {

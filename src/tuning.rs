@@ -36,6 +36,16 @@ impl<T: Real> PidGains<T> {
 /// The ISE-optimal choice is `λ = L` (Eq. 26); Kaya's speed factor `α` of
 /// Eqs. 32–33 is `λ = α·L`. With a perfect model the delay-free loop is
 /// `1/(λ s + 1)`, so the set-point response is `1 − e^{−(t − L)/λ}` after the delay.
+///
+/// ```
+/// use msp::{tuning, Fopdt, ProcessModel};
+/// let m = ProcessModel::from(Fopdt::new(5.6f64, 40.2, 93.9)?);
+/// let g = tuning::kaya(&m, 93.9)?; // λ = L
+/// assert!((g.kp - 40.2 / (5.6 * 93.9)).abs() < 1e-12 && g.ti == 40.2 && g.td == 0.0);
+/// let pid = msp::Pid::new(g.config(1.0))?; // the PI, sampled every second
+/// # let _ = pid;
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn kaya<T: Real>(model: &ProcessModel<T>, lambda: T) -> Result<PidGains<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
     match *model {
@@ -208,6 +218,16 @@ pub fn simc<T: Real>(model: &ProcessModel<T>, tc: T) -> Result<PidGains<T>, Erro
 /// rules aim at `Ms ≈ 1.4`; the PID rule is meant for `τ ≥ 0.3` or so
 /// (below it the derivative gains less than a better-tuned PI would).
 /// A model without dead time has no AMIGO setting ([`Error::NotPositive`]).
+///
+/// ```
+/// use msp::{tuning, Fopdt, ProcessModel};
+/// let (g, b) = tuning::amigo(&ProcessModel::from(Fopdt::new(2.0f64, 4.0, 3.0)?), false)?;
+/// assert!((g.kp - (0.2 + 0.45 * 4.0 / 3.0) / 2.0).abs() < 1e-12);
+/// assert_eq!(b, 0.0); // τ = 3/7 ≤ 0.5: no proportional kick on set-point steps
+/// let cfg = g.config(0.1).with_weights(b, 0.0);
+/// # let _ = cfg;
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn amigo<T: Real>(model: &ProcessModel<T>, pi_only: bool) -> Result<(PidGains<T>, T), Error> {
     let c = T::of;
     match *model {

@@ -21,6 +21,30 @@ use core::ops::{Add, Div, Mul, Sub};
 
 /// Smith predictor around a [`Pid`], with a model of order `≤ N` and its dead
 /// time in a delay line over storage `S` (`[T; D]` for firmware, `Vec<T>` on a host).
+///
+/// The MathWorks example's plant `5.6 e^{−93.9s}/(40.2s + 1)` at `Ts = 1 s`,
+/// its PI tuned by Kaya (2003) Eqs. 20–21 (`λ = L`), the dead time in a line
+/// of 128 samples; with a perfect model the loop is the delay-free one,
+/// delayed (`1 − e^{−(t − L)/λ}` after the dead time):
+///
+/// ```
+/// use msp::{tuning, Controller, Fopdt, Lti, ProcessModel, SmithPredictor};
+/// let model = ProcessModel::from(Fopdt::new(5.6, 40.2, 93.9)?);
+/// let gains = tuning::kaya(&model, 93.9)?;
+/// let mut sp: SmithPredictor<f64, 1, [f64; 128]> =
+///     SmithPredictor::from_model(gains.config(1.0), &model, 1.0)?;
+/// // the plant: the same model, its dead time in a line of its own
+/// let (mut plant, d) = model.discretize::<1>(1.0)?;
+/// let mut line: msp::DelayLine<f64, 128> = msp::DelayLine::new(d)?;
+/// let mut y = 0.0;
+/// for _ in 0..400 {
+///     let u = sp.update(1.0, y);
+///     y = plant.step(line.process(u));
+/// }
+/// // 400 s: 306 s after the dead time, e^{−306/93.9} ≈ 3.8 % left
+/// assert!((y - (1.0 - (-306.1f64 / 93.9).exp())).abs() < 0.02, "{y}");
+/// # Ok::<(), msp::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct SmithPredictor<T, const N: usize, S> {
     pid: Pid<T>,

@@ -188,6 +188,25 @@ fn by_sample<T>(items: impl Iterator<Item = (f64, T)>, ts: f64) -> Vec<(usize, T
 }
 
 /// Runs the closed loop of `controller` on `plant`.
+///
+/// The plant is simulated exactly at the sample instants (its ZOH
+/// equivalent, the dead time as whole samples of delay): a PI with
+/// `Kp·K = 1`, `Ti = T` on `K/(Ts + 1)` makes the loop `1/(T s + 1)`, whose
+/// samples `1 − e^{−kTs/T}` the run reproduces to rounding.
+///
+/// ```
+/// use msp::sim::{simulate, SetpointStep, SimConfig};
+/// let plant: msp::poly::TransferFunction = "2/(4s+1)".parse()?;
+/// let mut pi = msp::Pid::new(msp::PidConfig::isa(0.5, 4.0, 0.0, 0.1))?;
+/// let cfg = SimConfig {
+///     setpoint: vec![SetpointStep { value: 1.0, at: 0.0 }],
+///     ..SimConfig::new(0.1, 20.0)
+/// };
+/// let res = simulate(&plant, &mut pi, &cfg)?;
+/// let (t, y) = (res.t[100], res.y[100]); // 10 s
+/// assert!((y - (1.0 - (-t / 4.0f64).exp())).abs() < 0.02, "{y}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn simulate<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?Sized>(
     plant: &TransferFunction,
     controller: &mut C,
