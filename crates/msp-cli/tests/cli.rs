@@ -1665,3 +1665,35 @@ fn tradeoff_writes_the_table_and_the_picture() {
         2,
     );
 }
+
+/// The time plot marks every scheduled thing on the time axis (set-point
+/// steps, input and output loads, operator events), shades the manual
+/// period, draws the output load with the control, and its legend shows the
+/// set point dashed as it is drawn.
+#[test]
+fn the_time_plot_marks_what_was_scheduled() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("r.svg");
+    msp()
+        .args(words(
+            "run --plant 2e^-3s/(4s+1) -c smith --ts 0.1 --setpoint 1@0 --setpoint 0.5@40 --disturbance output:0.1@80 --disturbance input:-0.05@100 --event 120:manual=0.3 --event 150:auto --event 170:plant-dead-time=4 --duration 220 -q -o /dev/null --plot",
+        ))
+        .arg(&svg)
+        .assert()
+        .success();
+    let pic = std::fs::read_to_string(&svg).unwrap();
+    for text in [
+        "r → 0.5",
+        "output load 0.1",
+        "input load -0.05",
+        "manual 0.3",
+        "auto",
+        "plant θ = 4 s",
+        "d_out (output load)",
+        "d (input load)",
+    ] {
+        assert!(pic.contains(text), "{text}");
+    }
+    // the manual period shaded on both panels (a filled rectangle each)
+    assert!(pic.matches("opacity=\"0.25\"").count() >= 2, "shading");
+}

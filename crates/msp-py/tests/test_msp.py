@@ -340,6 +340,32 @@ def test_simulate_is_run_with_the_equivalent_steps() -> None:
         msp.simulate("2e^-3s/(4s+1)", t=t, r=r[:-1])
 
 
+def test_the_time_plot_marks_what_was_scheduled() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    r = msp.run("2e^-3s/(4s+1)", "smith", ts=0.1, setpoint=["1@0", "0.5@40"], disturbance="output:0.1@80",
+                events=["120:manual=0.3", "150:auto"], duration=220.0)
+    fig = r.plot()
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    for want in ("r → 0.5", "output load 0.1", "manual 0.3", "auto"):
+        assert want in texts, (want, texts)
+    labels = [t.get_text() for t in fig.axes[1].get_legend().get_texts()]
+    assert "d_out (output load)" in labels
+    assert len(fig.axes[0].patches) >= 1  # the manual period shaded
+
+
+def test_step_result_plots() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    s = msp.step("2*e^-1.3s/(5s+1)")
+    assert s.dc_gain == 2.0 and s["rise_time"] == s.rise_time
+    fig = s.plot()
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any("final value 2" in x for x in labels) and any("settling" in x for x in labels)
+
+
 def test_tradeoff_is_the_clis_and_plots() -> None:
     import matplotlib
 

@@ -23,6 +23,114 @@ fn mark<C: plotters::style::Color + Copy>(
     move |(x, y)| plotters::element::PathElement::new(vec![(x, y), (x + 20, y)], col)
 }
 
+/// A legend's mark for a dashed series: two dashes, as the line is drawn
+/// (a macro: the composed element's type names the drawing backend).
+macro_rules! dashed_mark {
+    ($col:expr) => {{
+        let col = $col;
+        move |(x, y): (i32, i32)| {
+            plotters::element::EmptyElement::at((x, y))
+                + plotters::element::PathElement::new(vec![(0, 0), (8, 0)], col.stroke_width(2))
+                + plotters::element::PathElement::new(vec![(12, 0), (20, 0)], col.stroke_width(2))
+        }
+    }};
+}
+
+/// The corner of a panel where the legend covers the fewest points of the
+/// traces (`series`, in data coordinates over the ranges `x`, `y`): each
+/// corner's box taken as the legend's size, `w`×`h` fractions of the panel.
+fn legend_spot(
+    series: &[&[(f64, f64)]],
+    x: (f64, f64),
+    y: (f64, f64),
+    (w, h): (f64, f64),
+) -> plotters::prelude::SeriesLabelPosition {
+    use plotters::prelude::SeriesLabelPosition as P;
+    let (dx, dy) = (x.1 - x.0, y.1 - y.0);
+    let boxes = [
+        (P::UpperRight, (1.0 - w, 1.0 - h)),
+        (P::LowerRight, (1.0 - w, 0.0)),
+        (P::UpperLeft, (0.0, 1.0 - h)),
+        (P::LowerLeft, (0.0, 0.0)),
+        (P::MiddleRight, (1.0 - w, 0.5 - h / 2.0)),
+    ];
+    let covered = |(fx, fy): (f64, f64)| {
+        series
+            .iter()
+            .flat_map(|s| s.iter())
+            .filter(|(px, py)| {
+                let (u, v) = ((px - x.0) / dx, (py - y.0) / dy);
+                u >= fx && u <= fx + w && v >= fy && v <= fy + h
+            })
+            .count()
+    };
+    boxes
+        .into_iter()
+        .min_by_key(|(_, corner)| covered(*corner))
+        .map_or(P::UpperRight, |(p, _)| p)
+}
+
+/// What happens at a time of the run, as a plot's marker says it.
+struct Marker {
+    at: f64,
+    text: String,
+}
+
+/// The markers of a run: its set-point steps after the start, its loads
+/// (input and output) and its operator events; and the periods the
+/// controller was in manual or tracking (start, end).
+fn markers(out: &RunOutput) -> (Vec<Marker>, Vec<(f64, f64)>) {
+    use msp::sim::Action;
+    use msp::study::Event;
+    let end = out.result.t.last().copied().unwrap_or(0.0);
+    let mut m = Vec::new();
+    for e in &out.events {
+        match e {
+            Event::Setpoint(s) if s.at > 0.0 => m.push(Marker {
+                at: s.at,
+                text: format!("r → {}", fmt_sig(s.value)),
+            }),
+            Event::Disturbance(d) => m.push(Marker {
+                at: d.at,
+                text: format!("{} load {}", d.location.name(), fmt_sig(d.value)),
+            }),
+            Event::Setpoint(_) => {}
+        }
+    }
+    let mut held: Vec<(f64, f64)> = Vec::new();
+    let mut since: Option<f64> = None;
+    let mut ops = out.scenario.events.clone();
+    ops.sort_by(|a, b| a.at.total_cmp(&b.at));
+    for op in &ops {
+        let text = match op.action {
+            Action::Manual(v) => format!("manual {}", fmt_sig(v)),
+            Action::Track(v) => format!("track {}", fmt_sig(v)),
+            Action::Auto => "auto".to_string(),
+            Action::DeadTime(d) => format!("model θ = {} s", fmt_sig(d)),
+            Action::DeadTimeRamp(d, _) => format!("model θ → {} s", fmt_sig(d)),
+            Action::PlantDeadTime(d) => format!("plant θ = {} s", fmt_sig(d)),
+            Action::Retune(g, v) => format!("{} = {}", g.name(), fmt_sig(v)),
+        };
+        match op.action {
+            Action::Manual(_) | Action::Track(_) => {
+                since.get_or_insert(op.at);
+            }
+            Action::Auto => {
+                if let Some(a) = since.take() {
+                    held.push((a, op.at));
+                }
+            }
+            _ => {}
+        }
+        m.push(Marker { at: op.at, text });
+    }
+    if let Some(a) = since {
+        held.push((a, end));
+    }
+    m.retain(|x| x.at.is_finite() && x.at <= end);
+    (m, held)
+}
+
 /// An SVG with r and every run's y on top and u below.
 pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
@@ -69,12 +177,18 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
     let mut ys: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.y).collect();
     ys.push(&first.result.r);
     let mut us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
-    // the load disturbance, drawn with u when there is one
+    // the loads, drawn with u when there are any: at the input and at the output
     let d = &first.result.d;
     let has_d = d.iter().any(|v| *v != 0.0);
     if has_d {
         us.push(d);
     }
+    let d_out = &first.result.d_out;
+    let has_d_out = d_out.iter().any(|v| *v != 0.0);
+    if has_d_out {
+        us.push(d_out);
+    }
+    let (marks, held) = markers(first);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
@@ -105,6 +219,29 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             .y_label_area_size(60)
             .build_cartesian_2d(0.0..t_end, ylo..yhi)?;
         c.configure_mesh().y_desc("set point r, output y").draw()?;
+        // manual or tracking periods shaded, events marked (on both panels)
+        let shade = RGBColor(255, 200, 120).mix(0.25);
+        c.draw_series(
+            held.iter()
+                .map(|(a, b)| Rectangle::new([(*a, ylo), (*b, yhi)], shade.filled())),
+        )?;
+        let marker = RGBColor(110, 110, 110);
+        for (i, mk) in marks.iter().enumerate() {
+            c.draw_series(DashedLineSeries::new(
+                [(mk.at, ylo), (mk.at, yhi)],
+                3,
+                3,
+                marker.stroke_width(1),
+            ))?;
+            // labels staggered down the panel so that close events stay readable
+            #[allow(clippy::cast_precision_loss)] // a handful of markers
+            let y = yhi - (yhi - ylo) * (0.04 + 0.07 * (i % 4) as f64);
+            c.draw_series(std::iter::once(Text::new(
+                format!(" {}", mk.text),
+                (mk.at, y),
+                ("sans-serif", 12).into_font().color(&marker),
+            )))?;
+        }
         // the set point dashed, so that it shows under an output on it
         c.draw_series(DashedLineSeries::new(
             pts(&first.result.t, &first.result.r),
@@ -113,14 +250,21 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             BLACK.stroke_width(2),
         ))?
         .label("r (set point)")
-        .legend(mark(BLACK));
+        .legend(dashed_mark!(BLACK));
+        let mut drawn: Vec<Vec<(f64, f64)>> = vec![pts(&first.result.t, &first.result.r)];
         for (i, r) in runs.iter().enumerate() {
             let (label, col) = style(i, "y", color(0), "y");
-            c.draw_series(LineSeries::new(pts(&r.result.t, &r.result.y), &col))?
+            let p = pts(&r.result.t, &r.result.y);
+            drawn.push(p.clone());
+            c.draw_series(LineSeries::new(p, &col))?
                 .label(label)
                 .legend(mark(col));
         }
+        let refs: Vec<&[(f64, f64)]> = drawn.iter().map(Vec::as_slice).collect();
+        #[allow(clippy::cast_precision_loss)] // a few runs
+        let size = (0.2, 0.07 * (runs.len() + 1) as f64 + 0.05);
         c.configure_series_labels()
+            .position(legend_spot(&refs, (0.0, t_end), (ylo, yhi), size))
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()?;
@@ -133,17 +277,38 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             .build_cartesian_2d(0.0..t_end, ulo..uhi)?;
         c2.configure_mesh()
             .x_desc("time t (s)")
-            .y_desc(if has_d {
-                "control u, load d"
+            .y_desc(if has_d || has_d_out {
+                "control u, loads"
             } else {
                 "control u"
             })
             .draw()?;
+        c2.draw_series(
+            held.iter()
+                .map(|(a, b)| Rectangle::new([(*a, ulo), (*b, uhi)], shade.filled())),
+        )?;
+        for mk in &marks {
+            c2.draw_series(DashedLineSeries::new(
+                [(mk.at, ulo), (mk.at, uhi)],
+                3,
+                3,
+                marker.stroke_width(1),
+            ))?;
+        }
+        let mut drawn2: Vec<Vec<(f64, f64)>> = Vec::new();
         for (i, r) in runs.iter().enumerate() {
             let (label, col) = style(i, "u (control)", RED, "u");
-            c2.draw_series(LineSeries::new(pts(&r.result.t, &r.result.u), &col))?
+            let p = pts(&r.result.t, &r.result.u);
+            drawn2.push(p.clone());
+            c2.draw_series(LineSeries::new(p, &col))?
                 .label(label)
                 .legend(mark(col));
+        }
+        if has_d {
+            drawn2.push(pts(&first.result.t, d));
+        }
+        if has_d_out {
+            drawn2.push(pts(&first.result.t, d_out));
         }
         if has_d {
             let grey = RGBColor(90, 90, 90);
@@ -153,10 +318,25 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
                 4,
                 grey.stroke_width(2),
             ))?
-            .label("d (load)")
-            .legend(mark(grey));
+            .label("d (input load)")
+            .legend(dashed_mark!(grey));
         }
+        if has_d_out {
+            let brown = RGBColor(160, 82, 45);
+            c2.draw_series(DashedLineSeries::new(
+                pts(&first.result.t, d_out),
+                6,
+                4,
+                brown.stroke_width(2),
+            ))?
+            .label("d_out (output load)")
+            .legend(dashed_mark!(brown));
+        }
+        let refs2: Vec<&[(f64, f64)]> = drawn2.iter().map(Vec::as_slice).collect();
+        #[allow(clippy::cast_precision_loss)] // a few series
+        let size2 = (0.2, 0.1 * drawn2.len() as f64 + 0.06);
         c2.configure_series_labels()
+            .position(legend_spot(&refs2, (0.0, t_end), (ulo, uhi), size2))
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()?;

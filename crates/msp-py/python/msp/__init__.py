@@ -104,6 +104,7 @@ __all__ = [
     "run",
     "simulate",
     "step",
+    "Step",
     "step_info",
     "sweep",
     "tradeoff",
@@ -787,8 +788,26 @@ def autotune(
     return raw
 
 
+class Step(Dict[str, Any]):
+    """The result of :func:`step`: the keys of ``msp step --json`` with ``t`` and ``y`` (kept for
+    code that indexes it), read as attributes too, and :meth:`plot`."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def plot(self, ax: Any = None) -> Any:
+        """A matplotlib Figure as ``msp step --plot``: the response, its final value dashed, the
+        rise (10-90 %) and the settling time marked (needs matplotlib: ``pip install msp[plot]``)."""
+        from .plotting import plot_step
+
+        return plot_step(self, ax=ax)
+
+
 def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[float] = None,
-         delay: Optional[float] = None) -> Dict[str, Any]:
+         delay: Optional[float] = None) -> Step:
     """The plant's own unit step response with its exact dead time, as ``msp step`` (MATLAB's
     ``step`` and ``stepinfo``, python-control's ``step_response`` and ``step_info``).
 
@@ -805,11 +824,12 @@ def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[flo
 
     Returns
     -------
-    dict
-        ``{"t": ndarray, "y": ndarray, "plant", "plant_kind", "ts", "duration", "chosen",
+    Step
+        A dict ``{"t": ndarray, "y": ndarray, "plant", "plant_kind", "ts", "duration", "chosen",
         "dc_gain", "rise_time", "settling_time", "settling_min", "settling_max", "overshoot",
         "undershoot", "peak", "peak_time"}``; ``dc_gain`` is ``None`` and the step information NaN
-        for a plant whose response does not settle (integrating or unstable).
+        for a plant whose response does not settle (integrating or unstable); :meth:`Step.plot`
+        draws it.
 
     Raises
     ------
@@ -822,7 +842,7 @@ def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[flo
     >>> s["dc_gain"], round(s["rise_time"], 3)
     (2.0, 10.986)
     """
-    return _msp.step(_plant(plant, delay), ts=ts, duration=duration)
+    return Step(_msp.step(_plant(plant, delay), ts=ts, duration=duration))
 
 
 def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:

@@ -26,11 +26,42 @@ def plot_result(res: Any, ax: Any = None, title: str | None = None) -> Any:
     a1.legend(loc="best")
     a1.grid(True, alpha=0.3)
     a2.plot(res.t, res.u, lw=1.2, color="tab:red", label="u (control)")
+    loads = False
     if np.any(res.d != 0.0):
-        a2.plot(res.t, res.d, "--", lw=1.2, color="0.35", label="d (load)")
-        a2.set_ylabel("control u, load d")
-    else:
-        a2.set_ylabel("control u")
+        a2.plot(res.t, res.d, "--", lw=1.2, color="0.35", label="d (input load)")
+        loads = True
+    d_out = getattr(res, "d_out", None)
+    if d_out is not None and len(d_out) == len(res.t) and np.any(np.asarray(d_out) != 0.0):
+        a2.plot(res.t, d_out, "--", lw=1.2, color="sienna", label="d_out (output load)")
+        loads = True
+    a2.set_ylabel("control u, loads" if loads else "control u")
+    # what was scheduled, marked on the time axis; manual and tracking periods shaded
+    marks = []
+    for e in res.events:
+        if e["kind"] == "setpoint" and e["at"] > 0:
+            marks.append((e["at"], f"r → {e['value']:.4g}"))
+        elif e["kind"] == "disturbance":
+            marks.append((e["at"], f"{e['location']} load {e['value']:.4g}"))
+    held_from = None
+    for op in sorted(getattr(res, "operator_events", None) or [], key=lambda o: o["at"]):
+        action = op["action"]
+        name, value = (action, None) if isinstance(action, str) else next(iter(action.items()))
+        marks.append((op["at"], name if value is None else f"{name} {value}"))
+        if name in ("manual", "track") and held_from is None:
+            held_from = op["at"]
+        elif name == "auto" and held_from is not None:
+            for a in (a1, a2):
+                a.axvspan(held_from, op["at"], color="tab:orange", alpha=0.12, lw=0)
+            held_from = None
+    if held_from is not None:
+        for a in (a1, a2):
+            a.axvspan(held_from, res.t[-1], color="tab:orange", alpha=0.12, lw=0)
+    for i, (at, text) in enumerate(marks):
+        for a in (a1, a2):
+            a.axvline(at, ls=":", color="0.45", lw=1)
+        a1.annotate(text, (at, 1.0 - 0.07 * (i % 4)), xycoords=("data", "axes fraction"),
+                    fontsize="small", color="0.35", va="top", xytext=(2, -2),
+                    textcoords="offset points")
     a2.set_xlabel("time t (s)")
     a2.legend(loc="best")
     a2.grid(True, alpha=0.3)
@@ -139,4 +170,33 @@ def plot_tradeoff(t: Any, ax: Any = None) -> Any:
         a.grid(True, which="both", alpha=0.3)
         a.legend(loc="best", fontsize="small")
     fig.suptitle(f"robustness against performance: {t['plant']}")
+    return fig
+
+
+def plot_step(s: Any, ax: Any = None) -> Any:
+    """The open-loop step response, its final value dashed, the 10-90 % rise and the settling
+    time marked, as ``msp step --plot``. Returns the Figure; with ``ax`` it draws there."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(9, 4.5), layout="constrained")
+    else:
+        fig = ax.figure
+    ax.plot(s.t, s.y, color="tab:blue", lw=1.5, label="y (unit step at t = 0)")
+    k = s.dc_gain
+    if k is not None and np.isfinite(k):
+        ax.axhline(k, ls="--", color="k", lw=1, label=f"final value {k:.4g}")
+        if np.isfinite(s.settling_time):
+            ax.axvline(s.settling_time, ls=":", color="tab:green",
+                       label=f"settling {s.settling_time:.4g} s (2 %)")
+        if np.isfinite(s.rise_time):
+            ax.axhspan(0.1 * k, 0.9 * k, color="tab:orange", alpha=0.08,
+                       label=f"rise 10-90 %: {s.rise_time:.4g} s")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("y")
+    ax.set_title(f"step response: {s.plant}")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best")
+    ax.set_xlim(s.t[0], s.t[-1])
     return fig
