@@ -63,15 +63,34 @@ const MODEL2: Msp = Msp {
 /// delay a first-order Padé, `Gc3` without its derivative, the perturbation
 /// (`gain`, `delay` factors) in the predictor's model `Gm`, `D` only.
 fn thesis_loop(m: &Msp, gain: f64, delay: f64) -> impl Fn(f64) -> C + '_ {
+    recipe(m, gain, delay, pade, 0.0)
+}
+
+/// [`thesis_loop`] with another approximation `approx(θ, s)` of the delay
+/// and `Gc3 = γ·Kp(1 + Td·s)`: the readings that do not match.
+fn recipe(
+    m: &Msp,
+    gain: f64,
+    delay: f64,
+    approx: fn(f64, C) -> C,
+    td: f64,
+) -> impl Fn(f64) -> C + '_ {
     move |w| {
         let s = C::new(0.0, w);
         let g = c(m.k) / s;
         let gm = g.scale(gain);
-        let (d, dm) = (pade(m.theta, s), pade(m.theta * delay, s));
+        let (d, dm) = (approx(m.theta, s), approx(m.theta * delay, s));
         let gc1 = c(m.kp) * (c(1.0) + c(1.0) / s.scale(m.ti));
-        let (gc2, gc3) = (c(m.beta * m.kp), c(m.gamma * m.kp));
+        let gc2 = c(m.beta * m.kp);
+        let gc3 = c(m.gamma * m.kp) * (c(1.0) + s.scale(td));
         (c(1.0) + gc3 * gm * dm) * gc1 / (c(1.0) + (gc1 + gc2) * gm - gc1 * gm * dm) * g * d
     }
+}
+
+/// The second-order Padé approximant of `e^{−θs}`.
+fn pade2(theta: f64, s: C) -> C {
+    let (h, q) = (s.scale(theta / 2.0), (s * s).scale(theta * theta / 12.0));
+    (c(1.0) - h + q) / (c(1.0) + h + q)
 }
 
 /// The MSP loop broken at the plant input (what the loop's margins are):
@@ -271,40 +290,13 @@ fn the_recipe_is_the_only_reading_that_matches() {
         ..MODEL1
     };
     assert!(off(&thesis_loop(&g16, 1.0, 1.0)), "γ = 1/16");
-    // the exact delay in the thesis's loop
+    // the exact delay, a second-order Padé, or Gc3's derivative back
+    // (Td = 1.85 s, what msp's tuning gives: Td = λ)
     let m = &MODEL1;
-    let exact_recipe = move |w: f64| {
-        let s = C::new(0.0, w);
-        let g = c(m.k) / s;
-        let d = exact(m.theta, s);
-        let gc1 = c(m.kp) * (c(1.0) + c(1.0) / s.scale(m.ti));
-        let (gc2, gc3) = (c(m.beta * m.kp), c(m.gamma * m.kp));
-        (c(1.0) + gc3 * g * d) * gc1 / (c(1.0) + (gc1 + gc2) * g - gc1 * g * d) * g * d
-    };
-    assert!(off(&exact_recipe), "exact delay");
-    // a second-order Padé, or Gc3's derivative back (Td = 1.85 s, what msp's tuning gives: Td = λ)
-    let variant = |order2: bool, td: f64| {
-        move |w: f64| {
-            let s = C::new(0.0, w);
-            let g = c(m.k) / s;
-            let d = if order2 {
-                let (h, q) = (
-                    s.scale(m.theta / 2.0),
-                    (s * s).scale(m.theta * m.theta / 12.0),
-                );
-                (c(1.0) - h + q) / (c(1.0) + h + q)
-            } else {
-                pade(m.theta, s)
-            };
-            let gc1 = c(m.kp) * (c(1.0) + c(1.0) / s.scale(m.ti));
-            let gc2 = c(m.beta * m.kp);
-            let gc3 = c(m.gamma * m.kp) * (c(1.0) + s.scale(td));
-            (c(1.0) + gc3 * g * d) * gc1 / (c(1.0) + (gc1 + gc2) * g - gc1 * g * d) * g * d
-        }
-    };
-    assert!(off(&variant(true, 0.0)), "second-order Padé");
-    assert!(off(&variant(false, 1.85)), "Td = 1.85");
-    assert!(!off(&variant(false, 0.0)), "the recipe itself");
+    assert!(off(&recipe(m, 1.0, 1.0, exact, 0.0)), "exact delay");
+    assert!(off(&recipe(m, 1.0, 1.0, pade2, 0.0)), "second-order Padé");
+    assert!(off(&recipe(m, 1.0, 1.0, pade, 1.85)), "Td = 1.85");
+    assert!(!off(&recipe(m, 1.0, 1.0, pade, 0.0)), "the recipe itself");
     // the loop at the plant input, Padé (6.25 dB / 34.8°)
     let at_input = margins_of(&true_loop(&MODEL1, pade), &grid());
     assert!((at_input.gm_db - 6.25).abs() < 0.01, "{at_input:?}");

@@ -304,33 +304,24 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
                 .label(label)
                 .legend(mark(col));
         }
-        if has_d {
-            drawn2.push(pts(&first.result.t, d));
-        }
-        if has_d_out {
-            drawn2.push(pts(&first.result.t, d_out));
-        }
-        if has_d {
-            let grey = RGBColor(90, 90, 90);
-            c2.draw_series(DashedLineSeries::new(
-                pts(&first.result.t, d),
-                6,
-                4,
-                grey.stroke_width(2),
-            ))?
-            .label("d (input load)")
-            .legend(dashed_mark!(grey));
-        }
-        if has_d_out {
-            let brown = RGBColor(160, 82, 45);
-            c2.draw_series(DashedLineSeries::new(
-                pts(&first.result.t, d_out),
-                6,
-                4,
-                brown.stroke_width(2),
-            ))?
-            .label("d_out (output load)")
-            .legend(dashed_mark!(brown));
+        // the loads dashed, at the input and at the output
+        for (shown, signal, label, col) in [
+            (has_d, d, "d (input load)", RGBColor(90, 90, 90)),
+            (
+                has_d_out,
+                d_out,
+                "d_out (output load)",
+                RGBColor(160, 82, 45),
+            ),
+        ] {
+            if !shown {
+                continue;
+            }
+            let p = pts(&first.result.t, signal);
+            drawn2.push(p.clone());
+            c2.draw_series(DashedLineSeries::new(p, 6, 4, col.stroke_width(2)))?
+                .label(label)
+                .legend(dashed_mark!(col));
         }
         let refs2: Vec<&[(f64, f64)]> = drawn2.iter().map(Vec::as_slice).collect();
         #[allow(clippy::cast_precision_loss)] // a few series

@@ -547,16 +547,20 @@ def margins(
                                 uncertainty=unc, **kw))
 
 
-class Margins(Dict[str, Any]):
-    """The result of :func:`margins`: a dict with the keys of ``msp margins --json`` (kept for
-    code that indexes it), every key also an attribute (``m.gm``, ``m.w``, ``m.l``), a short
-    ``repr`` with the numbers, and :meth:`plot` for Bode and Nyquist."""
+class _Report(Dict[str, Any]):
+    """A result dict whose keys read as attributes too (``m.gm`` for ``m["gm"]``)."""
 
     def __getattr__(self, name: str) -> Any:
         try:
             return self[name]
         except KeyError:
             raise AttributeError(name) from None
+
+
+class Margins(_Report):
+    """The result of :func:`margins`: a dict with the keys of ``msp margins --json`` (kept for
+    code that indexes it), every key also an attribute (``m.gm``, ``m.w``, ``m.l``), a short
+    ``repr`` with the numbers, and :meth:`plot` for Bode and Nyquist."""
 
     def __repr__(self) -> str:
         def f(v: Any) -> str:
@@ -568,22 +572,16 @@ class Margins(Dict[str, Any]):
                 f"ms={f(self['ms'])}, mt={f(self['mt'])}, stable={self['stable']}>")
 
     def plot(self, ax: Any = None) -> Any:
-        """A matplotlib Figure: Bode (phase wrapped, gm and pm marked) and Nyquist with the unit and
+        """A matplotlib Figure: Bode (phase unwrapped, gm and pm marked) and Nyquist with the unit and
         Ms circles, as ``msp margins --plot`` (needs matplotlib: ``pip install msp[plot]``)."""
         from .plotting import plot_margins
 
         return plot_margins(self, ax=ax)
 
 
-class Tradeoff(Dict[str, Any]):
+class Tradeoff(_Report):
     """The result of :func:`tradeoff`: the keys of ``msp tradeoff --json`` (``plant``, ``ts``,
     ``factors``, ``points``, ``skipped``), read as attributes too, and :meth:`plot`."""
-
-    def __getattr__(self, name: str) -> Any:
-        try:
-            return self[name]
-        except KeyError:
-            raise AttributeError(name) from None
 
     def scheme(self, name: str) -> List[Dict[str, Any]]:
         """The points of one scheme, λ increasing."""
@@ -788,15 +786,9 @@ def autotune(
     return raw
 
 
-class Step(Dict[str, Any]):
+class Step(_Report):
     """The result of :func:`step`: the keys of ``msp step --json`` with ``t`` and ``y`` (kept for
     code that indexes it), read as attributes too, and :meth:`plot`."""
-
-    def __getattr__(self, name: str) -> Any:
-        try:
-            return self[name]
-        except KeyError:
-            raise AttributeError(name) from None
 
     def plot(self, ax: Any = None) -> Any:
         """A matplotlib Figure as ``msp step --plot``: the response, its final value dashed, the
