@@ -734,7 +734,7 @@ fn plots_carry_what_a_report_needs() {
     let shows = [
         (&run, "time t (s)"),
         (&run, "r (set point)"),
-        (&run, "d (load)"),
+        (&run, "d (input load)"),
         (&run, "u (control)"),
         (&run, "karan-dey (kp = 5.4054"),
         (&bode, "gm 4.554 dB"),
