@@ -56,6 +56,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod adapt;
 pub mod autotune;
 pub mod complex;
 mod controller;

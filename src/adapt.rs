@@ -1,0 +1,509 @@
+//! On-line identification of a dead-time process from closed-loop data: a
+//! bank of recursive least-squares estimators over candidate dead times
+//! (no_std, allocation-free, `f32`/`f64`).
+//!
+//! The model, for the sampled first-order-plus-dead-time process (its ZOH
+//! equivalent with a dead time of `d + f` samples, `0 ≤ f < 1`):
+//!
+//! `y[k+1] = a·y[k] + b0·u[k−d] + b1·u[k−d−1]`,
+//!
+//! with `a = e^{−Ts/τ}`, and the fractional part of the dead time shared
+//! between `b0` and `b1` (`b1/(b0 + b1)` is `f` to first order in `Ts/τ`;
+//! exactly `b0 = K(1 − a^{1−f})`, `b1 = K(a^{1−f} − a)`). So
+//! `K = (b0 + b1)/(1 − a)`, `τ = −Ts/ln a`, `θ = (d + f)·Ts` with
+//! `a^{1−f} = 1 − b0/K` (Åström & Wittenmark (1997) Sec. 2.3 for the ZOH of
+//! a fractional delay). For an integrating process (`a = 1`) `b0 + b1 = K·Ts`
+//! and `f = b1/(b0 + b1)`.
+//!
+//! Each candidate `d ∈ [d_min, d_min + N)` runs its own RLS on the
+//! differenced data (`Δy[k+1] = a·Δy[k] + b0·Δu[k−d] + b1·Δu[k−d−1]`: loads
+//! and offsets that are constant between samples drop out), in output-error
+//! form (the regressor holds the model's own `Δŷ[k]`, so measurement noise
+//! does not bias `a`; Landau's pseudo-linear regression; an integrating
+//! model regresses `Δy[k+1] − Δy[k]` on the inputs alone), with exponential
+//! forgetting and the covariance's trace bounded, and accumulates its
+//! discounted squared prediction error; the candidate with the smallest error
+//! is the dead time, switched to only when it beats the current one by a
+//! clear margin for a number of samples (Ljung (1999), *System
+//! Identification*, Sec. 16.4, delay by model comparison; Åström & Wittenmark
+//! (1995), *Adaptive Control*, Secs. 2.2 and 11.2: RLS, forgetting and its
+//! safeguards). An update is skipped when the input has not moved (an
+//! excitation gate), when the prediction error is within the dead zone of
+//! the noise, or when the caller says the sample is not the process's own
+//! response (saturated, manual, tracking, a fault).
+
+use crate::real::positive;
+use crate::{Error, Real};
+
+/// One candidate dead time's estimator: `θ = (a, b0, b1)` and `P` (3×3).
+#[derive(Debug, Clone, Copy)]
+struct Candidate<T> {
+    theta: [T; 3],
+    p: [[T; 3]; 3],
+    /// Discounted squared prediction error.
+    cost: T,
+    /// The model's own output difference `Δŷ[k]` (output-error regressor).
+    yhat: T,
+}
+
+/// Settings of an [`Estimator`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EstimatorConfig<T> {
+    /// The sample period (s).
+    pub ts: T,
+    /// The smallest candidate dead time (whole samples).
+    pub d_min: usize,
+    /// Forgetting factor `λ` (0.98–0.9999): memory `1/(1 − λ)` samples.
+    pub forgetting: T,
+    /// Bound on the covariance's trace (no "bursting" when nothing moves).
+    pub max_trace: T,
+    /// Dead zone: prediction errors below this (the noise level) do not update.
+    pub dead_zone: T,
+    /// Excitation gate: no update unless `|Δu|` reached this within the
+    /// history the candidates read.
+    pub min_excitation: T,
+    /// Discount of the candidates' costs (the decision's memory).
+    pub cost_memory: T,
+    /// A new dead time must cost less than this fraction of the current's…
+    pub switch_ratio: T,
+    /// …for this many consecutive samples.
+    pub switch_hold: u32,
+    /// The process integrates (`a = 1`, not estimated).
+    pub integrating: bool,
+}
+
+impl<T: Real> EstimatorConfig<T> {
+    /// Defaults for period `ts` and candidates from `d_min` samples:
+    /// forgetting 0.995, trace ≤ 1e4, no dead zone, excitation 1e-6, cost
+    /// memory 0.995, switch at 70 % of the current cost held 50 samples.
+    pub fn new(ts: T, d_min: usize) -> Self {
+        EstimatorConfig {
+            ts,
+            d_min,
+            forgetting: T::of(0.995),
+            max_trace: T::of(1e4),
+            dead_zone: T::zero(),
+            min_excitation: T::of(1e-6),
+            cost_memory: T::of(0.995),
+            switch_ratio: T::of(0.7),
+            switch_hold: 50,
+            integrating: false,
+        }
+    }
+}
+
+/// The process model an [`Estimator`] holds now.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate<T> {
+    /// Static gain `K` (integrating: the velocity gain).
+    pub k: T,
+    /// Time constant `τ` (s; infinite for an integrating process).
+    pub tau: T,
+    /// Dead time `θ` (s).
+    pub theta: T,
+    /// The chosen candidate dead time (whole samples).
+    pub d: usize,
+    /// The best other candidate's cost over the chosen one's (close to 1:
+    /// an ambiguous choice).
+    pub ambiguity: T,
+}
+
+/// The bank of `N` RLS estimators over the dead times `d_min … d_min + N − 1`
+/// samples, sharing one history of `H` input differences (`H ≥ d_min + N + 1`).
+#[derive(Debug, Clone)]
+pub struct Estimator<T, const N: usize, const H: usize> {
+    cfg: EstimatorConfig<T>,
+    bank: [Candidate<T>; N],
+    /// `Δu[k−1], Δu[k−2], …` as a ring: `du[at]` is the newest.
+    du: [T; H],
+    at: usize,
+    last_u: T,
+    last_y: T,
+    last_dy: T,
+    samples: u32,
+    chosen: usize,
+    challenger_for: u32,
+}
+
+impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
+    /// A bank with every candidate at `a = e^{−Ts/τ0}`, `b0 = b1 = 0` and a
+    /// large covariance (little is known yet).
+    pub fn new(cfg: EstimatorConfig<T>) -> Result<Self, Error> {
+        let ts = positive(cfg.ts, "ts")?;
+        if N == 0 || H < cfg.d_min.saturating_add(N).saturating_add(1) {
+            return Err(Error::OutOfRange(
+                "estimator: the history must hold d_min + N + 1 inputs",
+            ));
+        }
+        let lam = cfg.forgetting;
+        if !(lam > T::zero() && lam <= T::one()) {
+            return Err(Error::OutOfRange("forgetting in (0, 1]"));
+        }
+        let _ = ts;
+        let p0 = cfg.max_trace / T::of(3.0);
+        let mut p = [[T::zero(); 3]; 3];
+        for (i, row) in p.iter_mut().enumerate() {
+            if let Some(x) = row.get_mut(i) {
+                // an integrating model's `a` is 1, not estimated
+                *x = if cfg.integrating && i == 0 {
+                    T::zero()
+                } else {
+                    p0
+                };
+            }
+        }
+        let a0 = if cfg.integrating {
+            T::one()
+        } else {
+            T::of(0.9)
+        };
+        Ok(Estimator {
+            cfg,
+            bank: [Candidate {
+                theta: [a0, T::zero(), T::zero()],
+                p,
+                cost: T::zero(),
+                yhat: T::zero(),
+            }; N],
+            du: [T::zero(); H],
+            at: 0,
+            last_u: T::zero(),
+            last_y: T::zero(),
+            last_dy: T::zero(),
+            samples: 0,
+            chosen: 0,
+            challenger_for: 0,
+        })
+    }
+
+    /// `Δu[k − j]` (`j ≥ 1`) from the ring.
+    fn past_du(&self, j: usize) -> T {
+        let i = (self.at + H - (j - 1) % H) % H;
+        self.du.get(i).copied().unwrap_or(T::zero())
+    }
+
+    /// One sample: `y` measured now and `u` the input the plant received in
+    /// the last period (`u_applied`); `ok` false for a sample that is not the
+    /// process's own response (saturated, manual, tracking, faulted): the
+    /// history moves on, nothing is learnt.
+    pub fn update(&mut self, y: T, u_applied: T, ok: bool) {
+        if !(y.is_finite() && u_applied.is_finite()) {
+            return;
+        }
+        let dy = y - self.last_y;
+        let learn = ok && self.samples >= 2;
+        if learn {
+            self.learn(dy);
+        }
+        // the input of the period that just ended joins the history
+        let du = u_applied - self.last_u;
+        self.at = (self.at + 1) % H;
+        if let Some(x) = self.du.get_mut(self.at) {
+            *x = du;
+        }
+        self.last_u = u_applied;
+        self.last_y = y;
+        self.last_dy = dy;
+        self.samples = self.samples.saturating_add(1);
+    }
+
+    /// The RLS step of every candidate for the new difference `dy`
+    /// (`Δy[k+1]`, with the history holding `Δu[k] … `).
+    fn learn(&mut self, dy: T) {
+        let cfg = self.cfg;
+        let excitation = (0..cfg.d_min + N + 1)
+            .map(|j| self.past_du(j + 1).abs())
+            .fold(T::zero(), |m, v| if v > m { v } else { m });
+        for (i, c) in self.bank.iter_mut().enumerate() {
+            let d = cfg.d_min + i;
+            // φ = (Δy[k], Δu[k−d], Δu[k−d−1]); the newest du is Δu[k]
+            let i0 = (self.at + H - d % H) % H;
+            let i1 = (self.at + H - (d + 1) % H) % H;
+            // the model's own past output in the regressor, not the
+            // measurement's: the output-error form (Landau's pseudo-linear
+            // regression), which noise on y does not bias as it does the
+            // equation-error (ARX) form; an integrating model has no `a`
+            // (its regressor and covariance row stay zero)
+            let phi = [
+                if cfg.integrating { T::zero() } else { c.yhat },
+                self.du.get(i0).copied().unwrap_or(T::zero()),
+                self.du.get(i1).copied().unwrap_or(T::zero()),
+            ];
+            let dot = |a: &[T; 3], b: &[T; 3]| {
+                a.iter()
+                    .zip(b.iter())
+                    .fold(T::zero(), |s, (x, y)| s + *x * *y)
+            };
+            let pred = dot(&c.theta, &phi);
+            // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
+            // taken to the left: the regressors are inputs only)
+            let target = if cfg.integrating {
+                dy - self.last_dy
+            } else {
+                dy
+            };
+            let e = target - pred;
+            c.cost = cfg.cost_memory * c.cost + e * e;
+            c.yhat = pred;
+            if excitation < cfg.min_excitation || e.abs() <= cfg.dead_zone {
+                continue;
+            }
+            // RLS with forgetting: K = Pφ/(λ + φᵀPφ), θ += K e, P = (P − KφᵀP)/λ
+            let mut pphi = [T::zero(); 3];
+            for (out, row) in pphi.iter_mut().zip(c.p.iter()) {
+                *out = dot(row, &phi);
+            }
+            let denom = cfg.forgetting + dot(&phi, &pphi);
+            if !(denom > T::zero()) {
+                continue;
+            }
+            for (t, g) in c.theta.iter_mut().zip(pphi.iter()) {
+                *t = *t + *g / denom * e;
+            }
+            let mut trace = T::zero();
+            for (r, (row, gr)) in c.p.iter_mut().zip(pphi.iter()).enumerate() {
+                for (x, gj) in row.iter_mut().zip(pphi.iter()) {
+                    *x = (*x - *gr * *gj / denom) / cfg.forgetting;
+                }
+                trace = trace + row.get(r).copied().unwrap_or(T::zero());
+            }
+            if trace > cfg.max_trace {
+                let k = cfg.max_trace / trace;
+                for x in c.p.iter_mut().flat_map(|row| row.iter_mut()) {
+                    *x = *x * k;
+                }
+            }
+            // projection onto plausible models: 0 < a < 1
+            if let (false, Some(a)) = (cfg.integrating, c.theta.first_mut()) {
+                let lo = T::of(1e-6);
+                let hi = T::one() - T::of(1e-9);
+                *a = a.max(lo).min(hi);
+            }
+            // the a-posteriori output
+            c.yhat = dot(&c.theta, &phi);
+        }
+        self.decide();
+    }
+
+    /// The chosen dead time moves to the best candidate only when it costs
+    /// less than `switch_ratio` of the current one for `switch_hold` samples.
+    fn decide(&mut self) {
+        let best = self
+            .bank
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                a.1.cost
+                    .partial_cmp(&b.1.cost)
+                    .unwrap_or(core::cmp::Ordering::Equal)
+            })
+            .map_or(0, |(i, _)| i);
+        let cur = self.bank.get(self.chosen).map_or(T::infinity(), |c| c.cost);
+        let new = self.bank.get(best).map_or(T::infinity(), |c| c.cost);
+        if best != self.chosen && new < self.cfg.switch_ratio * cur {
+            self.challenger_for = self.challenger_for.saturating_add(1);
+            if self.challenger_for >= self.cfg.switch_hold {
+                self.chosen = best;
+                self.challenger_for = 0;
+            }
+        } else {
+            self.challenger_for = 0;
+        }
+    }
+
+    /// The model of the chosen candidate (`None` before it means anything:
+    /// `b0 + b1` of the wrong sign or zero).
+    pub fn estimate(&self) -> Option<Estimate<T>> {
+        let c = self.bank.get(self.chosen)?;
+        let [a, b0, b1] = c.theta;
+        let b = b0 + b1;
+        if !(b.abs() > T::epsilon()) {
+            return None;
+        }
+        let ts = self.cfg.ts;
+        let d = self.cfg.d_min + self.chosen;
+        let (k, tau, frac) = if self.cfg.integrating {
+            (b / ts, T::infinity(), (b1 / b).max(T::zero()).min(T::one()))
+        } else {
+            let k = b / (T::one() - a);
+            // a^{1−f} = 1 − b0/K
+            let r = (T::one() - b0 / k).max(a).min(T::one());
+            // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
+            let f = if r > T::zero() {
+                T::one() - r.ln() / a.ln()
+            } else {
+                T::zero()
+            };
+            (k, -ts / a.ln(), f.max(T::zero()).min(T::one()))
+        };
+        let second = self
+            .bank
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != self.chosen)
+            .map(|(_, c)| c.cost)
+            .fold(T::infinity(), |m, v| if v < m { v } else { m });
+        Some(Estimate {
+            k,
+            tau,
+            theta: (T::of(d as f64) + frac) * ts,
+            d,
+            ambiguity: if c.cost > T::zero() {
+                second / c.cost
+            } else {
+                T::infinity()
+            },
+        })
+    }
+
+    /// The covariance's trace of the chosen candidate.
+    pub fn trace(&self) -> T {
+        self.bank.get(self.chosen).map_or(T::zero(), |c| {
+            c.p.iter().enumerate().fold(T::zero(), |s, (i, row)| {
+                s + row.get(i).copied().unwrap_or(T::zero())
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::ExpectOk;
+
+    /// A FOPDT process `K e^{−θs}/(τs + 1)` sampled exactly (ZOH, the
+    /// fractional delay in `b0`, `b1`) under a PRBS-like input with a load.
+    fn run(k: f64, tau: f64, theta: f64, ts: f64, n: usize, noise: f64) -> Estimator<f64, 16, 40> {
+        run_with(k, tau, (theta, theta), ts, n, noise)
+    }
+
+    /// [`run`] with the dead time `theta.0` for the first half, `theta.1` after.
+    fn run_with(
+        k: f64,
+        tau: f64,
+        theta: (f64, f64),
+        ts: f64,
+        n: usize,
+        noise: f64,
+    ) -> Estimator<f64, 16, 40> {
+        let a = (-ts / tau).exp();
+        let parts = |theta: f64| {
+            let d = (theta / ts + 1e-9).floor() as usize;
+            let f = (theta / ts - d as f64).max(0.0);
+            (d, k * (1.0 - a.powf(1.0 - f)), k * (a.powf(1.0 - f) - a))
+        };
+        let mut est: Estimator<f64, 16, 40> =
+            Estimator::new(EstimatorConfig::new(ts, 2)).expect_ok();
+        let mut u_hist = [0.0f64; 64];
+        let mut y = 0.0;
+        let mut seed = 99u64;
+        let mut u = 0.0;
+        for j in 0..n {
+            if j % 7 == 0 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                u = if seed >> 63 == 1 { 1.0 } else { -1.0 };
+            }
+            let load = if j > n / 2 { 0.3 } else { 0.0 };
+            let (d, b0, b1) = parts(if j < n / 2 { theta.0 } else { theta.1 });
+            // y[j] measured; u applied over [j, j+1)
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let e = noise * (((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
+            est.update(y + e, u, true);
+            u_hist[j % 64] = u;
+            let at = |m: usize| if j >= m { u_hist[(j - m) % 64] } else { 0.0 };
+            y = a * y + b0 * (at(d) + load) + b1 * (at(d + 1) + load);
+        }
+        est
+    }
+
+    #[test]
+    fn finds_gain_lag_and_fractional_dead_time() {
+        for (k, tau, theta) in [(2.0, 4.0, 1.2), (0.5, 10.0, 0.75), (-1.5, 2.0, 1.05)] {
+            let est = run(k, tau, theta, 0.1, 6000, 0.0);
+            let m = est.estimate().expect_ok_opt();
+            assert!((m.k - k).abs() < 1e-3 * k.abs(), "{m:?}");
+            assert!((m.tau - tau).abs() < 1e-3 * tau, "{m:?}");
+            assert!((m.theta - theta).abs() < 0.01, "{m:?}");
+        }
+    }
+
+    #[test]
+    fn small_noise_keeps_the_estimates_close() {
+        let est = run(2.0, 4.0, 1.25, 0.1, 20_000, 0.01);
+        let m = est.estimate().expect_ok_opt();
+        assert_eq!(m.d, 12, "{m:?}");
+        assert!(
+            (m.k - 2.0).abs() < 0.05 * 2.0 && (m.tau - 4.0).abs() < 0.1 * 4.0,
+            "{m:?}"
+        );
+    }
+
+    /// A dead-time step from 10 to 14 samples: the estimate follows within
+    /// a few thousand samples (the costs' memory), once the challenger has
+    /// held its lead.
+    #[test]
+    fn follows_a_dead_time_step() {
+        let est = run_with(2.0, 4.0, (1.0, 1.4), 0.1, 12_000, 0.005);
+        let m = est.estimate().expect_ok_opt();
+        assert_eq!(m.d, 14, "{m:?}");
+        // the dead time to a sample, the gain within 5 %
+        assert!(
+            (m.theta - 1.4).abs() < 0.02 && (m.k - 2.0).abs() < 0.1,
+            "{m:?}"
+        );
+    }
+
+    /// The thesis's integrating benchmark `0.2 e^{−7.45s}/s` at `Ts = 0.1`
+    /// (74.5 samples: the half sample in `b0`, `b1`) in closed loop under a
+    /// P controller with a dithered set point: the velocity gain and the
+    /// dead time, fraction included.
+    #[test]
+    fn integrating_process_in_closed_loop() {
+        let (kv, ts) = (0.2, 0.1);
+        let mut cfg = EstimatorConfig::new(ts, 66);
+        cfg.integrating = true;
+        let mut est: Estimator<f64, 16, 90> = Estimator::new(cfg).expect_ok();
+        let (d, f) = (74usize, 0.5);
+        let (b0, b1) = (kv * ts * (1.0 - f), kv * ts * f);
+        let mut hist = [0.0f64; 128];
+        let mut y = 0.0;
+        for j in 0..20_000usize {
+            let r = if (j / 400) % 2 == 0 { 1.0 } else { -1.0 };
+            let u = 0.5 * (r - y);
+            est.update(y, u, true);
+            hist[j % 128] = u;
+            let at = |m: usize| if j >= m { hist[(j - m) % 128] } else { 0.0 };
+            y += b0 * at(d) + b1 * at(d + 1);
+        }
+        let m = est.estimate().expect_ok_opt();
+        assert!(m.tau.is_infinite() && (m.k - kv).abs() < 1e-3 * kv, "{m:?}");
+        assert!((m.theta - 7.45).abs() < 0.01, "{m:?}");
+    }
+
+    #[test]
+    fn nothing_moves_nothing_learnt() {
+        let mut est: Estimator<f64, 8, 16> =
+            Estimator::new(EstimatorConfig::new(0.1, 1)).expect_ok();
+        for _ in 0..100_000 {
+            est.update(0.5, 0.2, true);
+        }
+        assert!(est.estimate().is_none());
+        assert!(est.trace() <= 1e4 * (1.0 + 1e-9));
+    }
+
+    trait OptExt<T> {
+        fn expect_ok_opt(self) -> T;
+    }
+    impl<T> OptExt<T> for Option<T> {
+        fn expect_ok_opt(self) -> T {
+            match self {
+                Some(v) => v,
+                None => panic!("no estimate"),
+            }
+        }
+    }
+}
