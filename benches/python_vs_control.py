@@ -17,8 +17,9 @@ import msp
 
 PLANT = "5.6*e^-93.9s/(40.2s+1)"
 K, T, L = 5.6, 40.2, 93.9
-# msp.run's own choices for this plant (ts = L/1000, duration 10 L: 10 001 samples);
-# python-control gets the same time grid
+# a unit set-point step on msp's grid for this plant (ts = L/1000, duration 10 L:
+# 10 001 samples; given, so that the run is this step alone and not the default
+# scenario's step and load); python-control gets the same time grid
 TS = 0.0939
 DURATION = 939.0
 
@@ -45,7 +46,7 @@ def interleaved(rounds=10, per_round=4):
 
 
 def with_msp():
-    return msp.run(PLANT)
+    return msp.run(PLANT, setpoint=1.0, ts=TS, duration=DURATION)
 
 
 def with_control():
