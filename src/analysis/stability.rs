@@ -147,7 +147,9 @@ fn winding(f: &dyn Fn(f64) -> Complex<f64>, rate: f64) -> Result<i64, String> {
         String::from("the loop's behaviour at zero frequency could not be resolved")
     })?;
     let pi = core::f64::consts::PI;
-    let step = (0.2 / rate).min(0.05);
+    // a delay term of `rate` samples turns by half a radian per step (29°,
+    // within the 45° that `follow` accepts without halving)
+    let step = (0.5 / rate).min(0.05);
     let mut turned = 0.0;
     let mut a = theta0;
     let mut fa = f(a);
