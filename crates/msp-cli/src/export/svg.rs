@@ -4,6 +4,20 @@ use msp::study::RunOutput;
 
 use super::fmt_sig;
 
+/// The series colours of every plot, in order.
+const PALETTE: [plotters::style::RGBColor; 10] = [
+    plotters::style::RGBColor(0, 0, 255),
+    plotters::style::RGBColor(255, 0, 0),
+    plotters::style::RGBColor(0, 255, 0),
+    plotters::style::RGBColor(255, 0, 255),
+    plotters::style::RGBColor(0, 255, 255),
+    plotters::style::RGBColor(255, 140, 0),
+    plotters::style::RGBColor(128, 0, 128),
+    plotters::style::RGBColor(90, 90, 90),
+    plotters::style::RGBColor(0, 128, 128),
+    plotters::style::RGBColor(160, 82, 45),
+];
+
 /// A time series as plot points: at most ~2000 of them (the picture is the
 /// same, the file small), always ending at the last sample.
 fn points(t: &[f64], v: &[f64]) -> Vec<(f64, f64)> {
@@ -137,17 +151,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
     let Some(first) = runs.first() else {
         return Ok(String::new());
     };
-    let palette = [
-        BLUE,
-        RED,
-        GREEN,
-        MAGENTA,
-        CYAN,
-        RGBColor(255, 140, 0),
-        RGBColor(128, 0, 128),
-        RGBColor(90, 90, 90),
-    ];
-    let color = |i: usize| palette.get(i % palette.len()).copied().unwrap_or(BLUE);
+    let color = |i: usize| PALETTE.get(i % PALETTE.len()).copied().unwrap_or(BLUE);
     let t_end = first.result.t.last().copied().unwrap_or(1.0).max(1e-9);
     let range = |vs: &[&Vec<f64>]| {
         let (lo, hi) = vs
@@ -631,18 +635,6 @@ pub(crate) fn step_svg(
 /// scale), a line through its `λ` sweep, its own tuning marked by a ring.
 pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
-    let palette = [
-        BLUE,
-        RED,
-        GREEN,
-        MAGENTA,
-        CYAN,
-        RGBColor(255, 140, 0),
-        RGBColor(128, 0, 128),
-        RGBColor(90, 90, 90),
-        RGBColor(0, 128, 128),
-        RGBColor(160, 82, 45),
-    ];
     let ok: Vec<&msp::study::TradeoffPoint> = t
         .points
         .iter()
@@ -702,7 +694,7 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
                 .y_desc(what)
                 .draw()?;
             for (i, name) in schemes.iter().enumerate() {
-                let col = palette.get(i % palette.len()).copied().unwrap_or(BLUE);
+                let col = PALETTE.get(i % PALETTE.len()).copied().unwrap_or(BLUE);
                 let pts: Vec<(f64, f64)> = ok
                     .iter()
                     .filter(|p| p.scheme == *name && p.ms <= ms_hi)
