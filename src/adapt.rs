@@ -424,7 +424,7 @@ mod tests {
     fn finds_gain_lag_and_fractional_dead_time() {
         for (k, tau, theta) in [(2.0, 4.0, 1.2), (0.5, 10.0, 0.75), (-1.5, 2.0, 1.05)] {
             let est = run(k, tau, theta, 0.1, 6000, 0.0);
-            let m = est.estimate().expect_ok_opt();
+            let m = est.estimate().expect_ok();
             assert!((m.k - k).abs() < 1e-3 * k.abs(), "{m:?}");
             assert!((m.tau - tau).abs() < 1e-3 * tau, "{m:?}");
             assert!((m.theta - theta).abs() < 0.01, "{m:?}");
@@ -434,7 +434,7 @@ mod tests {
     #[test]
     fn small_noise_keeps_the_estimates_close() {
         let est = run(2.0, 4.0, 1.25, 0.1, 20_000, 0.01);
-        let m = est.estimate().expect_ok_opt();
+        let m = est.estimate().expect_ok();
         assert_eq!(m.d, 12, "{m:?}");
         assert!(
             (m.k - 2.0).abs() < 0.05 * 2.0 && (m.tau - 4.0).abs() < 0.1 * 4.0,
@@ -448,7 +448,7 @@ mod tests {
     #[test]
     fn follows_a_dead_time_step() {
         let est = run_with(2.0, 4.0, (1.0, 1.4), 0.1, 12_000, 0.005);
-        let m = est.estimate().expect_ok_opt();
+        let m = est.estimate().expect_ok();
         assert_eq!(m.d, 14, "{m:?}");
         // the dead time to a sample, the gain within 5 %
         assert!(
@@ -479,7 +479,7 @@ mod tests {
             let at = |m: usize| if j >= m { hist[(j - m) % 128] } else { 0.0 };
             y += b0 * at(d) + b1 * at(d + 1);
         }
-        let m = est.estimate().expect_ok_opt();
+        let m = est.estimate().expect_ok();
         assert!(m.tau.is_infinite() && (m.k - kv).abs() < 1e-3 * kv, "{m:?}");
         assert!((m.theta - 7.45).abs() < 0.01, "{m:?}");
     }
@@ -493,17 +493,5 @@ mod tests {
         }
         assert!(est.estimate().is_none());
         assert!(est.trace() <= 1e4 * (1.0 + 1e-9));
-    }
-
-    trait OptExt<T> {
-        fn expect_ok_opt(self) -> T;
-    }
-    impl<T> OptExt<T> for Option<T> {
-        fn expect_ok_opt(self) -> T {
-            match self {
-                Some(v) => v,
-                None => panic!("no estimate"),
-            }
-        }
     }
 }

@@ -11,9 +11,13 @@
 use crate::real::positive;
 use crate::{Error, Real};
 
-/// A sum that stays accurate over millions of terms: Kahan-compensated in
-/// `f32` (where a plain running sum drifts after ~10⁵ terms), plain in `f64`
-/// (relative error below `n·2⁻⁵³`, 10⁻⁹ after 10⁷ terms).
+/// A sum that stays accurate over millions of terms: in `f32` (where a plain
+/// running sum drifts after ~10⁵ terms) a double word `s + c`, each
+/// addition's rounding error carried exactly by Knuth's TwoSum and folded
+/// back (Ogita, Rump & Oishi (2005), "Accurate sum and dot product", *SIAM
+/// J. Sci. Comput.* 26(6), Alg. 4.4), so that a sum whose terms also leave
+/// it (a sliding window) does not drift either; plain in `f64` (relative
+/// error below `n·2⁻⁵³`, 10⁻⁹ after 10⁷ terms).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Sum<T> {
@@ -29,15 +33,19 @@ impl<T: Real> Sum<T> {
             self.s = self.s + x;
             return;
         }
-        let y = x - self.c;
-        let t = self.s + y;
-        self.c = (t - self.s) - y;
-        self.s = t;
+        // TwoSum: t + e = s + x exactly
+        let t = self.s + x;
+        let z = t - self.s;
+        let e = (self.s - (t - z)) + (x - z);
+        // the error joins the low word, renormalized into the pair
+        let lo = self.c + e;
+        self.s = t + lo;
+        self.c = lo - (self.s - t);
     }
     /// The sum.
     #[inline]
     pub fn value(&self) -> T {
-        self.s - self.c
+        self.s + self.c
     }
 }
 

@@ -14,3 +14,13 @@ impl<T, E: core::fmt::Debug> ExpectOk<T> for Result<T, E> {
         }
     }
 }
+
+impl<T> ExpectOk<T> for Option<T> {
+    #[track_caller]
+    fn expect_ok(self) -> T {
+        match self {
+            Some(v) => v,
+            None => std::panic::panic_any(std::string::String::from("None")),
+        }
+    }
+}
