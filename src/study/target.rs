@@ -198,6 +198,17 @@ impl Target {
     }
 }
 
+/// The intervals of a sampled curve `(λ, figure)` (λ increasing) where the
+/// figure crosses `value`, in order: more than one when it is not monotone.
+fn crossings(pts: &[(f64, f64)], value: f64) -> Vec<[(f64, f64); 2]> {
+    pts.windows(2)
+        .filter_map(|w| {
+            let (a, b) = (*w.first()?, *w.get(1)?);
+            ((a.1 - value) * (b.1 - value) <= 0.0).then_some([a, b])
+        })
+        .collect()
+}
+
 impl Scenario {
     /// The figure of the loop tuned with `lambda` on `model` (the nominal
     /// loop: the model as the plant), or `None` where the loop is not stable
@@ -248,14 +259,7 @@ impl Scenario {
                     Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
                 })
         };
-        // the grid intervals where the figure crosses the value
-        let crossings: Vec<[(f64, f64); 2]> = pts
-            .windows(2)
-            .filter_map(|w| {
-                let (a, b) = (*w.first()?, *w.get(1)?);
-                ((a.1 - value) * (b.1 - value) <= 0.0).then_some([a, b])
-            })
-            .collect();
+        let crossings = crossings(&pts, value);
         let Some(&[a, b]) = crossings.last() else {
             return Err(self.unreachable(target, value, model, name, reached(&pts)));
         };
@@ -359,11 +363,7 @@ impl Scenario {
                 let Some(l0) = t.params.lambda().filter(|l| l.is_finite() && *l > 0.0) else {
                     return false;
                 };
-                let pts = sc.figure_curve(model, l0, f);
-                pts.windows(2).any(|w| match (w.first(), w.get(1)) {
-                    (Some(a), Some(b)) => (a.1 - value) * (b.1 - value) <= 0.0,
-                    _ => false,
-                })
+                !crossings(&sc.figure_curve(model, l0, f), value).is_empty()
             })
             .map(|s| s.name)
             .collect();
@@ -375,5 +375,27 @@ impl Scenario {
         RunError::Limit(format!(
             "the target {target} is out of reach: {what}; {alt}"
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::crossings;
+
+    /// A figure that rises and falls crosses a value twice: both intervals
+    /// are found, in order, and the solver takes the last (the larger λ,
+    /// the branch the report names); a monotone one crosses once; a value
+    /// out of its range, never.
+    #[test]
+    fn crossings_of_a_non_monotone_figure() {
+        let hump: Vec<(f64, f64)> = (1..=9)
+            .map(|k| (f64::from(k), -(f64::from(k) - 5.0).powi(2)))
+            .collect();
+        let c = crossings(&hump, -2.0);
+        assert_eq!(c.len(), 2);
+        assert_eq!((c[0][0].0, c[1][1].0), (3.0, 7.0));
+        let rising: Vec<(f64, f64)> = (1..=9).map(|k| (f64::from(k), f64::from(k))).collect();
+        assert_eq!(crossings(&rising, 4.5), vec![[(4.0, 4.0), (5.0, 5.0)]]);
+        assert!(crossings(&rising, 10.0).is_empty());
     }
 }

@@ -60,8 +60,9 @@ pub fn tradeoff_factors() -> Vec<f64> {
     (-6..=6).map(|k| 2f64.powf(f64::from(k) / 2.0)).collect()
 }
 
-/// Sweeps every scheme in `schemes` (empty: every single-loop scheme for the
-/// plant's kind whose tuning has a `λ`) over `λ` = its own times
+/// Sweeps every scheme in `schemes` (each must apply and have a `λ`: an
+/// error names the one that does not; empty: every single-loop scheme for
+/// the plant's kind whose tuning has a `λ`, the others listed in `skipped`) over `λ` = its own times
 /// [`tradeoff_factors`], at one sample period, on the nominal plant; runs in
 /// parallel with the `parallel` feature. `progress(done, total)` is called
 /// after each point.
@@ -95,14 +96,23 @@ pub fn tradeoff(
         sc.ts = Some(ts);
         sc.lambda = None;
         sc.target = None;
+        // a scheme the user named must be swept: its failure is an error;
+        // one of the default list that does not apply is left out, said in `skipped`
+        let named = !schemes.is_empty();
         let tuned = match sc.tune_for(&model, None) {
             Ok(t) => t,
+            Err(e) if named => return Err(e),
             Err(e) => {
                 skipped.push((name.clone(), e.to_string()));
                 continue;
             }
         };
         let Some(l0) = tuned.params.lambda().filter(|l| l.is_finite() && *l > 0.0) else {
+            if named {
+                return Err(RunError::Invalid(crate::Error::Unsupported(
+                    "the trade-off sweeps a scheme's lambda, and this scheme's tuning has none",
+                )));
+            }
             skipped.push((
                 name.clone(),
                 "its tuning has no lambda to sweep".to_string(),

@@ -1660,10 +1660,12 @@ fn tradeoff_writes_the_table_and_the_picture() {
     // two panels, each with a ring (r = 6) per scheme's own tuning
     assert_eq!(pic.matches("r=\"6\"").count(), 4, "rings");
     assert!(pic.contains("smith") && pic.contains("IAE, unit input load"));
-    stderr_of(
+    // a scheme named is swept or refused by name
+    let err = stderr_of(
         ["tradeoff", "--plant", "2*e^-3s/(4s+1)", "-c", "nonesuch"],
         2,
     );
+    assert!(err.contains("unknown controller 'nonesuch'"), "{err}");
 }
 
 /// The time plot marks every scheduled thing on the time axis (set-point
