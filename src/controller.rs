@@ -14,6 +14,8 @@
 //! the analysis and the scheme registry hold behind a pointer. It is
 //! implemented for every type that implements the four.
 
+#[cfg(feature = "alloc")]
+use crate::lti::zdomain::Rational;
 use crate::operate::{Operate, Tracking};
 use crate::{Complex, Real};
 
@@ -122,6 +124,13 @@ pub trait FrequencyResponse<T: Real> {
     fn unstable_poles(&self) -> usize {
         0
     }
+    /// `(Cr, Cy)` of [`FrequencyResponse::response`] as rational functions of
+    /// `z^{−1}` (the same composition of the same blocks; the delay lines as
+    /// powers of `z^{−1}`); `None` for a controller that does not provide it.
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(Rational, Rational)> {
+        None
+    }
 }
 
 /// A controller as the simulator, the analysis and the registry see it: every
@@ -212,6 +221,10 @@ macro_rules! forward {
             fn unstable_poles(&self) -> usize {
                 (**self).unstable_poles()
             }
+            #[cfg(feature = "alloc")]
+            fn transfer(&self) -> Option<(Rational, Rational)> {
+                (**self).transfer()
+            }
         }
     )*};
 }
@@ -299,6 +312,10 @@ impl<C: FrequencyResponse<f32>> FrequencyResponse<f64> for Widened<C> {
     }
     fn unstable_poles(&self) -> usize {
         self.0.unstable_poles()
+    }
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(Rational, Rational)> {
+        self.0.transfer()
     }
 }
 

@@ -28,7 +28,6 @@
 
 use crate::real::{finite, non_negative, positive};
 use crate::{Error, Real};
-use core::ops::{Add, Div, Mul, Sub};
 
 /// How the integrator is kept from winding up while the output is limited.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -564,22 +563,25 @@ impl<T: Real> Pid<T> {
     /// `(Cr, Cy)` of `u = Cr·r − Cy·y`: `Cr = kp·b + ki·h/(z − 1) + D(z)·c`,
     /// `Cy = kp + ki·h/(z − 1) + D(z)`, `D(z) = kd/(Tf + h)·(1 − z⁻¹)/(1 − Tf/(Tf + h)·z⁻¹)`.
     pub fn response(&self, theta: T) -> (crate::Complex<T>, crate::Complex<T>) {
-        use crate::Complex;
-        let z = Complex::cis(theta);
-        let zi = Complex::cis(-theta);
-        let one = Complex::real(T::one());
-        let integ = Complex::real(self.bi).div(z.sub(one));
-        let deriv = if self.has_d {
-            Complex::real(self.bd)
-                .mul(one.sub(zi))
-                .div(one.sub(zi.scale(self.ad)))
+        self.response_at(&crate::lti::zdomain::Frequency(theta))
+    }
+
+    /// [`Pid::response`] at any [`Point`](crate::lti::zdomain::Point), with
+    /// `w = z^{−1}`: `ki·h/(z − 1) = ki·h·w/(1 − w)`, `D = kd/(Tf + h)·(1 − w)/(1 − Tf/(Tf + h)·w)`.
+    pub fn response_at<P: crate::lti::zdomain::Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        use crate::lti::zdomain::Algebra;
+        let k = <P::V as Algebra<T>>::constant;
+        let w = at.backward();
+        let one = k(T::one());
+        let integ = k(self.bi) * w.clone() / (one.clone() - w.clone());
+        let kp = self.cfg.kp;
+        if self.has_d {
+            let deriv = k(self.bd) * (one.clone() - w.clone()) / (one - k(self.ad) * w);
+            let cr = k(kp * self.cfg.b) + integ.clone() + k(self.cfg.c) * deriv.clone();
+            (cr, k(kp) + integ + deriv)
         } else {
-            Complex::default()
-        };
-        let kp = Complex::real(self.cfg.kp);
-        let cr = kp.scale(self.cfg.b).add(integ).add(deriv.scale(self.cfg.c));
-        let cy = kp.add(integ).add(deriv);
-        (cr, cy)
+            (k(kp * self.cfg.b) + integ.clone(), k(kp) + integ)
+        }
     }
 
     /// One sample: set point `r`, measurement `y`; returns the output.
@@ -771,6 +773,10 @@ impl<T: Real> crate::Introspect<T> for Pid<T> {
 impl<T: Real> crate::FrequencyResponse<T> for Pid<T> {
     fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
         Some(Pid::response(self, theta))
+    }
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(crate::lti::zdomain::Rational, crate::lti::zdomain::Rational)> {
+        Some(self.response_at(&crate::lti::zdomain::Symbolic))
     }
 }
 

@@ -36,6 +36,7 @@ use crate::{Discretization, Error, Lti};
 mod report;
 pub mod stability;
 mod step;
+mod transfer;
 
 pub use report::{
     analyze, analyze_tuned, loop_stability, process_response, published_note, tuned_stability,
@@ -43,6 +44,7 @@ pub use report::{
 };
 pub use stability::Stability;
 pub use step::{step_grid, step_response, OpenLoopStep};
+pub use transfer::{transfer, Coefficients, Transfer};
 
 /// Which plant view the loop uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -139,6 +141,20 @@ impl DiscretePlant {
             Some(e) => late.add(e.response(theta).mul(Complex::cis(-theta * (self.k + 1.0)))),
         };
         p.add(d)
+    }
+
+    /// `P_d` as a rational function of `z^{−1}`:
+    /// `late·z^{−k} + (early + direct)·z^{−k−1}`.
+    pub fn transfer(&self) -> crate::lti::zdomain::Rational {
+        use crate::lti::zdomain::{Point, Rational, Symbolic};
+        let at = Symbolic;
+        let late = at.lti(&self.late) * at.delay(self.k);
+        let next = at.delay(self.k + 1.0);
+        let early = match &self.early {
+            None => Rational::constant(0.0),
+            Some(e) => at.lti(e) * next.clone(),
+        };
+        late + early + Rational::constant(self.direct) * next
     }
 }
 

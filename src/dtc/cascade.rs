@@ -655,6 +655,11 @@ impl<T: Real, O: FrequencyResponse<T>, S: AsRef<[T]> + AsMut<[T]>> FrequencyResp
         self.outer.feedback_parts(theta)
     }
 
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(crate::lti::zdomain::Rational, crate::lti::zdomain::Rational)> {
+        self.outer.transfer()
+    }
+
     fn unstable_poles(&self) -> usize {
         self.outer.unstable_poles()
     }

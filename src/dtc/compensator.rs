@@ -28,12 +28,13 @@
 
 use super::DelayedModel;
 use crate::delay::Delay;
+use crate::lti::zdomain::{Algebra, Frequency, Point};
 use crate::metrics::Sum;
 use crate::params::{ParamList, ParamSet};
 use crate::real::finite;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Complex, Error, Lti, Pid, Real};
-use core::ops::{Add, Div, Mul, Sub};
+use core::ops::{Add, Mul, Sub};
 
 /// Order capacity of the auxiliary blocks (filters and disturbance controllers).
 pub const AUX: usize = 4;
@@ -110,10 +111,15 @@ impl<T: Real> InnerPath<T> {
 
     /// `Gc2(e^{jθ})`.
     fn response(&self, theta: T) -> Complex<T> {
+        self.response_at(&Frequency(theta))
+    }
+
+    /// `Gc2` at any [`Point`].
+    fn response_at<P: Point<T>>(&self, at: &P) -> P::V {
         match self {
-            InnerPath::Off => Complex::default(),
-            InnerPath::Gain(k) => Complex::real(*k),
-            InnerPath::Pid(g) => g.response(theta).0,
+            InnerPath::Off => P::V::zero(),
+            InnerPath::Gain(k) => P::V::constant(*k),
+            InnerPath::Pid(g) => g.response_at(at).0,
         }
     }
 }
@@ -227,28 +233,25 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
         Ok(())
     }
 
-    /// `M(z)` of the sampled filter: with `q = h/(z − 1)` and `D = z^{−d}`,
-    /// `M = (k4 + q·k3)/Kv / ((1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1))`.
-    fn response(&self, theta: T) -> Complex<T> {
-        let (num, den) = self.parts(theta);
-        num.div(den)
+    /// `M(z) = num/den` of the sampled filter: with `q = h/(z − 1)` and
+    /// `D = z^{−d}`, `num = (k4 + q·k3)/Kv`,
+    /// `den = (1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1)`, the
+    /// determinant of the filter's own loop (its integrator and window).
+    fn parts(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        self.parts_at(&Frequency(theta))
     }
 
-    /// `M = num/den` as in [`AhlFilter::response`], the two parts apart: `den`
-    /// is the determinant of the filter's own loop (its integrator and window).
-    fn parts(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        let z = Complex::cis(theta);
-        let one = Complex::real(T::one());
-        let zm1 = z.sub(one);
-        let q = Complex::real(self.h).div(zm1);
-        let d = Complex::delay_response(theta, self.line.delay());
-        let num = Complex::real(self.k4)
-            .add(q.scale(self.k3))
-            .scale(self.inv_kv);
-        let w = z.mul(one.sub(d)).div(zm1).scale(self.h * self.k3);
-        let den = Complex::real(T::one() + self.k1)
-            .add(q.mul(Complex::real(self.k2).sub(d.scale(self.k4))))
-            .add(q.mul(w));
+    /// [`AhlFilter::parts`] at any [`Point`], with `w = z^{−1}`:
+    /// `q = h·w/(1 − w)`, `z(1 − D)/(z − 1) = (1 − D)/(1 − w)`.
+    fn parts_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        let k = P::V::constant;
+        let one = P::V::one();
+        let w = at.backward();
+        let q = k(self.h) * w.clone() / (one.clone() - w.clone());
+        let d = at.delay(self.line.delay());
+        let num = (k(self.k4) + q.clone() * k(self.k3)) * k(self.inv_kv);
+        let win = (one.clone() - d.clone()) / (one - w) * k(self.h * self.k3);
+        let den = k(T::one() + self.k1) + q.clone() * (k(self.k2) - d * k(self.k4)) + q * win;
         (num, den)
     }
 }
@@ -708,6 +711,43 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T> for Comp
     }
 }
 
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
+    /// `(Cr, Cy)` at any [`Point`] (see [`FrequencyResponse::response`]).
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        let one = P::V::one();
+        let (g1r, g1y) = self.gc1.response_at(at);
+        let g2 = self.gc2.response_at(at);
+        let (gm, d) = self.model.response_at(at);
+        let f = match &self.err {
+            ErrorPath::Direct => one.clone(),
+            ErrorPath::Blocked => P::V::zero(),
+            ErrorPath::Filter(f) => at.lti(f),
+            ErrorPath::Huang { b, line } => {
+                let bb = at.lti(b);
+                let dl = at.delay(line.delay());
+                (one.clone() + bb.clone()) / (one.clone() + bb * dl)
+            }
+        };
+        let gd = match &self.dist {
+            DisturbancePath::Off => P::V::zero(),
+            DisturbancePath::Block(b) => at.lti(b),
+            DisturbancePath::AstromHangLim(m) => {
+                let (num, den) = m.parts_at(at);
+                num / den
+            }
+        };
+        let mc = self.corr.as_ref().map_or(P::V::zero(), |c| at.lti(c));
+        let den = one.clone()
+            + g1y.clone() * (gm.clone() - f.clone() * d.clone() * gm.clone() - mc)
+            + g2 * gm.clone();
+        let through = one + gd.clone() * d * gm;
+        (
+            g1r * through.clone() / den.clone(),
+            g1y * f * through / den + gd,
+        )
+    }
+}
+
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     for Compensator<T, N, S>
 {
@@ -715,37 +755,12 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     /// `den = 1 + G1y(Gm − F·D·Gm − Mc) + G2·Gm`, `u1 = (G1r·r − G1y·F·y)/den`,
     /// `u = u1(1 + Gd·D·Gm) − Gd·y` (model driven by `u1`; without `Gd`, `u = u1`).
     fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
-        let one = Complex::real(T::one());
-        let (g1r, g1y) = self.gc1.response(theta);
-        let g2 = self.gc2.response(theta);
-        let (gm, d) = self.model.response(theta);
-        let f = match &self.err {
-            ErrorPath::Direct => one,
-            ErrorPath::Blocked => Complex::default(),
-            ErrorPath::Filter(f) => f.response(theta),
-            ErrorPath::Huang { b, line } => {
-                let bb = b.response(theta);
-                let dl = Complex::delay_response(theta, line.delay());
-                one.add(bb).div(one.add(bb.mul(dl)))
-            }
-        };
-        let gd = match &self.dist {
-            DisturbancePath::Off => Complex::default(),
-            DisturbancePath::Block(b) => b.response(theta),
-            DisturbancePath::AstromHangLim(m) => m.response(theta),
-        };
-        let mc = self
-            .corr
-            .as_ref()
-            .map_or(Complex::default(), |c| c.response(theta));
-        let den = one
-            .add(g1y.mul(gm.sub(f.mul(d).mul(gm)).sub(mc)))
-            .add(g2.mul(gm));
-        let through = one.add(gd.mul(d).mul(gm));
-        Some((
-            g1r.mul(through).div(den),
-            g1y.mul(f).mul(through).div(den).add(gd),
-        ))
+        Some(self.response_at(&Frequency(theta)))
+    }
+
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(crate::lti::zdomain::Rational, crate::lti::zdomain::Rational)> {
+        Some(self.response_at(&crate::lti::zdomain::Symbolic))
     }
 
     fn inner_response(&self, theta: T) -> Option<Complex<T>> {

@@ -144,6 +144,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
         )
     }
 
+    /// `(G_m, z^{−d})` at any [`Point`](crate::lti::zdomain::Point).
+    pub fn response_at<P: crate::lti::zdomain::Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        (at.lti(&self.model), at.delay(self.line.delay()))
+    }
+
     /// Zeroes the model, the line and the stored signals.
     pub fn reset(&mut self) {
         self.model.reset();

@@ -28,7 +28,8 @@
 
 use crate::complex::Complex;
 use crate::delay::{samples_of, whole_samples, Delay, DelayStorage};
-use crate::dtc::fsp::{buffer, model_tf, taps_at, Predictor, SmallPoly, SMALL};
+use crate::dtc::fsp::{buffer, model_tf, Predictor, SmallPoly, SMALL};
+use crate::lti::zdomain::{Algebra, Point};
 use crate::{Discretization, Error, Lti, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
@@ -259,13 +260,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> GpccPredictor<T, S> {
             })
     }
 
-    /// `(F1, F2, Fk)` at `z = e^{jθ}`.
-    pub fn filters(&self, theta: T) -> (Complex<T>, Complex<T>, Complex<T>) {
+    /// `(F1, F2, Fk)` at any [`Point`]: `F1 = Σ_{i=1}^{h} m_i·z^{−i}·Γ`.
+    pub fn filters<P: Point<T>>(&self, at: &P) -> (P::V, P::V, P::V) {
         // Σ_{i=1}^{h} m_i·z^{−i} = z^{−1}·Σ_{i=0}^{h−1} m_{i+1}·z^{−i}
-        let w = Complex::cis(-theta);
         let taps = self.markov.as_ref().get(..self.h).unwrap_or(&[]);
-        let f1 = w * taps_at(taps, w) * self.gamma.response(theta);
-        (f1, self.f2.response(theta), self.fk.response(theta))
+        let f1 = at.backward() * at.taps(taps, &[T::one()]) * at.lti(&self.gamma);
+        (f1, at.lti(&self.f2), at.lti(&self.fk))
     }
 }
 
@@ -353,12 +353,14 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Predictor<T> for GpccPredictor<T, S> {
         self.last_y = T::zero();
     }
     /// `Su = F1(1 − Fk z^{−h})`, `Sy = F2 + Fk(1 − z^{−h}F2)`.
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        let (f1, f2, fk) = self.filters(theta);
-        let hh = T::of(f64::from(u32::try_from(self.h).unwrap_or(0)));
-        let zh = Complex::cis(-theta * hh);
-        let one = Complex::real(T::one());
-        (f1 * (one - fk * zh), f2 + fk * (one - zh * f2))
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        let (f1, f2, fk) = self.filters(at);
+        let zh = at.delay(T::of(f64::from(u32::try_from(self.h).unwrap_or(0))));
+        let one = P::V::one();
+        (
+            f1 * (one.clone() - fk.clone() * zh.clone()),
+            f2.clone() + fk * (one - zh * f2),
+        )
     }
 }
 
@@ -421,7 +423,7 @@ mod tests {
     fn predicts_the_undelayed_output_of_an_unstable_model() -> Result<(), Error> {
         let p = predicts_exactly(example1()?, 400, step_then_sine(50), |_, _, _| Ok(()))?;
         // the prediction-error filter passes steps: Fk(1) = 1
-        let (_, _, fk) = p.filters(1e-9);
+        let (_, _, fk) = p.filters(&crate::lti::zdomain::Frequency(1e-9));
         assert!((fk.re - 1.0).abs() < 1e-9 && fk.im.abs() < 1e-6, "{fk:?}");
         Ok(())
     }

@@ -17,7 +17,7 @@ use super::DelayedModel;
 use crate::delay::{Delay, DelayStorage};
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
-use core::ops::{Add, Div, Mul, Sub};
+use core::ops::{Add, Mul, Sub};
 
 /// Smith predictor around a [`Pid`], with a model of order `≤ N` and its dead
 /// time in a delay line over storage `S` (`[T; D]` for firmware, `Vec<T>` on a host).
@@ -185,17 +185,30 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Introspect<T>
     }
 }
 
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> SmithPredictor<T, N, S> {
+    /// `(Cr, Cy)` at any [`Point`](crate::lti::zdomain::Point) (see
+    /// [`FrequencyResponse::response`]).
+    fn response_at<P: crate::lti::zdomain::Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        use crate::lti::zdomain::Algebra;
+        let (g1r, g1y) = self.pid.response_at(at);
+        let (gm, d) = self.model.response_at(at);
+        let one = P::V::one();
+        let den = one.clone() + g1y.clone() * gm * (one - d);
+        (g1r / den.clone(), g1y / den)
+    }
+}
+
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     for SmithPredictor<T, N, S>
 {
     /// `u = G1r/(1 + G1y·Gm(1 − z^{−d}))·r − G1y/(1 + G1y·Gm(1 − z^{−d}))·y`.
     fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
-        use crate::Complex;
-        let (g1r, g1y) = self.pid.response(theta);
-        let (gm, d) = self.model.response(theta);
-        let one = Complex::real(T::one());
-        let den = one.add(g1y.mul(gm).mul(one.sub(d)));
-        Some((g1r.div(den), g1y.div(den)))
+        Some(self.response_at(&crate::lti::zdomain::Frequency(theta)))
+    }
+
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(crate::lti::zdomain::Rational, crate::lti::zdomain::Rational)> {
+        Some(self.response_at(&crate::lti::zdomain::Symbolic))
     }
 
     fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {

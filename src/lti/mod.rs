@@ -70,6 +70,7 @@ mod design;
 pub(crate) mod matrix;
 #[cfg(feature = "serde")]
 mod serde_arrays;
+pub mod zdomain;
 
 #[cfg(feature = "alloc")]
 pub(crate) use design::companion_entry;

@@ -325,6 +325,10 @@ pub struct TuneReport {
     pub robustly_stable: Option<bool>,
     /// What the margins warn of.
     pub warnings: Vec<String>,
+    /// The controller's transfer functions `Cr`, `Cy` and, for a single
+    /// loop, the sampled plant and `L`, `S`, `T`, as coefficient lists
+    /// (descending powers of `z`).
+    pub transfer: Option<crate::analysis::Transfer>,
 }
 
 impl super::Scenario {
@@ -350,6 +354,9 @@ impl super::Scenario {
             }
             None => None,
         };
+        let built = self.build_tuned(&tuned, &model, inner.as_ref().map(|(_, m)| m))?;
+        let single = if inner.is_none() { Some(&plant) } else { None };
+        let transfer = crate::analysis::transfer(&*built.controller, single, built.ts)?;
         Ok(TuneReport {
             plant: plant.to_string(),
             inner_plant: inner.as_ref().map(|(p, _)| p.to_string()),
@@ -378,6 +385,7 @@ impl super::Scenario {
             ts,
             robust_peak,
             robustly_stable: robust_peak.map(|p| p < 1.0),
+            transfer,
         })
     }
 }

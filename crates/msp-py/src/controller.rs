@@ -71,6 +71,8 @@ pub struct Controller {
     name: &'static str,
     params: Params,
     ts: f64,
+    /// The plant tuned for (the loop of `to_control`), for a single loop.
+    plant: Option<msp::poly::TransferFunction>,
 }
 
 #[pymethods]
@@ -120,7 +122,65 @@ impl Controller {
             name: scheme.name,
             params: p,
             ts,
+            plant: if p2.is_none() { Some(tf) } else { None },
         })
+    }
+    /// The controller's linear parts and its loop as python-control systems.
+    ///
+    /// Parameters
+    /// ----------
+    /// plant : str or Plant, optional
+    ///     The process of the loop (default: the plant the controller was
+    ///     tuned for; a cascade's loop runs through its inner loop and is not
+    ///     given).
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     ``control.TransferFunction`` objects, discrete at ``ts``: ``"cr"`` and
+    ///     ``"cy"`` (``u = Cr·r − Cy·y``, limits inactive) and, for a single loop,
+    ///     ``"plant"`` (sampled exactly: ZOH, the dead time as powers of ``z⁻¹``),
+    ///     ``"L"`` (``Cy·P``), ``"S"`` and ``"T"``. The same coefficients as
+    ///     ``msp tune --json``'s ``transfer``.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import control, msp
+    /// >>> c = msp.Controller("smith", "e^-0.5s/(s+1)", 0.1)
+    /// >>> sys = c.to_control()
+    /// >>> gm, pm, wcg, wcp = control.margin(sys["L"])
+    /// >>> m = msp.margins("e^-0.5s/(s+1)", "smith", ts=0.1, discrete=True)
+    /// >>> abs(float(pm) - m["pm"]) < 1e-6
+    /// True
+    #[pyo3(signature = (plant=None))]
+    fn to_control<'py>(
+        &self,
+        py: Python<'py>,
+        plant: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let plant = match plant {
+            Some(p) => Some(plant_of(p)?),
+            None => self.plant.clone(),
+        };
+        let t = msp::analysis::transfer(&**self.inner.inner(), plant.as_ref(), self.ts)
+            .map_err(value_err)?
+            .ok_or_else(|| {
+                PyValueError::new_err(format!("{} gives no transfer function", self.name))
+            })?;
+        let control = py.import("control")?;
+        let tf = control.getattr("TransferFunction")?;
+        let out = PyDict::new(py);
+        let put = |k: &str, c: &msp::analysis::Coefficients| -> PyResult<()> {
+            out.set_item(k, tf.call1((c.num.clone(), c.den.clone(), self.ts))?)
+        };
+        put("cr", &t.cr)?;
+        put("cy", &t.cy)?;
+        for (k, c) in [("plant", &t.plant), ("L", &t.l), ("S", &t.s), ("T", &t.t)] {
+            if let Some(c) = c {
+                put(k, c)?;
+            }
+        }
+        Ok(out)
     }
     /// One sample: set point and measurement in, actuator value out; ``y2`` is
     /// the secondary measurement of a cascade (ignored by single-loop schemes);

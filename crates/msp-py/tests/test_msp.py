@@ -157,6 +157,50 @@ def test_python_control_transfer_function_with_delay() -> None:
     assert msp.tune((tf, 93.9)) == msp.tune("5.6*e^-93.9s/(40.2s+1)")
 
 
+@pytest.mark.parametrize("scheme,plant,ts", [
+    ("pid", "e^-2s/(2s+1)", 0.25), ("smith", "e^-0.5s/(s+1)", 0.1),
+    ("karan-dey", "0.2/s*e^-7.4s", 0.74), ("watanabe-ito", "0.2/s*e^-7.4s", 0.74),
+    ("fsp", "e^-1s/(5s-1)", 0.1), ("huang", "e^-2s/(2s+1)", 0.25),
+    # a dead time of 2.5 samples: the plant by the modified z-transform
+    ("smith", "e^-0.25s/(s+1)", 0.1),
+])
+def test_to_control_is_the_loop_msp_analyses(scheme: str, plant: str, ts: float) -> None:
+    control = pytest.importorskip("control")
+    c = msp.Controller(scheme, plant, ts)
+    sys = c.to_control()
+    assert set(sys) == {"cr", "cy", "plant", "L", "S", "T"} and all(s.dt == ts for s in sys.values())
+    # python-control's own margin of L against msp's sampled-loop analysis
+    gm, pm, wcg, wcp = control.margin(sys["L"])
+    m = msp.margins(plant, scheme, ts=ts, discrete=True)
+    for ours, theirs in [(m["gm"], gm), (m["pm"], pm), (m["wcg"], wcg), (m["wcp"], wcp)]:
+        assert math.isclose(ours, theirs, rel_tol=1e-6) or (math.isinf(ours) and math.isinf(theirs))
+    # S + T = 1 and L = Cy·P, at frequencies across the band
+    w = np.linspace(0.01, 0.99, 7) * math.pi / ts
+    one = control.frequency_response(sys["S"], w).complex + control.frequency_response(sys["T"], w).complex
+    assert np.allclose(one, 1.0, atol=1e-9)
+    lp = control.frequency_response(sys["cy"] * sys["plant"], w).complex
+    assert np.allclose(lp, control.frequency_response(sys["L"], w).complex, rtol=1e-9)
+    # the coefficients msp tune --json prints
+    t = msp.tune(plant, scheme, ts=ts)["transfer"]
+    num, den = sys["L"].num[0][0], sys["L"].den[0][0]
+    assert np.allclose(np.trim_zeros(np.array(t["l"]["num"]), "f"), num)
+    assert np.allclose(np.array(t["l"]["den"]), den)
+    # per sample: u = Cr·r − Cy·y from the controller object itself
+    n = 200
+    k = np.arange(n)
+    r, y = np.where(k > 0, 1.0, 0.0), np.where(k > 0, np.sin(0.3 * k), 0.0)
+    u = np.array([c.update(float(a), float(b)) for a, b in zip(r, y)])
+    _, ur = control.forced_response(sys["cr"], T=k * ts, U=r)
+    _, uy = control.forced_response(sys["cy"], T=k * ts, U=y)
+    assert np.allclose(u, ur - uy, rtol=1e-8, atol=1e-9)
+
+
+def test_to_control_of_a_cascade_gives_the_controller_only() -> None:
+    pytest.importorskip("control")
+    c = msp.Controller("gpcc", "2e^-2s/s", 0.1, inner_plant="4e^-2s/(s+1)")
+    assert set(c.to_control()) == {"cr", "cy"}
+
+
 def test_parse_plant_round_trip() -> None:
     p = msp.parse_plant("e^-10s/(s+1)^2")
     assert p.num == [1.0] and p.den == [1.0, 2.0, 1.0] and p.delay == 10.0 and p.kind == "stable"
@@ -490,7 +534,8 @@ def test_every_public_function_is_documented_and_its_examples_run() -> None:
     runner = doctest.DocTestRunner()
     tests = [t for obj in (msp.Controller, msp.Pid, msp.Plant, msp.parse_plant, msp.controllers)
              for t in finder.find(obj, obj.__name__, globs={}) if t.examples]
-    assert sorted(t.name for t in tests) == ["Controller", "Pid", "Plant", "controllers", "parse_plant"]
+    assert sorted(t.name for t in tests) == [
+        "Controller", "Controller.to_control", "Pid", "Plant", "controllers", "parse_plant"]
     for t in tests:
         runner.run(t)
     assert runner.summarize(verbose=False).failed == 0

@@ -7,7 +7,7 @@
 use super::{solve, MAX_CONDITIONS};
 use crate::complex::Complex;
 use crate::delay::DelayStorage;
-use crate::{Error, Lti};
+use crate::{Error, Lti, Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -77,7 +77,7 @@ impl SmallPoly {
 /// Numerator and denominator (descending powers of `z`, the numerator with
 /// as many coefficients as the denominator) of a discrete block, by
 /// Faddeev–LeVerrier on its realization.
-pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
+pub fn model_tf<T: Real, const N: usize>(b: &Lti<T, N>) -> (SmallPoly, SmallPoly) {
     let n = b.order().min(N);
     let at = |m: &[[f64; N]; N], i: usize, j: usize| {
         m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
@@ -88,9 +88,9 @@ pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
     let (c, len) = crate::lti::faddeev(b, |k, mk| {
         let v: f64 = (0..n)
             .map(|i| {
-                cv.get(i).copied().unwrap_or(0.0)
+                cv.get(i).map_or(0.0, |c| c.f64())
                     * (0..n)
-                        .map(|j| at(mk, i, j) * g.get(j).copied().unwrap_or(0.0))
+                        .map(|j| at(mk, i, j) * g.get(j).map_or(0.0, |g| g.f64()))
                         .sum::<f64>()
             })
             .sum();
@@ -104,7 +104,7 @@ pub fn model_tf<const N: usize>(b: &Lti<f64, N>) -> (SmallPoly, SmallPoly) {
         *x = *v;
     }
     for (x, ck) in num.iter_mut().zip(den.iter()).take(len) {
-        *x += d * ck;
+        *x += d.f64() * ck;
     }
     (SmallPoly { c: num, len }, SmallPoly { c: den, len })
 }

@@ -5,6 +5,7 @@ use super::design::{buffer, sized, FspDesign, Realization, SMALL};
 #[cfg(feature = "alloc")]
 use super::design::{FrSpec, SmallPoly};
 use crate::delay::{samples_of, DelayStorage};
+use crate::lti::zdomain::{Algebra, Frequency, Point};
 use crate::params::ParamList;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
 use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
@@ -43,7 +44,11 @@ pub trait Predictor<T: Real> {
     /// Zeroes every state.
     fn reset(&mut self);
     /// `(Su, Sy)` at `z = e^{jθ}`.
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        self.response_at(&Frequency(theta))
+    }
+    /// `(Su, Sy)` at any [`Point`].
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V);
 }
 
 /// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`,
@@ -51,14 +56,18 @@ pub trait Predictor<T: Real> {
 /// and is a fault), with its response and last output.
 pub trait Primary<T: Real>: crate::Operate<T> {
     /// `(Cr, Cy)` at `z = e^{jθ}`.
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>);
+    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
+        self.response_at(&Frequency(theta))
+    }
+    /// `(Cr, Cy)` at any [`Point`].
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V);
     /// The last output.
     fn output(&self) -> T;
 }
 
 impl<T: Real> Primary<T> for Pid<T> {
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        Pid::response(self, theta)
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        Pid::response_at(self, at)
     }
     fn output(&self) -> T {
         Pid::output(self)
@@ -127,9 +136,9 @@ impl<T: Real> crate::Operate<T> for Matched2Dof<T> {
 }
 
 impl<T: Real> Primary<T> for Matched2Dof<T> {
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        let k = self.k.response(theta);
-        (k * self.f.response(theta), k)
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        let k = at.lti(&self.k);
+        (k.clone() * at.lti(&self.f), k)
     }
     fn output(&self) -> T {
         self.u
@@ -277,11 +286,12 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
         self.uh = 0;
         self.sh = 0;
     }
-    /// The response at `z = e^{jθ}`.
-    pub fn response(&self, theta: T) -> Complex<T> {
-        let w = Complex::cis(-theta);
-        taps_at(self.num.as_ref().get(..self.nlen).unwrap_or(&[]), w)
-            / taps_at(self.den.get(..self.dlen).unwrap_or(&[]), w)
+    /// The response at any [`Point`].
+    pub fn response_at<P: Point<T>>(&self, at: &P) -> P::V {
+        at.taps(
+            self.num.as_ref().get(..self.nlen).unwrap_or(&[]),
+            self.den.get(..self.dlen).unwrap_or(&[]),
+        )
     }
 }
 
@@ -450,23 +460,15 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> SplitForm<T, S, N> {
         self.q = T::zero();
     }
 
-    /// The response at `z = e^{jθ}`, in closed form: `W(e^{jθ})` is the
-    /// Dirichlet kernel `e^{−jθ(h+1)/2}·sin(hθ/2)/sin(θ/2)` (`h` at θ = 0).
-    pub fn response(&self, theta: T) -> Complex<T> {
-        let h = T::of(self.h as f64);
-        let two = T::of(2.0);
-        let delay = Complex::cis(-theta * h);
+    /// The response at any [`Point`]: `A·(W + z^{−h}·B)` with the window
+    /// `W = Σ_{k=1}^{h} z^{−k}` (at a frequency, the Dirichlet kernel), or
+    /// `A·(1 − z^{−h}·B)`.
+    pub fn response_at<P: Point<T>>(&self, at: &P) -> P::V {
+        let delay = at.delay(T::of(f64::from(u32::try_from(self.h).unwrap_or(u32::MAX))));
         if self.window {
-            let half = (theta / two).sin();
-            let ratio = if half.abs() > T::epsilon() {
-                (theta * h / two).sin() / half
-            } else {
-                h
-            };
-            let w = Complex::cis(-theta * (h + T::one()) / two).scale(ratio);
-            self.a.response(theta) * (w + delay * self.b.response(theta))
+            at.lti(&self.a) * (at.window(self.h) + delay * at.lti(&self.b))
         } else {
-            self.a.response(theta) * (Complex::real(T::one()) - delay * self.b.response(theta))
+            at.lti(&self.a) * (P::V::one() - delay * at.lti(&self.b))
         }
     }
 }
@@ -536,10 +538,10 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> SBlock<T, S, N> {
             SBlock::Split(s) => s.reset(),
         }
     }
-    fn response(&self, theta: T) -> Complex<T> {
+    fn response_at<P: Point<T>>(&self, at: &P) -> P::V {
         match self {
-            SBlock::Direct(s) => s.response(theta),
-            SBlock::Split(s) => s.response(theta),
+            SBlock::Direct(s) => s.response_at(at),
+            SBlock::Split(s) => s.response_at(at),
         }
     }
 }
@@ -700,8 +702,8 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>, const N: usize> Predictor<T> for FspPr
         self.s.reset();
         self.last_s = T::zero();
     }
-    fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        (self.s.response(theta), self.fr.response(theta))
+    fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
+        (self.s.response_at(at), at.lti(&self.fr))
     }
 }
 
@@ -897,13 +899,25 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Introspect<T> for Predicted<T, P, 
     }
 }
 
+impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
+    /// `u = K_r r − K_y(Su u + Sy y)`, so
+    /// `u = K_r/(1 + K_y Su)·r − K_y Sy/(1 + K_y Su)·y`, at any [`Point`].
+    fn response_at<Q: Point<T>>(&self, at: &Q) -> (Q::V, Q::V) {
+        let (kr, ky) = self.k.response_at(at);
+        let (su, sy) = self.pred.response_at(at);
+        let d = Q::V::one() + ky.clone() * su;
+        (kr / d.clone(), ky * sy / d)
+    }
+}
+
 impl<T: Real, P: Predictor<T>, K: Primary<T>> FrequencyResponse<T> for Predicted<T, P, K> {
     fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
-        // u = K_r r − K_y(Su u + Sy y) → u = K_r/(1 + K_y Su)·r − K_y Sy/(1 + K_y Su)·y
-        let (kr, ky) = self.k.response(theta);
-        let (su, sy) = self.pred.response(theta);
-        let d = Complex::real(T::one()) + ky * su;
-        Some((kr / d, ky * sy / d))
+        Some(self.response_at(&Frequency(theta)))
+    }
+
+    #[cfg(feature = "alloc")]
+    fn transfer(&self) -> Option<(crate::lti::zdomain::Rational, crate::lti::zdomain::Rational)> {
+        Some(self.response_at(&crate::lti::zdomain::Symbolic))
     }
 
     /// `Nc = K_y·Sy`, `Dc = 1 + K_y·Su`: the primary's loop around the
