@@ -484,6 +484,76 @@ def test_readme_figures_render_from_the_current_code(tmp_path: pathlib.Path) -> 
         assert drawn > 0.02, (name, drawn)
 
 
+def _polylines(svg: str) -> list:
+    """The data traces of an msp SVG (the sub-pixel ones, each in its clip group): point lists."""
+    import re
+
+    return [[tuple(map(float, p.split(","))) for p in pts.split()]
+            for pts in re.findall(r'<g clip-path="url\(#fine\d+\)">.*?points="([^"]*)"', svg)]
+
+
+def _legends(svg: str) -> list:
+    """The legend boxes (x, y, w, h) of a plotters SVG: white, translucent, bordered."""
+    import re
+
+    return [tuple(map(float, m)) for m in re.findall(
+        r'<rect x="([\d.]+)" y="([\d.]+)" width="([\d.]+)" height="([\d.]+)" opacity="0.8[05]?" '
+        r'fill="#FFFFFF"', svg)]
+
+
+def test_cli_plots_render_with_what_a_report_needs(tmp_path: pathlib.Path) -> None:
+    """Each kind of CLI plot rendered to PNG: traces with sub-pixel coordinates, legends clear of
+    the traces, every scheduled event marked on the time axis."""
+    import cairosvg
+    from PIL import Image
+
+    plots = {
+        "run": ["run", "--plant", "0.2/s*e^-7.4s", "-q", "-o", os.devnull, "--setpoint", "1@0",
+                "--setpoint", "0.5@60", "--disturbance", "input:-0.05@100",
+                "--disturbance", "output:0.1@140", "--event", "170:manual=0.2", "--event", "190:auto",
+                "--duration", "240", "--plot"],
+        "bode": ["margins", "--plant", "5.6*e^-93.9s/(40.2s+1)", "-c", "smith", "--plot"],
+        "nyquist": ["margins", "--plant", "0.2/s*e^-7.4s", "-c", "karan-dey", "--nyquist"],
+        "step": ["step", "--plant", "e^-2s/(3s+1)^2", "--plot"],
+        "tradeoff": ["tradeoff", "--plant", "e^-2s/(3s+1)", "--plot"],
+    }
+    for kind, args in plots.items():
+        svg_path = tmp_path / f"{kind}.svg"
+        subprocess.run([MSP_BIN, *args, str(svg_path)], check=True, capture_output=True)
+        svg = svg_path.read_text()
+        lines = _polylines(svg)
+        assert lines, kind
+        # sub-pixel: most coordinates of a smooth trace are not whole pixels
+        coords = [c for line in lines if len(line) > 5 for p in line for c in p]
+        fractional = sum(1 for c in coords if c != round(c)) / max(len(coords), 1)
+        assert fractional > 0.5, (kind, fractional)
+        # no legend box covers a trace point (sampled along each segment)
+        for (x, y, w, h) in _legends(svg):
+            for line in lines:
+                for (a, b), (c, d) in zip(line, line[1:]):
+                    for f in np.linspace(0.0, 1.0, 5):
+                        px, py = a + f * (c - a), b + f * (d - b)
+                        assert not (x + 1 < px < x + w - 1 and y + 1 < py < y + h - 1), (kind, px, py)
+        png = tmp_path / f"{kind}.png"
+        cairosvg.svg2png(url=str(svg_path), write_to=str(png))
+        img = np.asarray(Image.open(png).convert("RGB")).astype(int)
+        assert float((img.sum(axis=2) < 600).mean()) > 0.02, kind
+        if kind == "run":
+            # a marker (a grey dashed vertical line) at each scheduled time, on both panels
+            x0, x1 = 72.0, 876.0  # the panels' pixel span for t in [0, 240]
+            # (grey 110 anti-aliased over two columns: near-neutral 100-195; the grid is lighter)
+            neutral = (img.max(axis=2) - img.min(axis=2)) <= 20  # (over the manual shading too)
+            grey = neutral & (img[:, :, 0] >= 100) & (img[:, :, 0] <= 195)
+            for t in (60, 100, 140, 170, 190):
+                col = int(round(x0 + (x1 - x0) * t / 240.0))
+                hits = grey[:, col - 2:col + 2].any(axis=1).mean()
+                assert hits > 0.25, (t, hits)
+            # and nowhere else: a column far from every event has none of it
+            assert grey[:, 400:404].any(axis=1).mean() < 0.05
+            for text in ("r → 0.5", "input load -0.05", "output load 0.1", "manual 0.2", "auto"):
+                assert text in svg, text
+
+
 def test_controllers_and_the_module_read_like_python_control() -> None:
     sp = msp.SmithPredictor("5.6*e^-93.9s/(40.2s+1)", ts=1.0)
     assert repr(sp) == "<msp.SmithPredictor smith: kp=0.07645 ti=40.2 td=0 lambda=93.9, ts=1 s>"

@@ -30,6 +30,108 @@ fn points(t: &[f64], v: &[f64]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// Data traces with sub-pixel coordinates. plotters maps every point to
+/// whole pixels (enlarged, a smooth curve is a staircase), so a trace is
+/// drawn there as a two-point placeholder in a colour of its own, which
+/// keeps its place among the plot's elements and its legend entry, and
+/// [`Fine::apply`] puts the trace in its place with coordinates to a
+/// hundredth of a pixel, clipped to the panel.
+#[derive(Default)]
+struct Fine {
+    swaps: Vec<(String, String)>,
+}
+
+impl Fine {
+    /// Draws `pts` on chart `c` in `style`, dashed `(on, off)` pixels if
+    /// asked; returns the series for its label and legend.
+    fn line<'c, 'a, DB, X, Y>(
+        &mut self,
+        c: &'c mut plotters::prelude::ChartContext<'a, DB, plotters::prelude::Cartesian2d<X, Y>>,
+        pts: &[(f64, f64)],
+        style: plotters::style::ShapeStyle,
+        dash: Option<(u32, u32)>,
+    ) -> Result<
+        &'c mut plotters::chart::SeriesAnno<'a, DB>,
+        plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>,
+    >
+    where
+        DB: plotters::prelude::DrawingBackend + 'a,
+        X: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+        Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+    {
+        use plotters::style::Color;
+        const RES: i32 = 1 << 24;
+        let id = u8::try_from(self.swaps.len() % 250).unwrap_or(0);
+        let holder = plotters::style::RGBColor(1, 2, id);
+        let at = pts.first().copied().unwrap_or((0.0, 0.0));
+        let (xr, yr) = (
+            c.as_coord_spec().get_x_range(),
+            c.as_coord_spec().get_y_range(),
+        );
+        let (x0, y0) = c.backend_coord(&(xr.start, yr.start));
+        let (x1, y1) = c.backend_coord(&(xr.end, yr.end));
+        let spec = c.as_coord_spec();
+        let frac = |m: i32| f64::from(m) / f64::from(RES);
+        let px =
+            |x: f64| f64::from(x0) + frac(spec.x_spec().map(&x, (0, RES))) * f64::from(x1 - x0);
+        let py =
+            |y: f64| f64::from(y0) + frac(spec.y_spec().map(&y, (0, RES))) * f64::from(y1 - y0);
+        let (r, g, b) = style.color.rgb();
+        let mut attrs = format!(
+            r##"fill="none" stroke="#{r:02X}{g:02X}{b:02X}" stroke-width="{}""##,
+            style.stroke_width
+        );
+        if style.color.alpha() < 1.0 {
+            attrs.push_str(&format!(r#" stroke-opacity="{}""#, style.color.alpha()));
+        }
+        if let Some((on, off)) = dash {
+            attrs.push_str(&format!(r#" stroke-dasharray="{on},{off}""#));
+        }
+        // a break at every non-finite point
+        let mut lines = String::new();
+        for seg in pts.split(|(x, y)| !(x.is_finite() && y.is_finite())) {
+            if seg.is_empty() {
+                continue;
+            }
+            let coords: Vec<String> = seg
+                .iter()
+                .map(|(x, y)| format!("{:.2},{:.2}", px(*x), py(*y)))
+                .collect();
+            lines.push_str(&format!(
+                r#"<polyline {attrs} points="{}"/>"#,
+                coords.join(" ")
+            ));
+        }
+        let clip = format!("fine{}", self.swaps.len());
+        let (left, top) = (x0.min(x1), y0.min(y1));
+        let element = format!(
+            r#"<g clip-path="url(#{clip})"><clipPath id="{clip}"><rect x="{left}" y="{top}" width="{}" height="{}"/></clipPath>{lines}</g>"#,
+            (x1 - x0).abs() + 1,
+            (y1 - y0).abs() + 1
+        );
+        self.swaps
+            .push((format!(r##"stroke="#0102{id:02X}""##), element));
+        c.draw_series(plotters::prelude::LineSeries::new(
+            [at, at],
+            holder.stroke_width(1),
+        ))
+    }
+
+    /// Puts every trace in place of its placeholder in the SVG text `svg`.
+    fn apply(self, svg: &mut String) {
+        for (key, element) in self.swaps {
+            let Some(k) = svg.find(&key) else { continue };
+            let Some(start) = svg.get(..k).and_then(|s| s.rfind('<')) else {
+                continue;
+            };
+            let Some(len) = svg.get(k..).and_then(|s| s.find("/>")) else {
+                continue;
+            };
+            svg.replace_range(start..k + len + 2, &element);
+        }
+    }
+}
+
 /// A legend's mark: a short line in the series' color.
 fn mark<C: plotters::style::Color + Copy>(
     col: C,
@@ -194,6 +296,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
     }
     let (marks, held) = markers(first);
     let mut svg = String::new();
+    let mut fine = Fine::default();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
         root.fill(&WHITE)?;
@@ -247,12 +350,12 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             )))?;
         }
         // the set point dashed, so that it shows under an output on it
-        c.draw_series(DashedLineSeries::new(
-            pts(&first.result.t, &first.result.r),
-            8,
-            5,
+        fine.line(
+            &mut c,
+            &pts(&first.result.t, &first.result.r),
             BLACK.stroke_width(2),
-        ))?
+            Some((8, 5)),
+        )?
         .label("r (set point)")
         .legend(dashed_mark!(BLACK));
         let mut drawn: Vec<Vec<(f64, f64)>> = vec![pts(&first.result.t, &first.result.r)];
@@ -260,7 +363,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             let (label, col) = style(i, "y", color(0), "y");
             let p = pts(&r.result.t, &r.result.y);
             drawn.push(p.clone());
-            c.draw_series(LineSeries::new(p, &col))?
+            fine.line(&mut c, &p, col.stroke_width(1), None)?
                 .label(label)
                 .legend(mark(col));
         }
@@ -304,7 +407,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             let (label, col) = style(i, "u (control)", RED, "u");
             let p = pts(&r.result.t, &r.result.u);
             drawn2.push(p.clone());
-            c2.draw_series(LineSeries::new(p, &col))?
+            fine.line(&mut c2, &p, col.stroke_width(1), None)?
                 .label(label)
                 .legend(mark(col));
         }
@@ -323,7 +426,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             }
             let p = pts(&first.result.t, signal);
             drawn2.push(p.clone());
-            c2.draw_series(DashedLineSeries::new(p, 6, 4, col.stroke_width(2)))?
+            fine.line(&mut c2, &p, col.stroke_width(2), Some((6, 4)))?
                 .label(label)
                 .legend(dashed_mark!(col));
         }
@@ -337,6 +440,7 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             .draw()?;
         root.present()?;
     }
+    fine.apply(&mut svg);
     Ok(svg)
 }
 
@@ -403,6 +507,7 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
     };
     let m = &an.margins;
     let mut svg = String::new();
+    let mut fine = Fine::default();
     {
         // the Nyquist panel square, beside the two Bode panels
         let root = SVGBackend::with_string(&mut svg, (1200, 600)).into_drawing_area();
@@ -429,7 +534,7 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
             .y_label_area_size(55)
             .build_cartesian_2d((w0..w1).log_scale(), (mlo.max(-120.0) - 5.0)..(mhi + 5.0))?;
         c.configure_mesh().y_desc("|L| (dB)").draw()?;
-        c.draw_series(LineSeries::new(mag.iter().copied(), &BLUE))?;
+        fine.line(&mut c, &mag, BLUE.stroke_width(1), None)?;
         c.draw_series(LineSeries::new([(w0, 0.0), (w1, 0.0)], &BLACK.mix(0.4)))?;
         if m.wcg.is_finite() && m.gm_db.is_finite() {
             c.draw_series(LineSeries::new(
@@ -459,7 +564,7 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
             .y_desc("arg L (deg)")
             .y_labels(9)
             .draw()?;
-        c2.draw_series(LineSeries::new(phase.iter().copied(), &RED))?;
+        fine.line(&mut c2, &phase, RED.stroke_width(1), None)?;
         if m.wcp.is_finite() && m.pm.is_finite() {
             // the −180° (mod 360°) line the margin is measured from
             let p = at(m.wcp);
@@ -475,9 +580,10 @@ pub(crate) fn bode_svg(an: &msp::analysis::Analysis) -> Result<String, Box<dyn s
                 ("sans-serif", 13).into_font().color(&RGBColor(0, 110, 0)),
             )))?;
         }
-        nyquist_panel(&right, an, n)?;
+        nyquist_panel(&right, an, n, &mut fine)?;
         root.present()?;
     }
+    fine.apply(&mut svg);
     Ok(svg)
 }
 
@@ -487,12 +593,14 @@ pub(crate) fn nyquist_svg(
 ) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
     let mut svg = String::new();
+    let mut fine = Fine::default();
     {
         let root = SVGBackend::with_string(&mut svg, (620, 640)).into_drawing_area();
         root.fill(&WHITE)?;
-        nyquist_panel(&root, an, an.response.l.len())?;
+        nyquist_panel(&root, an, an.response.l.len(), &mut fine)?;
         root.present()?;
     }
+    fine.apply(&mut svg);
     Ok(svg)
 }
 
@@ -503,6 +611,7 @@ fn nyquist_panel<DB: plotters::prelude::DrawingBackend>(
     area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
     an: &msp::analysis::Analysis,
     points: usize,
+    fine: &mut Fine,
 ) -> Result<(), Box<dyn std::error::Error>>
 where
     DB::ErrorType: 'static,
@@ -544,29 +653,41 @@ where
             .collect()
     };
     let grey = RGBColor(120, 120, 120);
-    c.draw_series(DashedLineSeries::new(
-        circle(0.0, 1.0),
-        5,
-        4,
+    fine.line(
+        &mut c,
+        &circle(0.0, 1.0),
         grey.stroke_width(1),
-    ))?
+        Some((5, 4)),
+    )?
     .label("unit circle")
-    .legend(mark(grey));
+    .legend(dashed_mark!(grey));
     if an.margins.ms.is_finite() && an.margins.ms > 0.0 {
         let green = RGBColor(0, 140, 0);
-        c.draw_series(LineSeries::new(
-            circle(-1.0, 1.0 / an.margins.ms),
+        fine.line(
+            &mut c,
+            &circle(-1.0, 1.0 / an.margins.ms),
             green.stroke_width(1),
-        ))?
+            None,
+        )?
         .label(format!(
             "Ms circle (radius 1/Ms = {})",
             fmt_sig(1.0 / an.margins.ms)
         ))
         .legend(mark(green));
     }
+    let unit = circle(0.0, 1.0);
+    let ms_circle = if an.margins.ms.is_finite() && an.margins.ms > 0.0 {
+        circle(-1.0, 1.0 / an.margins.ms)
+    } else {
+        Vec::new()
+    };
+    let mut traced: Vec<&[(f64, f64)]> = segs.iter().map(Vec::as_slice).collect();
+    traced.push(&unit);
+    traced.push(&ms_circle);
+    let spot = legend_spot(&traced, (x0, x1), (y0, y1), (0.55, 0.16));
     let mut first = true;
     for seg in segs.into_iter().filter(|s| s.len() > 1) {
-        let series = c.draw_series(LineSeries::new(seg, &BLUE))?;
+        let series = fine.line(&mut c, &seg, BLUE.stroke_width(1), None)?;
         if first {
             series.label("L(jω), ω > 0").legend(mark(BLUE));
             first = false;
@@ -574,7 +695,7 @@ where
     }
     c.draw_series(std::iter::once(Circle::new((-1.0, 0.0), 4, RED.filled())))?;
     c.configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
+        .position(spot)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()?;
@@ -597,6 +718,7 @@ pub(crate) fn step_svg(
     let pad = ((hi - lo) * 0.08).max(1e-9);
     let pts = points(&s.t, &s.y);
     let mut svg = String::new();
+    let mut fine = Fine::default();
     {
         let root = SVGBackend::with_string(&mut svg, (900, 450)).into_drawing_area();
         root.fill(&WHITE)?;
@@ -617,7 +739,7 @@ pub(crate) fn step_svg(
             .label(format!("final value {}", fmt_sig(k)))
             .legend(mark(BLACK));
         }
-        c.draw_series(LineSeries::new(pts, &BLUE))?
+        fine.line(&mut c, &pts, BLUE.stroke_width(1), None)?
             .label("y (unit step at t = 0)")
             .legend(mark(BLUE));
         c.configure_series_labels()
@@ -627,6 +749,7 @@ pub(crate) fn step_svg(
             .draw()?;
         root.present()?;
     }
+    fine.apply(&mut svg);
     Ok(svg)
 }
 
@@ -652,6 +775,7 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
     let idx = (ms.len() * 95 / 100).min(ms.len().saturating_sub(1));
     let ms_hi = ms.get(idx).copied().unwrap_or(2.0).clamp(1.2, 4.0) * 1.05;
     let mut svg = String::new();
+    let mut fine = Fine::default();
     {
         let root = SVGBackend::with_string(&mut svg, (1100, 520)).into_drawing_area();
         root.fill(&WHITE)?;
@@ -701,7 +825,7 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
                     .map(|p| (p.ms, value(p)))
                     .filter(|(_, v)| v.is_finite() && *v > 0.0)
                     .collect();
-                c.draw_series(LineSeries::new(pts.clone(), col.stroke_width(2)))?
+                fine.line(&mut c, &pts, col.stroke_width(2), None)?
                     .label(name.to_string())
                     .legend(mark(col));
                 c.draw_series(pts.iter().map(|p| Circle::new(*p, 2, col.filled())))?;
@@ -719,5 +843,6 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
         }
         root.present()?;
     }
+    fine.apply(&mut svg);
     Ok(svg)
 }
