@@ -737,13 +737,23 @@ pub(crate) fn step_svg(
                 BLACK.stroke_width(1),
             ))?
             .label(format!("final value {}", fmt_sig(k)))
-            .legend(mark(BLACK));
+            .legend(dashed_mark!(BLACK));
         }
         fine.line(&mut c, &pts, BLUE.stroke_width(1), None)?
             .label("y (unit step at t = 0)")
             .legend(mark(BLUE));
+        // the final value's line as points along it (the legend's place counts points)
+        let level: Vec<(f64, f64)> = s.dc_gain.map_or_else(Vec::new, |k| {
+            (0..=50).map(|i| (t_end * f64::from(i) / 50.0, k)).collect()
+        });
+        let spot = legend_spot(
+            &[&pts, &level],
+            (0.0, t_end),
+            (lo - pad, hi + pad),
+            (0.3, 0.16),
+        );
         c.configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
+            .position(spot)
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()?;
@@ -817,6 +827,8 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
                 .x_desc("Ms (robustness: smaller is more robust)")
                 .y_desc(what)
                 .draw()?;
+            // the curves on the log axis, for the legend's place
+            let mut logged: Vec<Vec<(f64, f64)>> = Vec::new();
             for (i, name) in schemes.iter().enumerate() {
                 let col = PALETTE.get(i % PALETTE.len()).copied().unwrap_or(BLUE);
                 let pts: Vec<(f64, f64)> = ok
@@ -825,6 +837,7 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
                     .map(|p| (p.ms, value(p)))
                     .filter(|(_, v)| v.is_finite() && *v > 0.0)
                     .collect();
+                logged.push(pts.iter().map(|(m, v)| (*m, v.ln())).collect());
                 fine.line(&mut c, &pts, col.stroke_width(2), None)?
                     .label(name.to_string())
                     .legend(mark(col));
@@ -835,8 +848,11 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
                     .map(|p| (p.ms, value(p)));
                 c.draw_series(own.map(|p| Circle::new(p, 6, col.stroke_width(2))))?;
             }
+            let refs: Vec<&[(f64, f64)]> = logged.iter().map(Vec::as_slice).collect();
+            #[allow(clippy::cast_precision_loss)] // a dozen schemes
+            let size = (0.32, 0.055 * schemes.len() as f64 + 0.04);
             c.configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
+                .position(legend_spot(&refs, (1.0, ms_hi), (lo.ln(), hi.ln()), size))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .draw()?;
