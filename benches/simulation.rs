@@ -204,5 +204,67 @@ fn whole(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, sims, whole);
+/// What `msp.run` costs beside the engine, side by side on the MathWorks
+/// example of issue-34's target (PI on `5.6 e^{−93.9s}/(40.2s + 1)`, Ts 0.1,
+/// 3000 s: 30 001 samples): `simulate_into` of the registry's PI with every
+/// column, against `Scenario::run_unanalysed` (what `msp.run` computes:
+/// parse, tune, build, simulate, metrics, design; the stability verdict and
+/// the robustness figures wait until they are read) and `Scenario::run`
+/// (all of it, as `msp run` prints it). Target: the run within 1.5× the
+/// engine's time per sample; `benches/python_vs_control.py` measures the
+/// same through Python.
+fn python_path(c: &mut Criterion) {
+    use msp::registry::{self, Build};
+    let plant: TransferFunction = "5.6*e^-93.9s/(40.2s+1)".parse().unwrap();
+    let (ts, duration) = (0.1, 3000.0);
+    let samples = 30_001;
+    let scheme = registry::find("pi").unwrap();
+    let set = vec![("kp".to_string(), 0.0501), ("ti".to_string(), 47.3)];
+    let params = scheme.tune_with(&plant, None, &set).unwrap();
+    let build = Build {
+        ts,
+        u_min: f64::NEG_INFINITY,
+        u_max: f64::INFINITY,
+        max_dead_time: 0.0,
+    };
+    let config = SimConfig {
+        setpoint: vec![SetpointStep {
+            value: 1.0,
+            at: 0.0,
+        }],
+        ..SimConfig::new(ts, duration)
+    };
+    let scenario = Scenario {
+        plant: Some(plant.clone()),
+        controller: Some("pi".into()),
+        set: set.iter().cloned().collect(),
+        ts: Some(ts),
+        duration: Some(duration),
+        setpoint: vec![SetpointStep {
+            value: 1.0,
+            at: 0.0,
+        }],
+        ..Default::default()
+    };
+    let mut g = c.benchmark_group("python path");
+    g.throughput(Throughput::Elements(samples));
+    g.sample_size(30);
+    let mut reused = SimResult::default();
+    g.bench_function("engine: simulate_into (registry pi, every column)", |b| {
+        b.iter(|| {
+            let mut c = scheme.build_with(&params, &plant, &build).expect("build");
+            simulate_into(&plant, &mut c, &config, &mut reused).expect("sim");
+            reused.y.len()
+        })
+    });
+    g.bench_function("msp.run: Scenario::run_unanalysed", |b| {
+        b.iter(|| scenario.run_unanalysed().expect("run").result.y.len())
+    });
+    g.bench_function("msp run: Scenario::run (with the analysis)", |b| {
+        b.iter(|| scenario.run().expect("run").result.y.len())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, sims, whole, python_path);
 criterion_main!(benches);

@@ -29,6 +29,94 @@ impl Metrics {
     }
 }
 
+/// The columns of a run the figures read, borrowed (from a [`SimResult`],
+/// or from arrays that hold its columns).
+#[derive(Debug, Clone, Copy)]
+pub struct Columns<'a> {
+    /// Time.
+    pub t: &'a [f64],
+    /// Set point.
+    pub r: &'a [f64],
+    /// Plant output.
+    pub y: &'a [f64],
+    /// Controller output.
+    pub u: &'a [f64],
+    /// Rows per controller sample.
+    pub substeps: usize,
+    /// When the output diverged.
+    pub diverged_at: Option<f64>,
+}
+
+impl SimResult {
+    /// The columns the figures read.
+    pub fn columns(&self) -> Columns<'_> {
+        Columns {
+            t: &self.t,
+            r: &self.r,
+            y: &self.y,
+            u: &self.u,
+            substeps: self.substeps,
+            diverged_at: self.diverged_at,
+        }
+    }
+}
+
+/// A run's figures: the metrics on `e = r − y` and on the delayed reference
+/// (`e = r(t − θm) − y`, time from `θm`, `model_delay` = θm), and the figures
+/// of each set-point step and disturbance.
+pub fn measure(
+    res: &Columns<'_>,
+    setpoint: &[SetpointStep],
+    disturbances: &[Disturbance],
+    ts: f64,
+    model_delay: f64,
+) -> Result<(Metrics, Metrics, Vec<Event>), Error> {
+    // the first set-point step's segment ends at the next event
+    let first = setpoint.iter().map(|s| s.at).fold(f64::INFINITY, f64::min);
+    let next_event = setpoint
+        .iter()
+        .map(|s| s.at)
+        .chain(disturbances.iter().map(|d| d.at))
+        .filter(|t| *t > first + 1e-9 * first.abs().max(1.0))
+        .fold(f64::INFINITY, f64::min);
+    let events = events(res, setpoint, disturbances, ts);
+    // the two conventions are independent passes over the signals
+    let both = || {
+        (
+            metrics(res, setpoint, next_event, ts, 0.0),
+            metrics(res, setpoint, next_event, ts, model_delay),
+        )
+    };
+    // two threads only pay off for long runs: waking a worker costs more
+    // than a pass over some hundred thousand samples
+    #[cfg(feature = "parallel")]
+    let (m0, m1) = if res.y.len() > 500_000 {
+        rayon::join(
+            || metrics(res, setpoint, next_event, ts, 0.0),
+            || metrics(res, setpoint, next_event, ts, model_delay),
+        )
+    } else {
+        both()
+    };
+    #[cfg(not(feature = "parallel"))]
+    let (m0, m1) = both();
+    Ok((m0?, m1?, events))
+}
+
+/// Whether the output `y` of a run of `duration` with step information
+/// `metrics` has come to rest: a settling time before the last tenth of the
+/// run, or (a loop that rests off its set point, e.g. P-only) a last tenth
+/// that swings by less than 0.1 % of the largest |y|.
+pub fn settled(y: &[f64], metrics: &Metrics, duration: f64) -> bool {
+    let n = y.len();
+    if metrics.step.settling_time <= 0.9 * duration {
+        return true;
+    }
+    let swing = crate::sweep::swing(y.get(n - n / 10..).unwrap_or(&[]));
+    let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
+    n >= 10 && swing <= 1e-3 * scale
+}
+
 /// Metrics of `res` with the error `e = r(t − shift) − y`, time counted from
 /// `shift` (0 for the plain convention; the model dead time `θm` for the
 /// delayed-reference convention of Bag (2022) ch. 5). The integral indices
@@ -36,7 +124,7 @@ impl Metrics {
 /// step up to the next event (set-point step or disturbance, `events`' start
 /// times), so a second step or a load does not count as its overshoot.
 pub fn metrics(
-    res: &SimResult,
+    res: &Columns<'_>,
     setpoint: &[SetpointStep],
     next_event: f64,
     ts: f64,
@@ -60,9 +148,9 @@ pub fn metrics(
         }
     }
     let (tt, yy, uu) = (
-        rows(&res.t, first, stride),
-        rows(&res.y, first, stride),
-        rows(&res.u, first, stride),
+        rows(res.t, first, stride),
+        rows(res.y, first, stride),
+        rows(res.u, first, stride),
     );
     let nan = f64::NAN;
     let unbounded = Indices {
@@ -188,7 +276,7 @@ pub struct DisturbanceEvent {
 /// disturbance, in time order, each over its segment of the controller's
 /// samples (every `substeps`-th row), `ts` apart.
 pub fn events(
-    res: &SimResult,
+    res: &Columns<'_>,
     setpoint: &[SetpointStep],
     disturbances: &[Disturbance],
     ts: f64,
@@ -203,9 +291,9 @@ pub fn events(
         }
     }
     let (t, y, r) = (
-        every(&res.t, stride),
-        every(&res.y, stride),
-        every(&res.r, stride),
+        every(res.t, stride),
+        every(res.y, stride),
+        every(res.r, stride),
     );
     let end = t.last().copied().unwrap_or(0.0);
     let mut starts: Vec<f64> = setpoint

@@ -18,7 +18,9 @@ use build::{BYTES_PER_ROW, BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use forced::SampledInput;
-pub use metrics::{metrics, DisturbanceEvent, Event, Metrics, SetpointEvent};
+pub use metrics::{
+    measure, metrics, settled, Columns, DisturbanceEvent, Event, Metrics, SetpointEvent,
+};
 pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
 pub use robustness::Robustness;
 pub use target::{Figure, Target, TargetReport};
@@ -212,11 +214,71 @@ pub struct RunOutput {
     pub metrics_delayed_reference: Metrics,
     /// The set-point profile used.
     pub setpoint: Vec<SetpointStep>,
+    /// The disturbances used.
+    pub disturbance: Vec<crate::sim::Disturbance>,
     /// The controller computed in `f32` ([`Scenario::float32`]).
     pub float32: bool,
 }
 
 impl RunOutput {
+    /// Computes the metrics and the event figures of the run from its
+    /// signals (a run of [`Scenario::run_unmeasured`]; for any other run
+    /// they are computed already and come out the same).
+    pub fn measure(&mut self) -> Result<(), RunError> {
+        let (m0, m1, events) = measure(
+            &self.result.columns(),
+            &self.setpoint,
+            &self.disturbance,
+            self.ts,
+            self.model_delay(),
+        )?;
+        self.metrics = m0;
+        self.metrics_delayed_reference = m1;
+        self.events = events;
+        Ok(())
+    }
+
+    /// Adds the loop's analysis to a run of [`Scenario::run_unanalysed`]:
+    /// the stability verdict cross-checked by this run, and the robustness
+    /// figures with what they warn of. Reads the signals (has the run come
+    /// to rest?); [`RunOutput::analyse_settled`] takes that answer instead.
+    pub fn analyse(&mut self) {
+        let settled = self.result.diverged_at.is_none() && self.has_settled();
+        self.analyse_settled(settled);
+    }
+
+    /// [`RunOutput::analyse`] with `settled` (the run came to rest and did
+    /// not diverge) given: the signals are not read.
+    pub fn analyse_settled(&mut self, settled: bool) {
+        let tuned = match registry::find(self.controller) {
+            Ok(scheme) => Tuned {
+                scheme,
+                params: self.params.clone(),
+                lambda_chosen: self.lambda_chosen,
+                target: self.target.clone(),
+            },
+            Err(e) => {
+                self.stability = crate::analysis::Stability::unknown(e.to_string());
+                return;
+            }
+        };
+        let (stability, robust) =
+            self.scenario
+                .loop_analysis(&tuned, &self.plant, &self.model, self.inner.as_ref());
+        if let Some(r) = robust {
+            self.notes.extend(r.warnings);
+            self.robustness = Some(r.margins);
+        }
+        self.stability = stability.with_simulation(settled, self.duration);
+        if self.stability.stable == Some(false) && self.result.diverged_at.is_none() {
+            self.notes.push(std::format!(
+                "the closed loop with {} is unstable: {}",
+                self.controller,
+                self.stability.reason
+            ));
+        }
+    }
+
     /// The controller's dead time: the model's, plus the secondary model's for
     /// a cascade process (the delay of the delayed-reference metrics).
     pub fn model_delay(&self) -> f64 {
@@ -409,12 +471,38 @@ impl Scenario {
     /// Tunes, builds and simulates; the output carries the tuned loop's
     /// robustness ([`Scenario::robustness`]).
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        let (plant, model, inner, tuned, robust, stability) = self.tuned_loop()?;
+        let mut out = self.run_unanalysed()?;
+        out.analyse();
+        Ok(out)
+    }
+
+    /// [`Scenario::run`] without the loop's analysis: the simulation, its
+    /// metrics and the design, but no stability verdict and no robustness
+    /// figures (`stability` says they were not computed, `robustness` is
+    /// `None`) — for a caller that reads them later, or never
+    /// ([`RunOutput::analyse`] adds them, as `run` would have).
+    pub fn run_unanalysed(&self) -> Result<RunOutput, RunError> {
+        self.run_deferring(true)
+    }
+
+    /// [`Scenario::run_unanalysed`] that also leaves the metrics and the
+    /// event figures of a run of a given duration for later
+    /// ([`RunOutput::measure`]): the simulation and the design only, the
+    /// figures NaN and `events` empty until measured. What Python's
+    /// `msp.run` computes before it returns.
+    pub fn run_unmeasured(&self) -> Result<RunOutput, RunError> {
+        self.run_deferring(false)
+    }
+
+    fn run_deferring(&self, measure: bool) -> Result<RunOutput, RunError> {
+        let (plant, model) = self.plant_and_model()?;
+        let inner = self.inner_process()?;
+        let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
         let mut out =
             if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
                 self.run_default_protocol(&tuned, &plant, &model, &inner)?
             } else {
-                self.run_tuned(&tuned, plant, model, inner)?
+                self.run_tuned_measured(&tuned, plant, model, inner, measure)?
             };
         out.scenario = self.clone();
         out.design = tuned.scheme.design_report(
@@ -423,20 +511,30 @@ impl Scenario {
             out.inner.as_ref().map(|(_, m)| m),
             out.ts,
         )?;
-        if let Some(r) = robust {
-            out.notes.extend(r.warnings);
-            out.robustness = Some(r.margins);
-        }
-        let settled = out.result.diverged_at.is_none() && out.has_settled();
-        out.stability = stability.with_simulation(settled, out.duration);
-        if out.stability.stable == Some(false) && out.result.diverged_at.is_none() {
-            out.notes.push(std::format!(
-                "the closed loop with {} is unstable: {}",
-                out.controller,
-                out.stability.reason
-            ));
-        }
+        out.stability = crate::analysis::Stability::unknown("not analysed");
         Ok(out)
+    }
+
+    /// The tuned loop's stability verdict and, for a single loop, its
+    /// robustness (margins and what they warn of).
+    pub(crate) fn loop_analysis(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+        inner: Option<&(TransferFunction, TransferFunction)>,
+    ) -> (crate::analysis::Stability, Option<Robustness>) {
+        let stability = crate::analysis::tuned_stability(self, tuned, plant, model, inner);
+        let robust = match (inner, stability.stable) {
+            // an unstable loop has no margins: the verdict says why
+            (None, Some(false)) => Some(Robustness {
+                margins: crate::analysis::Margins::unstable(),
+                warnings: Vec::new(),
+            }),
+            (None, _) => self.robustness(tuned, plant, model),
+            (Some(_), _) => None,
+        };
+        (stability, robust)
     }
 
     /// The processes, the tuned controller and, for a single loop, its
@@ -458,17 +556,7 @@ impl Scenario {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-        let stability =
-            crate::analysis::tuned_stability(self, &tuned, &plant, &model, inner.as_ref());
-        let robust = match (&inner, stability.stable) {
-            // an unstable loop has no margins: the verdict says why
-            (None, Some(false)) => Some(Robustness {
-                margins: crate::analysis::Margins::unstable(),
-                warnings: Vec::new(),
-            }),
-            (None, _) => self.robustness(&tuned, &plant, &model),
-            (Some(_), _) => None,
-        };
+        let (stability, robust) = self.loop_analysis(&tuned, &plant, &model, inner.as_ref());
         Ok((plant, model, inner, tuned, robust, stability))
     }
 
@@ -570,7 +658,22 @@ impl Scenario {
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
     ) -> Result<RunOutput, RunError> {
-        let mut out = self.run_once(tuned, plant.clone(), model.clone(), inner.clone())?;
+        self.run_tuned_measured(tuned, plant, model, inner, true)
+    }
+
+    /// [`Scenario::run_tuned`]; with `measure` false and a duration given,
+    /// the metrics and event figures are left for [`RunOutput::measure`]
+    /// (a chosen duration needs them to know the run has settled).
+    fn run_tuned_measured(
+        &self,
+        tuned: &Tuned,
+        plant: TransferFunction,
+        model: TransferFunction,
+        inner: Option<(TransferFunction, TransferFunction)>,
+        measure: bool,
+    ) -> Result<RunOutput, RunError> {
+        let measure = measure || self.duration.is_none();
+        let mut out = self.run_once(tuned, plant.clone(), model.clone(), inner.clone(), measure)?;
         if self.duration.is_some() {
             return Ok(out);
         }
@@ -580,7 +683,7 @@ impl Scenario {
                 return Ok(out);
             }
             longer.duration = Some(out.duration * 2.0);
-            match longer.run_once(tuned, plant.clone(), model.clone(), inner.clone()) {
+            match longer.run_once(tuned, plant.clone(), model.clone(), inner.clone(), true) {
                 Ok(mut o) => {
                     o.duration_chosen = true;
                     out = o;
@@ -606,6 +709,7 @@ impl Scenario {
         plant: TransferFunction,
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
+        measure: bool,
     ) -> Result<RunOutput, RunError> {
         let built = self.build_tuned(tuned, &model, inner.as_ref().map(|(_, m)| m))?;
         let (scheme, params, mut ctrl, ts, ts_chosen) = (
@@ -724,36 +828,27 @@ impl Scenario {
             None => simulate(&plant, &mut ctrl, &cfg)?,
         };
         let model_delay = model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay);
-        // the first set-point step's segment ends at the next event
-        let first = setpoint.iter().map(|s| s.at).fold(f64::INFINITY, f64::min);
-        let next_event = setpoint
-            .iter()
-            .map(|s| s.at)
-            .chain(self.disturbance.iter().map(|d| d.at))
-            .filter(|t| *t > first + 1e-9 * first.abs().max(1.0))
-            .fold(f64::INFINITY, f64::min);
-        let events = metrics::events(&result, &setpoint, &self.disturbance, ts);
-        // the two conventions are independent passes over the signals
-        let both = || {
-            (
-                metrics(&result, &setpoint, next_event, ts, 0.0),
-                metrics(&result, &setpoint, next_event, ts, model_delay),
-            )
+        let nan = metrics::Metrics {
+            indices: crate::metrics::Indices {
+                iae: f64::NAN,
+                ise: f64::NAN,
+                itae: f64::NAN,
+                itse: f64::NAN,
+                tv: f64::NAN,
+            },
+            step: crate::metrics::step_info(&[], &[], 0.0, f64::NAN, 0.0),
         };
-        // two threads only pay off for long runs: waking a worker costs more
-        // than a pass over some hundred thousand samples
-        #[cfg(feature = "parallel")]
-        let (m0, m1) = if result.y.len() > 500_000 {
-            rayon::join(
-                || metrics(&result, &setpoint, next_event, ts, 0.0),
-                || metrics(&result, &setpoint, next_event, ts, model_delay),
-            )
+        let (m0, m1, events) = if measure {
+            metrics::measure(
+                &result.columns(),
+                &setpoint,
+                &self.disturbance,
+                ts,
+                model_delay,
+            )?
         } else {
-            both()
+            (nan, nan, Vec::new())
         };
-        #[cfg(not(feature = "parallel"))]
-        let (m0, m1) = both();
-        let (m0, m1) = (m0?, m1?);
         Ok(RunOutput {
             plant,
             model,
@@ -770,6 +865,7 @@ impl Scenario {
             metrics: m0,
             metrics_delayed_reference: m1,
             setpoint,
+            disturbance: self.disturbance.clone(),
             float32: self.float32,
             events,
             default_scenario: false,

@@ -262,14 +262,7 @@ impl RunOutput {
     /// off its set point, e.g. P-only) the last tenth swings by less than
     /// 0.1 % of the largest |y|.
     pub fn has_settled(&self) -> bool {
-        let y = &self.result.y;
-        let n = y.len();
-        if self.metrics.step.settling_time <= 0.9 * self.duration {
-            return true;
-        }
-        let swing = crate::sweep::swing(y.get(n - n / 10..).unwrap_or(&[]));
-        let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
-        n >= 10 && swing <= 1e-3 * scale
+        super::settled(&self.result.y, &self.metrics, self.duration)
     }
 
     /// Warnings about the run (an unstable loop, a run too short to settle).

@@ -7,7 +7,7 @@ use crate::value_err;
 use msp::registry::Params;
 use msp::sim::{Disturbance, SetpointStep};
 use msp::study::{Perturbation, RunOutput, Scenario};
-use numpy::IntoPyArray;
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -77,15 +77,147 @@ pub(crate) fn params_dict<'py>(py: Python<'py>, p: &Params) -> PyResult<Bound<'p
 pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Bound<'py, PyDict>> {
     // the library's report (the keys of `msp run --report`), then the signals
     let d = pythonize::pythonize(py, &out.report())?.downcast_into::<PyDict>()?;
-    let r = out.result;
+    signals_into(py, &d, out.result)?;
+    Ok(d)
+}
+
+/// The figures of a run computed when first asked for: its metrics and event
+/// figures (``Result.metrics``, ``.metrics_delayed_reference``, ``.events``)
+/// and its analysis (``.stable``, ``.stability``, ``.robustness``,
+/// ``.warnings``; ``.report()`` wants both). Holds the run without its
+/// signals and the read-only arrays that have them.
+#[pyclass(module = "msp._msp")]
+pub(crate) struct PendingAnalysis {
+    out: RunOutput,
+    t: Py<PyArray1<f64>>,
+    r: Py<PyArray1<f64>>,
+    y: Py<PyArray1<f64>>,
+    u: Py<PyArray1<f64>>,
+    measured: bool,
+    analysed: bool,
+}
+
+impl PendingAnalysis {
+    /// The report's `keys`, as ``msp run --report`` writes them.
+    fn keys<'py>(&self, py: Python<'py>, keys: &[&str]) -> PyResult<Bound<'py, PyDict>> {
+        let report = pythonize::pythonize(py, &self.out.report())?.downcast_into::<PyDict>()?;
+        let d = PyDict::new(py);
+        for key in keys {
+            if let Some(v) = report.get_item(key)? {
+                d.set_item(key, v)?;
+            }
+        }
+        Ok(d)
+    }
+
+    fn ensure_measured(&mut self, py: Python<'_>) -> PyResult<bool> {
+        let (t, r, y, u) = (
+            self.t.bind(py).readonly(),
+            self.r.bind(py).readonly(),
+            self.y.bind(py).readonly(),
+            self.u.bind(py).readonly(),
+        );
+        let cols = msp::study::Columns {
+            t: t.as_slice()?,
+            r: r.as_slice()?,
+            y: y.as_slice()?,
+            u: u.as_slice()?,
+            substeps: self.out.result.substeps,
+            diverged_at: self.out.result.diverged_at,
+        };
+        if !self.measured {
+            let o = &self.out;
+            let (m0, m1, events) = py
+                .allow_threads(|| {
+                    msp::study::measure(&cols, &o.setpoint, &o.disturbance, o.ts, o.model_delay())
+                })
+                .map_err(value_err)?;
+            self.out.metrics = m0;
+            self.out.metrics_delayed_reference = m1;
+            self.out.events = events;
+            self.measured = true;
+        }
+        Ok(self.out.result.diverged_at.is_none()
+            && msp::study::settled(cols.y, &self.out.metrics, self.out.duration))
+    }
+}
+
+#[pymethods]
+impl PendingAnalysis {
+    /// ``metrics``, ``metrics_delayed_reference`` and ``events``.
+    fn measure<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.ensure_measured(py)?;
+        self.keys(py, &["metrics", "metrics_delayed_reference", "events"])
+    }
+
+    /// ``stable``, ``stability``, ``robustness`` and ``warnings``.
+    fn compute<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let settled = self.ensure_measured(py)?;
+        if !self.analysed {
+            let out = &mut self.out;
+            py.allow_threads(|| out.analyse_settled(settled));
+            self.analysed = true;
+        }
+        self.keys(py, &["stable", "stability", "robustness", "warnings"])
+    }
+}
+
+/// A run of [`msp::study::Scenario::run_unmeasured`] as a dict: the report
+/// and the signals (read-only arrays that take over the run's buffers) now,
+/// the figures under ``_analysis``, computed when read.
+pub(crate) fn output_dict_deferred<'py>(
+    py: Python<'py>,
+    mut out: RunOutput,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = pythonize::pythonize(py, &out.report())?.downcast_into::<PyDict>()?;
+    let mut result = std::mem::take(&mut out.result);
+    out.result.substeps = result.substeps;
+    out.result.diverged_at = result.diverged_at;
+    let column = |v: &mut Vec<f64>| -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let a = std::mem::take(v).into_pyarray(py);
+        a.call_method1("setflags", (false,))?;
+        Ok(a)
+    };
+    let (t, r, y, u) = (
+        column(&mut result.t)?,
+        column(&mut result.r)?,
+        column(&mut result.y)?,
+        column(&mut result.u)?,
+    );
+    for (k, a) in [("t", &t), ("r", &r), ("y", &y), ("u", &u)] {
+        d.set_item(k, a)?;
+    }
+    signals_into(py, &d, result)?;
+    let pending = PendingAnalysis {
+        out,
+        t: t.unbind(),
+        r: r.unbind(),
+        y: y.unbind(),
+        u: u.unbind(),
+        measured: false,
+        analysed: false,
+    };
+    d.set_item("_analysis", Py::new(py, pending)?)?;
+    Ok(d)
+}
+
+/// The signals of a run into `d`: numpy arrays that take over the run's
+/// own buffers (no copy).
+fn signals_into<'py>(
+    py: Python<'py>,
+    d: &Bound<'py, PyDict>,
+    r: msp::sim::SimResult,
+) -> PyResult<()> {
     let signals = PyDict::new(py);
     for (name, v) in r.signals {
         signals.set_item(name, v.into_pyarray(py))?;
     }
-    d.set_item("t", r.t.into_pyarray(py))?;
-    d.set_item("r", r.r.into_pyarray(py))?;
-    d.set_item("y", r.y.into_pyarray(py))?;
-    d.set_item("u", r.u.into_pyarray(py))?;
+    // (a deferred run has set these already, read-only)
+    for (k, v) in [("t", r.t), ("r", r.r), ("y", r.y), ("u", r.u)] {
+        if !d.contains(k)? {
+            d.set_item(k, v.into_pyarray(py))?;
+        }
+    }
     if !r.u_applied.is_empty() {
         d.set_item("u_applied", r.u_applied.into_pyarray(py))?;
     }
@@ -102,7 +234,7 @@ pub(crate) fn output_dict<'py>(py: Python<'py>, out: RunOutput) -> PyResult<Boun
         d.set_item("d_inner", d0.into_pyarray(py))?;
     }
     d.set_item("signals", signals)?;
-    Ok(d)
+    Ok(())
 }
 
 /// The Python keyword of a scenario field: ``set`` is ``params``, ``lambda``

@@ -26,6 +26,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Plant>()?;
     m.add_class::<Controller>()?;
     m.add_class::<PyPid>()?;
+    m.add_class::<convert::PendingAnalysis>()?;
     m.add_function(wrap_pyfunction!(parse_plant, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(tune, m)?)?;

@@ -1,6 +1,8 @@
 //! The study functions: run, compare, margins, sweep, autotune, identify, tune, controllers.
 
-use crate::convert::{fit_dict, output_dict, perturbation_of, scenario_from, Takes, TUNE};
+use crate::convert::{
+    fit_dict, output_dict, output_dict_deferred, perturbation_of, scenario_from, Takes, TUNE,
+};
 use crate::plant::plant_of;
 use crate::value_err;
 use msp::registry;
@@ -20,8 +22,10 @@ pub(crate) fn run<'py>(
     scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_from(plant, scenario, Takes::All)?;
-    let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
-    output_dict(py, out)
+    let out = py
+        .allow_threads(|| sc.run_unmeasured())
+        .map_err(value_err)?;
+    output_dict_deferred(py, out)
 }
 
 /// The forced response (see ``msp.simulate``): ``run`` with the set point
@@ -51,8 +55,10 @@ pub(crate) fn simulate<'py>(
         },
     };
     let sc = sc.with_input(input).map_err(value_err)?;
-    let out = py.allow_threads(|| sc.run()).map_err(value_err)?;
-    output_dict(py, out)
+    let out = py
+        .allow_threads(|| sc.run_unmeasured())
+        .map_err(value_err)?;
+    output_dict_deferred(py, out)
 }
 
 /// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.

@@ -77,6 +77,23 @@ def test_the_run_report_is_the_clis(plant: str, args: list[str], tmp_path: pathl
     assert res.metrics["iae"] == cli["metrics"]["iae"] and res.plant_kind == cli["plant_kind"]
 
 
+def test_figures_read_in_any_order_are_the_runs() -> None:
+    """msp.run computes its metrics, event figures and analysis when first read: read in any order,
+    they are the same as when read together, and the signals they come from are read-only."""
+    args = ("5.6*e^-93.9s/(40.2s+1)", "pi", {"kp": 0.0501, "ti": 47.3})
+    kw = dict(setpoint=1.0, disturbance="input:-0.1@1500", ts=0.1, duration=3000.0)
+    whole = msp.run(*args, **kw).report()
+    a = msp.run(*args, **kw)
+    assert a.stable is True and a.robustness["pm"] == whole["robustness"]["pm"]
+    assert a.metrics == whole["metrics"] and a.events == whole["events"]
+    b = msp.run(*args, **kw)
+    assert b.events == whole["events"] and b.warnings == whole["warnings"]
+    assert b.report() == whole and a.report() == whole
+    assert not any(getattr(a, k).flags.writeable for k in ("t", "r", "y", "u"))
+    with pytest.raises(ValueError, match="read-only"):
+        a.y[0] = 1.0
+
+
 def test_float32_runs_the_controller_in_float32() -> None:
     wide = msp.run("0.2/s*e^-7.4s")
     narrow = msp.run("0.2/s*e^-7.4s", float32=True)

@@ -165,6 +165,11 @@ def _plant(plant: PlantLike, delay: Optional[float] = None) -> Union[str, Plant]
 class Result:
     """The outcome of a closed-loop run: signals as numpy arrays and the figures.
 
+    The signals are the simulator's own buffers, read-only (``result.y.copy()`` for an array to
+    change). The figures of a run of :func:`run` or :func:`simulate` (``metrics``, ``events``,
+    ``stable``, ``robustness``...) are computed from them when first read: a run whose figures
+    are never read costs the simulation alone.
+
     Attributes
     ----------
     t, r, y, u, d : numpy.ndarray
@@ -257,21 +262,47 @@ class Result:
     warnings: List[str]
 
     _ARRAYS = ("t", "r", "y", "u", "u_applied", "d", "d_out", "y2", "d_inner", "signals")
+    # computed when first read (the figures of a long run, the stability verdict and the robustness
+    # analysis cost more than the simulation): a run that never reads them does not pay for them
+    _MEASURED = ("metrics", "metrics_delayed_reference", "events")
+    _ANALYSED = ("stable", "stability", "robustness", "warnings")
 
     def __init__(self, raw: Mapping[str, Any]) -> None:
         self.y2 = self.d_inner = self.u_applied = None
+        pending = raw.get("_analysis")
+        lazy = self._MEASURED + self._ANALYSED if pending is not None else ()
         for key, value in raw.items():
-            setattr(self, key, value)
-        self._report = {k: v for k, v in raw.items() if k not in self._ARRAYS}
+            if key != "_analysis" and key not in lazy:
+                setattr(self, key, value)
+        self._report = {k: v for k, v in raw.items() if k not in self._ARRAYS and k != "_analysis"}
+        self._pending = pending
+        self._missing = set(lazy)
+
+    def _complete(self, names: Tuple[str, ...]) -> None:
+        pending = self.__dict__.get("_pending")
+        if pending is None or not self._missing.intersection(names):
+            return
+        done = pending.measure() if names == self._MEASURED else pending.compute()
+        self._report.update(done)
+        self.__dict__.update(done)
+        self._missing.difference_update(done)
+        if not self._missing:
+            self._pending = None
 
     def report(self) -> Dict[str, Any]:
         """The run report: the keys and values ``msp run --report`` writes (NaN where it writes null)."""
+        self._complete(self._MEASURED)
+        self._complete(self._ANALYSED)
         return dict(self._report)
 
-    def __getattr__(self, name: str) -> np.ndarray:
+    def __getattr__(self, name: str) -> Any:
+        for names in (self._MEASURED, self._ANALYSED):
+            if name in names and name in self.__dict__.get("_missing", ()):
+                self._complete(names)
+                return self.__dict__[name]
         signals = self.__dict__.get("signals", {})
         if name in signals:
-            return signals[name]  # type: ignore[no-any-return]
+            return signals[name]
         raise AttributeError(name)
 
     def __repr__(self) -> str:

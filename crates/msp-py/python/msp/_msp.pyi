@@ -4,7 +4,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_rules"]
+__all__ = ["Controller", "PendingAnalysis", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_rules"]
 __version__: str
 SCENARIO_FIELDS: List[str]
 SCENARIO_KEYWORDS: List[str]
@@ -82,6 +82,11 @@ def sweep(
     shard: Tuple[int, int] = ...,
     **scenario: Any,
 ) -> Dict[str, Any]: ...
+
+@final
+class PendingAnalysis:
+    def measure(self) -> Dict[str, Any]: ...
+    def compute(self) -> Dict[str, Any]: ...
 
 @disjoint_base
 class Controller:
