@@ -71,14 +71,7 @@ pub fn measure(
     ts: f64,
     model_delay: f64,
 ) -> Result<(Metrics, Metrics, Vec<Event>), Error> {
-    // the first set-point step's segment ends at the next event
-    let first = setpoint.iter().map(|s| s.at).fold(f64::INFINITY, f64::min);
-    let next_event = setpoint
-        .iter()
-        .map(|s| s.at)
-        .chain(disturbances.iter().map(|d| d.at))
-        .filter(|t| *t > first + 1e-9 * first.abs().max(1.0))
-        .fold(f64::INFINITY, f64::min);
+    let next_event = next_event(setpoint, disturbances);
     let events = events(res, setpoint, disturbances, ts);
     // the two conventions are independent passes over the signals
     let both = || {
@@ -101,6 +94,18 @@ pub fn measure(
     #[cfg(not(feature = "parallel"))]
     let (m0, m1) = both();
     Ok((m0?, m1?, events))
+}
+
+/// Where the first set-point step's segment ends: at the next event (a
+/// later set-point step or a disturbance), or never.
+pub fn next_event(setpoint: &[SetpointStep], disturbances: &[Disturbance]) -> f64 {
+    let first = setpoint.iter().map(|s| s.at).fold(f64::INFINITY, f64::min);
+    setpoint
+        .iter()
+        .map(|s| s.at)
+        .chain(disturbances.iter().map(|d| d.at))
+        .filter(|t| *t > first + 1e-9 * first.abs().max(1.0))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Whether the output `y` of a run of `duration` with step information

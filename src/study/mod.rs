@@ -19,7 +19,7 @@ pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use forced::SampledInput;
 pub use metrics::{
-    measure, metrics, settled, Columns, DisturbanceEvent, Event, Metrics, SetpointEvent,
+    measure, metrics, next_event, settled, Columns, DisturbanceEvent, Event, Metrics, SetpointEvent,
 };
 pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
 pub use robustness::Robustness;
@@ -664,7 +664,7 @@ impl Scenario {
     /// [`Scenario::run_tuned`]; with `measure` false and a duration given,
     /// the metrics and event figures are left for [`RunOutput::measure`]
     /// (a chosen duration needs them to know the run has settled).
-    fn run_tuned_measured(
+    pub(crate) fn run_tuned_measured(
         &self,
         tuned: &Tuned,
         plant: TransferFunction,
