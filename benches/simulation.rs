@@ -207,12 +207,13 @@ fn whole(c: &mut Criterion) {
 /// What `msp.run` costs beside the engine, side by side on the MathWorks
 /// example of issue-34's target (PI on `5.6 e^{−93.9s}/(40.2s + 1)`, Ts 0.1,
 /// 3000 s: 30 001 samples): `simulate_into` of the registry's PI with every
-/// column, against `Scenario::run_unanalysed` (what `msp.run` computes:
-/// parse, tune, build, simulate, metrics, design; the stability verdict and
-/// the robustness figures wait until they are read) and `Scenario::run`
-/// (all of it, as `msp run` prints it). Target: the run within 1.5× the
-/// engine's time per sample; `benches/python_vs_control.py` measures the
-/// same through Python.
+/// column, against `Scenario::run_unmeasured` (what `msp.run` computes
+/// before it returns: tune, build, simulate, design; the metrics, the
+/// stability verdict and the robustness figures wait until they are read),
+/// the same with its metrics read, and `Scenario::run` (all of it, as
+/// `msp run` prints it). Target: `msp.run` within 1.5× the engine's time
+/// per sample; `benches/python_vs_control.py` measures the same through
+/// Python.
 fn python_path(c: &mut Criterion) {
     use msp::registry::{self, Build};
     let plant: TransferFunction = "5.6*e^-93.9s/(40.2s+1)".parse().unwrap();
@@ -257,8 +258,15 @@ fn python_path(c: &mut Criterion) {
             reused.y.len()
         })
     });
-    g.bench_function("msp.run: Scenario::run_unanalysed", |b| {
-        b.iter(|| scenario.run_unanalysed().expect("run").result.y.len())
+    g.bench_function("msp.run: Scenario::run_unmeasured", |b| {
+        b.iter(|| scenario.run_unmeasured().expect("run").result.y.len())
+    });
+    g.bench_function("msp.run, figures read: + measure", |b| {
+        b.iter(|| {
+            let mut out = scenario.run_unmeasured().expect("run");
+            out.measure().expect("measure");
+            out.metrics.indices.iae
+        })
     });
     g.bench_function("msp run: Scenario::run (with the analysis)", |b| {
         b.iter(|| scenario.run().expect("run").result.y.len())

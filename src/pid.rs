@@ -758,6 +758,14 @@ impl<T: Real> crate::Introspect<T> for Pid<T> {
         let t = self.terms();
         [t.p, t.i, t.d].get(i).copied().unwrap_or_else(T::nan)
     }
+    #[inline]
+    fn write_signals(&self, out: &mut [T]) {
+        // the simulator records the terms every sample: written at once
+        let t = &self.terms;
+        for (o, v) in out.iter_mut().zip([t.p, t.i, t.d]) {
+            *o = v;
+        }
+    }
     fn param_names(&self) -> &'static [&'static str] {
         &["kp", "ti", "td"]
     }

@@ -228,9 +228,11 @@ pub fn sweep(
     let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
         let plant = nominal.perturbed(gain, delay, tau)?;
         // the row's metrics only: not the delayed-reference ones nor the event figures
-        let out = sc.run_tuned_measured(&tuned, plant.clone(), model.clone(), inner.clone(), false)?;
+        let out =
+            sc.run_tuned_measured(&tuned, plant.clone(), model.clone(), inner.clone(), false)?;
         let next = crate::study::next_event(&out.setpoint, &out.disturbance);
-        let metrics = crate::study::metrics(&out.result.columns(), &out.setpoint, next, out.ts, 0.0)?;
+        let metrics =
+            crate::study::metrics(&out.result.columns(), &out.setpoint, next, out.ts, 0.0)?;
         let max_abs_u = out.result.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
         // the characteristic equation's verdict; the run's where it is unknown
         let verdict = crate::analysis::tuned_stability(&sc, &tuned, &plant, &model, inner.as_ref())

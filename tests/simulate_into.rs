@@ -2,7 +2,10 @@
 //! `simulate` gives; the set point follows `setpoint_at` sample for sample.
 use msp::poly::TransferFunction;
 use msp::registry::{find, Build};
-use msp::sim::{setpoint_at, simulate, simulate_into, SetpointStep, SimConfig, SimResult};
+use msp::sim::{
+    setpoint_at, simulate, simulate_into, Disturbance, Location, SetpointStep, Shape, SimConfig,
+    SimResult,
+};
 
 fn run(
     scheme: &str,
@@ -34,8 +37,20 @@ fn a_reused_result_equals_a_fresh_one() {
     let long = SimConfig::new(0.074, 60.0);
     let short = SimConfig::new(0.074, 20.0);
     let mut out = SimResult::default();
-    // a long run with other signal names first, then shorter runs into the same buffers
-    run("karan-dey", &plant, &long, Some(&mut out));
+    // a long run with other signal names and loads first (the load columns
+    // of the runs after it must not keep them), then runs into the same buffers
+    let mut loaded = long.clone();
+    loaded.disturbances = [Location::Input, Location::Output]
+        .into_iter()
+        .map(|location| Disturbance {
+            location,
+            shape: Shape::Step,
+            value: 0.1,
+            at: 5.0,
+            freq: 0.0,
+        })
+        .collect();
+    run("karan-dey", &plant, &loaded, Some(&mut out));
     for (scheme, cfg) in [("smith", &short), ("smith", &long), ("karan-dey", &short)] {
         let fresh = run(scheme, &plant, cfg, None);
         let reused = run(scheme, &plant, cfg, Some(&mut out));

@@ -330,7 +330,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         applied: operated && applies,
         d_inner: !middles.is_empty(),
     };
-    res.size(controller.signal_names(), n_rows, columns);
+    let zeroed = res.size(controller.signal_names(), n_rows, columns);
     let mut run = Run {
         n,
         m,
@@ -350,6 +350,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
             applies,
             limited: cfg.u_min > f64::NEG_INFINITY || cfg.u_max < f64::INFINITY,
         },
+        zeroed,
     };
     let plain = run.is_plain(cfg);
     let rows = match (operated, plain) {

@@ -41,6 +41,16 @@ pub(super) struct Run<'a> {
     /// The operator's actions as `(first sample, action)`.
     pub(super) ops: Vec<(usize, Action)>,
     pub(super) flags: Flags,
+    /// The load columns the sizing left at zero.
+    pub(super) zeroed: Zeroed,
+}
+
+/// Which load columns hold zeros in every row before the run writes them
+/// (freshly allocated), so that a zero load need not be written.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Zeroed {
+    pub(super) d: bool,
+    pub(super) d_out: bool,
 }
 
 /// What a run's samples check, fixed before the first.
@@ -140,6 +150,33 @@ fn split(res: &mut SimResult) -> ([&mut Vec<f64>; 3], Others<'_>) {
 /// holds the controller's signals, with every column.
 #[inline(always)]
 fn record_others<const OPERATED: bool>(f: Flags, o: &mut Others, k: usize, row: &Row, sig: &[f64]) {
+    record_varying::<OPERATED>(f, o, k, row, sig);
+    if f.columns.all {
+        let put = |col: &mut Vec<f64>, v: f64| {
+            if let Some(x) = col.get_mut(k) {
+                *x = v;
+            }
+        };
+        put(o.r, row.r);
+        put(o.d, row.d_in);
+        put(o.d_out, row.d_out);
+        if f.columns.cascade {
+            put(o.d_inner, row.d_mid);
+        }
+    }
+}
+
+/// The columns of [`record_others`] that change within a segment of a
+/// plain run (the applied input and the controller's signals; the set
+/// point and the loads are the segment's constants, [`fill_segment`]).
+#[inline(always)]
+fn record_varying<const OPERATED: bool>(
+    f: Flags,
+    o: &mut Others,
+    k: usize,
+    row: &Row,
+    sig: &[f64],
+) {
     let put = |col: &mut Vec<f64>, v: f64| {
         if let Some(x) = col.get_mut(k) {
             *x = v;
@@ -152,14 +189,35 @@ fn record_others<const OPERATED: bool>(f: Flags, o: &mut Others, k: usize, row: 
         put(o.y2, row.y2);
     }
     if f.columns.all {
-        put(o.r, row.r);
-        put(o.d, row.d_in);
-        put(o.d_out, row.d_out);
-        if f.columns.cascade {
-            put(o.d_inner, row.d_mid);
-        }
         for ((_, v), x) in o.signals.iter_mut().zip(sig) {
             put(v, *x);
+        }
+    }
+}
+
+/// The set point and the loads of a plain run's segment `from..to`, each a
+/// constant there: filled at once (a load column the run's sizing left at
+/// zero is not touched while the load is zero, so its pages are never
+/// written).
+#[inline]
+fn fill_segment(
+    o: &mut Others,
+    zeroed: Zeroed,
+    (from, to): (usize, usize),
+    r: f64,
+    d_in: f64,
+    d_out: f64,
+) {
+    for (col, v, zero) in [
+        (&mut *o.r, r, false),
+        (&mut *o.d, d_in, zeroed.d),
+        (&mut *o.d_out, d_out, zeroed.d_out),
+    ] {
+        if zero && v == 0.0 {
+            continue;
+        }
+        if let Some(rows) = col.get_mut(from..to) {
+            rows.fill(v);
         }
     }
 }
@@ -346,6 +404,9 @@ where
         ) else {
             return Err(from);
         };
+        if f.columns.all {
+            fill_segment(&mut others, run.zeroed, (from, to), r, d_in, d_out);
+        }
         let rows = ts.iter_mut().zip(ys.iter_mut()).zip(us.iter_mut());
         for (i, ((t_out, y_out), u_out)) in (from..to).zip(rows) {
             ramped::<OPERATED>(f, op, r);
@@ -374,7 +435,7 @@ where
                     d_out,
                     d_mid: 0.0,
                 };
-                record_others::<OPERATED>(f, &mut others, i, &row, sig);
+                record_varying::<OPERATED>(f, &mut others, i, &row, sig);
             }
         }
         return Ok(());

@@ -46,22 +46,42 @@ impl SimResult {
     /// them in place and truncates them to the rows it ran), with one signal
     /// column per name (reused when the names are those of the last run);
     /// the others are left empty.
-    pub(super) fn size(&mut self, names: &[&str], rows: usize, c: Columns) {
-        let recorded = [
-            (&mut self.t, true),
-            (&mut self.y, true),
-            (&mut self.u, true),
-            (&mut self.u_applied, c.applied),
-            (&mut self.y2, c.cascade),
-            (&mut self.r, c.all),
-            (&mut self.d, c.all),
-            (&mut self.d_out, c.all),
-            (&mut self.d_inner, c.all && c.cascade && c.d_inner),
-        ];
-        for (v, on) in recorded {
-            if on {
-                // (a reused column keeps its memory: nothing written twice)
+    pub(super) fn size(
+        &mut self,
+        names: &[&str],
+        rows: usize,
+        c: Columns,
+    ) -> super::engine::Zeroed {
+        // a column without the room is allocated zeroed (the allocator's
+        // fresh pages: nothing written before the run writes it); a reused
+        // one keeps its memory and its old rows, which the run overwrites
+        let fit = |v: &mut Vec<f64>| {
+            if v.capacity() < rows {
+                *v = std::vec![0.0; rows];
+                true
+            } else {
                 v.resize(rows, 0.0);
+                false
+            }
+        };
+        let mut zeroed = super::engine::Zeroed::default();
+        let recorded = [
+            (&mut self.t, true, None),
+            (&mut self.y, true, None),
+            (&mut self.u, true, None),
+            (&mut self.u_applied, c.applied, None),
+            (&mut self.y2, c.cascade, None),
+            (&mut self.r, c.all, None),
+            (&mut self.d, c.all, Some(&mut zeroed.d)),
+            (&mut self.d_out, c.all, Some(&mut zeroed.d_out)),
+            (&mut self.d_inner, c.all && c.cascade && c.d_inner, None),
+        ];
+        for (v, on, zero) in recorded {
+            if on {
+                let fresh = fit(v);
+                if let Some(z) = zero {
+                    *z = fresh;
+                }
             } else {
                 v.clear();
             }
@@ -69,7 +89,7 @@ impl SimResult {
         self.diverged_at = None;
         if !c.all {
             self.signals.clear();
-            return;
+            return zeroed;
         }
         let same = self.signals.len() == names.len()
             && self.signals.iter().zip(names).all(|((a, _), b)| a == b);
@@ -77,8 +97,9 @@ impl SimResult {
             self.signals = names.iter().map(|s| (s.to_string(), Vec::new())).collect();
         }
         for (_, v) in &mut self.signals {
-            v.resize(rows, 0.0);
+            fit(v);
         }
+        zeroed
     }
 
     /// Cuts every column to its first `rows` rows.
