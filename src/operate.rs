@@ -119,6 +119,21 @@ pub enum Mode<T> {
 /// every sample, so that switching back to automatic is bumpless: the first
 /// automatic output differs from the last applied one by what one sample of
 /// the control law adds.
+///
+/// ```
+/// use msp::{tuning, Controller, Fopdt, Operated, ProcessModel, SmithPredictor};
+/// let model = ProcessModel::from(Fopdt::new(5.6, 40.2, 93.9)?);
+/// let sp: SmithPredictor<f64, 1, [f64; 128]> =
+///     SmithPredictor::from_model(tuning::kaya(&model, 93.9)?.config(1.0), &model, 1.0)?;
+/// let mut c = Operated::new(sp);
+/// c.manual(0.3)?; // the operator sets the output; the model follows it
+/// assert_eq!(c.update(1.0, 0.0), 0.3);
+/// c.auto(); // bumpless: the next output continues from 0.3
+/// let u = c.update(1.0, 0.0);
+/// assert!((u - 0.3).abs() < 0.1, "{u}");
+/// c.set_dead_time(100.0)?; // samples: the model's dead time drifted
+/// # Ok::<(), msp::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Operated<T, C> {
     inner: C,

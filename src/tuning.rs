@@ -70,6 +70,15 @@ pub fn kaya<T: Real>(model: &ProcessModel<T>, lambda: T) -> Result<PidGains<T>, 
 
 /// Kaya's rule with the speed factor `α` (`λ = α·L`, Eqs. 32–33; `α = 1` is the
 /// ISE optimum).
+///
+/// ```
+/// use msp::{tuning, Fopdt, ProcessModel};
+/// let m = ProcessModel::from(Fopdt::new(5.6f64, 40.2, 93.9)?);
+/// // α = 0.5: λ = 46.95 s, twice the gain of λ = L
+/// let g = tuning::kaya_alpha(&m, 0.5)?;
+/// assert!((g.kp - 40.2 / (5.6 * 0.5 * 93.9)).abs() < 1e-12 && g.ti == 40.2);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn kaya_alpha<T: Real>(model: &ProcessModel<T>, alpha: T) -> Result<PidGains<T>, Error> {
     let alpha = positive(alpha, "alpha")?;
     let l = positive(model.delay(), "l")?;
@@ -84,6 +93,14 @@ pub fn kaya_fopdt<T: Real>(model: &crate::Fopdt<T>, alpha: T) -> Result<PidGains
 /// IMC-PI for an integrating model `K/s` with the filter `(2λs + 1)/(λs + 1)²`
 /// (Bag (2022) Eqs. 4.25–4.31): `Kp = 2/(K λ)`, `Ti = 2λ`.
 /// The delay-free loop is then `(2λs + 1)/(λs + 1)²` (13.5 % overshoot).
+///
+/// ```
+/// use msp::{tuning, Ipdt};
+/// // the thesis's benchmark 0.2 e^{-7.4s}/s with λ = θ/4 = 1.85 s
+/// let g = tuning::imc_pi_integrating(&Ipdt::new(0.2f64, 7.4)?, 1.85)?;
+/// assert!((g.kp - 5.4054).abs() < 1e-4 && (g.ti - 3.7).abs() < 1e-12);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn imc_pi_integrating<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<PidGains<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
     Ok(PidGains {
@@ -100,6 +117,17 @@ pub fn imc_pi_integrating<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<PidGain
 /// written in ISA form: `Kp = Kc(Ti + T)/Ti`, `Ti' = Ti + T`,
 /// `Td = Ti·T/(Ti + T)` (the interacting-to-ISA conversion of Åström &
 /// Hägglund (2006), Sec. 3.4).
+///
+/// ```
+/// use msp::{tuning, Foipdt};
+/// let (k, t, lambda) = (0.5f64, 3.0, 2.0);
+/// let g = tuning::imc_pid_integrating_lag(&Foipdt::new(k, t, 4.0)?, lambda)?;
+/// // the series form Kc(1 + 1/(Ti s))(1 + T s) with Kc = 2/(Kλ), Ti = 2λ
+/// let (kc, ti) = (2.0 / (k * lambda), 2.0 * lambda);
+/// assert!((g.kp - kc * (ti + t) / ti).abs() < 1e-12);
+/// assert!((g.ti - (ti + t)).abs() < 1e-12 && (g.td - ti * t / (ti + t)).abs() < 1e-12);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn imc_pid_integrating_lag<T: Real>(
     model: &crate::Foipdt<T>,
     lambda: T,
@@ -121,6 +149,17 @@ pub fn imc_pid_integrating_lag<T: Real>(
 /// recommends `λ = θm/4` (Eq. 4.32); then `γ = 1/16` (printed rounded as 0.06 in
 /// Eq. 4.51) and the set-point response is `e^{−θs}/(1 + θs/8)`. The derivative
 /// filter ratio is `N = 10`.
+///
+/// ```
+/// use msp::{tuning, Ipdt};
+/// // the thesis's benchmark 0.2 e^{-7.4s}/s (Bag (2022) Eqs. 4.32-4.51)
+/// let m = Ipdt::new(0.2f64, 7.4)?;
+/// let p = tuning::karan_dey(&m, tuning::karan_dey_default_lambda(&m))?;
+/// assert!((p.kp - 5.4054).abs() < 1e-4 && (p.ti - 3.7).abs() < 1e-12);
+/// assert!((p.beta - 0.25).abs() < 1e-12 && (p.gamma - 1.0 / 16.0).abs() < 1e-12);
+/// assert_eq!(p.td, 1.85);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn karan_dey<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<KaranDeyParams<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
     let theta = positive(model.l, "l")?;
@@ -145,6 +184,15 @@ pub fn karan_dey_default_lambda<T: Real>(model: &Ipdt<T>) -> T {
 /// IMC-PID for an FOPDT model with a first-order Padé approximation of the
 /// dead time (Bag (2022) Eqs. 3.19–3.27):
 /// `Kc = (τp + θ/2)/(kp(λ + θ/2))`, `τI = τp + θ/2`, `τD = τp θ/(2τp + θ)`.
+///
+/// ```
+/// use msp::{tuning, Fopdt};
+/// let (k, tau, theta, lambda) = (2.0f64, 10.0, 4.0, 3.0);
+/// let g = tuning::imc_pid(&Fopdt::new(k, tau, theta)?, lambda)?;
+/// assert!((g.kp - 12.0 / (2.0 * 5.0)).abs() < 1e-12); // (τ + θ/2)/(k(λ + θ/2))
+/// assert!((g.ti - 12.0).abs() < 1e-12 && (g.td - 40.0 / 24.0).abs() < 1e-12);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn imc_pid<T: Real>(model: &crate::Fopdt<T>, lambda: T) -> Result<PidGains<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
     let h = T::half() * model.l;
@@ -158,6 +206,16 @@ pub fn imc_pid<T: Real>(model: &crate::Fopdt<T>, lambda: T) -> Result<PidGains<T
 /// Skogestad's SIMC rules (2003) for a closed-loop time constant `tc`:
 /// FOPDT `Kc = T/(K(τc + θ))`, `τI = min(T, 4(τc + θ))`; SOPDT the same with
 /// `τD = T2`; IPDT `Kc = 1/(K(τc + θ))`, `τI = 4(τc + θ)`; FOIPDT with `τD = T`.
+///
+/// ```
+/// use msp::{tuning, Fopdt, Ipdt, ProcessModel};
+/// // Skogestad's τc = θ: Kc = T/(2Kθ), τI = min(T, 8θ)
+/// let g = tuning::simc(&ProcessModel::from(Fopdt::new(1.0f64, 8.0, 1.0)?), 1.0)?;
+/// assert!((g.kp - 4.0).abs() < 1e-12 && (g.ti - 8.0).abs() < 1e-12);
+/// let g = tuning::simc(&ProcessModel::from(Ipdt::new(0.2f64, 7.4)?), 7.4)?;
+/// assert!((g.kp - 1.0 / (0.2 * 14.8)).abs() < 1e-12 && (g.ti - 4.0 * 14.8).abs() < 1e-12);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn simc<T: Real>(model: &ProcessModel<T>, tc: T) -> Result<PidGains<T>, Error> {
     let tc = positive(tc, "lambda")?;
     let four = T::of(4.0);
@@ -345,6 +403,15 @@ pub fn ultimate_rule(name: &str) -> Option<&'static UltimateRule> {
 }
 
 /// Settings from the ultimate gain `ku` and period `tu` by `rule`.
+///
+/// ```
+/// use msp::tuning;
+/// // Ziegler–Nichols PID: Kp = 0.6 Ku, Ti = Tu/2, Td = Tu/8
+/// let zn = tuning::ultimate_rule("zn").ok_or(msp::Error::Unsupported("zn"))?;
+/// let g = tuning::ultimate_cycle(zn, 2.5f64, 40.0)?;
+/// assert!((g.kp - 1.5).abs() < 1e-12 && g.ti == 20.0 && g.td == 5.0);
+/// # Ok::<(), msp::Error>(())
+/// ```
 pub fn ultimate_cycle<T: Real>(rule: &UltimateRule, ku: T, tu: T) -> Result<PidGains<T>, Error> {
     let ku = positive(ku, "ku")?;
     let tu = positive(tu, "tu")?;

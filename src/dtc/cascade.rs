@@ -514,6 +514,27 @@ fn solve_small(m: &[[f64; 5]; 4], n: usize) -> Result<[f64; 4], Error> {
 
 /// Any single-loop outer controller (its "actuator" is the inner set point
 /// `r2`) joined to the inner IMC loop.
+///
+/// Built by hand from its parts, or through the registry, which designs
+/// FSPCC, GPCC and Uma et al.'s scheme for a pair of processes:
+///
+/// ```
+/// use msp::poly::TransferFunction;
+/// use msp::registry::{self, Build};
+/// // García et al. (2010) Example 1: P1 = e^{-4s}/(20s - 1), P2 = 2e^{-2s}/(20s + 1)
+/// let p1: TransferFunction = "e^-4s/(20s-1)".parse()?;
+/// let p2: TransferFunction = "2e^-2s/(20s+1)".parse()?;
+/// let gpcc = registry::find("gpcc")?;
+/// let params = gpcc.tune_process(&p1, Some(&p2), None, None, &[])?;
+/// let build = Build { ts: 0.2, u_min: f64::NEG_INFINITY, u_max: f64::INFINITY, max_dead_time: 0.0 };
+/// let mut c = gpcc.build_process(&params, &p1, Some(&p2), &build)?;
+/// // the set point, the primary and the secondary measurements
+/// let u = c.update_cascade(1.0, 0.0, 0.0);
+/// assert!(u.is_finite() && c.is_cascade(), "{u}");
+/// let later = (0..10).map(|_| c.update_cascade(1.0, 0.0, 0.0)).last();
+/// assert!(later > Some(0.0), "{later:?}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Cascade<T, O, S> {
     outer: O,

@@ -533,6 +533,23 @@ pub fn names() -> Vec<&'static str> {
 }
 
 /// The scheme called `name` (or one of its aliases).
+///
+/// Every single-loop scheme, tuned by its source's rule and built for a
+/// plant, runs behind the same [`crate::Controller`] interface:
+///
+/// ```
+/// use msp::poly::TransferFunction;
+/// use msp::registry::{self, Build};
+/// let plant: TransferFunction = "0.2/s*e^-7.4s".parse()?;
+/// let build = Build { ts: 0.074, u_min: f64::NEG_INFINITY, u_max: f64::INFINITY, max_dead_time: 0.0 };
+/// for name in ["smith", "karan-dey", "watanabe-ito", "astrom-hang-lim", "fsp"] {
+///     let scheme = registry::find(name)?;
+///     let params = scheme.tune_with(&plant, None, &[])?;
+///     let mut c = scheme.build_with(&params, &plant, &build)?;
+///     assert!(c.update(1.0, 0.0) > 0.0, "{name}");
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
     let key = name.trim().to_ascii_lowercase().replace('_', "-");
     SCHEMES
