@@ -563,7 +563,7 @@ impl<T: Real> Pid<T> {
     /// `(Cr, Cy)` of `u = Cr·r − Cy·y`: `Cr = kp·b + ki·h/(z − 1) + D(z)·c`,
     /// `Cy = kp + ki·h/(z − 1) + D(z)`, `D(z) = kd/(Tf + h)·(1 − z⁻¹)/(1 − Tf/(Tf + h)·z⁻¹)`.
     pub fn response(&self, theta: T) -> (crate::Complex<T>, crate::Complex<T>) {
-        self.response_at(&crate::lti::zdomain::Frequency(theta))
+        self.response_at(&crate::lti::zdomain::Frequency::new(theta))
     }
 
     /// [`Pid::response`] at any [`Point`](crate::lti::zdomain::Point), with

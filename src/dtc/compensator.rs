@@ -111,7 +111,7 @@ impl<T: Real> InnerPath<T> {
 
     /// `Gc2(e^{jθ})`.
     fn response(&self, theta: T) -> Complex<T> {
-        self.response_at(&Frequency(theta))
+        self.response_at(&Frequency::new(theta))
     }
 
     /// `Gc2` at any [`Point`].
@@ -238,7 +238,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     /// `den = (1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1)`, the
     /// determinant of the filter's own loop (its integrator and window).
     fn parts(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        self.parts_at(&Frequency(theta))
+        self.parts_at(&Frequency::new(theta))
     }
 
     /// [`AhlFilter::parts`] at any [`Point`], with `w = z^{−1}`:
@@ -755,7 +755,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     /// `den = 1 + G1y(Gm − F·D·Gm − Mc) + G2·Gm`, `u1 = (G1r·r − G1y·F·y)/den`,
     /// `u = u1(1 + Gd·D·Gm) − Gd·y` (model driven by `u1`; without `Gd`, `u = u1`).
     fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
-        Some(self.response_at(&Frequency(theta)))
+        Some(self.response_at(&Frequency::new(theta)))
     }
 
     #[cfg(feature = "alloc")]

@@ -423,7 +423,7 @@ mod tests {
     fn predicts_the_undelayed_output_of_an_unstable_model() -> Result<(), Error> {
         let p = predicts_exactly(example1()?, 400, step_then_sine(50), |_, _, _| Ok(()))?;
         // the prediction-error filter passes steps: Fk(1) = 1
-        let (_, _, fk) = p.filters(&crate::lti::zdomain::Frequency(1e-9));
+        let (_, _, fk) = p.filters(&crate::lti::zdomain::Frequency::new(1e-9));
         assert!((fk.re - 1.0).abs() < 1e-9 && fk.im.abs() < 1e-6, "{fk:?}");
         Ok(())
     }

@@ -203,7 +203,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
 {
     /// `u = G1r/(1 + G1y·Gm(1 − z^{−d}))·r − G1y/(1 + G1y·Gm(1 − z^{−d}))·y`.
     fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
-        Some(self.response_at(&crate::lti::zdomain::Frequency(theta)))
+        Some(self.response_at(&crate::lti::zdomain::Frequency::new(theta)))
     }
 
     #[cfg(feature = "alloc")]

@@ -242,8 +242,12 @@ impl<T: Real, const N: usize> Lti<T, N> {
 
     /// The frequency response `C(zI − Φ)⁻¹Γ + D` at `z = e^{jθ}` (`θ = ω·Ts`).
     pub fn response(&self, theta: T) -> Complex<T> {
+        self.response_z(Complex::cis(theta))
+    }
+
+    /// The frequency response at the point `z` of the unit circle.
+    pub fn response_z(&self, z: Complex<T>) -> Complex<T> {
         let n = self.n;
-        let z = Complex::cis(theta);
         // augmented system [zI − Φ | Γ], complex Gaussian elimination
         let mut a = [[Complex::<T>::default(); N]; N];
         let mut b = [Complex::<T>::default(); N];

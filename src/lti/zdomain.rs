@@ -56,32 +56,46 @@ pub trait Point<T: Real> {
     fn window(&self, h: usize) -> Self::V;
 }
 
-/// The point `z = e^{jθ}` (`θ = ω·Ts`).
+/// The point `z = e^{jθ}` (`θ = ω·Ts`), with `z^{−1}` computed once for
+/// every block evaluated there.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frequency<T>(pub T);
+pub struct Frequency<T> {
+    theta: T,
+    w: Complex<T>,
+}
+
+impl<T: Real> Frequency<T> {
+    /// The point `e^{jθ}`.
+    #[inline]
+    pub fn new(theta: T) -> Self {
+        Frequency {
+            theta,
+            w: Complex::cis(-theta),
+        }
+    }
+}
 
 impl<T: Real> Point<T> for Frequency<T> {
     type V = Complex<T>;
     #[inline]
     fn backward(&self) -> Complex<T> {
-        Complex::cis(-self.0)
+        self.w
     }
     #[inline]
     fn lti<const N: usize>(&self, b: &Lti<T, N>) -> Complex<T> {
-        b.response(self.0)
+        b.response_z(self.w.conj())
     }
     #[inline]
     fn delay(&self, k: T) -> Complex<T> {
-        Complex::delay_response(self.0, k)
+        Complex::delay_response(self.theta, k)
     }
     fn taps(&self, num: &[T], den: &[T]) -> Complex<T> {
-        let w = Complex::cis(-self.0);
-        crate::dtc::fsp::taps_at(num, w) / crate::dtc::fsp::taps_at(den, w)
+        crate::dtc::fsp::taps_at(num, self.w) / crate::dtc::fsp::taps_at(den, self.w)
     }
     /// In closed form: the Dirichlet kernel `e^{−jθ(h+1)/2}·sin(hθ/2)/sin(θ/2)`
     /// (`h` at θ = 0).
     fn window(&self, h: usize) -> Complex<T> {
-        let theta = self.0;
+        let theta = self.theta;
         let h = T::of(f64::from(u32::try_from(h).unwrap_or(u32::MAX)));
         let two = T::two();
         let half = (theta / two).sin();

@@ -45,7 +45,7 @@ pub trait Predictor<T: Real> {
     fn reset(&mut self);
     /// `(Su, Sy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        self.response_at(&Frequency(theta))
+        self.response_at(&Frequency::new(theta))
     }
     /// `(Su, Sy)` at any [`Point`].
     fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V);
@@ -57,7 +57,7 @@ pub trait Predictor<T: Real> {
 pub trait Primary<T: Real>: crate::Operate<T> {
     /// `(Cr, Cy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        self.response_at(&Frequency(theta))
+        self.response_at(&Frequency::new(theta))
     }
     /// `(Cr, Cy)` at any [`Point`].
     fn response_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V);
@@ -912,7 +912,7 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
 
 impl<T: Real, P: Predictor<T>, K: Primary<T>> FrequencyResponse<T> for Predicted<T, P, K> {
     fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
-        Some(self.response_at(&Frequency(theta)))
+        Some(self.response_at(&Frequency::new(theta)))
     }
 
     #[cfg(feature = "alloc")]
