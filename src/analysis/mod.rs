@@ -134,11 +134,16 @@ impl DiscretePlant {
 
     /// `P_d(e^{jθ})`.
     pub fn response(&self, theta: f64) -> Complex<f64> {
-        let late = self.late.response(theta).mul(Complex::cis(-theta * self.k));
-        let d = Complex::cis(-theta * (self.k + 1.0)).scale(self.direct);
+        // two sines and cosines: z^{-1} and z^{-k}; the rest from them
+        let w = Complex::cis(-theta);
+        let z = w.conj();
+        let dk = Complex::cis(-theta * self.k);
+        let dk1 = dk.mul(w);
+        let late = self.late.response_z(z).mul(dk);
+        let d = dk1.scale(self.direct);
         let p = match &self.early {
             None => late,
-            Some(e) => late.add(e.response(theta).mul(Complex::cis(-theta * (self.k + 1.0)))),
+            Some(e) => late.add(e.response_z(z).mul(dk1)),
         };
         p.add(d)
     }

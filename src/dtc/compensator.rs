@@ -237,11 +237,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> AhlFilter<T, S> {
     /// `D = z^{−d}`, `num = (k4 + q·k3)/Kv`,
     /// `den = (1 + k1) + q(k2 − k4·D) + q·k3·h·z(1 − D)/(z − 1)`, the
     /// determinant of the filter's own loop (its integrator and window).
-    fn parts(&self, theta: T) -> (Complex<T>, Complex<T>) {
-        self.parts_at(&Frequency::new(theta))
-    }
-
-    /// [`AhlFilter::parts`] at any [`Point`], with `w = z^{−1}`:
+    /// At any [`Point`], with `w = z^{−1}`:
     /// `q = h·w/(1 − w)`, `z(1 − D)/(z − 1) = (1 − D)/(1 − w)`.
     fn parts_at<P: Point<T>>(&self, at: &P) -> (P::V, P::V) {
         let k = P::V::constant;
@@ -777,25 +773,26 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
         let one = Complex::real(T::one());
         let zero = Complex::default();
-        let (_, g1y) = self.gc1.response(theta);
-        let g2 = self.gc2.response(theta);
-        let (gm, d) = self.model.response(theta);
+        let at = Frequency::new(theta);
+        let (_, g1y) = self.gc1.response_at(&at);
+        let g2 = self.gc2.response_at(&at);
+        let (gm, d) = self.model.response_at(&at);
         let (f_num, f_den) = match &self.err {
             ErrorPath::Direct => (one, one),
             ErrorPath::Blocked => (zero, one),
-            ErrorPath::Filter(f) => (f.response(theta), one),
+            ErrorPath::Filter(f) => (at.lti(f), one),
             ErrorPath::Huang { b, line } => {
-                let bb = b.response(theta);
-                let dl = Complex::delay_response(theta, line.delay());
+                let bb = at.lti(b);
+                let dl = at.delay(line.delay());
                 (one.add(bb), one.add(bb.mul(dl)))
             }
         };
         let (m_num, m_den) = match &self.dist {
             DisturbancePath::Off => (zero, one),
-            DisturbancePath::Block(b) => (b.response(theta), one),
-            DisturbancePath::AstromHangLim(m) => m.parts(theta),
+            DisturbancePath::Block(b) => (at.lti(b), one),
+            DisturbancePath::AstromHangLim(m) => m.parts_at(&at),
         };
-        let mc = self.corr.as_ref().map_or(zero, |c| c.response(theta));
+        let mc = self.corr.as_ref().map_or(zero, |c| at.lti(c));
         let den = f_den
             .mul(one.add(g1y.mul(gm.sub(mc))).add(g2.mul(gm)))
             .sub(g1y.mul(f_num).mul(d).mul(gm));

@@ -218,8 +218,9 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     /// `Nc = G1y`, `Dc = 1 + G1y·Gm(1 − z^{−d})`: the predictor's own loop.
     fn feedback_parts(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
         use crate::Complex;
-        let (_, g1y) = self.pid.response(theta);
-        let (gm, d) = self.model.response(theta);
+        let at = crate::lti::zdomain::Frequency::new(theta);
+        let (_, g1y) = self.pid.response_at(&at);
+        let (gm, d) = self.model.response_at(&at);
         let one = Complex::real(T::one());
         Some((g1y, one.add(g1y.mul(gm).mul(one.sub(d)))))
     }

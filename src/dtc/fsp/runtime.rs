@@ -924,8 +924,9 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> FrequencyResponse<T> for Predicted
     /// predictor, whose blocks are stable by design (the predictor is
     /// realized without the model's unstable poles).
     fn feedback_parts(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
-        let (_, ky) = self.k.response(theta);
-        let (su, sy) = self.pred.response(theta);
+        let at = Frequency::new(theta);
+        let (_, ky) = self.k.response_at(&at);
+        let (su, sy) = self.pred.response_at(&at);
         Some((ky * sy, Complex::real(T::one()) + ky * su))
     }
 }
