@@ -5,7 +5,7 @@ use std::string::String;
 use std::vec::Vec;
 
 use crate::sim::Noise;
-use crate::study::{choose_duration, choose_ts, Metrics, RunError, Scenario};
+use crate::study::{choose_duration, choose_ts, Keep, Metrics, RunError, Scenario};
 
 /// A relative range `lo..hi` (e.g. `-0.2..0.2` for −20 % … +20 %).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -227,17 +227,26 @@ pub fn sweep(
     let done = core::sync::atomic::AtomicUsize::new(0);
     let one = |&(index, gain, delay, tau): &(usize, f64, f64, f64)| -> Result<SweepRow, RunError> {
         let plant = nominal.perturbed(gain, delay, tau)?;
-        // the row's metrics only: not the delayed-reference ones nor the event figures
-        let out =
-            sc.run_tuned_measured(&tuned, plant.clone(), model.clone(), inner.clone(), false)?;
+        // t, y and u, and the row's metrics only (not the delayed-reference
+        // ones nor the event figures)
+        let out = sc.run_tuned_measured(
+            &tuned,
+            plant.clone(),
+            model.clone(),
+            inner.clone(),
+            Keep::Output,
+        )?;
         let next = crate::study::next_event(&out.setpoint, &out.disturbance);
         let metrics =
             crate::study::metrics(&out.result.columns(), &out.setpoint, next, out.ts, 0.0)?;
         let max_abs_u = out.result.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+        let settled = stable(&out);
+        // the signals are read: their buffers serve this thread's next run
+        crate::study::recycle(out.result);
         // the characteristic equation's verdict; the run's where it is unknown
         let verdict = crate::analysis::tuned_stability(&sc, &tuned, &plant, &model, inner.as_ref())
             .stable
-            .unwrap_or_else(|| stable(&out));
+            .unwrap_or(settled);
         progress(done.fetch_add(1, core::sync::atomic::Ordering::Relaxed) + 1);
         Ok(SweepRow {
             index,

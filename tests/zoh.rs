@@ -189,3 +189,28 @@ fn open_loop_step_is_the_closed_form() {
     assert!(s.info.rise_time.is_nan());
     assert!((s.y.last().unwrap() - 0.2 * (20.0 - 7.4)).abs() < 1e-9);
 }
+
+/// The simulator's plant with a dead time of a fraction of a sample
+/// (13.7 samples) against the closed form of its step response
+/// `K(1 − e^{−(t − θ)/τ})` for `t ≥ θ`, and a held staircase input against
+/// the superposition of such steps: the sampled loop sees the fraction exactly.
+#[test]
+fn a_fractional_dead_time_is_exact() {
+    let (k, tau, theta, ts) = (2.0f64, 5.0, 1.37, 0.1);
+    let plant: msp::poly::TransferFunction = "2*e^-1.37s/(5s+1)".parse().unwrap();
+    let step = |t: f64| {
+        if t >= theta {
+            k * (1.0 - (-(t - theta) / tau).exp())
+        } else {
+            0.0
+        }
+    };
+    let u: Vec<f64> = (0..400).map(|i| if i < 150 { 1.0 } else { -0.5 }).collect();
+    let y = msp::sim::open_loop(&plant, ts, &u).unwrap();
+    for (i, yi) in y.iter().enumerate() {
+        let t = i as f64 * ts;
+        // 1 from 0 s, then −1.5 more from 15 s
+        let want = step(t) - 1.5 * step(t - 15.0);
+        assert!((yi - want).abs() < 1e-12, "t = {t}: {yi} vs {want}");
+    }
+}

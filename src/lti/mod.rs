@@ -206,7 +206,29 @@ impl<T: Real, const N: usize> Lti<T, N> {
         Ok(())
     }
 
-    /// `x[k+1] = Φ x[k] + Γ u[k]` without computing the output.
+    /// `x[k+1] = Φ x[k] + Γ1 u1 + Γ2 u2`: a step driven by two inputs
+    /// through their own input vectors (a fractional dead time's sampled
+    /// form: the input before and after the fraction of the period).
+    #[inline(always)]
+    pub fn advance_inputs(&mut self, g1: &[T; N], u1: T, g2: &[T; N], u2: T) {
+        let mut next = [T::zero(); N];
+        for (((xn, row), a), b) in next
+            .iter_mut()
+            .zip(self.phi.iter())
+            .zip(g1.iter())
+            .zip(g2.iter())
+            .take(self.n)
+        {
+            *xn = row
+                .iter()
+                .zip(self.x.iter())
+                .take(self.n)
+                .fold(*a * u1 + *b * u2, |s, (p, x)| s + *p * *x);
+        }
+        self.x = next;
+    }
+
+    /// Advances one sample with input `u[k]`: `x[k+1] = Φ x[k] + Γ u[k]`.
     #[inline(always)]
     pub fn advance(&mut self, u: T) {
         if self.n == 1 {

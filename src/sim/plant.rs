@@ -28,6 +28,11 @@ pub(super) struct PlantSim {
     frac: f64,
     feedthrough: f64,
     last_in: f64,
+    /// A fractional dead time without sub-steps: the period's two pieces
+    /// as one step with two inputs (the modified z-transform),
+    /// `x⁺ = Φx + Γ_late·v[n−k] + Γ_early·v[n−k−1]` with `Γ_late = Γ_b`,
+    /// `Γ_early = Φ_b·Γ_a` (`a` the piece before the fraction, `b` after).
+    folded: Option<([f64; MAX_ORDER], [f64; MAX_ORDER])>,
 }
 
 impl PlantSim {
@@ -57,6 +62,13 @@ impl PlantSim {
             });
             a = b;
         }
+        let folded = match pieces.as_slice() {
+            [a, b] if !a.late && b.late && !a.record && !b.record => Some((
+                b.block.input_vector(),
+                b.block.propagate(&a.block.input_vector()),
+            )),
+            _ => None,
+        };
         let k = kf.to_usize_checked()?;
         // the line holds the whole delay `k` (read by `process`); its capacity
         // `k + 1` keeps `v[n−k−1]` too for a fractional delay (and room for
@@ -71,6 +83,7 @@ impl PlantSim {
             k,
             frac: f,
             last_in: 0.0,
+            folded,
         })
     }
 
@@ -123,6 +136,11 @@ impl PlantSim {
         let now = self.line.peek_back(v, self.k);
         let before = self.line.peek_back(v, self.k.saturating_add(1));
         self.line.process(v);
+        if let Some((late, early)) = &self.folded {
+            self.out.advance_inputs(late, now, early, before);
+            self.last_in = now;
+            return;
+        }
         let mut x = *self.out.state();
         for p in &mut self.pieces {
             let input = if p.late { now } else { before };

@@ -31,7 +31,7 @@ use std::vec::Vec;
 
 use crate::poly::{PlantKind, TransferFunction};
 use crate::registry::{self, Params, RegistryError};
-use crate::sim::{simulate, simulate_cascade, Disturbance, SetpointStep, SimConfig, SimResult};
+use crate::sim::{simulate_cascade, Disturbance, SetpointStep, SimConfig, SimResult};
 use crate::Error;
 
 /// A complete run description: what `msp run` takes from its flags or from a
@@ -293,6 +293,36 @@ impl RunOutput {
     }
 }
 
+/// What a run keeps ([`Scenario::run_tuned_measured`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Keep {
+    /// Every signal, with the metrics and event figures.
+    Measured,
+    /// Every signal; the figures left for [`RunOutput::measure`].
+    Signals,
+    /// `t`, `y` and `u` only, no figures (a sweep's row computes its own).
+    Output,
+}
+
+std::thread_local! {
+    /// The buffers of a run whose signals were read and are no longer
+    /// needed, for the next run on this thread ([`recycle`]).
+    static SPARE: core::cell::RefCell<Option<SimResult>> = const { core::cell::RefCell::new(None) };
+}
+
+/// Gives the buffers of a finished run back for the next run on this
+/// thread to write into: a sweep of many runs then writes to memory that
+/// is already mapped (on a virtual machine the first touch of a fresh page
+/// costs more than the simulation of the samples it holds).
+pub fn recycle(result: SimResult) {
+    SPARE.with(|s| *s.borrow_mut() = Some(result));
+}
+
+/// The buffers [`recycle`] gave back, or none.
+fn spare() -> SimResult {
+    SPARE.with(|s| s.borrow_mut().take()).unwrap_or_default()
+}
+
 /// Why a scenario could not run.
 #[derive(Debug)]
 pub enum RunError {
@@ -502,7 +532,17 @@ impl Scenario {
             if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
                 self.run_default_protocol(&tuned, &plant, &model, &inner)?
             } else {
-                self.run_tuned_measured(&tuned, plant, model, inner, measure)?
+                self.run_tuned_measured(
+                    &tuned,
+                    plant,
+                    model,
+                    inner,
+                    if measure {
+                        Keep::Measured
+                    } else {
+                        Keep::Signals
+                    },
+                )?
             };
         out.scenario = self.clone();
         out.design = tuned.scheme.design_report(
@@ -658,22 +698,26 @@ impl Scenario {
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
     ) -> Result<RunOutput, RunError> {
-        self.run_tuned_measured(tuned, plant, model, inner, true)
+        self.run_tuned_measured(tuned, plant, model, inner, Keep::Measured)
     }
 
-    /// [`Scenario::run_tuned`]; with `measure` false and a duration given,
-    /// the metrics and event figures are left for [`RunOutput::measure`]
-    /// (a chosen duration needs them to know the run has settled).
+    /// [`Scenario::run_tuned`] keeping `keep` (with a duration given: a
+    /// chosen one needs the figures to know the run has settled).
     pub(crate) fn run_tuned_measured(
         &self,
         tuned: &Tuned,
         plant: TransferFunction,
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
-        measure: bool,
+        keep: Keep,
     ) -> Result<RunOutput, RunError> {
-        let measure = measure || self.duration.is_none();
-        let mut out = self.run_once(tuned, plant.clone(), model.clone(), inner.clone(), measure)?;
+        // a chosen duration is extended until the run settles: measured
+        let keep = if self.duration.is_none() {
+            Keep::Measured
+        } else {
+            keep
+        };
+        let mut out = self.run_once(tuned, plant.clone(), model.clone(), inner.clone(), keep)?;
         if self.duration.is_some() {
             return Ok(out);
         }
@@ -683,7 +727,7 @@ impl Scenario {
                 return Ok(out);
             }
             longer.duration = Some(out.duration * 2.0);
-            match longer.run_once(tuned, plant.clone(), model.clone(), inner.clone(), true) {
+            match longer.run_once(tuned, plant.clone(), model.clone(), inner.clone(), keep) {
                 Ok(mut o) => {
                     o.duration_chosen = true;
                     out = o;
@@ -709,8 +753,9 @@ impl Scenario {
         plant: TransferFunction,
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
-        measure: bool,
+        keep: Keep,
     ) -> Result<RunOutput, RunError> {
+        let measure = keep == Keep::Measured;
         let built = self.build_tuned(tuned, &model, inner.as_ref().map(|(_, m)| m))?;
         let (scheme, params, mut ctrl, ts, ts_chosen) = (
             built.scheme,
@@ -817,7 +862,11 @@ impl Scenario {
             u_min,
             u_max,
             substeps,
-            record: crate::sim::Record::All,
+            record: if keep == Keep::Output {
+                crate::sim::Record::OutputAndInput
+            } else {
+                crate::sim::Record::All
+            },
             operations: self.events.clone(),
             actuator: self.actuator,
             reset_feedback: self.reset_feedback,
@@ -825,7 +874,13 @@ impl Scenario {
         };
         let result = match &inner {
             Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,
-            None => simulate(&plant, &mut ctrl, &cfg)?,
+            None => {
+                // into the buffers a finished run on this thread gave back
+                // (a sweep's rows): memory already mapped
+                let mut res = spare();
+                crate::sim::simulate_into(&plant, &mut ctrl, &cfg, &mut res)?;
+                res
+            }
         };
         let model_delay = model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay);
         let nan = metrics::Metrics {

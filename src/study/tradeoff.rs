@@ -195,6 +195,7 @@ fn point(
     if let Ok(r) = step.run_tuned(&tuned, plant.clone(), model.clone(), None) {
         out.iae_setpoint = r.metrics.indices.iae;
         out.tv = r.metrics.indices.tv;
+        super::recycle(r.result);
     }
     let mut load = sc;
     load.setpoint = std::vec![SetpointStep {
@@ -212,6 +213,7 @@ fn point(
         } else {
             f64::INFINITY
         };
+        super::recycle(r.result);
     }
     out
 }
