@@ -72,6 +72,32 @@ fn agrees(p: &msp::lti::zdomain::Rational, theta: f64, want: Complex<f64>) -> Re
     }
 }
 
+/// A registry build at `ts` without limits.
+fn unlimited(ts: f64) -> Build {
+    Build {
+        ts,
+        u_min: f64::NEG_INFINITY,
+        u_max: f64::INFINITY,
+        max_dead_time: 0.0,
+    }
+}
+
+/// The coefficients `cr`, `cy` of `c` are its frequency response (the one
+/// the analysis uses) across the band.
+fn is_the_response(
+    name: &str,
+    c: &dyn msp::FrequencyResponse<f64>,
+    cr: &msp::lti::zdomain::Rational,
+    cy: &msp::lti::zdomain::Rational,
+) {
+    for theta in [0.01, 0.4, 2.0] {
+        let (fr, fy) = c.response(theta).unwrap();
+        if let Err(e) = agrees(cr, theta, fr).and(agrees(cy, theta, fy)) {
+            panic!("{name}: {e}");
+        }
+    }
+}
+
 #[test]
 fn coefficients_reproduce_every_controller() {
     // stable, integrating and unstable plants, dead times of 8-12 samples
@@ -90,12 +116,7 @@ fn coefficients_reproduce_every_controller() {
             let Ok(params) = scheme.tune_with(&tf, None, &[]) else {
                 continue;
             };
-            let build = Build {
-                ts,
-                u_min: f64::NEG_INFINITY,
-                u_max: f64::INFINITY,
-                max_dead_time: 0.0,
-            };
+            let build = unlimited(ts);
             let Ok(mut c) = scheme.build_with(&params, &tf, &build) else {
                 continue;
             };
@@ -155,12 +176,7 @@ fn coefficients_reproduce_every_controller() {
                 scheme.name
             );
             // and the coefficients are the response the analysis uses
-            for theta in [0.01, 0.4, 2.0] {
-                let (fr, fy) = c.response(theta).unwrap();
-                if let Err(e) = agrees(&cr, theta, fr).and(agrees(&cy, theta, fy)) {
-                    panic!("{}: {e}", scheme.name);
-                }
-            }
+            is_the_response(scheme.name, &*c, &cr, &cy);
             checked.push((scheme.name, plant));
         }
     }
@@ -189,12 +205,7 @@ fn coefficients_reproduce_every_controller() {
             let Ok(params) = scheme.tune_process(&p1, Some(&p2), None, None, set) else {
                 continue;
             };
-            let build = Build {
-                ts,
-                u_min: f64::NEG_INFINITY,
-                u_max: f64::INFINITY,
-                max_dead_time: 0.0,
-            };
+            let build = unlimited(ts);
             let c = scheme
                 .build_process(&params, &p1, Some(&p2), &build)
                 .unwrap();
@@ -205,12 +216,7 @@ fn coefficients_reproduce_every_controller() {
                 "{}",
                 scheme.name
             );
-            for theta in [0.01, 0.4, 2.0] {
-                let (fr, fy) = c.response(theta).unwrap();
-                if let Err(e) = agrees(&cr, theta, fr).and(agrees(&cy, theta, fy)) {
-                    panic!("{}: {e}", scheme.name);
-                }
-            }
+            is_the_response(scheme.name, &*c, &cr, &cy);
             checked.push((scheme.name, "cascade"));
         }
     }
