@@ -265,6 +265,17 @@ impl RunOutput {
         let (stability, robust) =
             self.scenario
                 .loop_analysis(&tuned, &self.plant, &self.model, self.inner.as_ref());
+        self.apply_analysis(stability, robust, settled);
+    }
+
+    /// The loop's verdict and robustness into the run, the verdict
+    /// cross-checked by it (`settled`), and what they warn of into its notes.
+    fn apply_analysis(
+        &mut self,
+        stability: crate::analysis::Stability,
+        robust: Option<Robustness>,
+        settled: bool,
+    ) {
         if let Some(r) = robust {
             self.notes.extend(r.warnings);
             self.robustness = Some(r.margins);
@@ -501,9 +512,7 @@ impl Scenario {
     /// Tunes, builds and simulates; the output carries the tuned loop's
     /// robustness ([`Scenario::robustness`]).
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        let mut out = self.run_unanalysed()?;
-        out.analyse();
-        Ok(out)
+        self.run_deferring(true, true)
     }
 
     /// [`Scenario::run`] without the loop's analysis: the simulation, its
@@ -512,7 +521,7 @@ impl Scenario {
     /// `None`) — for a caller that reads them later, or never
     /// ([`RunOutput::analyse`] adds them, as `run` would have).
     pub fn run_unanalysed(&self) -> Result<RunOutput, RunError> {
-        self.run_deferring(true)
+        self.run_deferring(true, false)
     }
 
     /// [`Scenario::run_unanalysed`] that also leaves the metrics and the
@@ -521,13 +530,16 @@ impl Scenario {
     /// figures NaN and `events` empty until measured. What Python's
     /// `msp.run` computes before it returns.
     pub fn run_unmeasured(&self) -> Result<RunOutput, RunError> {
-        self.run_deferring(false)
+        self.run_deferring(false, false)
     }
 
-    fn run_deferring(&self, measure: bool) -> Result<RunOutput, RunError> {
+    fn run_deferring(&self, measure: bool, analyse: bool) -> Result<RunOutput, RunError> {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
+        // the analysis before the simulation: its own runs (the advice's
+        // priced alternatives) do not need memory beside the recorded columns
+        let analysis = analyse.then(|| self.loop_analysis(&tuned, &plant, &model, inner.as_ref()));
         let mut out =
             if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
                 self.run_default_protocol(&tuned, &plant, &model, &inner)?
@@ -552,6 +564,10 @@ impl Scenario {
             out.ts,
         )?;
         out.stability = crate::analysis::Stability::unknown("not analysed");
+        if let Some((stability, robust)) = analysis {
+            let settled = out.result.diverged_at.is_none() && out.has_settled();
+            out.apply_analysis(stability, robust, settled);
+        }
         Ok(out)
     }
 
