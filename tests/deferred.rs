@@ -57,7 +57,14 @@ fn a_deferred_run_is_the_run() {
             assert!(late.stable().is_none() && late.robustness.is_none());
         }
         late.measure().unwrap();
-        late.analyse();
+        late.analyse().unwrap();
+        // analysing an unmeasured run measures it first: the same run
+        let mut unmeasured = sc.run_unmeasured().unwrap();
+        unmeasured.analyse().unwrap();
+        assert_eq!(
+            serde_json::to_value(unmeasured.report()).unwrap(),
+            serde_json::to_value(eager.report()).unwrap()
+        );
         let (a, b) = (
             serde_json::to_value(eager.report()).unwrap(),
             serde_json::to_value(late.report()).unwrap(),

@@ -31,7 +31,9 @@ pub(super) struct PlantSim {
     /// A fractional dead time without sub-steps: the period's two pieces
     /// as one step with two inputs (the modified z-transform),
     /// `x⁺ = Φx + Γ_late·v[n−k] + Γ_early·v[n−k−1]` with `Γ_late = Γ_b`,
-    /// `Γ_early = Φ_b·Γ_a` (`a` the piece before the fraction, `b` after).
+    /// `Γ_early = Φ_b·Γ_a` (`a` the piece before the fraction, `b` after;
+    /// Åström & Wittenmark (1997) Sec. 2.3, the ZOH of a fractional delay;
+    /// `analysis::DiscretePlant` is the same form).
     folded: Option<([f64; MAX_ORDER], [f64; MAX_ORDER])>,
 }
 

@@ -107,7 +107,7 @@ pub fn compare(
         .into_iter()
         .map(|(one, t)| {
             let mut out = one.run_tuned(&t, plant.clone(), model.clone(), inner.clone())?;
-            let settled = out.result.diverged_at.is_none() && out.has_settled();
+            let settled = out.settled_with(&out.result.y);
             out.stability =
                 crate::analysis::tuned_stability(&one, &t, &plant, &model, inner.as_ref())
                     .with_simulation(settled, out.duration);

@@ -225,26 +225,54 @@ impl RunOutput {
     /// signals (a run of [`Scenario::run_unmeasured`]; for any other run
     /// they are computed already and come out the same).
     pub fn measure(&mut self) -> Result<(), RunError> {
-        let (m0, m1, events) = measure(
-            &self.result.columns(),
+        let figures = self.figures(&self.result.columns())?;
+        self.set_figures(figures);
+        Ok(())
+    }
+
+    /// [`RunOutput::measure`] from columns held elsewhere (the arrays a
+    /// run's signals were handed to).
+    pub fn measure_from(&mut self, cols: &Columns<'_>) -> Result<(), RunError> {
+        let figures = self.figures(cols)?;
+        self.set_figures(figures);
+        Ok(())
+    }
+
+    fn figures(&self, cols: &Columns<'_>) -> Result<(Metrics, Metrics, Vec<Event>), RunError> {
+        Ok(measure(
+            cols,
             &self.setpoint,
             &self.disturbance,
             self.ts,
             self.model_delay(),
-        )?;
+        )?)
+    }
+
+    fn set_figures(&mut self, (m0, m1, events): (Metrics, Metrics, Vec<Event>)) {
         self.metrics = m0;
         self.metrics_delayed_reference = m1;
         self.events = events;
-        Ok(())
     }
 
-    /// Adds the loop's analysis to a run of [`Scenario::run_unanalysed`]:
-    /// the stability verdict cross-checked by this run, and the robustness
+    /// Whether the run came to rest and did not diverge, its output `y`
+    /// (its own column, or the array it was handed to): what the stability
+    /// verdict is cross-checked with. Reads the measured figures.
+    pub fn settled_with(&self, y: &[f64]) -> bool {
+        self.result.diverged_at.is_none() && settled(y, &self.metrics, self.duration)
+    }
+
+    /// Adds the loop's analysis to a run of [`Scenario::run_unanalysed`]
+    /// (or of [`Scenario::run_unmeasured`], measured first here): the
+    /// stability verdict cross-checked by this run, and the robustness
     /// figures with what they warn of. Reads the signals (has the run come
     /// to rest?); [`RunOutput::analyse_settled`] takes that answer instead.
-    pub fn analyse(&mut self) {
-        let settled = self.result.diverged_at.is_none() && self.has_settled();
+    pub fn analyse(&mut self) -> Result<(), RunError> {
+        if self.metrics.indices.iae.is_nan() && self.result.diverged_at.is_none() {
+            self.measure()?;
+        }
+        let settled = self.settled_with(&self.result.y);
         self.analyse_settled(settled);
+        Ok(())
     }
 
     /// [`RunOutput::analyse`] with `settled` (the run came to rest and did
@@ -565,7 +593,7 @@ impl Scenario {
         )?;
         out.stability = crate::analysis::Stability::unknown("not analysed");
         if let Some((stability, robust)) = analysis {
-            let settled = out.result.diverged_at.is_none() && out.has_settled();
+            let settled = out.settled_with(&out.result.y);
             out.apply_analysis(stability, robust, settled);
         }
         Ok(out)

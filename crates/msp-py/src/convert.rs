@@ -126,19 +126,12 @@ impl PendingAnalysis {
             diverged_at: self.out.result.diverged_at,
         };
         if !self.measured {
-            let o = &self.out;
-            let (m0, m1, events) = py
-                .allow_threads(|| {
-                    msp::study::measure(&cols, &o.setpoint, &o.disturbance, o.ts, o.model_delay())
-                })
+            let out = &mut self.out;
+            py.allow_threads(|| out.measure_from(&cols))
                 .map_err(value_err)?;
-            self.out.metrics = m0;
-            self.out.metrics_delayed_reference = m1;
-            self.out.events = events;
             self.measured = true;
         }
-        Ok(self.out.result.diverged_at.is_none()
-            && msp::study::settled(cols.y, &self.out.metrics, self.out.duration))
+        Ok(self.out.settled_with(cols.y))
     }
 }
 
