@@ -94,7 +94,14 @@ impl SimResult {
         let same = self.signals.len() == names.len()
             && self.signals.iter().zip(names).all(|((a, _), b)| a == b);
         if !same {
-            self.signals = names.iter().map(|s| (s.to_string(), Vec::new())).collect();
+            // other names: the old columns' buffers serve the new ones in turn
+            let mut old = core::mem::take(&mut self.signals)
+                .into_iter()
+                .map(|(_, v)| v);
+            self.signals = names
+                .iter()
+                .map(|s| (s.to_string(), old.next().unwrap_or_default()))
+                .collect();
         }
         for (_, v) in &mut self.signals {
             fit(v);

@@ -7,7 +7,7 @@ use crate::value_err;
 use msp::registry::Params;
 use msp::sim::{Disturbance, SetpointStep};
 use msp::study::{Perturbation, RunOutput, Scenario};
-use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -167,7 +167,7 @@ pub(crate) fn output_dict_deferred<'py>(
     out.result.substeps = result.substeps;
     out.result.diverged_at = result.diverged_at;
     let column = |v: &mut Vec<f64>| -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let a = std::mem::take(v).into_pyarray(py);
+        let a = crate::columns::array(py, std::mem::take(v))?;
         a.call_method1("setflags", (false,))?;
         Ok(a)
     };
@@ -201,30 +201,37 @@ fn signals_into<'py>(
     d: &Bound<'py, PyDict>,
     r: msp::sim::SimResult,
 ) -> PyResult<()> {
+    let column = |v: Vec<f64>| crate::columns::array(py, v);
     let signals = PyDict::new(py);
     for (name, v) in r.signals {
-        signals.set_item(name, v.into_pyarray(py))?;
+        signals.set_item(name, column(v)?)?;
     }
     // (a deferred run has set these already, read-only)
     for (k, v) in [("t", r.t), ("r", r.r), ("y", r.y), ("u", r.u)] {
         if !d.contains(k)? {
-            d.set_item(k, v.into_pyarray(py))?;
+            d.set_item(k, column(v)?)?;
         }
     }
-    if !r.u_applied.is_empty() {
-        d.set_item("u_applied", r.u_applied.into_pyarray(py))?;
+    if r.u_applied.is_empty() {
+        crate::columns::give(r.u_applied);
+    } else {
+        d.set_item("u_applied", column(r.u_applied)?)?;
     }
-    d.set_item("d", r.d.into_pyarray(py))?;
-    d.set_item("d_out", r.d_out.into_pyarray(py))?;
-    if !r.y2.is_empty() {
+    d.set_item("d", column(r.d)?)?;
+    d.set_item("d_out", column(r.d_out)?)?;
+    if r.y2.is_empty() {
+        crate::columns::give(r.y2);
+        crate::columns::give(r.d_inner);
+    } else {
         let rows = r.y2.len();
-        d.set_item("y2", r.y2.into_pyarray(py))?;
+        d.set_item("y2", column(r.y2)?)?;
         let d0 = if r.d_inner.is_empty() {
+            crate::columns::give(r.d_inner);
             vec![0.0; rows]
         } else {
             r.d_inner
         };
-        d.set_item("d_inner", d0.into_pyarray(py))?;
+        d.set_item("d_inner", column(d0)?)?;
     }
     d.set_item("signals", signals)?;
     Ok(())

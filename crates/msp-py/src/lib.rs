@@ -8,6 +8,7 @@ pub(crate) fn value_err(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+mod columns;
 mod controller;
 mod convert;
 mod plant;

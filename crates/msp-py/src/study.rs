@@ -22,6 +22,7 @@ pub(crate) fn run<'py>(
     scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_from(plant, scenario, Takes::All)?;
+    crate::columns::lend();
     let out = py
         .allow_threads(|| sc.run_unmeasured())
         .map_err(value_err)?;
@@ -55,6 +56,7 @@ pub(crate) fn simulate<'py>(
         },
     };
     let sc = sc.with_input(input).map_err(value_err)?;
+    crate::columns::lend();
     let out = py
         .allow_threads(|| sc.run_unmeasured())
         .map_err(value_err)?;

@@ -94,6 +94,38 @@ def test_figures_read_in_any_order_are_the_runs() -> None:
         a.y[0] = 1.0
 
 
+def test_a_runs_arrays_are_its_own_whatever_ran_before() -> None:
+    """A freed run's buffers serve the next run (no fresh pages to fault in): the arrays a
+    result holds never change under later runs, and a run writes every element it reports —
+    a load column of zeros after a run with a load, the controller's signals under other
+    names, a shorter run in longer buffers."""
+    plant = "5.6*e^-93.9s/(40.2s+1)"
+    quiet = dict(setpoint=1.0, ts=0.1, duration=600.0)
+
+    def columns(res):
+        cols = {k: np.array(getattr(res, k)) for k in ("t", "r", "y", "u", "d", "d_out")}
+        cols.update({f"signals.{k}": np.array(v) for k, v in res.signals.items()})
+        return cols
+
+    def same(a, b):
+        assert a.keys() == b.keys()
+        for k in a:
+            assert np.array_equal(a[k], b[k]), k
+
+    first = msp.run(plant, "pi", {"kp": 0.0501, "ti": 47.3}, **quiet)
+    kept = columns(first)
+    for controller, kw in (("pid", dict(disturbance="input:-0.1@100", duration=3000.0)),
+                           ("smith", dict(disturbance="output:0.2@50")),
+                           ("pi", dict(disturbance="input:0.3@10", duration=1200.0))):
+        other = msp.run(plant, controller, **{**quiet, **kw})
+        assert np.any(other.d != 0) or np.any(other.d_out != 0)
+        del other
+    same(columns(first), kept)
+    again = msp.run(plant, "pi", {"kp": 0.0501, "ti": 47.3}, **quiet)
+    same(columns(again), kept)
+    assert not np.any(again.d) and not np.any(again.d_out) and len(again.t) == 6001
+
+
 def test_float32_runs_the_controller_in_float32() -> None:
     wide = msp.run("0.2/s*e^-7.4s")
     narrow = msp.run("0.2/s*e^-7.4s", float32=True)
