@@ -198,8 +198,15 @@ fn follow(
             "the characteristic equation is not finite at {b:.6e} rad/sample (a closed-loop pole on the unit circle)"
         ));
     }
-    let unit = |c: Complex<f64>| c.scale(1.0 / c.abs());
-    let d = unit(fb).mul(unit(fa).conj()).arg();
+    // the angle from fa to fb: arg(fb·conj(fa)), scaled to unit length
+    // first only where the product would leave the floating-point range
+    let product = fb.mul(fa.conj());
+    let d = if product.re.is_finite() && product.im.is_finite() && product.abs() > 1e-280 {
+        product.arg()
+    } else {
+        let unit = |c: Complex<f64>| c.scale(1.0 / c.abs());
+        unit(fb).mul(unit(fa).conj()).arg()
+    };
     if d.abs() <= core::f64::consts::FRAC_PI_4 {
         return Ok(d);
     }
