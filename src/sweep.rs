@@ -258,15 +258,7 @@ pub fn sweep(
             max_abs_u,
         })
     };
-    #[cfg(feature = "parallel")]
-    {
-        use rayon::prelude::*;
-        pts.par_iter().map(one).collect()
-    }
-    #[cfg(not(feature = "parallel"))]
-    {
-        pts.iter().map(one).collect()
-    }
+    crate::study::each(&pts, one).into_iter().collect()
 }
 
 #[cfg(test)]

@@ -87,9 +87,12 @@ pub fn compare(
         base.setpoint.is_empty() && base.disturbance.is_empty() && base.duration.is_none();
     if default {
         let mut settle = 0.0f64;
-        for (one, t) in &tuned {
-            let probe = one.run_tuned(t, plant.clone(), model.clone(), inner.clone())?;
-            settle = settle.max(probe.metrics.step.settling_time);
+        let probes = super::each(&tuned, |(one, t)| {
+            one.run_tuned(t, plant.clone(), model.clone(), inner.clone())
+                .map(|probe| probe.metrics.step.settling_time)
+        });
+        for probe in probes {
+            settle = settle.max(probe?);
         }
         if let Some(load) = super::default_load(&whole_plant).filter(|_| settle.is_finite()) {
             let at = super::nice_ceil(1.25 * settle.max(sc.ts.unwrap_or(1.0)));
@@ -103,40 +106,39 @@ pub fn compare(
             }
         }
     }
-    tuned
-        .into_iter()
-        .map(|(one, t)| {
-            let mut out = one.run_tuned(&t, plant.clone(), model.clone(), inner.clone())?;
-            let settled = out.settled_with(&out.result.y);
-            out.stability =
-                crate::analysis::tuned_stability(&one, &t, &plant, &model, inner.as_ref())
-                    .with_simulation(settled, out.duration);
-            out.default_scenario = default;
-            if let Some(t) = &out.target {
-                out.notes.push(std::format!(
-                    "{}: tuned for the target {}: lambda = {} gives {} = {}",
-                    out.controller,
-                    t.target,
-                    crate::poly::fmt_num(crate::poly::round_sig(t.lambda, 4)),
-                    t.figure.name(),
-                    crate::poly::fmt_num(crate::poly::round_sig(t.achieved, 3))
-                ));
-            }
-            if let (Some(ms), Some(l)) = (target, one.lambda.filter(|_| base.lambda.is_none())) {
-                let got = one
-                    .margins_of_tuned(&t, &nominal, &model, 300)
-                    .map_or(f64::NAN, |m| m.ms);
-                out.notes.push(std::format!(
-                    "{}: tuned for the common Ms = {}: lambda = {} gives Ms = {}",
-                    out.controller,
-                    crate::poly::fmt_num(crate::poly::round_sig(ms, 3)),
-                    crate::poly::fmt_num(crate::poly::round_sig(l, 4)),
-                    crate::poly::fmt_num(crate::poly::round_sig(got, 3))
-                ));
-            }
-            Ok(out)
-        })
-        .collect()
+    // each scheme's run and verdict on its own core
+    super::each(&tuned, |(one, t)| {
+        let mut out = one.run_tuned(t, plant.clone(), model.clone(), inner.clone())?;
+        let settled = out.settled_with(&out.result.y);
+        out.stability = crate::analysis::tuned_stability(one, t, &plant, &model, inner.as_ref())
+            .with_simulation(settled, out.duration);
+        out.default_scenario = default;
+        if let Some(t) = &out.target {
+            out.notes.push(std::format!(
+                "{}: tuned for the target {}: lambda = {} gives {} = {}",
+                out.controller,
+                t.target,
+                crate::poly::fmt_num(crate::poly::round_sig(t.lambda, 4)),
+                t.figure.name(),
+                crate::poly::fmt_num(crate::poly::round_sig(t.achieved, 3))
+            ));
+        }
+        if let (Some(ms), Some(l)) = (target, one.lambda.filter(|_| base.lambda.is_none())) {
+            let got = one
+                .margins_of_tuned(t, &nominal, &model, 300)
+                .map_or(f64::NAN, |m| m.ms);
+            out.notes.push(std::format!(
+                "{}: tuned for the common Ms = {}: lambda = {} gives Ms = {}",
+                out.controller,
+                crate::poly::fmt_num(crate::poly::round_sig(ms, 3)),
+                crate::poly::fmt_num(crate::poly::round_sig(l, 4)),
+                crate::poly::fmt_num(crate::poly::round_sig(got, 3))
+            ));
+        }
+        Ok(out)
+    })
+    .into_iter()
+    .collect()
 }
 
 /// The sensitivity peak a comparison tunes every scheme to by default.
@@ -172,21 +174,26 @@ fn equal_robustness(
             .map(|m| m.ms)
             .filter(|m| m.is_finite())
     };
-    // each free scheme's Ms over a range of λ around its own
-    let mut curves = std::vec::Vec::new();
-    for (i, (one, t)) in tuned.iter().enumerate() {
-        if !free(one, t) {
-            continue;
-        }
-        let l0 = t.params.lambda()?;
-        let pts: std::vec::Vec<(f64, f64)> = FACTORS
-            .iter()
-            .filter_map(|f| ms_at(one, l0 * f).map(|m| (l0 * f, m)))
-            .collect();
-        if pts.len() >= 2 {
-            curves.push((i, pts));
-        }
-    }
+    // each free scheme's Ms over a range of λ around its own, the schemes
+    // on their own cores
+    let shared: &[(Scenario, super::Tuned)] = tuned;
+    let indices: std::vec::Vec<usize> = (0..shared.len()).collect();
+    let mut curves: std::vec::Vec<(usize, std::vec::Vec<(f64, f64)>)> =
+        super::each(&indices, |&i| {
+            let (one, t) = shared.get(i)?;
+            if !free(one, t) {
+                return None;
+            }
+            let l0 = t.params.lambda()?;
+            let pts: std::vec::Vec<(f64, f64)> = FACTORS
+                .iter()
+                .filter_map(|f| ms_at(one, l0 * f).map(|m| (l0 * f, m)))
+                .collect();
+            (pts.len() >= 2).then_some((i, pts))
+        })
+        .into_iter()
+        .flatten()
+        .collect();
     if curves.is_empty() {
         return None;
     }
@@ -212,9 +219,10 @@ fn equal_robustness(
         .map(|(_, p)| span(p).1)
         .fold(f64::INFINITY, f64::min);
     let target = COMPARE_MS.min(highest);
-    for (i, pts) in curves {
-        let Some((one, t)) = tuned.get_mut(i) else {
-            continue;
+    // each scheme's λ for the target, on its own core
+    let chosen = super::each(&curves, |(i, pts)| {
+        let Some((one, _)) = shared.get(*i) else {
+            return (*i, f64::NAN);
         };
         // the bracket of the largest λ where Ms crosses the target
         let bracket = pts
@@ -246,6 +254,12 @@ fn equal_robustness(
                 .iter()
                 .min_by(|a, b| (a.1 - target).abs().total_cmp(&(b.1 - target).abs()))
                 .map_or(f64::NAN, |p| p.0),
+        };
+        (*i, l)
+    });
+    for (i, l) in chosen {
+        let Some((one, t)) = tuned.get_mut(i) else {
+            continue;
         };
         if !l.is_finite() {
             continue;

@@ -349,6 +349,22 @@ std::thread_local! {
     static SPARE: core::cell::RefCell<Option<SimResult>> = const { core::cell::RefCell::new(None) };
 }
 
+/// `f` of each item, in order: on every core with the `parallel` feature
+/// (rayon's pool; each thread reuses its own buffers, [`recycle`]), one
+/// after another without it. Sweeps, trade-offs and comparisons run their
+/// loops through it.
+pub(crate) fn each<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        items.par_iter().map(f).collect()
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        items.iter().map(f).collect()
+    }
+}
+
 /// Gives the buffers of a finished run back for the next run on this
 /// thread to write into: a sweep of many runs then writes to memory that
 /// is already mapped (on a virtual machine the first touch of a fresh page

@@ -133,13 +133,7 @@ pub fn tradeoff(
         );
         p
     };
-    #[cfg(feature = "parallel")]
-    let points: Vec<TradeoffPoint> = {
-        use rayon::prelude::*;
-        jobs.par_iter().map(one).collect()
-    };
-    #[cfg(not(feature = "parallel"))]
-    let points: Vec<TradeoffPoint> = jobs.iter().map(one).collect();
+    let points = super::each(&jobs, one);
     Ok(Tradeoff {
         plant: plant.to_string(),
         ts,
