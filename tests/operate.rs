@@ -489,3 +489,60 @@ fn dead_time_slews_and_the_set_point_ramps() {
     .run()
     .is_err());
 }
+
+/// Process drift events on an open loop (manual output 1 from the start):
+/// `2e^{−s}/(5s + 1)` answers `2(1 − e^{−(t−1)/5})`; at 50 s its gain becomes
+/// 4 (an input gain: the output does not jump, it heads for 4 with the same
+/// time constant), at 100 s its time constant 2 s (same gain, no jump);
+/// every sample against the piecewise closed form. A plant without one lag
+/// refuses `plant-lag`, with the reason.
+#[test]
+fn plant_gain_and_lag_events_follow_the_closed_form() {
+    let events: Vec<msp::sim::Operation> = ["0:manual=1", "50:plant-gain=4", "100:plant-lag=2"]
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let ts = 0.1;
+    let run = msp::study::Scenario {
+        ts: Some(ts),
+        duration: Some(150.0),
+        setpoint: vec!["1@0".parse().unwrap()],
+        events,
+        ..scenario("2*e^-1s/(5s+1)", "pi")
+    }
+    .run()
+    .unwrap();
+    let y50 = 2.0 * (1.0 - (-(50.0f64 - 1.0) / 5.0).exp());
+    let y100 = 4.0 + (y50 - 4.0) * (-(50.0f64) / 5.0).exp();
+    let exact = |t: f64| {
+        if t <= 1.0 {
+            0.0
+        } else if t <= 50.0 {
+            2.0 * (1.0 - (-(t - 1.0) / 5.0).exp())
+        } else if t <= 100.0 {
+            4.0 + (y50 - 4.0) * (-(t - 50.0) / 5.0).exp()
+        } else {
+            4.0 + (y100 - 4.0) * (-(t - 100.0) / 2.0).exp()
+        }
+    };
+    let worst = run
+        .result
+        .t
+        .iter()
+        .zip(&run.result.y)
+        .fold(0.0f64, |m, (t, y)| m.max((y - exact(*t)).abs()));
+    // rounding of a few thousand ZOH steps of a first-order block
+    assert!(worst < 1e-11, "{worst:e}");
+    let bad = msp::study::Scenario {
+        ts: Some(ts),
+        duration: Some(20.0),
+        events: vec!["5:plant-lag=3".parse().unwrap()],
+        ..scenario("1/(s+1)^2*e^-1s", "pi")
+    }
+    .run();
+    let msg = format!("{}", bad.err().expect("a two-lag plant refuses plant-lag"));
+    assert!(msg.contains("one lag"), "{msg}");
+    for bad in ["5:plant-gain=0", "5:plant-lag=-1", "5:plant-lag"] {
+        assert!(bad.parse::<msp::sim::Operation>().is_err(), "{bad}");
+    }
+}

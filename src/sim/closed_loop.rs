@@ -78,6 +78,13 @@ pub enum Action {
     /// The process's dead time becomes this (s): for a cascade process the
     /// one from the plant input to `y` (`L1 + L2`), the primary's changing.
     PlantDeadTime(f64),
+    /// The process's static gain becomes this (the velocity gain of an
+    /// integrating process): its input gain changes, its output does not
+    /// jump.
+    PlantGain(f64),
+    /// The process's time constant becomes this (s), for a plant with one
+    /// lag (`K/(τs + 1)`, behind its dead time); its output does not jump.
+    PlantLag(f64),
     /// A gain of the controller's primary PID changes (bumpless).
     Retune(crate::operate::Gain, f64),
 }
@@ -177,6 +184,28 @@ impl Process {
             Process::Cascade { joint, .. } => joint.set_dead_time(samples),
         }
     }
+
+    /// The process's gain becomes `k` (a single plant's).
+    pub(super) fn set_gain(&mut self, k: f64) -> Result<(), Error> {
+        match self {
+            Process::Single(p) => p.set_gain(k),
+            Process::Cascade { .. } => Err(Error::Unsupported(CASCADE_DRIFT)),
+        }
+    }
+
+    /// The process's time constant becomes `tau` (a single plant's).
+    pub(super) fn set_lag(&mut self, tau: f64) -> Result<(), Error> {
+        match self {
+            Process::Single(p) => p.set_lag(tau),
+            Process::Cascade { .. } => Err(Error::Unsupported(CASCADE_DRIFT)),
+        }
+    }
+}
+
+const CASCADE_DRIFT: &str =
+    "plant-gain and plant-lag events change a single plant, not a cascade process";
+
+impl Process {
 }
 
 /// A schedule `(time, item)` as `(first sample, item)` in time order (ties

@@ -309,6 +309,8 @@ where
                 Action::DeadTime(d) => controller.set_dead_time(d / ts)?,
                 Action::DeadTimeRamp(d, rate) => controller.ramp_dead_time(d / ts, rate)?,
                 Action::PlantDeadTime(d) => run.process.set_dead_time(d / ts)?,
+                Action::PlantGain(k) => run.process.set_gain(k)?,
+                Action::PlantLag(tau) => run.process.set_lag(tau)?,
                 Action::Retune(g, v) => controller.retune(g, v)?,
             }
             next_op = next_op.saturating_add(1);

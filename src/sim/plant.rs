@@ -35,6 +35,10 @@ pub(super) struct PlantSim {
     /// Åström & Wittenmark (1997) Sec. 2.3, the ZOH of a fractional delay;
     /// `analysis::DiscretePlant` is the same form).
     folded: Option<([f64; MAX_ORDER], [f64; MAX_ORDER])>,
+    /// What the plant is now (a drift event rebuilds the blocks from it).
+    tf: TransferFunction,
+    ts: f64,
+    substeps: usize,
 }
 
 impl PlantSim {
@@ -86,7 +90,68 @@ impl PlantSim {
             frac: f,
             last_in: 0.0,
             folded,
+            tf: plant.clone(),
+            ts,
+            substeps,
         })
+    }
+
+    /// The plant becomes `tf` (same dead time) at this instant: its blocks
+    /// are rebuilt, the dead-time line keeps its history, and `state` maps
+    /// the old block's state onto the new one's.
+    fn rebuild(
+        &mut self,
+        mut tf: TransferFunction,
+        state: impl FnOnce(&Lti<f64, MAX_ORDER>, &mut Lti<f64, MAX_ORDER>),
+    ) -> Result<(), Error> {
+        tf.delay = (self.k as f64 + self.frac) * self.ts;
+        let mut new = PlantSim::with_room(&tf, self.ts, self.substeps, 0.0)?;
+        state(&self.out, &mut new.out);
+        core::mem::swap(&mut new.line, &mut self.line);
+        new.k = self.k;
+        new.last_in = self.last_in;
+        *self = new;
+        Ok(())
+    }
+
+    /// The static gain (velocity gain of an integrating plant) becomes `k`:
+    /// the numerator is scaled by `r = k/K` and the state by `1/r`, which is
+    /// the plant whose input gain changed now — its output does not jump,
+    /// and from here on each input acts `r` times as much (exact for any
+    /// order: the state's dynamics do not depend on the numerator).
+    pub(super) fn set_gain(&mut self, k: f64) -> Result<(), Error> {
+        let r = k / self.tf.gain();
+        if !(r.is_finite() && r != 0.0) {
+            return Err(Error::Unsupported(
+                "plant-gain: the plant's gain is zero or undefined, so it cannot be scaled to another",
+            ));
+        }
+        let mut tf = self.tf.clone();
+        tf.num.iter_mut().for_each(|c| *c *= r);
+        self.rebuild(tf, |old, new| {
+            let mut x = *old.state();
+            x.iter_mut().for_each(|v| *v /= r);
+            new.set_state(&x);
+        })
+    }
+
+    /// The time constant of a plant with one lag, `K/(τs + 1)` (or
+    /// `(b1 s + b0)/(τs + 1)`), becomes `tau` at the same gain; its state is
+    /// its output, which does not jump.
+    pub(super) fn set_lag(&mut self, tau: f64) -> Result<(), Error> {
+        let (a1, a0) = match self.tf.den.as_slice() {
+            [a1, a0] if *a1 != 0.0 && *a0 != 0.0 && *a1 / *a0 > 0.0 => (*a1, *a0),
+            _ => {
+                return Err(Error::Unsupported(
+                    "plant-lag changes the time constant of a stable plant with one lag, K/(τs+1): this plant has another denominator",
+                ))
+            }
+        };
+        let _ = a1;
+        let mut tf = self.tf.clone();
+        tf.den = std::vec![tau * a0, a0];
+        let y = self.out.free_output();
+        self.rebuild(tf, |_, new| new.set_output(y))
     }
 
     /// Changes the dead time to `samples` (the process's transport delay

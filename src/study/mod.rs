@@ -484,6 +484,17 @@ impl Scenario {
                 Action::DeadTime(d) | Action::PlantDeadTime(d) => {
                     crate::real::non_negative(d, "event dead time")?;
                 }
+                Action::PlantGain(k) => {
+                    crate::real::finite(k, "event plant gain")?;
+                    if k == 0.0 {
+                        return Err(RunError::Invalid(Error::OutOfRange(
+                            "event plant gain: not zero",
+                        )));
+                    }
+                }
+                Action::PlantLag(tau) => {
+                    crate::real::positive(tau, "event plant lag")?;
+                }
                 Action::DeadTimeRamp(d, rate) => {
                     crate::real::non_negative(d, "event dead time")?;
                     crate::real::positive(rate, "event dead-time rate")?;

@@ -190,7 +190,8 @@ impl core::str::FromStr for Operation {
     /// `TIME:ACTION` with the actions `manual=U`, `track=U`, `auto`,
     /// `dead-time=θ` (the controller's model; `dead-time=θ~RATE` moves it
     /// there at RATE seconds per second), `plant-dead-time=θ` (the
-    /// process) and `kp=V`, `ti=V`, `td=V` (online retuning), e.g.
+    /// process; `plant-gain=K` and `plant-lag=τ` its gain and its time
+    /// constant) and `kp=V`, `ti=V`, `td=V` (online retuning), e.g.
     /// `60:manual=0.3`, `120:auto`, `60:plant-dead-time=9`, `60:kp=3`.
     fn from_str(s: &str) -> Result<Self, String> {
         let (at, action) = s.split_once(':').ok_or_else(|| {
@@ -238,12 +239,30 @@ impl core::str::FromStr for Operation {
                 None => Action::DeadTime(seconds("dead time")?),
             },
             "plant-dead-time" => Action::PlantDeadTime(seconds("plant dead time")?),
+            "plant-gain" => {
+                let k = needs("plant gain")?;
+                if !(k.is_finite() && k != 0.0) {
+                    return Err(std::format!(
+                        "event '{s}': a plant gain must be finite and not zero"
+                    ));
+                }
+                Action::PlantGain(k)
+            }
+            "plant-lag" => {
+                let tau = needs("plant lag")?;
+                if !(tau.is_finite() && tau > 0.0) {
+                    return Err(std::format!(
+                        "event '{s}': a plant lag (time constant) must be positive"
+                    ));
+                }
+                Action::PlantLag(tau)
+            }
             "kp" => Action::Retune(Gain::Kp, needs("kp")?),
             "ti" => Action::Retune(Gain::Ti, parse_setting(value.unwrap_or(""), "ti")?),
             "td" => Action::Retune(Gain::Td, needs("td")?),
             other => {
                 return Err(std::format!(
-                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, kp=V, ti=V, td=V"
+                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, plant-gain=K, plant-lag=τ, kp=V, ti=V, td=V"
                 ))
             }
         };

@@ -225,6 +225,8 @@ fn markers(out: &RunOutput) -> (Vec<Marker>, Vec<(f64, f64)>) {
             Action::DeadTime(d) => format!("model θ = {} s", fmt_sig(d)),
             Action::DeadTimeRamp(d, _) => format!("model θ → {} s", fmt_sig(d)),
             Action::PlantDeadTime(d) => format!("plant θ = {} s", fmt_sig(d)),
+            Action::PlantGain(k) => format!("plant K = {}", fmt_sig(k)),
+            Action::PlantLag(t) => format!("plant τ = {} s", fmt_sig(t)),
             Action::Retune(g, v) => format!("{} = {}", g.name(), fmt_sig(v)),
         };
         match op.action {
