@@ -207,6 +207,9 @@ macro_rules! forward {
             fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), crate::Error> {
                 (**self).ramp_dead_time(samples, per_sample)
             }
+            fn set_model(&mut self, gain: T, tau: T) -> Result<(), crate::Error> {
+                (**self).set_model(gain, tau)
+            }
         }
         impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
             fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
@@ -268,6 +271,9 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
     }
     fn ramp_dead_time(&mut self, samples: f64, per_sample: f64) -> Result<(), crate::Error> {
         self.0.ramp_dead_time(f32::of(samples), f32::of(per_sample))
+    }
+    fn set_model(&mut self, gain: f64, tau: f64) -> Result<(), crate::Error> {
+        self.0.set_model(f32::of(gain), f32::of(tau))
     }
 }
 

@@ -88,6 +88,19 @@ pub trait Operate<T: Real>: Controller<T> {
         self.set_dead_time(samples)
     }
 
+    /// The model's delay-free part becomes `K/(τs + 1)` (`tau` infinite:
+    /// the integrating `K/s`), ZOH-discretized at the scheme's period, its
+    /// output continuing from the old model's (no jump in the prediction);
+    /// the dead time is [`Operate::set_dead_time`]'s. [`Error::Unsupported`]
+    /// for a scheme whose other blocks are designed from the model (rebuild
+    /// it) or that has none.
+    fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
+        let _ = (gain, tau);
+        Err(Error::Unsupported(
+            "this scheme's blocks are designed from its model (or it has none): rebuild it for another model",
+        ))
+    }
+
     /// Changes a gain of the primary PID while the loop runs, bumpless: the
     /// integrator absorbs the change of the proportional and derivative
     /// terms, so that the output at the change is the one the old gains gave
@@ -304,5 +317,8 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     }
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         self.inner.set_dead_time(samples)
+    }
+    fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
+        self.inner.set_model(gain, tau)
     }
 }

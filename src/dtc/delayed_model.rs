@@ -101,6 +101,23 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
         self.model.amend_input(du);
     }
 
+    /// The delay-free model becomes `model` (strictly proper) at this
+    /// instant, its state set so that its output continues from the old
+    /// model's (a first-order model's state is its output: exact; a higher
+    /// order takes the least-norm state with that output). The line keeps
+    /// the old model's outputs of the last `d` samples, so the predictor's
+    /// `y_m[k − d]` moves to the new model over one dead time, without a jump.
+    pub fn set_model(&mut self, model: Lti<T, N>) -> Result<(), Error> {
+        if model.feedthrough() != T::zero() {
+            return Err(Error::Improper("model"));
+        }
+        let y = self.model.free_output();
+        self.model = model;
+        self.model.reset();
+        self.model.set_output(y);
+        Ok(())
+    }
+
     /// `y_m[k]` of the last sample.
     pub fn prediction(&self) -> T {
         self.ym

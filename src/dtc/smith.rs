@@ -152,6 +152,16 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
         self.pid.retune(gain, value)
     }
+
+    fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
+        let model: crate::ProcessModel<T> = if tau.is_infinite() && tau > T::zero() {
+            crate::Ipdt::new(gain, T::zero())?.into()
+        } else {
+            crate::Fopdt::new(gain, tau, T::zero())?.into()
+        };
+        let (block, _) = model.discretize::<N>(self.pid.config().ts)?;
+        self.model.set_model(block)
+    }
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>

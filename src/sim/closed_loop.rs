@@ -205,8 +205,7 @@ impl Process {
 const CASCADE_DRIFT: &str =
     "plant-gain and plant-lag events change a single plant, not a cascade process";
 
-impl Process {
-}
+impl Process {}
 
 /// A schedule `(time, item)` as `(first sample, item)` in time order (ties
 /// keep their order).

@@ -309,7 +309,14 @@ impl Scenario {
             ts,
             u_min,
             u_max,
-            max_dead_time: self.event_dead_time(false),
+            // room for the dead times adaptation may set (and one sample more
+            // for a fraction)
+            max_dead_time: match (self.adapt, inner) {
+                (Some(_), None) => self
+                    .event_dead_time(false)
+                    .max((self.adapt_range(model, ts)?.1 + 1.0) * ts),
+                _ => self.event_dead_time(false),
+            },
         };
         let controller: registry::DynController = if self.float32 {
             Box::new(crate::Widened(
@@ -317,6 +324,15 @@ impl Scenario {
             ))
         } else {
             scheme.build_process(params, model, inner, &build)?
+        };
+        let controller = match inner {
+            None => self.adaptive(controller, model, ts)?,
+            Some(_) if self.adapt.is_some() => {
+                return Err(RunError::Invalid(Error::Unsupported(
+                    "adaptation is for a single loop (not a cascade process)",
+                )))
+            }
+            Some(_) => controller,
         };
         Ok(BuiltController {
             scheme: scheme.name,

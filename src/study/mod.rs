@@ -2,6 +2,7 @@
 //! simulated by the engine ([`crate::sim`]) and measured; [`compare`] runs
 //! several schemes on one plant. Text is read only by [`crate::syntax`].
 
+mod adapt;
 mod build;
 mod compare;
 mod defaults;
@@ -11,6 +12,8 @@ mod report;
 mod robustness;
 mod target;
 mod tradeoff;
+
+pub use adapt::{AdaptOptions, CANDIDATES as ADAPT_CANDIDATES};
 
 pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
@@ -112,6 +115,9 @@ pub struct Scenario {
     /// The controller's set point moves by at most this much per second
     /// (off when absent).
     pub setpoint_ramp: Option<f64>,
+    /// Adaptive dead-time compensation: the scheme's model kept right by
+    /// on-line identification ([`crate::adapt`]; off when absent).
+    pub adapt: Option<AdaptOptions>,
 }
 
 /// The memory a run may take unless the scenario says otherwise: 1 GiB.
@@ -544,6 +550,7 @@ impl Scenario {
         "actuator",
         "reset_feedback",
         "setpoint_ramp",
+        "adapt",
     ];
 
     /// The plant and the controller's model (the plant when no model is given).

@@ -137,6 +137,17 @@ pub(crate) struct ScenarioArgs {
     /// set-point ramp, as industrial blocks have; off by default).
     #[arg(long, value_name = "RATE", allow_hyphen_values = true)]
     pub(crate) setpoint_ramp: Option<f64>,
+    /// Adaptive dead-time compensation: the Smith predictor's model (a
+    /// FOPDT or IPDT model) kept right by on-line identification, its
+    /// primary retuned by its rule at each change; the estimates are the
+    /// CSV columns k_hat, tau_hat, theta_hat, the model in use k_model,
+    /// tau_model, theta_model.
+    #[arg(long)]
+    pub(crate) adapt: bool,
+    /// The dead times (s) the adaptation considers, MIN..MAX (at most 32
+    /// samples apart; default: 12 samples below the model's to 19 above).
+    #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_actuator, requires = "adapt")]
+    pub(crate) adapt_delay: Option<(f64, f64)>,
 }
 
 #[derive(Debug, Args)]

@@ -1027,3 +1027,20 @@ def test_run_takes_operator_events_and_an_outside_actuator() -> None:
     k = int(round(200.0 / cas.ts))
     assert np.abs(cas.y[k:] - 1.0).max() < 1e-6
     assert all(e["output_change"] < 1e-6 for e in cas.operator_events)
+
+
+def test_adapt_follows_a_process_lag_that_doubled():
+    """run(adapt=True) as msp run --adapt: after the process's lag doubles (4 s -> 8 s), the
+    Smith predictor's model in use becomes the process's (within 10 %); without adaptation it
+    stays; a bad option is refused by name."""
+    steps = [(float(i % 2), 30.0 * i) for i in range(20)]
+    kw = dict(controller="smith", lambda_=2.0, ts=0.1, duration=600.0,
+              setpoint=steps, events=["150:plant-lag=8"])
+    adaptive = msp.run("e^-1s/(4s+1)", adapt=True, **kw)
+    fixed = msp.run("e^-1s/(4s+1)", **kw)
+    assert abs(adaptive.signals["tau_model"][-1] - 8.0) < 0.8
+    assert abs(adaptive.signals["k_model"][-1] - 1.0) < 0.05
+    assert abs(adaptive.signals["theta_model"][-1] - 1.0) < 0.1
+    assert "tau_model" not in fixed.signals
+    with pytest.raises(ValueError, match="unknown option 'speed'"):
+        msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)

@@ -94,6 +94,12 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     sc.float32 |= a.float32;
     sc.events.extend(a.events.iter().copied());
     sc.reset_feedback |= a.reset_feedback;
+    if a.adapt {
+        let opts = sc.adapt.get_or_insert_with(Default::default);
+        if a.adapt_delay.is_some() {
+            opts.delay = a.adapt_delay;
+        }
+    }
     if sc.plant.is_none() {
         return Err(CliError::Input(match &a.scenario {
             Some(p) => format!(

@@ -67,6 +67,7 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
     actuator: Tuple[float, float]
     reset_feedback: bool
     setpoint_ramp: float
+    adapt: Union[bool, Dict[str, Any]]
 
 __all__ = [
     "AstromHangLim",
@@ -407,6 +408,12 @@ def run(
     setpoint_ramp : float, optional
         The controller's set point moves by at most this much per second (the recorded ``r`` is
         the schedule), as the CLI's ``--setpoint-ramp``.
+    adapt : bool or dict, optional
+        Adaptive dead-time compensation, as the CLI's ``--adapt``: the Smith predictor's FOPDT
+        or IPDT model kept right by on-line identification (``msp`` crate's ``adapt``), its
+        primary retuned at each change; the signals ``k_hat``, ``tau_hat``, ``theta_hat``
+        (the estimate) and ``k_model``, ``tau_model``, ``theta_model`` (the model in use).
+        A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``.
 
     Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
     unit set-point step, then a step load at the plant input once the response has settled.

@@ -35,6 +35,52 @@
 use crate::real::positive;
 use crate::{Error, Real};
 
+mod monitor;
+mod supervisor;
+pub use monitor::{Monitor, MonitorConfig};
+pub use supervisor::{Adaptive, AdaptiveConfig, Change, ChangeKind, Retune, SIGNALS};
+
+/// The last `H` input differences `Δu`, newest first ([`History::back`]`(0)`).
+#[derive(Debug, Clone)]
+pub(crate) struct History<T, const H: usize> {
+    du: [T; H],
+    at: usize,
+    last_u: T,
+}
+
+impl<T: Real, const H: usize> History<T, H> {
+    pub(crate) fn new() -> Self {
+        History {
+            du: [T::zero(); H],
+            at: 0,
+            last_u: T::zero(),
+        }
+    }
+
+    /// The input `u` of the period that just ended joins as `Δu`.
+    pub(crate) fn push(&mut self, u: T) {
+        let du = u - self.last_u;
+        self.at = if self.at + 1 >= H { 0 } else { self.at + 1 };
+        if let Some(x) = self.du.get_mut(self.at) {
+            *x = du;
+        }
+        self.last_u = u;
+    }
+
+    /// The difference `j` entries before the newest (0 beyond the history).
+    pub(crate) fn back(&self, j: usize) -> T {
+        if j >= H {
+            return T::zero();
+        }
+        let i = if j <= self.at {
+            self.at - j
+        } else {
+            self.at + H - j
+        };
+        self.du.get(i).copied().unwrap_or(T::zero())
+    }
+}
+
 /// One candidate dead time's estimator: `θ = (a, b0, b1)` and `P` (3×3).
 #[derive(Debug, Clone, Copy)]
 struct Candidate<T> {
@@ -114,10 +160,8 @@ pub struct Estimate<T> {
 pub struct Estimator<T, const N: usize, const H: usize> {
     cfg: EstimatorConfig<T>,
     bank: [Candidate<T>; N],
-    /// `Δu[k−1], Δu[k−2], …` as a ring: `du[at]` is the newest.
-    du: [T; H],
-    at: usize,
-    last_u: T,
+    /// The input differences, newest first.
+    hist: History<T, H>,
     last_y: T,
     last_dy: T,
     samples: u32,
@@ -165,21 +209,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cost: T::zero(),
                 yhat: T::zero(),
             }; N],
-            du: [T::zero(); H],
-            at: 0,
-            last_u: T::zero(),
+            hist: History::new(),
             last_y: T::zero(),
             last_dy: T::zero(),
             samples: 0,
             chosen: 0,
             challenger_for: 0,
         })
-    }
-
-    /// `Δu[k − j]` (`j ≥ 1`) from the ring.
-    fn past_du(&self, j: usize) -> T {
-        let i = (self.at + H - (j - 1) % H) % H;
-        self.du.get(i).copied().unwrap_or(T::zero())
     }
 
     /// One sample: `y` measured now and `u` the input the plant received in
@@ -196,12 +232,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.learn(dy);
         }
         // the input of the period that just ended joins the history
-        let du = u_applied - self.last_u;
-        self.at = (self.at + 1) % H;
-        if let Some(x) = self.du.get_mut(self.at) {
-            *x = du;
-        }
-        self.last_u = u_applied;
+        self.hist.push(u_applied);
         self.last_y = y;
         self.last_dy = dy;
         self.samples = self.samples.saturating_add(1);
@@ -212,13 +243,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     fn learn(&mut self, dy: T) {
         let cfg = self.cfg;
         let excitation = (0..cfg.d_min + N + 1)
-            .map(|j| self.past_du(j + 1).abs())
+            .map(|j| self.hist.back(j).abs())
             .fold(T::zero(), |m, v| if v > m { v } else { m });
         for (i, c) in self.bank.iter_mut().enumerate() {
             let d = cfg.d_min + i;
             // φ = (Δy[k], Δu[k−d], Δu[k−d−1]); the newest du is Δu[k]
-            let i0 = (self.at + H - d % H) % H;
-            let i1 = (self.at + H - (d + 1) % H) % H;
             // the model's own past output in the regressor, not the
             // measurement's: the output-error form (Landau's pseudo-linear
             // regression), which noise on y does not bias as it does the
@@ -226,8 +255,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             // (its regressor and covariance row stay zero)
             let phi = [
                 if cfg.integrating { T::zero() } else { c.yhat },
-                self.du.get(i0).copied().unwrap_or(T::zero()),
-                self.du.get(i1).copied().unwrap_or(T::zero()),
+                self.hist.back(d),
+                self.hist.back(d + 1),
             ];
             let dot = |a: &[T; 3], b: &[T; 3]| {
                 a.iter()

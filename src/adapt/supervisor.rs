@@ -1,0 +1,651 @@
+//! The supervisor of adaptive dead-time compensation: an [`Estimator`]
+//! beside a scheme with a model, and the rules that decide when its
+//! estimate becomes the scheme's model.
+//!
+//! Each sample the estimator learns from the measurement and the input the
+//! plant received; the supervisor applies a new model only when
+//!
+//! - the estimate has settled: it stayed within half of `min_change` (and on
+//!   the same whole dead time) for `settle` samples, its dead time chosen
+//!   without ambiguity (the next candidate's cost at least `min_ambiguity`
+//!   times the chosen one's), its gain of the known sign;
+//! - it differs enough from the model in use: the gain or the time constant
+//!   by `min_change` (relative), or the dead time by half a sample;
+//! - `min_interval` samples have passed since the last change.
+//!
+//! A change moves the gain and the time constant by at most a factor
+//! `max_step` (a larger difference takes several changes), through the
+//! scheme's own run-time operations: [`Operate::set_model`] (the model's
+//! output continues: no jump), [`Operate::set_dead_time`], and the primary
+//! retuned by the caller's rule ([`Retune`], bumpless through
+//! [`Operate::retune`]). After a change the error is watched for
+//! `watch` samples: `crossings` consecutive short half-cycles of the
+//! error, each reaching the band `±band` (an oscillation, after Hägglund
+//! (1995)'s detector, which counts the error's excursions between zero
+//! crossings) restore the last good model and its tuning, and
+//! adaptation rests for `4·min_interval` samples. Adaptation can be frozen
+//! and resumed; every change is logged (the last `L`). Supervision of this
+//! kind — adapt only on information, keep a fall-back — is Åström &
+//! Wittenmark (1995) Sec. 11.2.
+
+use super::{Estimate, Estimator, EstimatorConfig};
+use crate::operate::{Gain, Operate, Tracking};
+use crate::{CascadeControl, Controller, Error, FrequencyResponse, Introspect, Real};
+
+/// The primary controller's gains `[Kp, Ti, Td]` for a model `(K, τ, θ)`
+/// (`τ` infinite: integrating) by the scheme's own tuning rule at the same
+/// λ policy; `None` keeps the gains. Any `FnMut(K, τ, θ) -> Option<[T; 3]>`
+/// is one (a `fn` on a device, a closure over the registry's tuning on a
+/// host); `()` never retunes.
+pub trait Retune<T> {
+    /// The gains for the model `(k, tau, theta)`.
+    fn gains(&mut self, k: T, tau: T, theta: T) -> Option<[T; 3]>;
+}
+
+impl<T, F: FnMut(T, T, T) -> Option<[T; 3]>> Retune<T> for F {
+    fn gains(&mut self, k: T, tau: T, theta: T) -> Option<[T; 3]> {
+        self(k, tau, theta)
+    }
+}
+
+impl<T> Retune<T> for () {
+    fn gains(&mut self, _: T, _: T, _: T) -> Option<[T; 3]> {
+        None
+    }
+}
+
+/// Settings of an [`Adaptive`] controller.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveConfig<T> {
+    /// The estimator's.
+    pub estimator: EstimatorConfig<T>,
+    /// The relative change of the gain or the time constant that is applied
+    /// (default 0.05).
+    pub min_change: T,
+    /// Samples an estimate must hold before it is applied (default 300).
+    pub settle: u32,
+    /// Samples between two changes at least (default 1000).
+    pub min_interval: u32,
+    /// The next candidate dead time's cost over the chosen one's, at least
+    /// (default 1.2).
+    pub min_ambiguity: T,
+    /// A change moves the gain and the time constant by at most this factor
+    /// (default 2).
+    pub max_step: T,
+    /// The oscillation detector's band on the control error: a half-cycle
+    /// of the error (between sign changes) counts when its peak exceeds
+    /// this and it is shorter than four of the longest candidate dead times
+    /// (default 0; set it above the noise).
+    pub band: T,
+    /// Consecutive counted half-cycles after a change that restore the
+    /// last good model (default 6).
+    pub crossings: u32,
+    /// Samples watched after a change (default 2000).
+    pub watch: u32,
+}
+
+impl<T: Real> AdaptiveConfig<T> {
+    /// Defaults around the estimator's settings.
+    pub fn new(estimator: EstimatorConfig<T>) -> Self {
+        AdaptiveConfig {
+            estimator,
+            min_change: T::of(0.05),
+            settle: 300,
+            min_interval: 1000,
+            min_ambiguity: T::of(1.2),
+            max_step: T::of(2.0),
+            band: T::zero(),
+            crossings: 6,
+            watch: 2000,
+        }
+    }
+}
+
+/// What a logged change did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum ChangeKind {
+    /// A settled estimate became the model.
+    Applied,
+    /// The loop oscillated after a change: the last good model came back.
+    Restored,
+    /// A scheme's operation refused the model: adaptation froze.
+    Refused,
+}
+
+/// One entry of the adaptation log: the model in use from `sample` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Change<T> {
+    /// The sample at which it happened (counted from the first update).
+    pub sample: u64,
+    /// What happened.
+    pub kind: ChangeKind,
+    /// The model's gain `K`.
+    pub k: T,
+    /// The model's time constant `τ` (s; infinite: integrating).
+    pub tau: T,
+    /// The model's dead time `θ` (s).
+    pub theta: T,
+}
+
+/// A model `(K, τ, θ)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Model<T> {
+    k: T,
+    tau: T,
+    theta: T,
+}
+
+/// A scheme with a model, kept right by on-line identification (see the
+/// module documentation): `N` candidate dead times over a history of `H`
+/// inputs, a log of the last `L` changes.
+#[derive(Debug, Clone)]
+pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16> {
+    inner: C,
+    est: Estimator<T, N, H>,
+    cfg: AdaptiveConfig<T>,
+    retune: R,
+    model: Model<T>,
+    good: Model<T>,
+    candidate: Option<Estimate<T>>,
+    steady: u32,
+    since: u32,
+    samples: u64,
+    frozen: bool,
+    rest_until: u64,
+    log: [Option<Change<T>>; L],
+    logged: usize,
+    last_u: T,
+    ok: bool,
+    /// The last measurement, for the estimator once its input is known.
+    pending: Option<T>,
+    watching: u32,
+    side: i8,
+    crossed: u32,
+    /// The current half-cycle of the error: its length and its peak.
+    half: u32,
+    peak: T,
+}
+
+impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+    Adaptive<T, C, R, N, H, L>
+{
+    /// `inner` built for the model `K e^{−θs}/(τs + 1)` (`tau` infinite:
+    /// `K e^{−θs}/s`), adapted as `cfg` says, its primary retuned by
+    /// `retune` at each change (`()`: the gains stay).
+    pub fn new(
+        inner: C,
+        (k, tau, theta): (T, T, T),
+        cfg: AdaptiveConfig<T>,
+        retune: R,
+    ) -> Result<Self, Error> {
+        crate::real::finite(k, "k")?;
+        if k == T::zero() {
+            return Err(Error::OutOfRange("k: not zero"));
+        }
+        if !(tau > T::zero()) {
+            return Err(Error::OutOfRange("tau: positive (infinite: integrating)"));
+        }
+        crate::real::non_negative(theta, "theta")?;
+        crate::real::positive(cfg.min_change, "min_change")?;
+        if !(cfg.max_step > T::one()) {
+            return Err(Error::OutOfRange("max_step: above 1"));
+        }
+        let model = Model { k, tau, theta };
+        Ok(Adaptive {
+            inner,
+            est: Estimator::new(cfg.estimator)?,
+            cfg,
+            retune,
+            model,
+            good: model,
+            candidate: None,
+            steady: 0,
+            since: 0,
+            samples: 0,
+            frozen: false,
+            rest_until: 0,
+            log: [None; L],
+            logged: 0,
+            last_u: T::zero(),
+            ok: false,
+            pending: None,
+            watching: 0,
+            side: 0,
+            crossed: 0,
+            half: 0,
+            peak: T::zero(),
+        })
+    }
+
+    /// The scheme inside.
+    pub fn inner(&self) -> &C {
+        &self.inner
+    }
+
+    /// The estimator's current model (`None` before it means anything).
+    pub fn estimate(&self) -> Option<Estimate<T>> {
+        self.est.estimate()
+    }
+
+    /// The estimator.
+    pub fn estimator(&self) -> &Estimator<T, N, H> {
+        &self.est
+    }
+
+    /// The model in use: `(K, τ, θ)`.
+    pub fn model(&self) -> (T, T, T) {
+        (self.model.k, self.model.tau, self.model.theta)
+    }
+
+    /// Stops adapting: nothing is learnt or applied until [`Self::resume`].
+    pub fn freeze(&mut self) {
+        self.frozen = true;
+    }
+
+    /// Adapts again.
+    pub fn resume(&mut self) {
+        self.frozen = false;
+    }
+
+    /// Adaptation is frozen.
+    pub fn is_frozen(&self) -> bool {
+        self.frozen
+    }
+
+    /// How many changes were logged in all (the log keeps the last `L`).
+    pub fn changes(&self) -> usize {
+        self.logged
+    }
+
+    /// The logged changes, oldest first (the last `L`).
+    pub fn log(&self) -> impl Iterator<Item = Change<T>> + '_ {
+        let start = self.logged.saturating_sub(L);
+        (start..self.logged).filter_map(move |i| self.log.get(i % L.max(1)).copied().flatten())
+    }
+
+    /// One sample with the input the plant really received over the last
+    /// period (`None`: this controller's own output).
+    pub fn update_applied(&mut self, r: T, y: T, u_applied: Option<T>) -> T {
+        if let Some(u) = u_applied {
+            if u.is_finite() && (u - self.last_u).abs() > T::epsilon() * (T::one() + u.abs()) {
+                self.last_u = u;
+                self.ok = false;
+            }
+        }
+        self.step(r, y)
+    }
+
+    fn step(&mut self, r: T, y: T) -> T {
+        // the estimator takes the last sample's measurement with the input
+        // the plant then received (known only now: a limit or an operator
+        // may have changed it after that update), one sample late
+        if let Some(y_last) = self.pending.take() {
+            let learn = self.ok && !self.frozen;
+            self.est.update(y_last, self.last_u, learn);
+        }
+        self.pending = Some(y);
+        self.samples = self.samples.saturating_add(1);
+        self.since = self.since.saturating_add(1);
+        self.supervise(r - y);
+        let u = self.inner.update(r, y);
+        self.last_u = u;
+        self.ok = u.is_finite() && !self.inner.fault();
+        u
+    }
+
+    fn record(&mut self, kind: ChangeKind) {
+        let m = self.model;
+        if let Some(slot) = self.log.get_mut(self.logged % L.max(1)) {
+            *slot = Some(Change {
+                sample: self.samples,
+                kind,
+                k: m.k,
+                tau: m.tau,
+                theta: m.theta,
+            });
+        }
+        self.logged = self.logged.saturating_add(1);
+    }
+
+    /// The model `m` into the scheme: its delay-free part, its dead time,
+    /// the primary's gains.
+    fn put(&mut self, m: Model<T>) -> Result<(), Error> {
+        let ts = self.cfg.estimator.ts;
+        self.inner.set_model(m.k, m.tau)?;
+        self.inner.set_dead_time(m.theta / ts)?;
+        if let Some([kp, ti, td]) = self.retune.gains(m.k, m.tau, m.theta) {
+            self.inner.retune(Gain::Kp, kp)?;
+            self.inner.retune(Gain::Ti, ti)?;
+            self.inner.retune(Gain::Td, td)?;
+        }
+        self.model = m;
+        Ok(())
+    }
+
+    fn supervise(&mut self, e: T) {
+        // the watch after a change: an oscillating error restores the last
+        // good model
+        if self.watching > 0 {
+            self.watching -= 1;
+            self.half = self.half.saturating_add(1);
+            if e.abs() > self.peak {
+                self.peak = e.abs();
+            }
+            let side = if e > T::zero() {
+                1
+            } else if e < T::zero() {
+                -1
+            } else {
+                0
+            };
+            if side != 0 && side != self.side {
+                // a half-cycle ended: one of an oscillation when it reached
+                // the band and was short; a long one (the loop settled, a
+                // set-point step) starts the count again
+                if self.side != 0 {
+                    if self.peak > self.cfg.band && self.half <= self.max_half() {
+                        self.crossed = self.crossed.saturating_add(1);
+                    } else {
+                        self.crossed = 0;
+                    }
+                }
+                self.side = side;
+                self.half = 0;
+                self.peak = T::zero();
+            }
+            if self.crossed >= self.cfg.crossings {
+                self.watching = 0;
+                let good = self.good;
+                let kind = match self.put(good) {
+                    Ok(()) => ChangeKind::Restored,
+                    Err(_) => {
+                        self.frozen = true;
+                        ChangeKind::Refused
+                    }
+                };
+                self.record(kind);
+                self.candidate = None;
+                self.rest_until = self
+                    .samples
+                    .saturating_add(4 * u64::from(self.cfg.min_interval));
+                return;
+            }
+        }
+        if self.frozen || self.samples < self.rest_until {
+            return;
+        }
+        let Some(m) = self.est.estimate().filter(|m| self.plausible(m)) else {
+            self.candidate = None;
+            self.steady = 0;
+            return;
+        };
+        let half = self.cfg.min_change / T::of(2.0);
+        match self.candidate {
+            Some(c) if c.d == m.d && near(c.k, m.k, half) && near(c.tau, m.tau, half) => {
+                self.steady = self.steady.saturating_add(1);
+            }
+            _ => {
+                self.candidate = Some(m);
+                self.steady = 0;
+            }
+        }
+        if self.steady < self.cfg.settle || self.since < self.cfg.min_interval {
+            return;
+        }
+        let cur = self.model;
+        let ts = self.cfg.estimator.ts;
+        let differs = !near(cur.k, m.k, self.cfg.min_change)
+            || !near(cur.tau, m.tau, self.cfg.min_change)
+            || (cur.theta - m.theta).abs() > ts / T::of(2.0);
+        if !differs {
+            return;
+        }
+        let step = self.cfg.max_step;
+        let limit = |old: T, new: T| {
+            if old.is_infinite() || new.is_infinite() {
+                new
+            } else {
+                new.max(old / step).min(old * step)
+            }
+        };
+        let target = Model {
+            k: if cur.k > T::zero() {
+                limit(cur.k, m.k)
+            } else {
+                -limit(-cur.k, -m.k)
+            },
+            tau: limit(cur.tau, m.tau),
+            theta: m.theta,
+        };
+        self.good = cur;
+        match self.put(target) {
+            Ok(()) => {
+                self.record(ChangeKind::Applied);
+                self.since = 0;
+                self.steady = 0;
+                self.watching = self.cfg.watch;
+                self.crossed = 0;
+                self.side = 0;
+                self.half = 0;
+                self.peak = T::zero();
+            }
+            Err(_) => {
+                // a part may have been applied: back to the model in use
+                let _ = self.put(cur);
+                self.frozen = true;
+                self.record(ChangeKind::Refused);
+            }
+        }
+    }
+
+    /// The longest half-cycle of an oscillation: four times the longest
+    /// candidate dead time (a detuned dead-time loop oscillates with a
+    /// period of about two to four dead times).
+    fn max_half(&self) -> u32 {
+        let d = self.cfg.estimator.d_min.saturating_add(N);
+        u32::try_from(d.saturating_mul(4)).unwrap_or(u32::MAX)
+    }
+
+    /// An estimate worth applying: the gain of the model's sign, a finite
+    /// positive time constant (or an integrating model for an integrating
+    /// one), a dead time chosen without ambiguity.
+    fn plausible(&self, m: &Estimate<T>) -> bool {
+        let integrating = self.cfg.estimator.integrating;
+        (m.k > T::zero()) == (self.model.k > T::zero())
+            && m.k.is_finite()
+            && (integrating || (m.tau.is_finite() && m.tau > T::zero()))
+            && m.ambiguity >= self.cfg.min_ambiguity
+    }
+}
+
+/// `b` within the fraction `rel` of `a` (both infinite: equal).
+fn near<T: Real>(a: T, b: T, rel: T) -> bool {
+    if a.is_infinite() || b.is_infinite() {
+        return a == b;
+    }
+    (a - b).abs() <= rel * a.abs()
+}
+
+impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+    Controller<T> for Adaptive<T, C, R, N, H, L>
+{
+    fn update(&mut self, r: T, y: T) -> T {
+        self.step(r, y)
+    }
+
+    /// The scheme's reset; the estimator and the log keep what they learnt.
+    fn reset(&mut self) {
+        self.inner.reset();
+        self.last_u = T::zero();
+        self.ok = false;
+        self.pending = None;
+    }
+
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+}
+
+impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+    Operate<T> for Adaptive<T, C, R, N, H, L>
+{
+    /// The scheme follows the applied value; the estimator learns nothing
+    /// from this sample (saturated, manual or tracking: not the process's
+    /// answer to the control law) but records what the plant received.
+    fn apply(&mut self, applied: T, how: Tracking) {
+        self.inner.apply(applied, how);
+        if applied.is_finite() && applied != self.last_u {
+            self.last_u = applied;
+            self.ok = false;
+        }
+    }
+    fn dead_time(&self) -> Option<T> {
+        self.inner.dead_time()
+    }
+    fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
+        self.inner.set_dead_time(samples)?;
+        self.model.theta = samples * self.cfg.estimator.ts;
+        Ok(())
+    }
+    fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
+        self.inner.ramp_dead_time(samples, per_sample)?;
+        self.model.theta = samples * self.cfg.estimator.ts;
+        Ok(())
+    }
+    fn retune(&mut self, gain: Gain, value: T) -> Result<(), Error> {
+        self.inner.retune(gain, value)
+    }
+    fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
+        self.inner.set_model(gain, tau)?;
+        self.model.k = gain;
+        self.model.tau = tau;
+        Ok(())
+    }
+}
+
+impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+    CascadeControl<T> for Adaptive<T, C, R, N, H, L>
+{
+}
+
+/// The signals an adaptive controller adds to its scheme's, in this order:
+/// the estimate (`k_hat`, `tau_hat`, `theta_hat`; NaN before it means
+/// anything) and the model in use (`k_model`, `tau_model`, `theta_model`).
+pub const SIGNALS: [&str; 6] = [
+    "k_hat",
+    "tau_hat",
+    "theta_hat",
+    "k_model",
+    "tau_model",
+    "theta_model",
+];
+
+impl<
+        T: Real,
+        C: Operate<T> + Introspect<T>,
+        R: Retune<T>,
+        const N: usize,
+        const H: usize,
+        const L: usize,
+    > Adaptive<T, C, R, N, H, L>
+{
+    fn own_signal(&self, i: usize) -> T {
+        let e = self.est.estimate();
+        let m = self.model;
+        match i {
+            0 => e.map_or(T::nan(), |e| e.k),
+            1 => e.map_or(T::nan(), |e| e.tau),
+            2 => e.map_or(T::nan(), |e| e.theta),
+            3 => m.k,
+            4 => m.tau,
+            5 => m.theta,
+            _ => T::nan(),
+        }
+    }
+}
+
+impl<
+        T: Real,
+        C: Operate<T> + Introspect<T>,
+        R: Retune<T>,
+        const N: usize,
+        const H: usize,
+        const L: usize,
+    > Introspect<T> for Adaptive<T, C, R, N, H, L>
+{
+    /// The scheme's signals, then [`SIGNALS`] (with `std`; without it,
+    /// [`SIGNALS`] alone: the joined list is made once per scheme).
+    fn signal_names(&self) -> &'static [&'static str] {
+        joined(self.inner.signal_names())
+    }
+
+    fn signal(&self, i: usize) -> T {
+        let own = self.signal_names().len() - SIGNALS.len();
+        if i < own {
+            self.inner.signal(i)
+        } else {
+            self.own_signal(i - own)
+        }
+    }
+
+    fn param_names(&self) -> &'static [&'static str] {
+        self.inner.param_names()
+    }
+
+    fn param(&self, i: usize) -> T {
+        self.inner.param(i)
+    }
+}
+
+impl<
+        T: Real,
+        C: Operate<T> + FrequencyResponse<T>,
+        R: Retune<T>,
+        const N: usize,
+        const H: usize,
+        const L: usize,
+    > FrequencyResponse<T> for Adaptive<T, C, R, N, H, L>
+{
+    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        self.inner.response(theta)
+    }
+    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+        self.inner.inner_response(theta)
+    }
+    fn feedback_parts(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+        self.inner.feedback_parts(theta)
+    }
+    fn unstable_poles(&self) -> usize {
+        self.inner.unstable_poles()
+    }
+}
+
+/// The scheme's signal names followed by [`SIGNALS`], made once per list.
+#[cfg(feature = "std")]
+fn joined(inner: &'static [&'static str]) -> &'static [&'static str] {
+    use std::sync::Mutex;
+    type Joined = (usize, usize, &'static [&'static str]);
+    static CACHE: Mutex<std::vec::Vec<Joined>> = Mutex::new(std::vec::Vec::new());
+    let key = (inner.as_ptr() as usize, inner.len());
+    let Ok(mut cache) = CACHE.lock() else {
+        return &SIGNALS;
+    };
+    if let Some((_, _, j)) = cache.iter().find(|(p, n, _)| (*p, *n) == key) {
+        return j;
+    }
+    let mut v = std::vec::Vec::with_capacity(inner.len() + SIGNALS.len());
+    v.extend_from_slice(inner);
+    v.extend_from_slice(&SIGNALS);
+    let j: &'static [&'static str] = std::boxed::Box::leak(v.into_boxed_slice());
+    cache.push((key.0, key.1, j));
+    j
+}
+
+/// Without `std`: [`SIGNALS`] alone.
+#[cfg(not(feature = "std"))]
+fn joined(_inner: &'static [&'static str]) -> &'static [&'static str] {
+    &SIGNALS
+}

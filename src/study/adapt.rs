@@ -1,0 +1,181 @@
+//! A scenario's adaptive dead-time compensation (`msp run --adapt`, Python
+//! `run(..., adapt=True)`): the built scheme wrapped in
+//! [`crate::adapt::Adaptive`], its primary retuned by the scheme's own
+//! tuning rule (the scenario's λ policy) at each change.
+
+use std::boxed::Box;
+
+use super::{RunError, Scenario};
+use crate::adapt::{Adaptive, AdaptiveConfig, EstimatorConfig};
+use crate::poly::TransferFunction;
+use crate::registry::DynController;
+use crate::{Error, ProcessModel};
+
+/// Candidate dead times the host's estimator compares.
+pub const CANDIDATES: usize = 32;
+
+/// How a scenario adapts (every field optional: the defaults of
+/// [`crate::adapt::AdaptiveConfig`] and [`EstimatorConfig`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
+pub struct AdaptOptions {
+    /// The dead times the estimator considers, `(min, max)` in seconds (at
+    /// most [`CANDIDATES`] samples apart); by default 12 samples below the
+    /// model's to 19 above.
+    pub delay: Option<(f64, f64)>,
+    /// The forgetting factor (default 0.995).
+    pub forgetting: Option<f64>,
+    /// The excitation gate: no learning unless the input moved this much
+    /// within the history (default 1e-6).
+    pub excitation: Option<f64>,
+    /// The model changes when the gain or the time constant moves by this
+    /// fraction (default 0.05).
+    pub min_change: Option<f64>,
+}
+
+/// `K/(τs + 1)` or `K/s` with the dead time `θ`: the model an estimate is.
+fn model_tf(k: f64, tau: f64, theta: f64) -> Result<TransferFunction, Error> {
+    if tau.is_infinite() {
+        TransferFunction::new(&[k], &[1.0, 0.0], theta)
+    } else {
+        TransferFunction::new(&[k], &[tau, 1.0], theta)
+    }
+}
+
+impl Scenario {
+    /// The candidate dead times `(d_min, d_max)` in samples the scenario's
+    /// adaptation considers (`None` without adaptation).
+    pub(super) fn adapt_range(
+        &self,
+        model: &TransferFunction,
+        ts: f64,
+    ) -> Result<(f64, f64), RunError> {
+        let d_model = (model.delay / ts).floor();
+        match self.adapt.and_then(|a| a.delay) {
+            Some((lo, hi)) => {
+                crate::real::non_negative(lo, "adapt delay min")?;
+                crate::real::finite(hi, "adapt delay max")?;
+                if hi < lo {
+                    return Err(RunError::Invalid(Error::OutOfRange(
+                        "adapt delay: MIN..MAX with MIN <= MAX",
+                    )));
+                }
+                Ok(((lo / ts).floor(), (hi / ts).floor()))
+            }
+            None => {
+                let lo = (d_model - 12.0).max(0.0);
+                Ok((lo, lo + (CANDIDATES - 1) as f64))
+            }
+        }
+    }
+
+    /// `controller`, built for `model` with period `ts`, wrapped as the
+    /// scenario's `adapt` asks (unchanged without it). The model must be a
+    /// FOPDT or IPDT model and the scheme one whose model can change at run
+    /// time (the Smith predictor: [`crate::Operate::set_model`]).
+    pub(super) fn adaptive(
+        &self,
+        mut controller: DynController,
+        model: &TransferFunction,
+        ts: f64,
+    ) -> Result<DynController, RunError> {
+        let Some(opts) = self.adapt else {
+            return Ok(controller);
+        };
+        let (k, tau, theta, integrating) = match model.exact_model() {
+            Some(ProcessModel::Fopdt(m)) => (m.k, m.t, m.l, false),
+            Some(ProcessModel::Ipdt(m)) => (m.k, f64::INFINITY, m.l, true),
+            _ => {
+                return Err(RunError::Invalid(Error::Unsupported(
+                    "adaptation identifies a first-order-plus-dead-time or an integrator-plus-dead-time model: give the controller such a model (--model)",
+                )))
+            }
+        };
+        // the scheme must take a new model at run time: tried with the one it has
+        controller.set_model(k, tau)?;
+        let d_model = (theta / ts).floor();
+        let (d_min, d_max) = self.adapt_range(model, ts)?;
+        let _ = opts.delay;
+        let (d_min, d_max) = match Some((d_min, d_max)) {
+            Some(r) => r,
+            None => (d_model, d_model),
+        };
+        if d_max - d_min >= CANDIDATES as f64 {
+            return Err(RunError::Limit(std::format!(
+                "the adaptation's dead-time range spans {} samples at ts = {} s; the estimator compares at most {CANDIDATES}: narrow --adapt-delay or raise --ts",
+                d_max - d_min + 1.0,
+                crate::poly::fmt_num(ts)
+            )));
+        }
+        if d_model < d_min || d_model > d_min + (CANDIDATES - 1) as f64 {
+            return Err(RunError::Invalid(Error::OutOfRange(
+                "adapt delay: the range must hold the model's dead time",
+            )));
+        }
+        let d_min = num_traits::ToPrimitive::to_usize(&d_min)
+            .ok_or(RunError::Invalid(Error::DelayTooLong("adapt delay")))?;
+        let mut est = EstimatorConfig::new(ts, d_min);
+        est.integrating = integrating;
+        if let Some(f) = opts.forgetting {
+            est.forgetting = f;
+        }
+        if let Some(x) = opts.excitation {
+            est.min_excitation = crate::real::non_negative(x, "adapt excitation")?;
+        }
+        let mut cfg = AdaptiveConfig::new(est);
+        if let Some(m) = opts.min_change {
+            cfg.min_change = crate::real::positive(m, "adapt min_change")?;
+        }
+        // the error band of the oscillation detector: above the noise
+        cfg.band = (3.0 * self.noise.unwrap_or(0.0)).max(
+            0.02 * self
+                .setpoint
+                .iter()
+                .fold(0.0f64, |m, s| m.max(s.value.abs())),
+        );
+        // the primary retuned by the scheme's rule for the new model, at the
+        // scenario's λ policy (a λ given stays; a rule's λ follows the model)
+        let mut sc = self.clone();
+        sc.adapt = None;
+        let retune = move |k: f64, tau: f64, theta: f64| -> Option<[f64; 3]> {
+            let tf = model_tf(k, tau, theta).ok()?;
+            let tuned = sc.tune_for(&tf, None).ok()?;
+            let p = &tuned.params;
+            Some([
+                p.get("kp")?,
+                p.get("ti").unwrap_or(f64::INFINITY),
+                p.get("td").unwrap_or(0.0),
+            ])
+        };
+        let need = d_min + CANDIDATES + 2;
+        let wrapped: DynController = if need <= 64 {
+            Box::new(Adaptive::<f64, _, _, CANDIDATES, 64>::new(
+                controller,
+                (k, tau, theta),
+                cfg,
+                retune,
+            )?)
+        } else if need <= 512 {
+            Box::new(Adaptive::<f64, _, _, CANDIDATES, 512>::new(
+                controller,
+                (k, tau, theta),
+                cfg,
+                retune,
+            )?)
+        } else if need <= 4096 {
+            Box::new(Adaptive::<f64, _, _, CANDIDATES, 4096>::new(
+                controller,
+                (k, tau, theta),
+                cfg,
+                retune,
+            )?)
+        } else {
+            return Err(RunError::Limit(std::format!(
+                "adaptation keeps up to 4094 samples of input history; the dead-time range reaches {need} samples at ts = {} s: raise --ts",
+                crate::poly::fmt_num(ts)
+            )));
+        };
+        Ok(wrapped)
+    }
+}
