@@ -35,9 +35,7 @@
 use crate::real::positive;
 use crate::{Error, Real};
 
-mod monitor;
 mod supervisor;
-pub use monitor::{Monitor, MonitorConfig};
 pub use supervisor::{Adaptive, AdaptiveConfig, Change, ChangeKind, Retune, SIGNALS};
 
 /// The last `H` input differences `Δu`, newest first ([`History::back`]`(0)`).
