@@ -550,30 +550,6 @@ impl<
         const N: usize,
         const H: usize,
         const L: usize,
-    > Adaptive<T, C, R, N, H, L>
-{
-    fn own_signal(&self, i: usize) -> T {
-        let e = self.est.estimate();
-        let m = self.model;
-        match i {
-            0 => e.map_or(T::nan(), |e| e.k),
-            1 => e.map_or(T::nan(), |e| e.tau),
-            2 => e.map_or(T::nan(), |e| e.theta),
-            3 => m.k,
-            4 => m.tau,
-            5 => m.theta,
-            _ => T::nan(),
-        }
-    }
-}
-
-impl<
-        T: Real,
-        C: Operate<T> + Introspect<T>,
-        R: Retune<T>,
-        const N: usize,
-        const H: usize,
-        const L: usize,
     > Introspect<T> for Adaptive<T, C, R, N, H, L>
 {
     /// The scheme's signals, then [`SIGNALS`] (with `std`; without it,
@@ -585,9 +561,18 @@ impl<
     fn signal(&self, i: usize) -> T {
         let own = self.signal_names().len() - SIGNALS.len();
         if i < own {
-            self.inner.signal(i)
-        } else {
-            self.own_signal(i - own)
+            return self.inner.signal(i);
+        }
+        let e = self.est.estimate();
+        let m = self.model;
+        match i - own {
+            0 => e.map_or(T::nan(), |e| e.k),
+            1 => e.map_or(T::nan(), |e| e.tau),
+            2 => e.map_or(T::nan(), |e| e.theta),
+            3 => m.k,
+            4 => m.tau,
+            5 => m.theta,
+            _ => T::nan(),
         }
     }
 

@@ -149,32 +149,27 @@ impl Scenario {
             ])
         };
         let need = d_min + CANDIDATES + 2;
-        let wrapped: DynController = if need <= 64 {
-            Box::new(Adaptive::<f64, _, _, CANDIDATES, 64>::new(
-                controller,
-                (k, tau, theta),
-                cfg,
-                retune,
-            )?)
-        } else if need <= 512 {
-            Box::new(Adaptive::<f64, _, _, CANDIDATES, 512>::new(
-                controller,
-                (k, tau, theta),
-                cfg,
-                retune,
-            )?)
-        } else if need <= 4096 {
-            Box::new(Adaptive::<f64, _, _, CANDIDATES, 4096>::new(
-                controller,
-                (k, tau, theta),
-                cfg,
-                retune,
-            )?)
-        } else {
-            return Err(RunError::Limit(std::format!(
-                "adaptation keeps up to 4094 samples of input history; the dead-time range reaches {need} samples at ts = {} s: raise --ts",
-                crate::poly::fmt_num(ts)
-            )));
+        // the history's length is a type parameter: the smallest of three that holds it
+        macro_rules! with_history {
+            ($h:literal) => {
+                Box::new(Adaptive::<f64, _, _, CANDIDATES, $h>::new(
+                    controller,
+                    (k, tau, theta),
+                    cfg,
+                    retune,
+                )?) as DynController
+            };
+        }
+        let wrapped = match need {
+            0..=64 => with_history!(64),
+            65..=512 => with_history!(512),
+            513..=4096 => with_history!(4096),
+            _ => {
+                return Err(RunError::Limit(std::format!(
+                    "adaptation keeps up to 4094 samples of input history; the dead-time range reaches {need} samples at ts = {} s: raise --ts",
+                    crate::poly::fmt_num(ts)
+                )))
+            }
         };
         Ok(wrapped)
     }
