@@ -106,3 +106,52 @@ fn the_model_follows_the_process() {
         assert!((ia - it).abs() < 0.2 * it, "{drift}: IAE {ia} against {it}");
     }
 }
+
+/// The lag doubles under measurement noise (0.5 % and 2 % of the set-point
+/// step, three seeds each): the estimate (through the prefilter that keeps
+/// the noise out of the differenced data) is the process's — the dead time
+/// to a sample, the gain within 5 %, the lag within 10 %. (The supervisor
+/// does not apply them yet: its settling test holds back an estimate that
+/// wanders by more than 2.5 %; what it does apply is right.)
+#[test]
+fn estimates_under_noise() {
+    for noise in [0.005, 0.02] {
+        for seed in [1u64, 2, 3] {
+            let a = scenario("1*e^-1s/(4s+1)", &["150:plant-lag=8"], noise, seed, true)
+                .run()
+                .unwrap();
+            let (k, tau, theta) = (
+                last(&a, "k_hat"),
+                last(&a, "tau_hat"),
+                last(&a, "theta_hat"),
+            );
+            println!(
+                "noise {noise} seed {seed}: {k} {tau} {theta}; model {} {} {}",
+                last(&a, "k_model"),
+                last(&a, "tau_model"),
+                last(&a, "theta_model")
+            );
+            assert!((k - 1.0).abs() < 0.05, "noise {noise} seed {seed}: k {k}");
+            assert!(
+                (tau - 8.0).abs() < 0.8,
+                "noise {noise} seed {seed}: tau {tau}"
+            );
+            assert!(
+                (theta - 1.0).abs() < TS,
+                "noise {noise} seed {seed}: theta {theta}"
+            );
+            // the supervisor, holding back while the estimate wanders, never
+            // applies a wrong model: the one in use is the first or the process's
+            let model = (
+                last(&a, "k_model"),
+                last(&a, "tau_model"),
+                last(&a, "theta_model"),
+            );
+            let first = model == (1.0, 4.0, 1.0);
+            let right = (model.0 - 1.0).abs() < 0.05
+                && (model.1 - 8.0).abs() < 0.8
+                && (model.2 - 1.0).abs() < TS;
+            assert!(first || right, "noise {noise} seed {seed}: model {model:?}");
+        }
+    }
+}

@@ -44,20 +44,26 @@ pub(crate) struct History<T, const H: usize> {
     du: [T; H],
     at: usize,
     last_u: T,
+    /// The prefilter's pole `c` and its last output (`Δu` through `1/(1 − c·z⁻¹)`).
+    pole: T,
+    last_f: T,
 }
 
 impl<T: Real, const H: usize> History<T, H> {
-    pub(crate) fn new() -> Self {
+    pub(crate) fn new(pole: T) -> Self {
         History {
             du: [T::zero(); H],
             at: 0,
             last_u: T::zero(),
+            pole,
+            last_f: T::zero(),
         }
     }
 
     /// The input `u` of the period that just ended joins as `Δu`.
     pub(crate) fn push(&mut self, u: T) {
-        let du = u - self.last_u;
+        let du = self.pole * self.last_f + (u - self.last_u);
+        self.last_f = du;
         self.at = if self.at + 1 >= H { 0 } else { self.at + 1 };
         if let Some(x) = self.du.get_mut(self.at) {
             *x = du;
@@ -114,6 +120,14 @@ pub struct EstimatorConfig<T> {
     pub switch_hold: u32,
     /// The process integrates (`a = 1`, not estimated).
     pub integrating: bool,
+    /// The pole `c` of the prefilter `L(z) = (1 − z⁻¹)/(1 − c·z⁻¹)` both
+    /// the input and the output pass before the estimator sees them
+    /// (`0 ≤ c < 1`; 0: plain differences). The model is linear, so the
+    /// filtered signals obey it too; like differencing, `L` removes
+    /// offsets and constant loads (its zero at `z = 1`), and with `c` near
+    /// 1 it passes the process's band while attenuating the measurement
+    /// noise differencing would amplify (Ljung (1999) Sec. 14.1, prefiltering).
+    pub prefilter: T,
 }
 
 impl<T: Real> EstimatorConfig<T> {
@@ -132,6 +146,7 @@ impl<T: Real> EstimatorConfig<T> {
             switch_ratio: T::of(0.7),
             switch_hold: 50,
             integrating: false,
+            prefilter: T::zero(),
         }
     }
 }
@@ -177,6 +192,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 "estimator: the history must hold d_min + N + 1 inputs",
             ));
         }
+        if !(cfg.prefilter >= T::zero() && cfg.prefilter < T::one()) {
+            return Err(Error::OutOfRange("prefilter pole in [0, 1)"));
+        }
         let lam = cfg.forgetting;
         if !(lam > T::zero() && lam <= T::one()) {
             return Err(Error::OutOfRange("forgetting in (0, 1]"));
@@ -207,7 +225,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cost: T::zero(),
                 yhat: T::zero(),
             }; N],
-            hist: History::new(),
+            hist: History::new(cfg.prefilter),
             last_y: T::zero(),
             last_dy: T::zero(),
             samples: 0,
@@ -224,7 +242,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if !(y.is_finite() && u_applied.is_finite()) {
             return;
         }
-        let dy = y - self.last_y;
+        let dy = self.cfg.prefilter * self.last_dy + (y - self.last_y);
         let learn = ok && self.samples >= 2;
         if learn {
             self.learn(dy);

@@ -8,7 +8,8 @@
 //! - the estimate has settled: it stayed within half of `min_change` (and on
 //!   the same whole dead time) for `settle` samples, its dead time chosen
 //!   without ambiguity (the next candidate's cost at least `min_ambiguity`
-//!   times the chosen one's), its gain of the known sign;
+//!   times the chosen one's) where it differs from the model's, its gain of
+//!   the known sign;
 //! - it differs enough from the model in use: the gain or the time constant
 //!   by `min_change` (relative), or the dead time by half a sample;
 //! - `min_interval` samples have passed since the last change.
@@ -67,7 +68,7 @@ pub struct AdaptiveConfig<T> {
     /// Samples between two changes at least (default 1000).
     pub min_interval: u32,
     /// The next candidate dead time's cost over the chosen one's, at least
-    /// (default 1.2).
+    /// (default 1.1).
     pub min_ambiguity: T,
     /// A change moves the gain and the time constant by at most this factor
     /// (default 2).
@@ -92,7 +93,7 @@ impl<T: Real> AdaptiveConfig<T> {
             min_change: T::of(0.05),
             settle: 300,
             min_interval: 1000,
-            min_ambiguity: T::of(1.2),
+            min_ambiguity: T::of(1.1),
             max_step: T::of(2.0),
             band: T::zero(),
             crossings: 6,
@@ -457,7 +458,15 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
         (m.k > T::zero()) == (self.model.k > T::zero())
             && m.k.is_finite()
             && (integrating || (m.tau.is_finite() && m.tau > T::zero()))
-            && m.ambiguity >= self.cfg.min_ambiguity
+            && (m.ambiguity >= self.cfg.min_ambiguity || self.same_dead_time(m))
+    }
+
+    /// The estimate's whole dead time is the model's: no switch of dead
+    /// time is asked for, so an ambiguous choice between it and a
+    /// neighbour does not hold the gain and the lag back.
+    fn same_dead_time(&self, m: &Estimate<T>) -> bool {
+        let d = (self.model.theta / self.cfg.estimator.ts + T::of(1e-9)).floor();
+        T::of(m.d as f64) == d
     }
 }
 

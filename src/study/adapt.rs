@@ -24,7 +24,7 @@ pub struct AdaptOptions {
     /// most [`CANDIDATES`] samples apart); by default 12 samples below the
     /// model's to 19 above.
     pub delay: Option<(f64, f64)>,
-    /// The forgetting factor (default 0.995).
+    /// The forgetting factor (default 0.998).
     pub forgetting: Option<f64>,
     /// The excitation gate: no learning unless the input moved this much
     /// within the history (default 1e-6).
@@ -32,6 +32,11 @@ pub struct AdaptOptions {
     /// The model changes when the gain or the time constant moves by this
     /// fraction (default 0.05).
     pub min_change: Option<f64>,
+    /// The prefilter's time constant (s): the estimator sees `u` and `y`
+    /// through `(1 − z⁻¹)/(1 − e^{−Ts/T}·z⁻¹)` (default 2.5 times the
+    /// model's time constant, or 2.5 dead times for an integrating model;
+    /// 0: plain differences, which amplify the measurement noise).
+    pub prefilter: Option<f64>,
 }
 
 /// `K/(τs + 1)` or `K/s` with the dead time `θ`: the model an estimate is.
@@ -117,9 +122,18 @@ impl Scenario {
             .ok_or(RunError::Invalid(Error::DelayTooLong("adapt delay")))?;
         let mut est = EstimatorConfig::new(ts, d_min);
         est.integrating = integrating;
+        est.forgetting = 0.998;
         if let Some(f) = opts.forgetting {
             est.forgetting = f;
         }
+        // by default the prefilter's time constant is 2.5 of the model's
+        // (an integrating model's: 2.5 dead times), its memory 500 samples
+        let t = match opts.prefilter {
+            Some(t) => crate::real::non_negative(t, "adapt prefilter")?,
+            None if tau.is_finite() => 2.5 * tau,
+            None => 2.5 * theta.max(ts),
+        };
+        est.prefilter = if t > 0.0 { (-ts / t).exp() } else { 0.0 };
         if let Some(x) = opts.excitation {
             est.min_excitation = crate::real::non_negative(x, "adapt excitation")?;
         }

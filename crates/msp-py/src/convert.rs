@@ -395,7 +395,7 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
             } else {
                 let d = v.downcast::<pyo3::types::PyDict>().map_err(|_| {
                     PyTypeError::new_err(
-                        "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change",
+                        "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter",
                     )
                 })?;
                 let mut o = msp::study::AdaptOptions::default();
@@ -406,9 +406,10 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
                         "forgetting" => o.forgetting = Some(x.extract()?),
                         "excitation" => o.excitation = Some(x.extract()?),
                         "min_change" => o.min_change = Some(x.extract()?),
+                        "prefilter" => o.prefilter = Some(x.extract()?),
                         other => {
                             return Err(PyValueError::new_err(format!(
-                                "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change)"
+                                "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter)"
                             )))
                         }
                     }

@@ -413,7 +413,8 @@ def run(
         or IPDT model kept right by on-line identification (``msp`` crate's ``adapt``), its
         primary retuned at each change; the signals ``k_hat``, ``tau_hat``, ``theta_hat``
         (the estimate) and ``k_model``, ``tau_model``, ``theta_model`` (the model in use).
-        A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``.
+        A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``,
+        ``prefilter`` (s).
 
     Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
     unit set-point step, then a step load at the plant input once the response has settled.
