@@ -9,6 +9,7 @@ pub(crate) fn value_err(e: impl std::fmt::Display) -> PyErr {
 }
 
 mod columns;
+mod estimator;
 mod controller;
 mod convert;
 mod plant;
@@ -25,6 +26,7 @@ use study::{
 #[pymodule]
 fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Plant>()?;
+    m.add_class::<estimator::Estimator>()?;
     m.add_class::<Controller>()?;
     m.add_class::<PyPid>()?;
     m.add_class::<convert::PendingAnalysis>()?;

@@ -644,17 +644,17 @@ def test_every_public_function_is_documented_and_its_examples_run() -> None:
                        for n in line.split(",")}
         for p in inspect.signature(fn).parameters.values():
             assert p.name in documented, (name, p.name)
-    for cls in (msp.Result, msp.Margins, msp.SmithPredictor, msp.Pid, msp.Plant):
+    for cls in (msp.Result, msp.Margins, msp.SmithPredictor, msp.Pid, msp.Plant, msp.Estimator):
         assert (inspect.getdoc(cls) or "").strip(), cls
     result = doctest.testmod(msp, extraglobs={"msp": msp}, optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 15 and result.failed == 0, result
     # the classes and functions made in Rust, with their examples
     finder = doctest.DocTestFinder()
     runner = doctest.DocTestRunner()
-    tests = [t for obj in (msp.Controller, msp.Pid, msp.Plant, msp.parse_plant, msp.controllers)
+    tests = [t for obj in (msp.Controller, msp.Estimator, msp.Pid, msp.Plant, msp.parse_plant, msp.controllers)
              for t in finder.find(obj, obj.__name__, globs={}) if t.examples]
     assert sorted(t.name for t in tests) == [
-        "Controller", "Controller.to_control", "Pid", "Plant", "controllers", "parse_plant"]
+        "Controller", "Controller.to_control", "Estimator", "Pid", "Plant", "controllers", "parse_plant"]
     for t in tests:
         runner.run(t)
     assert runner.summarize(verbose=False).failed == 0
@@ -1044,3 +1044,30 @@ def test_adapt_follows_a_process_lag_that_doubled():
     assert "tau_model" not in fixed.signals
     with pytest.raises(ValueError, match="unknown option 'speed'"):
         msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)
+
+
+def test_estimator_finds_gain_lag_and_fractional_dead_time():
+    """msp.Estimator on 2 e^(-1.25 s)/(4 s + 1) sampled exactly at Ts = 0.1 (the half sample of
+    dead time in b0 = K(1 - a^0.5), b1 = K(a^0.5 - a)) under a switching input: K, tau and
+    theta; nothing learnt from samples marked not ok; bad settings refused."""
+    a = math.exp(-0.1 / 4.0)
+    b0, b1 = 2.0 * (1 - a ** 0.5), 2.0 * (a ** 0.5 - a)
+    est = msp.Estimator(ts=0.1, d_min=4)
+    idle = msp.Estimator(ts=0.1, d_min=4)
+    assert est.estimate is None
+    y, us = 0.0, []
+    for k in range(6000):
+        u = 1.0 if (k // 150) % 2 else -1.0
+        est.update(y, u)
+        idle.update(y, u, ok=False)
+        us.append(u)
+        late = lambda m: us[k - m] if k >= m else 0.0
+        y = a * y + b0 * late(12) + b1 * late(13)
+    e = est.estimate
+    assert abs(e["k"] - 2.0) < 1e-3 and abs(e["tau"] - 4.0) < 4e-3, e
+    assert abs(e["theta"] - 1.25) < 0.01 and e["d"] == 12, e
+    assert idle.estimate is None
+    with pytest.raises(ValueError):
+        msp.Estimator(ts=0.0, d_min=4)
+    with pytest.raises(ValueError):
+        msp.Estimator(ts=0.1, d_min=5000)

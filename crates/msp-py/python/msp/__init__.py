@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, 
 import numpy as np
 
 from . import _msp
-from ._msp import Controller, Pid, Plant, __version__, controllers, parse_plant
+from ._msp import Controller, Estimator, Pid, Plant, __version__, controllers, parse_plant
 
 if sys.version_info >= (3, 11):
     from typing import Unpack
@@ -74,6 +74,7 @@ __all__ = [
     "autotune",
     "Controller",
     "DisturbanceEstimator",
+    "Estimator",
     "FilteredSmith",
     "FilteredSmithUnstable",
     "Fspcc",

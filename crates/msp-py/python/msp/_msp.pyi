@@ -4,7 +4,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-__all__ = ["Controller", "PendingAnalysis", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_rules"]
+__all__ = ["Controller", "Estimator", "PendingAnalysis", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_rules"]
 __version__: str
 SCENARIO_FIELDS: List[str]
 SCENARIO_KEYWORDS: List[str]
@@ -27,6 +27,24 @@ class Plant:
     def __eq__(self, value: object, /) -> bool: ...
 
 def parse_plant(expr: str) -> Plant: ...
+
+@final
+class Estimator:
+    def __new__(
+        cls,
+        ts: float,
+        d_min: int,
+        *,
+        integrating: bool = False,
+        forgetting: float = 0.998,
+        prefilter: float = 0.0,
+        excitation: float = 1e-6,
+    ) -> "Estimator": ...
+    def update(self, y: float, u_applied: float, ok: bool = True) -> None: ...
+    @property
+    def estimate(self) -> Optional[Dict[str, float]]: ...
+    @property
+    def trace(self) -> float: ...
 def run(plant: Union[str, Plant], **scenario: Any) -> Dict[str, Any]: ...
 def compare(
     plant: Union[str, Plant], controllers: Sequence[str], *, perturb: Any = None, **scenario: Any

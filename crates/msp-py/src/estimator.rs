@@ -1,0 +1,116 @@
+//! `msp.Estimator`: the on-line identifier of a dead-time process, one
+//! sample at a time.
+
+use crate::value_err;
+use msp::adapt::{Estimator as Bank, EstimatorConfig};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// Candidate dead times of a Python estimator.
+const N: usize = 32;
+/// Its history of input differences (the longest dead time + 2).
+const H: usize = 4096;
+
+/// The on-line identifier of ``K e^(−θs)/(τs + 1)`` (or ``K e^(−θs)/s``) from
+/// closed-loop data: a bank of recursive least-squares estimators over 32
+/// candidate dead times from ``d_min`` samples (the library's
+/// ``msp::adapt::Estimator``).
+///
+/// Parameters
+/// ----------
+/// ts : float
+///     The sample period (s).
+/// d_min : int
+///     The smallest candidate dead time (samples); the candidates are
+///     ``d_min … d_min + 31`` (``d_min + 33 ≤ 4096``).
+/// integrating : bool, optional
+///     The process integrates (``a = 1``).
+/// forgetting : float, optional
+///     The forgetting factor (default 0.998).
+/// prefilter : float, optional
+///     The prefilter's time constant (s; default 0: plain differences).
+/// excitation : float, optional
+///     No learning unless the input moved this much (default 1e-6).
+///
+/// Examples
+/// --------
+/// >>> import math, msp
+/// >>> est = msp.Estimator(ts=0.1, d_min=5)
+/// >>> a = math.exp(-0.1 / 4.0)
+/// >>> y, us = 0.0, []
+/// >>> for k in range(4000):
+/// ...     u = 1.0 if (k // 200) % 2 else -1.0
+/// ...     est.update(y, u)
+/// ...     us.append(u)
+/// ...     y = a * y + 2.0 * (1 - a) * (us[k - 12] if k >= 12 else 0.0)
+/// >>> e = est.estimate
+/// >>> round(e["k"], 3), round(e["tau"], 3), round(e["theta"], 3)
+/// (2.0, 4.0, 1.2)
+#[pyclass(module = "msp._msp")]
+pub struct Estimator {
+    inner: Box<Bank<f64, N, H>>,
+}
+
+#[pymethods]
+impl Estimator {
+    #[new]
+    #[pyo3(signature = (ts, d_min, *, integrating = false, forgetting = 0.998, prefilter = 0.0, excitation = 1e-6))]
+    fn new(
+        ts: f64,
+        d_min: usize,
+        integrating: bool,
+        forgetting: f64,
+        prefilter: f64,
+        excitation: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = EstimatorConfig::new(ts, d_min);
+        cfg.integrating = integrating;
+        cfg.forgetting = forgetting;
+        if !(prefilter >= 0.0 && prefilter.is_finite()) {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "prefilter: a time constant (s), 0 or positive",
+            ));
+        }
+        cfg.prefilter = if prefilter > 0.0 {
+            (-ts / prefilter).exp()
+        } else {
+            0.0
+        };
+        cfg.min_excitation = excitation;
+        Ok(Estimator {
+            inner: Box::new(Bank::new(cfg).map_err(value_err)?),
+        })
+    }
+
+    /// One sample: ``y`` measured now and ``u_applied`` the input the plant
+    /// receives from now on; ``ok=False`` for a sample that is not the
+    /// process's own response (saturated, manual, a fault).
+    #[pyo3(signature = (y, u_applied, ok = true))]
+    fn update(&mut self, y: f64, u_applied: f64, ok: bool) {
+        self.inner.update(y, u_applied, ok);
+    }
+
+    /// The model now, a dict with ``k``, ``tau`` (``inf``: integrating),
+    /// ``theta`` (s), ``d`` (whole samples) and ``ambiguity`` (the next
+    /// candidate's cost over the chosen one's: near 1 is ambiguous), or
+    /// ``None`` before it means anything.
+    #[getter]
+    fn estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(e) = self.inner.estimate() else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("k", e.k)?;
+        d.set_item("tau", e.tau)?;
+        d.set_item("theta", e.theta)?;
+        d.set_item("d", e.d)?;
+        d.set_item("ambiguity", e.ambiguity)?;
+        Ok(Some(d))
+    }
+
+    /// The chosen candidate's covariance trace (bounded: no bursting).
+    #[getter]
+    fn trace(&self) -> f64 {
+        self.inner.trace()
+    }
+}
