@@ -142,6 +142,38 @@ struct Model<T> {
 /// A scheme with a model, kept right by on-line identification (see the
 /// module documentation): `N` candidate dead times over a history of `H`
 /// inputs, a log of the last `L` changes.
+///
+/// A Smith predictor built for `e^{−1s}/(4s + 1)` at `Ts = 0.1 s` whose
+/// process's lag doubles: with set-point changes for excitation, the model
+/// in use becomes the process's, and the log says when.
+///
+/// ```
+/// use msp::adapt::{Adaptive, AdaptiveConfig, ChangeKind, EstimatorConfig};
+/// use msp::{tuning, Controller, Fopdt, ProcessModel, SmithPredictor};
+/// let ts = 0.1f32;
+/// let model = ProcessModel::from(Fopdt::new(1.0f32, 4.0, 1.0)?);
+/// let sp: SmithPredictor<f32, 1, [f32; 64]> =
+///     SmithPredictor::from_model(tuning::kaya(&model, 2.0)?.config(ts), &model, ts)?;
+/// let mut est = EstimatorConfig::new(ts, 0); // candidates 0 … 15 samples
+/// est.forgetting = 0.998;
+/// est.prefilter = (-0.1f32 / 10.0).exp();
+/// let mut c: Adaptive<f32, _, _, 16, 32> =
+///     Adaptive::new(sp, (1.0, 4.0, 1.0), AdaptiveConfig::new(est), ())?;
+/// // the process e^{−1s}/(8s + 1), sampled exactly, 10 samples of dead time
+/// let a = (-0.1f32 / 8.0).exp();
+/// let (mut y, mut line) = (0.0f32, [0.0f32; 10]);
+/// for k in 0..9000 {
+///     let r = if (k / 300) % 2 == 0 { 1.0 } else { 0.0 };
+///     let u = c.update(r, y);
+///     let late = line[k % 10];
+///     line[k % 10] = u;
+///     y = a * y + (1.0 - a) * late;
+/// }
+/// let (k, tau, theta) = c.model();
+/// assert!((k - 1.0).abs() < 0.05 && (tau - 8.0).abs() < 0.8 && (theta - 1.0).abs() < 0.1);
+/// assert_eq!(c.log().next().map(|l| l.kind), Some(ChangeKind::Applied));
+/// # Ok::<(), msp::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16> {
     inner: C,

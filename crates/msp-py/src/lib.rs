@@ -9,9 +9,9 @@ pub(crate) fn value_err(e: impl std::fmt::Display) -> PyErr {
 }
 
 mod columns;
-mod estimator;
 mod controller;
 mod convert;
+mod estimator;
 mod plant;
 mod study;
 
