@@ -112,7 +112,8 @@ fn the_model_follows_the_process() {
 /// the noise out of the differenced data) is the process's — the dead time
 /// to a sample, the gain within 5 %, the lag within 10 %. (The supervisor
 /// does not apply them yet: its settling test holds back an estimate that
-/// wanders by more than 2.5 %; what it does apply is right.)
+/// wanders by more than 5 % within a block of 300 samples; what it does
+/// apply is right.)
 #[test]
 fn estimates_under_noise() {
     for noise in [0.005, 0.02] {

@@ -5,8 +5,12 @@
 //! Each sample the estimator learns from the measurement and the input the
 //! plant received; the supervisor applies a new model only when
 //!
-//! - the estimate has settled: it stayed within half of `min_change` (and on
-//!   the same whole dead time) for `settle` samples, its dead time chosen
+//! - the estimate has settled: taken in blocks of `settle` samples, it held
+//!   still in two blocks in a row (in each, one whole dead time and the gain
+//!   and the time constant within `min_change` of their mean from lowest
+//!   to highest) whose means agree within half of `min_change` (half a
+//!   sample for the dead time) — the later block's mean is applied; every
+//!   sample's estimate counts only with its dead time chosen
 //!   without ambiguity (the next candidate's cost at least `min_ambiguity`
 //!   times the chosen one's) where it differs from the model's, its gain of
 //!   the known sign;
@@ -132,7 +136,7 @@ pub struct Change<T> {
 }
 
 /// A model `(K, τ, θ)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Model<T> {
     k: T,
     tau: T,
@@ -182,8 +186,10 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     retune: R,
     model: Model<T>,
     good: Model<T>,
-    candidate: Option<Estimate<T>>,
-    steady: u32,
+    /// The statistics of the current block of `settle` samples.
+    block: Block<T>,
+    /// The last complete block's mean, when the estimate held still in it.
+    settled: Option<(usize, Model<T>)>,
     since: u32,
     samples: u64,
     frozen: bool,
@@ -234,8 +240,8 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             retune,
             model,
             good: model,
-            candidate: None,
-            steady: 0,
+            block: Block::default(),
+            settled: None,
             since: 0,
             samples: 0,
             frozen: false,
@@ -400,7 +406,8 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
                     }
                 };
                 self.record(kind);
-                self.candidate = None;
+                self.block = Block::default();
+                self.settled = None;
                 self.rest_until = self
                     .samples
                     .saturating_add(4 * u64::from(self.cfg.min_interval));
@@ -410,22 +417,31 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
         if self.frozen || self.samples < self.rest_until {
             return;
         }
-        let Some(m) = self.est.estimate().filter(|m| self.plausible(m)) else {
-            self.candidate = None;
-            self.steady = 0;
+        // the estimate in blocks of `settle` samples: a block in which it held
+        // still (one whole dead time throughout, the gain and the time
+        // constant within `min_change` from lowest to highest, every sample
+        // plausible) gives its mean; two such blocks in a row whose means
+        // agree within half of `min_change` settle the estimate
+        let e = self.est.estimate().filter(|m| self.plausible(m));
+        self.block.add(e);
+        if self.block.count < self.cfg.settle {
+            return;
+        }
+        let block = core::mem::take(&mut self.block);
+        let tol = self.cfg.min_change;
+        let now = block.still(tol);
+        let prev = core::mem::replace(&mut self.settled, now);
+        let Some((d, m)) = now else {
             return;
         };
-        let half = self.cfg.min_change / T::of(2.0);
-        match self.candidate {
-            Some(c) if c.d == m.d && near(c.k, m.k, half) && near(c.tau, m.tau, half) => {
-                self.steady = self.steady.saturating_add(1);
-            }
-            _ => {
-                self.candidate = Some(m);
-                self.steady = 0;
-            }
-        }
-        if self.steady < self.cfg.settle || self.since < self.cfg.min_interval {
+        let half = tol / T::of(2.0);
+        let agree = prev.is_some_and(|(pd, p)| {
+            pd == d
+                && near(p.k, m.k, half)
+                && near(p.tau, m.tau, half)
+                && (p.theta - m.theta).abs() <= self.cfg.estimator.ts / T::of(2.0)
+        });
+        if !agree || self.since < self.cfg.min_interval {
             return;
         }
         let cur = self.model;
@@ -458,7 +474,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             Ok(()) => {
                 self.record(ChangeKind::Applied);
                 self.since = 0;
-                self.steady = 0;
+                self.settled = None;
                 self.watching = self.cfg.watch;
                 self.crossed = 0;
                 self.side = 0;
@@ -499,6 +515,71 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     fn same_dead_time(&self, m: &Estimate<T>) -> bool {
         let d = (self.model.theta / self.cfg.estimator.ts + T::of(1e-9)).floor();
         T::of(m.d as f64) == d
+    }
+}
+
+/// The estimates of a block of samples.
+#[derive(Debug, Clone, Copy, Default)]
+struct Block<T> {
+    count: u32,
+    /// Samples without a plausible estimate.
+    missing: u32,
+    d: Option<usize>,
+    /// Whether every estimate of the block had the dead time `d`.
+    one_d: bool,
+    sum: Model<T>,
+    lo: Model<T>,
+    hi: Model<T>,
+}
+
+impl<T: Real> Block<T> {
+    fn add(&mut self, e: Option<Estimate<T>>) {
+        self.count = self.count.saturating_add(1);
+        let Some(e) = e else {
+            self.missing = self.missing.saturating_add(1);
+            return;
+        };
+        match self.d {
+            None => {
+                self.d = Some(e.d);
+                self.one_d = true;
+                self.lo = Model {
+                    k: e.k,
+                    tau: e.tau,
+                    theta: e.theta,
+                };
+                self.hi = self.lo;
+            }
+            Some(d) => {
+                self.one_d &= d == e.d;
+                self.lo.k = self.lo.k.min(e.k);
+                self.hi.k = self.hi.k.max(e.k);
+                self.lo.tau = self.lo.tau.min(e.tau);
+                self.hi.tau = self.hi.tau.max(e.tau);
+            }
+        }
+        self.sum.k = self.sum.k + e.k;
+        self.sum.tau = self.sum.tau + e.tau;
+        self.sum.theta = self.sum.theta + e.theta;
+    }
+
+    /// The block's dead time and mean model when the estimate held still in
+    /// it: every sample plausible, one dead time, the gain and the time
+    /// constant within `tol` of their mean from lowest to highest.
+    fn still(&self, tol: T) -> Option<(usize, Model<T>)> {
+        let d = self.d?;
+        if self.missing > 0 || !self.one_d || self.count == 0 {
+            return None;
+        }
+        let n = T::of(f64::from(self.count));
+        let mean = Model {
+            k: self.sum.k / n,
+            tau: self.sum.tau / n,
+            theta: self.sum.theta / n,
+        };
+        let narrow = |lo: T, hi: T, m: T| m.is_infinite() || hi - lo <= tol * m.abs();
+        (narrow(self.lo.k, self.hi.k, mean.k) && narrow(self.lo.tau, self.hi.tau, mean.tau))
+            .then_some((d, mean))
     }
 }
 
