@@ -104,6 +104,20 @@ fn the_model_follows_the_process() {
         assert!((ka - k).abs() < 0.05 * k, "{drift}: k {ka}");
         assert!((ta - tau).abs() < 0.1 * tau, "{drift}: tau {ta}");
         assert!((ia - it).abs() < 0.2 * it, "{drift}: IAE {ia} against {it}");
+        // the report's log: each change when the model in use changed, the
+        // last one the model at the end
+        let log = adaptive.report().adaptation;
+        let last_change = log.last().expect("a change is logged");
+        assert!(log
+            .iter()
+            .all(|c| c.kind == msp::adapt::ChangeKind::Applied));
+        assert_eq!(
+            (last_change.k, last_change.tau, last_change.theta),
+            (ka, ta, tha)
+        );
+        let when = changes(&adaptive, "k_model").last().map(|c| c.0);
+        assert_eq!(when, Some(last_change.at), "{drift}");
+        assert!(fixed.report().adaptation.is_empty());
     }
 }
 

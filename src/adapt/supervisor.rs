@@ -119,6 +119,27 @@ pub enum ChangeKind {
     Refused,
 }
 
+impl ChangeKind {
+    /// The number the `adapt_kind` signal gives it (1, 2, 3).
+    pub fn code(self) -> u8 {
+        match self {
+            ChangeKind::Applied => 1,
+            ChangeKind::Restored => 2,
+            ChangeKind::Refused => 3,
+        }
+    }
+
+    /// The kind of a code of [`ChangeKind::code`].
+    pub fn from_code(code: u8) -> Option<Self> {
+        match code {
+            1 => Some(ChangeKind::Applied),
+            2 => Some(ChangeKind::Restored),
+            3 => Some(ChangeKind::Refused),
+            _ => None,
+        }
+    }
+}
+
 /// One entry of the adaptation log: the model in use from `sample` on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -655,14 +676,19 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
 
 /// The signals an adaptive controller adds to its scheme's, in this order:
 /// the estimate (`k_hat`, `tau_hat`, `theta_hat`; NaN before it means
-/// anything) and the model in use (`k_model`, `tau_model`, `theta_model`).
-pub const SIGNALS: [&str; 6] = [
+/// anything), the model in use (`k_model`, `tau_model`, `theta_model`),
+/// how many changes were logged so far (`adapt_changes`) and what the last
+/// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused,
+/// [`ChangeKind::code`]).
+pub const SIGNALS: [&str; 8] = [
     "k_hat",
     "tau_hat",
     "theta_hat",
     "k_model",
     "tau_model",
     "theta_model",
+    "adapt_changes",
+    "adapt_kind",
 ];
 
 impl<
@@ -694,6 +720,8 @@ impl<
             3 => m.k,
             4 => m.tau,
             5 => m.theta,
+            6 => T::of(self.logged as f64),
+            7 => T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
             _ => T::nan(),
         }
     }

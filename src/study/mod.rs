@@ -24,7 +24,9 @@ pub use forced::SampledInput;
 pub use metrics::{
     measure, metrics, next_event, settled, Columns, DisturbanceEvent, Event, Metrics, SetpointEvent,
 };
-pub use report::{ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport};
+pub use report::{
+    AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,
+};
 pub use robustness::Robustness;
 pub use target::{Figure, Target, TargetReport};
 pub use tradeoff::{tradeoff, tradeoff_factors, Tradeoff, TradeoffPoint};

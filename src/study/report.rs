@@ -129,6 +129,23 @@ pub struct OperatorEventReport {
     pub output_change: f64,
 }
 
+/// A change the adaptation made during a run (`msp run --adapt`): the model
+/// in use from `at` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct AdaptationReport {
+    /// When (s).
+    pub at: f64,
+    /// What happened.
+    pub kind: crate::adapt::ChangeKind,
+    /// The model's gain `K`.
+    pub k: f64,
+    /// The model's time constant `τ` (s; infinite: integrating).
+    pub tau: f64,
+    /// The model's dead time `θ` (s).
+    pub theta: f64,
+}
+
 /// What a run did and how it performed.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -166,6 +183,9 @@ pub struct Report {
     /// The operator's events of the scenario (modes, dead-time changes), each
     /// with the change of the controller's output at the event's sample.
     pub operator_events: Vec<OperatorEventReport>,
+    /// Every change of the model an adaptive run made (empty without
+    /// adaptation).
+    pub adaptation: Vec<AdaptationReport>,
     /// The designed quantities a paper prints beside the parameters (see
     /// [`TuneReport::design`]).
     #[cfg_attr(
@@ -213,6 +233,7 @@ impl RunOutput {
             default_scenario: self.default_scenario,
             events: self.events.clone(),
             operator_events: self.operator_events(),
+            adaptation: self.adaptation(),
             design: self.design.clone(),
             robustness: self.robustness,
             stable: self.stable(),
@@ -244,6 +265,46 @@ impl RunOutput {
                 }
             })
             .collect()
+    }
+
+    /// The adaptation's log, read from the recorded signals: each sample at
+    /// which `adapt_changes` grew, with the model in use from then on.
+    pub fn adaptation(&self) -> Vec<AdaptationReport> {
+        let col = |name: &str| {
+            self.result
+                .signals
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, v)| v.as_slice())
+        };
+        let (Some(count), Some(kind), Some(k), Some(tau), Some(theta)) = (
+            col("adapt_changes"),
+            col("adapt_kind"),
+            col("k_model"),
+            col("tau_model"),
+            col("theta_model"),
+        ) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        let mut last = 0.0;
+        for (i, c) in count.iter().enumerate() {
+            if *c > last {
+                let get = |v: &[f64]| v.get(i).copied().unwrap_or(f64::NAN);
+                let code = num_traits::ToPrimitive::to_u8(&get(kind)).unwrap_or(0);
+                if let Some(kind) = crate::adapt::ChangeKind::from_code(code) {
+                    out.push(AdaptationReport {
+                        at: self.result.t.get(i).copied().unwrap_or(f64::NAN),
+                        kind,
+                        k: get(k),
+                        tau: get(tau),
+                        theta: get(theta),
+                    });
+                }
+                last = *c;
+            }
+        }
+        out
     }
 
     /// The loop's verdict: the characteristic equation's, or where that is

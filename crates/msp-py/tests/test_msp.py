@@ -1042,6 +1042,9 @@ def test_adapt_follows_a_process_lag_that_doubled():
     assert abs(adaptive.signals["k_model"][-1] - 1.0) < 0.05
     assert abs(adaptive.signals["theta_model"][-1] - 1.0) < 0.1
     assert "tau_model" not in fixed.signals
+    log = adaptive.report()["adaptation"]
+    assert log and log[-1]["kind"] == "applied" and log[-1]["tau"] == adaptive.signals["tau_model"][-1]
+    assert fixed.report()["adaptation"] == []
     with pytest.raises(ValueError, match="unknown option 'speed'"):
         msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)
 

@@ -126,6 +126,20 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         ints(&d.indices),
         fmt_num(out.model_delay())
     ));
+    for c in out.adaptation() {
+        let what = match c.kind {
+            msp::adapt::ChangeKind::Applied => "model",
+            msp::adapt::ChangeKind::Restored => "model restored (the loop oscillated)",
+            msp::adapt::ChangeKind::Refused => "model refused by the scheme, adaptation frozen",
+        };
+        s.push_str(&format!(
+            "\nadapt at {} s: {what} K = {}, tau = {} s, theta = {} s",
+            fmt_num(c.at),
+            fmt_sig(c.k),
+            fmt_sig(c.tau),
+            fmt_sig(c.theta)
+        ));
+    }
     for w in warnings {
         s.push_str(&format!("\nwarning: {w}"));
     }
