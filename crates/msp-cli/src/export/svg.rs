@@ -297,12 +297,39 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         us.push(d_out);
     }
     let (marks, held) = markers(first);
+    // an adaptive run's estimates and model in use, each over the first model
+    let signal = |name: &str| {
+        first
+            .result
+            .signals
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v)
+    };
+    let adapt: Vec<(&str, &Vec<f64>, bool)> = [
+        ("K", "k_hat", false),
+        ("τ", "tau_hat", false),
+        ("θ", "theta_hat", false),
+        ("K", "k_model", true),
+        ("τ", "tau_model", true),
+        ("θ", "theta_model", true),
+    ]
+    .into_iter()
+    .filter_map(|(sym, name, model)| signal(name).map(|v| (sym, v, model)))
+    .collect();
     let mut svg = String::new();
     let mut fine = Fine::default();
     {
-        let root = SVGBackend::with_string(&mut svg, (900, 600)).into_drawing_area();
+        let height = if adapt.is_empty() { 600 } else { 820 };
+        let root = SVGBackend::with_string(&mut svg, (900, height)).into_drawing_area();
         root.fill(&WHITE)?;
-        let (top, bottom) = root.split_vertically(360);
+        let (top, rest) = root.split_vertically(360);
+        let (bottom, third) = if adapt.is_empty() {
+            (rest, None)
+        } else {
+            let (b, t) = rest.split_vertically(240);
+            (b, Some(t))
+        };
         let (ylo, yhi) = range(&ys);
         let title = if runs.len() == 1 {
             let key: Vec<String> = first
@@ -440,6 +467,74 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()?;
+        if let Some(third) = third {
+            // each estimate (dashed) and the model in use (solid) over the
+            // model the run started with
+            let ratio = |v: &Vec<f64>, sym: &str| -> Vec<f64> {
+                let first_model = adapt
+                    .iter()
+                    .find(|(s, _, m)| *s == sym && *m)
+                    .and_then(|(_, v, _)| v.first().copied())
+                    .unwrap_or(1.0);
+                v.iter().map(|x| x / first_model).collect()
+            };
+            let series: Vec<(String, Vec<f64>, bool, RGBColor)> = adapt
+                .iter()
+                .map(|(sym, v, model)| {
+                    let col = match *sym {
+                        "K" => RGBColor(0, 114, 178),
+                        "τ" => RGBColor(213, 94, 0),
+                        _ => RGBColor(0, 158, 115),
+                    };
+                    let label = (*sym).to_string();
+                    (label, ratio(v, sym), *model, col)
+                })
+                .collect();
+            // the axis spans what lies within a factor 4 of the first model:
+            // an estimate's first samples, before it means anything, do not
+            // set the scale (they are clipped)
+            let near: Vec<Vec<f64>> = series
+                .iter()
+                .map(|s| {
+                    s.1.iter()
+                        .copied()
+                        .filter(|x| (0.25..=4.0).contains(x))
+                        .collect()
+                })
+                .collect();
+            let vs: Vec<&Vec<f64>> = near.iter().collect();
+            let (alo, ahi) = range(&vs);
+            let mut c3 = ChartBuilder::on(&third)
+                .margin(12)
+                .margin_right(24)
+                .x_label_area_size(40)
+                .y_label_area_size(60)
+                .build_cartesian_2d(0.0..t_end, alo..ahi)?;
+            c3.configure_mesh()
+                .x_desc("time t (s)")
+                .y_desc("model, estimate (- -) / first")
+                .draw()?;
+            let mut drawn3: Vec<Vec<(f64, f64)>> = Vec::new();
+            for (label, v, model, col) in &series {
+                let p = pts(&first.result.t, v);
+                drawn3.push(p.clone());
+                // one legend entry per quantity (its model's line); the
+                // axis says the estimate is dashed
+                if *model {
+                    fine.line(&mut c3, &p, col.stroke_width(2), None)?
+                        .label(label.as_str())
+                        .legend(mark(*col));
+                } else {
+                    fine.line(&mut c3, &p, col.stroke_width(1), Some((4, 3)))?;
+                }
+            }
+            let refs3: Vec<&[(f64, f64)]> = drawn3.iter().map(Vec::as_slice).collect();
+            c3.configure_series_labels()
+                .position(legend_spot(&refs3, (0.0, t_end), (alo, ahi), (0.08, 0.32)))
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()?;
+        }
         root.present()?;
     }
     fine.apply(&mut svg);
