@@ -210,6 +210,9 @@ macro_rules! forward {
             fn set_model(&mut self, gain: T, tau: T) -> Result<(), crate::Error> {
                 (**self).set_model(gain, tau)
             }
+            fn set_adapting(&mut self, on: bool) -> Result<(), crate::Error> {
+                (**self).set_adapting(on)
+            }
         }
         impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
             fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
@@ -274,6 +277,9 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
     }
     fn set_model(&mut self, gain: f64, tau: f64) -> Result<(), crate::Error> {
         self.0.set_model(f32::of(gain), f32::of(tau))
+    }
+    fn set_adapting(&mut self, on: bool) -> Result<(), crate::Error> {
+        self.0.set_adapting(on)
     }
 }
 

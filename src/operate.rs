@@ -101,6 +101,16 @@ pub trait Operate<T: Real>: Controller<T> {
         ))
     }
 
+    /// Freezes (`false`) or resumes (`true`) the adaptation of an adaptive
+    /// controller ([`crate::adapt::Adaptive`]): frozen, it learns and
+    /// applies nothing. [`Error::Unsupported`] for one that does not adapt.
+    fn set_adapting(&mut self, on: bool) -> Result<(), Error> {
+        let _ = on;
+        Err(Error::Unsupported(
+            "this controller does not adapt (run it with adaptation: --adapt)",
+        ))
+    }
+
     /// Changes a gain of the primary PID while the loop runs, bumpless: the
     /// integrator absorbs the change of the proportional and derivative
     /// terms, so that the output at the change is the one the old gains gave
@@ -320,5 +330,8 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     }
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
         self.inner.set_model(gain, tau)
+    }
+    fn set_adapting(&mut self, on: bool) -> Result<(), Error> {
+        self.inner.set_adapting(on)
     }
 }

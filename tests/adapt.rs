@@ -170,3 +170,43 @@ fn estimates_under_noise() {
         }
     }
 }
+
+/// Adaptation frozen before the lag doubles learns and applies nothing;
+/// resumed, it adapts; a controller that does not adapt refuses the event
+/// with the reason.
+#[test]
+fn freeze_and_resume() {
+    let plant = "1*e^-1s/(4s+1)";
+    let frozen = scenario(
+        plant,
+        &["140:adapt-freeze", "150:plant-lag=8"],
+        0.0,
+        7,
+        true,
+    )
+    .run()
+    .unwrap();
+    assert!(frozen.report().adaptation.is_empty());
+    assert_eq!(last(&frozen, "tau_model"), 4.0);
+    let resumed = scenario(
+        plant,
+        &["140:adapt-freeze", "150:plant-lag=8", "450:adapt-resume"],
+        0.0,
+        7,
+        true,
+    )
+    .run()
+    .unwrap();
+    let log = resumed.report().adaptation;
+    assert!(
+        !log.is_empty() && log.iter().all(|c| c.at > 450.0),
+        "{log:?}"
+    );
+    assert!((last(&resumed, "tau_model") - 8.0).abs() < 0.8);
+    let plain = scenario(plant, &["140:adapt-freeze"], 0.0, 7, false).run();
+    let msg = match plain {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("a controller that does not adapt refuses adapt-freeze"),
+    };
+    assert!(msg.contains("does not adapt"), "{msg}");
+}

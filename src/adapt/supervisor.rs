@@ -661,6 +661,10 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     fn retune(&mut self, gain: Gain, value: T) -> Result<(), Error> {
         self.inner.retune(gain, value)
     }
+    fn set_adapting(&mut self, on: bool) -> Result<(), Error> {
+        self.frozen = !on;
+        Ok(())
+    }
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
         self.inner.set_model(gain, tau)?;
         self.model.k = gain;

@@ -85,6 +85,8 @@ pub enum Action {
     /// The process's time constant becomes this (s), for a plant with one
     /// lag (`K/(τs + 1)`, behind its dead time); its output does not jump.
     PlantLag(f64),
+    /// An adaptive controller's adaptation resumes (`true`) or freezes.
+    Adapt(bool),
     /// A gain of the controller's primary PID changes (bumpless).
     Retune(crate::operate::Gain, f64),
 }

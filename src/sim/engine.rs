@@ -312,6 +312,7 @@ where
                 Action::PlantGain(k) => run.process.set_gain(k)?,
                 Action::PlantLag(tau) => run.process.set_lag(tau)?,
                 Action::Retune(g, v) => controller.retune(g, v)?,
+                Action::Adapt(on) => controller.set_adapting(on)?,
             }
             next_op = next_op.saturating_add(1);
         }

@@ -512,7 +512,7 @@ impl Scenario {
                         return Err(RunError::Invalid(Error::NonFinite("event value")));
                     }
                 }
-                Action::Auto => {}
+                Action::Auto | Action::Adapt(_) => {}
             }
         }
         if let Some((lo, hi)) = self.actuator {

@@ -191,7 +191,8 @@ impl core::str::FromStr for Operation {
     /// `dead-time=θ` (the controller's model; `dead-time=θ~RATE` moves it
     /// there at RATE seconds per second), `plant-dead-time=θ` (the
     /// process; `plant-gain=K` and `plant-lag=τ` its gain and its time
-    /// constant) and `kp=V`, `ti=V`, `td=V` (online retuning), e.g.
+    /// constant), `adapt-freeze` and `adapt-resume` (an adaptive
+    /// controller's adaptation) and `kp=V`, `ti=V`, `td=V` (online retuning), e.g.
     /// `60:manual=0.3`, `120:auto`, `60:plant-dead-time=9`, `60:kp=3`.
     fn from_str(s: &str) -> Result<Self, String> {
         let (at, action) = s.split_once(':').ok_or_else(|| {
@@ -239,6 +240,8 @@ impl core::str::FromStr for Operation {
                 None => Action::DeadTime(seconds("dead time")?),
             },
             "plant-dead-time" => Action::PlantDeadTime(seconds("plant dead time")?),
+            "adapt-freeze" if value.is_none() => Action::Adapt(false),
+            "adapt-resume" if value.is_none() => Action::Adapt(true),
             "plant-gain" => {
                 let k = needs("plant gain")?;
                 if !(k.is_finite() && k != 0.0) {
@@ -262,7 +265,7 @@ impl core::str::FromStr for Operation {
             "td" => Action::Retune(Gain::Td, needs("td")?),
             other => {
                 return Err(std::format!(
-                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, plant-gain=K, plant-lag=τ, kp=V, ti=V, td=V"
+                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, plant-gain=K, plant-lag=τ, adapt-freeze, adapt-resume, kp=V, ti=V, td=V"
                 ))
             }
         };

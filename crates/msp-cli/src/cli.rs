@@ -121,6 +121,7 @@ pub(crate) struct ScenarioArgs {
     /// dead-time=θ (the controller's model; θ~RATE moves it there at RATE s/s),
     /// plant-dead-time=θ (the process; for a cascade L1 + L2, the primary changing),
     /// plant-gain=K, plant-lag=τ (the process drifting: its gain, its one lag's time constant),
+    /// adapt-freeze, adapt-resume (with --adapt),
     /// kp=V, ti=V, td=V (the primary PID retuned, bumpless),
     /// e.g. --event 60:manual=0.3 --event 120:auto.
     #[arg(long = "event", value_name = "T:ACTION", value_parser = str::parse::<msp::sim::Operation>, allow_hyphen_values = true)]

@@ -53,6 +53,11 @@ pub(crate) fn loop_many<'py>(
 /// max_dead_time : float, optional
 ///     The longest dead time (s) ``set_dead_time`` may give the model later
 ///     (the delay line's room; default the model's own).
+/// adapt : bool or dict, optional
+///     Adaptive dead-time compensation (``msp run --adapt``; a FOPDT or IPDT
+///     model, the ``smith`` scheme): ``estimate`` gives the estimate and the
+///     model in use, ``freeze()``/``resume()`` stop and restart adapting; a
+///     dict of options as ``msp.run``'s ``adapt``.
 ///
 /// The controller is operated as in a plant: ``manual(u)``, ``track(u)`` and
 /// ``auto()`` (bumpless), ``update(r, y, u_applied=...)`` (external reset),
@@ -79,7 +84,7 @@ pub struct Controller {
 impl Controller {
     /// Tunes scheme ``name`` for ``plant`` (model), builds it at period ``ts``.
     #[new]
-    #[pyo3(signature = (name, plant, ts, params=None, *, inner_plant=None, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None, max_dead_time=0.0))]
+    #[pyo3(signature = (name, plant, ts, params=None, *, inner_plant=None, umin=f64::NEG_INFINITY, umax=f64::INFINITY, lambda_=None, rule=None, max_dead_time=0.0, adapt=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         name: &str,
@@ -92,8 +97,43 @@ impl Controller {
         lambda_: Option<f64>,
         rule: Option<String>,
         max_dead_time: f64,
+        adapt: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let tf = plant_of(plant)?;
+        if let Some(opts) = adapt
+            .map(crate::convert::adapt_options)
+            .transpose()?
+            .flatten()
+        {
+            // the scenario's construction: tuned, built, wrapped for adaptation
+            let sc = msp::study::Scenario {
+                plant: Some(tf.clone()),
+                controller: Some(name.to_string()),
+                ts: Some(ts),
+                lambda: lambda_,
+                rule,
+                set: params.unwrap_or_default(),
+                umin: umin.is_finite().then_some(umin),
+                umax: umax.is_finite().then_some(umax),
+                adapt: Some(opts),
+                ..Default::default()
+            };
+            if inner_plant.is_some() {
+                return Err(PyValueError::new_err(
+                    "adaptation is for a single loop (not a cascade process)",
+                ));
+            }
+            let built = sc
+                .build_controller(&tf)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            return Ok(Controller {
+                inner: Operated::new(built.controller),
+                name: built.scheme,
+                params: built.params,
+                ts,
+                plant: Some(tf),
+            });
+        }
         let p2 = inner_plant.map(plant_of).transpose()?;
         // the delay lines, checked against the budget before anything is taken
         let delay = tf.delay + p2.as_ref().map_or(0.0, |p| p.delay);
@@ -181,6 +221,41 @@ impl Controller {
             }
         }
         Ok(out)
+    }
+    /// The estimate of an adaptive controller (``adapt=``): a dict of ``k``,
+    /// ``tau``, ``theta`` (NaN before it means anything) and the model in
+    /// use, ``k_model``, ``tau_model``, ``theta_model``; ``None`` for one that
+    /// does not adapt.
+    #[getter]
+    fn estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let c = &**self.inner.inner();
+        let Some(k) = c.signal_by_name("k_hat") else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("k", k)?;
+        for (key, name) in [
+            ("tau", "tau_hat"),
+            ("theta", "theta_hat"),
+            ("k_model", "k_model"),
+            ("tau_model", "tau_model"),
+            ("theta_model", "theta_model"),
+        ] {
+            d.set_item(key, c.signal_by_name(name).unwrap_or(f64::NAN))?;
+        }
+        Ok(Some(d))
+    }
+    /// Freezes an adaptive controller's adaptation: it learns and applies
+    /// nothing until ``resume()``.
+    fn freeze(&mut self) -> PyResult<()> {
+        self.inner
+            .inner_mut()
+            .set_adapting(false)
+            .map_err(value_err)
+    }
+    /// Resumes an adaptive controller's adaptation.
+    fn resume(&mut self) -> PyResult<()> {
+        self.inner.inner_mut().set_adapting(true).map_err(value_err)
     }
     /// One sample: set point and measurement in, actuator value out; ``y2`` is
     /// the secondary measurement of a cascade (ignored by single-loop schemes);

@@ -389,34 +389,7 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
         }
         "reset_feedback" => sc.reset_feedback = v.extract()?,
         "setpoint_ramp" => sc.setpoint_ramp = Some(v.extract()?),
-        "adapt" => {
-            sc.adapt = if let Ok(on) = v.extract::<bool>() {
-                on.then(msp::study::AdaptOptions::default)
-            } else {
-                let d = v.downcast::<pyo3::types::PyDict>().map_err(|_| {
-                    PyTypeError::new_err(
-                        "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter",
-                    )
-                })?;
-                let mut o = msp::study::AdaptOptions::default();
-                for (k, x) in d.iter() {
-                    let k: String = k.extract()?;
-                    match k.as_str() {
-                        "delay" => o.delay = Some(x.extract()?),
-                        "forgetting" => o.forgetting = Some(x.extract()?),
-                        "excitation" => o.excitation = Some(x.extract()?),
-                        "min_change" => o.min_change = Some(x.extract()?),
-                        "prefilter" => o.prefilter = Some(x.extract()?),
-                        other => {
-                            return Err(PyValueError::new_err(format!(
-                                "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter)"
-                            )))
-                        }
-                    }
-                }
-                Some(o)
-            }
-        }
+        "adapt" => sc.adapt = adapt_options(v)?,
         other => {
             return Err(PyTypeError::new_err(format!(
                 "the scenario field '{other}' is not taken from Python"
@@ -460,4 +433,35 @@ pub(crate) fn fit_dict<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     // the library's report: the keys of `msp identify --json`
     Ok(pythonize::pythonize(py, fit)?.downcast_into::<PyDict>()?)
+}
+
+/// A Python ``adapt`` argument: ``True``/``False`` or a dict of the
+/// options (``delay=(min, max)``, ``forgetting``, ``excitation``,
+/// ``min_change``, ``prefilter``).
+pub(crate) fn adapt_options(v: &Bound<'_, PyAny>) -> PyResult<Option<msp::study::AdaptOptions>> {
+    if let Ok(on) = v.extract::<bool>() {
+        return Ok(on.then(msp::study::AdaptOptions::default));
+    }
+    let d = v.downcast::<pyo3::types::PyDict>().map_err(|_| {
+        PyTypeError::new_err(
+            "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter",
+        )
+    })?;
+    let mut o = msp::study::AdaptOptions::default();
+    for (k, x) in d.iter() {
+        let k: String = k.extract()?;
+        match k.as_str() {
+            "delay" => o.delay = Some(x.extract()?),
+            "forgetting" => o.forgetting = Some(x.extract()?),
+            "excitation" => o.excitation = Some(x.extract()?),
+            "min_change" => o.min_change = Some(x.extract()?),
+            "prefilter" => o.prefilter = Some(x.extract()?),
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter)"
+                )))
+            }
+        }
+    }
+    Ok(Some(o))
 }

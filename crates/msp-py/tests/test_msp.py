@@ -1077,3 +1077,32 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
         msp.Estimator(ts=0.0, d_min=4)
     with pytest.raises(ValueError):
         msp.Estimator(ts=0.1, d_min=5000)
+
+
+def test_adaptive_controller_per_sample():
+    """msp.SmithPredictor(..., adapt=True) one sample at a time against the exact sampled
+    process e^(-s)/(8s + 1) (the model said 4 s): the model in use becomes the process's;
+    frozen, it learns nothing; a controller that does not adapt refuses freeze()."""
+    a = math.exp(-0.1 / 8.0)
+
+    def loop(c, samples=6000):
+        y, line = 0.0, [0.0] * 10
+        for k in range(samples):
+            r = 1.0 if (k // 300) % 2 == 0 else 0.0
+            u = c.update(r, y)
+            late, line[k % 10] = line[k % 10], u
+            y = a * y + (1 - a) * late
+
+    c = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
+    assert c.estimate["tau_model"] == 4.0
+    loop(c)
+    e = c.estimate
+    assert abs(e["tau_model"] - 8.0) < 0.8 and abs(e["k_model"] - 1.0) < 0.05, e
+    frozen = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
+    frozen.freeze()
+    loop(frozen)
+    assert frozen.estimate["tau_model"] == 4.0 and math.isnan(frozen.estimate["k"])
+    plain = msp.SmithPredictor("e^-1s/(4s+1)", 0.1)
+    assert plain.estimate is None
+    with pytest.raises(ValueError, match="does not adapt"):
+        plain.freeze()

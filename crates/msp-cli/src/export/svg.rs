@@ -227,6 +227,7 @@ fn markers(out: &RunOutput) -> (Vec<Marker>, Vec<(f64, f64)>) {
             Action::PlantDeadTime(d) => format!("plant θ = {} s", fmt_sig(d)),
             Action::PlantGain(k) => format!("plant K = {}", fmt_sig(k)),
             Action::PlantLag(t) => format!("plant τ = {} s", fmt_sig(t)),
+            Action::Adapt(on) => (if on { "adapt on" } else { "adapt frozen" }).to_string(),
             Action::Retune(g, v) => format!("{} = {}", g.name(), fmt_sig(v)),
         };
         match op.action {

@@ -1121,11 +1121,12 @@ class _Scheme(Controller):
     def __new__(cls, plant: PlantLike, ts: float, params: Optional[Mapping[str, float]] = None, *,
                 delay: Optional[float] = None, inner_plant: Optional[PlantLike] = None,
                 umin: float = float("-inf"), umax: float = float("inf"),
-                lambda_: Optional[float] = None, max_dead_time: float = 0.0) -> "_Scheme":
+                lambda_: Optional[float] = None, max_dead_time: float = 0.0,
+                adapt: Union[bool, Mapping[str, Any], None] = None) -> "_Scheme":
         ip = _plant(inner_plant) if inner_plant is not None else None
         obj = super().__new__(cls, cls.scheme, _plant(plant, delay), ts,  # type: ignore[arg-type]
                               dict(params) if params else None, inner_plant=ip, umin=umin, umax=umax,
-                              lambda_=lambda_, max_dead_time=max_dead_time)
+                              lambda_=lambda_, max_dead_time=max_dead_time, adapt=adapt)
         return obj  # type: ignore[return-value]
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
