@@ -29,10 +29,19 @@ fn main() {
             c.update(r, y)
         },
     );
+    let (mut c, mut p) = loops::smith_adaptive::<f64>();
+    let adaptive = loops::run(&mut c, &mut p, |_| {});
     let mut f = std::fs::File::create(out.join("reference.rs")).expect("reference.rs");
     writeln!(f, "pub const SMITH: [f64; {}] = {:?};", smith.len(), smith).expect("write");
     writeln!(f, "pub const KARAN_DEY: [f64; {}] = {:?};", kd.len(), kd).expect("write");
     writeln!(f, "pub const FSP: [f64; {}] = {:?};", fsp.len(), fsp).expect("write");
+    writeln!(
+        f,
+        "pub const ADAPTIVE: [f64; {}] = {:?};",
+        adaptive.len(),
+        adaptive
+    )
+    .expect("write");
     writeln!(
         f,
         "pub const OPERATED: [f64; {}] = {:?};",

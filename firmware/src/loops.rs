@@ -211,3 +211,24 @@ pub fn run_operated<T: Real>(
     }
     out
 }
+
+/// The Smith predictor kept right by on-line identification: a bank of 16
+/// candidate dead times (92 … 107 samples around the model's 100) in f32,
+/// no retuning; the loop's process does not drift, so the model it starts
+/// with stays (the estimator learns from the set-point steps and the load).
+pub type AdaptiveSmith<T> =
+    msp::adapt::Adaptive<T, SmithPredictor<T, 1, [T; CAP]>, (), 16, 112>;
+
+pub fn smith_adaptive<T: Real>() -> (AdaptiveSmith<T>, Plant<T>) {
+    let (c, p) = smith::<T>();
+    let ts = T::of(0.939);
+    let mut est = msp::adapt::EstimatorConfig::new(ts, 92);
+    est.forgetting = T::of(0.998);
+    // the prefilter's time constant 2.5 of the model's
+    est.prefilter = (-ts / T::of(2.5 * 40.2)).exp();
+    let cfg = msp::adapt::AdaptiveConfig::new(est);
+    match msp::adapt::Adaptive::new(c, (T::of(5.6), T::of(40.2), T::of(93.9)), cfg, ()) {
+        Ok(a) => (a, p),
+        Err(_) => panic_model(),
+    }
+}

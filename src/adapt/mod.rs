@@ -47,16 +47,22 @@ pub(crate) struct History<T, const H: usize> {
     /// The prefilter's pole `c` and its last output (`Δu` through `1/(1 − c·z⁻¹)`).
     pole: T,
     last_f: T,
+    /// The excitation gate's threshold, and how many entries ago one
+    /// reached it (0: the newest).
+    gate: T,
+    pub(crate) quiet: usize,
 }
 
 impl<T: Real, const H: usize> History<T, H> {
-    pub(crate) fn new(pole: T) -> Self {
+    pub(crate) fn new(pole: T, gate: T) -> Self {
         History {
             du: [T::zero(); H],
             at: 0,
             last_u: T::zero(),
             pole,
             last_f: T::zero(),
+            gate,
+            quiet: usize::MAX,
         }
     }
 
@@ -64,6 +70,11 @@ impl<T: Real, const H: usize> History<T, H> {
     pub(crate) fn push(&mut self, u: T) {
         let du = self.pole * self.last_f + (u - self.last_u);
         self.last_f = du;
+        self.quiet = if du.abs() >= self.gate {
+            0
+        } else {
+            self.quiet.saturating_add(1)
+        };
         self.at = if self.at + 1 >= H { 0 } else { self.at + 1 };
         if let Some(x) = self.du.get_mut(self.at) {
             *x = du;
@@ -180,6 +191,9 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     samples: u32,
     chosen: usize,
     challenger_for: u32,
+    /// `(K, τ, f)` of the chosen candidate, refreshed when its coefficients
+    /// or the choice change (the logarithms are most of an estimate's cost).
+    model: Option<(T, T, T)>,
 }
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
@@ -225,12 +239,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cost: T::zero(),
                 yhat: T::zero(),
             }; N],
-            hist: History::new(cfg.prefilter),
+            hist: History::new(cfg.prefilter, cfg.min_excitation),
             last_y: T::zero(),
             last_dy: T::zero(),
             samples: 0,
             chosen: 0,
             challenger_for: 0,
+            model: None,
         })
     }
 
@@ -258,76 +273,85 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// (`Δy[k+1]`, with the history holding `Δu[k] … `).
     fn learn(&mut self, dy: T) {
         let cfg = self.cfg;
-        let excitation = (0..cfg.d_min + N + 1)
-            .map(|j| self.hist.back(j).abs())
-            .fold(T::zero(), |m, v| if v > m { v } else { m });
+        // the input moved by the gate's amount within the history the
+        // candidates read (`Δu[k] … Δu[k−d_max−1]`)
+        let excited = self.hist.quiet <= cfg.d_min + N;
+        let inv_lam = T::one() / cfg.forgetting;
+        // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
+        // taken to the left: the regressors are inputs only)
+        let target = if cfg.integrating {
+            dy - self.last_dy
+        } else {
+            dy
+        };
+        let (lo, hi) = (T::of(1e-6), T::one() - T::of(1e-9));
+        // consecutive candidates share an input: candidate `d`'s
+        // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
+        let mut next = self.hist.back(cfg.d_min);
         for (i, c) in self.bank.iter_mut().enumerate() {
             let d = cfg.d_min + i;
-            // φ = (Δy[k], Δu[k−d], Δu[k−d−1]); the newest du is Δu[k]
-            // the model's own past output in the regressor, not the
-            // measurement's: the output-error form (Landau's pseudo-linear
-            // regression), which noise on y does not bias as it does the
-            // equation-error (ARX) form; an integrating model has no `a`
-            // (its regressor and covariance row stay zero)
-            let phi = [
-                if cfg.integrating { T::zero() } else { c.yhat },
-                self.hist.back(d),
-                self.hist.back(d + 1),
-            ];
-            let dot = |a: &[T; 3], b: &[T; 3]| {
-                a.iter()
-                    .zip(b.iter())
-                    .fold(T::zero(), |s, (x, y)| s + *x * *y)
-            };
-            let pred = dot(&c.theta, &phi);
-            // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
-            // taken to the left: the regressors are inputs only)
-            let target = if cfg.integrating {
-                dy - self.last_dy
-            } else {
-                dy
-            };
+            // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
+            // in the regressor, not the measurement's — the output-error
+            // form (Landau's pseudo-linear regression), which noise on y
+            // does not bias as it does the equation-error (ARX) form; an
+            // integrating model has no `a` (its regressor and covariance
+            // row stay zero)
+            let f0 = if cfg.integrating { T::zero() } else { c.yhat };
+            let (f1, f2) = (next, self.hist.back(d + 1));
+            next = f2;
+            let [t0, t1, t2] = c.theta;
+            let pred = t0 * f0 + t1 * f1 + t2 * f2;
             let e = target - pred;
             c.cost = cfg.cost_memory * c.cost + e * e;
             c.yhat = pred;
-            if excitation < cfg.min_excitation || e.abs() <= cfg.dead_zone {
+            if !excited || e.abs() <= cfg.dead_zone {
                 continue;
             }
-            // RLS with forgetting: K = Pφ/(λ + φᵀPφ), θ += K e, P = (P − KφᵀP)/λ
-            let mut pphi = [T::zero(); 3];
-            for (out, row) in pphi.iter_mut().zip(c.p.iter()) {
-                *out = dot(row, &phi);
-            }
-            let denom = cfg.forgetting + dot(&phi, &pphi);
+            // RLS with forgetting (P symmetric: six entries):
+            // g = Pφ/(λ + φᵀPφ), θ += g·e, P = (P − g·(Pφ)ᵀ)/λ
+            let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+            let q0 = p00 * f0 + p01 * f1 + p02 * f2;
+            let q1 = p01 * f0 + p11 * f1 + p12 * f2;
+            let q2 = p02 * f0 + p12 * f1 + p22 * f2;
+            let denom = cfg.forgetting + f0 * q0 + f1 * q1 + f2 * q2;
             if !(denom > T::zero()) {
                 continue;
             }
-            for (t, g) in c.theta.iter_mut().zip(pphi.iter()) {
-                *t = *t + *g / denom * e;
+            let inv = T::one() / denom;
+            let (g0, g1, g2) = (q0 * inv, q1 * inv, q2 * inv);
+            let mut a = t0 + g0 * e;
+            if !cfg.integrating {
+                // projection onto plausible models: 0 < a < 1
+                a = a.max(lo).min(hi);
             }
-            let mut trace = T::zero();
-            for (r, (row, gr)) in c.p.iter_mut().zip(pphi.iter()).enumerate() {
-                for (x, gj) in row.iter_mut().zip(pphi.iter()) {
-                    *x = (*x - *gr * *gj / denom) / cfg.forgetting;
-                }
-                trace = trace + row.get(r).copied().unwrap_or(T::zero());
-            }
-            if trace > cfg.max_trace {
-                let k = cfg.max_trace / trace;
-                for x in c.p.iter_mut().flat_map(|row| row.iter_mut()) {
-                    *x = *x * k;
-                }
-            }
-            // projection onto plausible models: 0 < a < 1
-            if let (false, Some(a)) = (cfg.integrating, c.theta.first_mut()) {
-                let lo = T::of(1e-6);
-                let hi = T::one() - T::of(1e-9);
-                *a = a.max(lo).min(hi);
-            }
+            let (b0, b1) = (t1 + g1 * e, t2 + g2 * e);
+            let n00 = (p00 - g0 * q0) * inv_lam;
+            let n01 = (p01 - g0 * q1) * inv_lam;
+            let n02 = (p02 - g0 * q2) * inv_lam;
+            let n11 = (p11 - g1 * q1) * inv_lam;
+            let n12 = (p12 - g1 * q2) * inv_lam;
+            let n22 = (p22 - g2 * q2) * inv_lam;
+            let trace = n00 + n11 + n22;
+            // the trace bounded: no "bursting" when nothing moves
+            let k = if trace > cfg.max_trace {
+                cfg.max_trace / trace
+            } else {
+                T::one()
+            };
+            c.p = [
+                [n00 * k, n01 * k, n02 * k],
+                [n01 * k, n11 * k, n12 * k],
+                [n02 * k, n12 * k, n22 * k],
+            ];
+            c.theta = [a, b0, b1];
             // the a-posteriori output
-            c.yhat = dot(&c.theta, &phi);
+            c.yhat = a * f0 + b0 * f1 + b1 * f2;
         }
+        let before = self.chosen;
         self.decide();
+        if excited || self.chosen != before {
+            self.model = self.model_of();
+        }
     }
 
     /// The chosen dead time moves to the best candidate only when it costs
@@ -360,27 +384,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// `b0 + b1` of the wrong sign or zero).
     pub fn estimate(&self) -> Option<Estimate<T>> {
         let c = self.bank.get(self.chosen)?;
-        let [a, b0, b1] = c.theta;
-        let b = b0 + b1;
-        if !(b.abs() > T::epsilon()) {
-            return None;
-        }
-        let ts = self.cfg.ts;
-        let d = self.cfg.d_min + self.chosen;
-        let (k, tau, frac) = if self.cfg.integrating {
-            (b / ts, T::infinity(), (b1 / b).max(T::zero()).min(T::one()))
-        } else {
-            let k = b / (T::one() - a);
-            // a^{1−f} = 1 − b0/K
-            let r = (T::one() - b0 / k).max(a).min(T::one());
-            // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
-            let f = if r > T::zero() {
-                T::one() - r.ln() / a.ln()
-            } else {
-                T::zero()
-            };
-            (k, -ts / a.ln(), f.max(T::zero()).min(T::one()))
-        };
+        let (k, tau, frac) = self.model?;
         let second = self
             .bank
             .iter()
@@ -388,16 +392,44 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             .filter(|(i, _)| *i != self.chosen)
             .map(|(_, c)| c.cost)
             .fold(T::infinity(), |m, v| if v < m { v } else { m });
+        let d = self.cfg.d_min + self.chosen;
         Some(Estimate {
             k,
             tau,
-            theta: (T::of(d as f64) + frac) * ts,
+            theta: (T::of(d as f64) + frac) * self.cfg.ts,
             d,
             ambiguity: if c.cost > T::zero() {
                 second / c.cost
             } else {
                 T::infinity()
             },
+        })
+    }
+
+    /// `(K, τ, f)` of the chosen candidate's coefficients (`None`: `b0 + b1`
+    /// zero), in closed form (see the module documentation).
+    fn model_of(&self) -> Option<(T, T, T)> {
+        let c = self.bank.get(self.chosen)?;
+        let [a, b0, b1] = c.theta;
+        let b = b0 + b1;
+        if !(b.abs() > T::epsilon()) {
+            return None;
+        }
+        let ts = self.cfg.ts;
+        Some(if self.cfg.integrating {
+            (b / ts, T::infinity(), (b1 / b).max(T::zero()).min(T::one()))
+        } else {
+            let k = b / (T::one() - a);
+            // a^{1−f} = 1 − b0/K
+            let r = (T::one() - b0 / k).max(a).min(T::one());
+            let ln_a = a.ln();
+            // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
+            let f = if r > T::zero() {
+                T::one() - r.ln() / ln_a
+            } else {
+                T::zero()
+            };
+            (k, -ts / ln_a, f.max(T::zero()).min(T::one()))
         })
     }
 
