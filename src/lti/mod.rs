@@ -473,6 +473,7 @@ impl<T: Real, const N: usize> Lti<T, N> {
 mod tests {
     use crate::complex::Complex;
     use crate::poly::TransferFunction;
+    use crate::test_util::ExpectOk;
     use core::ops::Sub;
 
     /// The closed forms of first and second order are the general
@@ -490,8 +491,8 @@ mod tests {
             ("(0.3s^2+s+2)/(s^2+0.02s+4)", 2),
             ("1/(s(4s+1))", 2),
         ] {
-            let tf: TransferFunction = plant.parse().unwrap();
-            let lti = tf.to_lti::<4>(0.7).unwrap();
+            let tf = plant.parse::<TransferFunction>().expect_ok();
+            let lti = tf.to_lti::<4>(0.7).expect_ok();
             assert_eq!(lti.order(), order, "{plant}");
             for k in 0..400 {
                 let theta = f64::from(k) * 0.00787 + 1e-9;

@@ -139,15 +139,14 @@ impl PlantSim {
     /// `(b1 s + b0)/(τs + 1)`), becomes `tau` at the same gain; its state is
     /// its output, which does not jump.
     pub(super) fn set_lag(&mut self, tau: f64) -> Result<(), Error> {
-        let (a1, a0) = match self.tf.den.as_slice() {
-            [a1, a0] if *a1 != 0.0 && *a0 != 0.0 && *a1 / *a0 > 0.0 => (*a1, *a0),
+        let a0 = match self.tf.den.as_slice() {
+            [a1, a0] if *a1 != 0.0 && *a0 != 0.0 && *a1 / *a0 > 0.0 => *a0,
             _ => {
                 return Err(Error::Unsupported(
                     "plant-lag changes the time constant of a stable plant with one lag, K/(τs+1): this plant has another denominator",
                 ))
             }
         };
-        let _ = a1;
         let mut tf = self.tf.clone();
         tf.den = std::vec![tau * a0, a0];
         let y = self.out.free_output();

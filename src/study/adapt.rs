@@ -101,11 +101,6 @@ impl Scenario {
         controller.set_model(k, tau)?;
         let d_model = (theta / ts).floor();
         let (d_min, d_max) = self.adapt_range(model, ts)?;
-        let _ = opts.delay;
-        let (d_min, d_max) = match Some((d_min, d_max)) {
-            Some(r) => r,
-            None => (d_model, d_model),
-        };
         if d_max - d_min >= CANDIDATES as f64 {
             return Err(RunError::Limit(std::format!(
                 "the adaptation's dead-time range spans {} samples at ts = {} s; the estimator compares at most {CANDIDATES}: narrow --adapt-delay or raise --ts",
