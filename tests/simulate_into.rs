@@ -227,3 +227,39 @@ fn the_plain_loop_is_the_general_loop() {
         }
     }
 }
+
+/// A quantized measurement: the controller sees the noisy output rounded to
+/// the resolution — a PI controller's proportional term `Kp·(r − y_meas)`,
+/// with `r` on the grid, is `Kp` times a multiple of the step at every
+/// sample; without quantization the noise puts it off the grid.
+#[test]
+fn the_controller_sees_the_quantized_measurement() {
+    let plant: TransferFunction = "1*e^-1s/(4s+1)".parse().unwrap();
+    let q = 1.0 / 64.0;
+    let mut cfg = SimConfig::new(0.1, 30.0);
+    cfg.setpoint = vec![SetpointStep {
+        value: 1.0,
+        at: 0.0,
+    }];
+    cfg.noise = 0.01;
+    cfg.seed = 3;
+    let kp = find("pi")
+        .unwrap()
+        .tune_with(&plant, None, &[])
+        .unwrap()
+        .get("kp")
+        .unwrap();
+    let off_grid = |cfg: &SimConfig| {
+        let r = run("pi", &plant, cfg, None);
+        let (_, p) = r.signals.iter().find(|(n, _)| n == "p_term").unwrap();
+        p.iter()
+            .filter(|p| {
+                let steps = *p / kp / q;
+                (steps - steps.round()).abs() > 1e-6
+            })
+            .count()
+    };
+    assert!(off_grid(&cfg) > 100);
+    cfg.quantization = q;
+    assert_eq!(off_grid(&cfg), 0);
+}

@@ -27,6 +27,9 @@ pub struct SimConfig {
     pub noise: f64,
     /// Seed of the noise generator.
     pub seed: u64,
+    /// The measurement's resolution (an ADC's least significant bit): the
+    /// controller sees the noisy output rounded to a multiple of it; 0: none.
+    pub quantization: f64,
     /// Actuator lower limit.
     pub u_min: f64,
     /// Actuator upper limit.
@@ -115,6 +118,7 @@ impl SimConfig {
             disturbances: Vec::new(),
             noise: 0.0,
             seed: 0,
+            quantization: 0.0,
             u_min: f64::NEG_INFINITY,
             u_max: f64::INFINITY,
             substeps: 1,
@@ -295,6 +299,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
     let ts = crate::real::positive(cfg.ts, "ts")?;
     let duration = crate::real::non_negative(cfg.duration, "duration")?;
     crate::real::non_negative(cfg.noise, "noise")?;
+    crate::real::non_negative(cfg.quantization, "quantization")?;
     if cfg.u_min > cfg.u_max {
         return Err(Error::InvalidLimits("u_min"));
     }

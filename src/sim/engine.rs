@@ -80,6 +80,7 @@ impl Run<'_> {
         };
         one_piece
             && cfg.noise == 0.0
+            && cfg.quantization == 0.0
             && self.inputs.steps_only()
             && self.outputs.steps_only()
             && self.middles.is_empty()
@@ -460,11 +461,14 @@ where
         if !(y.abs() <= f.bound && y2.abs() <= f.bound) {
             return Err(i);
         }
-        let y_meas = if cfg.noise > 0.0 {
+        let mut y_meas = if cfg.noise > 0.0 {
             y + cfg.noise * run.noise.gaussian()
         } else {
             y
         };
+        if cfg.quantization > 0.0 {
+            y_meas = (y_meas / cfg.quantization).round() * cfg.quantization;
+        }
         let y2 = f.columns.cascade.then_some(y2);
         let (u, u_plant) = control::<C, OPERATED>(controller, cfg, f, op, y_meas, y2);
         run.sub.clear();

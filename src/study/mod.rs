@@ -89,6 +89,9 @@ pub struct Scenario {
     pub noise: Option<f64>,
     /// Noise seed.
     pub seed: Option<u64>,
+    /// The measurement's resolution (an ADC's step, e.g. the span over
+    /// 4096 for 12 bits): the controller sees the output rounded to it.
+    pub quantization: Option<f64>,
     /// Actuator lower limit.
     pub umin: Option<f64>,
     /// Actuator upper limit.
@@ -543,6 +546,7 @@ impl Scenario {
         "disturbance",
         "noise",
         "seed",
+        "quantization",
         "umin",
         "umax",
         "substeps",
@@ -939,6 +943,10 @@ impl Scenario {
             disturbances: self.disturbance.clone(),
             noise: crate::real::non_negative(self.noise.unwrap_or(0.0), "noise")?,
             seed: self.seed.unwrap_or(0),
+            quantization: crate::real::non_negative(
+                self.quantization.unwrap_or(0.0),
+                "quantization",
+            )?,
             u_min,
             u_max,
             substeps,

@@ -100,6 +100,9 @@ pub(crate) struct ScenarioArgs {
     /// Noise seed.
     #[arg(long)]
     pub(crate) seed: Option<u64>,
+    /// The measurement's resolution (an ADC's step, e.g. span/4096 for 12 bits).
+    #[arg(long, value_name = "STEP")]
+    pub(crate) quantization: Option<f64>,
     /// Actuator lower limit.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) umin: Option<f64>,

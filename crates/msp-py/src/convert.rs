@@ -362,6 +362,7 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
         "disturbance" => sc.disturbance = disturbances(v)?,
         "noise" => sc.noise = Some(v.extract()?),
         "seed" => sc.seed = Some(v.extract()?),
+        "quantization" => sc.quantization = Some(v.extract()?),
         "umin" => sc.umin = Some(v.extract()?),
         "umax" => sc.umax = Some(v.extract()?),
         "substeps" => sc.substeps = Some(v.extract()?),

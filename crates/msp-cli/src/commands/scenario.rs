@@ -68,6 +68,7 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         duration,
         noise,
         seed,
+        quantization,
         umin,
         umax,
         substeps,

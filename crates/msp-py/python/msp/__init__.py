@@ -60,6 +60,7 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
     disturbance: Union[str, Mapping[str, Any], Sequence[Union[str, Mapping[str, Any]]]]
     noise: float
     seed: int
+    quantization: float
     umin: float
     umax: float
     substeps: int
@@ -375,6 +376,9 @@ def run(
         The standard deviation of white measurement noise.
     seed : int, optional
         The noise generator's seed.
+    quantization : float, optional
+        The measurement's resolution (an ADC's step: ``span / 4096`` for 12 bits); the
+        controller sees the noisy output rounded to it.
     umin, umax : float, optional
         The actuator's limits.
     lambda_ : float, optional
