@@ -223,7 +223,6 @@ pub fn smith_adaptive<T: Real>() -> (AdaptiveSmith<T>, Plant<T>) {
     let (c, p) = smith::<T>();
     let ts = T::of(0.939);
     let mut est = msp::adapt::EstimatorConfig::new(ts, 92);
-    est.forgetting = T::of(0.998);
     // the prefilter's time constant 2.5 of the model's
     est.prefilter = (-ts / T::of(2.5 * 40.2)).exp();
     let cfg = msp::adapt::AdaptiveConfig::new(est);

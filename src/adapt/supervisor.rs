@@ -10,10 +10,12 @@
 //!   and the time constant within `min_change` of their mean from lowest
 //!   to highest) whose means agree within half of `min_change` (half a
 //!   sample for the dead time) — the later block's mean is applied; every
-//!   sample's estimate counts only with its dead time chosen
-//!   without ambiguity (the next candidate's cost at least `min_ambiguity`
-//!   times the chosen one's) where it differs from the model's, its gain of
-//!   the known sign;
+//!   sample's estimate counts only with its gain of the known sign, and
+//!   its dead time only where chosen without ambiguity (its evidence over
+//!   the candidates that are not its neighbours at least `min_evidence`,
+//!   [`Estimate::evidence`]): otherwise the model's dead time stands in
+//!   (a switch of dead time waits for evidence; the gain and the lag do
+//!   not);
 //! - it differs enough from the model in use: the gain or the time constant
 //!   by `min_change` (relative), or the dead time by half a sample;
 //! - `min_interval` samples have passed since the last change.
@@ -71,9 +73,9 @@ pub struct AdaptiveConfig<T> {
     pub settle: u32,
     /// Samples between two changes at least (default 1000).
     pub min_interval: u32,
-    /// The next candidate dead time's cost over the chosen one's, at least
-    /// (default 1.1).
-    pub min_ambiguity: T,
+    /// The evidence for the chosen dead time over the next candidate, at
+    /// least ([`Estimate::evidence`]; default 20).
+    pub min_evidence: T,
     /// A change moves the gain and the time constant by at most this factor
     /// (default 2).
     pub max_step: T,
@@ -97,7 +99,7 @@ impl<T: Real> AdaptiveConfig<T> {
             min_change: T::of(0.05),
             settle: 300,
             min_interval: 1000,
-            min_ambiguity: T::of(1.1),
+            min_evidence: T::of(20.0),
             max_step: T::of(2.0),
             band: T::zero(),
             crossings: 6,
@@ -180,7 +182,6 @@ struct Model<T> {
 /// let sp: SmithPredictor<f32, 1, [f32; 64]> =
 ///     SmithPredictor::from_model(tuning::kaya(&model, 2.0)?.config(ts), &model, ts)?;
 /// let mut est = EstimatorConfig::new(ts, 0); // candidates 0 … 15 samples
-/// est.forgetting = 0.998;
 /// est.prefilter = (-0.1f32 / 10.0).exp();
 /// let mut c: Adaptive<f32, _, _, 16, 32> =
 ///     Adaptive::new(sp, (1.0, 4.0, 1.0), AdaptiveConfig::new(est), ())?;
@@ -254,9 +255,13 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             return Err(Error::OutOfRange("max_step: above 1"));
         }
         let model = Model { k, tau, theta };
+        let mut est = Estimator::new(cfg.estimator)?;
+        // the estimator starts from the model (its dead time the choice
+        // until evidence says otherwise)
+        est.start_from(k, tau, theta)?;
         Ok(Adaptive {
             inner,
-            est: Estimator::new(cfg.estimator)?,
+            est,
             cfg,
             retune,
             model,
@@ -443,7 +448,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
         // constant within `min_change` from lowest to highest, every sample
         // plausible) gives its mean; two such blocks in a row whose means
         // agree within half of `min_change` settle the estimate
-        let e = self.est.estimate().filter(|m| self.plausible(m));
+        let e = self.est.estimate().and_then(|m| self.plausible(m));
         self.block.add(e);
         if self.block.count < self.cfg.settle {
             return;
@@ -521,21 +526,27 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
 
     /// An estimate worth applying: the gain of the model's sign, a finite
     /// positive time constant (or an integrating model for an integrating
-    /// one), a dead time chosen without ambiguity.
-    fn plausible(&self, m: &Estimate<T>) -> bool {
+    /// one); its dead time where it was chosen without ambiguity, the
+    /// model's where not (a switch of dead time waits for evidence; the
+    /// gain and the lag do not).
+    fn plausible(&self, m: Estimate<T>) -> Option<Estimate<T>> {
         let integrating = self.cfg.estimator.integrating;
-        (m.k > T::zero()) == (self.model.k > T::zero())
+        let ok = (m.k > T::zero()) == (self.model.k > T::zero())
             && m.k.is_finite()
-            && (integrating || (m.tau.is_finite() && m.tau > T::zero()))
-            && (m.ambiguity >= self.cfg.min_ambiguity || self.same_dead_time(m))
-    }
-
-    /// The estimate's whole dead time is the model's: no switch of dead
-    /// time is asked for, so an ambiguous choice between it and a
-    /// neighbour does not hold the gain and the lag back.
-    fn same_dead_time(&self, m: &Estimate<T>) -> bool {
-        let d = (self.model.theta / self.cfg.estimator.ts + T::of(1e-9)).floor();
-        T::of(m.d as f64) == d
+            && (integrating || (m.tau.is_finite() && m.tau > T::zero()));
+        if !ok {
+            return None;
+        }
+        let ts = self.cfg.estimator.ts;
+        let d = (self.model.theta / ts + T::of(1e-9)).floor();
+        if m.evidence >= self.cfg.min_evidence || T::of(m.d as f64) == d {
+            return Some(m);
+        }
+        Some(Estimate {
+            theta: self.model.theta,
+            d: num_traits::ToPrimitive::to_usize(&d).unwrap_or(m.d),
+            ..m
+        })
     }
 }
 

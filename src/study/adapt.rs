@@ -24,7 +24,7 @@ pub struct AdaptOptions {
     /// most [`CANDIDATES`] samples apart); by default 12 samples below the
     /// model's to 19 above.
     pub delay: Option<(f64, f64)>,
-    /// The forgetting factor (default 0.998).
+    /// The forgetting factor (default 0.999).
     pub forgetting: Option<f64>,
     /// The excitation gate: no learning unless the input moved this much
     /// within the history (default 1e-6).
@@ -117,7 +117,6 @@ impl Scenario {
             .ok_or(RunError::Invalid(Error::DelayTooLong("adapt delay")))?;
         let mut est = EstimatorConfig::new(ts, d_min);
         est.integrating = integrating;
-        est.forgetting = 0.998;
         if let Some(f) = opts.forgetting {
             est.forgetting = f;
         }

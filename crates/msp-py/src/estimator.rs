@@ -26,7 +26,7 @@ const H: usize = 4096;
 /// integrating : bool, optional
 ///     The process integrates (``a = 1``).
 /// forgetting : float, optional
-///     The forgetting factor (default 0.998).
+///     The forgetting factor (default 0.999).
 /// prefilter : float, optional
 ///     The prefilter's time constant (s; default 0: plain differences).
 /// excitation : float, optional
@@ -54,7 +54,7 @@ pub struct Estimator {
 #[pymethods]
 impl Estimator {
     #[new]
-    #[pyo3(signature = (ts, d_min, *, integrating = false, forgetting = 0.998, prefilter = 0.0, excitation = 1e-6))]
+    #[pyo3(signature = (ts, d_min, *, integrating = false, forgetting = 0.999, prefilter = 0.0, excitation = 1e-6))]
     fn new(
         ts: f64,
         d_min: usize,
@@ -91,8 +91,9 @@ impl Estimator {
     }
 
     /// The model now, a dict with ``k``, ``tau`` (``inf``: integrating),
-    /// ``theta`` (s), ``d`` (whole samples) and ``ambiguity`` (the next
-    /// candidate's cost over the chosen one's: near 1 is ambiguous), or
+    /// ``theta`` (s), ``d`` (whole samples) and ``evidence`` (the next
+    /// candidate's cost less the chosen one's in units of the chosen one's
+    /// error per sample: small is ambiguous), or
     /// ``None`` before it means anything.
     #[getter]
     fn estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
@@ -104,8 +105,23 @@ impl Estimator {
         d.set_item("tau", e.tau)?;
         d.set_item("theta", e.theta)?;
         d.set_item("d", e.d)?;
-        d.set_item("ambiguity", e.ambiguity)?;
+        d.set_item("evidence", e.evidence)?;
         Ok(Some(d))
+    }
+
+    /// Starts from the model ``k e^(−theta s)/(tau s + 1)`` (``tau=inf``:
+    /// integrating), e.g. the one the controller was designed for: its dead
+    /// time is the choice until the data say otherwise, and every
+    /// candidate's coefficients start at the model's.
+    fn start_from(&mut self, k: f64, tau: f64, theta: f64) -> PyResult<()> {
+        self.inner.start_from(k, tau, theta).map_err(value_err)
+    }
+
+    /// Each candidate's discounted squared prediction error, from ``d_min``
+    /// on (the curve the choice of dead time minimises).
+    #[getter]
+    fn costs(&self) -> Vec<f64> {
+        self.inner.costs().collect()
     }
 
     /// The chosen candidate's covariance trace (bounded: no bursting).
