@@ -1,7 +1,8 @@
 """Adaptive dead-time compensation on a drifting process: e^(-s)/(4s + 1) whose lag doubles at
 150 s and whose gain rises by half at 600 s, under a Smith predictor with the model it was
 built with (fixed) and with its model kept right by on-line identification (``adapt=True``,
-the CLI's ``--adapt``). Set-point changes every 30 s; measurement noise 0.2 %.
+the CLI's ``--adapt``). Set-point changes every 30 s; measurement noise 2 % of the step. Prints
+the set-point IAE from 900 s on of both and of the loop built with the drifted process's model.
 
     python examples/adaptive.py [OUT]   (a file, e.g. docs/msp-adapt.svg as scripts/figures
                                          writes it, or a directory: OUT/adaptive.png)
@@ -21,13 +22,21 @@ import msp  # noqa: E402
 
 PLANT = "e^-1s/(4s+1)"
 DRIFT = ["150:plant-lag=8", "600:plant-gain=1.5"]
-COMMON = dict(controller="smith", lambda_=2.0, ts=0.1, duration=1200.0, noise=0.002, seed=3,
+COMMON = dict(controller="smith", lambda_=2.0, ts=0.1, duration=1200.0, noise=0.02, seed=3,
               setpoint=[(float(i % 2 == 0), 30.0 * i) for i in range(40)], events=DRIFT)
 
 
 def main(out: pathlib.Path) -> None:
     fixed = msp.run(PLANT, **COMMON)
     adaptive = msp.run(PLANT, adapt=True, **COMMON)
+    truth = msp.run("1.5*e^-1s/(8s+1)", **{**COMMON, "events": []})
+
+    def iae(run):
+        t, e = np.asarray(run.t), np.abs(np.asarray(run.r) - np.asarray(run.y))
+        return float(np.sum(e[t >= 900.0]) * COMMON["ts"])
+
+    print(f"set-point IAE from 900 s: adaptive {iae(adaptive):.1f}, fixed {iae(fixed):.1f}, "
+          f"the drifted process's model {iae(truth):.1f}")
     fig, (ax, ax_m) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True, height_ratios=(2, 1))
     ax.plot(fixed.t, fixed.r, "k--", lw=1, label="r (set point)")
     ax.plot(fixed.t, fixed.y, color="tab:red", lw=1, label="y, the model fixed")
@@ -48,7 +57,7 @@ def main(out: pathlib.Path) -> None:
     ax.text(155, 1.3, "plant τ 4 s -> 8 s", color="gray")
     ax.text(605, 1.3, "plant K 1 -> 1.5", color="gray")
     ax.set_ylim(-0.45, 1.45)
-    ax.set_ylabel("output y")
+    ax.set_ylabel("output y (measured: 2 % noise)")
     ax_m.set_ylabel("model (—), estimate (- -)\nover the first model")
     ax_m.set_xlabel("time t (s)  (dotted: the model changed)")
     ax.set_title("Smith predictor on " + PLANT + " drifting: fixed and adaptive model")

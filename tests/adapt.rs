@@ -345,3 +345,72 @@ fn freeze_and_resume() {
     };
     assert!(msg.contains("does not adapt"), "{msg}");
 }
+
+/// The model-error monitor (`msp run --monitor`): the process's gain rises
+/// 30 % and the alarm is raised, the model's error against the process
+/// tending to the closed form (the model predicts `y/1.3`: an error of
+/// `0.3` of its prediction), nothing applied; a load step on the right
+/// model (the same error in every model's prediction, which the comparison
+/// cancels) raises nothing, under noise.
+#[test]
+fn the_monitor_raises_an_alarm_on_a_model_error_not_on_a_load() {
+    let plant = "1*e^-1s/(4s+1)";
+    let mut drift = scenario(plant, &["150:plant-gain=1.3"], 0.0, 5, false);
+    drift.monitor = true;
+    let out = drift.run().unwrap();
+    let log = out.report().adaptation;
+    assert!(
+        log.iter().all(|c| c.kind == msp::adapt::ChangeKind::Alarm),
+        "{log:?}"
+    );
+    let alarm = log.first().expect("an alarm");
+    assert!(alarm.at > 150.0 && alarm.at < 450.0, "{alarm:?}");
+    assert!(alarm.mismatch.is_some_and(|e| e >= 0.1), "{alarm:?}");
+    assert!((last(&out, "mismatch") - 0.3).abs() < 0.02);
+    assert_eq!(last(&out, "model_alarm"), 1.0);
+    assert_eq!(last(&out, "k_model"), 1.0);
+    for seed in [1u64, 2, 3] {
+        let mut load = scenario(plant, &[], 0.02, seed, false);
+        load.monitor = true;
+        load.disturbance = vec![
+            "input:0.3@150".parse().unwrap(),
+            "input:-0.2@450".parse().unwrap(),
+        ];
+        let out = load.run().unwrap();
+        assert!(
+            out.report().adaptation.is_empty(),
+            "seed {seed}: {:?}",
+            out.report().adaptation
+        );
+        let (_, e) = out
+            .result
+            .signals
+            .iter()
+            .find(|(n, _)| n == "mismatch")
+            .unwrap();
+        let worst = e
+            .iter()
+            .filter(|e| e.is_finite())
+            .fold(0.0f64, |m, e| m.max(*e));
+        assert!(worst < 0.05, "seed {seed}: mismatch {worst}");
+    }
+}
+
+/// The monitor beside the adaptation: the alarm raised when the gain
+/// drifts, the model changed, the alarm cleared once the model matches.
+#[test]
+fn the_alarm_clears_when_the_adaptation_has_caught_up() {
+    let mut sc = scenario("1*e^-1s/(4s+1)", &["150:plant-gain=1.3"], 0.0, 5, true);
+    sc.monitor = true;
+    sc.duration = Some(1800.0);
+    sc.setpoint = square(1800.0);
+    let out = sc.run().unwrap();
+    let kinds: Vec<_> = out.report().adaptation.iter().map(|c| c.kind).collect();
+    use msp::adapt::ChangeKind::{Alarm, Applied, Cleared};
+    let alarm = kinds.iter().position(|k| *k == Alarm).expect("an alarm");
+    let applied = kinds.iter().position(|k| *k == Applied).expect("a change");
+    let cleared = kinds.iter().position(|k| *k == Cleared).expect("cleared");
+    assert!(alarm < cleared && applied < cleared, "{kinds:?}");
+    assert_eq!(last(&out, "model_alarm"), 0.0);
+    assert!((last(&out, "k_model") - 1.3).abs() < 0.05 * 1.3);
+}

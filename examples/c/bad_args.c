@@ -26,6 +26,8 @@ static int failures = 0;
     } while (0)
 
 static unsigned char memory[1 << 16];
+static unsigned char adapt_memory[1 << 15];
+static unsigned char estimator_memory[1 << 14];
 
 int main(void) {
     msp_status s;
@@ -318,6 +320,81 @@ int main(void) {
         EXPECT(msp_pid_init(odd, room, &pc, &c) == MSP_OK);
         EXPECT(isfinite(msp_update(c, 0.0f, FLT_MAX)));
         EXPECT(isfinite(msp_update(c, 1.0f, 0.5f)) && !msp_fault(c));
+    }
+
+
+    /* adaptive dead-time compensation: bad arguments, then an adaptive Smith
+       predictor on e^-1s/(4s+1) at 0.1 s whose process lag doubles at sample
+       1500 (the model in use becomes the process's), and the identifier alone
+       on the exact sampled data of 2 e^-1.25s/(4s+1) */
+    {
+        msp_smith_config sc;
+        msp_adaptive_config ac;
+        msp_adaptive_state st_;
+        msp_adaptive *ad = NULL;
+        msp_estimator_config ec;
+        msp_estimate e;
+        msp_estimator *est = NULL;
+        EXPECT(msp_tune_smith_fopdt(1.0f, 4.0f, 1.0f, 0.1f, 2.0f, &sc) == MSP_OK);
+        EXPECT(msp_adaptive_default_config(NULL, &ac) == MSP_NULL_POINTER);
+        EXPECT(msp_adaptive_default_config(&sc, NULL) == MSP_NULL_POINTER);
+        EXPECT(msp_adaptive_default_config(&sc, &ac) == MSP_OK);
+        EXPECT(ac.d_min == 4 && ac.apply == 1);
+        msp_adaptive_config bad = ac;
+        bad.forgetting = 1.5f;
+        EXPECT(msp_adaptive_size(&bad, &s) == 0 && s == MSP_OUT_OF_RANGE);
+        bad = ac;
+        bad.d_min = 600; /* beyond the history */
+        unsigned char *abuf = adapt_memory + 3;
+        EXPECT(msp_adaptive_init(abuf, sizeof adapt_memory - 3, &bad, &ad) != MSP_OK);
+        size_t need = msp_adaptive_size(&ac, &s);
+        EXPECT(s == MSP_OK && need > 0 && need <= sizeof adapt_memory - 3);
+        EXPECT(msp_adaptive_init(abuf, need / 2, &ac, &ad) == MSP_BUFFER_TOO_SMALL);
+        EXPECT(isnan(msp_adaptive_update(NULL, 1.0f, 0.0f)));
+        EXPECT(isnan(msp_adaptive_update((msp_adaptive *)(void *)memory, 1.0f, 0.0f)));
+        EXPECT(msp_adaptive_read(NULL, &st_) == MSP_NULL_POINTER);
+        EXPECT(msp_adaptive_init(abuf, need, &ac, &ad) == MSP_OK);
+        EXPECT(msp_adaptive_read(ad, NULL) == MSP_NULL_POINTER);
+        /* a controller handle is not an adaptive one */
+        EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
+        const float a = expf(-0.1f / 4.0f), a2 = expf(-0.1f / 8.0f);
+        float y = 0.0f, line[10] = {0};
+        for (int k = 0; k < 9000; k++) {
+            float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
+            float u = msp_adaptive_update(ad, r, y);
+            float late = line[k % 10];
+            line[k % 10] = u;
+            float p = k < 1500 ? a : a2;
+            y = p * y + (1.0f - p) * late;
+        }
+        EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
+        EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
+               && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);
+        printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes\n",
+               (double)st_.k, (double)st_.tau, (double)st_.theta, (unsigned)st_.changes);
+
+        EXPECT(msp_estimator_default_config(0.0f, 4, &ec) == MSP_NOT_POSITIVE);
+        EXPECT(msp_estimator_default_config(0.1f, 4, &ec) == MSP_OK);
+        unsigned char *ebuf = estimator_memory + 1;
+        EXPECT(msp_estimator_size() <= sizeof estimator_memory - 1);
+        EXPECT(msp_estimator_init(ebuf, msp_estimator_size() / 2, &ec, &est) == MSP_BUFFER_TOO_SMALL);
+        EXPECT(msp_estimator_init(ebuf, msp_estimator_size(), &ec, &est) == MSP_OK);
+        EXPECT(msp_estimator_estimate(est, &e) == MSP_OK && isnan(e.k));
+        const float b0 = 2.0f * (1.0f - sqrtf(a)), b1 = 2.0f * (sqrtf(a) - a);
+        float us[6000];
+        y = 0.0f;
+        for (int k = 0; k < 6000; k++) {
+            float u = (k / 150) % 2 ? 1.0f : -1.0f;
+            EXPECT(msp_estimator_update(est, y, u, 1) == MSP_OK);
+            us[k] = u;
+            y = a * y + b0 * (k >= 12 ? us[k - 12] : 0.0f) + b1 * (k >= 13 ? us[k - 13] : 0.0f);
+        }
+        EXPECT(msp_estimator_estimate(est, &e) == MSP_OK);
+        EXPECT(fabsf(e.k - 2.0f) < 0.01f && fabsf(e.tau - 4.0f) < 0.04f
+               && fabsf(e.theta - 1.25f) < 0.02f);
+        printf("estimator: k %.4g, tau %.4g s, theta %.4g s\n", (double)e.k, (double)e.tau,
+               (double)e.theta);
+        EXPECT(msp_estimator_update((msp_estimator *)(void *)ad, 0.0f, 0.0f, 1) == MSP_BAD_HANDLE);
     }
 
     printf("%s: %d failures\n", failures ? "FAIL" : "ok", failures);

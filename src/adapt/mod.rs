@@ -191,6 +191,33 @@ pub struct EstimatorConfig<T> {
 }
 
 impl<T: Real> EstimatorConfig<T> {
+    /// Checks every setting (the history's room is the estimator's).
+    pub fn validate(&self) -> Result<(), Error> {
+        positive(self.ts, "ts")?;
+        let unit = |v: T, name| {
+            if v > T::zero() && v <= T::one() {
+                Ok(())
+            } else {
+                Err(Error::OutOfRange(name))
+            }
+        };
+        unit(self.forgetting, "forgetting in (0, 1]")?;
+        unit(self.cost_memory, "cost_memory in (0, 1]")?;
+        if !(self.prefilter >= T::zero() && self.prefilter < T::one()) {
+            return Err(Error::OutOfRange("prefilter pole in [0, 1)"));
+        }
+        positive(self.max_trace, "max_trace")?;
+        for (v, name) in [
+            (self.dead_zone, "dead_zone"),
+            (self.min_excitation, "min_excitation"),
+            (self.excitation_ratio, "excitation_ratio"),
+            (self.switch_evidence, "switch_evidence"),
+        ] {
+            crate::real::non_negative(v, name)?;
+        }
+        Ok(())
+    }
+
     /// Defaults for period `ts` and candidates from `d_min` samples:
     /// forgetting 0.999, trace ≤ 1e4, no dead zone, excitation 1e-6, cost
     /// memory 0.9995 (2000 samples), a switch of dead time at an evidence
@@ -211,6 +238,58 @@ impl<T: Real> EstimatorConfig<T> {
             prefilter: T::zero(),
         }
     }
+}
+
+/// [`Estimator::evidence`] over costs of weight `weight`.
+fn evidence<T: Real>(chosen: T, other: T, weight: T) -> T {
+    let scale = if weight > T::zero() {
+        chosen / weight
+    } else {
+        T::zero()
+    };
+    if scale > T::zero() {
+        (other - chosen) / scale
+    } else if other > chosen {
+        T::infinity()
+    } else {
+        T::zero()
+    }
+}
+
+/// The model in use against the process ([`Estimator::mismatch`]).
+///
+/// Both the model in use (the reference) and the estimator's chosen
+/// candidate predict the same prefiltered output; a load or an offset adds
+/// the same error to both (the model of neither holds it), so the
+/// difference of their costs is the model's error alone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mismatch<T> {
+    /// The model's error relative to the movement it predicts:
+    /// `√((V_reference − V_chosen)/E_reference)`, `E` the discounted energy
+    /// of the reference's prediction — about the relative error of its gain
+    /// for a gain error (0.3: the process's gain is 30 % off the model's).
+    pub error: T,
+    /// The evidence for the chosen candidate over the reference (as
+    /// [`Estimate::evidence`]): large, the error is not the noise's.
+    pub evidence: T,
+}
+
+/// The model in use, predicting without learning.
+#[derive(Debug, Clone, Copy)]
+struct Reference<T> {
+    theta: [T; 3],
+    d: usize,
+    cost: T,
+    energy: T,
+    yhat: T,
+    /// Samples learnt from (excited) since the reference was set: its
+    /// comparison means something after a whole response.
+    seen: usize,
+    /// The chosen candidate's cost over the same samples (since the
+    /// reference was set: the two compared on the same data), and the
+    /// costs' weight since.
+    rival: T,
+    weight: T,
 }
 
 /// The process model an [`Estimator`] holds now.
@@ -261,6 +340,8 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     a_range: (T, T),
     /// The gain's sign when known (a prior model's), else 0.
     sign: T,
+    /// The model in use ([`Estimator::set_reference`]).
+    reference: Option<Reference<T>>,
     /// Samples after an excitation during which the estimator learns: the
     /// longest candidate dead time, and with a prior model four of its
     /// time constants more (the response to a move lasts that long).
@@ -276,20 +357,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// A bank with every candidate at `a = e^{−Ts/τ0}`, `b0 = b1 = 0` and a
     /// large covariance (little is known yet).
     pub fn new(cfg: EstimatorConfig<T>) -> Result<Self, Error> {
-        let ts = positive(cfg.ts, "ts")?;
+        cfg.validate()?;
         if N == 0 || H < cfg.d_min.saturating_add(N).saturating_add(1) {
             return Err(Error::OutOfRange(
                 "estimator: the history must hold d_min + N + 1 inputs",
             ));
         }
-        if !(cfg.prefilter >= T::zero() && cfg.prefilter < T::one()) {
-            return Err(Error::OutOfRange("prefilter pole in [0, 1)"));
-        }
-        let lam = cfg.forgetting;
-        if !(lam > T::zero() && lam <= T::one()) {
-            return Err(Error::OutOfRange("forgetting in (0, 1]"));
-        }
-        let _ = ts;
         let p0 = cfg.max_trace / T::of(3.0);
         let mut p = [[T::zero(); 3]; 3];
         for (i, row) in p.iter_mut().enumerate() {
@@ -327,6 +400,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             a_range: (T::of(1e-6), T::one() - T::of(1e-9)),
             sign: T::zero(),
             window: cfg.d_min.saturating_add(N),
+            reference: None,
         })
     }
 
@@ -340,31 +414,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// predicts from the first sample, and the others pay for being wrong
     /// rather than for having started from nothing).
     pub fn start_from(&mut self, k: T, tau: T, theta: T) -> Result<(), Error> {
-        crate::real::finite(k, "k")?;
-        if k == T::zero() {
-            return Err(Error::OutOfRange("k: not zero"));
-        }
-        crate::real::non_negative(theta, "theta")?;
-        if !(tau > T::zero()) {
-            return Err(Error::OutOfRange("tau: positive (infinite: integrating)"));
-        }
-        let ts = self.cfg.ts;
-        let samples = theta / ts + T::of(1e-9);
-        let whole = samples.floor();
-        let f = (samples - whole - T::of(1e-9)).max(T::zero()).min(T::one());
-        let i = num_traits::ToPrimitive::to_usize(&whole)
-            .and_then(|d| d.checked_sub(self.cfg.d_min))
+        let (d, coef) = self.coefficients(k, tau, theta)?;
+        let i = d
+            .checked_sub(self.cfg.d_min)
             .filter(|i| *i < N)
             .ok_or(Error::OutOfRange(
                 "estimator: a dead time among the candidates",
             ))?;
-        let coef = if self.cfg.integrating {
-            [T::one(), k * ts * (T::one() - f), k * ts * f]
-        } else {
-            let a = (-ts / tau).exp();
-            let af = a.powf(T::one() - f);
-            [a, k * (T::one() - af), k * (af - a)]
-        };
+        let ts = self.cfg.ts;
         // the prior's weight: a covariance of one per coefficient (the
         // equivalent of a sample of unit regressors), not the cold start's
         // large one, whose first noisy updates could throw `a` to the edge
@@ -390,7 +447,80 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.chosen = i;
         self.challenger_for = 0;
         self.model = self.model_of();
+        self.set_reference(k, tau, theta)
+    }
+
+    /// The whole dead time `d` and the ZOH coefficients `(a, b0, b1)` of
+    /// `K e^{−θs}/(τs + 1)` (`tau` infinite: `K e^{−θs}/s`; see the module
+    /// documentation).
+    fn coefficients(&self, k: T, tau: T, theta: T) -> Result<(usize, [T; 3]), Error> {
+        crate::real::finite(k, "k")?;
+        if k == T::zero() {
+            return Err(Error::OutOfRange("k: not zero"));
+        }
+        crate::real::non_negative(theta, "theta")?;
+        if !(tau > T::zero()) {
+            return Err(Error::OutOfRange("tau: positive (infinite: integrating)"));
+        }
+        if self.cfg.integrating != tau.is_infinite() {
+            return Err(Error::OutOfRange(
+                "tau: infinite exactly for an integrating estimator",
+            ));
+        }
+        let ts = self.cfg.ts;
+        let samples = theta / ts + T::of(1e-9);
+        let whole = samples.floor();
+        let f = (samples - whole - T::of(1e-9)).max(T::zero()).min(T::one());
+        let d = num_traits::ToPrimitive::to_usize(&whole)
+            .filter(|d| d.saturating_add(2) < H)
+            .ok_or(Error::DelayTooLong(
+                "estimator: the history holds the dead time",
+            ))?;
+        let coef = if self.cfg.integrating {
+            [T::one(), k * ts * (T::one() - f), k * ts * f]
+        } else {
+            let a = (-ts / tau).exp();
+            let af = a.powf(T::one() - f);
+            [a, k * (T::one() - af), k * (af - a)]
+        };
+        Ok((d, coef))
+    }
+
+    /// The model in use, whose error [`Estimator::mismatch`] weighs: it
+    /// predicts the same prefiltered data as the candidates, without
+    /// learning ([`Estimator::start_from`] sets it too).
+    pub fn set_reference(&mut self, k: T, tau: T, theta: T) -> Result<(), Error> {
+        let (d, theta) = self.coefficients(k, tau, theta)?;
+        self.reference = Some(Reference {
+            theta,
+            d,
+            cost: T::zero(),
+            energy: T::zero(),
+            yhat: T::zero(),
+            seen: 0,
+            rival: T::zero(),
+            weight: T::zero(),
+        });
         Ok(())
+    }
+
+    /// How far the model in use ([`Estimator::set_reference`]) is from the
+    /// process, from the costs of the two on the same data (`None` without
+    /// a reference, or before it was compared over a whole response's
+    /// excited samples): see [`Mismatch`].
+    pub fn mismatch(&self) -> Option<Mismatch<T>> {
+        let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
+        self.model?;
+        let best = r.rival;
+        let excess = r.cost - best;
+        Some(Mismatch {
+            error: if r.energy > T::zero() {
+                (excess.max(T::zero()) / r.energy).sqrt()
+            } else {
+                T::zero()
+            },
+            evidence: evidence(best, r.cost, r.weight),
+        })
     }
 
     /// One sample: `y` measured now and `u` the input the plant received in
@@ -430,9 +560,23 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         let (lo, hi) = self.a_range;
         let sign = self.sign;
+        if let Some(r) = self.reference.as_mut() {
+            let f0 = if cfg.integrating { T::zero() } else { r.yhat };
+            let [t0, t1, t2] = r.theta;
+            let pred = t0 * f0 + t1 * self.hist.back(r.d) + t2 * self.hist.back(r.d + 1);
+            let e = target - pred;
+            r.cost = cfg.cost_memory * r.cost + e * e;
+            r.energy = cfg.cost_memory * r.energy + pred * pred;
+            r.yhat = pred;
+            if excited {
+                r.seen = r.seen.saturating_add(1);
+            }
+        }
         // consecutive candidates share an input: candidate `d`'s
         // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
         let mut next = self.hist.back(cfg.d_min);
+        let chosen = self.chosen;
+        let mut chosen_e = T::zero();
         for (i, c) in self.bank.iter_mut().enumerate() {
             let d = cfg.d_min + i;
             // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
@@ -448,6 +592,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let pred = t0 * f0 + t1 * f1 + t2 * f2;
             let e = target - pred;
             c.cost = cfg.cost_memory * c.cost + e * e;
+            if i == chosen {
+                chosen_e = e;
+            }
             c.yhat = pred;
             // the gradient of the prediction, ψ[k+1] = φ[k] + â·ψ[k] (the
             // output error's Gauss–Newton direction: the recursive
@@ -525,6 +672,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             c.yhat = a * f0 + b0 * f1 + b1 * f2;
         }
         self.weight = cfg.cost_memory * self.weight + T::one();
+        if let Some(r) = self.reference.as_mut() {
+            r.rival = cfg.cost_memory * r.rival + chosen_e * chosen_e;
+            r.weight = cfg.cost_memory * r.weight + T::one();
+        }
         let before = self.chosen;
         self.decide();
         if excited || self.chosen != before {
@@ -537,18 +688,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// error per sample `chosen/W` (early on, `W` counts fewer samples than
     /// the memory holds).
     fn evidence(&self, chosen: T, other: T) -> T {
-        let scale = if self.weight > T::zero() {
-            chosen / self.weight
-        } else {
-            T::zero()
-        };
-        if scale > T::zero() {
-            (other - chosen) / scale
-        } else if other > chosen {
-            T::infinity()
-        } else {
-            T::zero()
-        }
+        evidence(chosen, other, self.weight)
     }
 
     /// The chosen dead time moves to the best candidate only when the

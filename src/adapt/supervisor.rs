@@ -89,6 +89,15 @@ pub struct AdaptiveConfig<T> {
     pub crossings: u32,
     /// Samples watched after a change (default 2000).
     pub watch: u32,
+    /// Whether settled estimates are applied (default true); false: a
+    /// model-error monitor only — the estimator learns, the alarm is
+    /// raised and cleared, the model in use stays.
+    pub apply: bool,
+    /// The model error ([`crate::adapt::Mismatch::error`]) that raises the
+    /// alarm when it holds for `settle` samples with the evidence of
+    /// `min_evidence` (default 0.1); it clears below half of it; infinite:
+    /// no alarm.
+    pub alarm: T,
 }
 
 impl<T: Real> AdaptiveConfig<T> {
@@ -104,6 +113,8 @@ impl<T: Real> AdaptiveConfig<T> {
             band: T::zero(),
             crossings: 6,
             watch: 2000,
+            apply: true,
+            alarm: T::of(0.1),
         }
     }
 }
@@ -119,15 +130,22 @@ pub enum ChangeKind {
     Restored,
     /// A scheme's operation refused the model: adaptation froze.
     Refused,
+    /// The model in use no longer matches the process (the entry's model
+    /// is the estimate's).
+    Alarm,
+    /// The model in use matches again.
+    Cleared,
 }
 
 impl ChangeKind {
-    /// The number the `adapt_kind` signal gives it (1, 2, 3).
+    /// The number the `adapt_kind` signal gives it (1 … 5).
     pub fn code(self) -> u8 {
         match self {
             ChangeKind::Applied => 1,
             ChangeKind::Restored => 2,
             ChangeKind::Refused => 3,
+            ChangeKind::Alarm => 4,
+            ChangeKind::Cleared => 5,
         }
     }
 
@@ -137,6 +155,8 @@ impl ChangeKind {
             1 => Some(ChangeKind::Applied),
             2 => Some(ChangeKind::Restored),
             3 => Some(ChangeKind::Refused),
+            4 => Some(ChangeKind::Alarm),
+            5 => Some(ChangeKind::Cleared),
             _ => None,
         }
     }
@@ -172,7 +192,8 @@ struct Model<T> {
 ///
 /// A Smith predictor built for `e^{−1s}/(4s + 1)` at `Ts = 0.1 s` whose
 /// process's lag doubles: with set-point changes for excitation, the model
-/// in use becomes the process's, and the log says when.
+/// in use becomes the process's, and the log says when (and when the
+/// model-error alarm rose).
 ///
 /// ```
 /// use msp::adapt::{Adaptive, AdaptiveConfig, ChangeKind, EstimatorConfig};
@@ -197,7 +218,11 @@ struct Model<T> {
 /// }
 /// let (k, tau, theta) = c.model();
 /// assert!((k - 1.0).abs() < 0.05 && (tau - 8.0).abs() < 0.8 && (theta - 1.0).abs() < 0.1);
-/// assert_eq!(c.log().next().map(|l| l.kind), Some(ChangeKind::Applied));
+/// // the log: the model-error alarm raised when the lag doubled, the new
+/// // model applied, the alarm cleared
+/// let kinds: Vec<ChangeKind> = c.log().map(|l| l.kind).collect();
+/// assert_eq!(kinds.first(), Some(&ChangeKind::Alarm));
+/// assert!(kinds.contains(&ChangeKind::Applied));
 /// # Ok::<(), msp::Error>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -228,6 +253,10 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// The current half-cycle of the error: its length and its peak.
     half: u32,
     peak: T,
+    /// The model-error alarm, and for how many samples its condition has
+    /// held against its state.
+    alarm: bool,
+    alarm_for: u32,
 }
 
 impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
@@ -282,6 +311,8 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             crossed: 0,
             half: 0,
             peak: T::zero(),
+            alarm: false,
+            alarm_for: 0,
         })
     }
 
@@ -363,6 +394,10 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
 
     fn record(&mut self, kind: ChangeKind) {
         let m = self.model;
+        self.record_model(kind, m);
+    }
+
+    fn record_model(&mut self, kind: ChangeKind, m: Model<T>) {
         if let Some(slot) = self.log.get_mut(self.logged % L.max(1)) {
             *slot = Some(Change {
                 sample: self.samples,
@@ -387,7 +422,63 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             self.inner.retune(Gain::Td, td)?;
         }
         self.model = m;
+        self.reference();
         Ok(())
+    }
+
+    /// The estimator's reference follows the model in use.
+    fn reference(&mut self) {
+        let m = self.model;
+        // a model the estimator cannot weigh (a dead time beyond its
+        // history) leaves no reference: no alarm rather than a wrong one
+        let _ = self.est.set_reference(m.k, m.tau, m.theta);
+    }
+
+    /// The model-error alarm: raised when the error reached `alarm` with
+    /// the evidence of `min_evidence` for `settle` samples, cleared when it
+    /// stayed below half of it as long; each logged.
+    fn watch_model(&mut self) {
+        if !self.cfg.alarm.is_finite() {
+            return;
+        }
+        let Some(mm) = self.est.mismatch() else {
+            return;
+        };
+        let against = if self.alarm {
+            mm.error < self.cfg.alarm / T::of(2.0)
+        } else {
+            mm.error >= self.cfg.alarm && mm.evidence >= self.cfg.min_evidence
+        };
+        self.alarm_for = if against {
+            self.alarm_for.saturating_add(1)
+        } else {
+            0
+        };
+        if self.alarm_for >= self.cfg.settle {
+            self.alarm = !self.alarm;
+            self.alarm_for = 0;
+            if self.alarm {
+                let e = self.est.estimate();
+                let m = e.map_or(self.model, |e| Model {
+                    k: e.k,
+                    tau: e.tau,
+                    theta: e.theta,
+                });
+                self.record_model(ChangeKind::Alarm, m);
+            } else {
+                self.record(ChangeKind::Cleared);
+            }
+        }
+    }
+
+    /// The model-error alarm is raised (see [`AdaptiveConfig::alarm`]).
+    pub fn alarm(&self) -> bool {
+        self.alarm
+    }
+
+    /// The model in use against the process now.
+    pub fn mismatch(&self) -> Option<super::Mismatch<T>> {
+        self.est.mismatch()
     }
 
     fn supervise(&mut self, e: T) {
@@ -440,7 +531,11 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
                 return;
             }
         }
-        if self.frozen || self.samples < self.rest_until {
+        if self.frozen {
+            return;
+        }
+        self.watch_model();
+        if !self.cfg.apply || self.samples < self.rest_until {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held
@@ -662,11 +757,13 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         self.inner.set_dead_time(samples)?;
         self.model.theta = samples * self.cfg.estimator.ts;
+        self.reference();
         Ok(())
     }
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
         self.inner.ramp_dead_time(samples, per_sample)?;
         self.model.theta = samples * self.cfg.estimator.ts;
+        self.reference();
         Ok(())
     }
     fn retune(&mut self, gain: Gain, value: T) -> Result<(), Error> {
@@ -680,6 +777,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
         self.inner.set_model(gain, tau)?;
         self.model.k = gain;
         self.model.tau = tau;
+        self.reference();
         Ok(())
     }
 }
@@ -693,9 +791,11 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
 /// the estimate (`k_hat`, `tau_hat`, `theta_hat`; NaN before it means
 /// anything), the model in use (`k_model`, `tau_model`, `theta_model`),
 /// how many changes were logged so far (`adapt_changes`) and what the last
-/// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused,
-/// [`ChangeKind::code`]).
-pub const SIGNALS: [&str; 8] = [
+/// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused, 4 alarm,
+/// 5 cleared, [`ChangeKind::code`]), the model's error against the process
+/// (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it means
+/// anything) and the alarm (`model_alarm`: 0 or 1).
+pub const SIGNALS: [&str; 10] = [
     "k_hat",
     "tau_hat",
     "theta_hat",
@@ -704,6 +804,8 @@ pub const SIGNALS: [&str; 8] = [
     "theta_model",
     "adapt_changes",
     "adapt_kind",
+    "mismatch",
+    "model_alarm",
 ];
 
 impl<
@@ -737,6 +839,14 @@ impl<
             5 => m.theta,
             6 => T::of(self.logged as f64),
             7 => T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
+            8 => self.est.mismatch().map_or(T::nan(), |m| m.error),
+            9 => {
+                if self.alarm {
+                    T::one()
+                } else {
+                    T::zero()
+                }
+            }
             _ => T::nan(),
         }
     }

@@ -37,6 +37,13 @@ pub struct AdaptOptions {
     /// model's time constant, or 2.5 dead times for an integrating model;
     /// 0: plain differences, which amplify the measurement noise).
     pub prefilter: Option<f64>,
+    /// Settled estimates become the model (default true); false: a
+    /// model-error monitor only (`msp run --monitor`): the alarm is raised
+    /// and cleared, the model stays.
+    pub apply: Option<bool>,
+    /// The model error that raises the alarm (default 0.1: 10 %, with
+    /// the monitor; giving it turns the monitor on).
+    pub alarm: Option<f64>,
 }
 
 /// `K/(τs + 1)` or `K/s` with the dead time `θ`: the model an estimate is.
@@ -49,6 +56,19 @@ fn model_tf(k: f64, tau: f64, theta: f64) -> Result<TransferFunction, Error> {
 }
 
 impl Scenario {
+    /// The adaptation the scenario asks for: `adapt`'s, or with `monitor`
+    /// alone a monitor that applies nothing.
+    pub(super) fn adapt_options(&self) -> Option<AdaptOptions> {
+        match (self.adapt, self.monitor) {
+            (Some(a), _) => Some(a),
+            (None, true) => Some(AdaptOptions {
+                apply: Some(false),
+                ..AdaptOptions::default()
+            }),
+            (None, false) => None,
+        }
+    }
+
     /// The candidate dead times `(d_min, d_max)` in samples the scenario's
     /// adaptation considers (`None` without adaptation).
     pub(super) fn adapt_range(
@@ -57,7 +77,7 @@ impl Scenario {
         ts: f64,
     ) -> Result<(f64, f64), RunError> {
         let d_model = (model.delay / ts).floor();
-        match self.adapt.and_then(|a| a.delay) {
+        match self.adapt_options().and_then(|a| a.delay) {
             Some((lo, hi)) => {
                 crate::real::non_negative(lo, "adapt delay min")?;
                 crate::real::finite(hi, "adapt delay max")?;
@@ -85,7 +105,7 @@ impl Scenario {
         model: &TransferFunction,
         ts: f64,
     ) -> Result<DynController, RunError> {
-        let Some(opts) = self.adapt else {
+        let Some(opts) = self.adapt_options() else {
             return Ok(controller);
         };
         let (k, tau, theta, integrating) = match model.exact_model() {
@@ -118,6 +138,11 @@ impl Scenario {
         let mut est = EstimatorConfig::new(ts, d_min);
         est.integrating = integrating;
         if let Some(f) = opts.forgetting {
+            if !(f > 0.0 && f <= 1.0) {
+                return Err(RunError::Invalid(Error::OutOfRange(
+                    "adapt forgetting: in (0, 1]",
+                )));
+            }
             est.forgetting = f;
         }
         // by default the prefilter's time constant is 2.5 of the model's
@@ -135,6 +160,15 @@ impl Scenario {
         if let Some(m) = opts.min_change {
             cfg.min_change = crate::real::positive(m, "adapt min_change")?;
         }
+        if let Some(apply) = opts.apply {
+            cfg.apply = apply;
+        }
+        // the alarm where the monitor is asked for
+        cfg.alarm = match opts.alarm {
+            Some(a) => crate::real::positive(a, "adapt alarm")?,
+            None if self.monitor || opts.apply == Some(false) => cfg.alarm,
+            None => f64::INFINITY,
+        };
         // the error band of the oscillation detector: above the noise
         cfg.band = (3.0 * self.noise.unwrap_or(0.0)).max(
             0.02 * self
@@ -146,6 +180,7 @@ impl Scenario {
         // scenario's λ policy (a λ given stays; a rule's λ follows the model)
         let mut sc = self.clone();
         sc.adapt = None;
+        sc.monitor = false;
         let retune = move |k: f64, tau: f64, theta: f64| -> Option<[f64; 3]> {
             let tf = model_tf(k, tau, theta).ok()?;
             let tuned = sc.tune_for(&tf, None).ok()?;

@@ -311,7 +311,7 @@ impl Scenario {
             u_max,
             // room for the dead times adaptation may set (and one sample more
             // for a fraction)
-            max_dead_time: match (self.adapt, inner) {
+            max_dead_time: match (self.adapt_options(), inner) {
                 (Some(_), None) => self
                     .event_dead_time(false)
                     .max((self.adapt_range(model, ts)?.1 + 1.0) * ts),
@@ -327,7 +327,7 @@ impl Scenario {
         };
         let controller = match inner {
             None => self.adaptive(controller, model, ts)?,
-            Some(_) if self.adapt.is_some() => {
+            Some(_) if self.adapt_options().is_some() => {
                 return Err(RunError::Invalid(Error::Unsupported(
                     "adaptation is for a single loop (not a cascade process)",
                 )))

@@ -123,6 +123,10 @@ pub struct Scenario {
     /// Adaptive dead-time compensation: the scheme's model kept right by
     /// on-line identification ([`crate::adapt`]; off when absent).
     pub adapt: Option<AdaptOptions>,
+    /// The model-error monitor: the estimator watches the model in use and
+    /// raises an alarm when the process no longer matches it (with `adapt`:
+    /// beside the adaptation; without: nothing is applied).
+    pub monitor: bool,
 }
 
 /// The memory a run may take unless the scenario says otherwise: 1 GiB.
@@ -557,6 +561,7 @@ impl Scenario {
         "reset_feedback",
         "setpoint_ramp",
         "adapt",
+        "monitor",
     ];
 
     /// The plant and the controller's model (the plant when no model is given).

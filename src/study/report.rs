@@ -130,7 +130,8 @@ pub struct OperatorEventReport {
 }
 
 /// A change the adaptation made during a run (`msp run --adapt`): the model
-/// in use from `at` on.
+/// in use from `at` on; for a model-error alarm (`msp run --monitor` too),
+/// the model the estimator sees instead.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AdaptationReport {
@@ -144,6 +145,10 @@ pub struct AdaptationReport {
     pub tau: f64,
     /// The model's dead time `θ` (s).
     pub theta: f64,
+    /// The model in use's error against the process then
+    /// ([`crate::adapt::Mismatch::error`]; absent before the estimator had
+    /// a model).
+    pub mismatch: Option<f64>,
 }
 
 /// What a run did and how it performed.
@@ -286,6 +291,12 @@ impl RunOutput {
         ) else {
             return Vec::new();
         };
+        let (k_hat, tau_hat, theta_hat, error) = (
+            col("k_hat").unwrap_or(&[]),
+            col("tau_hat").unwrap_or(&[]),
+            col("theta_hat").unwrap_or(&[]),
+            col("mismatch").unwrap_or(&[]),
+        );
         let mut out = Vec::new();
         let mut last = 0.0;
         for (i, c) in count.iter().enumerate() {
@@ -293,12 +304,19 @@ impl RunOutput {
                 let get = |v: &[f64]| v.get(i).copied().unwrap_or(f64::NAN);
                 let code = num_traits::ToPrimitive::to_u8(&get(kind)).unwrap_or(0);
                 if let Some(kind) = crate::adapt::ChangeKind::from_code(code) {
+                    // an alarm names the process the estimator sees
+                    let (k, tau, theta) = if kind == crate::adapt::ChangeKind::Alarm {
+                        (k_hat, tau_hat, theta_hat)
+                    } else {
+                        (k, tau, theta)
+                    };
                     out.push(AdaptationReport {
                         at: self.result.t.get(i).copied().unwrap_or(f64::NAN),
                         kind,
                         k: get(k),
                         tau: get(tau),
                         theta: get(theta),
+                        mismatch: Some(get(error)).filter(|e| e.is_finite()),
                     });
                 }
                 last = *c;

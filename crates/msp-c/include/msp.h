@@ -7,6 +7,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// Candidate dead times of the device's estimator.
+#define MSP_ADAPT_CANDIDATES 16
+
+// Inputs the device's estimator remembers (the longest candidate dead time
+// plus two).
+#define MSP_ADAPT_HISTORY 512
+
 // The result of every call that can fail.
 typedef enum {
   // Success.
@@ -72,54 +79,62 @@ typedef enum {
   MSP_TD = 2,
 } msp_gain;
 
+// An adaptive controller built by `msp_adaptive_init` (opaque).
+typedef struct msp_adaptive msp_adaptive;
+
+// An adaptive controller built by `msp_adaptive_init_f64` (opaque).
+typedef struct msp_adaptive_f64 msp_adaptive_f64;
+
 // A `float` controller built by an `msp_*_init` call (opaque).
 typedef struct msp_controller msp_controller;
 
 // A `double` controller built by an `msp_*_init_f64` call (opaque).
 typedef struct msp_controller_f64 msp_controller_f64;
 
+// An identifier built by `msp_estimator_init` (opaque).
+typedef struct msp_estimator msp_estimator;
+
+// An identifier built by `msp_estimator_init_f64` (opaque).
+typedef struct msp_estimator_f64 msp_estimator_f64;
+
 // A relay experiment built by [`msp_relay_init`] (opaque).
 typedef struct msp_relay msp_relay;
 
-// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
-// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
-// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
-typedef struct {
-  float kp;
-  float ti;
-  float td;
-  float u_min;
-  float u_max;
-} msp_pid_params_float;
-
-// A PID controller sampled every `ts` seconds.
+// Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
+// the period `ts` (s), the shortest candidate dead time `d_min`
+// (samples), `integrating` (nonzero: `k e^{−θs}/s`), the forgetting
+// factor (0.999: a memory of 1000 samples), the prefilter's time
+// constant (s; 0: plain differences, which amplify noise) and the
+// excitation gate (the input's move needed to learn).
 typedef struct {
   float ts;
-  msp_pid_params_float pid;
-} msp_pid_config_float;
+  uint32_t d_min;
+  uint32_t integrating;
+  float forgetting;
+  float prefilter;
+  float excitation;
+} msp_estimator_config_of_f32;
 
 // In `float`, the device's type.
-typedef msp_pid_config_float msp_pid_config;
+typedef msp_estimator_config_of_f32 msp_estimator_config;
 
-// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
-// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
-// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
-typedef struct {
-  double kp;
-  double ti;
-  double td;
-  double u_min;
-  double u_max;
-} msp_pid_params_double;
-
-// A PID controller sampled every `ts` seconds.
+// Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
+// the period `ts` (s), the shortest candidate dead time `d_min`
+// (samples), `integrating` (nonzero: `k e^{−θs}/s`), the forgetting
+// factor (0.999: a memory of 1000 samples), the prefilter's time
+// constant (s; 0: plain differences, which amplify noise) and the
+// excitation gate (the input's move needed to learn).
 typedef struct {
   double ts;
-  msp_pid_params_double pid;
-} msp_pid_config_double;
+  uint32_t d_min;
+  uint32_t integrating;
+  double forgetting;
+  double prefilter;
+  double excitation;
+} msp_estimator_config_of_f64;
 
 // In `double`, a host's type.
-typedef msp_pid_config_double msp_pid_config_f64;
+typedef msp_estimator_config_of_f64 msp_estimator_config_f64;
 
 // A process model: its kind (an `msp_model_kind`, held as an integer so
 // that any value a caller writes is read safely: an unknown one is
@@ -132,16 +147,8 @@ typedef struct {
   float theta;
 } msp_model_float;
 
-// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
-// model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
-typedef struct {
-  float ts;
-  msp_model_float model;
-  msp_pid_params_float pid;
-} msp_smith_config_float;
-
 // In `float`, the device's type.
-typedef msp_smith_config_float msp_smith_config;
+typedef msp_model_float msp_model;
 
 // A process model: its kind (an `msp_model_kind`, held as an integer so
 // that any value a caller writes is read safely: an unknown one is
@@ -154,6 +161,95 @@ typedef struct {
   double theta;
 } msp_model_double;
 
+// In `double`, a host's type.
+typedef msp_model_double msp_model_f64;
+
+// An estimate: gain `k`, time constant `tau` (s; `INFINITY`:
+// integrating), dead time `theta` (s), its whole samples `d` and the
+// evidence for it over the candidates that are not its neighbours
+// (small: ambiguous). All NaN (and `d` 0) before it means anything.
+typedef struct {
+  float k;
+  float tau;
+  float theta;
+  uint32_t d;
+  float evidence;
+} msp_estimate_of_f32;
+
+// In `float`, the device's type.
+typedef msp_estimate_of_f32 msp_estimate;
+
+// An estimate: gain `k`, time constant `tau` (s; `INFINITY`:
+// integrating), dead time `theta` (s), its whole samples `d` and the
+// evidence for it over the candidates that are not its neighbours
+// (small: ambiguous). All NaN (and `d` 0) before it means anything.
+typedef struct {
+  double k;
+  double tau;
+  double theta;
+  uint32_t d;
+  double evidence;
+} msp_estimate_of_f64;
+
+// In `double`, a host's type.
+typedef msp_estimate_of_f64 msp_estimate_f64;
+
+// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
+// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
+// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
+typedef struct {
+  float kp;
+  float ti;
+  float td;
+  float u_min;
+  float u_max;
+} msp_pid_params_float;
+
+// The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
+// model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
+typedef struct {
+  float ts;
+  msp_model_float model;
+  msp_pid_params_float pid;
+} msp_smith_config_float;
+
+// In `float`, the device's type.
+typedef msp_smith_config_float msp_smith_config;
+
+// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
+// `smith` (FOPDT or IPDT model), the candidates from `d_min` samples,
+// the estimator's `forgetting`, `prefilter` (s) and `excitation`, the
+// relative change `min_change` that is applied, the model error
+// `alarm` that raises the alarm (`INFINITY`: none), `apply` (0: a
+// model-error monitor only), and the primary retuned at each change by
+// Kaya's IMC rule with the closed-loop time constant `lambda` (0:
+// `λ = θ`; NaN: the gains stay).
+typedef struct {
+  msp_smith_config_float smith;
+  uint32_t d_min;
+  float forgetting;
+  float prefilter;
+  float excitation;
+  float min_change;
+  float alarm;
+  uint32_t apply;
+  float lambda;
+} msp_adaptive_config_of_f32;
+
+// In `float`, the device's type.
+typedef msp_adaptive_config_of_f32 msp_adaptive_config;
+
+// A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
+// `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
+// `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
+typedef struct {
+  double kp;
+  double ti;
+  double td;
+  double u_min;
+  double u_max;
+} msp_pid_params_double;
+
 // The classic Smith predictor (Kaya (2003) Fig. 1, Bag (2022) Eq. 4.5): the PID `pid` around the
 // model `model` (FOPDT or IPDT) and its dead time, sampled every `ts` seconds.
 typedef struct {
@@ -164,6 +260,83 @@ typedef struct {
 
 // In `double`, a host's type.
 typedef msp_smith_config_double msp_smith_config_f64;
+
+// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
+// `smith` (FOPDT or IPDT model), the candidates from `d_min` samples,
+// the estimator's `forgetting`, `prefilter` (s) and `excitation`, the
+// relative change `min_change` that is applied, the model error
+// `alarm` that raises the alarm (`INFINITY`: none), `apply` (0: a
+// model-error monitor only), and the primary retuned at each change by
+// Kaya's IMC rule with the closed-loop time constant `lambda` (0:
+// `λ = θ`; NaN: the gains stay).
+typedef struct {
+  msp_smith_config_double smith;
+  uint32_t d_min;
+  double forgetting;
+  double prefilter;
+  double excitation;
+  double min_change;
+  double alarm;
+  uint32_t apply;
+  double lambda;
+} msp_adaptive_config_of_f64;
+
+// In `double`, a host's type.
+typedef msp_adaptive_config_of_f64 msp_adaptive_config_f64;
+
+// What an adaptive controller knows: the estimate, the model in use
+// (`k`, `tau`, `theta`), its error against the process `mismatch`
+// (0.3: 30 %; NaN before it means anything), the alarm, whether
+// adaptation is frozen, and how many changes were logged.
+typedef struct {
+  msp_estimate_of_f32 estimate;
+  float k;
+  float tau;
+  float theta;
+  float mismatch;
+  uint32_t alarm;
+  uint32_t frozen;
+  uint32_t changes;
+} msp_adaptive_state_of_f32;
+
+// In `float`, the device's type.
+typedef msp_adaptive_state_of_f32 msp_adaptive_state;
+
+// What an adaptive controller knows: the estimate, the model in use
+// (`k`, `tau`, `theta`), its error against the process `mismatch`
+// (0.3: 30 %; NaN before it means anything), the alarm, whether
+// adaptation is frozen, and how many changes were logged.
+typedef struct {
+  msp_estimate_of_f64 estimate;
+  double k;
+  double tau;
+  double theta;
+  double mismatch;
+  uint32_t alarm;
+  uint32_t frozen;
+  uint32_t changes;
+} msp_adaptive_state_of_f64;
+
+// In `double`, a host's type.
+typedef msp_adaptive_state_of_f64 msp_adaptive_state_f64;
+
+// A PID controller sampled every `ts` seconds.
+typedef struct {
+  float ts;
+  msp_pid_params_float pid;
+} msp_pid_config_float;
+
+// In `float`, the device's type.
+typedef msp_pid_config_float msp_pid_config;
+
+// A PID controller sampled every `ts` seconds.
+typedef struct {
+  double ts;
+  msp_pid_params_double pid;
+} msp_pid_config_double;
+
+// In `double`, a host's type.
+typedef msp_pid_config_double msp_pid_config_f64;
 
 // The Karan–Dey modified Smith predictor for integrating plants (Bag
 // (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
@@ -270,16 +443,10 @@ typedef struct {
 } msp_relay_result;
 
 // In `float`, the device's type.
-typedef msp_model_float msp_model;
-
-// In `float`, the device's type.
 typedef msp_pid_params_float msp_pid_params;
 
 // In `double`, a host's type.
 typedef msp_pid_params_double msp_pid_params_f64;
-
-// In `double`, a host's type.
-typedef msp_model_double msp_model_f64;
 
 #ifdef __cplusplus
 extern "C" {
@@ -288,6 +455,196 @@ extern "C" {
 // What a status means, as a constant NUL-terminated string (an integer
 // that is no `msp_status` gives "unknown status").
 const char *msp_status_str(int status);
+
+// The defaults of an identifier for the period `ts` with candidates
+// from `d_min` samples: forgetting 0.999, plain differences (set
+// `prefilter` under noise), excitation 1e-6.
+//
+// # Safety
+// `config` is null or writable.
+msp_status msp_estimator_default_config(float ts, uint32_t d_min, msp_estimator_config *config);
+
+// [`msp_estimator_default_config`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_default_config`].
+msp_status msp_estimator_default_config_f64(double ts,
+                                            uint32_t d_min,
+                                            msp_estimator_config_f64 *config);
+
+// Builds an identifier in `buf` (`len` bytes, at least
+// `msp_estimator_size()`); `*est` is its handle.
+//
+// # Safety
+// `buf` is null or `len` writable bytes that stay in place while the
+// identifier is used; `config` and `est` are null or valid.
+msp_status msp_estimator_init(void *buf,
+                              size_t len,
+                              const msp_estimator_config *config,
+                              msp_estimator **est);
+
+// [`msp_estimator_init`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_init`].
+msp_status msp_estimator_init_f64(void *buf,
+                                  size_t len,
+                                  const msp_estimator_config_f64 *config,
+                                  msp_estimator_f64 **est);
+
+// Starts the identifier from a model (FOPDT or IPDT, the latter for an
+// integrating identifier): its dead time is the choice until the data
+// say otherwise, every candidate starts at its coefficients, and the
+// estimates stay plausible (the gain's sign, the time constant within a
+// factor 20).
+//
+// # Safety
+// `est` is null or from `msp_estimator_init`; `model` null or valid.
+msp_status msp_estimator_start_from(msp_estimator *est, const msp_model *model);
+
+// [`msp_estimator_start_from`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_start_from`].
+msp_status msp_estimator_start_from_f64(msp_estimator_f64 *est, const msp_model_f64 *model);
+
+// One sample: `y` measured now, `u_applied` the input the plant
+// receives from now on; `ok` zero for a sample that is not the
+// process's own response (saturated, manual, a fault): nothing is
+// learnt from it.
+//
+// # Safety
+// `est` is null or from `msp_estimator_init`.
+msp_status msp_estimator_update(msp_estimator *est, float y, float u_applied, int ok);
+
+// [`msp_estimator_update`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_update`].
+msp_status msp_estimator_update_f64(msp_estimator_f64 *est, double y, double u_applied, int ok);
+
+// The estimate now (`*out`; NaN before it means anything).
+//
+// # Safety
+// `est` is null or from `msp_estimator_init`; `out` null or writable.
+msp_status msp_estimator_estimate(msp_estimator *est, msp_estimate *out);
+
+// [`msp_estimator_estimate`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_estimate`].
+msp_status msp_estimator_estimate_f64(msp_estimator_f64 *est, msp_estimate_f64 *out);
+
+// The defaults of an adaptive Smith predictor around `smith`: the 16
+// candidates from 6 samples below its dead time, forgetting 0.999, the
+// prefilter 2.5 time constants, a 5 % change applied, the alarm at a
+// 10 % model error, applying, retuned by Kaya's rule at `λ = θ`.
+//
+// # Safety
+// `smith` and `config` are null or valid.
+msp_status msp_adaptive_default_config(const msp_smith_config *smith, msp_adaptive_config *config);
+
+// [`msp_adaptive_default_config`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_default_config`].
+msp_status msp_adaptive_default_config_f64(const msp_smith_config_f64 *smith,
+                                           msp_adaptive_config_f64 *config);
+
+// The bytes `msp_adaptive_init` needs for `config` (0 and `*status`
+// set when it is not valid; `status` may be null).
+//
+// # Safety
+// `config` and `status` are null or valid.
+size_t msp_adaptive_size(const msp_adaptive_config *config, msp_status *status);
+
+// [`msp_adaptive_size`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_size`].
+size_t msp_adaptive_size_f64(const msp_adaptive_config_f64 *config, msp_status *status);
+
+// Builds an adaptive Smith predictor in `buf` (`len` bytes, at least
+// `msp_adaptive_size(config)`); `*ctrl` is its handle.
+//
+// # Safety
+// `buf` is null or `len` writable bytes that stay in place while the
+// controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_adaptive_init(void *buf,
+                             size_t len,
+                             const msp_adaptive_config *config,
+                             msp_adaptive **ctrl);
+
+// [`msp_adaptive_init`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_init`].
+msp_status msp_adaptive_init_f64(void *buf,
+                                 size_t len,
+                                 const msp_adaptive_config_f64 *config,
+                                 msp_adaptive_f64 **ctrl);
+
+// The estimate, the model in use, its error, the alarm (`*state`).
+//
+// # Safety
+// `ctrl` is null or from `msp_adaptive_init`; `state` null or writable.
+msp_status msp_adaptive_read(msp_adaptive *ctrl, msp_adaptive_state *state);
+
+// [`msp_adaptive_read`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_read`].
+msp_status msp_adaptive_read_f64(msp_adaptive_f64 *ctrl, msp_adaptive_state_f64 *state);
+
+// Freezes adaptation (`frozen` nonzero: nothing learnt or applied) or
+// resumes it.
+//
+// # Safety
+// `ctrl` is null or from `msp_adaptive_init`.
+msp_status msp_adaptive_freeze(msp_adaptive *ctrl, int frozen);
+
+// [`msp_adaptive_freeze`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_freeze`].
+msp_status msp_adaptive_freeze_f64(msp_adaptive_f64 *ctrl, int frozen);
+
+// One sample: set point and measurement in, actuator value out (NaN for a
+// null or foreign handle); the plant is taken to have received the last
+// output.
+//
+// # Safety
+// `ctrl` is null or from `msp_adaptive_init` with its buffer in place.
+float msp_adaptive_update(msp_adaptive *ctrl, float r, float y);
+
+// [`msp_adaptive_update`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_update`].
+double msp_adaptive_update_f64(msp_adaptive_f64 *ctrl, double r, double y);
+
+// One sample with the value the plant really received over the last
+// period (`u_applied`: a limit, an operator): the identifier learns from
+// what the plant got.
+//
+// # Safety
+// As [`msp_adaptive_update`].
+float msp_adaptive_update_applied(msp_adaptive *ctrl, float r, float y, float u_applied);
+
+// [`msp_adaptive_update_applied`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_update`].
+double msp_adaptive_update_applied_f64(msp_adaptive_f64 *ctrl,
+                                       double r,
+                                       double y,
+                                       double u_applied);
+
+// The bytes `msp_estimator_init` needs.
+size_t msp_estimator_size(void);
+
+// The bytes `msp_estimator_init_f64` needs.
+size_t msp_estimator_size_f64(void);
 
 // The bytes a PID controller needs; 0 on an error, with the reason in
 // `*status` (`status` may be null). `max_dead_time_samples` is not read.

@@ -369,7 +369,7 @@ fn kind_of(k: u32) -> Option<msp_model_kind> {
     .find(|v| *v as u32 == k)
 }
 
-fn pid_config<T: Real>(p: &msp_pid_params_of<T>, ts: T) -> Result<PidConfig<T>, Error> {
+pub(crate) fn pid_config<T: Real>(p: &msp_pid_params_of<T>, ts: T) -> Result<PidConfig<T>, Error> {
     let c = PidConfig::try_isa(p.kp, p.ti, p.td, ts)?.with_limits(p.u_min, p.u_max);
     c.validate()?;
     Ok(c)
@@ -525,7 +525,7 @@ type ModelParts<T> = (msp_core::Lti<T, 1>, Delay<T, Buf<T>>);
 
 /// The model ZOH-discretized at `ts`, and its dead-time line over the rest
 /// of the arena.
-fn model_in<T: Real>(m: &msp_model_of<T>, ts: T, a: &mut Arena) -> Result<ModelParts<T>, Error> {
+pub(crate) fn model_in<T: Real>(m: &msp_model_of<T>, ts: T, a: &mut Arena) -> Result<ModelParts<T>, Error> {
     let (m, d) = dead_time(m, ts)?;
     let (block, _) = m.discretize::<1>(ts)?;
     Ok((block, Delay::with_storage(a.rest::<T>()?, d)?))
@@ -636,7 +636,7 @@ pub(crate) fn fault<T: Precision>(h: &mut Handle<T>) -> bool {
 ///
 /// # Safety
 /// `p` is null or points to a readable `C`.
-unsafe fn read<C: Copy>(p: *const C) -> Option<C> {
+pub(crate) unsafe fn read<C: Copy>(p: *const C) -> Option<C> {
     // SAFETY: the caller's pointer, null-checked by `as_ref`
     unsafe { p.as_ref().copied() }
 }

@@ -81,12 +81,14 @@ macro_rules! c_config {
     };
 }
 
+mod adapt;
 mod api;
 mod handle;
 mod relay;
 
 use core::ffi::c_char;
 
+pub use adapt::*;
 pub use api::*;
 pub use handle::*;
 pub use relay::*;

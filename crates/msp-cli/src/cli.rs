@@ -101,7 +101,7 @@ pub(crate) struct ScenarioArgs {
     #[arg(long)]
     pub(crate) seed: Option<u64>,
     /// The measurement's resolution (an ADC's step, e.g. span/4096 for 12 bits).
-    #[arg(long, value_name = "STEP")]
+    #[arg(long, value_name = "STEP", allow_hyphen_values = true)]
     pub(crate) quantization: Option<f64>,
     /// Actuator lower limit.
     #[arg(long, allow_hyphen_values = true)]
@@ -150,8 +150,29 @@ pub(crate) struct ScenarioArgs {
     pub(crate) adapt: bool,
     /// The dead times (s) the adaptation considers, MIN..MAX (at most 32
     /// samples apart; default: 12 samples below the model's to 19 above).
-    #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_actuator, requires = "adapt")]
+    #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_actuator)]
     pub(crate) adapt_delay: Option<(f64, f64)>,
+    /// The estimator's forgetting factor, in (0, 1] (default 0.999: a
+    /// memory of 1000 samples).
+    #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true)]
+    pub(crate) adapt_forgetting: Option<f64>,
+    /// The estimator's prefilter time constant (s; default 2.5 of the
+    /// model's time constant; 0: plain differences).
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub(crate) adapt_prefilter: Option<f64>,
+    /// The excitation gate: no learning unless the input moved this much
+    /// (and ten times its own jitter) within the response's time.
+    #[arg(long, value_name = "DU", allow_hyphen_values = true)]
+    pub(crate) adapt_excitation: Option<f64>,
+    /// Model-error monitor: the estimator watches the model in use and
+    /// raises an alarm (in the report and the summary, and the CSV columns
+    /// mismatch, model_alarm) when the process no longer matches it;
+    /// nothing is applied (with --adapt: alarms beside the adaptation).
+    #[arg(long)]
+    pub(crate) monitor: bool,
+    /// The model error that raises the monitor's alarm (default 0.1: 10 %).
+    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true)]
+    pub(crate) alarm: Option<f64>,
 }
 
 #[derive(Debug, Args)]

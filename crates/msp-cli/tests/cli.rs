@@ -1699,3 +1699,64 @@ fn the_time_plot_marks_what_was_scheduled() {
     // the manual period shaded on both panels (a filled rectangle each)
     assert!(pic.matches("opacity=\"0.25\"").count() >= 2, "shading");
 }
+
+/// `msp run --monitor`: the process's gain rises 30 % and the summary says
+/// ALARM with the model error, the report logs it (kind "alarm", its
+/// mismatch), the CSV has the `mismatch` and `model_alarm` columns, the
+/// model in use stays; the estimator's options without --adapt or --monitor
+/// are refused by name; a bad forgetting factor is refused.
+#[test]
+fn monitor_raises_the_alarm_in_summary_report_and_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, report) = (dir.path().join("m.csv"), dir.path().join("m.json"));
+    let mut args: Vec<String> = words(
+        "run --plant e^-1s/(4s+1) -c smith --lambda 2 --ts 0.1 --duration 600 --noise 0.01 --quantization 0.0005 --event 150:plant-gain=1.3 --monitor",
+    )
+    .map(String::from)
+    .collect();
+    for i in 0..20 {
+        args.push("--setpoint".into());
+        args.push(format!("{}@{}", i % 2, 30 * i));
+    }
+    // the summary goes to standard error when the CSV goes to a file
+    let out = msp()
+        .args(&args)
+        .arg("-o")
+        .arg(&csv)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        text.contains("ALARM: the model no longer matches") && text.contains("model error"),
+        "{text}"
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let log = r["adaptation"].as_array().unwrap();
+    assert_eq!(log[0]["kind"], "alarm");
+    assert!(log[0]["mismatch"].as_f64().unwrap() >= 0.1);
+    let data = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = data.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let last: Vec<&str> = data.lines().last().unwrap().split(',').collect();
+    assert_eq!(last[col("model_alarm")], "1");
+    assert_eq!(last[col("k_model")], "1");
+    let mismatch: f64 = last[col("mismatch")].parse().unwrap();
+    assert!((mismatch - 0.3).abs() < 0.03, "{mismatch}");
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --alarm 0.2"),
+        "add --adapt or --monitor",
+    );
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-forgetting 1.5"),
+        "forgetting",
+    );
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --quantization -1"),
+        "quantization",
+    );
+}

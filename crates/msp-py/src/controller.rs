@@ -57,7 +57,8 @@ pub(crate) fn loop_many<'py>(
 ///     Adaptive dead-time compensation (``msp run --adapt``; a FOPDT or IPDT
 ///     model, the ``smith`` scheme): ``estimate`` gives the estimate and the
 ///     model in use, ``freeze()``/``resume()`` stop and restart adapting; a
-///     dict of options as ``msp.run``'s ``adapt``.
+///     dict of options as ``msp.run``'s ``adapt`` (``{"apply": False}``: the
+///     model-error monitor alone, its alarm in ``estimate["alarm"]``).
 ///
 /// The controller is operated as in a plant: ``manual(u)``, ``track(u)`` and
 /// ``auto()`` (bumpless), ``update(r, y, u_applied=...)`` (external reset),
@@ -223,8 +224,10 @@ impl Controller {
         Ok(out)
     }
     /// The estimate of an adaptive controller (``adapt=``): a dict of ``k``,
-    /// ``tau``, ``theta`` (NaN before it means anything) and the model in
-    /// use, ``k_model``, ``tau_model``, ``theta_model``; ``None`` for one that
+    /// ``tau``, ``theta`` (NaN before it means anything), the model in
+    /// use, ``k_model``, ``tau_model``, ``theta_model``, its error against
+    /// the process ``mismatch`` (0.3: 30 %; NaN before it means anything)
+    /// and the model-error alarm ``alarm`` (bool); ``None`` for one that
     /// does not adapt.
     #[getter]
     fn estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
@@ -240,9 +243,11 @@ impl Controller {
             ("k_model", "k_model"),
             ("tau_model", "tau_model"),
             ("theta_model", "theta_model"),
+            ("mismatch", "mismatch"),
         ] {
             d.set_item(key, c.signal_by_name(name).unwrap_or(f64::NAN))?;
         }
+        d.set_item("alarm", c.signal_by_name("model_alarm") == Some(1.0))?;
         Ok(Some(d))
     }
     /// Freezes an adaptive controller's adaptation: it learns and applies

@@ -391,6 +391,7 @@ fn set_field(sc: &mut Scenario, field: &str, v: &Bound<'_, PyAny>) -> PyResult<(
         "reset_feedback" => sc.reset_feedback = v.extract()?,
         "setpoint_ramp" => sc.setpoint_ramp = Some(v.extract()?),
         "adapt" => sc.adapt = adapt_options(v)?,
+        "monitor" => sc.monitor = v.extract()?,
         other => {
             return Err(PyTypeError::new_err(format!(
                 "the scenario field '{other}' is not taken from Python"
@@ -438,14 +439,14 @@ pub(crate) fn fit_dict<'py>(
 
 /// A Python ``adapt`` argument: ``True``/``False`` or a dict of the
 /// options (``delay=(min, max)``, ``forgetting``, ``excitation``,
-/// ``min_change``, ``prefilter``).
+/// ``min_change``, ``prefilter``, ``apply``, ``alarm``).
 pub(crate) fn adapt_options(v: &Bound<'_, PyAny>) -> PyResult<Option<msp::study::AdaptOptions>> {
     if let Ok(on) = v.extract::<bool>() {
         return Ok(on.then(msp::study::AdaptOptions::default));
     }
     let d = v.downcast::<pyo3::types::PyDict>().map_err(|_| {
         PyTypeError::new_err(
-            "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter",
+            "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter, apply, alarm",
         )
     })?;
     let mut o = msp::study::AdaptOptions::default();
@@ -457,9 +458,11 @@ pub(crate) fn adapt_options(v: &Bound<'_, PyAny>) -> PyResult<Option<msp::study:
             "excitation" => o.excitation = Some(x.extract()?),
             "min_change" => o.min_change = Some(x.extract()?),
             "prefilter" => o.prefilter = Some(x.extract()?),
+            "apply" => o.apply = Some(x.extract()?),
+            "alarm" => o.alarm = Some(x.extract()?),
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter)"
+                    "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter, apply, alarm)"
                 )))
             }
         }

@@ -38,7 +38,7 @@ const H: usize = 4096;
 /// >>> est = msp.Estimator(ts=0.1, d_min=5)
 /// >>> a = math.exp(-0.1 / 4.0)
 /// >>> y, us = 0.0, []
-/// >>> for k in range(4000):
+/// >>> for k in range(16000):
 /// ...     u = 1.0 if (k // 200) % 2 else -1.0
 /// ...     est.update(y, u)
 /// ...     us.append(u)

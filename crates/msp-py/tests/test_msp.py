@@ -1052,6 +1052,30 @@ def test_adapt_follows_a_process_lag_that_doubled():
         msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)
 
 
+def test_monitor_raises_an_alarm_when_the_gain_drifts():
+    """run(monitor=True) as msp run --monitor: the process's gain rises 30 % and the alarm is
+    raised, the model's error against the process tends to 0.3 (the model predicts y/1.3),
+    nothing is applied; the per-sample controller's monitor (adapt={"apply": False}) says the
+    same in estimate["alarm"] and estimate["mismatch"]."""
+    steps = [(float(i % 2), 30.0 * i) for i in range(30)]
+    kw = dict(controller="smith", lambda_=2.0, ts=0.1, duration=900.0, setpoint=steps,
+              events=["150:plant-gain=1.3"])
+    out = msp.run("e^-1s/(4s+1)", monitor=True, **kw)
+    log = out.report()["adaptation"]
+    assert log and all(c["kind"] == "alarm" for c in log) and 150 < log[0]["at"] < 450, log
+    assert abs(out.signals["mismatch"][-1] - 0.3) < 0.02
+    assert out.signals["model_alarm"][-1] == 1.0 and out.signals["k_model"][-1] == 1.0
+    a = math.exp(-0.1 / 4.0)
+    c = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt={"apply": False})
+    y, line = 0.0, [0.0] * 10
+    for k in range(9000):
+        u = c.update(1.0 if (k // 300) % 2 == 0 else 0.0, y)
+        late, line[k % 10] = line[k % 10], u
+        y = a * y + (1.3 if k >= 1500 else 1.0) * (1 - a) * late
+    e = c.estimate
+    assert e["alarm"] and abs(e["mismatch"] - 0.3) < 0.02 and e["k_model"] == 1.0, e
+
+
 def test_estimator_finds_gain_lag_and_fractional_dead_time():
     """msp.Estimator on 2 e^(-1.25 s)/(4 s + 1) sampled exactly at Ts = 0.1 (the half sample of
     dead time in b0 = K(1 - a^0.5), b1 = K(a^0.5 - a)) under a switching input: K, tau and
@@ -1062,7 +1086,7 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
     idle = msp.Estimator(ts=0.1, d_min=4)
     assert est.estimate is None
     y, us = 0.0, []
-    for k in range(6000):
+    for k in range(12000):
         u = 1.0 if (k // 150) % 2 else -1.0
         est.update(y, u)
         idle.update(y, u, ok=False)
@@ -1082,7 +1106,8 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
 def test_adaptive_controller_per_sample():
     """msp.SmithPredictor(..., adapt=True) one sample at a time against the exact sampled
     process e^(-s)/(8s + 1) (the model said 4 s): the model in use becomes the process's;
-    frozen, it learns nothing; a controller that does not adapt refuses freeze()."""
+    frozen, it learns nothing (the estimate stays the model it started from); a controller that
+    does not adapt refuses freeze()."""
     a = math.exp(-0.1 / 8.0)
 
     def loop(c, samples=6000):
@@ -1101,7 +1126,8 @@ def test_adaptive_controller_per_sample():
     frozen = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
     frozen.freeze()
     loop(frozen)
-    assert frozen.estimate["tau_model"] == 4.0 and math.isnan(frozen.estimate["k"])
+    # frozen: the estimate stays the model it started from, nothing learnt or applied
+    assert frozen.estimate["tau_model"] == 4.0 and abs(frozen.estimate["tau"] - 4.0) < 1e-9
     plain = msp.SmithPredictor("e^-1s/(4s+1)", 0.1)
     assert plain.estimate is None
     with pytest.raises(ValueError, match="does not adapt"):

@@ -95,11 +95,34 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     sc.float32 |= a.float32;
     sc.events.extend(a.events.iter().copied());
     sc.reset_feedback |= a.reset_feedback;
-    if a.adapt {
+    let tuning = a.adapt_delay.is_some()
+        || a.adapt_forgetting.is_some()
+        || a.adapt_prefilter.is_some()
+        || a.adapt_excitation.is_some()
+        || a.alarm.is_some();
+    sc.monitor |= a.monitor;
+    if tuning && !(a.adapt || sc.monitor || sc.adapt.is_some()) {
+        return Err(CliError::Input(
+            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation and --alarm set up an adaptation: add --adapt or --monitor".into(),
+        ));
+    }
+    if a.adapt || tuning {
+        // options for a monitor alone keep it a monitor
+        let monitor_only = sc.adapt.is_none() && !a.adapt;
         let opts = sc.adapt.get_or_insert_with(Default::default);
-        if a.adapt_delay.is_some() {
-            opts.delay = a.adapt_delay;
+        if monitor_only {
+            opts.apply = Some(false);
         }
+        macro_rules! set {
+            ($($from:ident => $to:ident),*) => {$( if a.$from.is_some() { opts.$to = a.$from; } )*};
+        }
+        set!(
+            adapt_delay => delay,
+            adapt_forgetting => forgetting,
+            adapt_prefilter => prefilter,
+            adapt_excitation => excitation,
+            alarm => alarm
+        );
     }
     if sc.plant.is_none() {
         return Err(CliError::Input(match &a.scenario {

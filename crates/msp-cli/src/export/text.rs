@@ -131,9 +131,17 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             msp::adapt::ChangeKind::Applied => "model",
             msp::adapt::ChangeKind::Restored => "model restored (the loop oscillated)",
             msp::adapt::ChangeKind::Refused => "model refused by the scheme, adaptation frozen",
+            msp::adapt::ChangeKind::Alarm => {
+                "ALARM: the model no longer matches; the process looks like"
+            }
+            msp::adapt::ChangeKind::Cleared => "alarm cleared: the model matches;",
         };
+        let error = c
+            .mismatch
+            .map(|e| format!(" (model error {} %)", fmt_sig(100.0 * e)))
+            .unwrap_or_default();
         s.push_str(&format!(
-            "\nadapt at {} s: {what} K = {}, tau = {} s, theta = {} s",
+            "\nadapt at {} s: {what} K = {}, tau = {} s, theta = {} s{error}",
             fmt_num(c.at),
             fmt_sig(c.k),
             fmt_sig(c.tau),

@@ -69,6 +69,7 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
     reset_feedback: bool
     setpoint_ramp: float
     adapt: Union[bool, Dict[str, Any]]
+    monitor: bool
 
 __all__ = [
     "AstromHangLim",
@@ -419,7 +420,13 @@ def run(
         primary retuned at each change; the signals ``k_hat``, ``tau_hat``, ``theta_hat``
         (the estimate) and ``k_model``, ``tau_model``, ``theta_model`` (the model in use).
         A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``,
-        ``prefilter`` (s).
+        ``prefilter`` (s), ``apply`` (False: a monitor only) and ``alarm`` (the model error
+        that raises the alarm, default 0.1).
+    monitor : bool, optional
+        The model-error monitor, as the CLI's ``--monitor``: the estimator watches the model in
+        use and raises an alarm when the process no longer matches it (the signals
+        ``mismatch``, the model's error against the process, and ``model_alarm``; the alarms in
+        the report's ``adaptation`` log); without ``adapt`` nothing is applied.
 
     Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
     unit set-point step, then a step load at the plant input once the response has settled.
