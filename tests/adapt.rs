@@ -414,3 +414,55 @@ fn the_alarm_clears_when_the_adaptation_has_caught_up() {
     assert_eq!(last(&out, "model_alarm"), 0.0);
     assert!((last(&out, "k_model") - 1.3).abs() < 0.05 * 1.3);
 }
+
+/// Every scheme with a model adapts: the filtered Smith predictor and
+/// Kaya–Atherton's predictor (their other blocks designed from the model,
+/// so each is rebuilt for the new model, warms up beside the one in use and
+/// takes over) after the lag doubles, the Karan–Dey predictor after an
+/// integrating process's gain rises 20 % (0.5 % noise): the model in use
+/// becomes the process's and the loop stays stable.
+#[test]
+fn every_scheme_with_a_model_adapts() {
+    type Case = (&'static str, &'static str, &'static str, (f64, f64, f64));
+    let cases: [Case; 3] = [
+        ("fsp", "1*e^-1s/(4s+1)", "150:plant-lag=8", (1.0, 8.0, 1.0)),
+        (
+            "kaya-atherton",
+            "1*e^-1s/(4s+1)",
+            "150:plant-lag=8",
+            (1.0, 8.0, 1.0),
+        ),
+        (
+            "karan-dey",
+            "0.5*e^-1s/s",
+            "150:plant-gain=0.6",
+            (0.6, f64::INFINITY, 1.0),
+        ),
+    ];
+    for (scheme, plant, drift, (k, tau, theta)) in cases {
+        let mut sc = scenario(plant, &[drift], 0.005, 3, true);
+        sc.controller = Some(scheme.into());
+        sc.lambda = None;
+        sc.duration = Some(1200.0);
+        sc.setpoint = square(1200.0);
+        let out = sc.run().unwrap();
+        let model = (
+            last(&out, "k_model"),
+            last(&out, "tau_model"),
+            last(&out, "theta_model"),
+        );
+        let log = out.report().adaptation;
+        assert!(out.result.diverged_at.is_none(), "{scheme}: {log:?}");
+        assert!(
+            log.iter()
+                .any(|c| c.kind == msp::adapt::ChangeKind::Applied),
+            "{scheme}: {log:?}"
+        );
+        assert!((model.0 - k).abs() < 0.05 * k, "{scheme}: {model:?}");
+        assert!(
+            tau.is_infinite() && model.1.is_infinite() || (model.1 - tau).abs() < 0.1 * tau,
+            "{scheme}: {model:?}"
+        );
+        assert!((model.2 - theta).abs() <= 1.05 * TS, "{scheme}: {model:?}");
+    }
+}

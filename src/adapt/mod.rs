@@ -51,7 +51,7 @@ use crate::real::positive;
 use crate::{Error, Real};
 
 mod supervisor;
-pub use supervisor::{Adaptive, AdaptiveConfig, Change, ChangeKind, Retune, SIGNALS};
+pub use supervisor::{Adaptive, AdaptiveConfig, Change, ChangeKind, Rebuild, Redesign, SIGNALS};
 
 /// The last `H` input differences `Δu`, newest first ([`History::back`]`(0)`).
 #[derive(Debug, Clone)]

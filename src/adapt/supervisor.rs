@@ -24,8 +24,10 @@
 //! `max_step` (a larger difference takes several changes), through the
 //! scheme's own run-time operations: [`Operate::set_model`] (the model's
 //! output continues: no jump), [`Operate::set_dead_time`], and the primary
-//! retuned by the caller's rule ([`Retune`], bumpless through
-//! [`Operate::retune`]). After a change the error is watched for
+//! retuned by the caller's rule ([`Redesign::gains`], bumpless through
+//! [`Operate::retune`]); a scheme whose other blocks are designed from its
+//! model is rebuilt for the new one ([`Redesign::rebuild`]) and takes over
+//! after warming up beside the one in use. After a change the error is watched for
 //! `watch` samples: `crossings` consecutive short half-cycles of the
 //! error, each reaching the band `±band` (an oscillation, after Hägglund
 //! (1995)'s detector, which counts the error's excursions between zero
@@ -39,26 +41,64 @@ use super::{Estimate, Estimator, EstimatorConfig};
 use crate::operate::{Gain, Operate, Tracking};
 use crate::{CascadeControl, Controller, Error, FrequencyResponse, Introspect, Real};
 
-/// The primary controller's gains `[Kp, Ti, Td]` for a model `(K, τ, θ)`
-/// (`τ` infinite: integrating) by the scheme's own tuning rule at the same
-/// λ policy; `None` keeps the gains. Any `FnMut(K, τ, θ) -> Option<[T; 3]>`
-/// is one (a `fn` on a device, a closure over the registry's tuning on a
-/// host); `()` never retunes.
-pub trait Retune<T> {
-    /// The gains for the model `(k, tau, theta)`.
-    fn gains(&mut self, k: T, tau: T, theta: T) -> Option<[T; 3]>;
+/// How a scheme `C` is redesigned for a model `(K, τ, θ)` (`τ` infinite:
+/// integrating) by its own rule at the same λ policy.
+///
+/// A scheme whose model can change at run time ([`Operate::set_model`]:
+/// the Smith predictor) keeps its blocks and takes the primary's new gains
+/// `[Kp, Ti, Td]` ([`Redesign::gains`]; `None` keeps them): any
+/// `FnMut(K, τ, θ) -> Option<[T; 3]>` is one (a `fn` on a device, a
+/// closure over the registry's tuning on a host), and `()` never retunes.
+/// A scheme whose other blocks are designed from its model (the
+/// compensator family, Karan–Dey, the filtered Smith predictor) is built
+/// anew ([`Redesign::rebuild`], e.g. [`Rebuild`]): the new one runs beside
+/// the old on the same measurements, tracking the output the plant
+/// receives ([`Operate::apply`]), until its model's dead time and four time
+/// constants have passed (its lines and states hold the loop's history),
+/// then takes over from that output (its integral where the tracking left
+/// it; its own law from then on, as after a bumpless return to automatic).
+pub trait Redesign<T, C> {
+    /// The primary's gains for the model.
+    fn gains(&mut self, k: T, tau: T, theta: T) -> Option<[T; 3]> {
+        let _ = (k, tau, theta);
+        None
+    }
+
+    /// The scheme designed for the model.
+    fn rebuild(&mut self, k: T, tau: T, theta: T) -> Option<C> {
+        let _ = (k, tau, theta);
+        None
+    }
 }
 
-impl<T, F: FnMut(T, T, T) -> Option<[T; 3]>> Retune<T> for F {
+impl<T, C, F: FnMut(T, T, T) -> Option<[T; 3]>> Redesign<T, C> for F {
     fn gains(&mut self, k: T, tau: T, theta: T) -> Option<[T; 3]> {
         self(k, tau, theta)
     }
 }
 
-impl<T> Retune<T> for () {
-    fn gains(&mut self, _: T, _: T, _: T) -> Option<[T; 3]> {
-        None
+impl<T, C> Redesign<T, C> for () {}
+
+/// A redesign that builds the scheme anew: `F(K, τ, θ)` is the scheme
+/// designed for the model ([`Redesign::rebuild`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Rebuild<F>(pub F);
+
+impl<T, C, F: FnMut(T, T, T) -> Option<C>> Redesign<T, C> for Rebuild<F> {
+    fn rebuild(&mut self, k: T, tau: T, theta: T) -> Option<C> {
+        (self.0)(k, tau, theta)
     }
+}
+
+/// A rebuilt scheme warming up beside the one in use.
+#[derive(Debug, Clone)]
+struct Shadow<T, C> {
+    scheme: C,
+    model: Model<T>,
+    /// Samples until it takes over.
+    left: u32,
+    /// What its taking over is logged as.
+    kind: ChangeKind,
 }
 
 /// Settings of an [`Adaptive`] controller.
@@ -253,13 +293,15 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// The current half-cycle of the error: its length and its peak.
     half: u32,
     peak: T,
+    /// A rebuilt scheme warming up to take over.
+    shadow: Option<Shadow<T, C>>,
     /// The model-error alarm, and for how many samples its condition has
     /// held against its state.
     alarm: bool,
     alarm_for: u32,
 }
 
-impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
     Adaptive<T, C, R, N, H, L>
 {
     /// `inner` built for the model `K e^{−θs}/(τs + 1)` (`tau` infinite:
@@ -313,6 +355,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             peak: T::zero(),
             alarm: false,
             alarm_for: 0,
+            shadow: None,
         })
     }
 
@@ -389,7 +432,45 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
         let u = self.inner.update(r, y);
         self.last_u = u;
         self.ok = u.is_finite() && !self.inner.fault();
+        self.warm(r, y, u);
         u
+    }
+
+    /// The rebuilt scheme's sample beside the one in use: it computes on
+    /// the same measurement and follows the output the plant receives; when
+    /// its time has come, it takes over.
+    fn warm(&mut self, r: T, y: T, u: T) {
+        let Some(sh) = self.shadow.as_mut() else {
+            return;
+        };
+        sh.scheme.update(r, y);
+        sh.scheme.apply(u, Tracking::Full);
+        sh.left = sh.left.saturating_sub(1);
+        if sh.left > 0 {
+            return;
+        }
+        if let Some(sh) = self.shadow.take() {
+            self.inner = sh.scheme;
+            self.model = sh.model;
+            self.reference();
+            self.record(sh.kind);
+            self.changed(sh.kind);
+        }
+    }
+
+    /// After a change took effect: the interval starts again, and after an
+    /// applied one the watch for oscillation.
+    fn changed(&mut self, kind: ChangeKind) {
+        self.since = 0;
+        self.settled = None;
+        self.block = Block::default();
+        if kind == ChangeKind::Applied {
+            self.watching = self.cfg.watch;
+            self.crossed = 0;
+            self.side = 0;
+            self.half = 0;
+            self.peak = T::zero();
+        }
     }
 
     fn record(&mut self, kind: ChangeKind) {
@@ -411,10 +492,35 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     }
 
     /// The model `m` into the scheme: its delay-free part, its dead time,
-    /// the primary's gains.
-    fn put(&mut self, m: Model<T>) -> Result<(), Error> {
+    /// the primary's gains (`Ok(true)`); or a scheme whose blocks are
+    /// designed from its model rebuilt for it, warming up to take over
+    /// (`Ok(false)`, logged as `kind` when it does).
+    fn put(&mut self, m: Model<T>, kind: ChangeKind) -> Result<bool, Error> {
         let ts = self.cfg.estimator.ts;
-        self.inner.set_model(m.k, m.tau)?;
+        match self.inner.set_model(m.k, m.tau) {
+            Ok(()) => {}
+            Err(Error::Unsupported(why)) => {
+                let scheme = self
+                    .retune
+                    .rebuild(m.k, m.tau, m.theta)
+                    .ok_or(Error::Unsupported(why))?;
+                // its dead time and four time constants (an integrating
+                // model's: four dead times) fill its lines and settle it
+                let span = if m.tau.is_finite() { m.tau } else { m.theta };
+                let samples = ((m.theta + T::of(4.0) * span) / ts).ceil();
+                let left = num_traits::ToPrimitive::to_u32(&samples)
+                    .unwrap_or(u32::MAX)
+                    .clamp(1, 100_000);
+                self.shadow = Some(Shadow {
+                    scheme,
+                    model: m,
+                    left,
+                    kind,
+                });
+                return Ok(false);
+            }
+            Err(e) => return Err(e),
+        }
         self.inner.set_dead_time(m.theta / ts)?;
         if let Some([kp, ti, td]) = self.retune.gains(m.k, m.tau, m.theta) {
             self.inner.retune(Gain::Kp, kp)?;
@@ -423,7 +529,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
         }
         self.model = m;
         self.reference();
-        Ok(())
+        Ok(true)
     }
 
     /// The estimator's reference follows the model in use.
@@ -515,14 +621,15 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             if self.crossed >= self.cfg.crossings {
                 self.watching = 0;
                 let good = self.good;
-                let kind = match self.put(good) {
-                    Ok(()) => ChangeKind::Restored,
+                self.shadow = None;
+                match self.put(good, ChangeKind::Restored) {
+                    Ok(true) => self.record(ChangeKind::Restored),
+                    Ok(false) => {}
                     Err(_) => {
                         self.frozen = true;
-                        ChangeKind::Refused
+                        self.record(ChangeKind::Refused);
                     }
-                };
-                self.record(kind);
+                }
                 self.block = Block::default();
                 self.settled = None;
                 self.rest_until = self
@@ -535,7 +642,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             return;
         }
         self.watch_model();
-        if !self.cfg.apply || self.samples < self.rest_until {
+        if !self.cfg.apply || self.samples < self.rest_until || self.shadow.is_some() {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held
@@ -591,20 +698,16 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
             theta: m.theta,
         };
         self.good = cur;
-        match self.put(target) {
-            Ok(()) => {
+        match self.put(target, ChangeKind::Applied) {
+            Ok(true) => {
                 self.record(ChangeKind::Applied);
-                self.since = 0;
-                self.settled = None;
-                self.watching = self.cfg.watch;
-                self.crossed = 0;
-                self.side = 0;
-                self.half = 0;
-                self.peak = T::zero();
+                self.changed(ChangeKind::Applied);
             }
+            Ok(false) => {}
             Err(_) => {
                 // a part may have been applied: back to the model in use
-                let _ = self.put(cur);
+                let _ = self.put(cur, ChangeKind::Restored);
+                self.shadow = None;
                 self.frozen = true;
                 self.record(ChangeKind::Refused);
             }
@@ -718,7 +821,7 @@ fn near<T: Real>(a: T, b: T, rel: T) -> bool {
     (a - b).abs() <= rel * a.abs()
 }
 
-impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
     Controller<T> for Adaptive<T, C, R, N, H, L>
 {
     fn update(&mut self, r: T, y: T) -> T {
@@ -728,6 +831,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     /// The scheme's reset; the estimator and the log keep what they learnt.
     fn reset(&mut self) {
         self.inner.reset();
+        self.shadow = None;
         self.last_u = T::zero();
         self.ok = false;
         self.pending = None;
@@ -738,7 +842,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     }
 }
 
-impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
     Operate<T> for Adaptive<T, C, R, N, H, L>
 {
     /// The scheme follows the applied value; the estimator learns nothing
@@ -746,6 +850,9 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     /// answer to the control law) but records what the plant received.
     fn apply(&mut self, applied: T, how: Tracking) {
         self.inner.apply(applied, how);
+        if let Some(sh) = self.shadow.as_mut() {
+            sh.scheme.apply(applied, Tracking::Full);
+        }
         if applied.is_finite() && applied != self.last_u {
             self.last_u = applied;
             self.ok = false;
@@ -782,7 +889,7 @@ impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const
     }
 }
 
-impl<T: Real, C: Operate<T>, R: Retune<T>, const N: usize, const H: usize, const L: usize>
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
     CascadeControl<T> for Adaptive<T, C, R, N, H, L>
 {
 }
@@ -811,7 +918,7 @@ pub const SIGNALS: [&str; 10] = [
 impl<
         T: Real,
         C: Operate<T> + Introspect<T>,
-        R: Retune<T>,
+        R: Redesign<T, C>,
         const N: usize,
         const H: usize,
         const L: usize,
@@ -863,7 +970,7 @@ impl<
 impl<
         T: Real,
         C: Operate<T> + FrequencyResponse<T>,
-        R: Retune<T>,
+        R: Redesign<T, C>,
         const N: usize,
         const H: usize,
         const L: usize,

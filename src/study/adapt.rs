@@ -46,6 +46,42 @@ pub struct AdaptOptions {
     pub alarm: Option<f64>,
 }
 
+/// The scheme's own design for a model, at the scenario's λ policy: the
+/// primary's gains (the Smith predictor, whose model changes at run time),
+/// or the whole scheme built anew (the schemes whose other blocks are
+/// designed from the model).
+struct ScenarioRedesign {
+    sc: Scenario,
+}
+
+impl crate::adapt::Redesign<f64, DynController> for ScenarioRedesign {
+    fn gains(&mut self, k: f64, tau: f64, theta: f64) -> Option<[f64; 3]> {
+        let tf = model_tf(k, tau, theta).ok()?;
+        let tuned = self.sc.tune_for(&tf, None).ok()?;
+        let p = &tuned.params;
+        Some([
+            p.get("kp")?,
+            p.get("ti").unwrap_or(f64::INFINITY),
+            p.get("td").unwrap_or(0.0),
+        ])
+    }
+
+    /// The scheme for the model; one whose predictor holds whole samples of
+    /// dead time (the filtered Smith predictor) for the model's dead time
+    /// rounded to a sample (the estimate is not finer under noise).
+    fn rebuild(&mut self, k: f64, tau: f64, theta: f64) -> Option<DynController> {
+        let build = |theta: f64| -> Option<DynController> {
+            let tf = model_tf(k, tau, theta).ok()?;
+            let tuned = self.sc.tune_for(&tf, None).ok()?;
+            Some(self.sc.build_tuned(&tuned, &tf, None).ok()?.controller)
+        };
+        build(theta).or_else(|| {
+            let ts = self.sc.ts?;
+            build((theta / ts).round() * ts)
+        })
+    }
+}
+
 /// `K/(τs + 1)` or `K/s` with the dead time `θ`: the model an estimate is.
 fn model_tf(k: f64, tau: f64, theta: f64) -> Result<TransferFunction, Error> {
     if tau.is_infinite() {
@@ -97,8 +133,9 @@ impl Scenario {
 
     /// `controller`, built for `model` with period `ts`, wrapped as the
     /// scenario's `adapt` asks (unchanged without it). The model must be a
-    /// FOPDT or IPDT model and the scheme one whose model can change at run
-    /// time (the Smith predictor: [`crate::Operate::set_model`]).
+    /// FOPDT or IPDT model; a scheme whose model changes at run time (the
+    /// Smith predictor: [`crate::Operate::set_model`]) is retuned, any
+    /// other rebuilt for each model ([`crate::adapt::Redesign`]).
     pub(super) fn adaptive(
         &self,
         mut controller: DynController,
@@ -117,8 +154,12 @@ impl Scenario {
                 )))
             }
         };
-        // the scheme must take a new model at run time: tried with the one it has
-        controller.set_model(k, tau)?;
+        // a scheme that takes a new model at run time keeps its blocks (tried
+        // with the one it has); the others are rebuilt for each model
+        match controller.set_model(k, tau) {
+            Ok(()) | Err(Error::Unsupported(_)) => {}
+            Err(e) => return Err(e.into()),
+        }
         let d_model = (theta / ts).floor();
         let (d_min, d_max) = self.adapt_range(model, ts)?;
         if d_max - d_min >= CANDIDATES as f64 {
@@ -176,21 +217,12 @@ impl Scenario {
                 .iter()
                 .fold(0.0f64, |m, s| m.max(s.value.abs())),
         );
-        // the primary retuned by the scheme's rule for the new model, at the
-        // scenario's λ policy (a λ given stays; a rule's λ follows the model)
+        // the scheme's rule for the new model, at the scenario's λ policy (a
+        // λ given stays; a rule's λ follows the model)
         let mut sc = self.clone();
         sc.adapt = None;
         sc.monitor = false;
-        let retune = move |k: f64, tau: f64, theta: f64| -> Option<[f64; 3]> {
-            let tf = model_tf(k, tau, theta).ok()?;
-            let tuned = sc.tune_for(&tf, None).ok()?;
-            let p = &tuned.params;
-            Some([
-                p.get("kp")?,
-                p.get("ti").unwrap_or(f64::INFINITY),
-                p.get("td").unwrap_or(0.0),
-            ])
-        };
+        let retune = ScenarioRedesign { sc };
         let need = d_min + CANDIDATES + 2;
         // the history's length is a type parameter: the smallest of three that holds it
         macro_rules! with_history {

@@ -6,7 +6,7 @@
 //! `d_min … d_min + 15` over a history of [`MSP_ADAPT_HISTORY`] inputs (a
 //! dead time of at most `MSP_ADAPT_HISTORY − 18` samples).
 
-use msp_core::adapt::{Adaptive, AdaptiveConfig, Estimator, EstimatorConfig, Retune};
+use msp_core::adapt::{Adaptive, AdaptiveConfig, Estimator, EstimatorConfig, Redesign};
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real, SmithPredictor};
 
 use crate::handle::{
@@ -145,7 +145,7 @@ struct Kaya<T> {
     lambda: T,
 }
 
-impl<T: Real> Retune<T> for Kaya<T> {
+impl<T: Real, C> Redesign<T, C> for Kaya<T> {
     fn gains(&mut self, k: T, tau: T, theta: T) -> Option<[T; 3]> {
         if self.lambda.is_nan() {
             return None;
@@ -229,7 +229,9 @@ fn estimator_config<T: Real>(c: &msp_estimator_config_of<T>) -> Result<Estimator
     e.integrating = c.integrating != 0;
     e.forgetting = c.forgetting;
     if c.prefilter.is_nan() || c.prefilter < T::zero() || c.prefilter.is_infinite() {
-        return Err(Error::OutOfRange("prefilter: a time constant (s), 0 or positive"));
+        return Err(Error::OutOfRange(
+            "prefilter: a time constant (s), 0 or positive",
+        ));
     }
     e.prefilter = if c.prefilter > T::zero() {
         (-c.ts / c.prefilter).exp()
@@ -320,7 +322,10 @@ fn adaptive_default<T: Real>(
 ) -> Result<msp_adaptive_config_of<T>, Error> {
     let d = smith_samples(s)?;
     // the candidates around the model's dead time: 6 below, 9 above
-    let below = (d.floor() - T::of(6.0)).max(T::zero()).to_f64().unwrap_or(f64::NAN);
+    let below = (d.floor() - T::of(6.0))
+        .max(T::zero())
+        .to_f64()
+        .unwrap_or(f64::NAN);
     if below.is_nan() || below >= f64::from(u32::MAX) {
         return Err(Error::DelayTooLong("dead time"));
     }
@@ -431,7 +436,10 @@ unsafe fn adaptive_update<H: Tagged>(h: *mut H, r: H::T, y: H::T, u: Option<H::T
 
 /// # Safety
 /// As [`value`]; `out` null or writable.
-unsafe fn adaptive_state<H: Tagged>(h: *mut H, out: *mut msp_adaptive_state_of<H::T>) -> msp_status {
+unsafe fn adaptive_state<H: Tagged>(
+    h: *mut H,
+    out: *mut msp_adaptive_state_of<H::T>,
+) -> msp_status {
     if out.is_null() {
         return msp_status::MSP_NULL_POINTER;
     }
@@ -445,7 +453,9 @@ unsafe fn adaptive_state<H: Tagged>(h: *mut H, out: *mut msp_adaptive_state_of<H
         k,
         tau,
         theta,
-        mismatch: c.mismatch().map_or(<H::T as Real>::of(f64::NAN), |m| m.error),
+        mismatch: c
+            .mismatch()
+            .map_or(<H::T as Real>::of(f64::NAN), |m| m.error),
         alarm: u32::from(c.alarm()),
         frozen: u32::from(c.is_frozen()),
         changes: u32::try_from(c.changes()).unwrap_or(u32::MAX),

@@ -525,7 +525,11 @@ type ModelParts<T> = (msp_core::Lti<T, 1>, Delay<T, Buf<T>>);
 
 /// The model ZOH-discretized at `ts`, and its dead-time line over the rest
 /// of the arena.
-pub(crate) fn model_in<T: Real>(m: &msp_model_of<T>, ts: T, a: &mut Arena) -> Result<ModelParts<T>, Error> {
+pub(crate) fn model_in<T: Real>(
+    m: &msp_model_of<T>,
+    ts: T,
+    a: &mut Arena,
+) -> Result<ModelParts<T>, Error> {
     let (m, d) = dead_time(m, ts)?;
     let (block, _) = m.discretize::<1>(ts)?;
     Ok((block, Delay::with_storage(a.rest::<T>()?, d)?))
