@@ -13,6 +13,7 @@ use crate::handle::{
     model_in, msp_model_kind, msp_model_of, msp_smith_config_of, pid_config, read, smith_samples,
     Arena, Precision,
 };
+use crate::relay::tuned;
 use crate::{msp_status, report};
 
 /// Candidate dead times of the device's estimator.
@@ -520,17 +521,8 @@ twins! {
         d_min: u32,
         config: *mut msp_estimator_config | *mut msp_estimator_config_f64,
     ) -> msp_status {
-        if config.is_null() {
-            return msp_status::MSP_NULL_POINTER;
-        }
-        match estimator_default(ts, d_min) {
-            Ok(c) => {
-                // SAFETY: non-null, the caller's
-                unsafe { config.write(c) };
-                msp_status::MSP_OK
-            }
-            Err(e) => e.into(),
-        }
+        // SAFETY: forwarded
+        unsafe { tuned(config, estimator_default(ts, d_min)) }
     }
 
     /// Builds an identifier in `buf` (`len` bytes, at least
@@ -631,17 +623,8 @@ twins! {
         let Some(s) = (unsafe { read(smith) }) else {
             return msp_status::MSP_NULL_POINTER;
         };
-        if config.is_null() {
-            return msp_status::MSP_NULL_POINTER;
-        }
-        match adaptive_default(&s) {
-            Ok(c) => {
-                // SAFETY: non-null, the caller's
-                unsafe { config.write(c) };
-                msp_status::MSP_OK
-            }
-            Err(e) => e.into(),
-        }
+        // SAFETY: forwarded
+        unsafe { tuned(config, adaptive_default(&s)) }
     }
 
     /// The bytes `msp_adaptive_init` needs for `config` (0 and `*status`

@@ -27,7 +27,7 @@ fn lambda_or<T: Real>(lambda: T, default: T) -> Result<T, Error> {
 ///
 /// # Safety
 /// `out` is null or writable.
-unsafe fn tuned<C>(out: *mut C, c: Result<C, Error>) -> msp_status {
+pub(crate) unsafe fn tuned<C>(out: *mut C, c: Result<C, Error>) -> msp_status {
     if out.is_null() {
         return msp_status::MSP_NULL_POINTER;
     }
