@@ -41,6 +41,10 @@ pub struct AdaptOptions {
     /// model-error monitor only (`msp run --monitor`): the alarm is raised
     /// and cleared, the model stays.
     pub apply: Option<bool>,
+    /// The dead zone in multiples of the measured noise (the estimator's
+    /// RMS prediction error): errors within it do not update (default 0:
+    /// off).
+    pub dead_zone: Option<f64>,
     /// The model error that raises the alarm (default 0.1: 10 %, with
     /// the monitor; giving it turns the monitor on).
     pub alarm: Option<f64>,
@@ -194,6 +198,9 @@ impl Scenario {
             None => 2.5 * theta.max(ts),
         };
         est.prefilter = if t > 0.0 { (-ts / t).exp() } else { 0.0 };
+        if let Some(z) = opts.dead_zone {
+            est.dead_zone_ratio = crate::real::non_negative(z, "adapt dead zone")?;
+        }
         if let Some(x) = opts.excitation {
             est.min_excitation = crate::real::non_negative(x, "adapt excitation")?;
         }

@@ -164,6 +164,10 @@ pub(crate) struct ScenarioArgs {
     /// (and ten times its own jitter) within the response's time.
     #[arg(long, value_name = "DU", allow_hyphen_values = true)]
     pub(crate) adapt_excitation: Option<f64>,
+    /// The estimator's dead zone in multiples of the measured noise (its
+    /// RMS prediction error; default 0: off).
+    #[arg(long, value_name = "RATIO", allow_hyphen_values = true)]
+    pub(crate) adapt_dead_zone: Option<f64>,
     /// Model-error monitor: the estimator watches the model in use and
     /// raises an alarm (in the report and the summary, and the CSV columns
     /// mismatch, model_alarm) when the process no longer matches it;

@@ -1759,4 +1759,8 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
         words("run --plant e^-1s/(4s+1) -c smith --quantization -1"),
         "quantization",
     );
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-dead-zone -1"),
+        "dead zone",
+    );
 }

@@ -1050,6 +1050,8 @@ def test_adapt_follows_a_process_lag_that_doubled():
     assert fixed.report()["adaptation"] == []
     with pytest.raises(ValueError, match="unknown option 'speed'"):
         msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)
+    with pytest.raises(ValueError, match="dead zone"):
+        msp.run("e^-1s/(4s+1)", adapt={"dead_zone": -1.0}, **kw)
 
 
 def test_monitor_raises_an_alarm_when_the_gain_drifts():

@@ -99,11 +99,12 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         || a.adapt_forgetting.is_some()
         || a.adapt_prefilter.is_some()
         || a.adapt_excitation.is_some()
+        || a.adapt_dead_zone.is_some()
         || a.alarm.is_some();
     sc.monitor |= a.monitor;
     if tuning && !(a.adapt || sc.monitor || sc.adapt.is_some()) {
         return Err(CliError::Input(
-            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation and --alarm set up an adaptation: add --adapt or --monitor".into(),
+            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation, --adapt-dead-zone and --alarm set up an adaptation: add --adapt or --monitor".into(),
         ));
     }
     if a.adapt || tuning {
@@ -121,6 +122,7 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
             adapt_forgetting => forgetting,
             adapt_prefilter => prefilter,
             adapt_excitation => excitation,
+            adapt_dead_zone => dead_zone,
             alarm => alarm
         );
     }

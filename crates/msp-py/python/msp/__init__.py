@@ -420,7 +420,8 @@ def run(
         primary retuned at each change; the signals ``k_hat``, ``tau_hat``, ``theta_hat``
         (the estimate) and ``k_model``, ``tau_model``, ``theta_model`` (the model in use).
         A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``,
-        ``prefilter`` (s), ``apply`` (False: a monitor only) and ``alarm`` (the model error
+        ``prefilter`` (s), ``dead_zone`` (multiples of the measured noise), ``apply`` (False: a
+        monitor only) and ``alarm`` (the model error
         that raises the alarm, default 0.1).
     monitor : bool, optional
         The model-error monitor, as the CLI's ``--monitor``: the estimator watches the model in
