@@ -198,6 +198,22 @@ pub struct EstimatorConfig<T> {
 }
 
 impl<T: Real> EstimatorConfig<T> {
+    /// The prefilter's pole from its time constant `t` (s): `c = e^{−Ts/t}`
+    /// (0: plain differences).
+    pub fn set_prefilter_time(&mut self, t: T) -> Result<(), Error> {
+        if !(t >= T::zero() && t.is_finite()) {
+            return Err(Error::OutOfRange(
+                "prefilter: a time constant (s), 0 or positive",
+            ));
+        }
+        self.prefilter = if t > T::zero() {
+            (-self.ts / t).exp()
+        } else {
+            T::zero()
+        };
+        Ok(())
+    }
+
     /// Checks every setting (the history's room is the estimator's).
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.ts, "ts")?;

@@ -141,6 +141,20 @@ pub struct AdaptiveConfig<T> {
 }
 
 impl<T: Real> AdaptiveConfig<T> {
+    /// Checks every setting (the estimator's included).
+    pub fn validate(&self) -> Result<(), Error> {
+        self.estimator.validate()?;
+        crate::real::positive(self.min_change, "min_change")?;
+        if !(self.max_step > T::one()) {
+            return Err(Error::OutOfRange("max_step: above 1"));
+        }
+        if !(self.alarm > T::zero()) {
+            return Err(Error::NotPositive("alarm"));
+        }
+        crate::real::non_negative(self.band, "band")?;
+        Ok(())
+    }
+
     /// Defaults around the estimator's settings.
     pub fn new(estimator: EstimatorConfig<T>) -> Self {
         AdaptiveConfig {
@@ -321,10 +335,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return Err(Error::OutOfRange("tau: positive (infinite: integrating)"));
         }
         crate::real::non_negative(theta, "theta")?;
-        crate::real::positive(cfg.min_change, "min_change")?;
-        if !(cfg.max_step > T::one()) {
-            return Err(Error::OutOfRange("max_step: above 1"));
-        }
+        cfg.validate()?;
         let model = Model { k, tau, theta };
         let mut est = Estimator::new(cfg.estimator)?;
         // the estimator starts from the model (its dead time the choice

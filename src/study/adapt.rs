@@ -183,11 +183,6 @@ impl Scenario {
         let mut est = EstimatorConfig::new(ts, d_min);
         est.integrating = integrating;
         if let Some(f) = opts.forgetting {
-            if !(f > 0.0 && f <= 1.0) {
-                return Err(RunError::Invalid(Error::OutOfRange(
-                    "adapt forgetting: in (0, 1]",
-                )));
-            }
             est.forgetting = f;
         }
         // by default the prefilter's time constant is 2.5 of the model's
@@ -197,7 +192,7 @@ impl Scenario {
             None if tau.is_finite() => 2.5 * tau,
             None => 2.5 * theta.max(ts),
         };
-        est.prefilter = if t > 0.0 { (-ts / t).exp() } else { 0.0 };
+        est.set_prefilter_time(t)?;
         if let Some(z) = opts.dead_zone {
             est.dead_zone_ratio = crate::real::non_negative(z, "adapt dead zone")?;
         }

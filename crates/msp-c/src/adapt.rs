@@ -229,19 +229,7 @@ fn estimator_config<T: Real>(c: &msp_estimator_config_of<T>) -> Result<Estimator
     let mut e = EstimatorConfig::new(c.ts, d_min);
     e.integrating = c.integrating != 0;
     e.forgetting = c.forgetting;
-    if c.prefilter.is_nan() || c.prefilter < T::zero() || c.prefilter.is_infinite() {
-        return Err(Error::OutOfRange(
-            "prefilter: a time constant (s), 0 or positive",
-        ));
-    }
-    e.prefilter = if c.prefilter > T::zero() {
-        (-c.ts / c.prefilter).exp()
-    } else {
-        T::zero()
-    };
-    if c.excitation.is_nan() || c.excitation < T::zero() {
-        return Err(Error::OutOfRange("excitation: 0 or positive"));
-    }
+    e.set_prefilter_time(c.prefilter)?;
     e.min_excitation = c.excitation;
     e.validate()?;
     Ok(e)
@@ -304,11 +292,9 @@ fn adaptive_config<T: Real>(c: &msp_adaptive_config_of<T>) -> Result<AdaptiveCon
     })?;
     let mut a = AdaptiveConfig::new(est);
     a.min_change = c.min_change;
-    if c.alarm.is_nan() || c.alarm <= T::zero() {
-        return Err(Error::NotPositive("alarm"));
-    }
     a.alarm = c.alarm;
     a.apply = c.apply != 0;
+    a.validate()?;
     Ok(a)
 }
 

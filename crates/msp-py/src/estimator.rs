@@ -66,16 +66,7 @@ impl Estimator {
         let mut cfg = EstimatorConfig::new(ts, d_min);
         cfg.integrating = integrating;
         cfg.forgetting = forgetting;
-        if !(prefilter >= 0.0 && prefilter.is_finite()) {
-            return Err(pyo3::exceptions::PyValueError::new_err(
-                "prefilter: a time constant (s), 0 or positive",
-            ));
-        }
-        cfg.prefilter = if prefilter > 0.0 {
-            (-ts / prefilter).exp()
-        } else {
-            0.0
-        };
+        cfg.set_prefilter_time(prefilter).map_err(value_err)?;
         cfg.min_excitation = excitation;
         Ok(Estimator {
             inner: Box::new(Bank::new(cfg).map_err(value_err)?),
