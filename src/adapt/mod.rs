@@ -38,7 +38,15 @@
 //! evidence for it ([`Estimate::evidence`]: the cost difference in units
 //! of the noise, twice the log-likelihood ratio for Gaussian errors) reaches
 //! [`EstimatorConfig::switch_evidence`] for a number of samples (Ljung
-//! (1999) Sec. 16.4, delay by model comparison). An update is skipped when
+//! (1999) Sec. 16.4, delay by model comparison). The costs remember long
+//! (2000 samples) and a candidate's estimator what it was fitted to, so
+//! after a step of the process's dead time the comparison would wait for
+//! the past to be forgotten; a change detector shortens that: the chosen
+//! coefficients simulated at every dead time, Page's cumulative sum of
+//! the evidence for each, and when one dead time explains most of the
+//! chosen one's error the bank restarts from the chosen model, its costs
+//! cleared (see `Estimator::detect`; Page (1954), Basseville & Nikiforov
+//! (1993)). An update is skipped when
 //! the input has not moved clearly more than its own jitter within the
 //! response's time (the excitation gate: in closed loop the noise moves the
 //! input too, and data in which only the noise does identify the
@@ -52,6 +60,36 @@ use crate::{Error, Real};
 
 mod supervisor;
 pub use supervisor::{Adaptive, AdaptiveConfig, Change, ChangeKind, Rebuild, Redesign, SIGNALS};
+
+/// A running median of a magnitude, followed by multiplicative steps (a
+/// quantile tracker: up by 1 % when a value is above it, down when below),
+/// robust to the few large values that are the excitation or a misfit.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Median<T> {
+    value: T,
+}
+
+impl<T: Real> Median<T> {
+    pub(crate) fn new() -> Self {
+        Median { value: T::zero() }
+    }
+
+    /// Takes `m` (≥ 0) and returns the median so far.
+    pub(crate) fn push(&mut self, m: T) -> T {
+        self.value = if self.value > T::zero() {
+            let step = T::of(0.01);
+            self.value
+                * if m > self.value {
+                    T::one() + step
+                } else {
+                    T::one() - step
+                }
+        } else {
+            m
+        };
+        self.value
+    }
+}
 
 /// The last `H` input differences `Δu`, newest first ([`History::back`]`(0)`).
 #[derive(Debug, Clone)]
@@ -70,7 +108,7 @@ pub(crate) struct History<T, const H: usize> {
     /// a running median of `|Δu|` (what noise through the controller moves
     /// the input by when nothing else does).
     ratio: T,
-    jitter: T,
+    jitter: Median<T>,
 }
 
 impl<T: Real, const H: usize> History<T, H> {
@@ -84,7 +122,7 @@ impl<T: Real, const H: usize> History<T, H> {
             gate,
             quiet: usize::MAX,
             ratio,
-            jitter: T::zero(),
+            jitter: Median::new(),
         }
     }
 
@@ -92,22 +130,11 @@ impl<T: Real, const H: usize> History<T, H> {
     pub(crate) fn push(&mut self, u: T) {
         let du = self.pole * self.last_f + (u - self.last_u);
         self.last_f = du;
-        // the median of |Δu| followed by multiplicative steps (a quantile
-        // tracker: up when above, down when below, by 1 %), robust to the
-        // few large moves that are the excitation
+        // the jitter: the median of |Δu|, robust to the few large moves
+        // that are the excitation
         let m = du.abs();
-        self.jitter = if self.jitter > T::zero() {
-            let step = T::of(0.01);
-            self.jitter
-                * if m > self.jitter {
-                    T::one() + step
-                } else {
-                    T::one() - step
-                }
-        } else {
-            m
-        };
-        self.quiet = if m >= self.gate && m >= self.ratio * self.jitter {
+        let jitter = self.jitter.push(m);
+        self.quiet = if m >= self.gate && m >= self.ratio * jitter {
             0
         } else {
             self.quiet.saturating_add(1)
@@ -145,6 +172,15 @@ struct Candidate<T> {
     /// The prediction's gradient `ψ[k] = ∂Δŷ[k]/∂(a, b0, b1)`: the
     /// regressor through `1/(1 − â·z⁻¹)`.
     psi: [T; 3],
+    /// The chosen candidate's coefficients at this candidate's dead time:
+    /// their simulated output `Δŷ[k]` (the change detector's model).
+    scan: T,
+    /// The change detector's statistic for this dead time against the
+    /// chosen one (Page's cumulative sum of the evidence, floored at 0).
+    cusum: T,
+    /// The simulation's squared error over about the last response
+    /// (excited samples, discounted by `1 − 1/window` per sample).
+    recent: T,
 }
 
 /// Settings of an [`Estimator`].
@@ -367,11 +403,34 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     sign: T,
     /// The model in use ([`Estimator::set_reference`]).
     reference: Option<Reference<T>>,
+    /// The median of the change detector's error differences `|Δe|` (its
+    /// noise level).
+    noise: Median<T>,
+    /// The chosen candidate's coefficients as they were between one and
+    /// two responses' worth of excited samples ago (the older first: the
+    /// change detector's model, from before a change), and the excited
+    /// samples since the newer was taken.
+    snap: [[T; 3]; 2],
+    snap_count: usize,
+    /// The chosen simulation's last error.
+    last_e: T,
+    /// The weight of the candidates' `recent` errors.
+    recent_weight: T,
+    /// Changes of dead time the detector found (see [`Estimator::restarts`]).
+    restarts: u32,
+    /// Excited samples before the detector may restart the bank again.
+    pause: usize,
     /// Samples after an excitation during which the estimator learns: the
     /// longest candidate dead time, and with a prior model four of its
     /// time constants more (the response to a move lasts that long).
     window: usize,
 }
+
+/// The change detector restarts the bank only when another dead time's
+/// simulation leaves at most this fraction of the chosen one's squared
+/// error over the last response, both less the noise's share (see
+/// [`Estimator::restarts`]).
+pub const EXPLAINED: f64 = 0.25;
 
 /// With a prior model, the time constants an estimate may take lie within
 /// this factor of the model's (a plausible range: a process whose lag
@@ -413,6 +472,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cost: T::zero(),
                 yhat: T::zero(),
                 psi: [T::zero(); 3],
+                scan: T::zero(),
+                cusum: T::zero(),
+                recent: T::zero(),
             }; N],
             hist: History::new(cfg.prefilter, cfg.min_excitation, cfg.excitation_ratio),
             last_y: T::zero(),
@@ -426,6 +488,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             sign: T::zero(),
             window: cfg.d_min.saturating_add(N),
             reference: None,
+            noise: Median::new(),
+            snap: [[a0, T::zero(), T::zero()]; 2],
+            snap_count: 0,
+            last_e: T::zero(),
+            recent_weight: T::zero(),
+            restarts: 0,
+            pause: 0,
         })
     }
 
@@ -471,6 +540,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
         self.chosen = i;
         self.challenger_for = 0;
+        self.rebase();
         self.model = self.model_of();
         self.set_reference(k, tau, theta)
     }
@@ -709,9 +779,160 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             r.weight = cfg.cost_memory * r.weight + T::one();
         }
         let before = self.chosen;
+        self.detect(target, excited);
         self.decide();
+        if self.chosen != before {
+            self.rebase();
+        }
         if excited || self.chosen != before {
             self.model = self.model_of();
+        }
+    }
+
+    /// The change detector: the chosen candidate's coefficients as they
+    /// were a response or two ago (from before a change: a snapshot per
+    /// `window` excited samples, the older of two used) simulated at every
+    /// candidate dead time (`Δŷ_d[k+1] = â·Δŷ_d[k] + b̂0·Δu[k−d] +
+    /// b̂1·Δu[k−d−1]`), and for each dead time not the chosen one's
+    /// neighbour Page's cumulative sum of the evidence for it,
+    /// `S_d = max(0, S_d + (e_chosen² − e_d²)/σ̂²)` over the excited samples
+    /// (for Gaussian errors twice the log-likelihood ratio since the dead
+    /// time changed: Page (1954), Basseville & Nikiforov (1993) Sec. 2.2;
+    /// `σ̂²` the noise, from the median of the chosen simulation's error
+    /// differences: white noise doubles its variance there, a slow misfit
+    /// hardly shows, a sharp one at a move is rare).
+    ///
+    /// Only the dead time differs between the simulations, so after a step
+    /// of the process's dead time the right one is better from the first
+    /// response on, where the candidates' own estimators would first have
+    /// to unlearn the data from before the step. A sum that reaches
+    /// [`EstimatorConfig::switch_evidence`] counts when, over the last
+    /// response (`window` excited samples of memory), the chosen
+    /// simulation's squared error is above the noise's share and the other
+    /// dead time leaves at most a quarter of that excess ([`EXPLAINED`]: a
+    /// model wrong in its gain or lag is beaten by some other dead time now
+    /// and then, not by this much). Then the bank restarts from the
+    /// snapshot, the model that was right but for its dead time: every
+    /// candidate at its coefficients (the chosen one's covariance), the
+    /// costs cleared (their evidence is from before the change), the
+    /// choice left to the bank's comparison as before; the detector rests
+    /// for four responses.
+    fn detect(&mut self, target: T, excited: bool) {
+        let cfg = self.cfg;
+        let chosen = self.chosen;
+        let Some(p) = self.bank.get(chosen).map(|c| c.p) else {
+            return;
+        };
+        let [snap, _] = self.snap;
+        let [a, b0, b1] = snap;
+        let a = if cfg.integrating { T::zero() } else { a };
+        let predict = |c: &Candidate<T>, d: usize| {
+            a * c.scan + b0 * self.hist.back(d) + b1 * self.hist.back(d + 1)
+        };
+        let e_chosen = self
+            .bank
+            .get(chosen)
+            .map_or(T::zero(), |c| target - predict(c, cfg.d_min + chosen));
+        let e2 = e_chosen * e_chosen;
+        // the noise: from the median of the error's differences (white
+        // noise of variance σ² gives differences of variance 2σ², whose
+        // absolute values have the median 0.6745·√2·σ; a slow misfit of
+        // the model hardly shows in them, a sharp one at a move is rare)
+        let de = e_chosen - self.last_e;
+        self.last_e = e_chosen;
+        let med = self.noise.push(de.abs());
+        let scale = med * med / T::of(2.0 * 0.6745 * 0.6745);
+        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        let recent_of = |c: &Candidate<T>, e2: T| {
+            if excited {
+                short * c.recent + e2
+            } else {
+                c.recent
+            }
+        };
+        let recent_chosen = self
+            .bank
+            .get(chosen)
+            .map_or(T::zero(), |c| recent_of(c, e2));
+        if excited {
+            self.recent_weight = short * self.recent_weight + T::one();
+        }
+        // the noise's share of a recent error
+        let floor = self.recent_weight * scale;
+        let mut best: Option<(usize, T)> = None;
+        for i in 0..N {
+            let Some(c) = self.bank.get(i) else { break };
+            let pred = predict(c, cfg.d_min + i);
+            let e = target - pred;
+            let recent = recent_of(c, e * e);
+            let mut sum = c.cusum;
+            if excited && i.abs_diff(chosen) >= 2 {
+                let gain = e2 - e * e;
+                sum = if scale > T::zero() {
+                    (sum + gain / scale).max(T::zero())
+                } else if gain > T::zero() {
+                    T::infinity()
+                } else {
+                    T::zero()
+                };
+                // significant, and of the chosen one's recent error above
+                // the noise most explained: a model wrong in its gain or
+                // lag is beaten by some other dead time now and then, not
+                // by this much
+                if sum >= cfg.switch_evidence
+                    && recent_chosen > floor
+                    && recent - floor <= T::of(EXPLAINED) * (recent_chosen - floor)
+                    && best.map_or(true, |(_, s)| sum > s)
+                {
+                    best = Some((i, sum));
+                }
+            }
+            if let Some(c) = self.bank.get_mut(i) {
+                c.scan = pred;
+                c.cusum = sum;
+                c.recent = recent;
+            }
+        }
+        self.pause = self.pause.saturating_sub(usize::from(excited));
+        if best.is_some() && self.pause == 0 {
+            // the bank from the model before the change, each candidate's
+            // simulation continuing from the detector's
+            for c in &mut self.bank {
+                c.theta = snap;
+                c.p = p;
+                c.yhat = c.scan;
+                c.psi = [T::zero(); 3];
+                c.cost = T::zero();
+                c.cusum = T::zero();
+            }
+            self.snap = [snap; 2];
+            self.snap_count = 0;
+            self.weight = T::zero();
+            self.challenger_for = 0;
+            self.pause = self.window.saturating_mul(4);
+            self.restarts = self.restarts.saturating_add(1);
+        } else if excited {
+            // a snapshot per response's worth of excited samples: the
+            // detector's model is from between one and two of them ago
+            self.snap_count = self.snap_count.saturating_add(1);
+            if self.snap_count >= self.window {
+                let now = self.bank.get(chosen).map_or(snap, |c| c.theta);
+                self.snap = [self.snap[1], now];
+                self.snap_count = 0;
+            }
+        }
+    }
+
+    /// The detector starts again from the chosen candidate's coefficients
+    /// (its dead time changed: the simulations are relative to it).
+    fn rebase(&mut self) {
+        let now = self.bank.get(self.chosen).map(|c| c.theta);
+        if let Some(now) = now {
+            self.snap = [now; 2];
+        }
+        self.snap_count = 0;
+        for c in &mut self.bank {
+            c.cusum = T::zero();
         }
     }
 
@@ -815,6 +1036,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.bank.iter().map(|c| c.cost)
     }
 
+    /// How many times the change detector moved the dead time (and
+    /// restarted the bank from the chosen model; see the module
+    /// documentation).
+    pub fn restarts(&self) -> u32 {
+        self.restarts
+    }
+
     /// The covariance's trace of the chosen candidate.
     pub fn trace(&self) -> T {
         self.bank.get(self.chosen).map_or(T::zero(), |c| {
@@ -845,6 +1073,22 @@ mod tests {
         n: usize,
         noise: f64,
     ) -> Estimator<f64, 16, 40> {
+        simulate(k, tau, theta, ts, n, noise, None, |_, _| {})
+    }
+
+    /// [`run_with`] from a prior model (`Estimator::start_from`), calling
+    /// `each` with the sample's index and the estimator after each update.
+    #[allow(clippy::too_many_arguments)]
+    fn simulate(
+        k: f64,
+        tau: f64,
+        theta: (f64, f64),
+        ts: f64,
+        n: usize,
+        noise: f64,
+        prior: Option<(f64, f64, f64)>,
+        mut each: impl FnMut(usize, &Estimator<f64, 16, 40>),
+    ) -> Estimator<f64, 16, 40> {
         let a = (-ts / tau).exp();
         let parts = |theta: f64| {
             let d = (theta / ts + 1e-9).floor() as usize;
@@ -853,6 +1097,9 @@ mod tests {
         };
         let mut est: Estimator<f64, 16, 40> =
             Estimator::new(EstimatorConfig::new(ts, 2)).expect_ok();
+        if let Some((k, tau, theta)) = prior {
+            est.start_from(k, tau, theta).expect_ok();
+        }
         let mut u_hist = [0.0f64; 64];
         let mut y = 0.0;
         let mut seed = 99u64;
@@ -872,6 +1119,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             let e = noise * (((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
             est.update(y + e, u, true);
+            each(j, &est);
             u_hist[j % 64] = u;
             let at = |m: usize| if j >= m { u_hist[(j - m) % 64] } else { 0.0 };
             y = a * y + b0 * (at(d) + load) + b1 * (at(d + 1) + load);
@@ -916,6 +1164,73 @@ mod tests {
         // the dead time to a sample, the gain within 5 %
         assert!(
             (m.theta - 1.4).abs() < 0.02 && (m.k - 2.0).abs() < 0.1,
+            "{m:?}"
+        );
+    }
+
+    /// A dead-time step from 10 to 14 samples after the estimator has
+    /// learnt the process (under a random binary input: every sample
+    /// excited): the change detector restarts the bank once, and the
+    /// estimate is right within two of the detector's memories (the
+    /// learning window, 2 + 16 + 4τ/Ts = 178 samples) and the bank's hold
+    /// of the step, where the comparison of the costs alone (2000 samples
+    /// of memory, the past to be forgotten) takes about 1900; no restart
+    /// before the step.
+    #[test]
+    fn a_dead_time_step_is_detected_within_a_response() {
+        let mut restarts_before = 0;
+        let mut right_from = None;
+        let est = simulate(
+            2.0,
+            4.0,
+            (1.0, 1.4),
+            0.1,
+            8_000,
+            0.005,
+            Some((2.0, 4.0, 1.0)),
+            |j, est| {
+                if j < 4_000 {
+                    restarts_before = est.restarts();
+                    return;
+                }
+                let right = est
+                    .estimate()
+                    .is_some_and(|m| (m.theta - 1.4).abs() < 0.05 && (m.k - 2.0).abs() < 0.1);
+                if !right {
+                    right_from = None;
+                } else if right_from.is_none() {
+                    right_from = Some(j);
+                }
+            },
+        );
+        let from = right_from.expect_ok();
+        let window = 2 + 16 + 160;
+        assert!(from < 4_000 + 2 * window + 50, "right from sample {from}");
+        assert_eq!(restarts_before, 0);
+        assert_eq!(est.restarts(), 1);
+    }
+
+    /// A gain step of 30 % is no dead-time step: no restart.
+    #[test]
+    fn a_gain_step_restarts_nothing() {
+        let mut est: Option<Estimator<f64, 16, 40>> = None;
+        simulate(
+            2.0,
+            4.0,
+            (1.0, 1.0),
+            0.1,
+            4_000,
+            0.005,
+            Some((1.4, 4.0, 1.0)),
+            |_, e| {
+                est = Some(e.clone());
+            },
+        );
+        let est = est.expect_ok();
+        assert_eq!(est.restarts(), 0);
+        let m = est.estimate().expect_ok();
+        assert!(
+            (m.k - 2.0).abs() < 0.1 && (m.theta - 1.0).abs() < 0.05,
             "{m:?}"
         );
     }
