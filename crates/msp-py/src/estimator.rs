@@ -120,4 +120,11 @@ impl Estimator {
     fn trace(&self) -> f64 {
         self.inner.trace()
     }
+
+    /// How many times the change detector found a step of the dead time
+    /// and restarted the candidates from the model before it.
+    #[getter]
+    fn restarts(&self) -> u32 {
+        self.inner.restarts()
+    }
 }

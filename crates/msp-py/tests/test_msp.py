@@ -1105,6 +1105,33 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
         msp.Estimator(ts=0.1, d_min=5000)
 
 
+def test_estimator_detects_a_dead_time_step():
+    """msp.Estimator started from the process 2 e^(-1.25 s)/(4 s + 1) whose dead time steps to
+    1.65 s at sample 6000: the change detector restarts the candidates once (never before the
+    step), and the estimated dead time is right within two of its windows (4 + 16 + 4 tau/Ts =
+    180 samples each) and the bank's hold of 50 — the costs' comparison alone takes thousands."""
+    a = math.exp(-0.1 / 4.0)
+    b0, b1 = 2.0 * (1 - a ** 0.5), 2.0 * (a ** 0.5 - a)
+    est = msp.Estimator(ts=0.1, d_min=4)
+    est.start_from(2.0, 4.0, 1.25)
+    y, us, right_from = 0.0, [], None
+    for k in range(9000):
+        u = 1.0 if (k // 150) % 2 else -1.0
+        est.update(y, u)
+        if k < 6000:
+            assert est.restarts == 0
+        else:
+            e = est.estimate
+            right = e is not None and abs(e["theta"] - 1.65) < 0.05 and abs(e["k"] - 2.0) < 0.1
+            right_from = (right_from if right_from is not None else k) if right else None
+        us.append(u)
+        late = lambda m: us[k - m] if k >= m else 0.0
+        d = 12 if k < 6000 else 16
+        y = a * y + b0 * late(d) + b1 * late(d + 1)
+    assert est.restarts == 1
+    assert right_from is not None and right_from < 6000 + 2 * 180 + 50, right_from
+
+
 def test_adaptive_controller_per_sample():
     """msp.SmithPredictor(..., adapt=True) one sample at a time against the exact sampled
     process e^(-s)/(8s + 1) (the model said 4 s): the model in use becomes the process's;
