@@ -213,6 +213,9 @@ macro_rules! forward {
             fn set_adapting(&mut self, on: bool) -> Result<(), crate::Error> {
                 (**self).set_adapting(on)
             }
+            fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<T>)) {
+                (**self).visit_log(f);
+            }
         }
         impl<T: Real, C: FrequencyResponse<T> + ?Sized> FrequencyResponse<T> for $ptr {
             fn response(&self, theta: T) -> Option<(Complex<T>, Complex<T>)> {
@@ -280,6 +283,17 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
     }
     fn set_adapting(&mut self, on: bool) -> Result<(), crate::Error> {
         self.0.set_adapting(on)
+    }
+    fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<f64>)) {
+        self.0.visit_log(&mut |c| {
+            f(crate::adapt::Change {
+                sample: c.sample,
+                kind: c.kind,
+                k: f64::from(c.k),
+                tau: f64::from(c.tau),
+                theta: f64::from(c.theta),
+            });
+        });
     }
 }
 

@@ -111,6 +111,13 @@ pub trait Operate<T: Real>: Controller<T> {
         ))
     }
 
+    /// Calls `f` with each change an adaptive controller logged, oldest
+    /// first ([`crate::adapt::Adaptive::log`]); nothing for one that does
+    /// not adapt.
+    fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<T>)) {
+        let _ = f;
+    }
+
     /// Changes a gain of the primary PID while the loop runs, bumpless: the
     /// integrator absorbs the change of the proportional and derivative
     /// terms, so that the output at the change is the one the old gains gave
@@ -333,5 +340,8 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     }
     fn set_adapting(&mut self, on: bool) -> Result<(), Error> {
         self.inner.set_adapting(on)
+    }
+    fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<T>)) {
+        self.inner.visit_log(f);
     }
 }

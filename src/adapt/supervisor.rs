@@ -203,6 +203,18 @@ impl ChangeKind {
         }
     }
 
+    /// Its name, as the report writes it (`applied`, `restored`,
+    /// `refused`, `alarm`, `cleared`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ChangeKind::Applied => "applied",
+            ChangeKind::Restored => "restored",
+            ChangeKind::Refused => "refused",
+            ChangeKind::Alarm => "alarm",
+            ChangeKind::Cleared => "cleared",
+        }
+    }
+
     /// The kind of a code of [`ChangeKind::code`].
     pub fn from_code(code: u8) -> Option<Self> {
         match code {
@@ -890,6 +902,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     fn set_adapting(&mut self, on: bool) -> Result<(), Error> {
         self.frozen = !on;
         Ok(())
+    }
+    fn visit_log(&self, f: &mut dyn FnMut(Change<T>)) {
+        for c in self.log() {
+            f(c);
+        }
     }
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
         self.inner.set_model(gain, tau)?;

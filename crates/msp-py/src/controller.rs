@@ -250,6 +250,30 @@ impl Controller {
         d.set_item("alarm", c.signal_by_name("model_alarm") == Some(1.0))?;
         Ok(Some(d))
     }
+    /// The changes an adaptive controller logged (the last 16), oldest
+    /// first: dicts of ``sample`` (from the first update), ``at`` (s),
+    /// ``kind`` (``"applied"``, ``"restored"``, ``"refused"``, ``"alarm"``,
+    /// ``"cleared"``, as the report's ``adaptation``) and the model ``k``,
+    /// ``tau``, ``theta``; empty for one that does not adapt.
+    #[getter]
+    fn log<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        use msp::Operate;
+        let mut changes = Vec::new();
+        self.inner.inner().visit_log(&mut |c| changes.push(c));
+        changes
+            .into_iter()
+            .map(|c| {
+                let d = PyDict::new(py);
+                d.set_item("sample", c.sample)?;
+                d.set_item("at", c.sample as f64 * self.ts)?;
+                d.set_item("kind", c.kind.name())?;
+                d.set_item("k", c.k)?;
+                d.set_item("tau", c.tau)?;
+                d.set_item("theta", c.theta)?;
+                Ok(d)
+            })
+            .collect()
+    }
     /// Freezes an adaptive controller's adaptation: it learns and applies
     /// nothing until ``resume()``.
     fn freeze(&mut self) -> PyResult<()> {

@@ -1152,12 +1152,19 @@ def test_adaptive_controller_per_sample():
     loop(c)
     e = c.estimate
     assert abs(e["tau_model"] - 8.0) < 0.8 and abs(e["k_model"] - 1.0) < 0.05, e
+    # the log: every change applied, the last one the model in use, in time order
+    log = c.log
+    assert log and all(x["kind"] == "applied" for x in log), log
+    assert (log[-1]["k"], log[-1]["tau"], log[-1]["theta"]) == (
+        e["k_model"], e["tau_model"], e["theta_model"])
+    assert [x["sample"] for x in log] == sorted(x["sample"] for x in log)
+    assert all(abs(x["at"] - 0.1 * x["sample"]) < 1e-9 for x in log)
     frozen = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
     frozen.freeze()
     loop(frozen)
     # frozen: the estimate stays the model it started from, nothing learnt or applied
     assert frozen.estimate["tau_model"] == 4.0 and abs(frozen.estimate["tau"] - 4.0) < 1e-9
     plain = msp.SmithPredictor("e^-1s/(4s+1)", 0.1)
-    assert plain.estimate is None
+    assert plain.estimate is None and plain.log == [] and frozen.log == []
     with pytest.raises(ValueError, match="does not adapt"):
         plain.freeze()
