@@ -860,9 +860,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // the noise's share of a recent error
         let floor = self.recent_weight * scale;
         let mut best: Option<(usize, T)> = None;
+        // consecutive dead times share an input, as in the bank
+        let mut next = self.hist.back(cfg.d_min);
         for i in 0..N {
             let Some(c) = self.bank.get(i) else { break };
-            let pred = predict(c, cfg.d_min + i);
+            let (u0, u1) = (next, self.hist.back(cfg.d_min + i + 1));
+            next = u1;
+            let pred = a * c.scan + b0 * u0 + b1 * u1;
             let e = target - pred;
             let recent = recent_of(c, e * e);
             let mut sum = c.cusum;
@@ -1061,22 +1065,11 @@ mod tests {
     /// A FOPDT process `K e^{−θs}/(τs + 1)` sampled exactly (ZOH, the
     /// fractional delay in `b0`, `b1`) under a PRBS-like input with a load.
     fn run(k: f64, tau: f64, theta: f64, ts: f64, n: usize, noise: f64) -> Estimator<f64, 16, 40> {
-        run_with(k, tau, (theta, theta), ts, n, noise)
+        simulate(k, tau, (theta, theta), ts, n, noise, None, |_, _| {})
     }
 
-    /// [`run`] with the dead time `theta.0` for the first half, `theta.1` after.
-    fn run_with(
-        k: f64,
-        tau: f64,
-        theta: (f64, f64),
-        ts: f64,
-        n: usize,
-        noise: f64,
-    ) -> Estimator<f64, 16, 40> {
-        simulate(k, tau, theta, ts, n, noise, None, |_, _| {})
-    }
-
-    /// [`run_with`] from a prior model (`Estimator::start_from`), calling
+    /// [`run`] with the dead time `theta.0` for the first half, `theta.1`
+    /// after, from a prior model (`Estimator::start_from`) if given, calling
     /// `each` with the sample's index and the estimator after each update.
     #[allow(clippy::too_many_arguments)]
     fn simulate(
@@ -1156,7 +1149,7 @@ mod tests {
     /// held its lead.
     #[test]
     fn follows_a_dead_time_step() {
-        let est = run_with(2.0, 4.0, (1.0, 1.4), 0.1, 12_000, 0.005);
+        let est = simulate(2.0, 4.0, (1.0, 1.4), 0.1, 12_000, 0.005, None, |_, _| {});
         let m = est.estimate().expect_ok();
         // 14 samples is candidate 14 with no fraction or candidate 13 with a
         // whole one: the same model
