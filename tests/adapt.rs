@@ -274,7 +274,8 @@ fn converges_after_the_lag_doubles() {
 /// set-point changes: only the noise moves the input (through the
 /// controller), which the excitation gate tells from a move — the
 /// estimates move less than 3 %, the dead time does not switch, the model
-/// in use does not change, the covariance's trace stays bounded.
+/// in use does not change, the covariance's trace stays bounded, and the
+/// dead-time change detector never fires.
 #[test]
 fn a_quiet_hour_changes_nothing() {
     use msp::adapt::{Adaptive, AdaptiveConfig, EstimatorConfig};
@@ -339,6 +340,8 @@ fn a_quiet_hour_changes_nothing() {
         "{s:?}"
     );
     assert_eq!(c.changes(), changes, "the model changed in the quiet hour");
+    // nothing drifted: the dead-time change detector never fired
+    assert_eq!(c.estimator().restarts(), 0);
 }
 
 /// Adaptation frozen before the lag doubles learns and applies nothing;
