@@ -10,8 +10,8 @@ use msp_core::adapt::{Adaptive, AdaptiveConfig, Estimator, EstimatorConfig, Rede
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real, SmithPredictor};
 
 use crate::handle::{
-    model_in, msp_model_kind, msp_model_of, msp_smith_config_of, pid_config, read, smith_samples,
-    Arena, Precision,
+    bad, model_in, msp_model_kind, msp_model_of, msp_smith_config_of, pid_config, read,
+    smith_samples, Arena, Precision,
 };
 use crate::relay::tuned;
 use crate::{msp_status, report};
@@ -196,15 +196,6 @@ unsafe fn value<'a, H: Tagged, V>(p: *mut H) -> Option<&'a mut V> {
     unsafe { p.as_mut() }.map(|t| &mut t.value)
 }
 
-/// `status` for a handle that [`value`] refused.
-fn refused<H>(p: *const H) -> msp_status {
-    if p.is_null() {
-        msp_status::MSP_NULL_POINTER
-    } else {
-        msp_status::MSP_BAD_HANDLE
-    }
-}
-
 /// Writes `v` tagged at the start of the arena and `*out` its handle.
 ///
 /// # Safety
@@ -213,7 +204,17 @@ unsafe fn place<H: Tagged, V>(a: &mut Arena, v: V, out: *mut *mut H) -> msp_stat
     let Some(slot) = a.place::<Tag<V>>() else {
         return msp_status::MSP_BUFFER_TOO_SMALL;
     };
-    // SAFETY: aligned and inside the buffer (checked by the arena)
+    // SAFETY: the slot from the arena; `out` forwarded
+    unsafe { tag(slot, v, out) }
+}
+
+/// Writes `v` tagged into `slot` and `*out` its handle.
+///
+/// # Safety
+/// `slot` is aligned, inside its buffer (an arena's) and writable; `out`
+/// is writable.
+unsafe fn tag<H: Tagged, V>(slot: *mut Tag<V>, v: V, out: *mut *mut H) -> msp_status {
+    // SAFETY: the caller's
     unsafe {
         slot.write(Tag {
             magic: H::MAGIC,
@@ -400,15 +401,8 @@ unsafe fn adaptive_init<H: Tagged>(
         Ok(v) => v,
         Err(e) => return e.into(),
     };
-    // SAFETY: aligned and inside the buffer (checked by the arena); `out` non-null
-    unsafe {
-        slot.write(Tag {
-            magic: H::MAGIC,
-            value: v,
-        });
-        out.write(slot.cast());
-    }
-    msp_status::MSP_OK
+    // SAFETY: the slot from the arena; `out` non-null
+    unsafe { tag(slot, v, out) }
 }
 
 /// # Safety
@@ -432,7 +426,7 @@ unsafe fn adaptive_state<H: Tagged>(
     }
     // SAFETY: forwarded
     let Some(c) = (unsafe { value::<H, AdaptiveSmith<H::T>>(h) }) else {
-        return refused(h);
+        return bad(h);
     };
     let (k, tau, theta) = c.model();
     let s = msp_adaptive_state_of {
@@ -457,7 +451,7 @@ unsafe fn adaptive_state<H: Tagged>(
 unsafe fn adaptive_freeze<H: Tagged>(h: *mut H, frozen: bool) -> msp_status {
     // SAFETY: forwarded
     let Some(c) = (unsafe { value::<H, AdaptiveSmith<H::T>>(h) }) else {
-        return refused(h);
+        return bad(h);
     };
     if frozen {
         c.freeze();
@@ -545,7 +539,7 @@ twins! {
         };
         // SAFETY: forwarded
         let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
-            return refused(est);
+            return bad(est);
         };
         match fopdt_or_ipdt(&m).and_then(|(k, tau, theta)| b.start_from(k, tau, theta)) {
             Ok(()) => msp_status::MSP_OK,
@@ -568,7 +562,7 @@ twins! {
     ) -> msp_status {
         // SAFETY: forwarded
         let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
-            return refused(est);
+            return bad(est);
         };
         b.update(y, u_applied, ok != 0);
         msp_status::MSP_OK
@@ -587,7 +581,7 @@ twins! {
         }
         // SAFETY: forwarded
         let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
-            return refused(est);
+            return bad(est);
         };
         // SAFETY: non-null, the caller's
         unsafe { out.write(estimate_of(b.estimate())) };
