@@ -85,3 +85,26 @@ pub(crate) fn clamp<T: Real>(x: T, lo: T, hi: T) -> T {
         x
     }
 }
+
+/// The larger of `x` and `lo` by one comparison: `x.max(lo)` for a bound
+/// that is not NaN (a NaN `x` gives `lo`, as `max` does), without the
+/// library call `max` is on a Cortex-M4.
+#[inline(always)]
+pub(crate) fn at_least<T: Real>(x: T, lo: T) -> T {
+    if x >= lo {
+        x
+    } else {
+        lo
+    }
+}
+
+/// The smaller of `x` and `hi` by one comparison: `x.min(hi)` for a bound
+/// that is not NaN (a NaN `x` gives `hi`), without a library call.
+#[inline(always)]
+pub(crate) fn at_most<T: Real>(x: T, hi: T) -> T {
+    if x <= hi {
+        x
+    } else {
+        hi
+    }
+}

@@ -55,7 +55,7 @@
 //! caller says the sample is not the process's own response (saturated,
 //! manual, tracking, a fault).
 
-use crate::real::positive;
+use crate::real::{at_least, at_most, positive};
 use crate::{Error, Real};
 
 mod supervisor;
@@ -91,7 +91,11 @@ impl<T: Real> Median<T> {
     }
 }
 
-/// The last `H` input differences `Δu`, newest first ([`History::back`]`(0)`).
+/// The last `H` input differences `Δu`, newest first ([`History::from`]`(0)`).
+///
+/// Stored newest-first in memory from `at` on (wrapping once), so that the
+/// run of differences the bank reads, `Δu[k−d_min]`, `Δu[k−d_min−1]`, …,
+/// is at most two contiguous slices ([`History::from`]).
 #[derive(Debug, Clone)]
 pub(crate) struct History<T, const H: usize> {
     du: [T; H],
@@ -139,24 +143,44 @@ impl<T: Real, const H: usize> History<T, H> {
         } else {
             self.quiet.saturating_add(1)
         };
-        self.at = if self.at + 1 >= H { 0 } else { self.at + 1 };
+        self.at = if self.at == 0 {
+            H.saturating_sub(1)
+        } else {
+            self.at - 1
+        };
         if let Some(x) = self.du.get_mut(self.at) {
             *x = du;
         }
         self.last_u = u;
     }
 
-    /// The difference `j` entries before the newest (0 beyond the history).
-    pub(crate) fn back(&self, j: usize) -> T {
-        if j >= H {
-            return T::zero();
-        }
-        let i = if j <= self.at {
-            self.at - j
+    /// The differences from `j` entries before the newest on, each older
+    /// than the one before, to the end of the history (`None` after it:
+    /// read as 0).
+    pub(crate) fn from(
+        &self,
+        j: usize,
+    ) -> core::iter::Chain<
+        core::iter::Copied<core::slice::Iter<'_, T>>,
+        core::iter::Copied<core::slice::Iter<'_, T>>,
+    > {
+        let empty: &[T] = &[];
+        let (first, second) = if j >= H {
+            (empty, empty)
         } else {
-            self.at + H - j
+            let s = self.at + j;
+            let s = if s >= H { s - H } else { s };
+            if s >= self.at {
+                // to the end of the array, then from its start up to `at`
+                (
+                    self.du.get(s..).unwrap_or(empty),
+                    self.du.get(..self.at).unwrap_or(empty),
+                )
+            } else {
+                (self.du.get(s..self.at).unwrap_or(empty), empty)
+            }
         };
-        self.du.get(i).copied().unwrap_or(T::zero())
+        first.iter().copied().chain(second.iter().copied())
     }
 }
 
@@ -181,6 +205,70 @@ struct Candidate<T> {
     /// The simulation's squared error over about the last response
     /// (excited samples, discounted by `1 − 1/window` per sample).
     recent: T,
+}
+
+/// One sample of the change detector ([`Estimator::detect_begin`]): what
+/// each candidate's step reads, and the dead time it found.
+#[derive(Debug, Clone, Copy)]
+struct Scan<T> {
+    /// The snapshot's coefficients (`a` = 0 for an integrating model).
+    coef: [T; 3],
+    target: T,
+    /// The chosen dead time's squared error now and over the last response.
+    e2: T,
+    recent_chosen: T,
+    /// The noise's variance, and its share of a recent error.
+    scale: T,
+    floor: T,
+    /// The recent errors' discount per excited sample.
+    short: T,
+    excited: bool,
+    chosen: usize,
+    /// [`EstimatorConfig::switch_evidence`].
+    evidence: T,
+    /// The dead time whose evidence counts, the most of them, and its sum.
+    best: Option<(usize, T)>,
+}
+
+impl<T: Real> Scan<T> {
+    /// Candidate `i`'s simulation at its dead time (`u0 = Δu[k−d]`,
+    /// `u1 = Δu[k−d−1]`), its recent error and its cumulative sum.
+    #[inline(always)]
+    fn step(&mut self, i: usize, c: &mut Candidate<T>, u0: T, u1: T) {
+        let [a, b0, b1] = self.coef;
+        let pred = a * c.scan + b0 * u0 + b1 * u1;
+        let e = self.target - pred;
+        let e2 = e * e;
+        let recent = if self.excited {
+            self.short * c.recent + e2
+        } else {
+            c.recent
+        };
+        let mut sum = c.cusum;
+        if self.excited && i.abs_diff(self.chosen) >= 2 {
+            let gain = self.e2 - e2;
+            sum = if self.scale > T::zero() {
+                at_least(sum + gain / self.scale, T::zero())
+            } else if gain > T::zero() {
+                T::infinity()
+            } else {
+                T::zero()
+            };
+            // significant, and of the chosen one's recent error above the
+            // noise most explained: a model wrong in its gain or lag is
+            // beaten by some other dead time now and then, not by this much
+            if sum >= self.evidence
+                && self.recent_chosen > self.floor
+                && recent - self.floor <= T::of(EXPLAINED) * (self.recent_chosen - self.floor)
+                && self.best.map_or(true, |(_, s)| sum > s)
+            {
+                self.best = Some((i, sum));
+            }
+        }
+        c.scan = pred;
+        c.cusum = sum;
+        c.recent = recent;
+    }
 }
 
 /// Settings of an [`Estimator`].
@@ -658,7 +746,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if let Some(r) = self.reference.as_mut() {
             let f0 = if cfg.integrating { T::zero() } else { r.yhat };
             let [t0, t1, t2] = r.theta;
-            let pred = t0 * f0 + t1 * self.hist.back(r.d) + t2 * self.hist.back(r.d + 1);
+            let mut u = self.hist.from(r.d);
+            let (u0, u1) = (u.next(), u.next());
+            let (u0, u1) = (u0.unwrap_or(T::zero()), u1.unwrap_or(T::zero()));
+            let pred = t0 * f0 + t1 * u0 + t2 * u1;
             let e = target - pred;
             r.cost = cfg.cost_memory * r.cost + e * e;
             r.energy = cfg.cost_memory * r.energy + pred * pred;
@@ -669,18 +760,22 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
         // consecutive candidates share an input: candidate `d`'s
         // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
-        let mut next = self.hist.back(cfg.d_min);
+        // the search for the lowest cost (the first of them) rides along
+        let mut inputs = self.hist.from(cfg.d_min);
+        let mut next = inputs.next().unwrap_or(T::zero());
         let chosen = self.chosen;
         let mut chosen_e = T::zero();
-        // the dead zone: the given one, or the measured noise's multiple
-        let zone = if cfg.dead_zone_ratio > T::zero() && self.weight > T::zero() {
+        let (mut best, mut lowest) = (0, T::infinity());
+        // the dead zone, squared: the given one, or the measured noise's
+        // multiple (`|e| ≤ zone` as `e² ≤ zone²`: no square root)
+        let zone2 = cfg.dead_zone * cfg.dead_zone;
+        let zone2 = if cfg.dead_zone_ratio > T::zero() && self.weight > T::zero() {
             let v = self.bank.get(chosen).map_or(T::zero(), |c| c.cost) / self.weight;
-            cfg.dead_zone.max(cfg.dead_zone_ratio * v.sqrt())
+            at_least(cfg.dead_zone_ratio * cfg.dead_zone_ratio * v, zone2)
         } else {
-            cfg.dead_zone
+            zone2
         };
         for (i, c) in self.bank.iter_mut().enumerate() {
-            let d = cfg.d_min + i;
             // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
             // in the regressor, not the measurement's — the output-error
             // form (Landau's pseudo-linear regression), which noise on y
@@ -688,12 +783,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             // integrating model has no `a` (its regressor and covariance
             // row stay zero)
             let f0 = if cfg.integrating { T::zero() } else { c.yhat };
-            let (f1, f2) = (next, self.hist.back(d + 1));
+            let (f1, f2) = (next, inputs.next().unwrap_or(T::zero()));
             next = f2;
             let [t0, t1, t2] = c.theta;
             let pred = t0 * f0 + t1 * f1 + t2 * f2;
             let e = target - pred;
             c.cost = cfg.cost_memory * c.cost + e * e;
+            if c.cost < lowest {
+                (best, lowest) = (i, c.cost);
+            }
             if i == chosen {
                 chosen_e = e;
             }
@@ -709,7 +807,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 [f0 + t0 * p0, f1 + t0 * p1, f2 + t0 * p2]
             };
             c.psi = [s0, s1, s2];
-            if !excited || e.abs() <= zone {
+            if !excited || e * e <= zone2 {
                 continue;
             }
             // RLS with forgetting along ψ (P symmetric: six entries):
@@ -732,17 +830,16 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let n12 = (p12 - g1 * q2) * inv_lam;
             let n22 = (p22 - g2 * q2) * inv_lam;
             let trace = n00 + n11 + n22;
+            c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
             // the trace bounded: no "bursting" when nothing moves
-            let k = if trace > cfg.max_trace {
-                cfg.max_trace / trace
-            } else {
-                T::one()
-            };
-            c.p = [
-                [n00 * k, n01 * k, n02 * k],
-                [n01 * k, n11 * k, n12 * k],
-                [n02 * k, n12 * k, n22 * k],
-            ];
+            if trace > cfg.max_trace {
+                let k = cfg.max_trace / trace;
+                for row in &mut c.p {
+                    for x in row {
+                        *x = *x * k;
+                    }
+                }
+            }
             if sign != T::zero() {
                 // projection: with the gain's sign known, both input
                 // coefficients carry it (a fraction `f` in [0, 1]); a
@@ -767,7 +864,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let [mut a, b0, b1] = next;
             if !cfg.integrating {
                 // projection onto plausible models: `a` in its range
-                a = a.max(lo).min(hi);
+                a = at_most(at_least(a, lo), hi);
             }
             c.theta = [a, b0, b1];
             // the a-posteriori output
@@ -780,7 +877,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
         let before = self.chosen;
         self.detect(target, excited);
-        self.decide();
+        self.decide(best);
         if self.chosen != before {
             self.rebase();
         }
@@ -818,22 +915,40 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// choice left to the bank's comparison as before; the detector rests
     /// for four responses.
     fn detect(&mut self, target: T, excited: bool) {
-        let cfg = self.cfg;
-        let chosen = self.chosen;
-        let Some(p) = self.bank.get(chosen).map(|c| c.p) else {
+        let Some(mut scan) = self.detect_begin(target, excited) else {
             return;
         };
+        // consecutive dead times share an input, as in the bank
+        let mut inputs = self.hist.from(self.cfg.d_min);
+        let mut next = inputs.next().unwrap_or(T::zero());
+        for (i, c) in self.bank.iter_mut().enumerate() {
+            let (u0, u1) = (next, inputs.next().unwrap_or(T::zero()));
+            next = u1;
+            scan.step(i, c, u0, u1);
+        }
+        self.detect_end(scan);
+    }
+
+    /// The detector before its pass over the candidates ([`Scan::step`]):
+    /// the chosen dead time's error, the noise.
+    fn detect_begin(&mut self, target: T, excited: bool) -> Option<Scan<T>> {
+        let cfg = self.cfg;
+        let chosen = self.chosen;
+        let c = self.bank.get(chosen)?;
         let [snap, _] = self.snap;
         let [a, b0, b1] = snap;
         let a = if cfg.integrating { T::zero() } else { a };
-        let predict = |c: &Candidate<T>, d: usize| {
-            a * c.scan + b0 * self.hist.back(d) + b1 * self.hist.back(d + 1)
-        };
-        let e_chosen = self
-            .bank
-            .get(chosen)
-            .map_or(T::zero(), |c| target - predict(c, cfg.d_min + chosen));
+        let mut u = self.hist.from(cfg.d_min + chosen);
+        let (u0, u1) = (u.next(), u.next());
+        let e_chosen =
+            target - (a * c.scan + b0 * u0.unwrap_or(T::zero()) + b1 * u1.unwrap_or(T::zero()));
         let e2 = e_chosen * e_chosen;
+        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        let recent_chosen = if excited {
+            short * c.recent + e2
+        } else {
+            c.recent
+        };
         // the noise: from the median of the error's differences (white
         // noise of variance σ² gives differences of variance 2σ², whose
         // absolute values have the median 0.6745·√2·σ; a slow misfit of
@@ -842,63 +957,37 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.last_e = e_chosen;
         let med = self.noise.push(de.abs());
         let scale = med * med / T::of(2.0 * 0.6745 * 0.6745);
-        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
-        let recent_of = |c: &Candidate<T>, e2: T| {
-            if excited {
-                short * c.recent + e2
-            } else {
-                c.recent
-            }
-        };
-        let recent_chosen = self
-            .bank
-            .get(chosen)
-            .map_or(T::zero(), |c| recent_of(c, e2));
         if excited {
             self.recent_weight = short * self.recent_weight + T::one();
         }
-        // the noise's share of a recent error
-        let floor = self.recent_weight * scale;
-        let mut best: Option<(usize, T)> = None;
-        // consecutive dead times share an input, as in the bank
-        let mut next = self.hist.back(cfg.d_min);
-        for i in 0..N {
-            let Some(c) = self.bank.get(i) else { break };
-            let (u0, u1) = (next, self.hist.back(cfg.d_min + i + 1));
-            next = u1;
-            let pred = a * c.scan + b0 * u0 + b1 * u1;
-            let e = target - pred;
-            let recent = recent_of(c, e * e);
-            let mut sum = c.cusum;
-            if excited && i.abs_diff(chosen) >= 2 {
-                let gain = e2 - e * e;
-                sum = if scale > T::zero() {
-                    (sum + gain / scale).max(T::zero())
-                } else if gain > T::zero() {
-                    T::infinity()
-                } else {
-                    T::zero()
-                };
-                // significant, and of the chosen one's recent error above
-                // the noise most explained: a model wrong in its gain or
-                // lag is beaten by some other dead time now and then, not
-                // by this much
-                if sum >= cfg.switch_evidence
-                    && recent_chosen > floor
-                    && recent - floor <= T::of(EXPLAINED) * (recent_chosen - floor)
-                    && best.map_or(true, |(_, s)| sum > s)
-                {
-                    best = Some((i, sum));
-                }
-            }
-            if let Some(c) = self.bank.get_mut(i) {
-                c.scan = pred;
-                c.cusum = sum;
-                c.recent = recent;
-            }
-        }
+        Some(Scan {
+            coef: [a, b0, b1],
+            target,
+            e2,
+            recent_chosen,
+            scale,
+            // the noise's share of a recent error
+            floor: self.recent_weight * scale,
+            short,
+            excited,
+            chosen,
+            evidence: cfg.switch_evidence,
+            best: None,
+        })
+    }
+
+    /// The detector after the pass: a restart from the snapshot when a
+    /// dead time had the evidence (and the detector is not resting), else
+    /// the snapshots move on.
+    fn detect_end(&mut self, scan: Scan<T>) {
+        let chosen = self.chosen;
+        let Some(p) = self.bank.get(chosen).map(|c| c.p) else {
+            return;
+        };
+        let [snap, _] = self.snap;
+        let excited = scan.excited;
         self.pause = self.pause.saturating_sub(usize::from(excited));
-        if best.is_some() && self.pause == 0 {
+        if scan.best.is_some() && self.pause == 0 {
             // the bank from the model before the change, each candidate's
             // simulation continuing from the detector's
             for c in &mut self.bank {
@@ -948,20 +1037,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         evidence(chosen, other, self.weight)
     }
 
-    /// The chosen dead time moves to the best candidate only when the
-    /// evidence for it over the current one reaches `switch_evidence` for
-    /// `switch_hold` samples in a row.
-    fn decide(&mut self) {
-        let best = self
-            .bank
-            .iter()
-            .enumerate()
-            .min_by(|a, b| {
-                a.1.cost
-                    .partial_cmp(&b.1.cost)
-                    .unwrap_or(core::cmp::Ordering::Equal)
-            })
-            .map_or(0, |(i, _)| i);
+    /// The chosen dead time moves to the best candidate `best` (of the
+    /// lowest cost) only when the evidence for it over the current one
+    /// reaches `switch_evidence` for `switch_hold` samples in a row.
+    fn decide(&mut self, best: usize) {
         let cur = self.bank.get(self.chosen).map_or(T::infinity(), |c| c.cost);
         let new = self.bank.get(best).map_or(T::infinity(), |c| c.cost);
         // a neighbour shares an end of the current one's dead times: a step
@@ -987,16 +1066,19 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     pub fn estimate(&self) -> Option<Estimate<T>> {
         let c = self.bank.get(self.chosen)?;
         let (k, tau, frac) = self.model?;
-        let second = self
-            .bank
-            .iter()
-            .enumerate()
-            // a neighbour's interval of dead times shares an end with the
-            // chosen one's (`d` with `f = 1` is `d + 1` with `f = 0`): the
-            // evidence is against the candidates that cannot be the same
-            .filter(|(i, _)| i.abs_diff(self.chosen) >= 2)
-            .map(|(_, c)| c.cost)
-            .fold(T::infinity(), |m, v| if v < m { v } else { m });
+        // a neighbour's interval of dead times shares an end with the
+        // chosen one's (`d` with `f = 1` is `d + 1` with `f = 0`): the
+        // evidence is against the candidates that cannot be the same, those
+        // below `chosen − 1` and above `chosen + 1`
+        let lowest = |cs: &[Candidate<T>]| {
+            cs.iter()
+                .fold(T::infinity(), |m, c| if c.cost < m { c.cost } else { m })
+        };
+        let (below, above) = self.bank.split_at(self.chosen);
+        let second = at_most(
+            lowest(below.get(..below.len().saturating_sub(1)).unwrap_or(&[])),
+            lowest(above.get(2..).unwrap_or(&[])),
+        );
         let d = self.cfg.d_min + self.chosen;
         Some(Estimate {
             k,
@@ -1018,11 +1100,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
         let ts = self.cfg.ts;
         Some(if self.cfg.integrating {
-            (b / ts, T::infinity(), (b1 / b).max(T::zero()).min(T::one()))
+            (
+                b / ts,
+                T::infinity(),
+                at_most(at_least(b1 / b, T::zero()), T::one()),
+            )
         } else {
             let k = b / (T::one() - a);
             // a^{1−f} = 1 − b0/K
-            let r = (T::one() - b0 / k).max(a).min(T::one());
+            let r = at_most(at_least(T::one() - b0 / k, a), T::one());
             let ln_a = a.ln();
             // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
             let f = if r > T::zero() {
@@ -1030,7 +1116,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             } else {
                 T::zero()
             };
-            (k, -ts / ln_a, f.max(T::zero()).min(T::one()))
+            (k, -ts / ln_a, at_most(at_least(f, T::zero()), T::one()))
         })
     }
 
@@ -1293,6 +1379,33 @@ mod tests {
         let (without, with) = (drift(0.0), drift(3.0));
         assert!(without > 0.03, "without a dead zone: {without}");
         assert!(with < 0.01, "with one: {with}");
+    }
+
+    /// The history's runs against the inputs kept in full: every start
+    /// `j`, as the ring wraps, and nothing beyond its `H` entries.
+    #[test]
+    fn history_reads_the_inputs_newest_first() {
+        let mut h = History::<f64, 5>::new(0.0, 0.0, 0.0);
+        let mut all = Vec::new();
+        for k in 0..13 {
+            // u = k²: Δu = 2k − 1 (and 0 for the first)
+            let u = f64::from(k * k);
+            h.push(u);
+            all.push(u - all.iter().sum::<f64>());
+            // the history starts full of zeros
+            let newest_first: Vec<f64> = all
+                .iter()
+                .rev()
+                .copied()
+                .chain(std::iter::repeat(0.0))
+                .take(5)
+                .collect();
+            for j in 0..7 {
+                let run: Vec<f64> = h.from(j).collect();
+                let want: Vec<f64> = newest_first.iter().skip(j).copied().collect();
+                assert_eq!(run, want, "after {} inputs, from {j}", k + 1);
+            }
+        }
     }
 
     #[test]

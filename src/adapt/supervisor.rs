@@ -39,6 +39,7 @@
 
 use super::{Estimate, Estimator, EstimatorConfig};
 use crate::operate::{Gain, Operate, Tracking};
+use crate::real::{at_least, at_most};
 use crate::{CascadeControl, Controller, Error, FrequencyResponse, Introspect, Real};
 
 /// How a scheme `C` is redesigned for a model `(K, τ, θ)` (`τ` infinite:
@@ -805,10 +806,10 @@ impl<T: Real> Block<T> {
             }
             Some(d) => {
                 self.one_d &= d == e.d;
-                self.lo.k = self.lo.k.min(e.k);
-                self.hi.k = self.hi.k.max(e.k);
-                self.lo.tau = self.lo.tau.min(e.tau);
-                self.hi.tau = self.hi.tau.max(e.tau);
+                self.lo.k = at_most(e.k, self.lo.k);
+                self.hi.k = at_least(e.k, self.hi.k);
+                self.lo.tau = at_most(e.tau, self.lo.tau);
+                self.hi.tau = at_least(e.tau, self.hi.tau);
             }
         }
         self.sum.k = self.sum.k + e.k;
