@@ -14,10 +14,12 @@ import os
 import gdb  # type: ignore[import-not-found]
 
 AT = (60, 61)
-# the adaptive update's path varies: still (calls 60, 61: no learning yet
-# past the gate) and learning after the set point's step (1500, 1501); each
-# call on the way is a breakpoint stop, so the calls stay early in the run
-AT_OF = {"adaptive_step": (60, 61, 1500, 1501)}
+# the adaptive update's path varies: still (calls 60, 61: nothing has moved
+# the input past the gate) and learning, every candidate's estimator
+# updated: 200 samples after the set point's step at 5000 and 433 after the
+# load's at 6667 (by 1500 the first response has settled and the gate is
+# shut: that call is a still one)
+AT_OF = {"adaptive_step": (60, 61, 5200, 7100)}
 
 
 def pc() -> int:
