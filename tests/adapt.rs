@@ -123,6 +123,40 @@ fn the_model_follows_the_process() {
     }
 }
 
+/// The dead times the adaptation considers end at the range's end: a
+/// process whose dead time steps from 1 s to 1.4 s, adapted with
+/// candidates up to 1.2 s, never gets an estimate or a model past them
+/// (1.2 s and a fraction of a sample), where the default range follows
+/// it to 1.4 s.
+#[test]
+fn the_dead_time_range_bounds_the_estimates() {
+    let events = ["150:plant-dead-time=1.4"];
+    let free = scenario("1*e^-1s/(4s+1)", &events, 0.0, 1, true)
+        .run()
+        .unwrap();
+    assert!((last(&free, "theta_model") - 1.4).abs() <= 1.05 * TS);
+    let mut sc = scenario("1*e^-1s/(4s+1)", &events, 0.0, 1, true);
+    sc.adapt = Some(AdaptOptions {
+        delay: Some((0.8, 1.2)),
+        ..AdaptOptions::default()
+    });
+    let bounded = sc.run().unwrap();
+    for name in ["theta_hat", "theta_model"] {
+        let (_, s) = bounded
+            .result
+            .signals
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap();
+        let most = s
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(0.0, f64::max);
+        assert!(most <= 1.3 + 1e-9, "{name} reached {most}");
+    }
+}
+
 /// A measurement condition of the convergence matrix: noise (a fraction of
 /// the set-point step) or a 12-bit converter over a span of 2 without noise.
 #[derive(Clone, Copy, Debug)]

@@ -278,6 +278,10 @@ pub struct EstimatorConfig<T> {
     pub ts: T,
     /// The smallest candidate dead time (whole samples).
     pub d_min: usize,
+    /// The longest candidate dead time (whole samples, at least `d_min`;
+    /// `None`: `d_min + N − 1`, the whole bank). The bank's candidates
+    /// beyond it are not run and never chosen.
+    pub d_max: Option<usize>,
     /// Forgetting factor `λ` (0.98–0.9999): memory `1/(1 − λ)` samples.
     pub forgetting: T,
     /// Bound on the covariance's trace (no "bursting" when nothing moves).
@@ -354,6 +358,9 @@ impl<T: Real> EstimatorConfig<T> {
             return Err(Error::OutOfRange("prefilter pole in [0, 1)"));
         }
         positive(self.max_trace, "max_trace")?;
+        if self.d_max.is_some_and(|d| d < self.d_min) {
+            return Err(Error::OutOfRange("estimator: d_max at least d_min"));
+        }
         for (v, name) in [
             (self.dead_zone, "dead_zone"),
             (self.dead_zone_ratio, "dead_zone_ratio"),
@@ -374,6 +381,7 @@ impl<T: Real> EstimatorConfig<T> {
         EstimatorConfig {
             ts,
             d_min,
+            d_max: None,
             forgetting: T::of(0.999),
             max_trace: T::of(1e4),
             dead_zone: T::zero(),
@@ -466,11 +474,15 @@ pub struct Estimate<T> {
 }
 
 /// The bank of `N` RLS estimators over the dead times `d_min … d_min + N − 1`
-/// samples, sharing one history of `H` input differences (`H ≥ d_min + N + 1`).
+/// samples (to [`EstimatorConfig::d_max`] when it is shorter), sharing one
+/// history of `H` input differences (`H ≥ d_min + N + 1`).
 #[derive(Debug, Clone)]
 pub struct Estimator<T, const N: usize, const H: usize> {
     cfg: EstimatorConfig<T>,
     bank: [Candidate<T>; N],
+    /// The candidates in use: the first `n` of the bank (`d_max − d_min + 1`
+    /// at most).
+    n: usize,
     /// The input differences, newest first.
     hist: History<T, H>,
     last_y: T,
@@ -535,6 +547,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 "estimator: the history must hold d_min + N + 1 inputs",
             ));
         }
+        let n = cfg
+            .d_max
+            .map_or(N, |d| d.saturating_sub(cfg.d_min).saturating_add(1))
+            .min(N);
         let p0 = cfg.max_trace / T::of(3.0);
         let mut p = [[T::zero(); 3]; 3];
         for (i, row) in p.iter_mut().enumerate() {
@@ -564,6 +580,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cusum: T::zero(),
                 recent: T::zero(),
             }; N],
+            n,
             hist: History::new(cfg.prefilter, cfg.min_excitation, cfg.excitation_ratio),
             last_y: T::zero(),
             last_dy: T::zero(),
@@ -574,7 +591,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             model: None,
             a_range: (T::of(1e-6), T::one() - T::of(1e-9)),
             sign: T::zero(),
-            window: cfg.d_min.saturating_add(N),
+            window: cfg.d_min.saturating_add(n),
             reference: None,
             noise: Median::new(),
             snap: [[a0, T::zero(), T::zero()]; 2],
@@ -599,7 +616,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let (d, coef) = self.coefficients(k, tau, theta)?;
         let i = d
             .checked_sub(self.cfg.d_min)
-            .filter(|i| *i < N)
+            .filter(|i| *i < self.n)
             .ok_or(Error::OutOfRange(
                 "estimator: a dead time among the candidates",
             ))?;
@@ -617,7 +634,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let settle = num_traits::ToPrimitive::to_usize(&(T::of(4.0) * tau / ts).ceil())
                 .unwrap_or(0)
                 .min(1 << 20);
-            self.window = self.cfg.d_min.saturating_add(N).saturating_add(settle);
+            self.window = self.cfg.d_min.saturating_add(self.n).saturating_add(settle);
         }
         p[1][1] = T::one();
         p[2][2] = T::one();
@@ -775,7 +792,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         } else {
             zone2
         };
-        for (i, c) in self.bank.iter_mut().enumerate() {
+        let bank = self.bank.get_mut(..self.n).unwrap_or_default();
+        for (i, c) in bank.iter_mut().enumerate() {
             // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
             // in the regressor, not the measurement's — the output-error
             // form (Landau's pseudo-linear regression), which noise on y
@@ -921,7 +939,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // consecutive dead times share an input, as in the bank
         let mut inputs = self.hist.from(self.cfg.d_min);
         let mut next = inputs.next().unwrap_or(T::zero());
-        for (i, c) in self.bank.iter_mut().enumerate() {
+        let bank = self.bank.get_mut(..self.n).unwrap_or_default();
+        for (i, c) in bank.iter_mut().enumerate() {
             let (u0, u1) = (next, inputs.next().unwrap_or(T::zero()));
             next = u1;
             scan.step(i, c, u0, u1);
@@ -1074,7 +1093,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             cs.iter()
                 .fold(T::infinity(), |m, c| if c.cost < m { c.cost } else { m })
         };
-        let (below, above) = self.bank.split_at(self.chosen);
+        let bank = self.bank.get(..self.n).unwrap_or_default();
+        let (below, above) = bank.split_at(self.chosen.min(bank.len()));
         let second = at_most(
             lowest(below.get(..below.len().saturating_sub(1)).unwrap_or(&[])),
             lowest(above.get(2..).unwrap_or(&[])),
@@ -1123,7 +1143,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// Each candidate's discounted squared prediction error, from the
     /// shortest dead time `d_min` on: the curve the choice minimises.
     pub fn costs(&self) -> impl Iterator<Item = T> + '_ {
-        self.bank.iter().map(|c| c.cost)
+        self.bank.iter().take(self.n).map(|c| c.cost)
     }
 
     /// How many times the change detector moved the dead time (and
@@ -1166,16 +1186,33 @@ mod tests {
         n: usize,
         noise: f64,
         prior: Option<(f64, f64, f64)>,
+        each: impl FnMut(usize, &Estimator<f64, 16, 40>),
+    ) -> Estimator<f64, 16, 40> {
+        let cfg = EstimatorConfig::new(ts, 2);
+        simulate_with(cfg, k, tau, theta, n, noise, prior, each)
+    }
+
+    /// [`simulate`] with the estimator's settings `cfg` (its period the
+    /// process's sampling).
+    #[allow(clippy::too_many_arguments)]
+    fn simulate_with(
+        cfg: EstimatorConfig<f64>,
+        k: f64,
+        tau: f64,
+        theta: (f64, f64),
+        n: usize,
+        noise: f64,
+        prior: Option<(f64, f64, f64)>,
         mut each: impl FnMut(usize, &Estimator<f64, 16, 40>),
     ) -> Estimator<f64, 16, 40> {
+        let ts = cfg.ts;
         let a = (-ts / tau).exp();
         let parts = |theta: f64| {
             let d = (theta / ts + 1e-9).floor() as usize;
             let f = (theta / ts - d as f64).max(0.0);
             (d, k * (1.0 - a.powf(1.0 - f)), k * (a.powf(1.0 - f) - a))
         };
-        let mut est: Estimator<f64, 16, 40> =
-            Estimator::new(EstimatorConfig::new(ts, 2)).expect_ok();
+        let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
         if let Some((k, tau, theta)) = prior {
             est.start_from(k, tau, theta).expect_ok();
         }
@@ -1204,6 +1241,37 @@ mod tests {
             y = a * y + b0 * (at(d) + load) + b1 * (at(d + 1) + load);
         }
         est
+    }
+
+    /// `d_max` keeps the choice to the candidates up to it: a process whose
+    /// dead time (12 samples) is beyond them gets the longest of them,
+    /// where the whole bank finds its own; a `d_max` below `d_min`, or a
+    /// prior model beyond it, is an error.
+    #[test]
+    fn d_max_bounds_the_candidates() {
+        let (k, tau, theta, ts) = (1.0, 4.0, 1.25, 0.1);
+        let whole = simulate(k, tau, (theta, theta), ts, 8000, 0.0, None, |_, _| {});
+        assert_eq!(whole.estimate().expect_ok().d, 12);
+        assert_eq!(whole.costs().count(), 16);
+        let mut cfg = EstimatorConfig::new(ts, 2);
+        cfg.d_max = Some(8);
+        let mut longest = 0;
+        let est = simulate_with(cfg, k, tau, (theta, theta), 8000, 0.0, None, |_, e| {
+            longest = longest.max(e.estimate().map_or(0, |m| m.d));
+        });
+        assert_eq!(longest, 8);
+        assert_eq!(est.costs().count(), 7);
+        let mut est = est;
+        assert!(est.start_from(k, tau, 0.85).is_ok());
+        assert!(matches!(
+            est.start_from(k, tau, 0.95),
+            Err(Error::OutOfRange(_))
+        ));
+        cfg.d_max = Some(1);
+        assert!(matches!(
+            Estimator::<f64, 16, 40>::new(cfg),
+            Err(Error::OutOfRange(_))
+        ));
     }
 
     #[test]

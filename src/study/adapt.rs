@@ -173,14 +173,20 @@ impl Scenario {
                 crate::poly::fmt_num(ts)
             )));
         }
-        if d_model < d_min || d_model > d_min + (CANDIDATES - 1) as f64 {
+        if d_model < d_min || d_model > d_max {
             return Err(RunError::Invalid(Error::OutOfRange(
-                "adapt delay: the range must hold the model's dead time",
+                "adapt delay: MIN..MAX around the model's dead time",
             )));
         }
-        let d_min = num_traits::ToPrimitive::to_usize(&d_min)
-            .ok_or(RunError::Invalid(Error::DelayTooLong("adapt delay")))?;
+        let whole = |d: f64| {
+            num_traits::ToPrimitive::to_usize(&d)
+                .ok_or(RunError::Invalid(Error::DelayTooLong("adapt delay")))
+        };
+        let d_min = whole(d_min)?;
         let mut est = EstimatorConfig::new(ts, d_min);
+        // the candidates end at the range's end (the dead-time line has
+        // room for no more)
+        est.d_max = Some(whole(d_max)?);
         est.integrating = integrating;
         if let Some(f) = opts.forgetting {
             est.forgetting = f;

@@ -12,4 +12,4 @@ pub use expr::{parse_plant, ParseError};
 #[cfg(all(feature = "std", feature = "serde"))]
 pub use schedule::{exact_pair, text_or_struct};
 #[cfg(feature = "std")]
-pub use schedule::{parse_actuator, parse_bytes, parse_number, parse_setting};
+pub use schedule::{parse_actuator, parse_bytes, parse_dead_times, parse_number, parse_setting};

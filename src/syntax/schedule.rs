@@ -275,10 +275,7 @@ impl core::str::FromStr for Operation {
 
 /// An actuator's range `MIN..MAX` (e.g. `0..1`, `-inf..2`).
 pub fn parse_actuator(s: &str) -> Result<(f64, f64), String> {
-    let (lo, hi) = s
-        .split_once("..")
-        .filter(|_| !s.contains("...") && s.matches("..").count() == 1)
-        .ok_or_else(|| std::format!("actuator '{s}': write it as MIN..MAX, e.g. 0..1"))?;
+    let (lo, hi) = range(s, "actuator", "0..1")?;
     let end = |x: &str| match x.trim().to_ascii_lowercase().as_str() {
         "-inf" | "-infinity" => Ok(f64::NEG_INFINITY),
         _ => parse_setting(x, "actuator"),
@@ -288,6 +285,33 @@ pub fn parse_actuator(s: &str) -> Result<(f64, f64), String> {
         return Err(std::format!("actuator '{s}': MIN must be below MAX"));
     }
     Ok((lo, hi))
+}
+
+/// A range of dead times `MIN..MAX` in seconds (e.g. `0.5..2`): finite, not
+/// negative, `MIN ≤ MAX`.
+pub fn parse_dead_times(s: &str) -> Result<(f64, f64), String> {
+    let what = "dead times";
+    let (lo, hi) = range(s, what, "0.5..2")?;
+    let end = |x: &str| {
+        let v = parse_number(x, &std::format!("{what} '{s}'"))?;
+        if v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(std::format!("{what} '{s}': '{}' is negative", x.trim()))
+        }
+    };
+    let (lo, hi) = (end(lo)?, end(hi)?);
+    if lo > hi {
+        return Err(std::format!("{what} '{s}': MIN must not be above MAX"));
+    }
+    Ok((lo, hi))
+}
+
+/// The two ends of `MIN..MAX` (`what` and an example name it in the error).
+fn range<'a>(s: &'a str, what: &str, example: &str) -> Result<(&'a str, &'a str), String> {
+    s.split_once("..")
+        .filter(|_| !s.contains("...") && s.matches("..").count() == 1)
+        .ok_or_else(|| std::format!("{what} '{s}': write it as MIN..MAX, e.g. {example}"))
 }
 
 /// A size in bytes: `1073741824`, `512M`, `2G`, `1.5GiB` (K, M, G, T are

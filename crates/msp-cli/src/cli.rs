@@ -150,7 +150,7 @@ pub(crate) struct ScenarioArgs {
     pub(crate) adapt: bool,
     /// The dead times (s) the adaptation considers, MIN..MAX (at most 32
     /// samples apart; default: 12 samples below the model's to 19 above).
-    #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_actuator)]
+    #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_dead_times)]
     pub(crate) adapt_delay: Option<(f64, f64)>,
     /// The estimator's forgetting factor, in (0, 1] (default 0.999: a
     /// memory of 1000 samples).

@@ -1763,4 +1763,18 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
         words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-dead-zone -1"),
         "dead zone",
     );
+    // the dead-time range's parser names what it parses
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-delay 2..1"),
+        "dead times '2..1': MIN must not be above MAX",
+    );
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-delay=-1..2"),
+        "dead times '-1..2': '-1' is negative",
+    );
+    // a range without the model's dead time (1 s)
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --ts 0.1 --adapt --adapt-delay 0.5..0.6"),
+        "around the model's dead time",
+    );
 }

@@ -23,6 +23,9 @@ const H: usize = 4096;
 /// d_min : int
 ///     The smallest candidate dead time (samples); the candidates are
 ///     ``d_min … d_min + 31`` (``d_min + 33 ≤ 4096``).
+/// d_max : int, optional
+///     The longest candidate dead time (samples, at least ``d_min``;
+///     default ``d_min + 31``): the candidates end there.
 /// integrating : bool, optional
 ///     The process integrates (``a = 1``).
 /// forgetting : float, optional
@@ -54,16 +57,18 @@ pub struct Estimator {
 #[pymethods]
 impl Estimator {
     #[new]
-    #[pyo3(signature = (ts, d_min, *, integrating = false, forgetting = 0.999, prefilter = 0.0, excitation = 1e-6))]
+    #[pyo3(signature = (ts, d_min, *, d_max = None, integrating = false, forgetting = 0.999, prefilter = 0.0, excitation = 1e-6))]
     fn new(
         ts: f64,
         d_min: usize,
+        d_max: Option<usize>,
         integrating: bool,
         forgetting: f64,
         prefilter: f64,
         excitation: f64,
     ) -> PyResult<Self> {
         let mut cfg = EstimatorConfig::new(ts, d_min);
+        cfg.d_max = d_max;
         cfg.integrating = integrating;
         cfg.forgetting = forgetting;
         cfg.set_prefilter_time(prefilter).map_err(value_err)?;

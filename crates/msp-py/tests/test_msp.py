@@ -1081,17 +1081,20 @@ def test_monitor_raises_an_alarm_when_the_gain_drifts():
 def test_estimator_finds_gain_lag_and_fractional_dead_time():
     """msp.Estimator on 2 e^(-1.25 s)/(4 s + 1) sampled exactly at Ts = 0.1 (the half sample of
     dead time in b0 = K(1 - a^0.5), b1 = K(a^0.5 - a)) under a switching input: K, tau and
-    theta; nothing learnt from samples marked not ok; bad settings refused."""
+    theta; nothing learnt from samples marked not ok; candidates ended by d_max; bad settings
+    refused."""
     a = math.exp(-0.1 / 4.0)
     b0, b1 = 2.0 * (1 - a ** 0.5), 2.0 * (a ** 0.5 - a)
     est = msp.Estimator(ts=0.1, d_min=4)
     idle = msp.Estimator(ts=0.1, d_min=4)
+    short = msp.Estimator(ts=0.1, d_min=4, d_max=9)
     assert est.estimate is None
     y, us = 0.0, []
     for k in range(12000):
         u = 1.0 if (k // 150) % 2 else -1.0
         est.update(y, u)
         idle.update(y, u, ok=False)
+        short.update(y, u)
         us.append(u)
         late = lambda m: us[k - m] if k >= m else 0.0
         y = a * y + b0 * late(12) + b1 * late(13)
@@ -1099,6 +1102,10 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
     assert abs(e["k"] - 2.0) < 1e-3 and abs(e["tau"] - 4.0) < 4e-3, e
     assert abs(e["theta"] - 1.25) < 0.01 and e["d"] == 12, e
     assert idle.estimate is None
+    # candidates only to d_max = 9: the longest of them, never the process's 12
+    assert len(short.costs) == 6 and short.estimate["d"] == 9, short.estimate
+    with pytest.raises(ValueError):
+        msp.Estimator(ts=0.1, d_min=4, d_max=3)
     with pytest.raises(ValueError):
         msp.Estimator(ts=0.0, d_min=4)
     with pytest.raises(ValueError):

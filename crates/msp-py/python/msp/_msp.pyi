@@ -35,6 +35,7 @@ class Estimator:
         ts: float,
         d_min: int,
         *,
+        d_max: Optional[int] = None,
         integrating: bool = False,
         forgetting: float = 0.999,
         prefilter: float = 0.0,
