@@ -157,6 +157,24 @@ fn the_dead_time_range_bounds_the_estimates() {
     }
 }
 
+/// The stability verdict of an adaptive run is the loop's as built: the
+/// first model the adaptation applies ends it (here the controller's model
+/// says 4 s of lag where the process has 8: nothing else changes the
+/// loop), and the report says when.
+#[test]
+fn the_verdict_ends_where_the_adaptation_changes_the_loop() {
+    let mut sc = scenario("1*e^-1s/(8s+1)", &[], 0.0, 1, true);
+    sc.model = Some("1*e^-1s/(4s+1)".parse().unwrap());
+    let out = sc.run().unwrap();
+    let first = out.report().adaptation.first().map(|c| c.at).unwrap();
+    assert_eq!(out.stability.as_built_until, Some(first));
+    assert!(out
+        .stability
+        .reason
+        .contains("the adaptation applies a model"));
+    assert_eq!(out.loop_change.map(|c| c.0), Some(first));
+}
+
 /// A measurement condition of the convergence matrix: noise (a fraction of
 /// the set-point step) or a 12-bit converter over a span of 2 without noise.
 #[derive(Clone, Copy, Debug)]

@@ -60,6 +60,11 @@ pub struct Stability {
     /// bounded and came to rest, `false` when it diverged or kept moving,
     /// `None` when no simulation was compared.
     pub simulation: Option<bool>,
+    /// When the run changed the loop (s: a process drift, a retune, an
+    /// adapted model): the verdict is the loop's as built, and the
+    /// simulation is compared up to then; `None`: the loop the run ends
+    /// with is the one analysed.
+    pub as_built_until: Option<f64>,
     /// In words: how the verdict was reached, or why it is unknown, and any
     /// disagreement with the simulation.
     pub reason: String,
@@ -106,6 +111,24 @@ impl Stability {
             )),
         }
         self
+    }
+
+    /// The verdict of the loop as built, for a run in which it changes at
+    /// `at` s (`what`: a process drift, a retune, an adapted model): it
+    /// says so, and the simulation cross-checks it up to then (`settled`:
+    /// whether it had come to rest by `at`; `None`: too short a stretch to
+    /// compare); the loop after the change is not covered.
+    pub fn as_built(self, settled: Option<bool>, at: f64, what: &str) -> Self {
+        let mut s = match settled {
+            Some(settled) => self.with_simulation(settled, at),
+            None => self,
+        };
+        s.as_built_until = Some(at);
+        let at = crate::poly::fmt_num(crate::poly::round_sig(at, 3));
+        s.reason.push_str(&std::format!(
+            "; this is the loop as built: at {at} s {what}, and the verdict does not cover the loop after that"
+        ));
+        s
     }
 
     /// The verdict in a few words, for text output.
@@ -260,6 +283,7 @@ pub fn verdict(
                 unstable_poles: Some(n),
                 open_loop_unstable_poles: Some(open),
                 simulation: None,
+                as_built_until: None,
                 reason: if n == 0 {
                     std::format!(
                         "every closed-loop pole is inside the unit circle (characteristic equation: {open} open-loop unstable pole{}, encircled as many times)",

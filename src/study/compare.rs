@@ -109,9 +109,9 @@ pub fn compare(
     // each scheme's run and verdict on its own core
     super::each(&tuned, |(one, t)| {
         let mut out = one.run_tuned(t, plant.clone(), model.clone(), inner.clone())?;
-        let settled = out.settled_with(&out.result.y);
-        out.stability = crate::analysis::tuned_stability(one, t, &plant, &model, inner.as_ref())
-            .with_simulation(settled, out.duration);
+        let settled = out.settled_as_built(&out.result.t, &out.result.y);
+        let verdict = crate::analysis::tuned_stability(one, t, &plant, &model, inner.as_ref());
+        out.stability = out.cross_checked(verdict, settled);
         out.default_scenario = default;
         if let Some(t) = &out.target {
             out.notes.push(std::format!(

@@ -233,6 +233,11 @@ pub struct RunOutput {
     pub disturbance: Vec<crate::sim::Disturbance>,
     /// The controller computed in `f32` ([`Scenario::float32`]).
     pub float32: bool,
+    /// When the loop first stopped being the one built and analysed (s),
+    /// and what changed it: a process drift, the controller's dead time or
+    /// gains, the first model the adaptation applied (`None`: the loop ran
+    /// as built to the end).
+    pub loop_change: Option<(f64, &'static str)>,
 }
 
 impl RunOutput {
@@ -285,14 +290,92 @@ impl RunOutput {
         if self.metrics.indices.iae.is_nan() && self.result.diverged_at.is_none() {
             self.measure()?;
         }
-        let settled = self.settled_with(&self.result.y);
-        self.analyse_settled(settled);
+        self.analyse_settled(self.settled_as_built(&self.result.t, &self.result.y));
         Ok(())
     }
 
-    /// [`RunOutput::analyse`] with `settled` (the run came to rest and did
-    /// not diverge) given: the signals are not read.
-    pub fn analyse_settled(&mut self, settled: bool) {
+    /// Whether the loop as built came to rest in the output `y` at the
+    /// times `t` (the run's signals): over the run, or when the loop
+    /// changes ([`RunOutput::loop_change`]) up to the change (`None`: too
+    /// short a stretch before it to have come to rest in).
+    pub fn settled_as_built(&self, t: &[f64], y: &[f64]) -> Option<bool> {
+        match self.loop_change {
+            Some((at, _)) => {
+                let rows = t.iter().take_while(|t| **t < at).count();
+                (rows >= 10).then(|| {
+                    self.result.diverged_at.map_or(true, |d| d >= at)
+                        && settled(y.get(..rows).unwrap_or(y), &self.metrics, at)
+                })
+            }
+            None => Some(self.settled_with(y)),
+        }
+    }
+
+    /// The verdict of the loop as built cross-checked by this run (`settled`:
+    /// [`RunOutput::settled_as_built`]).
+    pub(crate) fn cross_checked(
+        &self,
+        stability: crate::analysis::Stability,
+        settled: Option<bool>,
+    ) -> crate::analysis::Stability {
+        match (self.loop_change, settled) {
+            (Some((at, what)), _) => stability.as_built(settled, at, what),
+            (None, Some(settled)) => stability.with_simulation(settled, self.duration),
+            (None, None) => stability,
+        }
+    }
+
+    /// When the loop first stops being the one built (and analysed): a
+    /// process drift (`plant-gain`, `plant-lag`, `plant-dead-time`), the
+    /// controller's dead time or gains changed by an event, or the first
+    /// model the adaptation applied. Modes (manual, tracking) do not change
+    /// the loop that returns.
+    fn find_loop_change(
+        events: &[crate::sim::Operation],
+        result: &SimResult,
+    ) -> Option<(f64, &'static str)> {
+        use crate::sim::Action;
+        let event = events
+            .iter()
+            .filter_map(|e| {
+                let what = match e.action {
+                    Action::PlantGain(_) | Action::PlantLag(_) | Action::PlantDeadTime(_) => {
+                        "the process drifts"
+                    }
+                    Action::DeadTime(_) | Action::DeadTimeRamp(..) => {
+                        "the controller's dead time changes"
+                    }
+                    Action::Retune(..) => "the controller is retuned",
+                    Action::Manual(_) | Action::Track(_) | Action::Auto | Action::Adapt(_) => {
+                        return None
+                    }
+                };
+                Some((e.at, what))
+            })
+            .fold(None, |first: Option<(f64, &str)>, e| match first {
+                Some(f) if f.0 <= e.0 => Some(f),
+                _ => Some(e),
+            });
+        let adapted = ["k_model", "tau_model", "theta_model"]
+            .iter()
+            .filter_map(|name| {
+                let (_, s) = result.signals.iter().find(|(n, _)| n == name)?;
+                let first = *s.first()?;
+                let i = s.iter().position(|v| v.to_bits() != first.to_bits())?;
+                result.t.get(i).copied()
+            })
+            .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.min(t))))
+            .map(|t| (t, "the adaptation applies a model"));
+        match (event, adapted) {
+            (Some(e), Some(a)) => Some(if a.0 < e.0 { a } else { e }),
+            (e, a) => e.or(a),
+        }
+    }
+
+    /// [`RunOutput::analyse`] with `settled` (the loop as built came to
+    /// rest and did not diverge: [`RunOutput::settled_as_built`]; `None`: no
+    /// simulation to compare) given: the signals are not read.
+    pub fn analyse_settled(&mut self, settled: Option<bool>) {
         let tuned = match registry::find(self.controller) {
             Ok(scheme) => Tuned {
                 scheme,
@@ -317,13 +400,13 @@ impl RunOutput {
         &mut self,
         stability: crate::analysis::Stability,
         robust: Option<Robustness>,
-        settled: bool,
+        settled: Option<bool>,
     ) {
         if let Some(r) = robust {
             self.notes.extend(r.warnings);
             self.robustness = Some(r.margins);
         }
-        self.stability = stability.with_simulation(settled, self.duration);
+        self.stability = self.cross_checked(stability, settled);
         if self.stability.stable == Some(false) && self.result.diverged_at.is_none() {
             self.notes.push(std::format!(
                 "the closed loop with {} is unstable: {}",
@@ -638,7 +721,7 @@ impl Scenario {
         )?;
         out.stability = crate::analysis::Stability::unknown("not analysed");
         if let Some((stability, robust)) = analysis {
-            let settled = out.settled_with(&out.result.y);
+            let settled = out.settled_as_built(&out.result.t, &out.result.y);
             out.apply_analysis(stability, robust, settled);
         }
         Ok(out)
@@ -997,7 +1080,9 @@ impl Scenario {
         } else {
             (nan, nan, Vec::new())
         };
+        let loop_change = RunOutput::find_loop_change(&self.events, &result);
         Ok(RunOutput {
+            loop_change,
             plant,
             model,
             inner,

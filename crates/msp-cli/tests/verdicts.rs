@@ -79,6 +79,70 @@ fn a_diverging_loop_is_not_reported_stable() {
 
 /// Margins of an unstable loop are null, with the reason; so are the
 /// integral indices of a run that diverged (they are unbounded, not 0).
+/// A run whose events change the loop: the verdict is the loop's as built,
+/// says so, and is cross-checked by the run up to the change. A process
+/// whose gain changes sign at 100 s runs away after it (the run diverges or
+/// keeps moving); the loop as built came to rest before it, so the
+/// simulation agrees with "stable" for it, and the report says when the
+/// loop changed. Without events the loop analysed is the run's to its end.
+#[test]
+fn a_verdict_says_which_loop_it_covers() {
+    let plant = "1*e^-1s/(4s+1)";
+    let r = report(&[
+        "run",
+        "--plant",
+        plant,
+        "--ts",
+        "0.1",
+        "--duration",
+        "300",
+        "--event",
+        "100:plant-gain=-1",
+    ]);
+    let st = &r["stability"];
+    assert_eq!(st["stable"], true, "{st}");
+    assert_eq!(st["as_built_until"], 100.0, "{st}");
+    assert_eq!(st["simulation"], true, "{st}");
+    let reason = st["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("the simulation over 100 s agrees"),
+        "{reason}"
+    );
+    assert!(
+        reason.contains("the loop as built: at 100 s the process drifts"),
+        "{reason}"
+    );
+    // modes do not change the loop that returns (manual at 120 s, auto at
+    // 130 s); the retune at 150 s does
+    let retuned = report(&[
+        "run",
+        "--plant",
+        plant,
+        "--ts",
+        "0.1",
+        "--duration",
+        "300",
+        "--event",
+        "150:kp=0.5",
+        "--event",
+        "120:manual=0",
+        "--event",
+        "130:auto",
+    ]);
+    assert_eq!(retuned["stability"]["as_built_until"], 150.0);
+    assert!(retuned["stability"]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("at 150 s the controller is retuned"));
+    let plain = report(&["run", "--plant", plant, "--ts", "0.1", "--duration", "300"]);
+    assert!(plain["stability"]["as_built_until"].is_null());
+    assert_eq!(plain["stability"]["simulation"], true);
+    assert!(!plain["stability"]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("as built"));
+}
+
 #[test]
 fn unstable_loops_have_no_margins_and_diverged_runs_no_indices() {
     let j = report(&["run", "--plant", "0.2/s*e^-7.4s", "--set", "kp=1e5"]);

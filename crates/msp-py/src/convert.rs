@@ -110,7 +110,8 @@ impl PendingAnalysis {
         Ok(d)
     }
 
-    fn ensure_measured(&mut self, py: Python<'_>) -> PyResult<bool> {
+    /// Measures the run once; whether the loop as built came to rest (`RunOutput::settled_as_built`).
+    fn ensure_measured(&mut self, py: Python<'_>) -> PyResult<Option<bool>> {
         let (t, r, y, u) = (
             self.t.bind(py).readonly(),
             self.r.bind(py).readonly(),
@@ -131,7 +132,7 @@ impl PendingAnalysis {
                 .map_err(value_err)?;
             self.measured = true;
         }
-        Ok(self.out.settled_with(cols.y))
+        Ok(self.out.settled_as_built(cols.t, cols.y))
     }
 }
 

@@ -433,6 +433,17 @@ def test_simulate_is_run_with_the_equivalent_steps() -> None:
         msp.simulate("2e^-3s/(4s+1)", t=t, r=r[:-1])
 
 
+def test_the_verdict_names_the_loop_it_covers() -> None:
+    """A process drift at 100 s (its gain changes sign: the loop runs away after it): the verdict
+    is the loop's as built, cross-checked by the run up to the drift; modes alone change nothing."""
+    r = msp.run("e^-1s/(4s+1)", "smith", ts=0.1, duration=300.0, events=["100:plant-gain=-1"])
+    st = r.stability
+    assert st["stable"] is True and st["as_built_until"] == 100.0 and st["simulation"] is True, st
+    assert "the loop as built: at 100 s the process drifts" in st["reason"], st
+    r = msp.run("e^-1s/(4s+1)", "smith", ts=0.1, duration=300.0, events=["120:manual=0.3", "150:auto"])
+    assert r.stability["as_built_until"] is None and r.stability["simulation"] is True, r.stability
+
+
 def test_the_time_plot_marks_what_was_scheduled() -> None:
     import matplotlib
 

@@ -224,7 +224,10 @@ class Result:
         be decided; ``stability["reason"]`` says why).
     stability : dict
         ``stable``, ``unstable_poles`` (closed-loop poles outside the unit circle),
-        ``open_loop_unstable_poles``, ``simulation`` (the run's cross-check) and ``reason``.
+        ``open_loop_unstable_poles``, ``simulation`` (the run's cross-check), ``as_built_until``
+        (when an event or the adaptation changed the loop, s: the verdict is the loop's as built,
+        the simulation compared up to then; ``None``: the loop analysed ran to the end) and
+        ``reason``.
     plant, plant_kind, model, ts, duration, samples, float32, diverged_at, warnings
         The rest of the run report: the same keys and values as
         ``msp run --report`` writes (:meth:`report` returns them as one dict).
