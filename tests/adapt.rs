@@ -49,7 +49,7 @@ fn iae_after(out: &RunOutput, from: f64) -> f64 {
 
 /// The times at which signal `name` changed.
 fn changes(out: &RunOutput, name: &str) -> Vec<(f64, f64)> {
-    let (_, s) = out.result.signals.iter().find(|(n, _)| n == name).unwrap();
+    let s = signal(out, name);
     let mut v = Vec::new();
     for (i, w) in s.windows(2).enumerate() {
         if w[1] != w[0] {
@@ -59,14 +59,19 @@ fn changes(out: &RunOutput, name: &str) -> Vec<(f64, f64)> {
     v
 }
 
-fn last(out: &RunOutput, name: &str) -> f64 {
+/// The recorded signal `name` of a run.
+fn signal<'a>(out: &'a RunOutput, name: &str) -> &'a [f64] {
     let (_, s) = out
         .result
         .signals
         .iter()
         .find(|(n, _)| n == name)
         .unwrap_or_else(|| panic!("no signal {name}"));
-    *s.last().unwrap()
+    s
+}
+
+fn last(out: &RunOutput, name: &str) -> f64 {
+    *signal(out, name).last().unwrap()
 }
 
 /// The process drifts (its dead time 10 → 14 samples, its gain +30 %, its
@@ -142,13 +147,7 @@ fn the_dead_time_range_bounds_the_estimates() {
     });
     let bounded = sc.run().unwrap();
     for name in ["theta_hat", "theta_model"] {
-        let (_, s) = bounded
-            .result
-            .signals
-            .iter()
-            .find(|(n, _)| n == name)
-            .unwrap();
-        let most = s
+        let most = signal(&bounded, name)
             .iter()
             .copied()
             .filter(|x| x.is_finite())
@@ -236,12 +235,7 @@ fn converges(plant: &str, drift: &str, after: &str, (k, tau, theta): (f64, f64, 
                     _ => 4.0,
                 };
                 for (name, within) in [("theta_hat", responses * 30.0), ("theta_model", 360.0)] {
-                    let (_, s) = adaptive
-                        .result
-                        .signals
-                        .iter()
-                        .find(|(n, _)| n == name)
-                        .unwrap();
+                    let s = signal(&adaptive, name);
                     let late = adaptive
                         .result
                         .t

@@ -87,18 +87,23 @@ fn a_diverging_loop_is_not_reported_stable() {
 /// loop changed. Without events the loop analysed is the run's to its end.
 #[test]
 fn a_verdict_says_which_loop_it_covers() {
-    let plant = "1*e^-1s/(4s+1)";
-    let r = report(&[
-        "run",
-        "--plant",
-        plant,
-        "--ts",
-        "0.1",
-        "--duration",
-        "300",
-        "--event",
-        "100:plant-gain=-1",
-    ]);
+    // a run of the plant for 300 s with these events
+    let with_events = |events: &[&str]| {
+        let mut args = vec![
+            "run",
+            "--plant",
+            "1*e^-1s/(4s+1)",
+            "--ts",
+            "0.1",
+            "--duration",
+            "300",
+        ];
+        for e in events {
+            args.extend(["--event", e]);
+        }
+        report(&args)
+    };
+    let r = with_events(&["100:plant-gain=-1"]);
     let st = &r["stability"];
     assert_eq!(st["stable"], true, "{st}");
     assert_eq!(st["as_built_until"], 100.0, "{st}");
@@ -114,27 +119,13 @@ fn a_verdict_says_which_loop_it_covers() {
     );
     // modes do not change the loop that returns (manual at 120 s, auto at
     // 130 s); the retune at 150 s does
-    let retuned = report(&[
-        "run",
-        "--plant",
-        plant,
-        "--ts",
-        "0.1",
-        "--duration",
-        "300",
-        "--event",
-        "150:kp=0.5",
-        "--event",
-        "120:manual=0",
-        "--event",
-        "130:auto",
-    ]);
+    let retuned = with_events(&["150:kp=0.5", "120:manual=0", "130:auto"]);
     assert_eq!(retuned["stability"]["as_built_until"], 150.0);
     assert!(retuned["stability"]["reason"]
         .as_str()
         .unwrap()
         .contains("at 150 s the controller is retuned"));
-    let plain = report(&["run", "--plant", plant, "--ts", "0.1", "--duration", "300"]);
+    let plain = with_events(&[]);
     assert!(plain["stability"]["as_built_until"].is_null());
     assert_eq!(plain["stability"]["simulation"], true);
     assert!(!plain["stability"]["reason"]
