@@ -404,6 +404,15 @@ impl RunOutput {
     ) {
         if let Some(r) = robust {
             self.notes.extend(r.warnings);
+            if let (Some((at, what)), true) = (
+                self.loop_change,
+                r.margins.gm.is_finite() || r.margins.pm.is_finite(),
+            ) {
+                self.notes.push(std::format!(
+                    "the robustness margins are the loop's as built: at {} s {what}, and they do not cover the loop after that",
+                    crate::poly::fmt_num(crate::poly::round_sig(at, 3))
+                ));
+            }
             self.robustness = Some(r.margins);
         }
         self.stability = self.cross_checked(stability, settled);

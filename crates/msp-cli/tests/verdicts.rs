@@ -117,6 +117,17 @@ fn a_verdict_says_which_loop_it_covers() {
         reason.contains("the loop as built: at 100 s the process drifts"),
         "{reason}"
     );
+    assert!(
+        r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().starts_with(
+                "the robustness margins are the loop's as built: at 100 s the process drifts"
+            )),
+        "{}",
+        r["warnings"]
+    );
     // modes do not change the loop that returns (manual at 120 s, auto at
     // 130 s); the retune at 150 s does
     let retuned = with_events(&["150:kp=0.5", "120:manual=0", "130:auto"]);
@@ -127,6 +138,7 @@ fn a_verdict_says_which_loop_it_covers() {
         .contains("at 150 s the controller is retuned"));
     let plain = with_events(&[]);
     assert!(plain["stability"]["as_built_until"].is_null());
+    assert!(!plain["warnings"].to_string().contains("as built"));
     assert_eq!(plain["stability"]["simulation"], true);
     assert!(!plain["stability"]["reason"]
         .as_str()
