@@ -204,18 +204,6 @@ impl ChangeKind {
         }
     }
 
-    /// Its name, as the report writes it (`applied`, `restored`,
-    /// `refused`, `alarm`, `cleared`).
-    pub fn name(self) -> &'static str {
-        match self {
-            ChangeKind::Applied => "applied",
-            ChangeKind::Restored => "restored",
-            ChangeKind::Refused => "refused",
-            ChangeKind::Alarm => "alarm",
-            ChangeKind::Cleared => "cleared",
-        }
-    }
-
     /// The kind of a code of [`ChangeKind::code`].
     pub fn from_code(code: u8) -> Option<Self> {
         match code {

@@ -263,13 +263,9 @@ impl Controller {
         changes
             .into_iter()
             .map(|c| {
-                let d = PyDict::new(py);
-                d.set_item("sample", c.sample)?;
+                // the library's serde type: the names the report writes
+                let d = pythonize::pythonize(py, &c)?.downcast_into::<PyDict>()?;
                 d.set_item("at", c.sample as f64 * self.ts)?;
-                d.set_item("kind", c.kind.name())?;
-                d.set_item("k", c.k)?;
-                d.set_item("tau", c.tau)?;
-                d.set_item("theta", c.theta)?;
                 Ok(d)
             })
             .collect()
