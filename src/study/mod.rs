@@ -356,16 +356,17 @@ impl RunOutput {
                 Some(f) if f.0 <= e.0 => Some(f),
                 _ => Some(e),
             });
-        let adapted = ["k_model", "tau_model", "theta_model"]
-            .iter()
-            .filter_map(|name| {
-                let (_, s) = result.signals.iter().find(|(n, _)| n == name)?;
-                let first = *s.first()?;
-                let i = s.iter().position(|v| v.to_bits() != first.to_bits())?;
-                result.t.get(i).copied()
+        // the adaptation's log: the first model it put in (an alarm or a
+        // refusal leaves the loop as it is)
+        let adapted = report::adaptation_log(result)
+            .into_iter()
+            .find(|c| {
+                matches!(
+                    c.kind,
+                    crate::adapt::ChangeKind::Applied | crate::adapt::ChangeKind::Restored
+                )
             })
-            .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.min(t))))
-            .map(|t| (t, "the adaptation applies a model"));
+            .map(|c| (c.at, "the adaptation applies a model"));
         match (event, adapted) {
             (Some(e), Some(a)) => Some(if a.0 < e.0 { a } else { e }),
             (e, a) => e.or(a),

@@ -275,54 +275,7 @@ impl RunOutput {
     /// The adaptation's log, read from the recorded signals: each sample at
     /// which `adapt_changes` grew, with the model in use from then on.
     pub fn adaptation(&self) -> Vec<AdaptationReport> {
-        let col = |name: &str| {
-            self.result
-                .signals
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, v)| v.as_slice())
-        };
-        let (Some(count), Some(kind), Some(k), Some(tau), Some(theta)) = (
-            col("adapt_changes"),
-            col("adapt_kind"),
-            col("k_model"),
-            col("tau_model"),
-            col("theta_model"),
-        ) else {
-            return Vec::new();
-        };
-        let (k_hat, tau_hat, theta_hat, error) = (
-            col("k_hat").unwrap_or(&[]),
-            col("tau_hat").unwrap_or(&[]),
-            col("theta_hat").unwrap_or(&[]),
-            col("mismatch").unwrap_or(&[]),
-        );
-        let mut out = Vec::new();
-        let mut last = 0.0;
-        for (i, c) in count.iter().enumerate() {
-            if *c > last {
-                let get = |v: &[f64]| v.get(i).copied().unwrap_or(f64::NAN);
-                let code = num_traits::ToPrimitive::to_u8(&get(kind)).unwrap_or(0);
-                if let Some(kind) = crate::adapt::ChangeKind::from_code(code) {
-                    // an alarm names the process the estimator sees
-                    let (k, tau, theta) = if kind == crate::adapt::ChangeKind::Alarm {
-                        (k_hat, tau_hat, theta_hat)
-                    } else {
-                        (k, tau, theta)
-                    };
-                    out.push(AdaptationReport {
-                        at: self.result.t.get(i).copied().unwrap_or(f64::NAN),
-                        kind,
-                        k: get(k),
-                        tau: get(tau),
-                        theta: get(theta),
-                        mismatch: Some(get(error)).filter(|e| e.is_finite()),
-                    });
-                }
-                last = *c;
-            }
-        }
-        out
+        adaptation_log(&self.result)
     }
 
     /// The loop's verdict: the characteristic equation's, or where that is
@@ -526,4 +479,58 @@ impl Scenario {
             })
             .collect())
     }
+}
+
+/// The adaptation's log of a run, read from its recorded signals: each
+/// sample at which `adapt_changes` grew, with the model in use from then
+/// on (the report's `adaptation`).
+pub(crate) fn adaptation_log(result: &crate::sim::SimResult) -> Vec<AdaptationReport> {
+    let col = |name: &str| {
+        result
+            .signals
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    };
+    let (Some(count), Some(kind), Some(k), Some(tau), Some(theta)) = (
+        col("adapt_changes"),
+        col("adapt_kind"),
+        col("k_model"),
+        col("tau_model"),
+        col("theta_model"),
+    ) else {
+        return Vec::new();
+    };
+    let (k_hat, tau_hat, theta_hat, error) = (
+        col("k_hat").unwrap_or(&[]),
+        col("tau_hat").unwrap_or(&[]),
+        col("theta_hat").unwrap_or(&[]),
+        col("mismatch").unwrap_or(&[]),
+    );
+    let mut out = Vec::new();
+    let mut last = 0.0;
+    for (i, c) in count.iter().enumerate() {
+        if *c > last {
+            let get = |v: &[f64]| v.get(i).copied().unwrap_or(f64::NAN);
+            let code = num_traits::ToPrimitive::to_u8(&get(kind)).unwrap_or(0);
+            if let Some(kind) = crate::adapt::ChangeKind::from_code(code) {
+                // an alarm names the process the estimator sees
+                let (k, tau, theta) = if kind == crate::adapt::ChangeKind::Alarm {
+                    (k_hat, tau_hat, theta_hat)
+                } else {
+                    (k, tau, theta)
+                };
+                out.push(AdaptationReport {
+                    at: result.t.get(i).copied().unwrap_or(f64::NAN),
+                    kind,
+                    k: get(k),
+                    tau: get(tau),
+                    theta: get(theta),
+                    mismatch: Some(get(error)).filter(|e| e.is_finite()),
+                });
+            }
+            last = *c;
+        }
+    }
+    out
 }
