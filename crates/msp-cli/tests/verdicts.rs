@@ -84,7 +84,8 @@ fn a_diverging_loop_is_not_reported_stable() {
 /// whose gain changes sign at 100 s runs away after it (the run diverges or
 /// keeps moving); the loop as built came to rest before it, so the
 /// simulation agrees with "stable" for it, and the report says when the
-/// loop changed. Without events the loop analysed is the run's to its end.
+/// loop changed; a change at 0 s leaves nothing to compare. Without events
+/// the loop analysed is the run's to its end.
 #[test]
 fn a_verdict_says_which_loop_it_covers() {
     // a run of the plant for 300 s with these events
@@ -136,6 +137,15 @@ fn a_verdict_says_which_loop_it_covers() {
         .as_str()
         .unwrap()
         .contains("at 150 s the controller is retuned"));
+    // a change at the start leaves nothing of the loop as built to
+    // compare: no cross-check, rather than one of another loop
+    let at_once = with_events(&["0:plant-gain=2"]);
+    assert_eq!(at_once["stability"]["as_built_until"], 0.0);
+    assert!(at_once["stability"]["simulation"].is_null());
+    assert!(!at_once["stability"]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("the simulation"));
     let plain = with_events(&[]);
     assert!(plain["stability"]["as_built_until"].is_null());
     assert!(!plain["warnings"].to_string().contains("as built"));
