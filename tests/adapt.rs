@@ -550,3 +550,243 @@ fn every_scheme_with_a_model_adapts() {
         assert!((model.2 - theta).abs() <= 1.05 * TS, "{scheme}: {model:?}");
     }
 }
+
+/// Storage lent by a redesign to the scheme it builds, counting the lots
+/// alive.
+struct Lent {
+    v: Vec<f64>,
+    alive: std::rc::Rc<std::cell::Cell<usize>>,
+}
+
+impl AsRef<[f64]> for Lent {
+    fn as_ref(&self) -> &[f64] {
+        &self.v
+    }
+}
+
+impl AsMut<[f64]> for Lent {
+    fn as_mut(&mut self) -> &mut [f64] {
+        &mut self.v
+    }
+}
+
+impl Drop for Lent {
+    fn drop(&mut self) {
+        self.alive.set(self.alive.get() - 1);
+    }
+}
+
+type LentKd = msp::dtc::karan_dey::KaranDey<f64, 1, Lent>;
+
+/// A redesign that builds the Karan–Dey predictor anew on lent storage,
+/// recording how many lots were alive at each rebuild and each takeover.
+struct Lender {
+    alive: std::rc::Rc<std::cell::Cell<usize>>,
+    /// The most lots alive when a rebuild was asked for.
+    most: usize,
+    took_over: usize,
+}
+
+impl Lender {
+    fn build(&mut self, k: f64, theta: f64) -> Option<LentKd> {
+        let m = msp::Ipdt::new(k, theta).ok()?;
+        let p = msp::tuning::karan_dey(&m, msp::tuning::karan_dey_default_lambda(&m)).ok()?;
+        let (block, _) = msp::ProcessModel::from(msp::Ipdt::new(k, 0.0).ok()?)
+            .discretize::<1>(TS)
+            .ok()?;
+        self.alive.set(self.alive.get() + 1);
+        let lot = Lent {
+            v: vec![0.0; 40],
+            alive: self.alive.clone(),
+        };
+        let line = msp::Delay::with_storage(lot, theta / TS).ok()?;
+        msp::dtc::compensator::build(&p, TS, block, line).ok()
+    }
+}
+
+impl msp::adapt::Redesign<f64, LentKd> for Lender {
+    fn rebuild(&mut self, k: f64, tau: f64, theta: f64) -> Option<LentKd> {
+        assert!(tau.is_infinite());
+        self.most = self.most.max(self.alive.get());
+        self.build(k, theta)
+    }
+
+    fn took_over(&mut self) {
+        self.took_over += 1;
+    }
+}
+
+/// A scheme rebuilt at each change asks its redesign for a new one only
+/// while the one in use is the only one alive (a device lends two lots of
+/// memory, alternately), and hears of every takeover: the count of
+/// takeovers is the log's applied and restored changes, and after the run
+/// one scheme (or one and its successor warming up) is alive. The
+/// Karan–Dey loop with the old model rings after each set-point step; a
+/// change that meets the ringing dying out is not taken for an oscillation
+/// (it stays: the model in use becomes the process's).
+#[test]
+fn a_redesign_builds_beside_the_one_in_use_only() {
+    use msp::adapt::{Adaptive, AdaptiveConfig, ChangeKind, EstimatorConfig};
+    use msp::Controller;
+    let alive = std::rc::Rc::new(std::cell::Cell::new(0));
+    let mut lender = Lender {
+        alive: alive.clone(),
+        most: 0,
+        took_over: 0,
+    };
+    let first = lender.build(0.5, 1.0).unwrap();
+    let mut est = EstimatorConfig::new(TS, 4);
+    est.integrating = true;
+    est.set_prefilter_time(2.5).unwrap();
+    let mut c: Adaptive<f64, LentKd, Lender, 16, 512> = Adaptive::new(
+        first,
+        (0.5, f64::INFINITY, 1.0),
+        AdaptiveConfig::new(est),
+        lender,
+    )
+    .unwrap();
+    let (mut y, mut line) = (0.0, std::collections::VecDeque::from(vec![0.0; 10]));
+    for k in 0..12_000 {
+        let r = ((k / 300) % 2) as f64;
+        let u = c.update(r, y);
+        line.push_back(u);
+        let late = line.pop_front().unwrap();
+        y += TS * if k < 1500 { 0.5 } else { 0.6 } * late;
+    }
+    let took = c
+        .log()
+        .filter(|e| matches!(e.kind, ChangeKind::Applied | ChangeKind::Restored))
+        .count();
+    assert!(took >= 1 && c.changes() <= 16);
+    let r = c.redesign();
+    assert_eq!(r.took_over, took);
+    assert_eq!(r.most, 1);
+    assert!((1..=2).contains(&alive.get()));
+    assert!((c.model().0 - 0.6).abs() < 0.03, "{:?}", c.model());
+}
+
+/// What a run of [`smith_run`] leaves: the control error without the
+/// noise, the log, the model in use and the noise the estimator measured.
+struct SmithRun {
+    err: Vec<f64>,
+    log: Vec<msp::adapt::Change<f64>>,
+    model: (f64, f64, f64),
+    noise: f64,
+}
+
+impl SmithRun {
+    fn kinds(&self) -> Vec<msp::adapt::ChangeKind> {
+        self.log.iter().map(|e| e.kind).collect()
+    }
+}
+
+/// The Smith predictor on `e^{−1s}/(4s + 1)` sampled at 0.1 s (the
+/// primary Kaya's PI at `λ = 1 s`), adapted by `cfg` with the primary's
+/// gains from `gains`, over 9 000 samples with the process gain `k(i)` at
+/// sample `i` and white measurement noise of deviation `noise` (fixed
+/// seed); the set point alternates every 30 s.
+fn smith_run(
+    cfg: msp::adapt::AdaptiveConfig<f64>,
+    gains: impl FnMut(f64, f64, f64) -> Option<[f64; 3]>,
+    k: impl Fn(usize) -> f64,
+    noise: f64,
+) -> SmithRun {
+    use msp::Controller;
+    let model: msp::ProcessModel<f64> = msp::Fopdt::new(1.0, 4.0, 1.0).unwrap().into();
+    let pi = msp::PidConfig::isa(4.0, 4.0, 0.0, TS);
+    let sp: msp::SmithPredictor<f64, 1, [f64; 64]> =
+        msp::SmithPredictor::from_model(pi, &model, TS).unwrap();
+    let mut c: msp::adapt::Adaptive<f64, _, _, 16, 64> =
+        msp::adapt::Adaptive::new(sp, (1.0, 4.0, 1.0), cfg, gains).unwrap();
+    let a = (-TS / 4.0f64).exp();
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut gauss = move || {
+        // Box–Muller on a xorshift stream
+        let mut uni = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            ((rng >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let (u1, u2) = (uni(), uni());
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    };
+    let (mut x, mut line) = (0.0, std::collections::VecDeque::from(vec![0.0; 10]));
+    let mut err = Vec::new();
+    for i in 0..9000 {
+        let r = ((i / 300) % 2) as f64;
+        let y = x + noise * gauss();
+        let u = c.update(r, y);
+        err.push(r - x);
+        line.push_back(u);
+        let late = line.pop_front().unwrap();
+        x = a * x + (1.0 - a) * k(i) * late;
+    }
+    SmithRun {
+        err,
+        log: c.log().collect(),
+        model: c.model(),
+        noise: c.estimator().noise_level(),
+    }
+}
+
+fn adapt_config() -> msp::adapt::AdaptiveConfig<f64> {
+    let mut est = msp::adapt::EstimatorConfig::new(TS, 4);
+    est.set_prefilter_time(10.0).unwrap();
+    msp::adapt::AdaptiveConfig::new(est)
+}
+
+/// Kaya's PI for a model (`λ = 1 s`).
+fn kaya(k: f64, tau: f64, _theta: f64) -> Option<[f64; 3]> {
+    Some([tau / k, tau, 0.0])
+}
+
+/// A change that makes the loop oscillate is undone: the primary's gains
+/// for the new model (the process gain rose 30 %) are made to give an
+/// integral action of 1.3 per sample, and the growing oscillation that
+/// follows restores the last good model and its tuning; the loop settles
+/// again. The same change with the rule's own gains stays.
+#[test]
+fn an_oscillating_change_restores_the_last_good_model() {
+    use msp::adapt::ChangeKind::{Applied, Restored};
+    let drift = |i: usize| if i < 1500 { 1.0 } else { 1.3 };
+    let wild = |k: f64, tau: f64, theta: f64| {
+        let [kp, ti, td] = kaya(k, tau, theta)?;
+        Some(if (k - 1.0).abs() < 1e-12 {
+            [kp, ti, td]
+        } else {
+            [kp, kp * TS / 1.3, td]
+        })
+    };
+    let run = smith_run(adapt_config(), wild, drift, 0.0);
+    let kinds = run.kinds();
+    let applied = kinds.iter().position(|k| *k == Applied).expect("a change");
+    assert_eq!(kinds.get(applied + 1), Some(&Restored), "{kinds:?}");
+    let restored = run.log[applied + 1];
+    assert_eq!((restored.k, restored.tau, restored.theta), (1.0, 4.0, 1.0));
+    let ok = smith_run(adapt_config(), kaya, drift, 0.0);
+    assert!(!ok.kinds().contains(&Restored), "{:?}", ok.kinds());
+    // both settled at the end of the last half period
+    for e in [&run.err, &ok.err] {
+        assert!(e.last().unwrap().abs() < 1e-3, "{:?}", e.last());
+    }
+}
+
+/// The oscillation detector's band rises above the noise it measures: with
+/// 2 % measurement noise and no band given (a device need not know its
+/// noise), a right change is not taken for an oscillation (the noise
+/// crosses zero every few samples, each half-cycle short) and stays; the
+/// model in use becomes the process's.
+#[test]
+fn noise_alone_restores_nothing() {
+    use msp::adapt::ChangeKind::{Applied, Restored};
+    let drift = |i: usize| if i < 1500 { 1.0 } else { 1.3 };
+    let run = smith_run(adapt_config(), kaya, drift, 0.02);
+    let kinds = run.kinds();
+    assert!(kinds.contains(&Applied), "{kinds:?}");
+    assert!(!kinds.contains(&Restored), "{kinds:?}");
+    assert!((run.model.0 - 1.3).abs() < 0.05 * 1.3, "{:?}", run.model);
+    // the noise as the estimator measures it: about the deviation given
+    let sigma = run.noise;
+    assert!((0.01..0.03).contains(&sigma), "{sigma}");
+}

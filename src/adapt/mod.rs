@@ -81,6 +81,11 @@ impl<T: Real> Median<T> {
         Median { value: T::zero() }
     }
 
+    /// The median so far.
+    pub(crate) fn get(&self) -> T {
+        self.value
+    }
+
     /// Takes `m` (≥ 0) and returns the median so far.
     pub(crate) fn push(&mut self, m: T) -> T {
         self.value = if self.value > T::zero() {
@@ -1090,6 +1095,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         } else {
             self.challenger_for = 0;
         }
+    }
+
+    /// The measurement noise's standard deviation as the estimator sees
+    /// it, `σ̂` (the prefiltered output's, about the raw one's for a
+    /// prefilter pole near 1): from the running median of the chosen dead
+    /// time's simulation error differences, `median|Δe|/(0.6745·√2)` (see
+    /// [`Estimator::update`]'s detector; 0 before any data).
+    pub fn noise_level(&self) -> T {
+        self.noise.get() / T::of(0.6745 * core::f64::consts::SQRT_2)
     }
 
     /// The model of the chosen candidate (`None` before it means anything:

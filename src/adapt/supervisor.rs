@@ -29,9 +29,11 @@
 //! model is rebuilt for the new one ([`Redesign::rebuild`]) and takes over
 //! after warming up beside the one in use. After a change the error is watched for
 //! `watch` samples: `crossings` consecutive short half-cycles of the
-//! error, each reaching the band `±band` (an oscillation, after Hägglund
-//! (1995)'s detector, which counts the error's excursions between zero
-//! crossings) restore the last good model and its tuning, and
+//! error, each reaching the band `±band` (at least four times the measured
+//! noise) and keeping half the previous one's peak (an oscillation that
+//! does not die out, after Hägglund (1995)'s detector, which counts the
+//! error's excursions between zero crossings) restore the last good model
+//! and its tuning, and
 //! adaptation rests for `4·min_interval` samples. Adaptation can be frozen
 //! and resumed; every change is logged (the last `L`). Supervision of this
 //! kind — adapt only on information, keep a fall-back — is Åström &
@@ -65,11 +67,18 @@ pub trait Redesign<T, C> {
         None
     }
 
-    /// The scheme designed for the model.
+    /// The scheme designed for the model. It is asked for only while no
+    /// scheme it built before is warming up: the one in use and the new one
+    /// are the only two alive (a redesign that lends memory to the schemes
+    /// it builds needs two lots, alternately).
     fn rebuild(&mut self, k: T, tau: T, theta: T) -> Option<C> {
         let _ = (k, tau, theta);
         None
     }
+
+    /// The scheme it built last has taken over: the one it replaced is
+    /// gone (its memory free for the next [`Redesign::rebuild`]).
+    fn took_over(&mut self) {}
 }
 
 impl<T, C, F: FnMut(T, T, T) -> Option<[T; 3]>> Redesign<T, C> for F {
@@ -122,8 +131,10 @@ pub struct AdaptiveConfig<T> {
     pub max_step: T,
     /// The oscillation detector's band on the control error: a half-cycle
     /// of the error (between sign changes) counts when its peak exceeds
-    /// this and it is shorter than four of the longest candidate dead times
-    /// (default 0; set it above the noise).
+    /// this and four times the noise the estimator measures, it is shorter
+    /// than four of the longest candidate dead times, and its peak is at
+    /// least half the previous half-cycle's (default 0: the measured
+    /// noise's band alone).
     pub band: T,
     /// Consecutive counted half-cycles after a change that restore the
     /// last good model (default 6).
@@ -305,9 +316,11 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     watching: u32,
     side: i8,
     crossed: u32,
-    /// The current half-cycle of the error: its length and its peak.
+    /// The current half-cycle of the error: its length and its peak; the
+    /// peak of the one before.
     half: u32,
     peak: T,
+    last_peak: T,
     /// A rebuilt scheme warming up to take over.
     shadow: Option<Shadow<T, C>>,
     /// The model-error alarm, and for how many samples its condition has
@@ -365,6 +378,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             crossed: 0,
             half: 0,
             peak: T::zero(),
+            last_peak: T::zero(),
             alarm: false,
             alarm_for: 0,
             shadow: None,
@@ -374,6 +388,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// The scheme inside.
     pub fn inner(&self) -> &C {
         &self.inner
+    }
+
+    /// The redesign it asks for the primary's gains or a scheme anew.
+    pub fn redesign(&self) -> &R {
+        &self.retune
     }
 
     /// The estimator's current model (`None` before it means anything).
@@ -463,6 +482,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
         if let Some(sh) = self.shadow.take() {
             self.inner = sh.scheme;
+            self.retune.took_over();
             self.model = sh.model;
             self.reference();
             self.record(sh.kind);
@@ -482,6 +502,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.side = 0;
             self.half = 0;
             self.peak = T::zero();
+            self.last_peak = T::zero();
         }
     }
 
@@ -512,6 +533,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         match self.inner.set_model(m.k, m.tau) {
             Ok(()) => {}
             Err(Error::Unsupported(why)) => {
+                // the one warming up (if any) goes before its successor is built
+                self.shadow = None;
                 let scheme = self
                     .retune
                     .rebuild(m.k, m.tau, m.theta)
@@ -617,14 +640,20 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             };
             if side != 0 && side != self.side {
                 // a half-cycle ended: one of an oscillation when it reached
-                // the band and was short; a long one (the loop settled, a
-                // set-point step) starts the count again
+                // the band, was short and kept at least half the previous
+                // one's peak (decaying slower than the quarter amplitude
+                // per cycle a loop is tuned for: Ziegler & Nichols (1942));
+                // a long one (the loop settled, a set-point step) or one
+                // dying out (a transient the change met) starts the count
+                // again
                 if self.side != 0 {
-                    if self.peak > self.cfg.band && self.half <= self.max_half() {
+                    let sustained = self.peak >= self.last_peak / T::of(2.0);
+                    if self.peak > self.band() && self.half <= self.max_half() && sustained {
                         self.crossed = self.crossed.saturating_add(1);
                     } else {
                         self.crossed = 0;
                     }
+                    self.last_peak = self.peak;
                 }
                 self.side = side;
                 self.half = 0;
@@ -724,6 +753,14 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
                 self.record(ChangeKind::Refused);
             }
         }
+    }
+
+    /// The oscillation detector's band: the one given, and at least four
+    /// times the measurement noise the estimator measures (a half-cycle of
+    /// the noise alone does not reach it: a device need not know its
+    /// noise).
+    fn band(&self) -> T {
+        self.cfg.band.max(T::of(4.0) * self.est.noise_level())
     }
 
     /// The longest half-cycle of an oscillation: four times the longest
