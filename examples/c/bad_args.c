@@ -339,12 +339,21 @@ int main(void) {
         EXPECT(msp_adaptive_default_config(NULL, &ac) == MSP_NULL_POINTER);
         EXPECT(msp_adaptive_default_config(&sc, NULL) == MSP_NULL_POINTER);
         EXPECT(msp_adaptive_default_config(&sc, &ac) == MSP_OK);
-        EXPECT(ac.d_min == 4 && ac.apply == 1);
+        EXPECT(ac.adapt.d_min == 4 && ac.adapt.d_max == 19 && ac.adapt.apply == 1);
         msp_adaptive_config bad = ac;
-        bad.forgetting = 1.5f;
+        bad.adapt.forgetting = 1.5f;
         EXPECT(msp_adaptive_size(&bad, &s) == 0 && s == MSP_OUT_OF_RANGE);
         bad = ac;
-        bad.d_min = 600; /* beyond the history */
+        bad.adapt.d_max = ac.adapt.d_min + 16; /* 17 candidates */
+        EXPECT(msp_adaptive_size(&bad, &s) == 0 && s == MSP_OUT_OF_RANGE);
+        bad.adapt.d_max = ac.adapt.d_min - 1;
+        EXPECT(msp_adaptive_size(&bad, &s) == 0 && s == MSP_OUT_OF_RANGE);
+        bad = ac;
+        bad.adapt.band = -1.0f;
+        EXPECT(msp_adaptive_size(&bad, &s) == 0 && s != MSP_OK);
+        bad = ac;
+        bad.adapt.d_min = 600; /* beyond the history */
+        bad.adapt.d_max = 615;
         unsigned char *abuf = adapt_memory + 3;
         EXPECT(msp_adaptive_init(abuf, sizeof adapt_memory - 3, &bad, &ad) != MSP_OK);
         size_t need = msp_adaptive_size(&ac, &s);
@@ -395,6 +404,79 @@ int main(void) {
         printf("estimator: k %.4g, tau %.4g s, theta %.4g s\n", (double)e.k, (double)e.tau,
                (double)e.theta);
         EXPECT(msp_estimator_update((msp_estimator *)(void *)ad, 0.0f, 0.0f, 1) == MSP_BAD_HANDLE);
+
+        /* the candidates end at d_max: on the same data with d_max 10 (the
+           process's 12.5 samples beyond it) no estimate is longer */
+        EXPECT(ec.d_min == 4 && ec.d_max == 19);
+        ec.d_max = 20;
+        EXPECT(msp_estimator_init(ebuf, msp_estimator_size(), &ec, &est) == MSP_OUT_OF_RANGE);
+        ec.d_max = 10;
+        EXPECT(msp_estimator_init(ebuf, msp_estimator_size(), &ec, &est) == MSP_OK);
+        y = 0.0f;
+        unsigned longest = 0;
+        for (int k = 0; k < 6000; k++) {
+            EXPECT(msp_estimator_update(est, y, us[k], 1) == MSP_OK);
+            y = a * y + b0 * (k >= 12 ? us[k - 12] : 0.0f) + b1 * (k >= 13 ? us[k - 13] : 0.0f);
+            EXPECT(msp_estimator_estimate(est, &e) == MSP_OK);
+            if (!isnan(e.k) && e.d > longest) {
+                longest = e.d;
+            }
+        }
+        EXPECT(longest == 10);
+        printf("estimator with d_max 10: the longest dead time chosen %u samples\n", longest);
+    }
+
+    /* the adaptive Karan-Dey predictor on 0.5 e^-1s/s at 0.1 s whose gain
+       rises 20 % at sample 1500: each change builds the predictor anew in the
+       line the one in use does not hold, warms it up and hands over; the
+       model in use becomes the process's and the loop stays bounded */
+    {
+        msp_karan_dey_config kd;
+        msp_adaptive_karan_dey_config akc;
+        msp_adaptive_state st_;
+        msp_adaptive *ad = NULL;
+        EXPECT(msp_tune_karan_dey_ipdt(0.5f, 1.0f, 0.1f, 0.0f, &kd) == MSP_OK);
+        EXPECT(msp_adaptive_karan_dey_default_config(NULL, &akc) == MSP_NULL_POINTER);
+        EXPECT(msp_adaptive_karan_dey_default_config(&kd, &akc) == MSP_OK);
+        EXPECT(akc.adapt.d_min == 4 && akc.adapt.d_max == 19);
+        msp_adaptive_karan_dey_config bad = akc;
+        bad.adapt.lambda = NAN; /* every change is a redesign */
+        EXPECT(msp_adaptive_karan_dey_size(&bad, &s) == 0 && s == MSP_NOT_FINITE);
+        bad = akc;
+        bad.karan_dey.model.kind = MSP_FOPDT;
+        EXPECT(msp_adaptive_karan_dey_size(&bad, &s) == 0 && s != MSP_OK);
+        size_t need = msp_adaptive_karan_dey_size(&akc, &s);
+        msp_adaptive_config smith_ac;
+        msp_smith_config sc;
+        EXPECT(msp_tune_smith_fopdt(1.0f, 4.0f, 1.0f, 0.1f, 2.0f, &sc) == MSP_OK);
+        EXPECT(msp_adaptive_default_config(&sc, &smith_ac) == MSP_OK);
+        /* two lines where the Smith predictor has one */
+        EXPECT(s == MSP_OK && need > msp_adaptive_size(&smith_ac, NULL));
+        unsigned char *abuf = adapt_memory + 5;
+        /* the Smith predictor's bytes (the same handle and candidates) hold
+           one line, not the second */
+        EXPECT(msp_adaptive_karan_dey_init(abuf, msp_adaptive_size(&smith_ac, NULL), &akc, &ad)
+               == MSP_BUFFER_TOO_SMALL);
+        EXPECT(msp_adaptive_karan_dey_init(abuf, need, &akc, &ad) == MSP_OK);
+        float y = 0.0f, line[10] = {0}, peak = 0.0f;
+        for (int k = 0; k < 12000; k++) {
+            float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
+            float u = msp_adaptive_update(ad, r, y);
+            float late = line[k % 10];
+            line[k % 10] = u;
+            y += 0.1f * (k < 1500 ? 0.5f : 0.6f) * late;
+            /* the error at the end of each half period after 600 s */
+            if (k > 6000 && k % 300 == 299 && fabsf(y - r) > peak) {
+                peak = fabsf(y - r);
+            }
+        }
+        EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
+        EXPECT(fabsf(st_.k - 0.6f) < 0.03f && isinf(st_.tau) && fabsf(st_.theta - 1.0f) <= 0.105f
+               && st_.changes >= 1 && !st_.frozen);
+        EXPECT(peak < 0.01f);
+        printf("adaptive karan-dey: model k %.4g, theta %.4g s after %u changes; settled error "
+               "after 600 s at most %.3g\n",
+               (double)st_.k, (double)st_.theta, (unsigned)st_.changes, (double)peak);
     }
 
     printf("%s: %d failures\n", failures ? "FAIL" : "ok", failures);

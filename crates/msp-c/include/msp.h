@@ -79,10 +79,12 @@ typedef enum {
   MSP_TD = 2,
 } msp_gain;
 
-// An adaptive controller built by `msp_adaptive_init` (opaque).
+// An adaptive controller built by `msp_adaptive_init` or
+// `msp_adaptive_karan_dey_init` (opaque).
 typedef struct msp_adaptive msp_adaptive;
 
-// An adaptive controller built by `msp_adaptive_init_f64` (opaque).
+// An adaptive controller built by `msp_adaptive_init_f64` or
+// `msp_adaptive_karan_dey_init_f64` (opaque).
 typedef struct msp_adaptive_f64 msp_adaptive_f64;
 
 // A `float` controller built by an `msp_*_init` call (opaque).
@@ -101,14 +103,16 @@ typedef struct msp_estimator_f64 msp_estimator_f64;
 typedef struct msp_relay msp_relay;
 
 // Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
-// the period `ts` (s), the shortest candidate dead time `d_min`
-// (samples), `integrating` (nonzero: `k e^{−θs}/s`), the forgetting
-// factor (0.999: a memory of 1000 samples), the prefilter's time
-// constant (s; 0: plain differences, which amplify noise) and the
-// excitation gate (the input's move needed to learn).
+// the period `ts` (s), the candidate dead times `d_min … d_max`
+// (samples; at most 16 of them), `integrating` (nonzero:
+// `k e^{−θs}/s`), the forgetting factor (0.999: a memory of 1000
+// samples), the prefilter's time constant (s; 0: plain differences,
+// which amplify noise) and the excitation gate (the input's move needed
+// to learn).
 typedef struct {
   float ts;
   uint32_t d_min;
+  uint32_t d_max;
   uint32_t integrating;
   float forgetting;
   float prefilter;
@@ -119,14 +123,16 @@ typedef struct {
 typedef msp_estimator_config_of_f32 msp_estimator_config;
 
 // Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
-// the period `ts` (s), the shortest candidate dead time `d_min`
-// (samples), `integrating` (nonzero: `k e^{−θs}/s`), the forgetting
-// factor (0.999: a memory of 1000 samples), the prefilter's time
-// constant (s; 0: plain differences, which amplify noise) and the
-// excitation gate (the input's move needed to learn).
+// the period `ts` (s), the candidate dead times `d_min … d_max`
+// (samples; at most 16 of them), `integrating` (nonzero:
+// `k e^{−θs}/s`), the forgetting factor (0.999: a memory of 1000
+// samples), the prefilter's time constant (s; 0: plain differences,
+// which amplify noise) and the excitation gate (the input's move needed
+// to learn).
 typedef struct {
   double ts;
   uint32_t d_min;
+  uint32_t d_max;
   uint32_t integrating;
   double forgetting;
   double prefilter;
@@ -216,24 +222,37 @@ typedef struct {
 // In `float`, the device's type.
 typedef msp_smith_config_float msp_smith_config;
 
-// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
-// `smith` (FOPDT or IPDT model), the candidates from `d_min` samples,
-// the estimator's `forgetting`, `prefilter` (s) and `excitation`, the
+// How a scheme adapts (`msp::adapt::AdaptiveConfig`): the candidate
+// dead times `d_min … d_max` (samples; at most 16 of them), the
+// estimator's `forgetting`, `prefilter` (s) and `excitation`, the
 // relative change `min_change` that is applied, the model error
-// `alarm` that raises the alarm (`INFINITY`: none), `apply` (0: a
-// model-error monitor only), and the primary retuned at each change by
-// Kaya's IMC rule with the closed-loop time constant `lambda` (0:
-// `λ = θ`; NaN: the gains stay).
+// `alarm` that raises the alarm (`INFINITY`: none), the oscillation
+// detector's `band` on the control error (0: four times the noise the
+// estimator measures, the least it takes), `apply` (0: a model-error
+// monitor only), and the closed-loop time constant
+// `lambda` of the scheme's own tuning rule at each change (0: the
+// rule's default; NaN: a Smith predictor's gains stay, and a
+// Karan–Dey predictor, whose every block is designed from the model,
+// cannot take it).
 typedef struct {
-  msp_smith_config_float smith;
   uint32_t d_min;
+  uint32_t d_max;
   float forgetting;
   float prefilter;
   float excitation;
   float min_change;
   float alarm;
+  float band;
   uint32_t apply;
   float lambda;
+} msp_adapt_config_of_f32;
+
+// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
+// `smith` (FOPDT or IPDT model), its primary retuned at each change by
+// Kaya's IMC rule (`λ = θ` by default), and how it adapts.
+typedef struct {
+  msp_smith_config_float smith;
+  msp_adapt_config_of_f32 adapt;
 } msp_adaptive_config_of_f32;
 
 // In `float`, the device's type.
@@ -261,28 +280,107 @@ typedef struct {
 // In `double`, a host's type.
 typedef msp_smith_config_double msp_smith_config_f64;
 
-// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
-// `smith` (FOPDT or IPDT model), the candidates from `d_min` samples,
-// the estimator's `forgetting`, `prefilter` (s) and `excitation`, the
+// How a scheme adapts (`msp::adapt::AdaptiveConfig`): the candidate
+// dead times `d_min … d_max` (samples; at most 16 of them), the
+// estimator's `forgetting`, `prefilter` (s) and `excitation`, the
 // relative change `min_change` that is applied, the model error
-// `alarm` that raises the alarm (`INFINITY`: none), `apply` (0: a
-// model-error monitor only), and the primary retuned at each change by
-// Kaya's IMC rule with the closed-loop time constant `lambda` (0:
-// `λ = θ`; NaN: the gains stay).
+// `alarm` that raises the alarm (`INFINITY`: none), the oscillation
+// detector's `band` on the control error (0: four times the noise the
+// estimator measures, the least it takes), `apply` (0: a model-error
+// monitor only), and the closed-loop time constant
+// `lambda` of the scheme's own tuning rule at each change (0: the
+// rule's default; NaN: a Smith predictor's gains stay, and a
+// Karan–Dey predictor, whose every block is designed from the model,
+// cannot take it).
 typedef struct {
-  msp_smith_config_double smith;
   uint32_t d_min;
+  uint32_t d_max;
   double forgetting;
   double prefilter;
   double excitation;
   double min_change;
   double alarm;
+  double band;
   uint32_t apply;
   double lambda;
+} msp_adapt_config_of_f64;
+
+// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
+// `smith` (FOPDT or IPDT model), its primary retuned at each change by
+// Kaya's IMC rule (`λ = θ` by default), and how it adapts.
+typedef struct {
+  msp_smith_config_double smith;
+  msp_adapt_config_of_f64 adapt;
 } msp_adaptive_config_of_f64;
 
 // In `double`, a host's type.
 typedef msp_adaptive_config_of_f64 msp_adaptive_config_f64;
+
+// The Karan–Dey modified Smith predictor for integrating plants (Bag
+// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
+// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
+// IPDT model.
+typedef struct {
+  float ts;
+  msp_model_float model;
+  float kp;
+  float ti;
+  float beta;
+  float gamma;
+  float td;
+  float n;
+  float u_min;
+  float u_max;
+} msp_karan_dey_config_float;
+
+// In `float`, the device's type.
+typedef msp_karan_dey_config_float msp_karan_dey_config;
+
+// An adaptive Karan–Dey predictor (`msp::adapt::Adaptive`): the
+// predictor `karan_dey` (IPDT model), redesigned at each change by the
+// thesis's rule (Bag (2022) Eqs. 4.30–4.44; its default `λ` by
+// default) and warmed up beside the one in use before it takes over,
+// and how it adapts.
+typedef struct {
+  msp_karan_dey_config_float karan_dey;
+  msp_adapt_config_of_f32 adapt;
+} msp_adaptive_karan_dey_config_of_f32;
+
+// In `float`, the device's type.
+typedef msp_adaptive_karan_dey_config_of_f32 msp_adaptive_karan_dey_config;
+
+// The Karan–Dey modified Smith predictor for integrating plants (Bag
+// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
+// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
+// IPDT model.
+typedef struct {
+  double ts;
+  msp_model_double model;
+  double kp;
+  double ti;
+  double beta;
+  double gamma;
+  double td;
+  double n;
+  double u_min;
+  double u_max;
+} msp_karan_dey_config_double;
+
+// In `double`, a host's type.
+typedef msp_karan_dey_config_double msp_karan_dey_config_f64;
+
+// An adaptive Karan–Dey predictor (`msp::adapt::Adaptive`): the
+// predictor `karan_dey` (IPDT model), redesigned at each change by the
+// thesis's rule (Bag (2022) Eqs. 4.30–4.44; its default `λ` by
+// default) and warmed up beside the one in use before it takes over,
+// and how it adapts.
+typedef struct {
+  msp_karan_dey_config_double karan_dey;
+  msp_adapt_config_of_f64 adapt;
+} msp_adaptive_karan_dey_config_of_f64;
+
+// In `double`, a host's type.
+typedef msp_adaptive_karan_dey_config_of_f64 msp_adaptive_karan_dey_config_f64;
 
 // What an adaptive controller knows: the estimate, the model in use
 // (`k`, `tau`, `theta`), its error against the process `mismatch`
@@ -337,46 +435,6 @@ typedef struct {
 
 // In `double`, a host's type.
 typedef msp_pid_config_double msp_pid_config_f64;
-
-// The Karan–Dey modified Smith predictor for integrating plants (Bag
-// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
-// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
-// IPDT model.
-typedef struct {
-  float ts;
-  msp_model_float model;
-  float kp;
-  float ti;
-  float beta;
-  float gamma;
-  float td;
-  float n;
-  float u_min;
-  float u_max;
-} msp_karan_dey_config_float;
-
-// In `float`, the device's type.
-typedef msp_karan_dey_config_float msp_karan_dey_config;
-
-// The Karan–Dey modified Smith predictor for integrating plants (Bag
-// (2022) Fig. 4.11, Eqs. 4.22–4.24): `Gc1 = kp(1 + 1/(ti s))`,
-// `Gc2 = beta·kp`, `Gc3 = gamma·kp(1 + td s/(1 + (td/n) s))`, around an
-// IPDT model.
-typedef struct {
-  double ts;
-  msp_model_double model;
-  double kp;
-  double ti;
-  double beta;
-  double gamma;
-  double td;
-  double n;
-  double u_min;
-  double u_max;
-} msp_karan_dey_config_double;
-
-// In `double`, a host's type.
-typedef msp_karan_dey_config_double msp_karan_dey_config_f64;
 
 // The filtered Smith predictor for unstable, integrating and stable plants
 // (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
@@ -551,6 +609,22 @@ msp_status msp_adaptive_default_config(const msp_smith_config *smith, msp_adapti
 msp_status msp_adaptive_default_config_f64(const msp_smith_config_f64 *smith,
                                            msp_adaptive_config_f64 *config);
 
+// The defaults of an adaptive Karan–Dey predictor around `karan_dey`
+// (IPDT model): as `msp_adaptive_default_config`'s, the prefilter 2.5
+// dead times, redesigned by the thesis's rule at its default `λ`.
+//
+// # Safety
+// `karan_dey` and `config` are null or valid.
+msp_status msp_adaptive_karan_dey_default_config(const msp_karan_dey_config *karan_dey,
+                                                 msp_adaptive_karan_dey_config *config);
+
+// [`msp_adaptive_karan_dey_default_config`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_karan_dey_default_config`].
+msp_status msp_adaptive_karan_dey_default_config_f64(const msp_karan_dey_config_f64 *karan_dey,
+                                                     msp_adaptive_karan_dey_config_f64 *config);
+
 // The bytes `msp_adaptive_init` needs for `config` (0 and `*status`
 // set when it is not valid; `status` may be null).
 //
@@ -563,6 +637,21 @@ size_t msp_adaptive_size(const msp_adaptive_config *config, msp_status *status);
 // # Safety
 // As [`msp_adaptive_size`].
 size_t msp_adaptive_size_f64(const msp_adaptive_config_f64 *config, msp_status *status);
+
+// The bytes `msp_adaptive_karan_dey_init` needs for `config` (two
+// dead-time lines: the redesigned predictor warms up beside the one in
+// use; 0 and `*status` set when it is not valid; `status` may be null).
+//
+// # Safety
+// `config` and `status` are null or valid.
+size_t msp_adaptive_karan_dey_size(const msp_adaptive_karan_dey_config *config, msp_status *status);
+
+// [`msp_adaptive_karan_dey_size`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_karan_dey_size`].
+size_t msp_adaptive_karan_dey_size_f64(const msp_adaptive_karan_dey_config_f64 *config,
+                                       msp_status *status);
 
 // Builds an adaptive Smith predictor in `buf` (`len` bytes, at least
 // `msp_adaptive_size(config)`); `*ctrl` is its handle.
@@ -583,6 +672,27 @@ msp_status msp_adaptive_init_f64(void *buf,
                                  size_t len,
                                  const msp_adaptive_config_f64 *config,
                                  msp_adaptive_f64 **ctrl);
+
+// Builds an adaptive Karan–Dey predictor in `buf` (`len` bytes, at
+// least `msp_adaptive_karan_dey_size(config)`); `*ctrl` is its handle,
+// for the `msp_adaptive_*` calls.
+//
+// # Safety
+// `buf` is null or `len` writable bytes that stay in place while the
+// controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_adaptive_karan_dey_init(void *buf,
+                                       size_t len,
+                                       const msp_adaptive_karan_dey_config *config,
+                                       msp_adaptive **ctrl);
+
+// [`msp_adaptive_karan_dey_init`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_karan_dey_init`].
+msp_status msp_adaptive_karan_dey_init_f64(void *buf,
+                                           size_t len,
+                                           const msp_adaptive_karan_dey_config_f64 *config,
+                                           msp_adaptive_f64 **ctrl);
 
 // The estimate, the model in use, its error, the alarm (`*state`).
 //

@@ -1,19 +1,22 @@
 //! Adaptive dead-time compensation on the device: the on-line identifier
-//! (`msp_estimator_*`) and the adaptive Smith predictor with its model-error
-//! alarm (`msp_adaptive_*`), each in the caller's memory.
+//! (`msp_estimator_*`) and the adaptive Smith and Karan–Dey predictors with
+//! their model-error alarm (`msp_adaptive_*`), each in the caller's memory.
 //!
 //! Both hold a bank of [`MSP_ADAPT_CANDIDATES`] candidate dead times
-//! `d_min … d_min + 15` over a history of [`MSP_ADAPT_HISTORY`] inputs (a
-//! dead time of at most `MSP_ADAPT_HISTORY − 18` samples).
+//! `d_min … d_max` (`d_max ≤ d_min + 15`) over a history of
+//! [`MSP_ADAPT_HISTORY`] inputs (a dead time of at most
+//! `MSP_ADAPT_HISTORY − 18` samples).
 
-use msp_core::adapt::{Adaptive, AdaptiveConfig, Estimator, EstimatorConfig, Redesign};
+use msp_core::adapt::{Adaptive, AdaptiveConfig, Estimate, Estimator, EstimatorConfig, Redesign};
+use msp_core::dtc::karan_dey::KaranDey;
+use msp_core::operate::Operate;
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real, SmithPredictor};
 
 use crate::handle::{
-    bad, model_in, msp_model_kind, msp_model_of, msp_smith_config_of, pid_config, read,
-    smith_samples, Arena, Precision,
+    bad, karan_dey_in, karan_dey_samples, model_in, msp_karan_dey_config_of, msp_model_kind,
+    msp_model_of, msp_smith_config_of, pid_config, read, smith_samples, Arena, Buf, Precision,
 };
-use crate::relay::tuned;
+use crate::relay::{karan_dey_ipdt, tuned};
 use crate::{msp_status, report};
 
 /// Candidate dead times of the device's estimator.
@@ -27,14 +30,16 @@ const H: usize = MSP_ADAPT_HISTORY;
 
 c_config! {
     /// Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
-    /// the period `ts` (s), the shortest candidate dead time `d_min`
-    /// (samples), `integrating` (nonzero: `k e^{−θs}/s`), the forgetting
-    /// factor (0.999: a memory of 1000 samples), the prefilter's time
-    /// constant (s; 0: plain differences, which amplify noise) and the
-    /// excitation gate (the input's move needed to learn).
+    /// the period `ts` (s), the candidate dead times `d_min … d_max`
+    /// (samples; at most 16 of them), `integrating` (nonzero:
+    /// `k e^{−θs}/s`), the forgetting factor (0.999: a memory of 1000
+    /// samples), the prefilter's time constant (s; 0: plain differences,
+    /// which amplify noise) and the excitation gate (the input's move needed
+    /// to learn).
     msp_estimator_config_of: msp_estimator_config, msp_estimator_config_f64 {
         ts: T,
         d_min: u32,
+        d_max: u32,
         integrating: u32,
         forgetting: T,
         prefilter: T,
@@ -57,24 +62,51 @@ c_config! {
 }
 
 c_config! {
-    /// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
-    /// `smith` (FOPDT or IPDT model), the candidates from `d_min` samples,
-    /// the estimator's `forgetting`, `prefilter` (s) and `excitation`, the
+    /// How a scheme adapts (`msp::adapt::AdaptiveConfig`): the candidate
+    /// dead times `d_min … d_max` (samples; at most 16 of them), the
+    /// estimator's `forgetting`, `prefilter` (s) and `excitation`, the
     /// relative change `min_change` that is applied, the model error
-    /// `alarm` that raises the alarm (`INFINITY`: none), `apply` (0: a
-    /// model-error monitor only), and the primary retuned at each change by
-    /// Kaya's IMC rule with the closed-loop time constant `lambda` (0:
-    /// `λ = θ`; NaN: the gains stay).
-    msp_adaptive_config_of: msp_adaptive_config, msp_adaptive_config_f64 {
-        smith: msp_smith_config_of<T>,
+    /// `alarm` that raises the alarm (`INFINITY`: none), the oscillation
+    /// detector's `band` on the control error (0: four times the noise the
+    /// estimator measures, the least it takes), `apply` (0: a model-error
+    /// monitor only), and the closed-loop time constant
+    /// `lambda` of the scheme's own tuning rule at each change (0: the
+    /// rule's default; NaN: a Smith predictor's gains stay, and a
+    /// Karan–Dey predictor, whose every block is designed from the model,
+    /// cannot take it).
+    msp_adapt_config_of: msp_adapt_config, msp_adapt_config_f64 {
         d_min: u32,
+        d_max: u32,
         forgetting: T,
         prefilter: T,
         excitation: T,
         min_change: T,
         alarm: T,
+        band: T,
         apply: u32,
         lambda: T,
+    }
+}
+
+c_config! {
+    /// An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
+    /// `smith` (FOPDT or IPDT model), its primary retuned at each change by
+    /// Kaya's IMC rule (`λ = θ` by default), and how it adapts.
+    msp_adaptive_config_of: msp_adaptive_config, msp_adaptive_config_f64 {
+        smith: msp_smith_config_of<T>,
+        adapt: msp_adapt_config_of<T>,
+    }
+}
+
+c_config! {
+    /// An adaptive Karan–Dey predictor (`msp::adapt::Adaptive`): the
+    /// predictor `karan_dey` (IPDT model), redesigned at each change by the
+    /// thesis's rule (Bag (2022) Eqs. 4.30–4.44; its default `λ` by
+    /// default) and warmed up beside the one in use before it takes over,
+    /// and how it adapts.
+    msp_adaptive_karan_dey_config_of: msp_adaptive_karan_dey_config, msp_adaptive_karan_dey_config_f64 {
+        karan_dey: msp_karan_dey_config_of<T>,
+        adapt: msp_adapt_config_of<T>,
     }
 }
 
@@ -105,12 +137,14 @@ pub struct msp_estimator_f64 {
     _opaque: [u8; 0],
 }
 
-/// An adaptive controller built by `msp_adaptive_init` (opaque).
+/// An adaptive controller built by `msp_adaptive_init` or
+/// `msp_adaptive_karan_dey_init` (opaque).
 pub struct msp_adaptive {
     _opaque: [u8; 0],
 }
 
-/// An adaptive controller built by `msp_adaptive_init_f64` (opaque).
+/// An adaptive controller built by `msp_adaptive_init_f64` or
+/// `msp_adaptive_karan_dey_init_f64` (opaque).
 pub struct msp_adaptive_f64 {
     _opaque: [u8; 0],
 }
@@ -166,9 +200,106 @@ impl<T: Real, C> Redesign<T, C> for Kaya<T> {
     }
 }
 
+/// A lot of the caller's memory a dead-time line is built in.
+#[derive(Debug, Clone, Copy)]
+struct Lot {
+    at: *mut u8,
+    bytes: usize,
+}
+
+/// The Karan–Dey predictor designed anew for a model: the thesis's tuning
+/// (Bag (2022) Eqs. 4.30–4.44, `msp_tune_karan_dey_ipdt`) at `lambda` (0:
+/// its default), the actuator's limits kept, its line in whichever of the
+/// two lots the predictor in use does not hold.
+struct KaranDeyRedesign<T> {
+    ts: T,
+    lambda: T,
+    limits: (T, T),
+    lots: (Lot, Lot),
+    /// Whether the predictor in use holds the second lot.
+    second: bool,
+}
+
+impl<T: Real> Redesign<T, Kd<T>> for KaranDeyRedesign<T> {
+    fn rebuild(&mut self, k: T, tau: T, theta: T) -> Option<Kd<T>> {
+        if !tau.is_infinite() {
+            return None;
+        }
+        let mut c = karan_dey_ipdt(k, theta, self.ts, self.lambda).ok()?;
+        (c.u_min, c.u_max) = self.limits;
+        let lot = if self.second {
+            self.lots.0
+        } else {
+            self.lots.1
+        };
+        // the lot no scheme alive holds: the supervisor builds only while
+        // none it built before is warming up (`Redesign::rebuild`), so the
+        // one in use, on the other lot, is the only one
+        karan_dey_in(&c, &mut Arena::new(lot.at, lot.bytes)).ok()
+    }
+
+    fn took_over(&mut self) {
+        self.second = !self.second;
+    }
+}
+
 type Bank<T> = Estimator<T, N, H>;
-type Smith<T> = SmithPredictor<T, 1, &'static mut [T]>;
+type Smith<T> = SmithPredictor<T, 1, Buf<T>>;
+type Kd<T> = KaranDey<T, 1, Buf<T>>;
 type AdaptiveSmith<T> = Adaptive<T, Smith<T>, Kaya<T>, N, H>;
+type AdaptiveKd<T> = Adaptive<T, Kd<T>, KaranDeyRedesign<T>, N, H>;
+
+/// The adaptive schemes one handle can hold (sized for the largest: the
+/// buffer is the caller's, and a box is what the device has not).
+#[allow(clippy::large_enum_variant)]
+enum Adapting<T: Real> {
+    Smith(AdaptiveSmith<T>),
+    KaranDey(AdaptiveKd<T>),
+}
+
+/// What the C calls ask of an adaptive scheme, whichever it is.
+trait View<T> {
+    fn update_applied(&mut self, r: T, y: T, u: Option<T>) -> T;
+    fn state(&self) -> msp_adaptive_state_of<T>;
+    fn freeze(&mut self, frozen: bool);
+}
+
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N, H> {
+    fn update_applied(&mut self, r: T, y: T, u: Option<T>) -> T {
+        Adaptive::update_applied(self, r, y, u)
+    }
+
+    fn state(&self) -> msp_adaptive_state_of<T> {
+        let (k, tau, theta) = self.model();
+        msp_adaptive_state_of {
+            estimate: estimate_of(self.estimate()),
+            k,
+            tau,
+            theta,
+            mismatch: self.mismatch().map_or(T::nan(), |m| m.error),
+            alarm: u32::from(self.alarm()),
+            frozen: u32::from(self.is_frozen()),
+            changes: u32::try_from(self.changes()).unwrap_or(u32::MAX),
+        }
+    }
+
+    fn freeze(&mut self, frozen: bool) {
+        if frozen {
+            Adaptive::freeze(self);
+        } else {
+            self.resume();
+        }
+    }
+}
+
+impl<T: Real> Adapting<T> {
+    fn view(&mut self) -> &mut dyn View<T> {
+        match self {
+            Adapting::Smith(a) => a,
+            Adapting::KaranDey(a) => a,
+        }
+    }
+}
 
 /// What sits at the start of the caller's buffer: the tag, then the value.
 #[repr(C)]
@@ -225,9 +356,21 @@ unsafe fn tag<H: Tagged, V>(slot: *mut Tag<V>, v: V, out: *mut *mut H) -> msp_st
     msp_status::MSP_OK
 }
 
+/// A sample count of C as an index.
+fn index(v: u32, name: &'static str) -> Result<usize, Error> {
+    usize::try_from(v).map_err(|_| Error::DelayTooLong(name))
+}
+
 fn estimator_config<T: Real>(c: &msp_estimator_config_of<T>) -> Result<EstimatorConfig<T>, Error> {
-    let d_min = usize::try_from(c.d_min).map_err(|_| Error::DelayTooLong("d_min"))?;
+    let d_min = index(c.d_min, "d_min")?;
+    let d_max = index(c.d_max, "d_max")?;
+    if d_max < d_min || d_max - d_min >= N {
+        return Err(Error::OutOfRange(
+            "d_max: from d_min to d_min + 15 (16 candidates)",
+        ));
+    }
     let mut e = EstimatorConfig::new(c.ts, d_min);
+    e.d_max = Some(d_max);
     e.integrating = c.integrating != 0;
     e.forgetting = c.forgetting;
     e.set_prefilter_time(c.prefilter)?;
@@ -236,7 +379,7 @@ fn estimator_config<T: Real>(c: &msp_estimator_config_of<T>) -> Result<Estimator
     Ok(e)
 }
 
-fn estimate_of<T: Real>(e: Option<msp_core::adapt::Estimate<T>>) -> msp_estimate_of<T> {
+fn estimate_of<T: Real>(e: Option<Estimate<T>>) -> msp_estimate_of<T> {
     match e {
         Some(e) => msp_estimate_of {
             k: e.k,
@@ -255,11 +398,17 @@ fn estimate_of<T: Real>(e: Option<msp_core::adapt::Estimate<T>>) -> msp_estimate
     }
 }
 
+/// The last of the 16 candidates from `d_min`.
+fn bank_end(d_min: u32) -> u32 {
+    d_min.saturating_add(N as u32 - 1)
+}
+
 fn estimator_default<T: Real>(ts: T, d_min: u32) -> Result<msp_estimator_config_of<T>, Error> {
     let e = EstimatorConfig::new(ts, 0);
     let c = msp_estimator_config_of {
         ts,
         d_min,
+        d_max: bank_end(d_min),
         integrating: 0,
         forgetting: e.forgetting,
         prefilter: T::zero(),
@@ -280,12 +429,18 @@ fn fopdt_or_ipdt<T: Real>(m: &msp_model_of<T>) -> Result<(T, T, T), Error> {
     }
 }
 
-/// The settings of `msp::adapt::Adaptive` for a C configuration.
-fn adaptive_config<T: Real>(c: &msp_adaptive_config_of<T>) -> Result<AdaptiveConfig<T>, Error> {
-    let (_, tau, _) = fopdt_or_ipdt(&c.smith.model)?;
+/// The settings of `msp::adapt::Adaptive` for a scheme of the model `m`
+/// sampled every `ts`.
+fn adaptive_config<T: Real>(
+    c: &msp_adapt_config_of<T>,
+    m: &msp_model_of<T>,
+    ts: T,
+) -> Result<AdaptiveConfig<T>, Error> {
+    let (_, tau, _) = fopdt_or_ipdt(m)?;
     let est = estimator_config(&msp_estimator_config_of {
-        ts: c.smith.ts,
+        ts,
         d_min: c.d_min,
+        d_max: c.d_max,
         integrating: u32::from(tau.is_infinite()),
         forgetting: c.forgetting,
         prefilter: c.prefilter,
@@ -294,22 +449,21 @@ fn adaptive_config<T: Real>(c: &msp_adaptive_config_of<T>) -> Result<AdaptiveCon
     let mut a = AdaptiveConfig::new(est);
     a.min_change = c.min_change;
     a.alarm = c.alarm;
+    a.band = c.band;
     a.apply = c.apply != 0;
     a.validate()?;
     Ok(a)
 }
 
-/// The values of a controller's dead-time line: room for the longest
-/// candidate and its fraction.
-fn line_values(c: &msp_adaptive_config_of<impl Real>) -> usize {
-    (c.d_min as usize).saturating_add(N).saturating_add(2)
-}
-
-fn adaptive_default<T: Real>(
-    s: &msp_smith_config_of<T>,
-) -> Result<msp_adaptive_config_of<T>, Error> {
-    let d = smith_samples(s)?;
-    // the candidates around the model's dead time: 6 below, 9 above
+/// The adaptation's defaults for a scheme of the model `m` whose dead time
+/// is `d` samples at `ts`: the 16 candidates from 6 samples below it, the
+/// prefilter 2.5 time constants (an integrating model's: 2.5 dead times, as
+/// `msp run --adapt`).
+fn adapt_default<T: Real>(
+    m: &msp_model_of<T>,
+    d: T,
+    ts: T,
+) -> Result<msp_adapt_config_of<T>, Error> {
     let below = (d.floor() - T::of(6.0))
         .max(T::zero())
         .to_f64()
@@ -320,63 +474,169 @@ fn adaptive_default<T: Real>(
     // in range: checked just above
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
     let d_min = below as u32;
-    let e = EstimatorConfig::new(s.ts, 0);
-    let (_, tau, theta) = fopdt_or_ipdt(&s.model)?;
-    // the prefilter's time constant 2.5 of the model's (an integrating
-    // model's: 2.5 dead times), as `msp run --adapt`
+    let e = EstimatorConfig::new(ts, 0);
+    let (_, tau, theta) = fopdt_or_ipdt(m)?;
     let t = if tau.is_finite() {
         tau * T::of(2.5)
     } else {
-        theta.max(s.ts) * T::of(2.5)
+        theta.max(ts) * T::of(2.5)
     };
     let a = AdaptiveConfig::new(e);
-    let c = msp_adaptive_config_of {
-        smith: *s,
+    let c = msp_adapt_config_of {
         d_min,
+        d_max: bank_end(d_min),
         forgetting: e.forgetting,
         prefilter: t,
         excitation: e.min_excitation,
         min_change: a.min_change,
         alarm: a.alarm,
+        band: a.band,
         apply: 1,
         lambda: T::zero(),
     };
-    adaptive_config(&c)?;
+    adaptive_config(&c, m, ts)?;
     Ok(c)
 }
 
-/// Builds the adaptive Smith predictor in the arena: the handle, then the
-/// dead-time line over the rest.
-fn make_adaptive<T: Precision>(
-    c: &msp_adaptive_config_of<T>,
-    a: &mut Arena,
-) -> Result<AdaptiveSmith<T>, Error> {
-    let cfg = adaptive_config(c)?;
-    let (k, tau, theta) = fopdt_or_ipdt(&c.smith.model)?;
-    smith_samples(&c.smith)?;
-    let pid = pid_config(&c.smith.pid, c.smith.ts)?;
-    let (block, line) = model_in(&c.smith.model, c.smith.ts, a)?;
-    let sp = SmithPredictor::new(pid, block, line)?;
-    Adaptive::new(sp, (k, tau, theta), cfg, Kaya { lambda: c.lambda })
+/// A scheme's configuration that adapts in the caller's memory.
+trait Scheme<T: Precision>: Sized {
+    /// The dead-time lines it needs (two: a redesigned scheme warms up
+    /// beside the one in use).
+    const LOTS: usize;
+    fn model(&self) -> &msp_model_of<T>;
+    fn ts(&self) -> T;
+    fn adapt(&self) -> &msp_adapt_config_of<T>;
+    /// Checks the scheme's own settings; its dead time in samples.
+    fn samples(&self) -> Result<T, Error>;
+    /// The scheme with its lines in `lots`.
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot)) -> Result<Adapting<T>, Error>;
+
+    fn config(&self) -> Result<AdaptiveConfig<T>, Error> {
+        self.samples()?;
+        adaptive_config(self.adapt(), self.model(), self.ts())
+    }
+
+    /// Every line's values: room for the longest candidate and its fraction.
+    fn values(&self) -> usize {
+        (self.adapt().d_max as usize).saturating_add(3)
+    }
 }
 
-fn adaptive_size<T: Precision>(c: &msp_adaptive_config_of<T>) -> Result<usize, Error> {
-    adaptive_config(c)?;
-    let values = line_values(c);
-    core::mem::size_of::<Tag<AdaptiveSmith<T>>>()
-        .checked_add(core::mem::align_of::<Tag<AdaptiveSmith<T>>>())
-        .and_then(|b| b.checked_add(values.checked_mul(core::mem::size_of::<T>())?))
+impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
+    const LOTS: usize = 1;
+    fn model(&self) -> &msp_model_of<T> {
+        &self.smith.model
+    }
+    fn ts(&self) -> T {
+        self.smith.ts
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        &self.adapt
+    }
+    fn samples(&self) -> Result<T, Error> {
+        smith_samples(&self.smith)
+    }
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot)) -> Result<Adapting<T>, Error> {
+        let c = &self.smith;
+        let m = fopdt_or_ipdt(&c.model)?;
+        let pid = pid_config(&c.pid, c.ts)?;
+        let (block, line) = model_in(&c.model, c.ts, &mut Arena::new(lots.0.at, lots.0.bytes))?;
+        let sp = SmithPredictor::new(pid, block, line)?;
+        let lambda = self.adapt.lambda;
+        Ok(Adapting::Smith(Adaptive::new(sp, m, cfg, Kaya { lambda })?))
+    }
+}
+
+impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
+    const LOTS: usize = 2;
+    fn model(&self) -> &msp_model_of<T> {
+        &self.karan_dey.model
+    }
+    fn ts(&self) -> T {
+        self.karan_dey.ts
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        &self.adapt
+    }
+    fn samples(&self) -> Result<T, Error> {
+        if self.adapt.lambda.is_nan() {
+            return Err(Error::NonFinite(
+                "lambda: the Karan-Dey predictor is redesigned at every change (0: its default)",
+            ));
+        }
+        karan_dey_samples(&self.karan_dey)
+    }
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot)) -> Result<Adapting<T>, Error> {
+        let c = &self.karan_dey;
+        let m = fopdt_or_ipdt(&c.model)?;
+        let kd = karan_dey_in(c, &mut Arena::new(lots.0.at, lots.0.bytes))?;
+        let redesign = KaranDeyRedesign {
+            ts: c.ts,
+            lambda: self.adapt.lambda,
+            limits: (c.u_min, c.u_max),
+            lots,
+            second: false,
+        };
+        Ok(Adapting::KaranDey(Adaptive::new(kd, m, cfg, redesign)?))
+    }
+}
+
+/// The defaults of adaptation for a scheme of the model `m` at `ts`.
+fn scheme_default<T: Real>(
+    m: &msp_model_of<T>,
+    ts: T,
+    d: Result<T, Error>,
+) -> Result<msp_adapt_config_of<T>, Error> {
+    adapt_default(m, d?, ts)
+}
+
+/// `msp_adaptive*_size`.
+///
+/// # Safety
+/// `config` and `status` are null or valid.
+unsafe fn size_of_config<T: Precision, S: Scheme<T> + Copy>(
+    config: *const S,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { read(config) }) else {
+        report(status, msp_status::MSP_NULL_POINTER);
+        return 0;
+    };
+    match adaptive_size(&c) {
+        Ok(n) => {
+            report(status, msp_status::MSP_OK);
+            n
+        }
+        Err(e) => {
+            report(status, e.into());
+            0
+        }
+    }
+}
+
+fn adaptive_size<T: Precision, S: Scheme<T>>(c: &S) -> Result<usize, Error> {
+    c.config()?;
+    let line = c
+        .values()
+        .checked_mul(core::mem::size_of::<T>())
         .and_then(|b| b.checked_add(core::mem::align_of::<T>()))
-        .ok_or(Error::DelayTooLong("buffer"))
+        .and_then(|b| b.checked_mul(S::LOTS));
+    line.and_then(|l| {
+        core::mem::size_of::<Tag<Adapting<T>>>()
+            .checked_add(core::mem::align_of::<Tag<Adapting<T>>>())?
+            .checked_add(l)
+    })
+    .ok_or(Error::DelayTooLong("buffer"))
 }
 
 /// # Safety
 /// `buf` is null or `len` writable bytes that stay in place; `config` and
 /// `out` null or valid.
-unsafe fn adaptive_init<H: Tagged>(
+unsafe fn adaptive_init<H: Tagged, S: Scheme<H::T> + Copy>(
     buf: *mut core::ffi::c_void,
     len: usize,
-    config: *const msp_adaptive_config_of<H::T>,
+    config: *const S,
     out: *mut *mut H,
 ) -> msp_status {
     if buf.is_null() || out.is_null() {
@@ -386,18 +646,27 @@ unsafe fn adaptive_init<H: Tagged>(
     let Some(c) = (unsafe { read(config) }) else {
         return msp_status::MSP_NULL_POINTER;
     };
+    let cfg = match c.config() {
+        Ok(cfg) => cfg,
+        Err(e) => return e.into(),
+    };
     let mut a = Arena::new(buf.cast(), len);
-    // the handle first (its size is known), the line after it
-    let Some(slot) = a.place::<Tag<AdaptiveSmith<H::T>>>() else {
+    // the handle first (its size is known), the lines after it
+    let Some(slot) = a.place::<Tag<Adapting<H::T>>>() else {
         return msp_status::MSP_BUFFER_TOO_SMALL;
     };
-    let values = line_values(&c);
-    let line = match a.slice::<H::T>(values) {
-        Ok(l) => l,
-        Err(_) => return msp_status::MSP_BUFFER_TOO_SMALL,
+    let mut lot = || {
+        a.slice::<H::T>(c.values()).map(|l| Lot {
+            at: l.as_mut_ptr().cast(),
+            bytes: core::mem::size_of_val(l),
+        })
     };
-    let mut rest = Arena::new(line.as_mut_ptr().cast(), core::mem::size_of_val(line));
-    let v = match make_adaptive(&c, &mut rest) {
+    let first = lot();
+    let second = if S::LOTS > 1 { lot() } else { first };
+    let (Ok(first), Ok(second)) = (first, second) else {
+        return msp_status::MSP_BUFFER_TOO_SMALL;
+    };
+    let v = match c.make(cfg, (first, second)) {
         Ok(v) => v,
         Err(e) => return e.into(),
     };
@@ -409,8 +678,8 @@ unsafe fn adaptive_init<H: Tagged>(
 /// As [`value`].
 unsafe fn adaptive_update<H: Tagged>(h: *mut H, r: H::T, y: H::T, u: Option<H::T>) -> H::T {
     // SAFETY: forwarded
-    match unsafe { value::<H, AdaptiveSmith<H::T>>(h) } {
-        Some(c) => c.update_applied(r, y, u),
+    match unsafe { value::<H, Adapting<H::T>>(h) } {
+        Some(c) => c.view().update_applied(r, y, u),
         None => <H::T as Real>::of(f64::NAN),
     }
 }
@@ -425,24 +694,11 @@ unsafe fn adaptive_state<H: Tagged>(
         return msp_status::MSP_NULL_POINTER;
     }
     // SAFETY: forwarded
-    let Some(c) = (unsafe { value::<H, AdaptiveSmith<H::T>>(h) }) else {
+    let Some(c) = (unsafe { value::<H, Adapting<H::T>>(h) }) else {
         return bad(h);
     };
-    let (k, tau, theta) = c.model();
-    let s = msp_adaptive_state_of {
-        estimate: estimate_of(c.estimate()),
-        k,
-        tau,
-        theta,
-        mismatch: c
-            .mismatch()
-            .map_or(<H::T as Real>::of(f64::NAN), |m| m.error),
-        alarm: u32::from(c.alarm()),
-        frozen: u32::from(c.is_frozen()),
-        changes: u32::try_from(c.changes()).unwrap_or(u32::MAX),
-    };
     // SAFETY: non-null, the caller's
-    unsafe { out.write(s) };
+    unsafe { out.write(c.view().state()) };
     msp_status::MSP_OK
 }
 
@@ -450,14 +706,10 @@ unsafe fn adaptive_state<H: Tagged>(
 /// As [`value`].
 unsafe fn adaptive_freeze<H: Tagged>(h: *mut H, frozen: bool) -> msp_status {
     // SAFETY: forwarded
-    let Some(c) = (unsafe { value::<H, AdaptiveSmith<H::T>>(h) }) else {
+    let Some(c) = (unsafe { value::<H, Adapting<H::T>>(h) }) else {
         return bad(h);
     };
-    if frozen {
-        c.freeze();
-    } else {
-        c.resume();
-    }
+    c.view().freeze(frozen);
     msp_status::MSP_OK
 }
 
@@ -603,8 +855,30 @@ twins! {
         let Some(s) = (unsafe { read(smith) }) else {
             return msp_status::MSP_NULL_POINTER;
         };
+        let c = scheme_default(&s.model, s.ts, smith_samples(&s))
+            .map(|adapt| msp_adaptive_config_of { smith: s, adapt });
         // SAFETY: forwarded
-        unsafe { tuned(config, adaptive_default(&s)) }
+        unsafe { tuned(config, c) }
+    }
+
+    /// The defaults of an adaptive Karan–Dey predictor around `karan_dey`
+    /// (IPDT model): as `msp_adaptive_default_config`'s, the prefilter 2.5
+    /// dead times, redesigned by the thesis's rule at its default `λ`.
+    ///
+    /// # Safety
+    /// `karan_dey` and `config` are null or valid.
+    fn msp_adaptive_karan_dey_default_config, msp_adaptive_karan_dey_default_config_f64(
+        karan_dey: *const crate::msp_karan_dey_config | *const crate::msp_karan_dey_config_f64,
+        config: *mut msp_adaptive_karan_dey_config | *mut msp_adaptive_karan_dey_config_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        let Some(s) = (unsafe { read(karan_dey) }) else {
+            return msp_status::MSP_NULL_POINTER;
+        };
+        let c = scheme_default(&s.model, s.ts, karan_dey_samples(&s))
+            .map(|adapt| msp_adaptive_karan_dey_config_of { karan_dey: s, adapt });
+        // SAFETY: forwarded
+        unsafe { tuned(config, c) }
     }
 
     /// The bytes `msp_adaptive_init` needs for `config` (0 and `*status`
@@ -617,20 +891,21 @@ twins! {
         status: *mut msp_status,
     ) -> usize {
         // SAFETY: forwarded
-        let Some(c) = (unsafe { read(config) }) else {
-            report(status, msp_status::MSP_NULL_POINTER);
-            return 0;
-        };
-        match adaptive_size(&c) {
-            Ok(n) => {
-                report(status, msp_status::MSP_OK);
-                n
-            }
-            Err(e) => {
-                report(status, e.into());
-                0
-            }
-        }
+        unsafe { size_of_config(config, status) }
+    }
+
+    /// The bytes `msp_adaptive_karan_dey_init` needs for `config` (two
+    /// dead-time lines: the redesigned predictor warms up beside the one in
+    /// use; 0 and `*status` set when it is not valid; `status` may be null).
+    ///
+    /// # Safety
+    /// `config` and `status` are null or valid.
+    fn msp_adaptive_karan_dey_size, msp_adaptive_karan_dey_size_f64(
+        config: *const msp_adaptive_karan_dey_config | *const msp_adaptive_karan_dey_config_f64,
+        status: *mut msp_status,
+    ) -> usize {
+        // SAFETY: forwarded
+        unsafe { size_of_config(config, status) }
     }
 
     /// Builds an adaptive Smith predictor in `buf` (`len` bytes, at least
@@ -643,6 +918,23 @@ twins! {
         buf: *mut core::ffi::c_void,
         len: usize,
         config: *const msp_adaptive_config | *const msp_adaptive_config_f64,
+        ctrl: *mut *mut msp_adaptive | *mut *mut msp_adaptive_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { adaptive_init(buf, len, config, ctrl) }
+    }
+
+    /// Builds an adaptive Karan–Dey predictor in `buf` (`len` bytes, at
+    /// least `msp_adaptive_karan_dey_size(config)`); `*ctrl` is its handle,
+    /// for the `msp_adaptive_*` calls.
+    ///
+    /// # Safety
+    /// `buf` is null or `len` writable bytes that stay in place while the
+    /// controller is used; `config` and `ctrl` are null or valid.
+    fn msp_adaptive_karan_dey_init, msp_adaptive_karan_dey_init_f64(
+        buf: *mut core::ffi::c_void,
+        len: usize,
+        config: *const msp_adaptive_karan_dey_config | *const msp_adaptive_karan_dey_config_f64,
         ctrl: *mut *mut msp_adaptive | *mut *mut msp_adaptive_f64,
     ) -> msp_status {
         // SAFETY: forwarded

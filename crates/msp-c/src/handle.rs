@@ -129,7 +129,7 @@ impl Opaque for msp_controller_f64 {
 }
 
 /// Storage that lives in the caller's buffer.
-type Buf<T> = &'static mut [T];
+pub(crate) type Buf<T> = &'static mut [T];
 
 /// The schemes one handle can hold.
 pub(crate) enum Scheme<T: Real> {
@@ -549,6 +549,14 @@ pub(crate) fn make_karan_dey<T: Real>(
     c: &msp_karan_dey_config_of<T>,
     a: &mut Arena,
 ) -> Result<Scheme<T>, Error> {
+    Ok(Scheme::KaranDey(karan_dey_in(c, a)?))
+}
+
+/// A Karan–Dey predictor, its dead-time line over the rest of the arena.
+pub(crate) fn karan_dey_in<T: Real>(
+    c: &msp_karan_dey_config_of<T>,
+    a: &mut Arena,
+) -> Result<KaranDey<T, 1, Buf<T>>, Error> {
     karan_dey_samples(c)?;
     let p = KaranDeyParams {
         kp: c.kp,
@@ -559,8 +567,7 @@ pub(crate) fn make_karan_dey<T: Real>(
         n: c.n,
     };
     let (block, line) = model_in(&c.model, c.ts, a)?;
-    let k = compensator::build(&p, c.ts, block, line)?.with_limits(c.u_min, c.u_max)?;
-    Ok(Scheme::KaranDey(k))
+    compensator::build(&p, c.ts, block, line)?.with_limits(c.u_min, c.u_max)
 }
 
 pub(crate) fn make_fsp<T: Real>(

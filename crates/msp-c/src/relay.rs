@@ -71,7 +71,7 @@ fn smith_fopdt<T: Real>(
     })
 }
 
-fn karan_dey_ipdt<T: Real>(
+pub(crate) fn karan_dey_ipdt<T: Real>(
     k: T,
     theta: T,
     ts: T,
