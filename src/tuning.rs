@@ -68,6 +68,45 @@ pub fn kaya<T: Real>(model: &ProcessModel<T>, lambda: T) -> Result<PidGains<T>, 
     }
 }
 
+/// The filtered Smith predictor's primary PI (García et al. (2010): the
+/// delay-free loop of the model designed as usual, Sec. 3), at the
+/// closed-loop time constant `λ`:
+///
+/// - `K/(Ts − 1)`: the double pole at `−1/λ`, `K·Kp = 1 + 2T/λ`,
+///   `Ti = K·Kp·λ²/T` (from `T s² + (K Kp − 1) s + K Kp/Ti` against
+///   `T (s + 1/λ)²`);
+/// - `K/s`: the same placement, `Kp = 2/(K λ)`, `Ti = 2λ` (the IMC-PI of an
+///   integrator);
+/// - FOPDT and SOPDT: Kaya's rule ([`kaya`], its PI part).
+///
+/// ```
+/// use msp::{tuning, Ipdt, ProcessModel};
+/// let m = ProcessModel::from(Ipdt::new(0.5f64, 1.0)?);
+/// let g = tuning::fsp_pi(&m, 2.0)?;
+/// assert!((g.kp - 2.0).abs() < 1e-12 && g.ti == 4.0 && g.td == 0.0);
+/// # Ok::<(), msp::Error>(())
+/// ```
+pub fn fsp_pi<T: Real>(model: &ProcessModel<T>, lambda: T) -> Result<PidGains<T>, Error> {
+    let lambda = positive(lambda, "lambda")?;
+    let two = T::of(2.0);
+    let (kp, ti) = match *model {
+        ProcessModel::Ufopdt(u) => {
+            let kkc = T::one() + two * u.t / lambda;
+            (kkc / u.k, kkc * lambda * lambda / u.t)
+        }
+        ProcessModel::Ipdt(i) => (two / (i.k * lambda), two * lambda),
+        _ => {
+            let g = kaya(model, lambda)?;
+            (g.kp, g.ti)
+        }
+    };
+    Ok(PidGains {
+        kp,
+        ti,
+        td: T::zero(),
+    })
+}
+
 /// Kaya's rule with the speed factor `α` (`λ = α·L`, Eqs. 32–33; `α = 1` is the
 /// ISE optimum).
 ///

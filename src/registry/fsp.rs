@@ -17,19 +17,12 @@ pub fn tune_fsp(plant: &Tf, d: &Design) -> Tuned {
     let t: FspTuning = d.typed();
     let m = plant.reduce(false)?;
     let lambda = lambda_for(&m, &t, 1.0);
-    let (kp, ti) = match m {
-        // K/(T s − 1): the delay-free loop with a PI gets the double pole −1/λ
-        ProcessModel::Ufopdt(u) => {
-            let kkc = 1.0 + 2.0 * u.t / lambda;
-            (kkc / u.k, kkc * lambda * lambda / u.t)
-        }
-        // K/s: the same placement gives the thesis's IMC-PI
-        ProcessModel::Ipdt(i) => (2.0 / (i.k * lambda), 2.0 * lambda),
-        _ => {
-            let g = tuning::kaya(&plant.reduce(true)?, lambda)?;
-            (g.kp, g.ti)
-        }
+    // a stable plant reduced for Kaya's rule (FOPDT or SOPDT)
+    let rule = match m {
+        ProcessModel::Ufopdt(_) | ProcessModel::Ipdt(_) => m,
+        _ => plant.reduce(true)?,
     };
+    let tuning::PidGains { kp, ti, .. } = tuning::fsp_pi(&rule, lambda)?;
     let tf = t.tf.unwrap_or(0.5 * m.delay().max(1e-9));
     Ok(Params::of(&FspParams { kp, ti, tf }).with_lambda(lambda))
 }
