@@ -131,6 +131,12 @@ int main(void) {
     fbad = fc;
     fbad.model.theta = 6.03f; /* not whole samples */
     EXPECT(msp_fsp_init(memory, sizeof memory, &fbad, &c) == MSP_UNSUPPORTED);
+    /* whole samples whose float quotient comes out just above: 0.3 s and
+       1.08 s at 0.06 s are 5.0000005 and 18.000002 samples in float */
+    fbad.model.theta = 0.3f;
+    EXPECT(msp_fsp_init(memory, sizeof memory, &fbad, &c) == MSP_OK);
+    fbad.model.theta = 1.08f;
+    EXPECT(msp_fsp_init(memory, sizeof memory, &fbad, &c) == MSP_OK);
     size_t fneed = msp_fsp_size(&fc, 0, &s);
     EXPECT(s == MSP_OK && fneed > 0);
     EXPECT(msp_fsp_init(memory, fneed / 2, &fc, &c) == MSP_BUFFER_TOO_SMALL);
@@ -477,6 +483,55 @@ int main(void) {
         printf("adaptive karan-dey: model k %.4g, theta %.4g s after %u changes; settled error "
                "after 600 s at most %.3g\n",
                (double)st_.k, (double)st_.theta, (unsigned)st_.changes, (double)peak);
+    }
+
+    /* the adaptive filtered Smith predictor on e^-1s/(4s+1) at 0.1 s whose
+       lag doubles at sample 1500: redesigned for each model (its predictor
+       in the other line, designed in the scratch), warmed up, handed over */
+    {
+        msp_fsp_config f = {
+            .ts = 0.1f,
+            .model = {.kind = MSP_FOPDT, .k = 1.0f, .tau = 4.0f, .theta = 1.0f},
+            .pid = {.kp = 4.0f, .ti = 4.0f, .td = 0.0f, .u_min = -INFINITY, .u_max = INFINITY},
+            .tf = 0.5f,
+        };
+        msp_adaptive_fsp_config afc;
+        msp_adaptive_state st_;
+        msp_adaptive *ad = NULL;
+        EXPECT(msp_adaptive_fsp_default_config(&f, NULL) == MSP_NULL_POINTER);
+        EXPECT(msp_adaptive_fsp_default_config(&f, &afc) == MSP_OK);
+        msp_adaptive_fsp_config bad = afc;
+        bad.fsp.model.kind = MSP_UFOPDT; /* the identifier's models are FOPDT and IPDT */
+        EXPECT(msp_adaptive_fsp_size(&bad, &s) == 0 && s == MSP_UNSUPPORTED);
+        bad = afc;
+        bad.adapt.lambda = NAN;
+        EXPECT(msp_adaptive_fsp_size(&bad, &s) == 0 && s == MSP_NOT_FINITE);
+        size_t need = msp_adaptive_fsp_size(&afc, &s);
+        EXPECT(s == MSP_OK && need > 0 && need <= sizeof adapt_memory - 7);
+        unsigned char *abuf = adapt_memory + 7;
+        EXPECT(msp_adaptive_fsp_init(abuf, need / 2, &afc, &ad) == MSP_BUFFER_TOO_SMALL);
+        EXPECT(msp_adaptive_fsp_init(abuf, need, &afc, &ad) == MSP_OK);
+        const float a = expf(-0.1f / 4.0f), a2 = expf(-0.1f / 8.0f);
+        float y = 0.0f, line[10] = {0}, worst = 0.0f;
+        for (int k = 0; k < 12000; k++) {
+            float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
+            float u = msp_adaptive_update(ad, r, y);
+            float late = line[k % 10];
+            line[k % 10] = u;
+            float p = k < 1500 ? a : a2;
+            y = p * y + (1.0f - p) * late;
+            if (k > 6000 && k % 300 == 299 && fabsf(y - r) > worst) {
+                worst = fabsf(y - r);
+            }
+        }
+        EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
+        EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
+               && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);
+        EXPECT(worst < 0.01f);
+        printf("adaptive fsp: model k %.4g, tau %.4g s, theta %.4g s after %u changes; settled "
+               "error after 600 s at most %.3g\n",
+               (double)st_.k, (double)st_.tau, (double)st_.theta, (unsigned)st_.changes,
+               (double)worst);
     }
 
     printf("%s: %d failures\n", failures ? "FAIL" : "ok", failures);

@@ -79,12 +79,13 @@ typedef enum {
   MSP_TD = 2,
 } msp_gain;
 
-// An adaptive controller built by `msp_adaptive_init` or
-// `msp_adaptive_karan_dey_init` (opaque).
+// An adaptive controller built by `msp_adaptive_init`,
+// `msp_adaptive_karan_dey_init` or `msp_adaptive_fsp_init` (opaque).
 typedef struct msp_adaptive msp_adaptive;
 
-// An adaptive controller built by `msp_adaptive_init_f64` or
-// `msp_adaptive_karan_dey_init_f64` (opaque).
+// An adaptive controller built by `msp_adaptive_init_f64`,
+// `msp_adaptive_karan_dey_init_f64` or `msp_adaptive_fsp_init_f64`
+// (opaque).
 typedef struct msp_adaptive_f64 msp_adaptive_f64;
 
 // A `float` controller built by an `msp_*_init` call (opaque).
@@ -382,6 +383,66 @@ typedef struct {
 // In `double`, a host's type.
 typedef msp_adaptive_karan_dey_config_of_f64 msp_adaptive_karan_dey_config_f64;
 
+// The filtered Smith predictor for unstable, integrating and stable plants
+// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
+// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
+// `Fr` and `S` designed at initialization (in double precision).
+typedef struct {
+  float ts;
+  msp_model_float model;
+  msp_pid_params_float pid;
+  float tf;
+} msp_fsp_config_float;
+
+// In `float`, the device's type.
+typedef msp_fsp_config_float msp_fsp_config;
+
+// An adaptive filtered Smith predictor (`msp::adapt::Adaptive`): the
+// predictor `fsp` (FOPDT or IPDT model, a dead time of whole samples),
+// redesigned at each change for the model's dead time rounded to a
+// sample (García et al. (2010) Sec. 3; the primary by
+// `msp::tuning::fsp_pi`, `λ = θ` by default, the filter's `tf` kept)
+// and warmed up beside the one in use before it takes over, and how
+// it adapts. The model read back is the estimate applied; the
+// predictor runs its dead time rounded.
+typedef struct {
+  msp_fsp_config_float fsp;
+  msp_adapt_config_of_f32 adapt;
+} msp_adaptive_fsp_config_of_f32;
+
+// In `float`, the device's type.
+typedef msp_adaptive_fsp_config_of_f32 msp_adaptive_fsp_config;
+
+// The filtered Smith predictor for unstable, integrating and stable plants
+// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
+// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
+// `Fr` and `S` designed at initialization (in double precision).
+typedef struct {
+  double ts;
+  msp_model_double model;
+  msp_pid_params_double pid;
+  double tf;
+} msp_fsp_config_double;
+
+// In `double`, a host's type.
+typedef msp_fsp_config_double msp_fsp_config_f64;
+
+// An adaptive filtered Smith predictor (`msp::adapt::Adaptive`): the
+// predictor `fsp` (FOPDT or IPDT model, a dead time of whole samples),
+// redesigned at each change for the model's dead time rounded to a
+// sample (García et al. (2010) Sec. 3; the primary by
+// `msp::tuning::fsp_pi`, `λ = θ` by default, the filter's `tf` kept)
+// and warmed up beside the one in use before it takes over, and how
+// it adapts. The model read back is the estimate applied; the
+// predictor runs its dead time rounded.
+typedef struct {
+  msp_fsp_config_double fsp;
+  msp_adapt_config_of_f64 adapt;
+} msp_adaptive_fsp_config_of_f64;
+
+// In `double`, a host's type.
+typedef msp_adaptive_fsp_config_of_f64 msp_adaptive_fsp_config_f64;
+
 // What an adaptive controller knows: the estimate, the model in use
 // (`k`, `tau`, `theta`), its error against the process `mismatch`
 // (0.3: 30 %; NaN before it means anything), the alarm, whether
@@ -435,34 +496,6 @@ typedef struct {
 
 // In `double`, a host's type.
 typedef msp_pid_config_double msp_pid_config_f64;
-
-// The filtered Smith predictor for unstable, integrating and stable plants
-// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
-// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
-// `Fr` and `S` designed at initialization (in double precision).
-typedef struct {
-  float ts;
-  msp_model_float model;
-  msp_pid_params_float pid;
-  float tf;
-} msp_fsp_config_float;
-
-// In `float`, the device's type.
-typedef msp_fsp_config_float msp_fsp_config;
-
-// The filtered Smith predictor for unstable, integrating and stable plants
-// (García, Santos, Normey-Rico & Albertos (2010)): the PID `pid` around the
-// predictor `ŷ = S(z)u + Fr(z)y` with the filter time constant `tf` (s),
-// `Fr` and `S` designed at initialization (in double precision).
-typedef struct {
-  double ts;
-  msp_model_double model;
-  msp_pid_params_double pid;
-  double tf;
-} msp_fsp_config_double;
-
-// In `double`, a host's type.
-typedef msp_fsp_config_double msp_fsp_config_f64;
 
 // Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
 // amplitude `h` (negative for a reverse-acting process: the identified
@@ -625,6 +658,22 @@ msp_status msp_adaptive_karan_dey_default_config(const msp_karan_dey_config *kar
 msp_status msp_adaptive_karan_dey_default_config_f64(const msp_karan_dey_config_f64 *karan_dey,
                                                      msp_adaptive_karan_dey_config_f64 *config);
 
+// The defaults of an adaptive filtered Smith predictor around `fsp`
+// (FOPDT or IPDT model): as `msp_adaptive_default_config`'s,
+// redesigned at `λ = θ` with its `tf` kept.
+//
+// # Safety
+// `fsp` and `config` are null or valid.
+msp_status msp_adaptive_fsp_default_config(const msp_fsp_config *fsp,
+                                           msp_adaptive_fsp_config *config);
+
+// [`msp_adaptive_fsp_default_config`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_fsp_default_config`].
+msp_status msp_adaptive_fsp_default_config_f64(const msp_fsp_config_f64 *fsp,
+                                               msp_adaptive_fsp_config_f64 *config);
+
 // The bytes `msp_adaptive_init` needs for `config` (0 and `*status`
 // set when it is not valid; `status` may be null).
 //
@@ -652,6 +701,20 @@ size_t msp_adaptive_karan_dey_size(const msp_adaptive_karan_dey_config *config, 
 // As [`msp_adaptive_karan_dey_size`].
 size_t msp_adaptive_karan_dey_size_f64(const msp_adaptive_karan_dey_config_f64 *config,
                                        msp_status *status);
+
+// The bytes `msp_adaptive_fsp_init` needs for `config` (two
+// predictors and a design's scratch; 0 and `*status` set when it is
+// not valid; `status` may be null).
+//
+// # Safety
+// `config` and `status` are null or valid.
+size_t msp_adaptive_fsp_size(const msp_adaptive_fsp_config *config, msp_status *status);
+
+// [`msp_adaptive_fsp_size`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_fsp_size`].
+size_t msp_adaptive_fsp_size_f64(const msp_adaptive_fsp_config_f64 *config, msp_status *status);
 
 // Builds an adaptive Smith predictor in `buf` (`len` bytes, at least
 // `msp_adaptive_size(config)`); `*ctrl` is its handle.
@@ -693,6 +756,27 @@ msp_status msp_adaptive_karan_dey_init_f64(void *buf,
                                            size_t len,
                                            const msp_adaptive_karan_dey_config_f64 *config,
                                            msp_adaptive_f64 **ctrl);
+
+// Builds an adaptive filtered Smith predictor in `buf` (`len` bytes, at
+// least `msp_adaptive_fsp_size(config)`); `*ctrl` is its handle, for
+// the `msp_adaptive_*` calls.
+//
+// # Safety
+// `buf` is null or `len` writable bytes that stay in place while the
+// controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_adaptive_fsp_init(void *buf,
+                                 size_t len,
+                                 const msp_adaptive_fsp_config *config,
+                                 msp_adaptive **ctrl);
+
+// [`msp_adaptive_fsp_init`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_fsp_init`].
+msp_status msp_adaptive_fsp_init_f64(void *buf,
+                                     size_t len,
+                                     const msp_adaptive_fsp_config_f64 *config,
+                                     msp_adaptive_f64 **ctrl);
 
 // The estimate, the model in use, its error, the alarm (`*state`).
 //

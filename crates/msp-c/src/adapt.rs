@@ -1,6 +1,7 @@
 //! Adaptive dead-time compensation on the device: the on-line identifier
-//! (`msp_estimator_*`) and the adaptive Smith and Karan–Dey predictors with
-//! their model-error alarm (`msp_adaptive_*`), each in the caller's memory.
+//! (`msp_estimator_*`) and the adaptive Smith, Karan–Dey and filtered Smith
+//! predictors with their model-error alarm (`msp_adaptive_*`), each in the
+//! caller's memory.
 //!
 //! Both hold a bank of [`MSP_ADAPT_CANDIDATES`] candidate dead times
 //! `d_min … d_max` (`d_max ≤ d_min + 15`) over a history of
@@ -13,8 +14,9 @@ use msp_core::operate::Operate;
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real, SmithPredictor};
 
 use crate::handle::{
-    bad, karan_dey_in, karan_dey_samples, model_in, msp_karan_dey_config_of, msp_model_kind,
-    msp_model_of, msp_smith_config_of, pid_config, read, smith_samples, Arena, Buf, Precision,
+    bad, fsp_design, fsp_samples, fsp_storage, fsp_with, karan_dey_in, karan_dey_samples, model_in,
+    msp_fsp_config_of, msp_karan_dey_config_of, msp_model_kind, msp_model_of, msp_pid_params_of,
+    msp_smith_config_of, pid_config, read, smith_samples, Arena, Buf, Fsp, Precision,
 };
 use crate::relay::{karan_dey_ipdt, tuned};
 use crate::{msp_status, report};
@@ -111,6 +113,21 @@ c_config! {
 }
 
 c_config! {
+    /// An adaptive filtered Smith predictor (`msp::adapt::Adaptive`): the
+    /// predictor `fsp` (FOPDT or IPDT model, a dead time of whole samples),
+    /// redesigned at each change for the model's dead time rounded to a
+    /// sample (García et al. (2010) Sec. 3; the primary by
+    /// `msp::tuning::fsp_pi`, `λ = θ` by default, the filter's `tf` kept)
+    /// and warmed up beside the one in use before it takes over, and how
+    /// it adapts. The model read back is the estimate applied; the
+    /// predictor runs its dead time rounded.
+    msp_adaptive_fsp_config_of: msp_adaptive_fsp_config, msp_adaptive_fsp_config_f64 {
+        fsp: msp_fsp_config_of<T>,
+        adapt: msp_adapt_config_of<T>,
+    }
+}
+
+c_config! {
     /// What an adaptive controller knows: the estimate, the model in use
     /// (`k`, `tau`, `theta`), its error against the process `mismatch`
     /// (0.3: 30 %; NaN before it means anything), the alarm, whether
@@ -137,14 +154,15 @@ pub struct msp_estimator_f64 {
     _opaque: [u8; 0],
 }
 
-/// An adaptive controller built by `msp_adaptive_init` or
-/// `msp_adaptive_karan_dey_init` (opaque).
+/// An adaptive controller built by `msp_adaptive_init`,
+/// `msp_adaptive_karan_dey_init` or `msp_adaptive_fsp_init` (opaque).
 pub struct msp_adaptive {
     _opaque: [u8; 0],
 }
 
-/// An adaptive controller built by `msp_adaptive_init_f64` or
-/// `msp_adaptive_karan_dey_init_f64` (opaque).
+/// An adaptive controller built by `msp_adaptive_init_f64`,
+/// `msp_adaptive_karan_dey_init_f64` or `msp_adaptive_fsp_init_f64`
+/// (opaque).
 pub struct msp_adaptive_f64 {
     _opaque: [u8; 0],
 }
@@ -243,11 +261,80 @@ impl<T: Real> Redesign<T, Kd<T>> for KaranDeyRedesign<T> {
     }
 }
 
+/// The filtered Smith predictor designed anew for a model: its dead time
+/// rounded to whole samples (the predictor realizes `z^{−h}`; the estimate
+/// is not finer under noise), the primary by [`tuning::fsp_pi`] at
+/// `lambda` (0: `λ = θ`), the filter's `tf` and the actuator's limits
+/// kept; designed in `scratch`, its predictor in whichever of the two lots
+/// the one in use does not hold.
+struct FspRedesign<T> {
+    ts: T,
+    lambda: T,
+    tf: T,
+    limits: (T, T),
+    lots: (Lot, Lot),
+    scratch: Lot,
+    second: bool,
+}
+
+impl<T: Real> Redesign<T, Fsp<T>> for FspRedesign<T> {
+    fn rebuild(&mut self, k: T, tau: T, theta: T) -> Option<Fsp<T>> {
+        let ts = self.ts;
+        let theta = (theta / ts).round().max(T::one()) * ts;
+        let (m, model): (ProcessModel<T>, _) = if tau.is_infinite() {
+            let m = (k, T::zero(), msp_model_kind::MSP_IPDT);
+            (Ipdt::new(k, theta).ok()?.into(), m)
+        } else {
+            let m = (k, tau, msp_model_kind::MSP_FOPDT);
+            (Fopdt::new(k, tau, theta).ok()?.into(), m)
+        };
+        let lambda = if self.lambda == T::zero() {
+            theta
+        } else {
+            self.lambda
+        };
+        let g = tuning::fsp_pi(&m, lambda).ok()?;
+        let c = msp_fsp_config_of {
+            ts,
+            model: msp_model_of {
+                kind: model.2 as u32,
+                k: model.0,
+                tau: model.1,
+                theta,
+            },
+            pid: msp_pid_params_of {
+                kp: g.kp,
+                ti: g.ti,
+                td: T::zero(),
+                u_min: self.limits.0,
+                u_max: self.limits.1,
+            },
+            tf: self.tf,
+        };
+        let lot = if self.second {
+            self.lots.0
+        } else {
+            self.lots.1
+        };
+        // the scratch holds no scheme's state (the design is copied into
+        // the predictor); the lot, as the Karan–Dey predictor's
+        let mut scratch = Arena::new(self.scratch.at, self.scratch.bytes);
+        let (design, pid) = fsp_design(&c, |n| scratch.slice::<f64>(n)).ok()?;
+        let mut a = Arena::new(lot.at, lot.bytes);
+        fsp_with(&design, pid, |n| a.slice::<T>(n)).ok()
+    }
+
+    fn took_over(&mut self) {
+        self.second = !self.second;
+    }
+}
+
 type Bank<T> = Estimator<T, N, H>;
 type Smith<T> = SmithPredictor<T, 1, Buf<T>>;
 type Kd<T> = KaranDey<T, 1, Buf<T>>;
 type AdaptiveSmith<T> = Adaptive<T, Smith<T>, Kaya<T>, N, H>;
 type AdaptiveKd<T> = Adaptive<T, Kd<T>, KaranDeyRedesign<T>, N, H>;
+type AdaptiveFsp<T> = Adaptive<T, Fsp<T>, FspRedesign<T>, N, H>;
 
 /// The adaptive schemes one handle can hold (sized for the largest: the
 /// buffer is the caller's, and a box is what the device has not).
@@ -255,6 +342,7 @@ type AdaptiveKd<T> = Adaptive<T, Kd<T>, KaranDeyRedesign<T>, N, H>;
 enum Adapting<T: Real> {
     Smith(AdaptiveSmith<T>),
     KaranDey(AdaptiveKd<T>),
+    Fsp(AdaptiveFsp<T>),
 }
 
 /// What the C calls ask of an adaptive scheme, whichever it is.
@@ -297,6 +385,7 @@ impl<T: Real> Adapting<T> {
         match self {
             Adapting::Smith(a) => a,
             Adapting::KaranDey(a) => a,
+            Adapting::Fsp(a) => a,
         }
     }
 }
@@ -508,17 +597,28 @@ trait Scheme<T: Precision>: Sized {
     fn adapt(&self) -> &msp_adapt_config_of<T>;
     /// Checks the scheme's own settings; its dead time in samples.
     fn samples(&self) -> Result<T, Error>;
-    /// The scheme with its lines in `lots`.
-    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot)) -> Result<Adapting<T>, Error>;
+    /// The scheme with its lines in `lots`, designed in `scratch`.
+    fn make(
+        &self,
+        cfg: AdaptiveConfig<T>,
+        lots: (Lot, Lot),
+        scratch: Lot,
+    ) -> Result<Adapting<T>, Error>;
 
     fn config(&self) -> Result<AdaptiveConfig<T>, Error> {
         self.samples()?;
         adaptive_config(self.adapt(), self.model(), self.ts())
     }
 
-    /// Every line's values: room for the longest candidate and its fraction.
+    /// Every lot's values: a dead-time line with room for the longest
+    /// candidate and its fraction.
     fn values(&self) -> usize {
         (self.adapt().d_max as usize).saturating_add(3)
+    }
+
+    /// The f64 scratch of a design (none).
+    fn scratch(&self) -> usize {
+        0
     }
 }
 
@@ -536,7 +636,7 @@ impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
     fn samples(&self) -> Result<T, Error> {
         smith_samples(&self.smith)
     }
-    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot)) -> Result<Adapting<T>, Error> {
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot), _: Lot) -> Result<Adapting<T>, Error> {
         let c = &self.smith;
         let m = fopdt_or_ipdt(&c.model)?;
         let pid = pid_config(&c.pid, c.ts)?;
@@ -566,7 +666,7 @@ impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
         }
         karan_dey_samples(&self.karan_dey)
     }
-    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot)) -> Result<Adapting<T>, Error> {
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot), _: Lot) -> Result<Adapting<T>, Error> {
         let c = &self.karan_dey;
         let m = fopdt_or_ipdt(&c.model)?;
         let kd = karan_dey_in(c, &mut Arena::new(lots.0.at, lots.0.bytes))?;
@@ -578,6 +678,64 @@ impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
             second: false,
         };
         Ok(Adapting::KaranDey(Adaptive::new(kd, m, cfg, redesign)?))
+    }
+}
+
+impl<T: Precision> Scheme<T> for msp_adaptive_fsp_config_of<T> {
+    const LOTS: usize = 2;
+    fn model(&self) -> &msp_model_of<T> {
+        &self.fsp.model
+    }
+    fn ts(&self) -> T {
+        self.fsp.ts
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        &self.adapt
+    }
+    fn samples(&self) -> Result<T, Error> {
+        if self.adapt.lambda.is_nan() {
+            return Err(Error::NonFinite(
+                "lambda: the filtered Smith predictor is redesigned at every change (0: λ = θ)",
+            ));
+        }
+        fsp_samples(&self.fsp)
+    }
+    /// The predictor for the longest candidate's dead time rounded up.
+    fn values(&self) -> usize {
+        self.lot().0
+    }
+    fn scratch(&self) -> usize {
+        self.lot().1
+    }
+    fn make(
+        &self,
+        cfg: AdaptiveConfig<T>,
+        lots: (Lot, Lot),
+        scratch: Lot,
+    ) -> Result<Adapting<T>, Error> {
+        let c = &self.fsp;
+        let m = fopdt_or_ipdt(&c.model)?;
+        let mut s = Arena::new(scratch.at, scratch.bytes);
+        let (design, pid) = fsp_design(c, |n| s.slice::<f64>(n))?;
+        let mut a = Arena::new(lots.0.at, lots.0.bytes);
+        let fsp = fsp_with(&design, pid, |n| a.slice::<T>(n))?;
+        let redesign = FspRedesign {
+            ts: c.ts,
+            lambda: self.adapt.lambda,
+            tf: c.tf,
+            limits: (c.pid.u_min, c.pid.u_max),
+            lots,
+            scratch,
+            second: false,
+        };
+        Ok(Adapting::Fsp(Adaptive::new(fsp, m, cfg, redesign)?))
+    }
+}
+
+impl<T> msp_adaptive_fsp_config_of<T> {
+    /// The values and the scratch of a predictor for `d_max + 1` samples.
+    fn lot(&self) -> (usize, usize) {
+        fsp_storage((self.adapt.d_max as usize).saturating_add(1)).unwrap_or((usize::MAX, 0))
     }
 }
 
@@ -622,12 +780,18 @@ fn adaptive_size<T: Precision, S: Scheme<T>>(c: &S) -> Result<usize, Error> {
         .checked_mul(core::mem::size_of::<T>())
         .and_then(|b| b.checked_add(core::mem::align_of::<T>()))
         .and_then(|b| b.checked_mul(S::LOTS));
-    line.and_then(|l| {
-        core::mem::size_of::<Tag<Adapting<T>>>()
-            .checked_add(core::mem::align_of::<Tag<Adapting<T>>>())?
-            .checked_add(l)
-    })
-    .ok_or(Error::DelayTooLong("buffer"))
+    let scratch = c
+        .scratch()
+        .checked_mul(core::mem::size_of::<f64>())
+        .and_then(|b| b.checked_add(core::mem::align_of::<f64>()));
+    line.zip(scratch)
+        .and_then(|(l, s)| {
+            core::mem::size_of::<Tag<Adapting<T>>>()
+                .checked_add(core::mem::align_of::<Tag<Adapting<T>>>())?
+                .checked_add(l)?
+                .checked_add(s)
+        })
+        .ok_or(Error::DelayTooLong("buffer"))
 }
 
 /// # Safety
@@ -655,18 +819,23 @@ unsafe fn adaptive_init<H: Tagged, S: Scheme<H::T> + Copy>(
     let Some(slot) = a.place::<Tag<Adapting<H::T>>>() else {
         return msp_status::MSP_BUFFER_TOO_SMALL;
     };
-    let mut lot = || {
-        a.slice::<H::T>(c.values()).map(|l| Lot {
+    fn lot<U: Real>(l: &'static mut [U]) -> Lot {
+        Lot {
             at: l.as_mut_ptr().cast(),
             bytes: core::mem::size_of_val(l),
-        })
+        }
+    }
+    let first = a.slice::<H::T>(c.values()).map(lot);
+    let second = if S::LOTS > 1 {
+        a.slice::<H::T>(c.values()).map(lot)
+    } else {
+        first
     };
-    let first = lot();
-    let second = if S::LOTS > 1 { lot() } else { first };
-    let (Ok(first), Ok(second)) = (first, second) else {
+    let scratch = a.slice::<f64>(c.scratch()).map(lot);
+    let (Ok(first), Ok(second), Ok(scratch)) = (first, second, scratch) else {
         return msp_status::MSP_BUFFER_TOO_SMALL;
     };
-    let v = match c.make(cfg, (first, second)) {
+    let v = match c.make(cfg, (first, second), scratch) {
         Ok(v) => v,
         Err(e) => return e.into(),
     };
@@ -881,6 +1050,26 @@ twins! {
         unsafe { tuned(config, c) }
     }
 
+    /// The defaults of an adaptive filtered Smith predictor around `fsp`
+    /// (FOPDT or IPDT model): as `msp_adaptive_default_config`'s,
+    /// redesigned at `λ = θ` with its `tf` kept.
+    ///
+    /// # Safety
+    /// `fsp` and `config` are null or valid.
+    fn msp_adaptive_fsp_default_config, msp_adaptive_fsp_default_config_f64(
+        fsp: *const crate::msp_fsp_config | *const crate::msp_fsp_config_f64,
+        config: *mut msp_adaptive_fsp_config | *mut msp_adaptive_fsp_config_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        let Some(s) = (unsafe { read(fsp) }) else {
+            return msp_status::MSP_NULL_POINTER;
+        };
+        let c = scheme_default(&s.model, s.ts, fsp_samples(&s))
+            .map(|adapt| msp_adaptive_fsp_config_of { fsp: s, adapt });
+        // SAFETY: forwarded
+        unsafe { tuned(config, c) }
+    }
+
     /// The bytes `msp_adaptive_init` needs for `config` (0 and `*status`
     /// set when it is not valid; `status` may be null).
     ///
@@ -902,6 +1091,20 @@ twins! {
     /// `config` and `status` are null or valid.
     fn msp_adaptive_karan_dey_size, msp_adaptive_karan_dey_size_f64(
         config: *const msp_adaptive_karan_dey_config | *const msp_adaptive_karan_dey_config_f64,
+        status: *mut msp_status,
+    ) -> usize {
+        // SAFETY: forwarded
+        unsafe { size_of_config(config, status) }
+    }
+
+    /// The bytes `msp_adaptive_fsp_init` needs for `config` (two
+    /// predictors and a design's scratch; 0 and `*status` set when it is
+    /// not valid; `status` may be null).
+    ///
+    /// # Safety
+    /// `config` and `status` are null or valid.
+    fn msp_adaptive_fsp_size, msp_adaptive_fsp_size_f64(
+        config: *const msp_adaptive_fsp_config | *const msp_adaptive_fsp_config_f64,
         status: *mut msp_status,
     ) -> usize {
         // SAFETY: forwarded
@@ -935,6 +1138,23 @@ twins! {
         buf: *mut core::ffi::c_void,
         len: usize,
         config: *const msp_adaptive_karan_dey_config | *const msp_adaptive_karan_dey_config_f64,
+        ctrl: *mut *mut msp_adaptive | *mut *mut msp_adaptive_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { adaptive_init(buf, len, config, ctrl) }
+    }
+
+    /// Builds an adaptive filtered Smith predictor in `buf` (`len` bytes, at
+    /// least `msp_adaptive_fsp_size(config)`); `*ctrl` is its handle, for
+    /// the `msp_adaptive_*` calls.
+    ///
+    /// # Safety
+    /// `buf` is null or `len` writable bytes that stay in place while the
+    /// controller is used; `config` and `ctrl` are null or valid.
+    fn msp_adaptive_fsp_init, msp_adaptive_fsp_init_f64(
+        buf: *mut core::ffi::c_void,
+        len: usize,
+        config: *const msp_adaptive_fsp_config | *const msp_adaptive_fsp_config_f64,
         ctrl: *mut *mut msp_adaptive | *mut *mut msp_adaptive_f64,
     ) -> msp_status {
         // SAFETY: forwarded

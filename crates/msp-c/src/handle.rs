@@ -5,7 +5,7 @@
 use core::mem::{align_of, size_of};
 
 use msp_core::dtc::compensator;
-use msp_core::dtc::fsp::{design_in, FilteredSmith, FrSpec, FspPredictor};
+use msp_core::dtc::fsp::{design_in, FilteredSmith, FrSpec, FspDesign, FspPredictor};
 use msp_core::dtc::karan_dey::{KaranDey, KaranDeyParams};
 use msp_core::{
     Controller, Delay, Error, Fopdt, Ipdt, Operate, ParamList, Pid, PidConfig, ProcessModel, Real,
@@ -136,7 +136,7 @@ pub(crate) enum Scheme<T: Real> {
     Pid(Pid<T>),
     Smith(SmithPredictor<T, 1, Buf<T>>),
     KaranDey(KaranDey<T, 1, Buf<T>>),
-    Fsp(FilteredSmith<T, Buf<T>, 2>),
+    Fsp(Fsp<T>),
 }
 
 /// What sits at the start of the caller's buffer: a tag saying the handle is
@@ -574,11 +574,25 @@ pub(crate) fn make_fsp<T: Real>(
     c: &msp_fsp_config_of<T>,
     a: &mut Arena,
 ) -> Result<Scheme<T>, Error> {
+    // the design's two f64 buffers come first; the predictor's after them
+    let (design, pid) = fsp_design(c, |n| a.slice::<f64>(n))?;
+    Ok(Scheme::Fsp(fsp_with(&design, pid, |n| a.slice::<T>(n))?))
+}
+
+/// The filtered Smith predictor in the caller's memory.
+pub(crate) type Fsp<T> = FilteredSmith<T, Buf<T>, 2>;
+
+/// The filtered Smith predictor's design (García et al. (2010) Sec. 3: `Fr`
+/// and `S`, in f64 whatever `T` is, as on the host) in `scratch`, and its
+/// primary.
+pub(crate) fn fsp_design<T: Real>(
+    c: &msp_fsp_config_of<T>,
+    scratch: impl FnMut(usize) -> Result<&'static mut [f64], Error>,
+) -> Result<(FspDesign<&'static mut [f64]>, PidConfig<T>), Error> {
     let (_, d) = dead_time(&c.model, c.ts)?;
     let pid = pid_config(&c.pid, c.ts)?;
     let tf = positive(c.tf, "tf")?.to_f64().unwrap_or(f64::NAN);
     let ts = c.ts.to_f64().unwrap_or(f64::NAN);
-    // the design runs in f64 whatever T is (as on the host)
     let wide = |v: T| v.to_f64().unwrap_or(f64::NAN);
     let m64 = model(&msp_model_of {
         kind: c.model.kind,
@@ -587,8 +601,11 @@ pub(crate) fn make_fsp<T: Real>(
         theta: wide(c.model.theta),
     })?;
     let (gm, _) = m64.discretize::<1>(ts)?;
-    let h = whole(d).ok_or(Error::DelayTooLong("theta"))?;
-    if (d.to_f64().unwrap_or(f64::NAN) - h as f64).abs() > 1e-6 {
+    // the nearest whole number, to a relative 10⁻⁶: a dead time of whole
+    // samples may come out ulps above it (f32: 0.3 s at 0.06 s is
+    // 5.0000005 samples, 1.08 s 18.000002)
+    let h = whole(d.round()).ok_or(Error::DelayTooLong("theta"))?;
+    if (d.to_f64().unwrap_or(f64::NAN) - h as f64).abs() > 1e-6 * (h.max(1) as f64) {
         return Err(Error::Unsupported(
             "the filtered Smith predictor needs a dead time of whole samples",
         ));
@@ -598,14 +615,23 @@ pub(crate) fn make_fsp<T: Real>(
         lead: None,
         biproper: false,
     };
-    // the design's two f64 buffers come first; the predictor's after them
-    let design = design_in(&gm, h, ts, &spec, |n| a.slice::<f64>(n))?;
-    let pred = FspPredictor::new_in(&design, |n| a.slice::<T>(n))?;
-    Ok(Scheme::Fsp(FilteredSmith::with_predictor(
-        pid,
-        pred,
-        ParamList::default(),
-    )?))
+    Ok((design_in(&gm, h, ts, &spec, scratch)?, pid))
+}
+
+/// The filtered Smith predictor of a design, its predictor in `storage`.
+pub(crate) fn fsp_with<T: Real>(
+    design: &FspDesign<&'static mut [f64]>,
+    pid: PidConfig<T>,
+    storage: impl FnMut(usize) -> Result<&'static mut [T], Error>,
+) -> Result<Fsp<T>, Error> {
+    let pred = FspPredictor::new_in(design, storage)?;
+    FilteredSmith::with_predictor(pid, pred, ParamList::default())
+}
+
+/// The values of `T` and the f64 scratch a filtered Smith predictor of
+/// `samples` samples of dead time needs.
+pub(crate) fn fsp_storage(samples: usize) -> Option<(usize, usize)> {
+    storage_of(Kind::Fsp, samples)
 }
 
 /// The handle behind a pointer, when it is one of ours of its type's precision.
