@@ -790,3 +790,78 @@ fn noise_alone_restores_nothing() {
     let sigma = run.noise;
     assert!((0.01..0.03).contains(&sigma), "{sigma}");
 }
+
+/// No sample that is not the process's answer to the control law teaches
+/// the estimator: with the process's gain 30 % up, 3 000 samples in manual
+/// (the operator's output followed, `Operate::apply`) and 3 000 with the
+/// actuator saturated (`update_applied` with what it really took) leave
+/// the estimate exactly as it was; the same 3 000 samples in automatic
+/// move it.
+#[test]
+fn manual_and_saturated_samples_teach_nothing() {
+    use msp::operate::{Operate, Tracking};
+    use msp::Controller;
+    let build = || {
+        let model: msp::ProcessModel<f64> = msp::Fopdt::new(1.0, 4.0, 1.0).unwrap().into();
+        let pi = msp::PidConfig::isa(4.0, 4.0, 0.0, TS);
+        let sp: msp::SmithPredictor<f64, 1, [f64; 64]> =
+            msp::SmithPredictor::from_model(pi, &model, TS).unwrap();
+        let c: msp::adapt::Adaptive<f64, _, _, 16, 64> =
+            msp::adapt::Adaptive::new(sp, (1.0, 4.0, 1.0), adapt_config(), kaya).unwrap();
+        c
+    };
+    let a = (-TS / 4.0f64).exp();
+    // a process state and its input line, shared by the phases
+    struct Plant {
+        x: f64,
+        line: std::collections::VecDeque<f64>,
+    }
+    let step = |p: &mut Plant, u: f64, k: f64| {
+        p.line.push_back(u);
+        let late = p.line.pop_front().unwrap();
+        p.x = a * p.x + (1.0 - a) * k * late;
+    };
+    let r = |i: usize| ((i / 300) % 2) as f64;
+    // learnt on the process as modelled
+    let warm = || {
+        let mut c = build();
+        let mut p = Plant {
+            x: 0.0,
+            line: vec![0.0; 10].into(),
+        };
+        for i in 0..3000 {
+            let u = c.update(r(i), p.x);
+            step(&mut p, u, 1.0);
+        }
+        (c, p)
+    };
+    // the model estimated (the evidence, from the costs, moves with any data)
+    let model = |c: &msp::adapt::Estimate<f64>| (c.k, c.tau, c.theta, c.d);
+    let (mut manual, mut pm) = warm();
+    let before = model(&manual.estimate().unwrap());
+    for i in 3000..6000 {
+        manual.update(r(i), pm.x);
+        // the operator's output, moving as a set point would
+        let u = 2.0 * r(i) - 0.5;
+        manual.apply(u, Tracking::Full);
+        step(&mut pm, u, 1.3);
+    }
+    assert_eq!(model(&manual.estimate().unwrap()), before);
+    let (mut saturated, mut ps) = warm();
+    let mut took = 0.0;
+    for i in 3000..6000 {
+        let u = saturated.update_applied(r(i), ps.x, Some(took));
+        // the actuator's range ends near where the loop rests: it saturates
+        // at every move
+        took = u.clamp(-0.05, 0.05);
+        step(&mut ps, took, 1.3);
+    }
+    assert_eq!(model(&saturated.estimate().unwrap()), before);
+    let (mut auto, mut pa) = warm();
+    for i in 3000..6000 {
+        let u = auto.update(r(i), pa.x);
+        step(&mut pa, u, 1.3);
+    }
+    let moved = model(&auto.estimate().unwrap());
+    assert!((moved.0 - 1.3).abs() < (before.0 - 1.3).abs(), "{moved:?}");
+}

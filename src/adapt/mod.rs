@@ -897,6 +897,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                         }
                     }
                 }
+                // the second projection can carry the first coefficient back
+                // across zero along its direction: then it is cut to zero
+                for t in next.iter_mut().skip(1) {
+                    if sign * *t < T::zero() {
+                        *t = T::zero();
+                    }
+                }
             }
             let [mut a, b0, b1] = next;
             if !cfg.integrating {
@@ -1533,6 +1540,105 @@ mod tests {
                 let want: Vec<f64> = newest_first.iter().skip(j).copied().collect();
                 assert_eq!(run, want, "after {} inputs, from {j}", k + 1);
             }
+        }
+    }
+
+    /// `n` samples `(y measured, u applied)` of `K e^{−d·Ts}/(τs + 1)`
+    /// sampled exactly at `ts` (a whole dead time) under a PRBS-like input
+    /// held 7 samples, from rest.
+    fn fopdt_data(k: f64, tau: f64, d: usize, ts: f64, n: usize) -> Vec<(f64, f64)> {
+        let a = (-ts / tau).exp();
+        let (mut y, mut u, mut seed) = (0.0, 0.0, 7u64);
+        let mut us = vec![0.0; n];
+        let mut out = Vec::with_capacity(n);
+        for j in 0..n {
+            if j % 7 == 0 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                u = if seed >> 63 == 1 { 1.0 } else { -1.0 };
+            }
+            out.push((y, u));
+            us[j] = u;
+            let late = if j >= d { us[j - d] } else { 0.0 };
+            y = a * y + k * (1.0 - a) * late;
+        }
+        out
+    }
+
+    /// A sample marked not the process's own response (saturated, manual,
+    /// tracking, faulted: `ok` false) teaches nothing: after a process was
+    /// learnt, 5 000 samples of another (its gain of the other sign, a
+    /// tenth of the lag, another dead time) leave every candidate's
+    /// coefficients as they were; the same samples marked ok do move them.
+    #[test]
+    fn samples_not_ok_teach_nothing() {
+        let learnt = || {
+            let mut est: Estimator<f64, 16, 40> =
+                Estimator::new(EstimatorConfig::new(0.1, 2)).expect_ok();
+            for (y, u) in fopdt_data(2.0, 4.0, 10, 0.1, 6000) {
+                est.update(y, u, true);
+            }
+            est
+        };
+        let mut est = learnt();
+        let before: Vec<[f64; 3]> = est.bank.iter().map(|c| c.theta).collect();
+        let e = est.estimate().expect_ok();
+        assert!(
+            (e.k - 2.0).abs() < 0.02 && (e.theta - 1.0).abs() < 0.01,
+            "{e:?}"
+        );
+        let other = fopdt_data(-1.0, 0.4, 5, 0.1, 5000);
+        for &(y, u) in &other {
+            est.update(y, u, false);
+        }
+        let after: Vec<[f64; 3]> = est.bank.iter().map(|c| c.theta).collect();
+        assert_eq!(before, after);
+        let mut taught = learnt();
+        for &(y, u) in &other {
+            taught.update(y, u, true);
+        }
+        let moved: Vec<[f64; 3]> = taught.bank.iter().map(|c| c.theta).collect();
+        assert_ne!(before, moved);
+    }
+
+    /// The estimates stay plausible whatever the data say: started from
+    /// `e^{−1s}/(4s + 1)` (the gain's sign known, the lag within a factor
+    /// [`SPAN`]), data of a process with the gain of the other sign and of
+    /// one far faster (`τ = 0.05 s`, below `4/20`) or far slower (`τ =
+    /// 400 s`) keep every candidate's `b0`, `b1` of the known sign (the
+    /// fraction of the dead time in [0, 1]; after the two projections along
+    /// the covariance a coefficient carried back across zero is cut to it)
+    /// and `a` in its range, at every sample.
+    #[test]
+    fn estimates_are_projected_onto_plausible_models() {
+        for (k, tau) in [(-1.0, 4.0), (1.0, 0.05), (1.0, 400.0), (-2.0, 0.05)] {
+            let mut est: Estimator<f64, 16, 40> =
+                Estimator::new(EstimatorConfig::new(0.1, 2)).expect_ok();
+            est.start_from(1.0, 4.0, 1.0).expect_ok();
+            let (lo, hi) = est.a_range;
+            assert!(0.0 < lo && lo < hi && hi < 1.0);
+            let (mut lowest_a, mut highest_a) = (f64::INFINITY, 0.0f64);
+            for (y, u) in fopdt_data(k, tau, 10, 0.1, 4000) {
+                est.update(y, u, true);
+                for c in &est.bank {
+                    let [a, b0, b1] = c.theta;
+                    assert!(b0 >= 0.0 && b1 >= 0.0, "k {k}, tau {tau}: {:?}", c.theta);
+                    assert!((lo..=hi).contains(&a), "k {k}, tau {tau}: {a}");
+                    (lowest_a, highest_a) = (lowest_a.min(a), highest_a.max(a));
+                }
+                if let Some(e) = est.estimate() {
+                    assert!(e.k > 0.0 && e.tau > 0.0, "{e:?}");
+                    let f = e.theta / 0.1 - e.d as f64;
+                    assert!((-1e-9..=1.0 + 1e-9).contains(&f), "{e:?}");
+                }
+            }
+            // the fast process's data pushed `a` against its lower bound
+            // (the slow one's move it up only slowly: within the range)
+            if tau < 1.0 {
+                assert_eq!(lowest_a, lo);
+            }
+            assert!(highest_a <= hi);
         }
     }
 
