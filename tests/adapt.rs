@@ -37,6 +37,18 @@ fn scenario(plant: &str, events: &[&str], noise: f64, seed: u64, adapt: bool) ->
     }
 }
 
+/// The report's adaptation log names every change the controller logged:
+/// at most one change per sample (`adapt_changes` grows by one at a time),
+/// as many entries as changes.
+fn log_is_whole(out: &RunOutput) {
+    let count = signal(out, "adapt_changes");
+    assert!(count.windows(2).all(|w| w[1] - w[0] <= 1.0));
+    assert_eq!(
+        out.report().adaptation.len() as f64,
+        count.last().copied().unwrap_or(0.0)
+    );
+}
+
 /// IAE of the set-point error from `from` seconds on.
 fn iae_after(out: &RunOutput, from: f64) -> f64 {
     let r = &out.result;
@@ -215,6 +227,7 @@ fn converges(plant: &str, drift: &str, after: &str, (k, tau, theta): (f64, f64, 
                 sc.run().unwrap()
             };
             let adaptive = run(plant, &[drift], true);
+            log_is_whole(&adaptive);
             let truth = run(after, &[], false);
             let model = (
                 last(&adaptive, "k_model"),
@@ -489,6 +502,7 @@ fn the_alarm_clears_when_the_adaptation_has_caught_up() {
     sc.duration = Some(1800.0);
     sc.setpoint = square(1800.0);
     let out = sc.run().unwrap();
+    log_is_whole(&out);
     let kinds: Vec<_> = out.report().adaptation.iter().map(|c| c.kind).collect();
     use msp::adapt::ChangeKind::{Alarm, Applied, Cleared};
     let alarm = kinds.iter().position(|k| *k == Alarm).expect("an alarm");
@@ -530,6 +544,7 @@ fn every_scheme_with_a_model_adapts() {
         sc.duration = Some(1200.0);
         sc.setpoint = square(1200.0);
         let out = sc.run().unwrap();
+        log_is_whole(&out);
         let model = (
             last(&out, "k_model"),
             last(&out, "tau_model"),

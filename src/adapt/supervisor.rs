@@ -459,18 +459,21 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.pending = Some(y);
         self.samples = self.samples.saturating_add(1);
         self.since = self.since.saturating_add(1);
+        let logged = self.logged;
         self.supervise(r - y);
         let u = self.inner.update(r, y);
         self.last_u = u;
         self.ok = u.is_finite() && !self.inner.fault();
-        self.warm(r, y, u);
+        self.warm(r, y, u, self.logged != logged);
         u
     }
 
     /// The rebuilt scheme's sample beside the one in use: it computes on
     /// the same measurement and follows the output the plant receives; when
-    /// its time has come, it takes over.
-    fn warm(&mut self, r: T, y: T, u: T) {
+    /// its time has come, it takes over (a sample later when this sample
+    /// already logged a change: one change per sample, so that the
+    /// recorded signals `adapt_changes` and `adapt_kind` name every one).
+    fn warm(&mut self, r: T, y: T, u: T, logged: bool) {
         let Some(sh) = self.shadow.as_mut() else {
             return;
         };
@@ -478,6 +481,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         sh.scheme.apply(u, Tracking::Full);
         sh.left = sh.left.saturating_sub(1);
         if sh.left > 0 {
+            return;
+        }
+        if logged {
+            sh.left = 1;
             return;
         }
         if let Some(sh) = self.shadow.take() {
@@ -682,7 +689,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if self.frozen {
             return;
         }
+        // one change per sample: an alarm raised or cleared now defers the
+        // rest to the next sample
+        let logged = self.logged;
         self.watch_model();
+        if self.logged != logged {
+            return;
+        }
         if !self.cfg.apply || self.samples < self.rest_until || self.shadow.is_some() {
             return;
         }
