@@ -29,6 +29,27 @@ static unsigned char memory[1 << 16];
 static unsigned char adapt_memory[1 << 15];
 static unsigned char estimator_memory[1 << 14];
 
+/* The adaptive controller `ad` on e^-1s/(4s+1) sampled at 0.1 s, whose lag
+   doubles at sample 1500, for `samples` samples, the set point alternating
+   every 300: the largest error at the end of a half period after sample
+   6000. */
+static float lag_doubles(msp_adaptive *ad, int samples) {
+    const float a = expf(-0.1f / 4.0f), a2 = expf(-0.1f / 8.0f);
+    float y = 0.0f, line[10] = {0}, worst = 0.0f;
+    for (int k = 0; k < samples; k++) {
+        float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
+        float u = msp_adaptive_update(ad, r, y);
+        float late = line[k % 10];
+        line[k % 10] = u;
+        float p = k < 1500 ? a : a2;
+        y = p * y + (1.0f - p) * late;
+        if (k > 6000 && k % 300 == 299 && fabsf(y - r) > worst) {
+            worst = fabsf(y - r);
+        }
+    }
+    return worst;
+}
+
 int main(void) {
     msp_status s;
     msp_controller *c = NULL;
@@ -372,16 +393,7 @@ int main(void) {
         EXPECT(msp_adaptive_read(ad, NULL) == MSP_NULL_POINTER);
         /* a controller handle is not an adaptive one */
         EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
-        const float a = expf(-0.1f / 4.0f), a2 = expf(-0.1f / 8.0f);
-        float y = 0.0f, line[10] = {0};
-        for (int k = 0; k < 9000; k++) {
-            float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
-            float u = msp_adaptive_update(ad, r, y);
-            float late = line[k % 10];
-            line[k % 10] = u;
-            float p = k < 1500 ? a : a2;
-            y = p * y + (1.0f - p) * late;
-        }
+        lag_doubles(ad, 9000);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
         EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
                && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);
@@ -395,9 +407,10 @@ int main(void) {
         EXPECT(msp_estimator_init(ebuf, msp_estimator_size() / 2, &ec, &est) == MSP_BUFFER_TOO_SMALL);
         EXPECT(msp_estimator_init(ebuf, msp_estimator_size(), &ec, &est) == MSP_OK);
         EXPECT(msp_estimator_estimate(est, &e) == MSP_OK && isnan(e.k));
+        const float a = expf(-0.1f / 4.0f);
         const float b0 = 2.0f * (1.0f - sqrtf(a)), b1 = 2.0f * (sqrtf(a) - a);
         float us[6000];
-        y = 0.0f;
+        float y = 0.0f;
         for (int k = 0; k < 6000; k++) {
             float u = (k / 150) % 2 ? 1.0f : -1.0f;
             EXPECT(msp_estimator_update(est, y, u, 1) == MSP_OK);
@@ -511,19 +524,7 @@ int main(void) {
         unsigned char *abuf = adapt_memory + 7;
         EXPECT(msp_adaptive_fsp_init(abuf, need / 2, &afc, &ad) == MSP_BUFFER_TOO_SMALL);
         EXPECT(msp_adaptive_fsp_init(abuf, need, &afc, &ad) == MSP_OK);
-        const float a = expf(-0.1f / 4.0f), a2 = expf(-0.1f / 8.0f);
-        float y = 0.0f, line[10] = {0}, worst = 0.0f;
-        for (int k = 0; k < 12000; k++) {
-            float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
-            float u = msp_adaptive_update(ad, r, y);
-            float late = line[k % 10];
-            line[k % 10] = u;
-            float p = k < 1500 ? a : a2;
-            y = p * y + (1.0f - p) * late;
-            if (k > 6000 && k % 300 == 299 && fabsf(y - r) > worst) {
-                worst = fabsf(y - r);
-            }
-        }
+        float worst = lag_doubles(ad, 12000);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
         EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
                && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);

@@ -1255,18 +1255,12 @@ mod tests {
         let mut u = 0.0;
         for j in 0..n {
             if j % 7 == 0 {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                u = if seed >> 63 == 1 { 1.0 } else { -1.0 };
+                u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
             }
             let load = if j > n / 2 { 0.3 } else { 0.0 };
             let (d, b0, b1) = parts(if j < n / 2 { theta.0 } else { theta.1 });
             // y[j] measured; u applied over [j, j+1)
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let e = noise * (((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
+            let e = noise * ((((lcg(&mut seed)) >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
             est.update(y + e, u, true);
             each(j, &est);
             u_hist[j % 64] = u;
@@ -1543,6 +1537,15 @@ mod tests {
         }
     }
 
+    /// The next state of Knuth's MMIX linear congruential generator (the
+    /// test inputs' and noise's fixed stream).
+    fn lcg(seed: &mut u64) -> u64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *seed
+    }
+
     /// `n` samples `(y measured, u applied)` of `K e^{−d·Ts}/(τs + 1)`
     /// sampled exactly at `ts` (a whole dead time) under a PRBS-like input
     /// held 7 samples, from rest.
@@ -1553,10 +1556,7 @@ mod tests {
         let mut out = Vec::with_capacity(n);
         for j in 0..n {
             if j % 7 == 0 {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                u = if seed >> 63 == 1 { 1.0 } else { -1.0 };
+                u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
             }
             out.push((y, u));
             us[j] = u;

@@ -588,10 +588,14 @@ fn adapt_default<T: Real>(
 }
 
 /// A scheme's configuration that adapts in the caller's memory.
-trait Scheme<T: Precision>: Sized {
+trait Scheme<T: Precision>: Sized + Copy {
     /// The dead-time lines it needs (two: a redesigned scheme warms up
     /// beside the one in use).
     const LOTS: usize;
+    /// The scheme's own configuration.
+    type Inner: Copy;
+    /// The defaults around the scheme's configuration.
+    fn around(inner: Self::Inner) -> Result<Self, Error>;
     fn model(&self) -> &msp_model_of<T>;
     fn ts(&self) -> T;
     fn adapt(&self) -> &msp_adapt_config_of<T>;
@@ -624,6 +628,11 @@ trait Scheme<T: Precision>: Sized {
 
 impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
     const LOTS: usize = 1;
+    type Inner = msp_smith_config_of<T>;
+    fn around(smith: Self::Inner) -> Result<Self, Error> {
+        let adapt = scheme_default(&smith.model, smith.ts, smith_samples(&smith))?;
+        Ok(Self { smith, adapt })
+    }
     fn model(&self) -> &msp_model_of<T> {
         &self.smith.model
     }
@@ -649,6 +658,12 @@ impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
 
 impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
     const LOTS: usize = 2;
+    type Inner = msp_karan_dey_config_of<T>;
+    fn around(karan_dey: Self::Inner) -> Result<Self, Error> {
+        let m = &karan_dey.model;
+        let adapt = scheme_default(m, karan_dey.ts, karan_dey_samples(&karan_dey))?;
+        Ok(Self { karan_dey, adapt })
+    }
     fn model(&self) -> &msp_model_of<T> {
         &self.karan_dey.model
     }
@@ -683,6 +698,11 @@ impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
 
 impl<T: Precision> Scheme<T> for msp_adaptive_fsp_config_of<T> {
     const LOTS: usize = 2;
+    type Inner = msp_fsp_config_of<T>;
+    fn around(fsp: Self::Inner) -> Result<Self, Error> {
+        let adapt = scheme_default(&fsp.model, fsp.ts, fsp_samples(&fsp))?;
+        Ok(Self { fsp, adapt })
+    }
     fn model(&self) -> &msp_model_of<T> {
         &self.fsp.model
     }
@@ -748,11 +768,27 @@ fn scheme_default<T: Real>(
     adapt_default(m, d?, ts)
 }
 
+/// `msp_adaptive*_default_config`.
+///
+/// # Safety
+/// `inner` and `config` are null or valid.
+unsafe fn default_config<T: Precision, S: Scheme<T>>(
+    inner: *const S::Inner,
+    config: *mut S,
+) -> msp_status {
+    // SAFETY: forwarded
+    let Some(i) = (unsafe { read(inner) }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    // SAFETY: forwarded
+    unsafe { tuned(config, S::around(i)) }
+}
+
 /// `msp_adaptive*_size`.
 ///
 /// # Safety
 /// `config` and `status` are null or valid.
-unsafe fn size_of_config<T: Precision, S: Scheme<T> + Copy>(
+unsafe fn size_of_config<T: Precision, S: Scheme<T>>(
     config: *const S,
     status: *mut msp_status,
 ) -> usize {
@@ -797,7 +833,7 @@ fn adaptive_size<T: Precision, S: Scheme<T>>(c: &S) -> Result<usize, Error> {
 /// # Safety
 /// `buf` is null or `len` writable bytes that stay in place; `config` and
 /// `out` null or valid.
-unsafe fn adaptive_init<H: Tagged, S: Scheme<H::T> + Copy>(
+unsafe fn adaptive_init<H: Tagged, S: Scheme<H::T>>(
     buf: *mut core::ffi::c_void,
     len: usize,
     config: *const S,
@@ -1021,13 +1057,7 @@ twins! {
         config: *mut msp_adaptive_config | *mut msp_adaptive_config_f64,
     ) -> msp_status {
         // SAFETY: forwarded
-        let Some(s) = (unsafe { read(smith) }) else {
-            return msp_status::MSP_NULL_POINTER;
-        };
-        let c = scheme_default(&s.model, s.ts, smith_samples(&s))
-            .map(|adapt| msp_adaptive_config_of { smith: s, adapt });
-        // SAFETY: forwarded
-        unsafe { tuned(config, c) }
+        unsafe { default_config(smith, config) }
     }
 
     /// The defaults of an adaptive Karan–Dey predictor around `karan_dey`
@@ -1041,13 +1071,7 @@ twins! {
         config: *mut msp_adaptive_karan_dey_config | *mut msp_adaptive_karan_dey_config_f64,
     ) -> msp_status {
         // SAFETY: forwarded
-        let Some(s) = (unsafe { read(karan_dey) }) else {
-            return msp_status::MSP_NULL_POINTER;
-        };
-        let c = scheme_default(&s.model, s.ts, karan_dey_samples(&s))
-            .map(|adapt| msp_adaptive_karan_dey_config_of { karan_dey: s, adapt });
-        // SAFETY: forwarded
-        unsafe { tuned(config, c) }
+        unsafe { default_config(karan_dey, config) }
     }
 
     /// The defaults of an adaptive filtered Smith predictor around `fsp`
@@ -1061,13 +1085,7 @@ twins! {
         config: *mut msp_adaptive_fsp_config | *mut msp_adaptive_fsp_config_f64,
     ) -> msp_status {
         // SAFETY: forwarded
-        let Some(s) = (unsafe { read(fsp) }) else {
-            return msp_status::MSP_NULL_POINTER;
-        };
-        let c = scheme_default(&s.model, s.ts, fsp_samples(&s))
-            .map(|adapt| msp_adaptive_fsp_config_of { fsp: s, adapt });
-        // SAFETY: forwarded
-        unsafe { tuned(config, c) }
+        unsafe { default_config(fsp, config) }
     }
 
     /// The bytes `msp_adaptive_init` needs for `config` (0 and `*status`
