@@ -883,27 +883,31 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 // coefficient of the wrong sign goes to zero along the
                 // covariance's direction (the projection in the metric of
                 // P⁻¹: the correlated coefficients move with it; Goodwin &
-                // Sin (1984) Sec. 3.7)
-                for i in [1, 2] {
-                    let x = next.get(i).copied().unwrap_or(T::zero());
-                    let col = c.p.get(i).copied().unwrap_or([T::zero(); 3]);
-                    let pii = col.get(i).copied().unwrap_or(T::zero());
-                    if sign * x < T::zero() && pii > T::zero() {
-                        for (t, pj) in next.iter_mut().zip(col) {
-                            *t = *t - pj * x / pii;
-                        }
-                        if let Some(t) = next.get_mut(i) {
-                            *t = T::zero();
-                        }
-                    }
+                // Sin (1984) Sec. 3.7): b0 along P's second column, b1
+                // along its third. The second can carry b0 back across
+                // zero, and a coefficient without a direction stays: what
+                // is left of the wrong sign is cut to zero.
+                let [[_, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+                let [mut t0, mut t1, mut t2] = next;
+                if sign * t1 < T::zero() && p11 > T::zero() {
+                    let along = t1 / p11;
+                    t0 = t0 - p01 * along;
+                    t2 = t2 - p12 * along;
+                    t1 = T::zero();
                 }
-                // the second projection can carry the first coefficient back
-                // across zero along its direction: then it is cut to zero
-                for t in next.iter_mut().skip(1) {
-                    if sign * *t < T::zero() {
-                        *t = T::zero();
-                    }
+                if sign * t2 < T::zero() && p22 > T::zero() {
+                    let along = t2 / p22;
+                    t0 = t0 - p02 * along;
+                    t1 = t1 - p12 * along;
+                    t2 = T::zero();
                 }
+                if sign * t1 < T::zero() {
+                    t1 = T::zero();
+                }
+                if sign * t2 < T::zero() {
+                    t2 = T::zero();
+                }
+                next = [t0, t1, t2];
             }
             let [mut a, b0, b1] = next;
             if !cfg.integrating {
