@@ -546,6 +546,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
                     .retune
                     .rebuild(m.k, m.tau, m.theta)
                     .ok_or(Error::Unsupported(why))?;
+                // the model in use is the one built: its dead time as the
+                // scheme runs it (a filtered Smith predictor's is rounded
+                // to a sample)
+                let m = Model {
+                    theta: scheme.dead_time().map_or(m.theta, |d| d * ts),
+                    ..m
+                };
                 // its dead time and four time constants (an integrating
                 // model's: four dead times) fill its lines and settle it
                 let span = if m.tau.is_finite() { m.tau } else { m.theta };
