@@ -1264,7 +1264,7 @@ mod tests {
             let load = if j > n / 2 { 0.3 } else { 0.0 };
             let (d, b0, b1) = parts(if j < n / 2 { theta.0 } else { theta.1 });
             // y[j] measured; u applied over [j, j+1)
-            let e = noise * ((((lcg(&mut seed)) >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
+            let e = noise * (uniform(&mut seed) - 0.5);
             est.update(y + e, u, true);
             each(j, &est);
             u_hist[j % 64] = u;
@@ -1487,12 +1487,7 @@ mod tests {
     fn the_running_median_rests_at_the_median() {
         let mut m = Median::<f64>::new();
         let mut seed = 7u64;
-        let mut uniform = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = || uniform(&mut seed);
         let q = 1.01f64.ln() / (1.01f64.ln() - 0.99f64.ln());
         // it wanders by about 0.005/√(2·0.01) ≈ 0.035 (a step of 0.005
         // against a pull of 1 % of the distance per sample): its mean over
@@ -1548,6 +1543,11 @@ mod tests {
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         *seed
+    }
+
+    /// A value of the stream uniform on [0, 1) (its top 53 bits).
+    fn uniform(seed: &mut u64) -> f64 {
+        (lcg(seed) >> 11) as f64 / (1u64 << 53) as f64
     }
 
     /// `n` samples `(y measured, u applied)` of `K e^{−d·Ts}/(τs + 1)`
