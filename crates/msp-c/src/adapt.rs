@@ -225,6 +225,35 @@ struct Lot {
     bytes: usize,
 }
 
+/// The two lots a redesigned scheme's lines alternate between: the one in
+/// use holds one, its successor is built in the other.
+#[derive(Debug, Clone, Copy)]
+struct Lots {
+    lots: (Lot, Lot),
+    /// Whether the scheme in use holds the second lot.
+    second: bool,
+}
+
+impl Lots {
+    /// An arena over the lot no scheme alive holds: the supervisor builds
+    /// only while none it built before is warming up
+    /// (`Redesign::rebuild`), so the one in use, on the other lot, is the
+    /// only one.
+    fn free(&self) -> Arena {
+        let lot = if self.second {
+            self.lots.0
+        } else {
+            self.lots.1
+        };
+        Arena::new(lot.at, lot.bytes)
+    }
+
+    /// The scheme built last took over (`Redesign::took_over`).
+    fn swap(&mut self) {
+        self.second = !self.second;
+    }
+}
+
 /// The Karan–Dey predictor designed anew for a model: the thesis's tuning
 /// (Bag (2022) Eqs. 4.30–4.44, `msp_tune_karan_dey_ipdt`) at `lambda` (0:
 /// its default), the actuator's limits kept, its line in whichever of the
@@ -233,9 +262,7 @@ struct KaranDeyRedesign<T> {
     ts: T,
     lambda: T,
     limits: (T, T),
-    lots: (Lot, Lot),
-    /// Whether the predictor in use holds the second lot.
-    second: bool,
+    lots: Lots,
 }
 
 impl<T: Real> Redesign<T, Kd<T>> for KaranDeyRedesign<T> {
@@ -245,19 +272,11 @@ impl<T: Real> Redesign<T, Kd<T>> for KaranDeyRedesign<T> {
         }
         let mut c = karan_dey_ipdt(k, theta, self.ts, self.lambda).ok()?;
         (c.u_min, c.u_max) = self.limits;
-        let lot = if self.second {
-            self.lots.0
-        } else {
-            self.lots.1
-        };
-        // the lot no scheme alive holds: the supervisor builds only while
-        // none it built before is warming up (`Redesign::rebuild`), so the
-        // one in use, on the other lot, is the only one
-        karan_dey_in(&c, &mut Arena::new(lot.at, lot.bytes)).ok()
+        karan_dey_in(&c, &mut self.lots.free()).ok()
     }
 
     fn took_over(&mut self) {
-        self.second = !self.second;
+        self.lots.swap();
     }
 }
 
@@ -272,9 +291,8 @@ struct FspRedesign<T> {
     lambda: T,
     tf: T,
     limits: (T, T),
-    lots: (Lot, Lot),
+    lots: Lots,
     scratch: Lot,
-    second: bool,
 }
 
 impl<T: Real> Redesign<T, Fsp<T>> for FspRedesign<T> {
@@ -311,21 +329,16 @@ impl<T: Real> Redesign<T, Fsp<T>> for FspRedesign<T> {
             },
             tf: self.tf,
         };
-        let lot = if self.second {
-            self.lots.0
-        } else {
-            self.lots.1
-        };
         // the scratch holds no scheme's state (the design is copied into
-        // the predictor); the lot, as the Karan–Dey predictor's
+        // the predictor)
         let mut scratch = Arena::new(self.scratch.at, self.scratch.bytes);
         let (design, pid) = fsp_design(&c, |n| scratch.slice::<f64>(n)).ok()?;
-        let mut a = Arena::new(lot.at, lot.bytes);
+        let mut a = self.lots.free();
         fsp_with(&design, pid, |n| a.slice::<T>(n)).ok()
     }
 
     fn took_over(&mut self) {
-        self.second = !self.second;
+        self.lots.swap();
     }
 }
 
@@ -689,8 +702,10 @@ impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
             ts: c.ts,
             lambda: self.adapt.lambda,
             limits: (c.u_min, c.u_max),
-            lots,
-            second: false,
+            lots: Lots {
+                lots,
+                second: false,
+            },
         };
         Ok(Adapting::KaranDey(Adaptive::new(kd, m, cfg, redesign)?))
     }
@@ -744,9 +759,11 @@ impl<T: Precision> Scheme<T> for msp_adaptive_fsp_config_of<T> {
             lambda: self.adapt.lambda,
             tf: c.tf,
             limits: (c.pid.u_min, c.pid.u_max),
-            lots,
+            lots: Lots {
+                lots,
+                second: false,
+            },
             scratch,
-            second: false,
         };
         Ok(Adapting::Fsp(Adaptive::new(fsp, m, cfg, redesign)?))
     }
