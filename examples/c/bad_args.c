@@ -528,6 +528,8 @@ int main(void) {
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
         EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
                && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);
+        /* the model read back is the predictor's: a dead time of whole samples */
+        EXPECT(fabsf(st_.theta / 0.1f - roundf(st_.theta / 0.1f)) < 1e-4f);
         EXPECT(worst < 0.01f);
         printf("adaptive fsp: model k %.4g, tau %.4g s, theta %.4g s after %u changes; settled "
                "error after 600 s at most %.3g\n",

@@ -79,6 +79,15 @@ pub trait Redesign<T, C> {
     /// The scheme it built last has taken over: the one it replaced is
     /// gone (its memory free for the next [`Redesign::rebuild`]).
     fn took_over(&mut self) {}
+
+    /// The dead time (s) of the scheme it built last, where that scheme
+    /// runs another than the one asked for and cannot say so itself
+    /// ([`Operate::dead_time`] is `None` for a scheme whose dead time is
+    /// fixed when it is built): the model in use, its log and its verdict
+    /// carry the dead time the loop runs.
+    fn built_dead_time(&self) -> Option<T> {
+        None
+    }
 }
 
 impl<T, C, F: FnMut(T, T, T) -> Option<[T; 3]>> Redesign<T, C> for F {
@@ -548,9 +557,14 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
                     .ok_or(Error::Unsupported(why))?;
                 // the model in use is the one built: its dead time as the
                 // scheme runs it (a filtered Smith predictor's is rounded
-                // to a sample)
+                // to a sample; one without a run-time dead time says so
+                // through its redesign)
                 let m = Model {
-                    theta: scheme.dead_time().map_or(m.theta, |d| d * ts),
+                    theta: scheme
+                        .dead_time()
+                        .map(|d| d * ts)
+                        .or_else(|| self.retune.built_dead_time())
+                        .unwrap_or(m.theta),
                     ..m
                 };
                 // its dead time and four time constants (an integrating

@@ -403,8 +403,8 @@ typedef msp_fsp_config_float msp_fsp_config;
 // sample (García et al. (2010) Sec. 3; the primary by
 // `msp::tuning::fsp_pi`, `λ = θ` by default, the filter's `tf` kept)
 // and warmed up beside the one in use before it takes over, and how
-// it adapts. The model read back is the estimate applied; the
-// predictor runs its dead time rounded.
+// it adapts. The model read back is the one the predictor runs: the
+// estimate applied, its dead time rounded.
 typedef struct {
   msp_fsp_config_float fsp;
   msp_adapt_config_of_f32 adapt;
@@ -433,8 +433,8 @@ typedef msp_fsp_config_double msp_fsp_config_f64;
 // sample (García et al. (2010) Sec. 3; the primary by
 // `msp::tuning::fsp_pi`, `λ = θ` by default, the filter's `tf` kept)
 // and warmed up beside the one in use before it takes over, and how
-// it adapts. The model read back is the estimate applied; the
-// predictor runs its dead time rounded.
+// it adapts. The model read back is the one the predictor runs: the
+// estimate applied, its dead time rounded.
 typedef struct {
   msp_fsp_config_double fsp;
   msp_adapt_config_of_f64 adapt;

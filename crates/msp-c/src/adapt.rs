@@ -119,8 +119,8 @@ c_config! {
     /// sample (García et al. (2010) Sec. 3; the primary by
     /// `msp::tuning::fsp_pi`, `λ = θ` by default, the filter's `tf` kept)
     /// and warmed up beside the one in use before it takes over, and how
-    /// it adapts. The model read back is the estimate applied; the
-    /// predictor runs its dead time rounded.
+    /// it adapts. The model read back is the one the predictor runs: the
+    /// estimate applied, its dead time rounded.
     msp_adaptive_fsp_config_of: msp_adaptive_fsp_config, msp_adaptive_fsp_config_f64 {
         fsp: msp_fsp_config_of<T>,
         adapt: msp_adapt_config_of<T>,
@@ -293,12 +293,15 @@ struct FspRedesign<T> {
     limits: (T, T),
     lots: Lots,
     scratch: Lot,
+    /// The rounded dead time of the predictor built last (s).
+    built: Option<T>,
 }
 
 impl<T: Real> Redesign<T, Fsp<T>> for FspRedesign<T> {
     fn rebuild(&mut self, k: T, tau: T, theta: T) -> Option<Fsp<T>> {
         let ts = self.ts;
         let theta = (theta / ts).round().max(T::one()) * ts;
+        self.built = Some(theta);
         let (m, model): (ProcessModel<T>, _) = if tau.is_infinite() {
             let m = (k, T::zero(), msp_model_kind::MSP_IPDT);
             (Ipdt::new(k, theta).ok()?.into(), m)
@@ -339,6 +342,10 @@ impl<T: Real> Redesign<T, Fsp<T>> for FspRedesign<T> {
 
     fn took_over(&mut self) {
         self.lots.swap();
+    }
+
+    fn built_dead_time(&self) -> Option<T> {
+        self.built
     }
 }
 
@@ -764,6 +771,7 @@ impl<T: Precision> Scheme<T> for msp_adaptive_fsp_config_of<T> {
                 second: false,
             },
             scratch,
+            built: None,
         };
         Ok(Adapting::Fsp(Adaptive::new(fsp, m, cfg, redesign)?))
     }
