@@ -245,7 +245,7 @@ fn per_call<C>(
 /// A loop built by `loops` run through [`per_call`]: the controller's RAM,
 /// its outputs at the checkpoints and the mean SysTick per call.
 fn measured<C>(
-    (mut c, mut plant): (C, loops::Plant<f32>),
+    (c, plant): (C, loops::Plant<f32>),
     update: impl FnMut(&mut C, f32, f32) -> f32,
 ) -> (usize, [f32; loops::CHECKS], f64) {
     let (ram, y, t, _) = measured_max((c, plant), update);

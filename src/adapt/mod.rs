@@ -105,12 +105,13 @@ impl<T: Real> Median<T> {
 
 /// The last `H` input differences `Δu`, newest first ([`History::from`]`(0)`).
 ///
-/// Stored newest-first in memory from `at` on (wrapping once), so that the
-/// run of differences the bank reads, `Δu[k−d_min]`, `Δu[k−d_min−1]`, …,
-/// is at most two contiguous slices ([`History::from`]).
+/// A ring stored twice over (each difference written at `at` in both
+/// halves), newest-first from `at` on: every run the bank reads,
+/// `Δu[k−d_min]`, `Δu[k−d_min−1]`, …, is one contiguous slice, which its
+/// loop walks without a wrap to test per candidate.
 #[derive(Debug, Clone)]
 pub(crate) struct History<T, const H: usize> {
-    du: [T; H],
+    du: [[T; H]; 2],
     at: usize,
     last_u: T,
     /// The prefilter's pole `c` and its last output (`Δu` through `1/(1 − c·z⁻¹)`).
@@ -130,7 +131,7 @@ pub(crate) struct History<T, const H: usize> {
 impl<T: Real, const H: usize> History<T, H> {
     pub(crate) fn new(pole: T, gate: T, ratio: T) -> Self {
         History {
-            du: [T::zero(); H],
+            du: [[T::zero(); H]; 2],
             at: 0,
             last_u: T::zero(),
             pole,
@@ -160,8 +161,10 @@ impl<T: Real, const H: usize> History<T, H> {
         } else {
             self.at - 1
         };
-        if let Some(x) = self.du.get_mut(self.at) {
-            *x = du;
+        for half in &mut self.du {
+            if let Some(x) = half.get_mut(self.at) {
+                *x = du;
+            }
         }
         self.last_u = u;
     }
@@ -170,38 +173,18 @@ impl<T: Real, const H: usize> History<T, H> {
     /// (`Δu[k−d]`, `Δu[k−d−1]` for a dead time `d = j`; 0 beyond the
     /// history).
     pub(crate) fn pair(&self, j: usize) -> (T, T) {
-        let mut u = self.from(j);
-        let u0 = u.next().unwrap_or(T::zero());
-        (u0, u.next().unwrap_or(T::zero()))
+        let u = self.from(j);
+        let at = |i: usize| u.get(i).copied().unwrap_or(T::zero());
+        (at(0), at(1))
     }
 
     /// The differences from `j` entries before the newest on, each older
-    /// than the one before, to the end of the history (`None` after it:
-    /// read as 0).
-    pub(crate) fn from(
-        &self,
-        j: usize,
-    ) -> core::iter::Chain<
-        core::iter::Copied<core::slice::Iter<'_, T>>,
-        core::iter::Copied<core::slice::Iter<'_, T>>,
-    > {
-        let empty: &[T] = &[];
-        let (first, second) = if j >= H {
-            (empty, empty)
-        } else {
-            let s = self.at + j;
-            let s = if s >= H { s - H } else { s };
-            if s >= self.at {
-                // to the end of the array, then from its start up to `at`
-                (
-                    self.du.get(s..).unwrap_or(empty),
-                    self.du.get(..self.at).unwrap_or(empty),
-                )
-            } else {
-                (self.du.get(s..self.at).unwrap_or(empty), empty)
-            }
-        };
-        first.iter().copied().chain(second.iter().copied())
+    /// than the one before, to the end of the history (empty from `H` on).
+    pub(crate) fn from(&self, j: usize) -> &[T] {
+        self.du
+            .as_flattened()
+            .get(self.at.saturating_add(j)..self.at.saturating_add(H))
+            .unwrap_or(&[])
     }
 }
 
@@ -797,8 +780,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // consecutive candidates share an input: candidate `d`'s
         // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
         // the search for the lowest cost (the first of them) rides along
-        let mut inputs = self.hist.from(cfg.d_min);
-        let mut next = inputs.next().unwrap_or(T::zero());
+        let inputs = self.hist.from(cfg.d_min);
+        let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
         let chosen = self.chosen;
         let mut chosen_e = T::zero();
         let (mut best, mut lowest) = (0, T::infinity());
@@ -812,7 +795,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             zone2
         };
         let bank = self.bank.get_mut(..self.n).unwrap_or_default();
-        for (i, c) in bank.iter_mut().enumerate() {
+        for ((i, c), (&f1, &f2)) in bank.iter_mut().enumerate().zip(pairs) {
             // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
             // in the regressor, not the measurement's — the output-error
             // form (Landau's pseudo-linear regression), which noise on y
@@ -820,8 +803,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             // integrating model has no `a` (its regressor and covariance
             // row stay zero)
             let f0 = if cfg.integrating { T::zero() } else { c.yhat };
-            let (f1, f2) = (next, inputs.next().unwrap_or(T::zero()));
-            next = f2;
             let [t0, t1, t2] = c.theta;
             let pred = t0 * f0 + t1 * f1 + t2 * f2;
             let e = target - pred;
@@ -967,12 +948,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             return;
         };
         // consecutive dead times share an input, as in the bank
-        let mut inputs = self.hist.from(self.cfg.d_min);
-        let mut next = inputs.next().unwrap_or(T::zero());
+        let inputs = self.hist.from(self.cfg.d_min);
+        let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
         let bank = self.bank.get_mut(..self.n).unwrap_or_default();
-        for (i, c) in bank.iter_mut().enumerate() {
-            let (u0, u1) = (next, inputs.next().unwrap_or(T::zero()));
-            next = u1;
+        for ((i, c), (&u0, &u1)) in bank.iter_mut().enumerate().zip(pairs) {
             scan.step(i, c, u0, u1);
         }
         self.detect_end(scan);
@@ -1529,7 +1508,7 @@ mod tests {
                 .take(5)
                 .collect();
             for j in 0..7 {
-                let run: Vec<f64> = h.from(j).collect();
+                let run: Vec<f64> = h.from(j).to_vec();
                 let want: Vec<f64> = newest_first.iter().skip(j).copied().collect();
                 assert_eq!(run, want, "after {} inputs, from {j}", k + 1);
             }

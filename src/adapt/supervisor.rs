@@ -819,13 +819,14 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return None;
         }
         let ts = self.cfg.estimator.ts;
-        let d = (self.model.theta / ts + T::of(1e-9)).floor();
-        if m.evidence >= self.cfg.min_evidence || T::of(m.d as f64) == d {
+        // the model's whole samples (truncation: θ/Ts is not negative)
+        let d = num_traits::ToPrimitive::to_usize(&(self.model.theta / ts + T::of(1e-9)));
+        if m.evidence >= self.cfg.min_evidence || d == Some(m.d) {
             return Some(m);
         }
         Some(Estimate {
             theta: self.model.theta,
-            d: num_traits::ToPrimitive::to_usize(&d).unwrap_or(m.d),
+            d: d.unwrap_or(m.d),
             ..m
         })
     }
