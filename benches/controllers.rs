@@ -116,6 +116,47 @@ fn updates<T: Real>(c: &mut Criterion, ty: &str) {
         karan_dey::from_model::<T, 1, [T; 128]>(&p, &ipdt.into(), T::of(0.074)).expect("kd");
     closed(c, &group, "karan-dey", |r, y| kd.update(r, y));
     let _ = fopdt::<T>();
+    adaptive::<T>(c, &group);
+}
+
+/// The adaptive Smith predictor of the firmware (16 candidate dead times,
+/// 92 … 107 samples, around the model's 100) in the loop it was built
+/// for: the MathWorks process itself, its dead time in a ring, the set
+/// point switching every 4096 samples (it learns for the few hundred after
+/// each switch and looks on for the rest, as in a plant).
+fn adaptive<T: Real>(c: &mut Criterion, group: &str) {
+    let ts = T::of(0.939);
+    let mut est = msp::adapt::EstimatorConfig::new(ts, 92);
+    est.prefilter = (-ts / T::of(2.5 * 40.2)).exp();
+    let mut ad = msp::adapt::Adaptive::<T, _, (), 16, 112>::new(
+        smith::<T, 128>(100.0),
+        (T::of(5.6), T::of(40.2), T::of(93.9)),
+        msp::adapt::AdaptiveConfig::new(est),
+        (),
+    )
+    .expect("adaptive");
+    let a = T::of((-0.939f64 / 40.2).exp());
+    let b = T::of(5.6) * (T::one() - a);
+    let mut line = [T::zero(); 100];
+    let (mut at, mut y, mut k) = (0usize, T::zero(), 0u32);
+    let mut g = c.benchmark_group(group);
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("adaptive smith (16 candidates)", |bench| {
+        bench.iter(|| {
+            k = k.wrapping_add(1);
+            let r = if (k >> 12) & 1 == 0 {
+                T::one()
+            } else {
+                T::of(2.0)
+            };
+            let u = ad.update(black_box(r), y);
+            y = a * y + b * line[at];
+            line[at] = u;
+            at = if at + 1 == line.len() { 0 } else { at + 1 };
+            u
+        })
+    });
+    g.finish();
 }
 
 /// Every scheme as the registry builds it (dynamic dispatch), in precision `T`.
