@@ -83,7 +83,22 @@ fn smith<T: Real, const D: usize>(delay: f64) -> SmithPredictor<T, 1, [T; D]> {
 /// at rest lets its filters' states decay into subnormal numbers, whose
 /// arithmetic is many times slower on x86 (Huang's `B` filter measured
 /// 83 ns there) and is not what a running plant sees.
-fn closed<T: Real>(c: &mut Criterion, group: &str, name: &str, mut step: impl FnMut(T, T) -> T) {
+fn closed<T: Real>(c: &mut Criterion, group: &str, name: &str, step: impl FnMut(T, T) -> T) {
+    let mut y = T::zero();
+    closed_through(c, group, name, step, move |u| {
+        y = T::of(0.99) * y + T::of(0.01) * u;
+        y
+    });
+}
+
+/// [`closed`] through the plant `plant(u) -> y` (the next measurement).
+fn closed_through<T: Real>(
+    c: &mut Criterion,
+    group: &str,
+    name: &str,
+    mut step: impl FnMut(T, T) -> T,
+    mut plant: impl FnMut(T) -> T,
+) {
     let mut g = c.benchmark_group(group);
     g.throughput(Throughput::Elements(1));
     let mut y = T::zero();
@@ -97,7 +112,7 @@ fn closed<T: Real>(c: &mut Criterion, group: &str, name: &str, mut step: impl Fn
                 T::of(2.0)
             };
             let u = step(black_box(r), y);
-            y = T::of(0.99) * y + T::of(0.01) * u;
+            y = plant(u);
             u
         })
     });
@@ -138,25 +153,20 @@ fn adaptive<T: Real>(c: &mut Criterion, group: &str) {
     let a = T::of((-0.939f64 / 40.2).exp());
     let b = T::of(5.6) * (T::one() - a);
     let mut line = [T::zero(); 100];
-    let (mut at, mut y, mut k) = (0usize, T::zero(), 0u32);
-    let mut g = c.benchmark_group(group);
-    g.throughput(Throughput::Elements(1));
-    g.bench_function("adaptive smith (16 candidates)", |bench| {
-        bench.iter(|| {
-            k = k.wrapping_add(1);
-            let r = if (k >> 12) & 1 == 0 {
-                T::one()
-            } else {
-                T::of(2.0)
-            };
-            let u = ad.update(black_box(r), y);
-            y = a * y + b * line[at];
-            line[at] = u;
-            at = if at + 1 == line.len() { 0 } else { at + 1 };
-            u
-        })
-    });
-    g.finish();
+    let (mut at, mut y) = (0usize, T::zero());
+    let plant = move |u: T| {
+        y = a * y + b * line[at];
+        line[at] = u;
+        at = if at + 1 == line.len() { 0 } else { at + 1 };
+        y
+    };
+    closed_through(
+        c,
+        group,
+        "adaptive smith (16 candidates)",
+        |r, y| ad.update(r, y),
+        plant,
+    );
 }
 
 /// Every scheme as the registry builds it (dynamic dispatch), in precision `T`.
