@@ -985,16 +985,19 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 
 /// The signals an adaptive controller adds to its scheme's, in this order:
 /// the estimate (`k_hat`, `tau_hat`, `theta_hat`; NaN before it means
-/// anything), the model in use (`k_model`, `tau_model`, `theta_model`),
+/// anything) and the evidence for its dead time over the candidates that
+/// cannot be the same (`evidence`, [`crate::adapt::Estimate::evidence`]:
+/// small is an ambiguous choice), the model in use (`k_model`, `tau_model`, `theta_model`),
 /// how many changes were logged so far (`adapt_changes`) and what the last
 /// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused, 4 alarm,
 /// 5 cleared, [`ChangeKind::code`]), the model's error against the process
 /// (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it means
 /// anything) and the alarm (`model_alarm`: 0 or 1).
-pub const SIGNALS: [&str; 10] = [
+pub const SIGNALS: [&str; 11] = [
     "k_hat",
     "tau_hat",
     "theta_hat",
+    "evidence",
     "k_model",
     "tau_model",
     "theta_model",
@@ -1030,13 +1033,14 @@ impl<
             0 => e.map_or(T::nan(), |e| e.k),
             1 => e.map_or(T::nan(), |e| e.tau),
             2 => e.map_or(T::nan(), |e| e.theta),
-            3 => m.k,
-            4 => m.tau,
-            5 => m.theta,
-            6 => T::of(self.logged as f64),
-            7 => T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
-            8 => self.est.mismatch().map_or(T::nan(), |m| m.error),
-            9 => {
+            3 => e.map_or(T::nan(), |e| e.evidence),
+            4 => m.k,
+            5 => m.tau,
+            6 => m.theta,
+            7 => T::of(self.logged as f64),
+            8 => T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
+            9 => self.est.mismatch().map_or(T::nan(), |m| m.error),
+            10 => {
                 if self.alarm {
                     T::one()
                 } else {

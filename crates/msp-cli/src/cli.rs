@@ -144,8 +144,9 @@ pub(crate) struct ScenarioArgs {
     /// Adaptive dead-time compensation: the Smith predictor's model (a
     /// FOPDT or IPDT model) kept right by on-line identification, its
     /// primary retuned by its rule at each change; the estimates are the
-    /// CSV columns k_hat, tau_hat, theta_hat, the model in use k_model,
-    /// tau_model, theta_model.
+    /// CSV columns k_hat, tau_hat, theta_hat (and evidence, for the dead
+    /// time over the candidates that cannot be it: small is ambiguous),
+    /// the model in use k_model, tau_model, theta_model.
     #[arg(long)]
     pub(crate) adapt: bool,
     /// The dead times (s) the adaptation considers, MIN..MAX (at most 32

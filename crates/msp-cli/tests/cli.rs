@@ -1702,8 +1702,9 @@ fn the_time_plot_marks_what_was_scheduled() {
 
 /// `msp run --monitor`: the process's gain rises 30 % and the summary says
 /// ALARM with the model error, the report logs it (kind "alarm", its
-/// mismatch), the CSV has the `mismatch` and `model_alarm` columns, the
-/// model in use stays; the estimator's options without --adapt or --monitor
+/// mismatch), the CSV has the `mismatch` and `model_alarm` columns and
+/// the estimate's `evidence` (the dead time unchanged and identified: past
+/// what a switch of dead time needs, 20), the model in use stays; the estimator's options without --adapt or --monitor
 /// are refused by name; a bad forgetting factor is refused.
 #[test]
 fn monitor_raises_the_alarm_in_summary_report_and_csv() {
@@ -1747,6 +1748,12 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     assert_eq!(last[col("k_model")], "1");
     let mismatch: f64 = last[col("mismatch")].parse().unwrap();
     assert!((mismatch - 0.3).abs() < 0.03, "{mismatch}");
+    let evidence: f64 = last[col("evidence")].parse().unwrap();
+    let theta: f64 = last[col("theta_hat")].parse().unwrap();
+    assert!(
+        evidence >= 20.0 && (theta - 1.0).abs() < 0.1,
+        "{evidence} {theta}"
+    );
     rejects(
         words("run --plant e^-1s/(4s+1) -c smith --alarm 0.2"),
         "add --adapt or --monitor",

@@ -224,7 +224,9 @@ impl Controller {
         Ok(out)
     }
     /// The estimate of an adaptive controller (``adapt=``): a dict of ``k``,
-    /// ``tau``, ``theta`` (NaN before it means anything), the model in
+    /// ``tau``, ``theta`` (NaN before it means anything), the ``evidence``
+    /// for its dead time over the candidates that cannot be the same
+    /// (small: ambiguous; as :class:`Estimator`'s), the model in
     /// use, ``k_model``, ``tau_model``, ``theta_model``, its error against
     /// the process ``mismatch`` (0.3: 30 %; NaN before it means anything)
     /// and the model-error alarm ``alarm`` (bool); ``None`` for one that
@@ -240,6 +242,7 @@ impl Controller {
         for (key, name) in [
             ("tau", "tau_hat"),
             ("theta", "theta_hat"),
+            ("evidence", "evidence"),
             ("k_model", "k_model"),
             ("tau_model", "tau_model"),
             ("theta_model", "theta_model"),

@@ -1170,6 +1170,8 @@ def test_adaptive_controller_per_sample():
     loop(c)
     e = c.estimate
     assert abs(e["tau_model"] - 8.0) < 0.8 and abs(e["k_model"] - 1.0) < 0.05, e
+    # the dead time identified: its evidence past what a switch of dead time needs (20)
+    assert e["evidence"] >= 20.0, e
     # the log: every change applied, the last one the model in use, in time order
     log = c.log
     assert log and all(x["kind"] == "applied" for x in log), log

@@ -421,7 +421,9 @@ def run(
         Adaptive dead-time compensation, as the CLI's ``--adapt``: the Smith predictor's FOPDT
         or IPDT model kept right by on-line identification (``msp`` crate's ``adapt``), its
         primary retuned at each change; the signals ``k_hat``, ``tau_hat``, ``theta_hat``
-        (the estimate) and ``k_model``, ``tau_model``, ``theta_model`` (the model in use).
+        (the estimate), ``evidence`` (for its dead time over the candidates that cannot be
+        it: small is ambiguous) and ``k_model``, ``tau_model``, ``theta_model`` (the model in
+        use).
         A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``,
         ``prefilter`` (s), ``dead_zone`` (multiples of the measured noise), ``apply`` (False: a
         monitor only) and ``alarm`` (the model error
