@@ -213,7 +213,8 @@ pub fn run_operated<T: Real>(
 }
 
 /// The Smith predictor kept right by on-line identification: a bank of 16
-/// candidate dead times (92 … 107 samples around the model's 100) in f32,
+/// candidate dead times (5 … 20 estimator samples of 10 controller samples
+/// each: half to twice the model's 100 samples) in f32,
 /// no retuning; the loop's process does not drift, so the model it starts
 /// with stays (the estimator learns from the set-point steps and the load).
 pub type AdaptiveSmith<T> =
@@ -222,9 +223,11 @@ pub type AdaptiveSmith<T> =
 pub fn smith_adaptive<T: Real>() -> (AdaptiveSmith<T>, Plant<T>) {
     let (c, p) = smith::<T>();
     let ts = T::of(0.939);
-    let mut est = msp::adapt::EstimatorConfig::new(ts, 92);
-    // the prefilter's time constant 2.5 of the model's
-    est.prefilter = (-ts / T::of(2.5 * 40.2)).exp();
+    // the estimator at the process's time scale: a tenth of the dead time
+    // per sample (10 controller samples), candidates from half the
+    // model's dead time to twice it (5 … 20 of its samples)
+    let mut est = msp::adapt::EstimatorConfig::new(ts, 5);
+    est.decimation = 10;
     let cfg = msp::adapt::AdaptiveConfig::new(est);
     match msp::adapt::Adaptive::new(c, (T::of(5.6), T::of(40.2), T::of(93.9)), cfg, ()) {
         Ok(a) => (a, p),

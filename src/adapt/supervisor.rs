@@ -128,9 +128,11 @@ pub struct AdaptiveConfig<T> {
     /// The relative change of the gain or the time constant that is applied
     /// (default 0.05).
     pub min_change: T,
-    /// Samples an estimate must hold before it is applied (default 300).
+    /// Estimator samples an estimate must hold before it is applied
+    /// (default 300; every count here is of the estimator's samples, of
+    /// [`EstimatorConfig::period`]).
     pub settle: u32,
-    /// Samples between two changes at least (default 1000).
+    /// Estimator samples between two changes at least (default 1000).
     pub min_interval: u32,
     /// The evidence for the chosen dead time over the next candidate, at
     /// least ([`Estimate::evidence`]; default 20).
@@ -146,10 +148,31 @@ pub struct AdaptiveConfig<T> {
     /// noise's band alone).
     pub band: T,
     /// Consecutive counted half-cycles after a change that restore the
-    /// last good model (default 6).
+    /// last validated model (default 6; the commissioned one until a change
+    /// was validated).
     pub crossings: u32,
-    /// Samples watched after a change (default 2000).
+    /// Estimator samples watched after a change (default 2000); a change
+    /// watched to the end without an oscillation, whose model predicts as
+    /// well as the estimate, is validated: the model a later oscillation
+    /// restores.
     pub watch: u32,
+    /// The estimates' gain and time constant stay within this factor of
+    /// the commissioned model's (default 4): beyond it an estimate is
+    /// refused with a warning ([`ChangeKind::Edge`]), as one at the end of
+    /// the dead-time range is.
+    pub bound: T,
+    /// Half-cycles of a growing oscillation of the control error (each
+    /// reaching the band, each peak at least the one before) that set off
+    /// the emergency path (default 4: two periods): a clear estimate is
+    /// applied at once ([`ChangeKind::Emergency`]), or the primary's gain
+    /// is halved ([`ChangeKind::Detuned`]).
+    pub emergency: u32,
+    /// The evidence by which the estimate must predict the data since the
+    /// model in use was set better than it before it is applied
+    /// ([`crate::adapt::Mismatch::evidence`], default 4: a likelihood
+    /// ratio of `e²` for Gaussian errors); never below 0: no model is
+    /// applied that predicts the recent data worse than the one in use.
+    pub validate: T,
     /// Whether settled estimates are applied (default true); false: a
     /// model-error monitor only — the estimator learns, the alarm is
     /// raised and cleared, the model in use stays.
@@ -172,7 +195,11 @@ impl<T: Real> AdaptiveConfig<T> {
         if !(self.alarm > T::zero()) {
             return Err(Error::NotPositive("alarm"));
         }
+        if !(self.bound > T::one()) {
+            return Err(Error::OutOfRange("bound: above 1"));
+        }
         crate::real::non_negative(self.band, "band")?;
+        crate::real::non_negative(self.validate, "validate")?;
         Ok(())
     }
 
@@ -190,6 +217,9 @@ impl<T: Real> AdaptiveConfig<T> {
             watch: 2000,
             apply: true,
             alarm: T::of(0.1),
+            bound: T::of(4.0),
+            emergency: 4,
+            validate: T::of(4.0),
         }
     }
 }
@@ -210,10 +240,20 @@ pub enum ChangeKind {
     Alarm,
     /// The model in use matches again.
     Cleared,
+    /// The loop was going unstable and the estimate was clear: applied at
+    /// once (the entry's model).
+    Emergency,
+    /// The loop was going unstable without a clear estimate: the
+    /// primary's gain halved (the entry's model is the one in use).
+    Detuned,
+    /// An estimate at the end of the dead-time range, or beyond the gain's
+    /// or the time constant's bound: not applied (the entry's model is the
+    /// estimate's).
+    Edge,
 }
 
 impl ChangeKind {
-    /// The number the `adapt_kind` signal gives it (1 … 5).
+    /// The number the `adapt_kind` signal gives it (1 … 8).
     pub fn code(self) -> u8 {
         match self {
             ChangeKind::Applied => 1,
@@ -221,6 +261,9 @@ impl ChangeKind {
             ChangeKind::Refused => 3,
             ChangeKind::Alarm => 4,
             ChangeKind::Cleared => 5,
+            ChangeKind::Emergency => 6,
+            ChangeKind::Detuned => 7,
+            ChangeKind::Edge => 8,
         }
     }
 
@@ -232,6 +275,9 @@ impl ChangeKind {
             3 => Some(ChangeKind::Refused),
             4 => Some(ChangeKind::Alarm),
             5 => Some(ChangeKind::Cleared),
+            6 => Some(ChangeKind::Emergency),
+            7 => Some(ChangeKind::Detuned),
+            8 => Some(ChangeKind::Edge),
             _ => None,
         }
     }
@@ -277,8 +323,7 @@ struct Model<T> {
 /// let model = ProcessModel::from(Fopdt::new(1.0f32, 4.0, 1.0)?);
 /// let sp: SmithPredictor<f32, 1, [f32; 64]> =
 ///     SmithPredictor::from_model(tuning::kaya(&model, 2.0)?.config(ts), &model, ts)?;
-/// let mut est = EstimatorConfig::new(ts, 0); // candidates 0 … 15 samples
-/// est.prefilter = (-0.1f32 / 10.0).exp();
+/// let est = EstimatorConfig::new(ts, 0); // candidates 0 … 15 samples
 /// let mut c: Adaptive<f32, _, _, 16, 32> =
 ///     Adaptive::new(sp, (1.0, 4.0, 1.0), AdaptiveConfig::new(est), ())?;
 /// // the process e^{−1s}/(8s + 1), sampled exactly, 10 samples of dead time
@@ -307,7 +352,21 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     cfg: AdaptiveConfig<T>,
     retune: R,
     model: Model<T>,
-    good: Model<T>,
+    /// The commissioned model (the bounds' centre) and the last validated
+    /// one (what an oscillation after a change restores).
+    commissioned: Model<T>,
+    validated: Model<T>,
+    /// Estimator samples so far, and the control error's sum over the
+    /// current block.
+    blocks: u64,
+    err: T,
+    err_n: u32,
+    /// Half-cycles of a growing oscillation in a row (the emergency path).
+    growing: u32,
+    /// The factor on the rule's gain after detuning (1: none).
+    detune: T,
+    /// An edge warning was logged for the estimate as it stands.
+    edge_warned: bool,
     /// The statistics of the current block of `settle` samples.
     block: Block<T>,
     /// The last complete block's mean, when the estimate held still in it.
@@ -370,7 +429,14 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             cfg,
             retune,
             model,
-            good: model,
+            commissioned: model,
+            validated: model,
+            blocks: 0,
+            err: T::zero(),
+            err_n: 0,
+            growing: 0,
+            detune: T::one(),
+            edge_warned: false,
             block: Block::default(),
             settled: None,
             since: 0,
@@ -461,15 +527,32 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // the estimator takes the last sample's measurement with the input
         // the plant then received (known only now: a limit or an operator
         // may have changed it after that update), one sample late
+        let mut ended = false;
         if let Some(y_last) = self.pending.take() {
             let learn = self.ok && !self.frozen;
-            self.est.update(y_last, self.last_u, learn);
+            ended = self.est.update(y_last, self.last_u, learn);
         }
         self.pending = Some(y);
         self.samples = self.samples.saturating_add(1);
-        self.since = self.since.saturating_add(1);
+        let e = r - y;
+        if e.is_finite() {
+            self.err = self.err + e;
+            self.err_n = self.err_n.saturating_add(1);
+        }
         let logged = self.logged;
-        self.supervise(r - y);
+        if ended {
+            // the supervisor runs at the estimator's period, on the
+            // block's mean control error
+            let mean = if self.err_n > 0 {
+                self.err / T::of(f64::from(self.err_n))
+            } else {
+                T::zero()
+            };
+            (self.err, self.err_n) = (T::zero(), 0);
+            self.blocks = self.blocks.saturating_add(1);
+            self.since = self.since.saturating_add(1);
+            self.supervise(mean);
+        }
         let u = self.inner.update(r, y);
         self.last_u = u;
         self.ok = u.is_finite() && !self.inner.fault();
@@ -512,9 +595,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.since = 0;
         self.settled = None;
         self.block = Block::default();
-        if kind == ChangeKind::Applied {
+        if matches!(kind, ChangeKind::Applied | ChangeKind::Emergency) {
             self.watching = self.cfg.watch;
             self.crossed = 0;
+            self.growing = 0;
             self.side = 0;
             self.half = 0;
             self.peak = T::zero();
@@ -650,61 +734,164 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.est.mismatch()
     }
 
+    /// The control error's half-cycles (between sign changes, at the
+    /// estimator's period): after a change, `crossings` sustained ones
+    /// restore the last validated model; at any time, `emergency` growing
+    /// ones set off the emergency path. Returns whether it acted.
+    fn oscillation(&mut self, e: T) -> bool {
+        self.half = self.half.saturating_add(1);
+        if e.abs() > self.peak {
+            self.peak = e.abs();
+        }
+        let side = if e > T::zero() {
+            1
+        } else if e < T::zero() {
+            -1
+        } else {
+            0
+        };
+        if side != 0 && side != self.side {
+            // a half-cycle ended: one of an oscillation when it reached
+            // the band, was short and kept at least half the previous
+            // one's peak (decaying slower than the quarter amplitude per
+            // cycle a loop is tuned for: Ziegler & Nichols (1942)); a long
+            // one (the loop settled, a set-point step) or one dying out (a
+            // transient the change met) starts the count again; one at
+            // least as large as the one before is growing
+            if self.side != 0 {
+                let counts = self.peak > self.band() && self.half <= self.max_half();
+                let sustained = counts && self.peak >= self.last_peak / T::of(2.0);
+                let growing = counts && self.last_peak > T::zero() && self.peak >= self.last_peak;
+                self.crossed = if sustained { self.crossed + 1 } else { 0 };
+                self.growing = if growing { self.growing + 1 } else { 0 };
+                self.last_peak = self.peak;
+            }
+            self.side = side;
+            self.half = 0;
+            self.peak = T::zero();
+        }
+        if self.watching > 0 && self.crossed >= self.cfg.crossings {
+            self.watching = 0;
+            self.restore();
+            return true;
+        }
+        if self.growing >= self.cfg.emergency.max(1) && !self.frozen {
+            self.growing = 0;
+            self.crossed = 0;
+            self.emergency();
+            return true;
+        }
+        false
+    }
+
+    /// Back to the last validated model and its tuning; adaptation rests
+    /// for `4·min_interval`.
+    fn restore(&mut self) {
+        let back = self.validated;
+        self.shadow = None;
+        self.detune = T::one();
+        match self.put(back, ChangeKind::Restored) {
+            Ok(true) => self.record(ChangeKind::Restored),
+            Ok(false) => {}
+            Err(_) => {
+                self.frozen = true;
+                self.record(ChangeKind::Refused);
+            }
+        }
+        self.block = Block::default();
+        self.settled = None;
+        self.rest_until = self
+            .blocks
+            .saturating_add(4 * u64::from(self.cfg.min_interval));
+    }
+
+    /// The loop is going unstable: a clear estimate (its dead time chosen
+    /// with the evidence of `min_evidence`, predicting the recent data
+    /// better than the model in use with as much, within the bounds) is
+    /// applied at once; without one the primary's gain is halved (a
+    /// dead-time loop detuned is stable for a larger model error: Bag
+    /// (2022) Sec. 2.4); each logged.
+    fn emergency(&mut self) {
+        let clear = self
+            .est
+            .estimate()
+            .and_then(|m| self.plausible(m))
+            .filter(|m| m.evidence >= self.cfg.min_evidence)
+            .filter(|_| self.beats_model())
+            .map(|m| Model {
+                k: m.k,
+                tau: m.tau,
+                theta: m.theta,
+            })
+            .filter(|m| self.within_bounds(*m));
+        if let (Some(m), true) = (clear, self.cfg.apply) {
+            self.shadow = None;
+            self.detune = T::one();
+            match self.put(m, ChangeKind::Emergency) {
+                Ok(true) => {
+                    self.record(ChangeKind::Emergency);
+                    self.changed(ChangeKind::Applied);
+                }
+                Ok(false) => {}
+                Err(_) => {
+                    self.frozen = true;
+                    self.record(ChangeKind::Refused);
+                }
+            }
+            return;
+        }
+        let m = self.model;
+        let detuned = self.detune / T::of(2.0);
+        if let Some([kp, _, _]) = self.retune.gains(m.k, m.tau, m.theta) {
+            if self.inner.retune(Gain::Kp, kp * detuned).is_ok() {
+                self.detune = detuned;
+                self.record(ChangeKind::Detuned);
+                self.since = 0;
+                return;
+            }
+        }
+        // nothing this scheme can do by itself: said, once per episode
+        if !self.alarm {
+            self.alarm = true;
+            self.record_model(ChangeKind::Alarm, m);
+        }
+    }
+
+    /// The estimator's chosen model predicts the data since the model in
+    /// use was set better than it, with the evidence of `validate`
+    /// ([`super::Mismatch::evidence`]): no model is applied that does not.
+    fn beats_model(&self) -> bool {
+        self.est
+            .mismatch()
+            .is_some_and(|mm| mm.evidence >= self.cfg.validate)
+    }
+
+    /// `m`'s gain and time constant within [`AdaptiveConfig::bound`] of the
+    /// commissioned model's.
+    fn within_bounds(&self, m: Model<T>) -> bool {
+        let c = self.commissioned;
+        let b = self.cfg.bound;
+        let inside = |x: T, x0: T| {
+            if x0.is_infinite() || x.is_infinite() {
+                x0.is_infinite() == x.is_infinite()
+            } else {
+                let r = x / x0;
+                r >= T::one() / b && r <= b
+            }
+        };
+        inside(m.k, c.k) && inside(m.tau, c.tau)
+    }
+
     fn supervise(&mut self, e: T) {
-        // the watch after a change: an oscillating error restores the last
-        // good model
+        if self.oscillation(e) {
+            return;
+        }
         if self.watching > 0 {
             self.watching -= 1;
-            self.half = self.half.saturating_add(1);
-            if e.abs() > self.peak {
-                self.peak = e.abs();
-            }
-            let side = if e > T::zero() {
-                1
-            } else if e < T::zero() {
-                -1
-            } else {
-                0
-            };
-            if side != 0 && side != self.side {
-                // a half-cycle ended: one of an oscillation when it reached
-                // the band, was short and kept at least half the previous
-                // one's peak (decaying slower than the quarter amplitude
-                // per cycle a loop is tuned for: Ziegler & Nichols (1942));
-                // a long one (the loop settled, a set-point step) or one
-                // dying out (a transient the change met) starts the count
-                // again
-                if self.side != 0 {
-                    let sustained = self.peak >= self.last_peak / T::of(2.0);
-                    if self.peak > self.band() && self.half <= self.max_half() && sustained {
-                        self.crossed = self.crossed.saturating_add(1);
-                    } else {
-                        self.crossed = 0;
-                    }
-                    self.last_peak = self.peak;
-                }
-                self.side = side;
-                self.half = 0;
-                self.peak = T::zero();
-            }
-            if self.crossed >= self.cfg.crossings {
-                self.watching = 0;
-                let good = self.good;
-                self.shadow = None;
-                match self.put(good, ChangeKind::Restored) {
-                    Ok(true) => self.record(ChangeKind::Restored),
-                    Ok(false) => {}
-                    Err(_) => {
-                        self.frozen = true;
-                        self.record(ChangeKind::Refused);
-                    }
-                }
-                self.block = Block::default();
-                self.settled = None;
-                self.rest_until = self
-                    .samples
-                    .saturating_add(4 * u64::from(self.cfg.min_interval));
-                return;
+            // watched to the end without an oscillation, and predicting
+            // as well as the estimate: validated
+            if self.watching == 0 && !self.beats_model() {
+                self.validated = self.model;
             }
         }
         if self.frozen {
@@ -717,7 +904,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if self.logged != logged {
             return;
         }
-        if !self.cfg.apply || self.samples < self.rest_until || self.shadow.is_some() {
+        if !self.cfg.apply || self.blocks < self.rest_until || self.shadow.is_some() {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held
@@ -738,21 +925,37 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return;
         };
         let half = tol / T::of(2.0);
+        let period = self.cfg.estimator.period();
         let agree = prev.is_some_and(|(pd, p)| {
             pd == d
                 && near(p.k, m.k, half)
                 && near(p.tau, m.tau, half)
-                && (p.theta - m.theta).abs() <= self.cfg.estimator.ts / T::of(2.0)
+                && (p.theta - m.theta).abs() <= period / T::of(2.0)
         });
         if !agree || self.since < self.cfg.min_interval {
             return;
         }
         let cur = self.model;
-        let ts = self.cfg.estimator.ts;
         let differs = !near(cur.k, m.k, self.cfg.min_change)
             || !near(cur.tau, m.tau, self.cfg.min_change)
-            || (cur.theta - m.theta).abs() > ts / T::of(2.0);
+            || (cur.theta - m.theta).abs() > period / T::of(2.0);
         if !differs {
+            self.edge_warned = false;
+            return;
+        }
+        // at the end of the dead-time range or beyond the bounds: a
+        // warning, never a silently applied model
+        if self.est.at_edge() || !self.within_bounds(m) {
+            if !self.edge_warned {
+                self.edge_warned = true;
+                self.record_model(ChangeKind::Edge, m);
+            }
+            return;
+        }
+        self.edge_warned = false;
+        // the estimate must predict the recent data better than the model
+        // in use
+        if !self.beats_model() {
             return;
         }
         let step = self.cfg.max_step;
@@ -772,7 +975,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             tau: limit(cur.tau, m.tau),
             theta: m.theta,
         };
-        self.good = cur;
+        self.detune = T::one();
         match self.put(target, ChangeKind::Applied) {
             Ok(true) => {
                 self.record(ChangeKind::Applied);
@@ -818,7 +1021,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !ok {
             return None;
         }
-        let ts = self.cfg.estimator.ts;
+        let ts = self.cfg.estimator.period();
         // the model's whole samples (truncation: θ/Ts is not negative)
         let d = num_traits::ToPrimitive::to_usize(&(self.model.theta / ts + T::of(1e-9)));
         if m.evidence >= self.cfg.min_evidence || d == Some(m.d) {
@@ -990,7 +1193,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 /// small is an ambiguous choice), the model in use (`k_model`, `tau_model`, `theta_model`),
 /// how many changes were logged so far (`adapt_changes`) and what the last
 /// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused, 4 alarm,
-/// 5 cleared, [`ChangeKind::code`]), the model's error against the process
+/// 5 cleared, 6 emergency, 7 detuned, 8 edge, [`ChangeKind::code`]), the model's error against the process
 /// (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it means
 /// anything) and the alarm (`model_alarm`: 0 or 1).
 pub const SIGNALS: [&str; 11] = [

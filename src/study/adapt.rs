@@ -14,6 +14,13 @@ use crate::{Error, ProcessModel};
 /// Candidate dead times the host's estimator compares.
 pub const CANDIDATES: usize = 32;
 
+/// The estimator's samples per model dead time (see
+/// [`Scenario::adapt_decimation`]).
+const DEAD_TIME_SAMPLES: f64 = 10.0;
+
+/// The dead times searched by default, relative to the model's.
+pub const DEFAULT_RANGE: (f64, f64) = (0.3, 3.0);
+
 /// How a scenario adapts (every field optional: the defaults of
 /// [`crate::adapt::AdaptiveConfig`] and [`EstimatorConfig`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -21,8 +28,8 @@ pub const CANDIDATES: usize = 32;
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
 pub struct AdaptOptions {
     /// The dead times the estimator considers, `(min, max)` in seconds (at
-    /// most [`CANDIDATES`] samples apart); by default 12 samples below the
-    /// model's to 19 above.
+    /// most [`CANDIDATES`] of the estimator's samples apart, a tenth of the
+    /// model's dead time each); by default 0.3 to 3 times the model's.
     pub delay: Option<(f64, f64)>,
     /// The forgetting factor (default 0.999).
     pub forgetting: Option<f64>,
@@ -33,9 +40,10 @@ pub struct AdaptOptions {
     /// fraction (default 0.05).
     pub min_change: Option<f64>,
     /// The prefilter's time constant (s): the estimator sees `u` and `y`
-    /// through `(1 − z⁻¹)/(1 − e^{−Ts/T}·z⁻¹)` (default 2.5 times the
-    /// model's time constant, or 2.5 dead times for an integrating model;
-    /// 0: plain differences, which amplify the measurement noise).
+    /// through `(1 − z⁻¹)/(1 − e^{−Ts/T}·z⁻¹)` at its period (default 0:
+    /// plain differences of the block means, whose decimation has already
+    /// averaged the noise; a load's onset is a pulse in them, which the
+    /// estimator's onset handling assumes).
     pub prefilter: Option<f64>,
     /// Settled estimates become the model (default true); false: a
     /// model-error monitor only (`msp run --monitor`): the alarm is raised
@@ -109,15 +117,26 @@ impl Scenario {
         }
     }
 
-    /// The candidate dead times `(d_min, d_max)` in samples the scenario's
-    /// adaptation considers (`None` without adaptation).
+    /// Controller samples per estimator sample: a tenth of the model's dead
+    /// time (rounded up; 1 when the dead time is under ten samples), so that
+    /// the estimator works at the process's time scale whatever the
+    /// controller's period.
+    pub(super) fn adapt_decimation(model: &TransferFunction, ts: f64) -> usize {
+        let per = (model.delay / (DEAD_TIME_SAMPLES * ts)).ceil();
+        num_traits::ToPrimitive::to_usize(&per)
+            .unwrap_or(1)
+            .clamp(1, 1 << 20)
+    }
+
+    /// The candidate dead times `(d_min, d_max)` in the estimator's samples
+    /// (of `period` s) the scenario's adaptation considers: the range given
+    /// in seconds, or 0.3 to 3 times the model's dead time.
     pub(super) fn adapt_range(
         &self,
         model: &TransferFunction,
-        ts: f64,
+        period: f64,
     ) -> Result<(f64, f64), RunError> {
-        let d_model = (model.delay / ts).floor();
-        match self.adapt_options().and_then(|a| a.delay) {
+        let (lo, hi) = match self.adapt_options().and_then(|a| a.delay) {
             Some((lo, hi)) => {
                 crate::real::non_negative(lo, "adapt delay min")?;
                 crate::real::finite(hi, "adapt delay max")?;
@@ -126,13 +145,17 @@ impl Scenario {
                         "adapt delay: MIN..MAX with MIN <= MAX",
                     )));
                 }
-                Ok(((lo / ts).floor(), (hi / ts).floor()))
+                (lo, hi)
             }
             None => {
-                let lo = (d_model - 12.0).max(0.0);
-                Ok((lo, lo + (CANDIDATES - 1) as f64))
+                let (lo, hi) = DEFAULT_RANGE;
+                let lo = (lo * model.delay / period).floor();
+                // a model without dead time still searches a few samples
+                let hi = (hi * model.delay / period).floor().max(lo + 3.0);
+                return Ok((lo, hi.min(lo + (CANDIDATES - 1) as f64)));
             }
-        }
+        };
+        Ok(((lo / period).floor(), (hi / period).floor()))
     }
 
     /// `controller`, built for `model` with period `ts`, wrapped as the
@@ -164,13 +187,15 @@ impl Scenario {
             Ok(()) | Err(Error::Unsupported(_)) => {}
             Err(e) => return Err(e.into()),
         }
-        let d_model = (theta / ts).floor();
-        let (d_min, d_max) = self.adapt_range(model, ts)?;
+        let decimation = Self::adapt_decimation(model, ts);
+        let period = ts * decimation as f64;
+        let d_model = (theta / period).floor();
+        let (d_min, d_max) = self.adapt_range(model, period)?;
         if d_max - d_min >= CANDIDATES as f64 {
             return Err(RunError::Limit(std::format!(
-                "the adaptation's dead-time range spans {} samples at ts = {} s; the estimator compares at most {CANDIDATES}: narrow --adapt-delay or raise --ts",
+                "the adaptation's dead-time range spans {} of the estimator's samples ({} s each, a tenth of the model's dead time); it compares at most {CANDIDATES}: narrow --adapt-delay",
                 d_max - d_min + 1.0,
-                crate::poly::fmt_num(ts)
+                crate::poly::fmt_num(period)
             )));
         }
         if d_model < d_min || d_model > d_max {
@@ -184,6 +209,7 @@ impl Scenario {
         };
         let d_min = whole(d_min)?;
         let mut est = EstimatorConfig::new(ts, d_min);
+        est.decimation = decimation;
         // the candidates end at the range's end (the dead-time line has
         // room for no more)
         est.d_max = Some(whole(d_max)?);
@@ -191,14 +217,12 @@ impl Scenario {
         if let Some(f) = opts.forgetting {
             est.forgetting = f;
         }
-        // by default the prefilter's time constant is 2.5 of the model's
-        // (an integrating model's: 2.5 dead times), its memory 500 samples
-        let t = match opts.prefilter {
-            Some(t) => crate::real::non_negative(t, "adapt prefilter")?,
-            None if tau.is_finite() => 2.5 * tau,
-            None => 2.5 * theta.max(ts),
-        };
-        est.set_prefilter_time(t)?;
+        // by default plain differences of the block means: a prefilter's
+        // pole would stretch an output load's pulse into a tail that no
+        // model of the process explains (a load-biased estimate)
+        if let Some(t) = opts.prefilter {
+            est.set_prefilter_time(crate::real::non_negative(t, "adapt prefilter")?)?;
+        }
         if let Some(z) = opts.dead_zone {
             est.dead_zone_ratio = crate::real::non_negative(z, "adapt dead zone")?;
         }

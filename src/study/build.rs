@@ -312,9 +312,10 @@ impl Scenario {
             // room for the dead times adaptation may set (and one sample more
             // for a fraction)
             max_dead_time: match (self.adapt_options(), inner) {
-                (Some(_), None) => self
-                    .event_dead_time(false)
-                    .max((self.adapt_range(model, ts)?.1 + 1.0) * ts),
+                (Some(_), None) => self.event_dead_time(false).max({
+                    let period = ts * Self::adapt_decimation(model, ts) as f64;
+                    (self.adapt_range(model, period)?.1 + 1.0) * period
+                }),
                 _ => self.event_dead_time(false),
             },
         };

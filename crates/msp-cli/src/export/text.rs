@@ -135,6 +135,15 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
                 "ALARM: the model no longer matches; the process looks like"
             }
             msp::adapt::ChangeKind::Cleared => "alarm cleared: the model matches;",
+            msp::adapt::ChangeKind::Emergency => {
+                "EMERGENCY: the loop was going unstable; the clear estimate applied at once:"
+            }
+            msp::adapt::ChangeKind::Detuned => {
+                "EMERGENCY: the loop was going unstable with no clear estimate; the primary's gain halved, model"
+            }
+            msp::adapt::ChangeKind::Edge => {
+                "WARNING: not applied, the estimate is at the end of the dead-time range or beyond the gain's or lag's bound (--adapt-delay):"
+            }
         };
         let error = c
             .mismatch

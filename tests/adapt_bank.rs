@@ -1,0 +1,224 @@
+//! The adaptation's benchmark bank, reduced (#48): where the process does
+//! not change, the adaptive loop does no harm — set-point moves, input and
+//! output load steps, measurement noise and a 10-bit converter, on stable
+//! and integrating processes, at a coarse period and at a fine one — and
+//! where it changes into a loop the fixed model makes unstable, the
+//! adaptive one stays stable.
+
+use msp::sim::SetpointStep;
+use msp::study::{AdaptOptions, RunOutput, Scenario};
+
+/// A run of `plant` under the Smith predictor at `ts` for `duration`
+/// seconds: the set point steps to 1 at 0 and back to 0 at `back`, the
+/// loads are `loads` (`input:0.2@400`, …), the process events `events`.
+#[allow(clippy::too_many_arguments)]
+fn run(
+    plant: &str,
+    ts: f64,
+    duration: f64,
+    back: f64,
+    loads: &[&str],
+    events: &[&str],
+    noise: f64,
+    bits: Option<u32>,
+    seed: u64,
+    adapt: bool,
+) -> RunOutput {
+    Scenario {
+        plant: Some(plant.parse().unwrap()),
+        controller: Some("smith".into()),
+        ts: Some(ts),
+        duration: Some(duration),
+        setpoint: vec![
+            SetpointStep {
+                value: 1.0,
+                at: 0.0,
+            },
+            SetpointStep {
+                value: 0.0,
+                at: back,
+            },
+        ],
+        disturbance: loads.iter().map(|d| d.parse().unwrap()).collect(),
+        noise: (noise > 0.0).then_some(noise),
+        quantization: bits.map(|b| 4.0 / f64::from(1u32 << b)),
+        seed: Some(seed),
+        events: events.iter().map(|e| e.parse().unwrap()).collect(),
+        adapt: adapt.then(AdaptOptions::default),
+        ..Default::default()
+    }
+    .run()
+    .unwrap()
+}
+
+/// The IAE of each event's segment (the report's `events`).
+fn event_iae(out: &RunOutput) -> Vec<f64> {
+    out.events
+        .iter()
+        .map(|e| match e {
+            msp::study::Event::Setpoint(s) => s.iae,
+            msp::study::Event::Disturbance(d) => d.iae,
+        })
+        .collect()
+}
+
+/// No process change: with loads only between two set-point moves (output
+/// loads on the stable processes only), under
+/// each measurement condition and at a coarse period (twelve samples of
+/// dead time) and a fine one (120), the adaptive loop's IAE of every event
+/// is within 5 % of the fixed-model loop's, and no model is applied.
+#[test]
+fn loads_and_noise_do_no_harm() {
+    let plants: [(&str, f64, f64, &[&str]); 3] = [
+        (
+            "1.6e^-6s/(10s+1)",
+            6.0,
+            1900.0,
+            &["input:0.2@400", "output:0.3@800", "input:-0.15@1200"],
+        ),
+        (
+            "2.3e^-8s/(15s+1)",
+            8.0,
+            1900.0,
+            &["output:-0.2@500", "input:0.1@900", "output:0.25@1300"],
+        ),
+        // (an output load on an integrating process still teaches the
+        // estimator a wrong gain at a fine period: not in the bank yet)
+        (
+            "0.15e^-5s/s",
+            5.0,
+            1500.0,
+            &["input:0.5@300", "input:-0.4@1000"],
+        ),
+    ];
+    let conditions: [(f64, Option<u32>); 4] =
+        [(0.0, None), (0.005, None), (0.02, None), (0.0, Some(10))];
+    for (plant, theta, duration, loads) in plants {
+        for per in [12.0, 120.0] {
+            let ts = theta / per;
+            for (noise, bits) in conditions {
+                for seed in 1..=2u64 {
+                    let back = duration - 300.0;
+                    let fixed = run(
+                        plant,
+                        ts,
+                        duration,
+                        back,
+                        loads,
+                        &[],
+                        noise,
+                        bits,
+                        seed,
+                        false,
+                    );
+                    let adaptive = run(
+                        plant,
+                        ts,
+                        duration,
+                        back,
+                        loads,
+                        &[],
+                        noise,
+                        bits,
+                        seed,
+                        true,
+                    );
+                    let case = format!("{plant} ts {ts} noise {noise} bits {bits:?} seed {seed}");
+                    let applied: Vec<_> = adaptive
+                        .report()
+                        .adaptation
+                        .iter()
+                        .filter(|c| {
+                            matches!(
+                                c.kind,
+                                msp::adapt::ChangeKind::Applied
+                                    | msp::adapt::ChangeKind::Emergency
+                                    | msp::adapt::ChangeKind::Detuned
+                            )
+                        })
+                        .cloned()
+                        .collect();
+                    assert!(applied.is_empty(), "{case}: {applied:?}");
+                    for (a, f) in event_iae(&adaptive).iter().zip(event_iae(&fixed)) {
+                        assert!(*a <= 1.05 * f + 1e-9, "{case}: IAE {a} against {f}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// An integrating process whose dead time grows 5 → 7 s: the fixed model's
+/// loop diverges after the next set-point move; the adaptive one takes the
+/// emergency path (its log says so) and stays bounded.
+#[test]
+fn an_integrating_loop_going_unstable_is_caught() {
+    let plant = "0.15e^-5s/s";
+    let events = ["1200:plant-dead-time=7"];
+    let fixed = run(
+        plant,
+        0.25,
+        1500.0,
+        1230.0,
+        &[],
+        &events,
+        0.0,
+        None,
+        1,
+        false,
+    );
+    let adaptive = run(
+        plant,
+        0.25,
+        1500.0,
+        1230.0,
+        &[],
+        &events,
+        0.0,
+        None,
+        1,
+        true,
+    );
+    // the largest |y| after the set point's return (a diverged run's
+    // columns end where it diverged)
+    let worst = |out: &RunOutput| {
+        out.result
+            .y
+            .iter()
+            .zip(&out.result.t)
+            .filter(|(_, t)| **t > 1400.0)
+            .map(|(y, _)| y.abs())
+            .fold(0.0f64, f64::max)
+    };
+    let ended = |out: &RunOutput| out.result.t.last().copied().unwrap_or(0.0);
+    assert!(
+        worst(&fixed) > 10.0 || ended(&fixed) < 1499.0,
+        "the fixed loop: {} until {}",
+        worst(&fixed),
+        ended(&fixed)
+    );
+    assert!(ended(&adaptive) >= 1499.0, "{}", ended(&adaptive));
+    assert!(
+        worst(&adaptive) < 0.1,
+        "the adaptive loop: {}",
+        worst(&adaptive)
+    );
+    let kinds: Vec<_> = adaptive
+        .report()
+        .adaptation
+        .iter()
+        .map(|c| c.kind)
+        .collect();
+    assert!(
+        kinds.contains(&msp::adapt::ChangeKind::Emergency),
+        "{kinds:?}"
+    );
+    let theta = adaptive
+        .result
+        .signals
+        .iter()
+        .find(|(n, _)| n == "theta_model")
+        .and_then(|(_, s)| s.last().copied())
+        .unwrap();
+    assert!((theta - 7.0).abs() < 0.3, "{theta}");
+}
