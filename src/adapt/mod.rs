@@ -553,7 +553,7 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// their count, and whether every one was the process's own response.
     block: (T, T, usize, bool),
     /// Samples of a load's onset still to pass unlearnt (see
-    /// [`Estimator::onsets`]).
+    /// `Estimator::onset`).
     skip: usize,
     /// Load onsets found.
     onsets: u32,
@@ -887,8 +887,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         true
     }
 
-    /// Load onsets found so far (see [`Estimator::onset`]): at rest, an
-    /// error no input move can explain.
+    /// Load onsets found so far: at rest (no input move within twice a
+    /// response's time), a prediction error beyond [`ONSET`] times the
+    /// measured noise, which no input move can explain; its first
+    /// [`ONSET_SAMPLES`] samples teach nothing and every model's
+    /// simulation takes the measurement as its state there.
     pub fn onsets(&self) -> u32 {
         self.onsets
     }

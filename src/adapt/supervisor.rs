@@ -809,8 +809,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// with the evidence of `min_evidence`, predicting the recent data
     /// better than the model in use with as much, within the bounds) is
     /// applied at once; without one the primary's gain is halved (a
-    /// dead-time loop detuned is stable for a larger model error: Bag
-    /// (2022) Sec. 2.4); each logged.
+    /// dead-time loop detuned is stable for a larger model error: its
+    /// robustness bound `|ΔG/G| < |1 + C G₀|/|C G₀|` grows as the gain
+    /// falls, Bag (2022) Eqs. 4.52–4.58 for the integrating case); each
+    /// logged.
     fn emergency(&mut self) {
         let clear = self
             .est

@@ -149,16 +149,17 @@ pub(crate) struct ScenarioArgs {
     /// the model in use k_model, tau_model, theta_model.
     #[arg(long)]
     pub(crate) adapt: bool,
-    /// The dead times (s) the adaptation considers, MIN..MAX (at most 32
-    /// samples apart; default: 12 samples below the model's to 19 above).
+    /// The dead times (s) the adaptation considers, MIN..MAX (default 0.3
+    /// to 3 times the model's; at most 32 of the estimator's samples, a
+    /// tenth of the model's dead time each, apart).
     #[arg(long, value_name = "MIN..MAX", value_parser = msp::syntax::parse_dead_times)]
     pub(crate) adapt_delay: Option<(f64, f64)>,
     /// The estimator's forgetting factor, in (0, 1] (default 0.999: a
     /// memory of 1000 samples).
     #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true)]
     pub(crate) adapt_forgetting: Option<f64>,
-    /// The estimator's prefilter time constant (s; default 2.5 of the
-    /// model's time constant; 0: plain differences).
+    /// The estimator's prefilter time constant (s; default 0: plain
+    /// differences of the block means, which a load's onset needs).
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub(crate) adapt_prefilter: Option<f64>,
     /// The excitation gate: no learning unless the input moved this much
