@@ -99,30 +99,21 @@ fn loads_and_noise_do_no_harm() {
             for (noise, bits) in conditions {
                 for seed in 1..=2u64 {
                     let back = duration - 300.0;
-                    let fixed = run(
-                        plant,
-                        ts,
-                        duration,
-                        back,
-                        loads,
-                        &[],
-                        noise,
-                        bits,
-                        seed,
-                        false,
-                    );
-                    let adaptive = run(
-                        plant,
-                        ts,
-                        duration,
-                        back,
-                        loads,
-                        &[],
-                        noise,
-                        bits,
-                        seed,
-                        true,
-                    );
+                    let with = |adapt| {
+                        run(
+                            plant,
+                            ts,
+                            duration,
+                            back,
+                            loads,
+                            &[],
+                            noise,
+                            bits,
+                            seed,
+                            adapt,
+                        )
+                    };
+                    let (fixed, adaptive) = (with(false), with(true));
                     let case = format!("{plant} ts {ts} noise {noise} bits {bits:?} seed {seed}");
                     let applied: Vec<_> = adaptive
                         .report()

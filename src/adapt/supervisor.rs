@@ -790,16 +790,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         let back = self.validated;
         self.shadow = None;
         self.detune = T::one();
-        match self.put(back, ChangeKind::Restored) {
-            Ok(true) => self.record(ChangeKind::Restored),
-            Ok(false) => {}
-            Err(_) => {
-                self.frozen = true;
-                self.record(ChangeKind::Refused);
-            }
-        }
-        self.block = Block::default();
-        self.settled = None;
+        self.take(back, ChangeKind::Restored);
         self.rest_until = self
             .blocks
             .saturating_add(4 * u64::from(self.cfg.min_interval));
@@ -829,17 +820,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if let (Some(m), true) = (clear, self.cfg.apply) {
             self.shadow = None;
             self.detune = T::one();
-            match self.put(m, ChangeKind::Emergency) {
-                Ok(true) => {
-                    self.record(ChangeKind::Emergency);
-                    self.changed(ChangeKind::Applied);
-                }
-                Ok(false) => {}
-                Err(_) => {
-                    self.frozen = true;
-                    self.record(ChangeKind::Refused);
-                }
-            }
+            self.take(m, ChangeKind::Emergency);
             return;
         }
         let m = self.model;
@@ -978,14 +959,22 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             theta: m.theta,
         };
         self.detune = T::one();
-        match self.put(target, ChangeKind::Applied) {
+        self.take(target, ChangeKind::Applied);
+    }
+
+    /// The model `m` into the scheme as a change of kind `kind`: logged
+    /// and taking effect now, or when the rebuilt scheme takes over; a
+    /// scheme that refuses it goes back to the model in use (a part may
+    /// have been applied), and adaptation freezes, logged as refused.
+    fn take(&mut self, m: Model<T>, kind: ChangeKind) {
+        let cur = self.model;
+        match self.put(m, kind) {
             Ok(true) => {
-                self.record(ChangeKind::Applied);
-                self.changed(ChangeKind::Applied);
+                self.record(kind);
+                self.changed(kind);
             }
             Ok(false) => {}
             Err(_) => {
-                // a part may have been applied: back to the model in use
                 let _ = self.put(cur, ChangeKind::Restored);
                 self.shadow = None;
                 self.frozen = true;
