@@ -422,6 +422,15 @@ impl<T: Real> EstimatorConfig<T> {
     }
 }
 
+/// The model's one-step output `â·x + b̂0·Δu[k−d] + b̂1·Δu[k−d−1]` from
+/// its state `x` (the module's equation; an integrating model regresses
+/// on the inputs alone: no `a` term).
+#[inline(always)]
+fn predict<T: Real>([a, b0, b1]: [T; 3], x: T, (u0, u1): (T, T), integrating: bool) -> T {
+    let a = if integrating { T::zero() } else { a };
+    a * x + b0 * u0 + b1 * u1
+}
+
 /// [`Estimator::evidence`] over costs of weight `weight`.
 fn evidence<T: Real>(chosen: T, other: T, weight: T) -> T {
     let scale = if weight > T::zero() {
@@ -557,10 +566,6 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     skip: usize,
     /// Load onsets found.
     onsets: u32,
-    /// The running median of the chosen candidate's error differences
-    /// (the onset's noise level), and its last error.
-    level: Median<T>,
-    level_e: T,
 }
 
 /// A load's onset: at rest, the chosen model's prediction error exceeds
@@ -648,8 +653,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             block: (T::zero(), T::zero(), 0, true),
             skip: 0,
             onsets: 0,
-            level: Median::new(),
-            level_e: T::zero(),
         })
     }
 
@@ -827,28 +830,20 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// not carry the process's response). Returns whether this sample is
     /// one of an onset's (not learnt from).
     fn onset(&mut self, target: T) -> bool {
+        let cfg = self.cfg;
         if self.skip == 0 {
             let Some(c) = self.bank.get(self.chosen) else {
                 return false;
             };
-            let f0 = if self.cfg.integrating {
-                T::zero()
-            } else {
-                c.yhat
-            };
-            let [t0, t1, t2] = c.theta;
-            let d = self.cfg.d_min + self.chosen;
-            let (u0, u1) = self.hist.pair(d);
-            let e = target - (t0 * f0 + t1 * u0 + t2 * u1);
-            // the noise: the median of the error's differences (white
-            // noise of deviation σ gives a median |Δe| of 0.6745·√2·σ)
-            let sigma = self.level.push((e - self.level_e).abs())
-                / T::of(0.6745 * core::f64::consts::SQRT_2);
-            self.level_e = e;
+            let d = cfg.d_min + self.chosen;
+            let e = target - predict(c.theta, c.yhat, self.hist.pair(d), cfg.integrating);
             let floor = T::epsilon().sqrt() * (T::one() + self.last_y.abs());
-            // at rest: no input move within twice the response's time
-            let rest = self.hist.quiet > self.window.saturating_mul(2);
-            if !rest || e.abs() <= at_least(T::of(ONSET) * sigma, floor) {
+            // at rest (no input move within twice the response's time), and
+            // the noise measured over as long (the change detector's)
+            let rest = self.window.saturating_mul(2);
+            let measured = usize::try_from(self.samples).map_or(true, |n| n > rest);
+            let threshold = at_least(T::of(ONSET) * self.noise_level(), floor);
+            if self.hist.quiet <= rest || !measured || e.abs() <= threshold {
                 return false;
             }
             // the controller's answer to it reaches the output a dead time on
@@ -856,32 +851,26 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.onsets = self.onsets.saturating_add(1);
         }
         self.skip -= 1;
-        let cfg = self.cfg;
         let anchor = self.skip == 0;
-        let a_of = |theta: &[T; 3]| if cfg.integrating { T::zero() } else { theta[0] };
         // the simulations go on, and at the onset's end take the measurement
         let inputs = self.hist.from(cfg.d_min);
         let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
         let [snap, _] = self.snap;
         let bank = self.bank.get_mut(..self.n).unwrap_or_default();
         for (c, (&u0, &u1)) in bank.iter_mut().zip(pairs) {
-            let [_, b0, b1] = c.theta;
-            let [_, s0, s1] = snap;
             if anchor {
                 (c.yhat, c.scan) = (target, target);
             } else {
-                c.yhat = a_of(&c.theta) * c.yhat + b0 * u0 + b1 * u1;
-                c.scan = a_of(&snap) * c.scan + s0 * u0 + s1 * u1;
+                c.yhat = predict(c.theta, c.yhat, (u0, u1), cfg.integrating);
+                c.scan = predict(snap, c.scan, (u0, u1), cfg.integrating);
             }
             c.psi = [T::zero(); 3];
         }
         if let Some(r) = self.reference.as_mut() {
-            let (u0, u1) = self.hist.pair(r.d);
-            let [_, b0, b1] = r.theta;
             r.yhat = if anchor {
                 target
             } else {
-                a_of(&r.theta) * r.yhat + b0 * u0 + b1 * u1
+                predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating)
             };
         }
         true
@@ -917,10 +906,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let (lo, hi) = self.a_range;
         let sign = self.sign;
         if let Some(r) = self.reference.as_mut() {
-            let f0 = if cfg.integrating { T::zero() } else { r.yhat };
-            let [t0, t1, t2] = r.theta;
-            let (u0, u1) = self.hist.pair(r.d);
-            let pred = t0 * f0 + t1 * u0 + t2 * u1;
+            let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
             let e = target - pred;
             r.cost = cfg.cost_memory * r.cost + e * e;
             r.energy = cfg.cost_memory * r.energy + pred * pred;
@@ -1118,8 +1104,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let [snap, _] = self.snap;
         let [a, b0, b1] = snap;
         let a = if cfg.integrating { T::zero() } else { a };
-        let (u0, u1) = self.hist.pair(cfg.d_min + chosen);
-        let e_chosen = target - (a * c.scan + b0 * u0 + b1 * u1);
+        let e_chosen = target
+            - predict(
+                snap,
+                c.scan,
+                self.hist.pair(cfg.d_min + chosen),
+                cfg.integrating,
+            );
         let e2 = e_chosen * e_chosen;
         let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
         let recent_chosen = if excited {
