@@ -3,6 +3,7 @@
 //! --adapt` runs it, against the same loop with the fixed model and against
 //! a loop built with the true model from the start.
 
+use msp::adapt::ChangeKind;
 use msp::sim::SetpointStep;
 use msp::study::{AdaptOptions, RunOutput, Scenario};
 
@@ -194,6 +195,58 @@ fn the_dead_time_range_bounds_the_estimates() {
             .fold(0.0, f64::max);
         assert!(most <= 1.3 + 1e-9, "{name} reached {most}");
     }
+    // the estimate went to the range's end: said (with the estimate, past
+    // the model's dead time towards the end), never applied
+    let log = bounded.report().adaptation;
+    let edge = log.iter().find(|c| c.kind == ChangeKind::Edge);
+    assert!(edge.is_some_and(|c| c.theta > 1.1), "{log:?}");
+    assert!(
+        log.iter()
+            .filter(|c| c.kind == ChangeKind::Applied)
+            .all(|c| c.theta < 1.2),
+        "{log:?}"
+    );
+}
+
+/// A process whose dead time grows far past the range searched (1 → 4 s,
+/// candidates 0.8–1.2 s): the Smith predictor's loop starts to oscillate
+/// with growing half-cycles, no estimate is clear (it sits at the range's
+/// end), and the emergency path halves the primary's gain (`detuned`, logged
+/// within two periods of the growth); the loop that diverges with the fixed
+/// model stays bounded.
+#[test]
+fn without_a_clear_estimate_the_emergency_path_detunes() {
+    let events = ["150:plant-dead-time=4"];
+    let run = |adapt: bool| {
+        let mut sc = scenario("1*e^-1s/(4s+1)", &events, 0.0, 1, adapt);
+        sc.lambda = Some(1.0);
+        if adapt {
+            sc.adapt = Some(AdaptOptions {
+                delay: Some((0.8, 1.2)),
+                ..AdaptOptions::default()
+            });
+        }
+        sc.run().unwrap()
+    };
+    let (fixed, adaptive) = (run(false), run(true));
+    let peak = |out: &RunOutput| {
+        out.result
+            .y
+            .iter()
+            .zip(&out.result.t)
+            .filter(|(_, t)| **t > 600.0)
+            .map(|(y, _)| y.abs())
+            .fold(0.0f64, f64::max)
+    };
+    let log = adaptive.report().adaptation;
+    let detuned: Vec<_> = log
+        .iter()
+        .filter(|c| c.kind == ChangeKind::Detuned)
+        .collect();
+    assert!(!detuned.is_empty(), "{log:?}");
+    assert!(log.iter().all(|c| c.kind != ChangeKind::Applied), "{log:?}");
+    assert!(peak(&adaptive) < 2.0, "{}", peak(&adaptive));
+    assert!(peak(&fixed) > 2.0 || fixed.result.t.last().is_some_and(|t| *t < 899.0));
 }
 
 /// The stability verdict of an adaptive run is the loop's as built: the

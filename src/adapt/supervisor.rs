@@ -775,7 +775,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.restore();
             return true;
         }
-        if self.growing >= self.cfg.emergency.max(1) && !self.frozen {
+        // growing half-cycles, or (once detuned) ones that go on
+        let detuned_still = self.detune < T::one() && self.crossed >= self.cfg.crossings;
+        if (self.growing >= self.cfg.emergency.max(1) || detuned_still) && !self.frozen {
             self.growing = 0;
             self.crossed = 0;
             self.emergency();
@@ -840,6 +842,32 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
     }
 
+    /// The estimate as it stands lies at the end of the dead-time range or
+    /// beyond the bounds, and predicts the data better than the model in
+    /// use (the process has left what the search may find): a warning,
+    /// logged once while it lasts ([`ChangeKind::Edge`], with the estimate),
+    /// and nothing applied. Returns whether it is so.
+    fn edge(&mut self) -> bool {
+        let Some(e) = self.est.estimate() else {
+            return false;
+        };
+        let m = Model {
+            k: e.k,
+            tau: e.tau,
+            theta: e.theta,
+        };
+        let outside = self.est.at_edge() || !self.within_bounds(m);
+        if !(outside && self.beats_model()) {
+            self.edge_warned = false;
+            return false;
+        }
+        if !self.edge_warned {
+            self.edge_warned = true;
+            self.record_model(ChangeKind::Edge, m);
+        }
+        true
+    }
+
     /// The estimator's chosen model predicts the data since the model in
     /// use was set better than it, with the evidence of `validate`
     /// ([`super::Mismatch::evidence`]): no model is applied that does not.
@@ -890,6 +918,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !self.cfg.apply || self.blocks < self.rest_until || self.shadow.is_some() {
             return;
         }
+        if self.edge() {
+            return;
+        }
         // the estimate in blocks of `settle` samples: a block in which it held
         // still (one whole dead time throughout, the gain and the time
         // constant within `min_change` from lowest to highest, every sample
@@ -926,16 +957,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.edge_warned = false;
             return;
         }
-        // at the end of the dead-time range or beyond the bounds: a
-        // warning, never a silently applied model
-        if self.est.at_edge() || !self.within_bounds(m) {
-            if !self.edge_warned {
-                self.edge_warned = true;
-                self.record_model(ChangeKind::Edge, m);
-            }
+        // beyond the bounds: never applied (an estimate there is warned
+        // of by edge() as it stands)
+        if !self.within_bounds(m) {
             return;
         }
-        self.edge_warned = false;
         // the estimate must predict the recent data better than the model
         // in use
         if !self.beats_model() {

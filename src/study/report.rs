@@ -514,8 +514,13 @@ pub(crate) fn adaptation_log(result: &crate::sim::SimResult) -> Vec<AdaptationRe
             let get = |v: &[f64]| v.get(i).copied().unwrap_or(f64::NAN);
             let code = num_traits::ToPrimitive::to_u8(&get(kind)).unwrap_or(0);
             if let Some(kind) = crate::adapt::ChangeKind::from_code(code) {
-                // an alarm names the process the estimator sees
-                let (k, tau, theta) = if kind == crate::adapt::ChangeKind::Alarm {
+                // an alarm and an edge warning name the process the
+                // estimator sees
+                let seen = matches!(
+                    kind,
+                    crate::adapt::ChangeKind::Alarm | crate::adapt::ChangeKind::Edge
+                );
+                let (k, tau, theta) = if seen {
                     (k_hat, tau_hat, theta_hat)
                 } else {
                     (k, tau, theta)
