@@ -53,6 +53,10 @@ pub struct AdaptOptions {
     /// RMS prediction error): errors within it do not update (default 0:
     /// off).
     pub dead_zone: Option<f64>,
+    /// The estimates' gain and time constant stay within this factor of
+    /// the commissioned model's (default 4; beyond it an estimate is
+    /// warned of, never applied: [`crate::adapt::AdaptiveConfig::bound`]).
+    pub bound: Option<f64>,
     /// The model error that raises the alarm (default 0.1: 10 %, with
     /// the monitor; giving it turns the monitor on).
     pub alarm: Option<f64>,
@@ -232,6 +236,9 @@ impl Scenario {
         let mut cfg = AdaptiveConfig::new(est);
         if let Some(m) = opts.min_change {
             cfg.min_change = crate::real::positive(m, "adapt min_change")?;
+        }
+        if let Some(b) = opts.bound {
+            cfg.bound = crate::real::positive(b, "adapt bound")?;
         }
         if let Some(apply) = opts.apply {
             cfg.apply = apply;

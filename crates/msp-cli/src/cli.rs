@@ -170,6 +170,11 @@ pub(crate) struct ScenarioArgs {
     /// RMS prediction error; default 0: off).
     #[arg(long, value_name = "RATIO", allow_hyphen_values = true)]
     pub(crate) adapt_dead_zone: Option<f64>,
+    /// The adaptation's bound on the gain and the lag: estimates beyond
+    /// this factor of the commissioned model's are warned of, never
+    /// applied (default 4).
+    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true)]
+    pub(crate) adapt_bound: Option<f64>,
     /// Model-error monitor: the estimator watches the model in use and
     /// raises an alarm (in the report and the summary, and the CSV columns
     /// mismatch, model_alarm) when the process no longer matches it;

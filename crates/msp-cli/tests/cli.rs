@@ -1785,3 +1785,50 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
         "around the model's dead time",
     );
 }
+
+/// `msp run --adapt --adapt-bound F`: the process's gain rises 30 %, past a
+/// bound of 1.2 on the commissioned gain: the summary warns that the
+/// estimate is not applied, the report logs it (kind "edge", with the
+/// estimate's gain, near the process's), the model in use stays; a bound
+/// not above 1 is refused by name.
+#[test]
+fn an_estimate_past_the_bound_is_warned_of_not_applied() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, report) = (dir.path().join("b.csv"), dir.path().join("b.json"));
+    let mut args: Vec<String> = words(
+        "run --plant e^-1s/(4s+1) -c smith --lambda 2 --ts 0.1 --duration 600 --event 150:plant-gain=1.3 --adapt --adapt-bound 1.2",
+    )
+    .map(String::from)
+    .collect();
+    for i in 0..20 {
+        args.push("--setpoint".into());
+        args.push(format!("{}@{}", i % 2, 30 * i));
+    }
+    let out = msp()
+        .args(&args)
+        .arg("-o")
+        .arg(&csv)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stderr).unwrap();
+    assert!(text.contains("WARNING: not applied"), "{text}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let log = r["adaptation"].as_array().unwrap();
+    assert!(log.iter().all(|c| c["kind"] == "edge"), "{log:?}");
+    let k = log[0]["k"].as_f64().unwrap();
+    assert!((k - 1.3).abs() < 0.1, "{k}");
+    let data = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = data.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "k_model").unwrap();
+    let last: Vec<&str> = data.lines().last().unwrap().split(',').collect();
+    assert_eq!(last[col], "1");
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-bound 1"),
+        "bound",
+    );
+}

@@ -1043,6 +1043,22 @@ def test_run_takes_operator_events_and_an_outside_actuator() -> None:
     assert all(e["output_change"] < 1e-6 for e in cas.operator_events)
 
 
+def test_adapt_bound_warns_instead_of_applying():
+    """run(adapt={"bound": 1.2}) as msp run --adapt-bound 1.2: the process's gain rises 30 %,
+    past the bound on the commissioned gain: the log says "edge" with the estimate's gain,
+    the model in use stays; a bound not above 1 is refused."""
+    steps = [(float(i % 2), 30.0 * i) for i in range(20)]
+    kw = dict(controller="smith", lambda_=2.0, ts=0.1, duration=600.0,
+              setpoint=steps, events=["150:plant-gain=1.3"])
+    out = msp.run("e^-1s/(4s+1)", adapt={"bound": 1.2}, **kw)
+    log = out.report()["adaptation"]
+    assert log and all(c["kind"] == "edge" for c in log), log
+    assert abs(log[0]["k"] - 1.3) < 0.1
+    assert out.signals["k_model"][-1] == 1.0
+    with pytest.raises(ValueError, match="bound"):
+        msp.run("e^-1s/(4s+1)", adapt={"bound": 1.0}, **kw)
+
+
 def test_adapt_follows_a_process_lag_that_doubled():
     """run(adapt=True) as msp run --adapt: after the process's lag doubles (4 s -> 8 s), the
     Smith predictor's model in use becomes the process's (within 10 %); without adaptation it

@@ -100,11 +100,12 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         || a.adapt_prefilter.is_some()
         || a.adapt_excitation.is_some()
         || a.adapt_dead_zone.is_some()
+        || a.adapt_bound.is_some()
         || a.alarm.is_some();
     sc.monitor |= a.monitor;
     if tuning && !(a.adapt || sc.monitor || sc.adapt.is_some()) {
         return Err(CliError::Input(
-            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation, --adapt-dead-zone and --alarm set up an adaptation: add --adapt or --monitor".into(),
+            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation, --adapt-dead-zone, --adapt-bound and --alarm set up an adaptation: add --adapt or --monitor".into(),
         ));
     }
     if a.adapt || tuning {
@@ -123,6 +124,7 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
             adapt_prefilter => prefilter,
             adapt_excitation => excitation,
             adapt_dead_zone => dead_zone,
+            adapt_bound => bound,
             alarm => alarm
         );
     }

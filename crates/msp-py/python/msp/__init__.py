@@ -425,8 +425,9 @@ def run(
         it: small is ambiguous) and ``k_model``, ``tau_model``, ``theta_model`` (the model in
         use).
         A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``,
-        ``prefilter`` (s), ``dead_zone`` (multiples of the measured noise), ``apply`` (False: a
-        monitor only) and ``alarm`` (the model error
+        ``prefilter`` (s), ``dead_zone`` (multiples of the measured noise), ``bound`` (the
+        factor of the commissioned gain and lag no estimate applied may pass, default 4),
+        ``apply`` (False: a monitor only) and ``alarm`` (the model error
         that raises the alarm, default 0.1).
     monitor : bool, optional
         The model-error monitor, as the CLI's ``--monitor``: the estimator watches the model in
