@@ -367,6 +367,21 @@ int main(void) {
         EXPECT(msp_adaptive_default_config(&sc, NULL) == MSP_NULL_POINTER);
         EXPECT(msp_adaptive_default_config(&sc, &ac) == MSP_OK);
         EXPECT(ac.adapt.d_min == 4 && ac.adapt.d_max == 19 && ac.adapt.apply == 1);
+        EXPECT(ac.adapt.decimation == 1 && ac.adapt.prefilter == 0.0f && ac.adapt.bound == 4.0f);
+        {
+            /* at a tenth of the period (100 samples of dead time) the
+               estimator keeps its time scale: a sample of its own per ten */
+            msp_smith_config fine;
+            msp_adaptive_config fac;
+            EXPECT(msp_tune_smith_fopdt(1.0f, 4.0f, 1.0f, 0.01f, 2.0f, &fine) == MSP_OK);
+            EXPECT(msp_adaptive_default_config(&fine, &fac) == MSP_OK);
+            EXPECT(fac.adapt.decimation == 10 && fac.adapt.d_min == 4 && fac.adapt.d_max == 19);
+            fac.adapt.decimation = 0;
+            EXPECT(msp_adaptive_size(&fac, &s) == 0 && s == MSP_OUT_OF_RANGE);
+            fac.adapt.decimation = 10;
+            fac.adapt.bound = 1.0f;
+            EXPECT(msp_adaptive_size(&fac, &s) == 0 && s == MSP_OUT_OF_RANGE);
+        }
         msp_adaptive_config bad = ac;
         bad.adapt.forgetting = 1.5f;
         EXPECT(msp_adaptive_size(&bad, &s) == 0 && s == MSP_OUT_OF_RANGE);

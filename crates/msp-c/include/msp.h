@@ -104,14 +104,16 @@ typedef struct msp_estimator_f64 msp_estimator_f64;
 typedef struct msp_relay msp_relay;
 
 // Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
-// the period `ts` (s), the candidate dead times `d_min … d_max`
-// (samples; at most 16 of them), `integrating` (nonzero:
-// `k e^{−θs}/s`), the forgetting factor (0.999: a memory of 1000
-// samples), the prefilter's time constant (s; 0: plain differences,
-// which amplify noise) and the excitation gate (the input's move needed
-// to learn).
+// the period `ts` (s), `decimation` (controller samples per estimator
+// sample, at least 1: it learns from their means), the candidate dead
+// times `d_min … d_max` (estimator samples; at most 16 of them),
+// `integrating` (nonzero: `k e^{−θs}/s`), the forgetting factor
+// (0.999: a memory of 1000 estimator samples), the prefilter's time
+// constant (s; 0: plain differences, which a load's onset needs) and
+// the excitation gate (the input's move needed to learn).
 typedef struct {
   float ts;
+  uint32_t decimation;
   uint32_t d_min;
   uint32_t d_max;
   uint32_t integrating;
@@ -124,14 +126,16 @@ typedef struct {
 typedef msp_estimator_config_of_f32 msp_estimator_config;
 
 // Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
-// the period `ts` (s), the candidate dead times `d_min … d_max`
-// (samples; at most 16 of them), `integrating` (nonzero:
-// `k e^{−θs}/s`), the forgetting factor (0.999: a memory of 1000
-// samples), the prefilter's time constant (s; 0: plain differences,
-// which amplify noise) and the excitation gate (the input's move needed
-// to learn).
+// the period `ts` (s), `decimation` (controller samples per estimator
+// sample, at least 1: it learns from their means), the candidate dead
+// times `d_min … d_max` (estimator samples; at most 16 of them),
+// `integrating` (nonzero: `k e^{−θs}/s`), the forgetting factor
+// (0.999: a memory of 1000 estimator samples), the prefilter's time
+// constant (s; 0: plain differences, which a load's onset needs) and
+// the excitation gate (the input's move needed to learn).
 typedef struct {
   double ts;
+  uint32_t decimation;
   uint32_t d_min;
   uint32_t d_max;
   uint32_t integrating;
@@ -223,11 +227,14 @@ typedef struct {
 // In `float`, the device's type.
 typedef msp_smith_config_float msp_smith_config;
 
-// How a scheme adapts (`msp::adapt::AdaptiveConfig`): the candidate
-// dead times `d_min … d_max` (samples; at most 16 of them), the
-// estimator's `forgetting`, `prefilter` (s) and `excitation`, the
-// relative change `min_change` that is applied, the model error
-// `alarm` that raises the alarm (`INFINITY`: none), the oscillation
+// How a scheme adapts (`msp::adapt::AdaptiveConfig`): `decimation`
+// (controller samples per estimator sample: by default a tenth of the
+// model's dead time), the candidate dead times `d_min … d_max`
+// (estimator samples; at most 16 of them), the estimator's
+// `forgetting`, `prefilter` (s; 0 by default) and `excitation`, the
+// relative change `min_change` that is applied, the factor `bound` of
+// the commissioned gain and lag no applied estimate passes (4), the
+// model error `alarm` that raises the alarm (`INFINITY`: none), the oscillation
 // detector's `band` on the control error (0: four times the noise the
 // estimator measures, the least it takes), `apply` (0: a model-error
 // monitor only), and the closed-loop time constant
@@ -236,12 +243,14 @@ typedef msp_smith_config_float msp_smith_config;
 // Karan–Dey predictor, whose every block is designed from the model,
 // cannot take it).
 typedef struct {
+  uint32_t decimation;
   uint32_t d_min;
   uint32_t d_max;
   float forgetting;
   float prefilter;
   float excitation;
   float min_change;
+  float bound;
   float alarm;
   float band;
   uint32_t apply;
@@ -281,11 +290,14 @@ typedef struct {
 // In `double`, a host's type.
 typedef msp_smith_config_double msp_smith_config_f64;
 
-// How a scheme adapts (`msp::adapt::AdaptiveConfig`): the candidate
-// dead times `d_min … d_max` (samples; at most 16 of them), the
-// estimator's `forgetting`, `prefilter` (s) and `excitation`, the
-// relative change `min_change` that is applied, the model error
-// `alarm` that raises the alarm (`INFINITY`: none), the oscillation
+// How a scheme adapts (`msp::adapt::AdaptiveConfig`): `decimation`
+// (controller samples per estimator sample: by default a tenth of the
+// model's dead time), the candidate dead times `d_min … d_max`
+// (estimator samples; at most 16 of them), the estimator's
+// `forgetting`, `prefilter` (s; 0 by default) and `excitation`, the
+// relative change `min_change` that is applied, the factor `bound` of
+// the commissioned gain and lag no applied estimate passes (4), the
+// model error `alarm` that raises the alarm (`INFINITY`: none), the oscillation
 // detector's `band` on the control error (0: four times the noise the
 // estimator measures, the least it takes), `apply` (0: a model-error
 // monitor only), and the closed-loop time constant
@@ -294,12 +306,14 @@ typedef msp_smith_config_double msp_smith_config_f64;
 // Karan–Dey predictor, whose every block is designed from the model,
 // cannot take it).
 typedef struct {
+  uint32_t decimation;
   uint32_t d_min;
   uint32_t d_max;
   double forgetting;
   double prefilter;
   double excitation;
   double min_change;
+  double bound;
   double alarm;
   double band;
   uint32_t apply;

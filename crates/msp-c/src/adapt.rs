@@ -32,14 +32,16 @@ const H: usize = MSP_ADAPT_HISTORY;
 
 c_config! {
     /// Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
-    /// the period `ts` (s), the candidate dead times `d_min … d_max`
-    /// (samples; at most 16 of them), `integrating` (nonzero:
-    /// `k e^{−θs}/s`), the forgetting factor (0.999: a memory of 1000
-    /// samples), the prefilter's time constant (s; 0: plain differences,
-    /// which amplify noise) and the excitation gate (the input's move needed
-    /// to learn).
+    /// the period `ts` (s), `decimation` (controller samples per estimator
+    /// sample, at least 1: it learns from their means), the candidate dead
+    /// times `d_min … d_max` (estimator samples; at most 16 of them),
+    /// `integrating` (nonzero: `k e^{−θs}/s`), the forgetting factor
+    /// (0.999: a memory of 1000 estimator samples), the prefilter's time
+    /// constant (s; 0: plain differences, which a load's onset needs) and
+    /// the excitation gate (the input's move needed to learn).
     msp_estimator_config_of: msp_estimator_config, msp_estimator_config_f64 {
         ts: T,
+        decimation: u32,
         d_min: u32,
         d_max: u32,
         integrating: u32,
@@ -64,11 +66,14 @@ c_config! {
 }
 
 c_config! {
-    /// How a scheme adapts (`msp::adapt::AdaptiveConfig`): the candidate
-    /// dead times `d_min … d_max` (samples; at most 16 of them), the
-    /// estimator's `forgetting`, `prefilter` (s) and `excitation`, the
-    /// relative change `min_change` that is applied, the model error
-    /// `alarm` that raises the alarm (`INFINITY`: none), the oscillation
+    /// How a scheme adapts (`msp::adapt::AdaptiveConfig`): `decimation`
+    /// (controller samples per estimator sample: by default a tenth of the
+    /// model's dead time), the candidate dead times `d_min … d_max`
+    /// (estimator samples; at most 16 of them), the estimator's
+    /// `forgetting`, `prefilter` (s; 0 by default) and `excitation`, the
+    /// relative change `min_change` that is applied, the factor `bound` of
+    /// the commissioned gain and lag no applied estimate passes (4), the
+    /// model error `alarm` that raises the alarm (`INFINITY`: none), the oscillation
     /// detector's `band` on the control error (0: four times the noise the
     /// estimator measures, the least it takes), `apply` (0: a model-error
     /// monitor only), and the closed-loop time constant
@@ -77,12 +82,14 @@ c_config! {
     /// Karan–Dey predictor, whose every block is designed from the model,
     /// cannot take it).
     msp_adapt_config_of: msp_adapt_config, msp_adapt_config_f64 {
+        decimation: u32,
         d_min: u32,
         d_max: u32,
         forgetting: T,
         prefilter: T,
         excitation: T,
         min_change: T,
+        bound: T,
         alarm: T,
         band: T,
         apply: u32,
@@ -479,6 +486,7 @@ fn estimator_config<T: Real>(c: &msp_estimator_config_of<T>) -> Result<Estimator
         ));
     }
     let mut e = EstimatorConfig::new(c.ts, d_min);
+    e.decimation = index(c.decimation, "decimation")?;
     e.d_max = Some(d_max);
     e.integrating = c.integrating != 0;
     e.forgetting = c.forgetting;
@@ -516,6 +524,7 @@ fn estimator_default<T: Real>(ts: T, d_min: u32) -> Result<msp_estimator_config_
     let e = EstimatorConfig::new(ts, 0);
     let c = msp_estimator_config_of {
         ts,
+        decimation: 1,
         d_min,
         d_max: bank_end(d_min),
         integrating: 0,
@@ -548,6 +557,7 @@ fn adaptive_config<T: Real>(
     let (_, tau, _) = fopdt_or_ipdt(m)?;
     let est = estimator_config(&msp_estimator_config_of {
         ts,
+        decimation: c.decimation,
         d_min: c.d_min,
         d_max: c.d_max,
         integrating: u32::from(tau.is_infinite()),
@@ -557,6 +567,7 @@ fn adaptive_config<T: Real>(
     })?;
     let mut a = AdaptiveConfig::new(est);
     a.min_change = c.min_change;
+    a.bound = c.bound;
     a.alarm = c.alarm;
     a.band = c.band;
     a.apply = c.apply != 0;
@@ -565,39 +576,38 @@ fn adaptive_config<T: Real>(
 }
 
 /// The adaptation's defaults for a scheme of the model `m` whose dead time
-/// is `d` samples at `ts`: the 16 candidates from 6 samples below it, the
-/// prefilter 2.5 time constants (an integrating model's: 2.5 dead times, as
-/// `msp run --adapt`).
+/// is `d` samples at `ts`, as `msp run --adapt`'s: the estimator at a tenth
+/// of the dead time per sample (`decimation`), its 16 candidates from 6
+/// of its samples below the model's dead time, plain differences (no
+/// prefilter: a load's onset needs them).
 fn adapt_default<T: Real>(
     m: &msp_model_of<T>,
     d: T,
     ts: T,
 ) -> Result<msp_adapt_config_of<T>, Error> {
-    let below = (d.floor() - T::of(6.0))
-        .max(T::zero())
-        .to_f64()
-        .unwrap_or(f64::NAN);
-    if below.is_nan() || below >= f64::from(u32::MAX) {
-        return Err(Error::DelayTooLong("dead time"));
-    }
-    // in range: checked just above
-    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-    let d_min = below as u32;
-    let e = EstimatorConfig::new(ts, 0);
-    let (_, tau, theta) = fopdt_or_ipdt(m)?;
-    let t = if tau.is_finite() {
-        tau * T::of(2.5)
-    } else {
-        theta.max(ts) * T::of(2.5)
+    let per = (d / T::of(10.0)).ceil().max(T::one());
+    let whole = |x: T| {
+        x.to_f64()
+            .filter(|x| x.is_finite() && *x >= 0.0 && *x < f64::from(u32::MAX))
+            .ok_or(Error::DelayTooLong("dead time"))
     };
+    // in range: checked by whole()
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let (decimation, d_min) = (
+        whole(per)? as u32,
+        whole(((d / per).floor() - T::of(6.0)).max(T::zero()))? as u32,
+    );
+    let e = EstimatorConfig::new(ts, 0);
     let a = AdaptiveConfig::new(e);
     let c = msp_adapt_config_of {
+        decimation,
         d_min,
         d_max: bank_end(d_min),
         forgetting: e.forgetting,
-        prefilter: t,
+        prefilter: T::zero(),
         excitation: e.min_excitation,
         min_change: a.min_change,
+        bound: a.bound,
         alarm: a.alarm,
         band: a.band,
         apply: 1,

@@ -57,11 +57,13 @@ pub struct Estimator {
 #[pymethods]
 impl Estimator {
     #[new]
-    #[pyo3(signature = (ts, d_min, *, d_max = None, integrating = false, forgetting = 0.999, prefilter = 0.0, excitation = 1e-6))]
+    #[pyo3(signature = (ts, d_min, *, d_max = None, decimation = 1, integrating = false, forgetting = 0.999, prefilter = 0.0, excitation = 1e-6))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         ts: f64,
         d_min: usize,
         d_max: Option<usize>,
+        decimation: usize,
         integrating: bool,
         forgetting: f64,
         prefilter: f64,
@@ -69,6 +71,7 @@ impl Estimator {
     ) -> PyResult<Self> {
         let mut cfg = EstimatorConfig::new(ts, d_min);
         cfg.d_max = d_max;
+        cfg.decimation = decimation;
         cfg.integrating = integrating;
         cfg.forgetting = forgetting;
         cfg.set_prefilter_time(prefilter).map_err(value_err)?;
@@ -80,10 +83,21 @@ impl Estimator {
 
     /// One sample: ``y`` measured now and ``u_applied`` the input the plant
     /// receives from now on; ``ok=False`` for a sample that is not the
-    /// process's own response (saturated, manual, a fault).
+    /// process's own response (saturated, manual, a fault). With
+    /// ``decimation`` N the estimator learns from the means of each N
+    /// samples (``d_min``, ``d_max`` and ``estimate["d"]`` count its own
+    /// samples, N·ts s each); returns whether such a block ended here.
     #[pyo3(signature = (y, u_applied, ok = true))]
-    fn update(&mut self, y: f64, u_applied: f64, ok: bool) {
-        self.inner.update(y, u_applied, ok);
+    fn update(&mut self, y: f64, u_applied: f64, ok: bool) -> bool {
+        self.inner.update(y, u_applied, ok)
+    }
+
+    /// Load onsets found so far: at rest, an error no input move can
+    /// explain (it teaches nothing; every model takes the measurement as
+    /// its state there).
+    #[getter]
+    fn onsets(&self) -> u32 {
+        self.inner.onsets()
     }
 
     /// The model now, a dict with ``k``, ``tau`` (``inf``: integrating),

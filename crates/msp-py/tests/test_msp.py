@@ -1043,6 +1043,33 @@ def test_run_takes_operator_events_and_an_outside_actuator() -> None:
     assert all(e["output_change"] < 1e-6 for e in cas.operator_events)
 
 
+def test_estimator_decimates_and_finds_load_onsets():
+    """msp.Estimator(decimation=10) in a PI loop on 1.6 e^(-6 s)/(10 s + 1) sampled at 0.05 s
+    (120 samples of dead time, 12 of its own): started from the true model, an output load
+    and an input load at rest are each an onset, and the estimate stays the process's."""
+    ts, k, tau, d = 0.05, 1.6, 10.0, 120
+    a = math.exp(-ts / tau)
+    est = msp.Estimator(ts=ts, d_min=4, decimation=10)
+    est.start_from(k, tau, d * ts)
+    kp, ki = 0.4 / k, 0.4 / k * ts / tau
+    y, integral, line = 0.0, 0.0, [0.0] * d
+    blocks = 0
+    for j in range(60000):
+        d_out = 0.3 if j >= 20000 else 0.0
+        d_in = 0.2 if j >= 40000 else 0.0
+        e = 1.0 - (y + d_out)
+        integral += ki * e
+        u = kp * e + integral
+        blocks += est.update(y + d_out, u)
+        late, line[j % d] = line[j % d], u + d_in
+        y = a * y + k * (1 - a) * late
+    assert blocks == 6000
+    assert est.onsets == 2
+    e = est.estimate
+    assert abs(e["k"] / k - 1) < 0.02 and abs(e["tau"] / tau - 1) < 0.02, e
+    assert abs(e["theta"] - d * ts) < 0.5, e
+
+
 def test_adapt_bound_warns_instead_of_applying():
     """run(adapt={"bound": 1.2}) as msp run --adapt-bound 1.2: the process's gain rises 30 %,
     past the bound on the commissioned gain: the log says "edge" with the estimate's gain,
