@@ -1,0 +1,529 @@
+//! The [`Estimator`]'s bank: construction, the prior model, the recursive
+//! prediction-error step of every candidate, the choice of dead time and
+//! the estimate.
+
+use super::*;
+
+impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
+    /// A bank with every candidate at `a = e^{−Ts/τ0}`, `b0 = b1 = 0` and a
+    /// large covariance (little is known yet).
+    pub fn new(cfg: EstimatorConfig<T>) -> Result<Self, Error> {
+        cfg.validate()?;
+        if N == 0 || H < cfg.d_min.saturating_add(N).saturating_add(1) {
+            return Err(Error::OutOfRange(
+                "estimator: the history must hold d_min + N + 1 inputs",
+            ));
+        }
+        let n = cfg
+            .d_max
+            .map_or(N, |d| d.saturating_sub(cfg.d_min).saturating_add(1))
+            .min(N);
+        let p0 = cfg.max_trace / T::of(3.0);
+        let mut p = [[T::zero(); 3]; 3];
+        for (i, row) in p.iter_mut().enumerate() {
+            if let Some(x) = row.get_mut(i) {
+                // an integrating model's `a` is 1, not estimated
+                *x = if cfg.integrating && i == 0 {
+                    T::zero()
+                } else {
+                    p0
+                };
+            }
+        }
+        let a0 = if cfg.integrating {
+            T::one()
+        } else {
+            T::of(0.9)
+        };
+        Ok(Estimator {
+            cfg,
+            bank: [Candidate {
+                theta: [a0, T::zero(), T::zero()],
+                p,
+                cost: T::zero(),
+                yhat: T::zero(),
+                psi: [T::zero(); 3],
+                scan: T::zero(),
+                cusum: T::zero(),
+                recent: T::zero(),
+            }; N],
+            n,
+            hist: History::new(cfg.prefilter, cfg.min_excitation, cfg.excitation_ratio),
+            last_y: T::zero(),
+            last_dy: T::zero(),
+            samples: 0,
+            weight: T::zero(),
+            chosen: 0,
+            challenger_for: 0,
+            model: None,
+            a_range: (T::of(1e-6), T::one() - T::of(1e-9)),
+            sign: T::zero(),
+            window: cfg.d_min.saturating_add(n),
+            reference: None,
+            noise: Median::new(),
+            snap: [[a0, T::zero(), T::zero()]; 2],
+            snap_count: 0,
+            last_e: T::zero(),
+            recent_weight: T::zero(),
+            restarts: 0,
+            pause: 0,
+            block: (T::zero(), T::zero(), 0, true),
+            skip: 0,
+            onsets: 0,
+        })
+    }
+
+    /// Starts from a model `K e^{−θs}/(τs + 1)` (`tau` infinite:
+    /// `K e^{−θs}/s`), e.g. the one a controller was designed for: the
+    /// choice is its whole dead time `d` (a switch away needs the evidence
+    /// of [`EstimatorConfig::switch_evidence`]), and every candidate's
+    /// coefficients are the model's ZOH `a`, `b0 = K(1 − a^{1−f})`,
+    /// `b1 = K(a^{1−f} − a)` (integrating: `K·Ts·(1 − f)`, `K·Ts·f`), its
+    /// fractional part `f` (so the candidate at the model's dead time
+    /// predicts from the first sample, and the others pay for being wrong
+    /// rather than for having started from nothing).
+    pub fn start_from(&mut self, k: T, tau: T, theta: T) -> Result<(), Error> {
+        let (d, coef) = self.coefficients(k, tau, theta)?;
+        let i = d
+            .checked_sub(self.cfg.d_min)
+            .filter(|i| *i < self.n)
+            .ok_or(Error::OutOfRange(
+                "estimator: a dead time among the candidates",
+            ))?;
+        let ts = self.cfg.ts;
+        // the prior's weight: a covariance of one per coefficient (the
+        // equivalent of a sample of unit regressors), not the cold start's
+        // large one, whose first noisy updates could throw `a` to the edge
+        // of stability, where the output-error model's simulation runs away
+        let mut p = [[T::zero(); 3]; 3];
+        if !self.cfg.integrating {
+            let a_of = |t: T| (-ts / t).exp();
+            let span = T::of(SPAN);
+            self.a_range = (a_of(tau / span), a_of(tau * span));
+            p[0][0] = T::one();
+            let settle = num_traits::ToPrimitive::to_usize(&(T::of(4.0) * tau / ts).ceil())
+                .unwrap_or(0)
+                .min(1 << 20);
+            self.window = self.cfg.d_min.saturating_add(self.n).saturating_add(settle);
+        }
+        p[1][1] = T::one();
+        p[2][2] = T::one();
+        self.sign = if k > T::zero() { T::one() } else { -T::one() };
+        for c in &mut self.bank {
+            c.theta = coef;
+            c.p = p;
+        }
+        self.chosen = i;
+        self.challenger_for = 0;
+        self.rebase();
+        self.model = self.model_of();
+        self.set_reference(k, tau, theta)
+    }
+
+    /// The whole dead time `d` and the ZOH coefficients `(a, b0, b1)` of
+    /// `K e^{−θs}/(τs + 1)` (`tau` infinite: `K e^{−θs}/s`; see the module
+    /// documentation).
+    fn coefficients(&self, k: T, tau: T, theta: T) -> Result<(usize, [T; 3]), Error> {
+        crate::real::finite(k, "k")?;
+        if k == T::zero() {
+            return Err(Error::OutOfRange("k: not zero"));
+        }
+        crate::real::non_negative(theta, "theta")?;
+        if !(tau > T::zero()) {
+            return Err(Error::OutOfRange("tau: positive (infinite: integrating)"));
+        }
+        if self.cfg.integrating != tau.is_infinite() {
+            return Err(Error::OutOfRange(
+                "tau: infinite exactly for an integrating estimator",
+            ));
+        }
+        let ts = self.cfg.period();
+        let samples = theta / ts + T::of(1e-9);
+        let whole = samples.floor();
+        let f = (samples - whole - T::of(1e-9)).max(T::zero()).min(T::one());
+        let d = num_traits::ToPrimitive::to_usize(&whole)
+            .filter(|d| d.saturating_add(2) < H)
+            .ok_or(Error::DelayTooLong(
+                "estimator: the history holds the dead time",
+            ))?;
+        let coef = if self.cfg.integrating {
+            [T::one(), k * ts * (T::one() - f), k * ts * f]
+        } else {
+            let a = (-ts / tau).exp();
+            let af = a.powf(T::one() - f);
+            [a, k * (T::one() - af), k * (af - a)]
+        };
+        Ok((d, coef))
+    }
+
+    /// The model in use, whose error [`Estimator::mismatch`] weighs: it
+    /// predicts the same prefiltered data as the candidates, without
+    /// learning ([`Estimator::start_from`] sets it too).
+    pub fn set_reference(&mut self, k: T, tau: T, theta: T) -> Result<(), Error> {
+        let (d, theta) = self.coefficients(k, tau, theta)?;
+        self.reference = Some(Reference {
+            theta,
+            d,
+            cost: T::zero(),
+            energy: T::zero(),
+            yhat: T::zero(),
+            seen: 0,
+            rival: T::zero(),
+            weight: T::zero(),
+        });
+        Ok(())
+    }
+
+    /// How far the model in use ([`Estimator::set_reference`]) is from the
+    /// process, from the costs of the two on the same data (`None` without
+    /// a reference, or before it was compared over a whole response's
+    /// excited samples): see [`Mismatch`].
+    pub fn mismatch(&self) -> Option<Mismatch<T>> {
+        let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
+        self.model?;
+        let best = r.rival;
+        let excess = r.cost - best;
+        Some(Mismatch {
+            error: if r.energy > T::zero() {
+                (excess.max(T::zero()) / r.energy).sqrt()
+            } else {
+                T::zero()
+            },
+            evidence: evidence(best, r.cost, r.weight),
+        })
+    }
+
+    /// One controller sample: `y` measured now and `u` the input the plant
+    /// received in the last period (`u_applied`); `ok` false for a sample
+    /// that is not the process's own response (saturated, manual,
+    /// tracking, faulted): the history moves on, nothing is learnt from
+    /// its block. Returns whether a block of
+    /// [`EstimatorConfig::decimation`] samples ended here (the estimator
+    /// then took one sample of its own: the block's means).
+    pub fn update(&mut self, y: T, u_applied: T, ok: bool) -> bool {
+        if !(y.is_finite() && u_applied.is_finite()) {
+            return false;
+        }
+        let (sy, su, n, all) = self.block;
+        let n = n + 1;
+        if n < self.cfg.decimation {
+            self.block = (sy + y, su + u_applied, n, all && ok);
+            return false;
+        }
+        self.block = (T::zero(), T::zero(), 0, true);
+        let inv = T::one() / T::of(n as f64);
+        self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok);
+        true
+    }
+
+    /// One estimator sample: the block's mean measurement and input.
+    fn sample(&mut self, y: T, u_applied: T, ok: bool) {
+        let dy = self.cfg.prefilter * self.last_dy + (y - self.last_y);
+        let learn = ok && self.samples >= 2;
+        if learn {
+            self.learn(dy);
+        }
+        // the input of the period that just ended joins the history
+        self.hist.push(u_applied);
+        self.last_y = y;
+        self.last_dy = dy;
+        self.samples = self.samples.saturating_add(1);
+    }
+
+    /// The RLS step of every candidate for the new difference `dy`
+    /// (`Δy[k+1]`, with the history holding `Δu[k] … `).
+    fn learn(&mut self, dy: T) {
+        let cfg = self.cfg;
+        // the input moved by the gate's amount within the history the
+        // candidates read (`Δu[k] … Δu[k−d_max−1]`)
+        let excited = self.hist.quiet <= self.window;
+        let inv_lam = T::one() / cfg.forgetting;
+        // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
+        // taken to the left: the regressors are inputs only)
+        let target = if cfg.integrating {
+            dy - self.last_dy
+        } else {
+            dy
+        };
+        if self.onset(target) {
+            return;
+        }
+        let (lo, hi) = self.a_range;
+        let sign = self.sign;
+        if let Some(r) = self.reference.as_mut() {
+            let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
+            let e = target - pred;
+            r.cost = cfg.cost_memory * r.cost + e * e;
+            r.energy = cfg.cost_memory * r.energy + pred * pred;
+            r.yhat = pred;
+            if excited {
+                r.seen = r.seen.saturating_add(1);
+            }
+        }
+        // consecutive candidates share an input: candidate `d`'s
+        // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
+        // the search for the lowest cost (the first of them) rides along
+        let inputs = self.hist.from(cfg.d_min);
+        let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
+        let chosen = self.chosen;
+        let mut chosen_e = T::zero();
+        let (mut best, mut lowest) = (0, T::infinity());
+        // the dead zone, squared: the given one, or the measured noise's
+        // multiple (`|e| ≤ zone` as `e² ≤ zone²`: no square root)
+        let zone2 = cfg.dead_zone * cfg.dead_zone;
+        let zone2 = if cfg.dead_zone_ratio > T::zero() && self.weight > T::zero() {
+            let v = self.bank.get(chosen).map_or(T::zero(), |c| c.cost) / self.weight;
+            at_least(cfg.dead_zone_ratio * cfg.dead_zone_ratio * v, zone2)
+        } else {
+            zone2
+        };
+        let bank = self.bank.get_mut(..self.n).unwrap_or_default();
+        for ((i, c), (&f1, &f2)) in bank.iter_mut().enumerate().zip(pairs) {
+            // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
+            // in the regressor, not the measurement's — the output-error
+            // form (Landau's pseudo-linear regression), which noise on y
+            // does not bias as it does the equation-error (ARX) form; an
+            // integrating model has no `a` (its regressor and covariance
+            // row stay zero)
+            let f0 = if cfg.integrating { T::zero() } else { c.yhat };
+            let [t0, t1, t2] = c.theta;
+            let pred = t0 * f0 + t1 * f1 + t2 * f2;
+            let e = target - pred;
+            c.cost = cfg.cost_memory * c.cost + e * e;
+            if c.cost < lowest {
+                (best, lowest) = (i, c.cost);
+            }
+            if i == chosen {
+                chosen_e = e;
+            }
+            c.yhat = pred;
+            // the gradient of the prediction, ψ[k+1] = φ[k] + â·ψ[k] (the
+            // output error's Gauss–Newton direction: the recursive
+            // prediction-error method, Ljung (1999) Sec. 11.3; an
+            // integrating model's prediction is linear in its inputs, ψ = φ)
+            let [s0, s1, s2] = if cfg.integrating {
+                [f0, f1, f2]
+            } else {
+                let [p0, p1, p2] = c.psi;
+                [f0 + t0 * p0, f1 + t0 * p1, f2 + t0 * p2]
+            };
+            c.psi = [s0, s1, s2];
+            if !excited || e * e <= zone2 {
+                continue;
+            }
+            // RLS with forgetting along ψ (P symmetric: six entries):
+            // g = Pψ/(λ + ψᵀPψ), θ += g·e, P = (P − g·(Pψ)ᵀ)/λ
+            let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+            let q0 = p00 * s0 + p01 * s1 + p02 * s2;
+            let q1 = p01 * s0 + p11 * s1 + p12 * s2;
+            let q2 = p02 * s0 + p12 * s1 + p22 * s2;
+            let denom = cfg.forgetting + s0 * q0 + s1 * q1 + s2 * q2;
+            if !(denom > T::zero()) {
+                continue;
+            }
+            let inv = T::one() / denom;
+            let (g0, g1, g2) = (q0 * inv, q1 * inv, q2 * inv);
+            let mut next = [t0 + g0 * e, t1 + g1 * e, t2 + g2 * e];
+            let n00 = (p00 - g0 * q0) * inv_lam;
+            let n01 = (p01 - g0 * q1) * inv_lam;
+            let n02 = (p02 - g0 * q2) * inv_lam;
+            let n11 = (p11 - g1 * q1) * inv_lam;
+            let n12 = (p12 - g1 * q2) * inv_lam;
+            let n22 = (p22 - g2 * q2) * inv_lam;
+            let trace = n00 + n11 + n22;
+            c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
+            // the trace bounded: no "bursting" when nothing moves
+            if trace > cfg.max_trace {
+                let k = cfg.max_trace / trace;
+                for row in &mut c.p {
+                    for x in row {
+                        *x = *x * k;
+                    }
+                }
+            }
+            if sign != T::zero() {
+                // projection: with the gain's sign known, both input
+                // coefficients carry it (a fraction `f` in [0, 1]); a
+                // coefficient of the wrong sign goes to zero along the
+                // covariance's direction (the projection in the metric of
+                // P⁻¹: the correlated coefficients move with it; Goodwin &
+                // Sin (1984) Sec. 3.7): b0 along P's second column, b1
+                // along its third. The second can carry b0 back across
+                // zero, and a coefficient without a direction stays: what
+                // is left of the wrong sign is cut to zero.
+                let [[_, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+                let [mut t0, mut t1, mut t2] = next;
+                if sign * t1 < T::zero() && p11 > T::zero() {
+                    let along = t1 / p11;
+                    t0 = t0 - p01 * along;
+                    t2 = t2 - p12 * along;
+                    t1 = T::zero();
+                }
+                if sign * t2 < T::zero() && p22 > T::zero() {
+                    let along = t2 / p22;
+                    t0 = t0 - p02 * along;
+                    t1 = t1 - p12 * along;
+                    t2 = T::zero();
+                }
+                if sign * t1 < T::zero() {
+                    t1 = T::zero();
+                }
+                if sign * t2 < T::zero() {
+                    t2 = T::zero();
+                }
+                next = [t0, t1, t2];
+            }
+            let [mut a, b0, b1] = next;
+            if !cfg.integrating {
+                // projection onto plausible models: `a` in its range
+                a = at_most(at_least(a, lo), hi);
+            }
+            c.theta = [a, b0, b1];
+            // the a-posteriori output
+            c.yhat = a * f0 + b0 * f1 + b1 * f2;
+        }
+        self.weight = cfg.cost_memory * self.weight + T::one();
+        if let Some(r) = self.reference.as_mut() {
+            r.rival = cfg.cost_memory * r.rival + chosen_e * chosen_e;
+            r.weight = cfg.cost_memory * r.weight + T::one();
+        }
+        let before = self.chosen;
+        self.detect(target, excited);
+        self.decide(best);
+        if self.chosen != before {
+            self.rebase();
+        }
+        if excited || self.chosen != before {
+            self.model = self.model_of();
+        }
+    }
+
+    /// The evidence for a candidate of cost `chosen` over one of cost
+    /// `other`: `(other − chosen)/(chosen/W)`, the chosen one's mean squared
+    /// error per sample `chosen/W` (early on, `W` counts fewer samples than
+    /// the memory holds).
+    fn evidence(&self, chosen: T, other: T) -> T {
+        evidence(chosen, other, self.weight)
+    }
+
+    /// The chosen dead time moves to the best candidate `best` (of the
+    /// lowest cost) only when the evidence for it over the current one
+    /// reaches `switch_evidence` for `switch_hold` samples in a row.
+    fn decide(&mut self, best: usize) {
+        let cur = self.bank.get(self.chosen).map_or(T::infinity(), |c| c.cost);
+        let new = self.bank.get(best).map_or(T::infinity(), |c| c.cost);
+        // a neighbour shares an end of the current one's dead times: a step
+        // to it is a small one, taken on a quarter of the evidence
+        let need = if best.abs_diff(self.chosen) == 1 {
+            self.cfg.switch_evidence / T::of(4.0)
+        } else {
+            self.cfg.switch_evidence
+        };
+        if best != self.chosen && self.evidence(new, cur) >= need {
+            self.challenger_for = self.challenger_for.saturating_add(1);
+            if self.challenger_for >= self.cfg.switch_hold {
+                self.chosen = best;
+                self.challenger_for = 0;
+            }
+        } else {
+            self.challenger_for = 0;
+        }
+    }
+
+    /// The measurement noise's standard deviation as the estimator sees
+    /// it, `σ̂` (the prefiltered output's, about the raw one's for a
+    /// prefilter pole near 1): from the running median of the chosen dead
+    /// time's simulation error differences, `median|Δe|/(0.6745·√2)` (see
+    /// [`Estimator::update`]'s detector; 0 before any data).
+    pub fn noise_level(&self) -> T {
+        self.noise.get() / T::of(0.6745 * core::f64::consts::SQRT_2)
+    }
+
+    /// The model of the chosen candidate (`None` before it means anything:
+    /// `b0 + b1` of the wrong sign or zero).
+    pub fn estimate(&self) -> Option<Estimate<T>> {
+        let c = self.bank.get(self.chosen)?;
+        let (k, tau, frac) = self.model?;
+        // a neighbour's interval of dead times shares an end with the
+        // chosen one's (`d` with `f = 1` is `d + 1` with `f = 0`): the
+        // evidence is against the candidates that cannot be the same, those
+        // below `chosen − 1` and above `chosen + 1`
+        let lowest = |cs: &[Candidate<T>]| {
+            cs.iter()
+                .fold(T::infinity(), |m, c| if c.cost < m { c.cost } else { m })
+        };
+        let bank = self.bank.get(..self.n).unwrap_or_default();
+        let (below, above) = bank.split_at(self.chosen.min(bank.len()));
+        let second = at_most(
+            lowest(below.get(..below.len().saturating_sub(1)).unwrap_or(&[])),
+            lowest(above.get(2..).unwrap_or(&[])),
+        );
+        let d = self.cfg.d_min + self.chosen;
+        Some(Estimate {
+            k,
+            tau,
+            theta: (T::of(d as f64) + frac) * self.cfg.period(),
+            d,
+            evidence: self.evidence(c.cost, second),
+        })
+    }
+
+    /// `(K, τ, f)` of the chosen candidate's coefficients (`None`: `b0 + b1`
+    /// zero), in closed form (see the module documentation).
+    fn model_of(&self) -> Option<(T, T, T)> {
+        let c = self.bank.get(self.chosen)?;
+        let [a, b0, b1] = c.theta;
+        let b = b0 + b1;
+        if !(b.abs() > T::epsilon()) {
+            return None;
+        }
+        let ts = self.cfg.period();
+        Some(if self.cfg.integrating {
+            (
+                b / ts,
+                T::infinity(),
+                at_most(at_least(b1 / b, T::zero()), T::one()),
+            )
+        } else {
+            let k = b / (T::one() - a);
+            // a^{1−f} = 1 − b0/K
+            let r = at_most(at_least(T::one() - b0 / k, a), T::one());
+            let ln_a = a.ln();
+            // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
+            let f = if r > T::zero() {
+                T::one() - r.ln() / ln_a
+            } else {
+                T::zero()
+            };
+            (k, -ts / ln_a, at_most(at_least(f, T::zero()), T::one()))
+        })
+    }
+
+    /// Each candidate's discounted squared prediction error, from the
+    /// shortest dead time `d_min` on: the curve the choice minimises.
+    pub fn costs(&self) -> impl Iterator<Item = T> + '_ {
+        self.bank.iter().take(self.n).map(|c| c.cost)
+    }
+
+    /// The chosen dead time is the first or the last candidate: the process's
+    /// may lie beyond the range searched.
+    pub fn at_edge(&self) -> bool {
+        self.chosen == 0 || self.chosen + 1 >= self.n
+    }
+
+    /// How many times the change detector moved the dead time (and
+    /// restarted the bank from the chosen model; see the module
+    /// documentation).
+    pub fn restarts(&self) -> u32 {
+        self.restarts
+    }
+
+    /// The covariance's trace of the chosen candidate.
+    pub fn trace(&self) -> T {
+        self.bank.get(self.chosen).map_or(T::zero(), |c| {
+            c.p.iter().enumerate().fold(T::zero(), |s, (i, row)| {
+                s + row.get(i).copied().unwrap_or(T::zero())
+            })
+        })
+    }
+}

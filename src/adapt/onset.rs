@@ -1,0 +1,78 @@
+//! A load's onset in an [`Estimator`]'s data: found, passed over, and
+//! taken as every model's state.
+
+use super::*;
+
+impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
+    /// A load's onset, and its samples passing: at rest (no input move
+    /// within the response's time, so no candidate's prediction can
+    /// change) the chosen candidate's prediction error beyond [`ONSET`]
+    /// times the measured noise is a load, not the model's error. Its
+    /// first [`ONSET_SAMPLES`] samples teach nothing: an output load's
+    /// step is a pulse there in the differences. At the last of them every
+    /// simulation (the candidates', the reference's, the detector's) takes
+    /// the measured difference as its state: an input load's response
+    /// decays from there as the process's own free response, which each
+    /// model then predicts with its own pole — the load is part of the
+    /// model's initial state, not of its parameters. The output error
+    /// model with its state re-estimated at a disturbance's onset
+    /// (Ljung (1999) Sec. 4.3: a step disturbance is an initial state;
+    /// Åström & Wittenmark (1995) Sec. 11.2: do not adapt on data that do
+    /// not carry the process's response). Returns whether this sample is
+    /// one of an onset's (not learnt from).
+    pub(super) fn onset(&mut self, target: T) -> bool {
+        let cfg = self.cfg;
+        if self.skip == 0 {
+            let Some(c) = self.bank.get(self.chosen) else {
+                return false;
+            };
+            let d = cfg.d_min + self.chosen;
+            let e = target - predict(c.theta, c.yhat, self.hist.pair(d), cfg.integrating);
+            let floor = T::epsilon().sqrt() * (T::one() + self.last_y.abs());
+            // at rest (no input move within twice the response's time), and
+            // the noise measured over as long (the change detector's)
+            let rest = self.window.saturating_mul(2);
+            let measured = usize::try_from(self.samples).map_or(true, |n| n > rest);
+            let threshold = at_least(T::of(ONSET) * self.noise_level(), floor);
+            if self.hist.quiet <= rest || !measured || e.abs() <= threshold {
+                return false;
+            }
+            // the controller's answer to it reaches the output a dead time on
+            self.skip = ONSET_SAMPLES.min(d).max(1);
+            self.onsets = self.onsets.saturating_add(1);
+        }
+        self.skip -= 1;
+        let anchor = self.skip == 0;
+        // the simulations go on, and at the onset's end take the measurement
+        let inputs = self.hist.from(cfg.d_min);
+        let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
+        let [snap, _] = self.snap;
+        let bank = self.bank.get_mut(..self.n).unwrap_or_default();
+        for (c, (&u0, &u1)) in bank.iter_mut().zip(pairs) {
+            if anchor {
+                (c.yhat, c.scan) = (target, target);
+            } else {
+                c.yhat = predict(c.theta, c.yhat, (u0, u1), cfg.integrating);
+                c.scan = predict(snap, c.scan, (u0, u1), cfg.integrating);
+            }
+            c.psi = [T::zero(); 3];
+        }
+        if let Some(r) = self.reference.as_mut() {
+            r.yhat = if anchor {
+                target
+            } else {
+                predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating)
+            };
+        }
+        true
+    }
+
+    /// Load onsets found so far: at rest (no input move within twice a
+    /// response's time), a prediction error beyond [`ONSET`] times the
+    /// measured noise, which no input move can explain; its first
+    /// [`ONSET_SAMPLES`] samples teach nothing and every model's
+    /// simulation takes the measurement as its state there.
+    pub fn onsets(&self) -> u32 {
+        self.onsets
+    }
+}

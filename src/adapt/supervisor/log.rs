@@ -1,0 +1,183 @@
+//! The adaptation's log and the signals an adaptive controller adds to
+//! its scheme's.
+
+use super::*;
+
+/// What a logged change did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum ChangeKind {
+    /// A settled estimate became the model.
+    Applied,
+    /// The loop oscillated after a change: the last good model came back.
+    Restored,
+    /// A scheme's operation refused the model: adaptation froze.
+    Refused,
+    /// The model in use no longer matches the process (the entry's model
+    /// is the estimate's).
+    Alarm,
+    /// The model in use matches again.
+    Cleared,
+    /// The loop was going unstable and the estimate was clear: applied at
+    /// once (the entry's model).
+    Emergency,
+    /// The loop was going unstable without a clear estimate: the
+    /// primary's gain halved (the entry's model is the one in use).
+    Detuned,
+    /// An estimate at the end of the dead-time range, or beyond the gain's
+    /// or the time constant's bound: not applied (the entry's model is the
+    /// estimate's).
+    Edge,
+}
+
+impl ChangeKind {
+    /// The number the `adapt_kind` signal gives it (1 … 8).
+    pub fn code(self) -> u8 {
+        match self {
+            ChangeKind::Applied => 1,
+            ChangeKind::Restored => 2,
+            ChangeKind::Refused => 3,
+            ChangeKind::Alarm => 4,
+            ChangeKind::Cleared => 5,
+            ChangeKind::Emergency => 6,
+            ChangeKind::Detuned => 7,
+            ChangeKind::Edge => 8,
+        }
+    }
+
+    /// The kind of a code of [`ChangeKind::code`].
+    pub fn from_code(code: u8) -> Option<Self> {
+        match code {
+            1 => Some(ChangeKind::Applied),
+            2 => Some(ChangeKind::Restored),
+            3 => Some(ChangeKind::Refused),
+            4 => Some(ChangeKind::Alarm),
+            5 => Some(ChangeKind::Cleared),
+            6 => Some(ChangeKind::Emergency),
+            7 => Some(ChangeKind::Detuned),
+            8 => Some(ChangeKind::Edge),
+            _ => None,
+        }
+    }
+}
+
+/// One entry of the adaptation log: the model in use from `sample` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Change<T> {
+    /// The sample at which it happened (counted from the first update).
+    pub sample: u64,
+    /// What happened.
+    pub kind: ChangeKind,
+    /// The model's gain `K`.
+    pub k: T,
+    /// The model's time constant `τ` (s; infinite: integrating).
+    pub tau: T,
+    /// The model's dead time `θ` (s).
+    pub theta: T,
+}
+
+/// The signals an adaptive controller adds to its scheme's, in this order:
+/// the estimate (`k_hat`, `tau_hat`, `theta_hat`; NaN before it means
+/// anything) and the evidence for its dead time over the candidates that
+/// cannot be the same (`evidence`, [`crate::adapt::Estimate::evidence`]:
+/// small is an ambiguous choice), the model in use (`k_model`, `tau_model`, `theta_model`),
+/// how many changes were logged so far (`adapt_changes`) and what the last
+/// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused, 4 alarm,
+/// 5 cleared, 6 emergency, 7 detuned, 8 edge, [`ChangeKind::code`]), the model's error against the process
+/// (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it means
+/// anything) and the alarm (`model_alarm`: 0 or 1).
+pub const SIGNALS: [&str; 11] = [
+    "k_hat",
+    "tau_hat",
+    "theta_hat",
+    "evidence",
+    "k_model",
+    "tau_model",
+    "theta_model",
+    "adapt_changes",
+    "adapt_kind",
+    "mismatch",
+    "model_alarm",
+];
+
+impl<
+        T: Real,
+        C: Operate<T> + Introspect<T>,
+        R: Redesign<T, C>,
+        const N: usize,
+        const H: usize,
+        const L: usize,
+    > Introspect<T> for Adaptive<T, C, R, N, H, L>
+{
+    /// The scheme's signals, then [`SIGNALS`] (with `std`; without it,
+    /// [`SIGNALS`] alone: the joined list is made once per scheme).
+    fn signal_names(&self) -> &'static [&'static str] {
+        joined(self.inner.signal_names())
+    }
+
+    fn signal(&self, i: usize) -> T {
+        let own = self.signal_names().len() - SIGNALS.len();
+        if i < own {
+            return self.inner.signal(i);
+        }
+        let e = self.est.estimate();
+        let m = self.model;
+        match i - own {
+            0 => e.map_or(T::nan(), |e| e.k),
+            1 => e.map_or(T::nan(), |e| e.tau),
+            2 => e.map_or(T::nan(), |e| e.theta),
+            3 => e.map_or(T::nan(), |e| e.evidence),
+            4 => m.k,
+            5 => m.tau,
+            6 => m.theta,
+            7 => T::of(self.logged as f64),
+            8 => T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
+            9 => self.est.mismatch().map_or(T::nan(), |m| m.error),
+            10 => {
+                if self.alarm {
+                    T::one()
+                } else {
+                    T::zero()
+                }
+            }
+            _ => T::nan(),
+        }
+    }
+
+    fn param_names(&self) -> &'static [&'static str] {
+        self.inner.param_names()
+    }
+
+    fn param(&self, i: usize) -> T {
+        self.inner.param(i)
+    }
+}
+
+/// The scheme's signal names followed by [`SIGNALS`], made once per list.
+#[cfg(feature = "std")]
+fn joined(inner: &'static [&'static str]) -> &'static [&'static str] {
+    use std::sync::Mutex;
+    type Joined = (usize, usize, &'static [&'static str]);
+    static CACHE: Mutex<std::vec::Vec<Joined>> = Mutex::new(std::vec::Vec::new());
+    let key = (inner.as_ptr() as usize, inner.len());
+    let Ok(mut cache) = CACHE.lock() else {
+        return &SIGNALS;
+    };
+    if let Some((_, _, j)) = cache.iter().find(|(p, n, _)| (*p, *n) == key) {
+        return j;
+    }
+    let mut v = std::vec::Vec::with_capacity(inner.len() + SIGNALS.len());
+    v.extend_from_slice(inner);
+    v.extend_from_slice(&SIGNALS);
+    let j: &'static [&'static str] = std::boxed::Box::leak(v.into_boxed_slice());
+    cache.push((key.0, key.1, j));
+    j
+}
+
+/// Without `std`: [`SIGNALS`] alone.
+#[cfg(not(feature = "std"))]
+fn joined(_inner: &'static [&'static str]) -> &'static [&'static str] {
+    &SIGNALS
+}

@@ -1,0 +1,231 @@
+//! What the supervisor watches: the control error's oscillation (the
+//! restore after a change, the emergency path), the estimate at the edge
+//! of what may be applied, and the model-error alarm.
+
+use super::*;
+
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
+    Adaptive<T, C, R, N, H, L>
+{
+    /// The control error's half-cycles (between sign changes, at the
+    /// estimator's period): after a change, `crossings` sustained ones
+    /// restore the last validated model; at any time, `emergency` growing
+    /// ones set off the emergency path. Returns whether it acted.
+    pub(super) fn oscillation(&mut self, e: T) -> bool {
+        self.half = self.half.saturating_add(1);
+        if e.abs() > self.peak {
+            self.peak = e.abs();
+        }
+        let side = if e > T::zero() {
+            1
+        } else if e < T::zero() {
+            -1
+        } else {
+            0
+        };
+        if side != 0 && side != self.side {
+            // a half-cycle ended: one of an oscillation when it reached
+            // the band, was short and kept at least half the previous
+            // one's peak (decaying slower than the quarter amplitude per
+            // cycle a loop is tuned for: Ziegler & Nichols (1942)); a long
+            // one (the loop settled, a set-point step) or one dying out (a
+            // transient the change met) starts the count again; one at
+            // least as large as the one before is growing
+            if self.side != 0 {
+                let counts = self.peak > self.band() && self.half <= self.max_half();
+                let sustained = counts && self.peak >= self.last_peak / T::of(2.0);
+                let growing = counts && self.last_peak > T::zero() && self.peak >= self.last_peak;
+                self.crossed = if sustained { self.crossed + 1 } else { 0 };
+                self.growing = if growing { self.growing + 1 } else { 0 };
+                self.last_peak = self.peak;
+            }
+            self.side = side;
+            self.half = 0;
+            self.peak = T::zero();
+        }
+        if self.watching > 0 && self.crossed >= self.cfg.crossings {
+            self.watching = 0;
+            self.restore();
+            return true;
+        }
+        // growing half-cycles, or (once detuned) ones that go on
+        let detuned_still = self.detune < T::one() && self.crossed >= self.cfg.crossings;
+        if (self.growing >= self.cfg.emergency.max(1) || detuned_still) && !self.frozen {
+            self.growing = 0;
+            self.crossed = 0;
+            self.emergency();
+            return true;
+        }
+        false
+    }
+
+    /// Back to the last validated model and its tuning; adaptation rests
+    /// for `4·min_interval`.
+    pub(super) fn restore(&mut self) {
+        let back = self.validated;
+        self.shadow = None;
+        self.detune = T::one();
+        self.take(back, ChangeKind::Restored);
+        self.rest_until = self
+            .blocks
+            .saturating_add(4 * u64::from(self.cfg.min_interval));
+    }
+
+    /// The loop is going unstable: a clear estimate (its dead time chosen
+    /// with the evidence of `min_evidence`, predicting the recent data
+    /// better than the model in use with as much, within the bounds) is
+    /// applied at once; without one the primary's gain is halved (a
+    /// dead-time loop detuned is stable for a larger model error: its
+    /// robustness bound `|ΔG/G| < |1 + C G₀|/|C G₀|` grows as the gain
+    /// falls, Bag (2022) Eqs. 4.52–4.58 for the integrating case); each
+    /// logged.
+    pub(super) fn emergency(&mut self) {
+        let clear = self
+            .est
+            .estimate()
+            .and_then(|m| self.plausible(m))
+            .filter(|m| m.evidence >= self.cfg.min_evidence)
+            .filter(|_| self.beats_model())
+            .map(|m| Model {
+                k: m.k,
+                tau: m.tau,
+                theta: m.theta,
+            })
+            .filter(|m| self.within_bounds(*m));
+        if let (Some(m), true) = (clear, self.cfg.apply) {
+            self.shadow = None;
+            self.detune = T::one();
+            self.take(m, ChangeKind::Emergency);
+            return;
+        }
+        let m = self.model;
+        let detuned = self.detune / T::of(2.0);
+        if let Some([kp, _, _]) = self.retune.gains(m.k, m.tau, m.theta) {
+            if self.inner.retune(Gain::Kp, kp * detuned).is_ok() {
+                self.detune = detuned;
+                self.record(ChangeKind::Detuned);
+                self.since = 0;
+                return;
+            }
+        }
+        // nothing this scheme can do by itself: said, once per episode
+        if !self.alarm {
+            self.alarm = true;
+            self.record_model(ChangeKind::Alarm, m);
+        }
+    }
+
+    /// The estimate as it stands lies at the end of the dead-time range or
+    /// beyond the bounds, and predicts the data better than the model in
+    /// use (the process has left what the search may find): a warning,
+    /// logged once while it lasts ([`ChangeKind::Edge`], with the estimate),
+    /// and nothing applied. Returns whether it is so.
+    pub(super) fn edge(&mut self) -> bool {
+        let Some(e) = self.est.estimate() else {
+            return false;
+        };
+        let m = Model {
+            k: e.k,
+            tau: e.tau,
+            theta: e.theta,
+        };
+        let outside = self.est.at_edge() || !self.within_bounds(m);
+        if !(outside && self.beats_model()) {
+            self.edge_warned = false;
+            return false;
+        }
+        if !self.edge_warned {
+            self.edge_warned = true;
+            self.record_model(ChangeKind::Edge, m);
+        }
+        true
+    }
+
+    /// The estimator's chosen model predicts the data since the model in
+    /// use was set better than it, with the evidence of `validate`
+    /// ([`super::Mismatch::evidence`]): no model is applied that does not.
+    pub(super) fn beats_model(&self) -> bool {
+        self.est
+            .mismatch()
+            .is_some_and(|mm| mm.evidence >= self.cfg.validate)
+    }
+
+    /// `m`'s gain and time constant within [`AdaptiveConfig::bound`] of the
+    /// commissioned model's.
+    pub(super) fn within_bounds(&self, m: Model<T>) -> bool {
+        let c = self.commissioned;
+        let b = self.cfg.bound;
+        let inside = |x: T, x0: T| {
+            if x0.is_infinite() || x.is_infinite() {
+                x0.is_infinite() == x.is_infinite()
+            } else {
+                let r = x / x0;
+                r >= T::one() / b && r <= b
+            }
+        };
+        inside(m.k, c.k) && inside(m.tau, c.tau)
+    }
+
+    /// The model-error alarm: raised when the error reached `alarm` with
+    /// the evidence of `min_evidence` for `settle` samples, cleared when it
+    /// stayed below half of it as long; each logged.
+    pub(super) fn watch_model(&mut self) {
+        if !self.cfg.alarm.is_finite() {
+            return;
+        }
+        let Some(mm) = self.est.mismatch() else {
+            return;
+        };
+        let against = if self.alarm {
+            mm.error < self.cfg.alarm / T::of(2.0)
+        } else {
+            mm.error >= self.cfg.alarm && mm.evidence >= self.cfg.min_evidence
+        };
+        self.alarm_for = if against {
+            self.alarm_for.saturating_add(1)
+        } else {
+            0
+        };
+        if self.alarm_for >= self.cfg.settle {
+            self.alarm = !self.alarm;
+            self.alarm_for = 0;
+            if self.alarm {
+                let e = self.est.estimate();
+                let m = e.map_or(self.model, |e| Model {
+                    k: e.k,
+                    tau: e.tau,
+                    theta: e.theta,
+                });
+                self.record_model(ChangeKind::Alarm, m);
+            } else {
+                self.record(ChangeKind::Cleared);
+            }
+        }
+    }
+
+    /// The model-error alarm is raised (see [`AdaptiveConfig::alarm`]).
+    pub fn alarm(&self) -> bool {
+        self.alarm
+    }
+
+    /// The model in use against the process now.
+    pub fn mismatch(&self) -> Option<crate::adapt::Mismatch<T>> {
+        self.est.mismatch()
+    }
+
+    /// The oscillation detector's band: the one given, and at least four
+    /// times the measurement noise the estimator measures (a half-cycle of
+    /// the noise alone does not reach it: a device need not know its
+    /// noise).
+    pub(super) fn band(&self) -> T {
+        self.cfg.band.max(T::of(4.0) * self.est.noise_level())
+    }
+
+    /// The longest half-cycle of an oscillation: four times the longest
+    /// candidate dead time (a detuned dead-time loop oscillates with a
+    /// period of about two to four dead times).
+    pub(super) fn max_half(&self) -> u32 {
+        let d = self.cfg.estimator.d_min.saturating_add(N);
+        u32::try_from(d.saturating_mul(4)).unwrap_or(u32::MAX)
+    }
+}
