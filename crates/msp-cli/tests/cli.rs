@@ -1708,48 +1708,21 @@ fn the_time_plot_marks_what_was_scheduled() {
 /// are refused by name; a bad forgetting factor is refused.
 #[test]
 fn monitor_raises_the_alarm_in_summary_report_and_csv() {
-    let dir = tempfile::tempdir().unwrap();
-    let (csv, report) = (dir.path().join("m.csv"), dir.path().join("m.json"));
-    let mut args: Vec<String> = words(
-        "run --plant e^-1s/(4s+1) -c smith --lambda 2 --ts 0.1 --duration 600 --noise 0.01 --quantization 0.0005 --event 150:plant-gain=1.3 --monitor",
-    )
-    .map(String::from)
-    .collect();
-    for i in 0..20 {
-        args.push("--setpoint".into());
-        args.push(format!("{}@{}", i % 2, 30 * i));
-    }
-    // the summary goes to standard error when the CSV goes to a file
-    let out = msp()
-        .args(&args)
-        .arg("-o")
-        .arg(&csv)
-        .arg("--report")
-        .arg(&report)
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let text = String::from_utf8(out.stderr).unwrap();
+    let (text, r, last) =
+        square_wave_run("--noise 0.01 --quantization 0.0005 --event 150:plant-gain=1.3 --monitor");
     assert!(
         text.contains("ALARM: the model no longer matches") && text.contains("model error"),
         "{text}"
     );
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     let log = r["adaptation"].as_array().unwrap();
     assert_eq!(log[0]["kind"], "alarm");
     assert!(log[0]["mismatch"].as_f64().unwrap() >= 0.1);
-    let data = std::fs::read_to_string(&csv).unwrap();
-    let header: Vec<&str> = data.lines().next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let last: Vec<&str> = data.lines().last().unwrap().split(',').collect();
-    assert_eq!(last[col("model_alarm")], "1");
-    assert_eq!(last[col("k_model")], "1");
-    let mismatch: f64 = last[col("mismatch")].parse().unwrap();
+    assert_eq!(last("model_alarm"), "1");
+    assert_eq!(last("k_model"), "1");
+    let mismatch: f64 = last("mismatch").parse().unwrap();
     assert!((mismatch - 0.3).abs() < 0.03, "{mismatch}");
-    let evidence: f64 = last[col("evidence")].parse().unwrap();
-    let theta: f64 = last[col("theta_hat")].parse().unwrap();
+    let evidence: f64 = last("evidence").parse().unwrap();
+    let theta: f64 = last("theta_hat").parse().unwrap();
     assert!(
         evidence >= 20.0 && (theta - 1.0).abs() < 0.1,
         "{evidence} {theta}"
@@ -1793,17 +1766,35 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
 /// not above 1 is refused by name.
 #[test]
 fn an_estimate_past_the_bound_is_warned_of_not_applied() {
+    let (text, r, last) = square_wave_run("--event 150:plant-gain=1.3 --adapt --adapt-bound 1.2");
+    assert!(text.contains("WARNING: not applied"), "{text}");
+    let log = r["adaptation"].as_array().unwrap();
+    assert!(log.iter().all(|c| c["kind"] == "edge"), "{log:?}");
+    let k = log[0]["k"].as_f64().unwrap();
+    assert!((k - 1.3).abs() < 0.1, "{k}");
+    assert_eq!(last("k_model"), "1");
+    rejects(
+        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-bound 1"),
+        "bound",
+    );
+}
+
+/// `msp run` of the Smith predictor on `e^{−1s}/(4s+1)` at 0.1 s for 600 s,
+/// the set point alternating every 30 s, with the flags `extra`: its
+/// summary (standard error), its report, and the CSV's last row by column.
+fn square_wave_run(extra: &str) -> (String, serde_json::Value, impl Fn(&str) -> String) {
     let dir = tempfile::tempdir().unwrap();
-    let (csv, report) = (dir.path().join("b.csv"), dir.path().join("b.json"));
-    let mut args: Vec<String> = words(
-        "run --plant e^-1s/(4s+1) -c smith --lambda 2 --ts 0.1 --duration 600 --event 150:plant-gain=1.3 --adapt --adapt-bound 1.2",
-    )
+    let (csv, report) = (dir.path().join("m.csv"), dir.path().join("m.json"));
+    let mut args: Vec<String> = words(&format!(
+        "run --plant e^-1s/(4s+1) -c smith --lambda 2 --ts 0.1 --duration 600 {extra}"
+    ))
     .map(String::from)
     .collect();
     for i in 0..20 {
         args.push("--setpoint".into());
         args.push(format!("{}@{}", i % 2, 30 * i));
     }
+    // the summary goes to standard error when the CSV goes to a file
     let out = msp()
         .args(&args)
         .arg("-o")
@@ -1815,20 +1806,26 @@ fn an_estimate_past_the_bound_is_warned_of_not_applied() {
         .get_output()
         .clone();
     let text = String::from_utf8(out.stderr).unwrap();
-    assert!(text.contains("WARNING: not applied"), "{text}");
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
-    let log = r["adaptation"].as_array().unwrap();
-    assert!(log.iter().all(|c| c["kind"] == "edge"), "{log:?}");
-    let k = log[0]["k"].as_f64().unwrap();
-    assert!((k - 1.3).abs() < 0.1, "{k}");
     let data = std::fs::read_to_string(&csv).unwrap();
-    let header: Vec<&str> = data.lines().next().unwrap().split(',').collect();
-    let col = header.iter().position(|h| *h == "k_model").unwrap();
-    let last: Vec<&str> = data.lines().last().unwrap().split(',').collect();
-    assert_eq!(last[col], "1");
-    rejects(
-        words("run --plant e^-1s/(4s+1) -c smith --adapt --adapt-bound 1"),
-        "bound",
-    );
+    let header: Vec<String> = data
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
+    let row: Vec<String> = data
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
+    let last = move |name: &str| {
+        let i = header.iter().position(|h| h == name).unwrap();
+        row[i].clone()
+    };
+    (text, r, last)
 }

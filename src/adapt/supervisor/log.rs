@@ -102,14 +102,10 @@ pub const SIGNALS: [&str; 11] = [
     "model_alarm",
 ];
 
-impl<
-        T: Real,
-        C: Operate<T> + Introspect<T>,
-        R: Redesign<T, C>,
-        const N: usize,
-        const H: usize,
-        const L: usize,
-    > Introspect<T> for Adaptive<T, C, R, N, H, L>
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
+    Introspect<T> for Adaptive<T, C, R, N, H, L>
+where
+    C: Introspect<T>,
 {
     /// The scheme's signals, then [`SIGNALS`] (with `std`; without it,
     /// [`SIGNALS`] alone: the joined list is made once per scheme).

@@ -81,14 +81,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 {
 }
 
-impl<
-        T: Real,
-        C: Operate<T> + FrequencyResponse<T>,
-        R: Redesign<T, C>,
-        const N: usize,
-        const H: usize,
-        const L: usize,
-    > FrequencyResponse<T> for Adaptive<T, C, R, N, H, L>
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
+    FrequencyResponse<T> for Adaptive<T, C, R, N, H, L>
+where
+    C: FrequencyResponse<T>,
 {
     fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
         self.inner.response(theta)
