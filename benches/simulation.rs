@@ -80,12 +80,7 @@ fn sims(c: &mut Criterion) {
     let s = msp::registry::find("smith").expect("smith");
     let p = s.tune_with(&plant, None, &[]).expect("tune");
     let build = || {
-        let unlimited = msp::registry::Build {
-            ts: 0.939,
-            u_min: f64::NEG_INFINITY,
-            u_max: f64::INFINITY,
-            max_dead_time: 0.0,
-        };
+        let unlimited = msp::registry::Build::unlimited(0.939);
         s.build_with(&p, &plant, &unlimited).expect("build")
     };
     g.bench_function("msp simulate (registry controller)", |b| {
@@ -222,12 +217,7 @@ fn python_path(c: &mut Criterion) {
     let scheme = registry::find("pi").unwrap();
     let set = vec![("kp".to_string(), 0.0501), ("ti".to_string(), 47.3)];
     let params = scheme.tune_with(&plant, None, &set).unwrap();
-    let build = Build {
-        ts,
-        u_min: f64::NEG_INFINITY,
-        u_max: f64::INFINITY,
-        max_dead_time: 0.0,
-    };
+    let build = Build::unlimited(ts);
     let config = SimConfig {
         setpoint: vec![SetpointStep {
             value: 1.0,

@@ -49,17 +49,7 @@ fn controller(
     let s = registry::find(name).unwrap();
     let over: Vec<(String, f64)> = set.iter().map(|(k, v)| (k.to_string(), *v)).collect();
     let p = s.tune_with(plant, None, &over).unwrap();
-    s.build_with(
-        &p,
-        plant,
-        &Build {
-            ts,
-            u_min: f64::NEG_INFINITY,
-            u_max: f64::INFINITY,
-            max_dead_time: 0.0,
-        },
-    )
-    .unwrap()
+    s.build_with(&p, plant, &Build::unlimited(ts)).unwrap()
 }
 
 #[test]

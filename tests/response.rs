@@ -51,16 +51,7 @@ fn response_matches_the_time_domain() {
                 continue;
             };
             let mut c = scheme
-                .build_with(
-                    &params,
-                    &tf,
-                    &Build {
-                        ts,
-                        u_min: f64::NEG_INFINITY,
-                        u_max: f64::INFINITY,
-                        max_dead_time: 0.0,
-                    },
-                )
+                .build_with(&params, &tf, &Build::unlimited(ts))
                 .unwrap();
             for theta in [0.05, 0.3, 1.1] {
                 c.reset();

@@ -15,12 +15,7 @@ fn run(
 ) -> SimResult {
     let s = find(scheme).unwrap();
     let p = s.tune_with(plant, None, &[]).unwrap();
-    let b = Build {
-        ts: cfg.ts,
-        u_min: f64::NEG_INFINITY,
-        u_max: f64::INFINITY,
-        max_dead_time: 0.0,
-    };
+    let b = Build::unlimited(cfg.ts);
     let mut c = s.build_with(&p, plant, &b).unwrap();
     match into {
         None => simulate(plant, &mut c, cfg).unwrap(),

@@ -324,18 +324,7 @@ fn msp_margins_are_the_loops() {
         .map(|(k, v)| (k.to_string(), *v))
         .collect();
         let p = s.tune_with(&plant, None, &set).unwrap();
-        let ctrl = s
-            .build_with(
-                &p,
-                &plant,
-                &Build {
-                    ts,
-                    u_min: f64::NEG_INFINITY,
-                    u_max: f64::INFINITY,
-                    max_dead_time: 0.0,
-                },
-            )
-            .unwrap();
+        let ctrl = s.build_with(&p, &plant, &Build::unlimited(ts)).unwrap();
         let got = margins(ctrl.as_ref(), &plant, ts, View::Sampled).unwrap();
         let want = margins_of(&true_loop(m, exact), &grid());
         let lag = |w: f64| (w * ts / 2.0).to_degrees();

@@ -74,12 +74,7 @@ fn agrees(p: &msp::lti::zdomain::Rational, theta: f64, want: Complex<f64>) -> Re
 
 /// A registry build at `ts` without limits.
 fn unlimited(ts: f64) -> Build {
-    Build {
-        ts,
-        u_min: f64::NEG_INFINITY,
-        u_max: f64::INFINITY,
-        max_dead_time: 0.0,
-    }
+    Build::unlimited(ts)
 }
 
 /// The coefficients `cr`, `cy` of `c` are its frequency response (the one

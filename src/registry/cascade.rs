@@ -192,12 +192,7 @@ fn outer_model(
     let p2 = inner.ok_or(crate::Error::Unsupported(
         "a cascade scheme needs the secondary process",
     ))?;
-    let b = Build {
-        ts,
-        u_min: f64::NEG_INFINITY,
-        u_max: f64::INFINITY,
-        max_dead_time: 0.0,
-    };
+    let b = Build::unlimited(ts);
     cascade_parts(p, p1, p2, &b)
 }
 

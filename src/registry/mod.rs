@@ -278,6 +278,18 @@ pub struct Build {
     pub max_dead_time: f64,
 }
 
+impl Build {
+    /// Period `ts`, no actuator limits, the model's own dead time.
+    pub fn unlimited(ts: f64) -> Self {
+        Build {
+            ts,
+            u_min: f64::NEG_INFINITY,
+            u_max: f64::INFINITY,
+            max_dead_time: 0.0,
+        }
+    }
+}
+
 /// One dead-time compensation scheme.
 pub struct Scheme {
     /// Name on the command line and in Python.
