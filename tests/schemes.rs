@@ -890,3 +890,21 @@ fn karan_dey_design_names_its_controllers_and_the_routh_range() {
     assert!(warnings(0.2).contains("gamma = 0.2 is outside its stability range (0, 0.125)"));
     assert!(!warnings(0.1).contains("stability range"));
 }
+
+/// The fields a tuning takes are the plant's companions of
+/// `Scenario::FIELDS` from the inner plant to the period (its slice).
+#[test]
+fn tune_fields_are_the_tuning_inputs() {
+    assert_eq!(
+        msp::study::Scenario::TUNE_FIELDS,
+        [
+            "inner_plant",
+            "controller",
+            "lambda",
+            "rule",
+            "target",
+            "set",
+            "ts"
+        ]
+    );
+}

@@ -630,8 +630,8 @@ impl Scenario {
     pub const FIELDS: &'static [&'static str] = &[
         "plant",
         "model",
-        "inner_plant",
         "inner_model",
+        "inner_plant",
         "controller",
         "lambda",
         "rule",
@@ -656,6 +656,10 @@ impl Scenario {
         "adapt",
         "monitor",
     ];
+
+    /// The fields a tuning takes besides the plant (`msp tune`, Python's
+    /// `tune`): `inner_plant` to `ts` of [`Scenario::FIELDS`].
+    pub const TUNE_FIELDS: &'static [&'static str] = Self::FIELDS.split_at(3).1.split_at(7).0;
 
     /// The plant and the controller's model (the plant when no model is given).
     pub fn plant_and_model(&self) -> Result<(TransferFunction, TransferFunction), RunError> {

@@ -278,15 +278,7 @@ pub(crate) enum Takes {
 }
 
 /// The scenario fields ``tune`` takes.
-pub(crate) const TUNE: &[&str] = &[
-    "inner_plant",
-    "controller",
-    "lambda",
-    "rule",
-    "target",
-    "set",
-    "ts",
-];
+pub(crate) const TUNE: &[&str] = Scenario::TUNE_FIELDS;
 
 impl Takes {
     /// The Python keywords of the fields taken (the plant apart), in the
