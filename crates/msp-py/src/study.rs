@@ -22,6 +22,11 @@ pub(crate) fn run<'py>(
     scenario: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_from(plant, scenario, Takes::All)?;
+    run_scenario(py, &sc)
+}
+
+/// The scenario run (its measures deferred until read), in a dict.
+fn run_scenario<'py>(py: Python<'py>, sc: &msp::study::Scenario) -> PyResult<Bound<'py, PyDict>> {
     crate::columns::lend();
     let out = py
         .allow_threads(|| sc.run_unmeasured())
@@ -56,11 +61,7 @@ pub(crate) fn simulate<'py>(
         },
     };
     let sc = sc.with_input(input).map_err(value_err)?;
-    crate::columns::lend();
-    let out = py
-        .allow_threads(|| sc.run_unmeasured())
-        .map_err(value_err)?;
-    output_dict_deferred(py, out)
+    run_scenario(py, &sc)
 }
 
 /// Runs each controller on the same (perturbed) plant; a list of ``run`` dicts.
