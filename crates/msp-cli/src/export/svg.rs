@@ -152,6 +152,24 @@ macro_rules! dashed_mark {
     }};
 }
 
+/// The chart's legend at `at`, on a white veil of opacity `veil`, framed.
+fn legend<'a, DB, CT>(
+    c: &mut plotters::prelude::ChartContext<'a, DB, CT>,
+    at: plotters::prelude::SeriesLabelPosition,
+    veil: f64,
+) -> Result<(), plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>>
+where
+    DB: plotters::prelude::DrawingBackend + 'a,
+    CT: plotters::coord::CoordTranslate,
+{
+    use plotters::style::Color;
+    c.configure_series_labels()
+        .position(at)
+        .background_style(plotters::style::WHITE.mix(veil))
+        .border_style(plotters::style::BLACK)
+        .draw()
+}
+
 /// The corner of a panel where the legend covers the fewest points of the
 /// traces (`series`, in data coordinates over the ranges `x`, `y`): each
 /// corner's box taken as the legend's size, `w`×`h` fractions of the panel.
@@ -400,11 +418,11 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         let refs: Vec<&[(f64, f64)]> = drawn.iter().map(Vec::as_slice).collect();
         #[allow(clippy::cast_precision_loss)] // a few runs
         let size = (0.2, 0.07 * (runs.len() + 1) as f64 + 0.05);
-        c.configure_series_labels()
-            .position(legend_spot(&refs, (0.0, t_end), (ylo, yhi), size))
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()?;
+        legend(
+            &mut c,
+            legend_spot(&refs, (0.0, t_end), (ylo, yhi), size),
+            0.8,
+        )?;
         let (ulo, uhi) = range(&us);
         let mut c2 = ChartBuilder::on(&bottom)
             .margin(12)
@@ -463,11 +481,11 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         let refs2: Vec<&[(f64, f64)]> = drawn2.iter().map(Vec::as_slice).collect();
         #[allow(clippy::cast_precision_loss)] // a few series
         let size2 = (0.2, 0.1 * drawn2.len() as f64 + 0.06);
-        c2.configure_series_labels()
-            .position(legend_spot(&refs2, (0.0, t_end), (ulo, uhi), size2))
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()?;
+        legend(
+            &mut c2,
+            legend_spot(&refs2, (0.0, t_end), (ulo, uhi), size2),
+            0.8,
+        )?;
         if let Some(third) = third {
             // each estimate (dashed) and the model in use (solid) over the
             // model the run started with
@@ -530,11 +548,11 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
                 }
             }
             let refs3: Vec<&[(f64, f64)]> = drawn3.iter().map(Vec::as_slice).collect();
-            c3.configure_series_labels()
-                .position(legend_spot(&refs3, (0.0, t_end), (alo, ahi), (0.08, 0.32)))
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()?;
+            legend(
+                &mut c3,
+                legend_spot(&refs3, (0.0, t_end), (alo, ahi), (0.08, 0.32)),
+                0.8,
+            )?;
         }
         root.present()?;
     }
@@ -792,11 +810,7 @@ where
         }
     }
     c.draw_series(std::iter::once(Circle::new((-1.0, 0.0), 4, RED.filled())))?;
-    c.configure_series_labels()
-        .position(spot)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()?;
+    legend(&mut c, spot, 0.85)?;
     Ok(())
 }
 
@@ -850,11 +864,7 @@ pub(crate) fn step_svg(
             (lo - pad, hi + pad),
             (0.3, 0.16),
         );
-        c.configure_series_labels()
-            .position(spot)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()?;
+        legend(&mut c, spot, 0.8)?;
         root.present()?;
     }
     fine.apply(&mut svg);
@@ -949,11 +959,8 @@ pub(crate) fn tradeoff_svg(t: &msp::study::Tradeoff) -> Result<String, Box<dyn s
             let refs: Vec<&[(f64, f64)]> = logged.iter().map(Vec::as_slice).collect();
             #[allow(clippy::cast_precision_loss)] // a dozen schemes
             let size = (0.32, 0.055 * schemes.len() as f64 + 0.04);
-            c.configure_series_labels()
-                .position(legend_spot(&refs, (1.0, ms_hi), (lo.ln(), hi.ln()), size))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()?;
+            let at = legend_spot(&refs, (1.0, ms_hi), (lo.ln(), hi.ln()), size);
+            legend(&mut c, at, 0.85)?;
         }
         root.present()?;
     }
