@@ -562,8 +562,8 @@ extern "C" {
 const char *msp_status_str(int status);
 
 // The defaults of an identifier for the period `ts` with candidates
-// from `d_min` samples: forgetting 0.999, plain differences (set
-// `prefilter` under noise), excitation 1e-6.
+// from `d_min` samples: no decimation, forgetting 0.999, plain
+// differences (a load's onset needs them), excitation 1e-6.
 //
 // # Safety
 // `config` is null or writable.

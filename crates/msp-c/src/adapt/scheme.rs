@@ -1,0 +1,482 @@
+//! The adaptive schemes one handle holds, and the generic bodies of the
+//! `msp_adaptive_*` and `msp_estimator_*` entry points.
+
+use super::*;
+
+/// The adaptive schemes one handle can hold (sized for the largest: the
+/// buffer is the caller's, and a box is what the device has not).
+#[allow(clippy::large_enum_variant)]
+pub(super) enum Adapting<T: Real> {
+    Smith(AdaptiveSmith<T>),
+    KaranDey(AdaptiveKd<T>),
+    Fsp(AdaptiveFsp<T>),
+}
+
+/// What the C calls ask of an adaptive scheme, whichever it is.
+pub(super) trait View<T> {
+    fn update_applied(&mut self, r: T, y: T, u: Option<T>) -> T;
+    fn state(&self) -> msp_adaptive_state_of<T>;
+    fn freeze(&mut self, frozen: bool);
+}
+
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N, H> {
+    fn update_applied(&mut self, r: T, y: T, u: Option<T>) -> T {
+        Adaptive::update_applied(self, r, y, u)
+    }
+
+    fn state(&self) -> msp_adaptive_state_of<T> {
+        let (k, tau, theta) = self.model();
+        msp_adaptive_state_of {
+            estimate: estimate_of(self.estimate()),
+            k,
+            tau,
+            theta,
+            mismatch: self.mismatch().map_or(T::nan(), |m| m.error),
+            alarm: u32::from(self.alarm()),
+            frozen: u32::from(self.is_frozen()),
+            changes: u32::try_from(self.changes()).unwrap_or(u32::MAX),
+        }
+    }
+
+    fn freeze(&mut self, frozen: bool) {
+        if frozen {
+            Adaptive::freeze(self);
+        } else {
+            self.resume();
+        }
+    }
+}
+
+impl<T: Real> Adapting<T> {
+    fn view(&mut self) -> &mut dyn View<T> {
+        match self {
+            Adapting::Smith(a) => a,
+            Adapting::KaranDey(a) => a,
+            Adapting::Fsp(a) => a,
+        }
+    }
+}
+
+/// What sits at the start of the caller's buffer: the tag, then the value.
+#[repr(C)]
+pub(super) struct Tag<V> {
+    magic: u32,
+    value: V,
+}
+
+/// The value behind a handle of ours (`None`: null or another's).
+///
+/// # Safety
+/// `p` is null or a handle from this module's `init` of the same type whose
+/// buffer is in place.
+pub(super) unsafe fn value<'a, H: Tagged, V>(p: *mut H) -> Option<&'a mut V> {
+    let p = p.cast::<Tag<V>>();
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: non-null; the tag is read (at any alignment) before the rest is trusted
+    let magic = unsafe { core::ptr::addr_of!((*p).magic).read_unaligned() };
+    if magic != H::MAGIC {
+        return None;
+    }
+    // SAFETY: a tagged value was written by `place`
+    unsafe { p.as_mut() }.map(|t| &mut t.value)
+}
+
+/// Writes `v` tagged at the start of the arena and `*out` its handle.
+///
+/// # Safety
+/// `out` is writable.
+pub(super) unsafe fn place<H: Tagged, V>(a: &mut Arena, v: V, out: *mut *mut H) -> msp_status {
+    let Some(slot) = a.place::<Tag<V>>() else {
+        return msp_status::MSP_BUFFER_TOO_SMALL;
+    };
+    // SAFETY: the slot from the arena; `out` forwarded
+    unsafe { tag(slot, v, out) }
+}
+
+/// Writes `v` tagged into `slot` and `*out` its handle.
+///
+/// # Safety
+/// `slot` is aligned, inside its buffer (an arena's) and writable; `out`
+/// is writable.
+pub(super) unsafe fn tag<H: Tagged, V>(slot: *mut Tag<V>, v: V, out: *mut *mut H) -> msp_status {
+    // SAFETY: the caller's
+    unsafe {
+        slot.write(Tag {
+            magic: H::MAGIC,
+            value: v,
+        });
+        out.write(slot.cast());
+    }
+    msp_status::MSP_OK
+}
+
+/// A scheme's configuration that adapts in the caller's memory.
+pub(super) trait Scheme<T: Precision>: Sized + Copy {
+    /// The dead-time lines it needs (two: a redesigned scheme warms up
+    /// beside the one in use).
+    const LOTS: usize;
+    /// The scheme's own configuration.
+    type Inner: Copy;
+    /// The defaults around the scheme's configuration.
+    fn around(inner: Self::Inner) -> Result<Self, Error>;
+    fn model(&self) -> &msp_model_of<T>;
+    fn ts(&self) -> T;
+    fn adapt(&self) -> &msp_adapt_config_of<T>;
+    /// Checks the scheme's own settings; its dead time in samples.
+    fn samples(&self) -> Result<T, Error>;
+    /// The scheme with its lines in `lots`, designed in `scratch`.
+    fn make(
+        &self,
+        cfg: AdaptiveConfig<T>,
+        lots: (Lot, Lot),
+        scratch: Lot,
+    ) -> Result<Adapting<T>, Error>;
+
+    fn config(&self) -> Result<AdaptiveConfig<T>, Error> {
+        self.samples()?;
+        adaptive_config(self.adapt(), self.model(), self.ts())
+    }
+
+    /// Every lot's values: a dead-time line with room for the longest
+    /// candidate and its fraction.
+    fn values(&self) -> usize {
+        (self.adapt().d_max as usize).saturating_add(3)
+    }
+
+    /// The f64 scratch of a design (none).
+    fn scratch(&self) -> usize {
+        0
+    }
+}
+
+impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
+    const LOTS: usize = 1;
+    type Inner = msp_smith_config_of<T>;
+    fn around(smith: Self::Inner) -> Result<Self, Error> {
+        let adapt = scheme_default(&smith.model, smith.ts, smith_samples(&smith))?;
+        Ok(Self { smith, adapt })
+    }
+    fn model(&self) -> &msp_model_of<T> {
+        &self.smith.model
+    }
+    fn ts(&self) -> T {
+        self.smith.ts
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        &self.adapt
+    }
+    fn samples(&self) -> Result<T, Error> {
+        smith_samples(&self.smith)
+    }
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot), _: Lot) -> Result<Adapting<T>, Error> {
+        let c = &self.smith;
+        let m = fopdt_or_ipdt(&c.model)?;
+        let pid = pid_config(&c.pid, c.ts)?;
+        let (block, line) = model_in(&c.model, c.ts, &mut Arena::new(lots.0.at, lots.0.bytes))?;
+        let sp = SmithPredictor::new(pid, block, line)?;
+        let lambda = self.adapt.lambda;
+        Ok(Adapting::Smith(Adaptive::new(sp, m, cfg, Kaya { lambda })?))
+    }
+}
+
+impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
+    const LOTS: usize = 2;
+    type Inner = msp_karan_dey_config_of<T>;
+    fn around(karan_dey: Self::Inner) -> Result<Self, Error> {
+        let m = &karan_dey.model;
+        let adapt = scheme_default(m, karan_dey.ts, karan_dey_samples(&karan_dey))?;
+        Ok(Self { karan_dey, adapt })
+    }
+    fn model(&self) -> &msp_model_of<T> {
+        &self.karan_dey.model
+    }
+    fn ts(&self) -> T {
+        self.karan_dey.ts
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        &self.adapt
+    }
+    fn samples(&self) -> Result<T, Error> {
+        if self.adapt.lambda.is_nan() {
+            return Err(Error::NonFinite(
+                "lambda: the Karan-Dey predictor is redesigned at every change (0: its default)",
+            ));
+        }
+        karan_dey_samples(&self.karan_dey)
+    }
+    fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot), _: Lot) -> Result<Adapting<T>, Error> {
+        let c = &self.karan_dey;
+        let m = fopdt_or_ipdt(&c.model)?;
+        let kd = karan_dey_in(c, &mut Arena::new(lots.0.at, lots.0.bytes))?;
+        let redesign = KaranDeyRedesign {
+            ts: c.ts,
+            lambda: self.adapt.lambda,
+            limits: (c.u_min, c.u_max),
+            lots: Lots {
+                lots,
+                second: false,
+            },
+        };
+        Ok(Adapting::KaranDey(Adaptive::new(kd, m, cfg, redesign)?))
+    }
+}
+
+impl<T: Precision> Scheme<T> for msp_adaptive_fsp_config_of<T> {
+    const LOTS: usize = 2;
+    type Inner = msp_fsp_config_of<T>;
+    fn around(fsp: Self::Inner) -> Result<Self, Error> {
+        let adapt = scheme_default(&fsp.model, fsp.ts, fsp_samples(&fsp))?;
+        Ok(Self { fsp, adapt })
+    }
+    fn model(&self) -> &msp_model_of<T> {
+        &self.fsp.model
+    }
+    fn ts(&self) -> T {
+        self.fsp.ts
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        &self.adapt
+    }
+    fn samples(&self) -> Result<T, Error> {
+        if self.adapt.lambda.is_nan() {
+            return Err(Error::NonFinite(
+                "lambda: the filtered Smith predictor is redesigned at every change (0: λ = θ)",
+            ));
+        }
+        fsp_samples(&self.fsp)
+    }
+    /// The predictor for the longest candidate's dead time rounded up.
+    fn values(&self) -> usize {
+        self.lot().0
+    }
+    fn scratch(&self) -> usize {
+        self.lot().1
+    }
+    fn make(
+        &self,
+        cfg: AdaptiveConfig<T>,
+        lots: (Lot, Lot),
+        scratch: Lot,
+    ) -> Result<Adapting<T>, Error> {
+        let c = &self.fsp;
+        let m = fopdt_or_ipdt(&c.model)?;
+        let mut s = Arena::new(scratch.at, scratch.bytes);
+        let (design, pid) = fsp_design(c, |n| s.slice::<f64>(n))?;
+        let mut a = Arena::new(lots.0.at, lots.0.bytes);
+        let fsp = fsp_with(&design, pid, |n| a.slice::<T>(n))?;
+        let redesign = FspRedesign {
+            ts: c.ts,
+            lambda: self.adapt.lambda,
+            tf: c.tf,
+            limits: (c.pid.u_min, c.pid.u_max),
+            lots: Lots {
+                lots,
+                second: false,
+            },
+            scratch,
+            built: None,
+        };
+        Ok(Adapting::Fsp(Adaptive::new(fsp, m, cfg, redesign)?))
+    }
+}
+
+impl<T> msp_adaptive_fsp_config_of<T> {
+    /// The values and the scratch of a predictor for `d_max + 1` samples.
+    fn lot(&self) -> (usize, usize) {
+        fsp_storage((self.adapt.d_max as usize).saturating_add(1)).unwrap_or((usize::MAX, 0))
+    }
+}
+
+/// The defaults of adaptation for a scheme of the model `m` at `ts`.
+pub(super) fn scheme_default<T: Real>(
+    m: &msp_model_of<T>,
+    ts: T,
+    d: Result<T, Error>,
+) -> Result<msp_adapt_config_of<T>, Error> {
+    adapt_default(m, d?, ts)
+}
+
+/// `msp_adaptive*_default_config`.
+///
+/// # Safety
+/// `inner` and `config` are null or valid.
+pub(super) unsafe fn default_config<T: Precision, S: Scheme<T>>(
+    inner: *const S::Inner,
+    config: *mut S,
+) -> msp_status {
+    // SAFETY: forwarded
+    let Some(i) = (unsafe { read(inner) }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    // SAFETY: forwarded
+    unsafe { tuned(config, S::around(i)) }
+}
+
+/// `msp_adaptive*_size`.
+///
+/// # Safety
+/// `config` and `status` are null or valid.
+pub(super) unsafe fn size_of_config<T: Precision, S: Scheme<T>>(
+    config: *const S,
+    status: *mut msp_status,
+) -> usize {
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { read(config) }) else {
+        report(status, msp_status::MSP_NULL_POINTER);
+        return 0;
+    };
+    match adaptive_size(&c) {
+        Ok(n) => {
+            report(status, msp_status::MSP_OK);
+            n
+        }
+        Err(e) => {
+            report(status, e.into());
+            0
+        }
+    }
+}
+
+pub(super) fn adaptive_size<T: Precision, S: Scheme<T>>(c: &S) -> Result<usize, Error> {
+    c.config()?;
+    let line = c
+        .values()
+        .checked_mul(core::mem::size_of::<T>())
+        .and_then(|b| b.checked_add(core::mem::align_of::<T>()))
+        .and_then(|b| b.checked_mul(S::LOTS));
+    let scratch = c
+        .scratch()
+        .checked_mul(core::mem::size_of::<f64>())
+        .and_then(|b| b.checked_add(core::mem::align_of::<f64>()));
+    line.zip(scratch)
+        .and_then(|(l, s)| {
+            core::mem::size_of::<Tag<Adapting<T>>>()
+                .checked_add(core::mem::align_of::<Tag<Adapting<T>>>())?
+                .checked_add(l)?
+                .checked_add(s)
+        })
+        .ok_or(Error::DelayTooLong("buffer"))
+}
+
+/// # Safety
+/// `buf` is null or `len` writable bytes that stay in place; `config` and
+/// `out` null or valid.
+pub(super) unsafe fn adaptive_init<H: Tagged, S: Scheme<H::T>>(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const S,
+    out: *mut *mut H,
+) -> msp_status {
+    if buf.is_null() || out.is_null() {
+        return msp_status::MSP_NULL_POINTER;
+    }
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { read(config) }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    let cfg = match c.config() {
+        Ok(cfg) => cfg,
+        Err(e) => return e.into(),
+    };
+    let mut a = Arena::new(buf.cast(), len);
+    // the handle first (its size is known), the lines after it
+    let Some(slot) = a.place::<Tag<Adapting<H::T>>>() else {
+        return msp_status::MSP_BUFFER_TOO_SMALL;
+    };
+    fn lot<U: Real>(l: &'static mut [U]) -> Lot {
+        Lot {
+            at: l.as_mut_ptr().cast(),
+            bytes: core::mem::size_of_val(l),
+        }
+    }
+    let first = a.slice::<H::T>(c.values()).map(lot);
+    let second = if S::LOTS > 1 {
+        a.slice::<H::T>(c.values()).map(lot)
+    } else {
+        first
+    };
+    let scratch = a.slice::<f64>(c.scratch()).map(lot);
+    let (Ok(first), Ok(second), Ok(scratch)) = (first, second, scratch) else {
+        return msp_status::MSP_BUFFER_TOO_SMALL;
+    };
+    let v = match c.make(cfg, (first, second), scratch) {
+        Ok(v) => v,
+        Err(e) => return e.into(),
+    };
+    // SAFETY: the slot from the arena; `out` non-null
+    unsafe { tag(slot, v, out) }
+}
+
+/// # Safety
+/// As [`value`].
+pub(super) unsafe fn adaptive_update<H: Tagged>(
+    h: *mut H,
+    r: H::T,
+    y: H::T,
+    u: Option<H::T>,
+) -> H::T {
+    // SAFETY: forwarded
+    match unsafe { value::<H, Adapting<H::T>>(h) } {
+        Some(c) => c.view().update_applied(r, y, u),
+        None => <H::T as Real>::of(f64::NAN),
+    }
+}
+
+/// # Safety
+/// As [`value`]; `out` null or writable.
+pub(super) unsafe fn adaptive_state<H: Tagged>(
+    h: *mut H,
+    out: *mut msp_adaptive_state_of<H::T>,
+) -> msp_status {
+    if out.is_null() {
+        return msp_status::MSP_NULL_POINTER;
+    }
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { value::<H, Adapting<H::T>>(h) }) else {
+        return bad(h);
+    };
+    // SAFETY: non-null, the caller's
+    unsafe { out.write(c.view().state()) };
+    msp_status::MSP_OK
+}
+
+/// # Safety
+/// As [`value`].
+pub(super) unsafe fn adaptive_freeze<H: Tagged>(h: *mut H, frozen: bool) -> msp_status {
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { value::<H, Adapting<H::T>>(h) }) else {
+        return bad(h);
+    };
+    c.view().freeze(frozen);
+    msp_status::MSP_OK
+}
+
+/// # Safety
+/// `buf` is null or `len` writable bytes that stay in place; `config` and
+/// `out` null or valid.
+pub(super) unsafe fn estimator_init<H: Tagged>(
+    buf: *mut core::ffi::c_void,
+    len: usize,
+    config: *const msp_estimator_config_of<H::T>,
+    out: *mut *mut H,
+) -> msp_status {
+    if buf.is_null() || out.is_null() {
+        return msp_status::MSP_NULL_POINTER;
+    }
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { read(config) }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    let bank = match estimator_config(&c).and_then(Bank::<H::T>::new) {
+        Ok(b) => b,
+        Err(e) => return e.into(),
+    };
+    // SAFETY: `out` non-null
+    unsafe { place(&mut Arena::new(buf.cast(), len), bank, out) }
+}
+
+pub(super) fn estimator_size<T: Precision>() -> usize {
+    core::mem::size_of::<Tag<Bank<T>>>() + core::mem::align_of::<Tag<Bank<T>>>()
+}
