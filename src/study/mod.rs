@@ -23,10 +23,10 @@ use build::{BYTES_PER_ROW, BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use forced::SampledInput;
-pub use output::RunOutput;
 pub use metrics::{
     measure, metrics, next_event, settled, Columns, DisturbanceEvent, Event, Metrics, SetpointEvent,
 };
+pub use output::RunOutput;
 pub use report::{
     AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,
 };
@@ -415,5 +415,4 @@ impl Scenario {
             (Some(p2), m2) => Ok(Some((p2.clone(), m2.clone().unwrap_or_else(|| p2.clone())))),
         }
     }
-
 }

@@ -28,7 +28,11 @@ impl Scenario {
         self.run_deferring(false, false)
     }
 
-    pub(super) fn run_deferring(&self, measure: bool, analyse: bool) -> Result<RunOutput, RunError> {
+    pub(super) fn run_deferring(
+        &self,
+        measure: bool,
+        analyse: bool,
+    ) -> Result<RunOutput, RunError> {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;

@@ -35,8 +35,7 @@ fn series_pid_equals_the_series_form() -> Result<(), Error> {
 fn matched_discretization_of_garcia_filters() -> Result<(), Error> {
     let dc = |l: &Lti<f64, 4>| l.response(1e-12).re;
     // García et al. (2010) Example 1: γ1 = e^{−T/0.144} = 0.2494, ρ1 = e^{−T/3} = 0.9355
-    let lead: Lti<f64, 4> =
-        Lti::from_tf(&[3.0, 1.0], &[0.144, 1.0], 0.2, Discretization::Matched)?;
+    let lead: Lti<f64, 4> = Lti::from_tf(&[3.0, 1.0], &[0.144, 1.0], 0.2, Discretization::Matched)?;
     let (n, d) = crate::dtc::fsp::model_tf(&lead);
     let (n, d) = (n.as_slice(), d.as_slice());
     assert!(
