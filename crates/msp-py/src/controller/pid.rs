@@ -1,0 +1,249 @@
+//! `msp.Pid`: the library's PID one sample at a time, in either form, with
+//! its weights, limits, rate limit and anti-windup.
+
+use super::*;
+
+/// The industrial PID controller (ISA form ``Kp(1 + 1/(Ti s) + Td s)``).
+///
+/// Parameters
+/// ----------
+/// kp : float
+///     The proportional gain (its sign is the loop's direction).
+/// ti : float, optional
+///     The integral time (s); ``inf`` switches the integral off.
+/// td : float, optional
+///     The derivative time (s).
+/// ts : float, optional
+///     The sample period (s).
+/// n : float, optional
+///     The derivative filter ratio (``Td/N`` is the filter's time constant).
+/// b, c : float, optional
+///     The set-point weights of the proportional and derivative terms.
+/// umin, umax : float, optional
+///     The output limits.
+/// anti_windup : str, optional
+///     ``"back-calculation"`` (default), ``"clamping"`` or ``"none"``.
+/// tt : float, optional
+///     The tracking time of back-calculation (default ``sqrt(Ti·Td)``, or ``Ti``).
+/// rate_limit : float, optional
+///     The largest output change per second.
+///
+/// Examples
+/// --------
+/// >>> from msp import Pid
+/// >>> pid = Pid(2.0, ti=10.0, ts=1.0)
+/// >>> [round(pid.update(1.0, 0.0), 6) for _ in range(3)]   # kp·e, then the integral adds kp·e·ts/ti
+/// [2.0, 2.2, 2.4]
+#[pyclass(module = "msp._msp", name = "Pid")]
+pub struct PyPid {
+    inner: Pid<f64>,
+}
+
+impl PyPid {
+    /// The weights, limits, rate limit and anti-windup of either form, checked.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        cfg: PidConfig<f64>,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = cfg
+            .with_weights(b, c)
+            .with_limits(umin, umax)
+            .with_rate_limit(rate_limit);
+        // the name is checked whatever the form needs
+        let integral = cfg.ki != 0.0;
+        cfg.anti_windup = match (anti_windup, cfg.anti_windup) {
+            ("back-calculation" | "clamping" | "conditional" | "none", _) if !integral => {
+                AntiWindup::None
+            }
+            ("back-calculation", AntiWindup::BackCalculation { tt: d }) => {
+                AntiWindup::BackCalculation {
+                    tt: tt.unwrap_or(d),
+                }
+            }
+            ("back-calculation", _) => AntiWindup::BackCalculation {
+                tt: tt.unwrap_or(cfg.ts),
+            },
+            ("clamping" | "conditional", _) => AntiWindup::Conditional,
+            ("none", _) => AntiWindup::None,
+            (o, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "anti_windup '{o}': use back-calculation, clamping (conditional) or none"
+                )))
+            }
+        };
+        Ok(PyPid {
+            inner: Pid::new(cfg).map_err(value_err)?,
+        })
+    }
+}
+
+#[pymethods]
+impl PyPid {
+    #[new]
+    #[pyo3(signature = (kp, ti=f64::INFINITY, td=0.0, ts=1.0, *, n=10.0, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
+                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        kp: f64,
+        ti: f64,
+        td: f64,
+        ts: f64,
+        n: f64,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        // in the ISA form kp scales every term: with kp = 0 a given ti or td
+        // would do nothing, and is not dropped without a word
+        if kp == 0.0 && (ti.is_finite() || td > 0.0) {
+            return Err(PyValueError::new_err(
+                "kp = 0 with ti or td: in the ISA form kp scales every term, so ti and td would do nothing; use Pid.parallel(kp, ki, kd) for a pure I or D controller",
+            ));
+        }
+        let cfg = PidConfig::try_isa(kp, ti, td, ts)
+            .map_err(value_err)?
+            .with_filter(n);
+        Self::finish(cfg, b, c, umin, umax, anti_windup, tt, rate_limit)
+    }
+
+    /// The parallel form ``u = kp·(b·r − y) + ki·∫(r − y) + kd·d(c·r − y)/dt``
+    /// (pid-rs's and simple-pid's gains): ``kp = 0`` is allowed (a pure I or
+    /// D controller). ``tf`` is the derivative filter's time constant (default
+    /// ``kd/(10·kp)``, ``0`` — unfiltered — when ``kp = 0``).
+    #[staticmethod]
+    #[pyo3(signature = (kp, ki=0.0, kd=0.0, ts=1.0, *, tf=None, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
+                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
+    #[allow(clippy::too_many_arguments)]
+    fn parallel(
+        kp: f64,
+        ki: f64,
+        kd: f64,
+        ts: f64,
+        tf: Option<f64>,
+        b: f64,
+        c: f64,
+        umin: f64,
+        umax: f64,
+        anti_windup: &str,
+        tt: Option<f64>,
+        rate_limit: f64,
+    ) -> PyResult<Self> {
+        let mut cfg = PidConfig::parallel(kp, ki, kd, ts);
+        if let Some(tf) = tf {
+            cfg = cfg.with_filter_time(tf);
+        }
+        Self::finish(cfg, b, c, umin, umax, anti_windup, tt, rate_limit)
+    }
+
+    /// Sets the integral so that the next output is ``u`` for zero error (a
+    /// bumpless start from a steady state with the actuator at ``u``).
+    fn preset(&mut self, u: f64) -> PyResult<()> {
+        self.inner.preset(u).map_err(value_err)
+    }
+
+    fn __repr__(&self) -> String {
+        let c = self.inner.config();
+        let n = if c.tf > 0.0 {
+            c.td() / c.tf
+        } else {
+            f64::INFINITY
+        };
+        let mode = match self.inner.mode() {
+            msp::pid::Mode::Auto => "auto",
+            msp::pid::Mode::Manual => "manual",
+        };
+        format!(
+            "Pid(kp={}, ti={}, td={}, ts={}, n={}, b={}, c={}, umin={}, umax={}, mode={mode}, output={})",
+            c.kp,
+            c.ti(),
+            c.td(),
+            c.ts,
+            if c.td() > 0.0 { n } else { f64::NAN },
+            c.b,
+            c.c,
+            c.u_min,
+            c.u_max,
+            self.inner.output()
+        )
+    }
+    /// One sample.
+    fn update(&mut self, r: f64, y: f64) -> f64 {
+        self.inner.update(r, y)
+    }
+    /// One sample with the actuator's real value for the integrator to track.
+    fn update_tracking(&mut self, r: f64, y: f64, u_actual: f64) -> f64 {
+        self.inner.update_tracking(r, y, u_actual)
+    }
+    /// ``update`` over arrays, looped in Rust.
+    fn update_many<'py>(
+        &mut self,
+        py: Python<'py>,
+        r: PyReadonlyArray1<'py, f64>,
+        y: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let c = &mut self.inner;
+        loop_many(py, r, y, |r, y| c.update(r, y))
+    }
+    /// Zeroes the state, back to auto mode.
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+    /// Manual mode holding the last output.
+    fn set_manual(&mut self) {
+        self.inner.set_manual();
+    }
+    /// Manual output value.
+    fn set_manual_output(&mut self, u: f64) -> PyResult<()> {
+        self.inner.set_manual_output(u).map_err(value_err)
+    }
+    /// Back to auto mode (bumpless).
+    fn set_auto(&mut self) {
+        self.inner.set_auto();
+    }
+    /// Proportional term of the last update.
+    #[getter]
+    fn p(&self) -> f64 {
+        self.inner.terms().p
+    }
+    /// Integral term of the last update.
+    #[getter]
+    fn i(&self) -> f64 {
+        self.inner.terms().i
+    }
+    /// Derivative term of the last update.
+    #[getter]
+    fn d(&self) -> f64 {
+        self.inner.terms().d
+    }
+    /// Last output.
+    #[getter]
+    fn output(&self) -> f64 {
+        self.inner.output()
+    }
+    /// True when the last update got a non-finite input.
+    #[getter]
+    fn fault(&self) -> bool {
+        self.inner.fault()
+    }
+    /// Parameters ``kp``, ``ti``, ``td``.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.config();
+        let d = PyDict::new(py);
+        d.set_item("kp", c.kp)?;
+        d.set_item("ti", c.ti())?;
+        d.set_item("td", c.td())?;
+        Ok(d)
+    }
+}
