@@ -1829,3 +1829,29 @@ fn square_wave_run(extra: &str) -> (String, serde_json::Value, impl Fn(&str) -> 
     };
     (text, r, last)
 }
+
+/// The integrating loop whose dead time grows 5 → 7 s: with the
+/// fixed model it diverges (the run says the loop is unstable); with
+/// `--adapt` the summary names the emergency path and the estimate it
+/// applied, and the report ends stable.
+#[test]
+fn the_emergency_path_is_said_in_the_summary() {
+    let args = "run --plant 0.15e^-5s/s -c smith --ts 0.25 --duration 1500 --setpoint 1@0 --setpoint 0@1230 --event 1200:plant-dead-time=7 -o /dev/null";
+    let fixed = msp().args(words(args)).assert().get_output().clone();
+    let fixed = String::from_utf8(fixed.stderr).unwrap();
+    assert!(fixed.contains("the output diverged at"), "{fixed}");
+    let out = msp()
+        .args(words(args))
+        .arg("--adapt")
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        text.contains("EMERGENCY: the loop was going unstable; the clear estimate applied at once")
+            && text.contains("theta = 7 s"),
+        "{text}"
+    );
+    assert!(!text.contains("the output diverged at"), "{text}");
+}

@@ -199,7 +199,7 @@ fn unstable_loops_have_no_margins_and_diverged_runs_no_indices() {
 /// a duration that ends before one is an error naming it.
 #[test]
 fn durations_keep_what_was_scheduled() {
-    let j = report(&[
+    let steps = [
         "run",
         "--plant",
         "0.2/s*e^-7.4s",
@@ -207,7 +207,8 @@ fn durations_keep_what_was_scheduled() {
         "1@0",
         "--setpoint",
         "3@150",
-    ]);
+    ];
+    let j = report(&steps);
     let duration = j["duration"].as_f64().unwrap();
     assert!(duration > 150.0, "{duration}");
     // the step at 150 s was taken, and settled
@@ -215,19 +216,8 @@ fn durations_keep_what_was_scheduled() {
     assert_eq!(last["at"], 150.0, "{last}");
     assert!(last["settling_time"].is_number(), "{last}");
     msp()
-        .args([
-            "run",
-            "--plant",
-            "0.2/s*e^-7.4s",
-            "--setpoint",
-            "1@0",
-            "--setpoint",
-            "3@150",
-            "--duration",
-            "100",
-            "-o",
-            "-",
-        ])
+        .args(steps)
+        .args(["--duration", "100", "-o", "-"])
         .assert()
         .code(2)
         .stderr(predicate::str::contains(
