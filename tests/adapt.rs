@@ -629,7 +629,9 @@ fn the_alarm_clears_when_the_adaptation_has_caught_up() {
 /// so each is rebuilt for the new model, warms up beside the one in use and
 /// takes over) after the lag doubles, the Karan–Dey predictor after an
 /// integrating process's gain rises 20 % (0.5 % noise): the model in use
-/// becomes the process's and the loop stays stable.
+/// becomes the process's (the gain within 8 %, the lag within 10 %: a
+/// change smaller than that waits for the evidence the supervisor asks,
+/// `AdaptiveConfig::validate`) and the loop stays stable.
 #[test]
 fn every_scheme_with_a_model_adapts() {
     type Case = (&'static str, &'static str, &'static str, (f64, f64, f64));
@@ -668,7 +670,7 @@ fn every_scheme_with_a_model_adapts() {
                 .any(|c| c.kind == msp::adapt::ChangeKind::Applied),
             "{scheme}: {log:?}"
         );
-        assert!((model.0 - k).abs() < 0.05 * k, "{scheme}: {model:?}");
+        assert!((model.0 - k).abs() < 0.08 * k, "{scheme}: {model:?}");
         assert!(
             tau.is_infinite() && model.1.is_infinite() || (model.1 - tau).abs() < 0.1 * tau,
             "{scheme}: {model:?}"

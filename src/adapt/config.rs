@@ -91,6 +91,18 @@ impl<T: Real> EstimatorConfig<T> {
         self.ts * T::of(self.decimation as f64)
     }
 
+    /// How much later than the estimator's sampling instant its output
+    /// sample stands: `(decimation − 1)/2` controller periods. The block's
+    /// mean of `y[jM] … y[jM + M − 1]` is centred there, while the mean of
+    /// the inputs `u[jM] … u[jM + M − 1]`, each held over its period, is a
+    /// held input like the model's; so the model fitted to the block means
+    /// sees the dead time shorter by this much, and the estimate adds it
+    /// back (0 without decimation; measured: 0.28 s of 6 s at 12 samples a
+    /// block before it was added).
+    pub fn centre(&self) -> T {
+        self.ts * T::of((self.decimation as f64 - 1.0) / 2.0)
+    }
+
     /// Checks every setting (the history's room is the estimator's).
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.ts, "ts")?;

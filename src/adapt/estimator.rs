@@ -90,7 +90,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             .ok_or(Error::OutOfRange(
                 "estimator: a dead time among the candidates",
             ))?;
-        let ts = self.cfg.ts;
+        let ts = self.cfg.period();
         // the prior's weight: a covariance of one per coefficient (the
         // equivalent of a sample of unit regressors), not the cold start's
         // large one, whose first noisy updates could throw `a` to the edge
@@ -138,7 +138,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             ));
         }
         let ts = self.cfg.period();
-        let samples = theta / ts + T::of(1e-9);
+        // the block means see the dead time shorter ([`EstimatorConfig::centre`])
+        let samples = (theta - self.cfg.centre()).max(T::zero()) / ts + T::of(1e-9);
         let whole = samples.floor();
         let f = (samples - whole - T::of(1e-9)).max(T::zero()).min(T::one());
         let d = num_traits::ToPrimitive::to_usize(&whole)
@@ -462,7 +463,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         Some(Estimate {
             k,
             tau,
-            theta: (T::of(d as f64) + frac) * self.cfg.period(),
+            theta: (T::of(d as f64) + frac) * self.cfg.period() + self.cfg.centre(),
             d,
             evidence: self.evidence(c.cost, second),
         })

@@ -131,6 +131,11 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     err_n: u32,
     /// Half-cycles of a growing oscillation in a row (the emergency path).
     growing: u32,
+    /// The last set point, and whether it moved in the current block (a
+    /// set-point move starts a transient, not a half-cycle of an
+    /// oscillation).
+    r_last: T,
+    r_moved: bool,
     /// The factor on the rule's gain after detuning (1: none).
     detune: T,
     /// An edge warning was logged for the estimate as it stands.
@@ -203,6 +208,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             err: T::zero(),
             err_n: 0,
             growing: 0,
+            r_last: T::zero(),
+            r_moved: false,
             detune: T::one(),
             edge_warned: false,
             block: Block::default(),
@@ -302,6 +309,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
         self.pending = Some(y);
         self.samples = self.samples.saturating_add(1);
+        if r != self.r_last {
+            self.r_moved = true;
+            self.r_last = r;
+        }
         let e = r - y;
         if e.is_finite() {
             self.err = self.err + e;
@@ -584,9 +595,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !ok {
             return None;
         }
-        let ts = self.cfg.estimator.period();
-        // the model's whole samples (truncation: θ/Ts is not negative)
-        let d = num_traits::ToPrimitive::to_usize(&(self.model.theta / ts + T::of(1e-9)));
+        let est = &self.cfg.estimator;
+        // the model's whole samples, as the estimator counts them
+        // (truncation: not negative)
+        let at = (self.model.theta - est.centre()).max(T::zero()) / est.period();
+        let d = num_traits::ToPrimitive::to_usize(&(at + T::of(1e-9)));
         if m.evidence >= self.cfg.min_evidence || d == Some(m.d) {
             return Some(m);
         }

@@ -193,7 +193,14 @@ impl Scenario {
         }
         let decimation = Self::adapt_decimation(model, ts);
         let period = ts * decimation as f64;
-        let d_model = (theta / period).floor();
+        // the model's dead time as the estimator counts it (its block means'
+        // centre: EstimatorConfig::centre)
+        let centre = EstimatorConfig {
+            decimation,
+            ..EstimatorConfig::new(ts, 0)
+        }
+        .centre();
+        let d_model = ((theta - centre).max(0.0) / period).floor();
         let (d_min, d_max) = self.adapt_range(model, period)?;
         if d_max - d_min >= CANDIDATES as f64 {
             return Err(RunError::Limit(std::format!(

@@ -12,6 +12,12 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// restore the last validated model; at any time, `emergency` growing
     /// ones set off the emergency path. Returns whether it acted.
     pub(super) fn oscillation(&mut self, e: T) -> bool {
+        // a set-point move starts the count again: the error's swing from
+        // one set point to the next is the move's, not an oscillation's
+        if core::mem::take(&mut self.r_moved) {
+            (self.side, self.half, self.crossed, self.growing) = (0, 0, 0, 0);
+            (self.peak, self.last_peak) = (T::zero(), T::zero());
+        }
         self.half = self.half.saturating_add(1);
         if e.abs() > self.peak {
             self.peak = e.abs();
