@@ -236,11 +236,10 @@ fn process_changes_are_learnt_at_a_fine_period() {
             at: 80.0 * f64::from(i),
         })
         .collect();
+    // the loop tuned for the plant as it is at the start
     let run = |plant: &str, event: Option<&str>, adapt: bool| {
         Scenario {
             plant: Some(plant.parse().unwrap()),
-            // the loop is tuned for the commissioned model in every run
-            model: Some(format!("{k}e^-{theta}s/({tau}s+1)").parse().unwrap()),
             controller: Some("smith".into()),
             lambda: Some(8.0),
             ts: Some(ts),
@@ -268,21 +267,9 @@ fn process_changes_are_learnt_at_a_fine_period() {
         let at = format!("400:{event}");
         let adaptive = run(&plant, Some(&at), true);
         let fixed = run(&plant, Some(&at), false);
-        // the true model's loop: the changed process, its own model
+        // the true model's loop: the changed process, tuned for itself
         let changed = format!("{k1}e^-{theta1}s/({tau1}s+1)");
-        let mut truth_sc = Scenario {
-            plant: Some(changed.parse().unwrap()),
-            controller: Some("smith".into()),
-            lambda: Some(8.0),
-            ts: Some(ts),
-            duration: Some(4000.0),
-            setpoint: square.clone(),
-            noise: Some(0.01),
-            seed: Some(2),
-            ..Default::default()
-        };
-        truth_sc.model = None;
-        let truth = truth_sc.run().unwrap();
+        let truth = run(&changed, None, false);
         let (ia, ifx, it) = (iae_late(&adaptive), iae_late(&fixed), iae_late(&truth));
         let model: Vec<f64> = ["k_model", "tau_model", "theta_model"]
             .iter()
