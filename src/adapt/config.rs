@@ -3,7 +3,7 @@
 use crate::real::positive;
 use crate::{Error, Real};
 
-/// Settings of an [`Estimator`].
+/// Settings of an [`super::Estimator`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EstimatorConfig<T> {
     /// The sample period (s).
@@ -41,7 +41,7 @@ pub struct EstimatorConfig<T> {
     /// Discount of the candidates' costs (the decision's memory).
     pub cost_memory: T,
     /// A new dead time must have at least this much evidence over the
-    /// current one (see [`Estimate::evidence`])…
+    /// current one (see [`super::Estimate::evidence`])…
     pub switch_evidence: T,
     /// …for this many consecutive samples.
     pub switch_hold: u32,

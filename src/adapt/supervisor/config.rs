@@ -3,7 +3,7 @@
 use crate::adapt::EstimatorConfig;
 use crate::{Error, Real};
 
-/// Settings of an [`Adaptive`] controller.
+/// Settings of an [`crate::adapt::Adaptive`] controller.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveConfig<T> {
     /// The estimator's.
@@ -18,7 +18,7 @@ pub struct AdaptiveConfig<T> {
     /// Estimator samples between two changes at least (default 1000).
     pub min_interval: u32,
     /// The evidence for the chosen dead time over the next candidate, at
-    /// least ([`Estimate::evidence`]; default 20).
+    /// least ([`crate::adapt::Estimate::evidence`]; default 20).
     pub min_evidence: T,
     /// A change moves the gain and the time constant by at most this factor
     /// (default 2).
@@ -41,14 +41,14 @@ pub struct AdaptiveConfig<T> {
     pub watch: u32,
     /// The estimates' gain and time constant stay within this factor of
     /// the commissioned model's (default 4): beyond it an estimate is
-    /// refused with a warning ([`ChangeKind::Edge`]), as one at the end of
+    /// refused with a warning ([`crate::adapt::ChangeKind::Edge`]), as one at the end of
     /// the dead-time range is.
     pub bound: T,
     /// Half-cycles of a growing oscillation of the control error (each
     /// reaching the band, each peak at least the one before) that set off
     /// the emergency path (default 4: two periods): a clear estimate is
-    /// applied at once ([`ChangeKind::Emergency`]), or the primary's gain
-    /// is halved ([`ChangeKind::Detuned`]).
+    /// applied at once ([`crate::adapt::ChangeKind::Emergency`]), or the primary's gain
+    /// is halved ([`crate::adapt::ChangeKind::Detuned`]).
     pub emergency: u32,
     /// The evidence by which the estimate must predict the data since the
     /// model in use was set better than it before it is applied

@@ -3,7 +3,7 @@
 /// How a scheme `C` is redesigned for a model `(K, τ, θ)` (`τ` infinite:
 /// integrating) by its own rule at the same λ policy.
 ///
-/// A scheme whose model can change at run time ([`Operate::set_model`]:
+/// A scheme whose model can change at run time ([`crate::Operate::set_model`]:
 /// the Smith predictor) keeps its blocks and takes the primary's new gains
 /// `[Kp, Ti, Td]` ([`Redesign::gains`]; `None` keeps them): any
 /// `FnMut(K, τ, θ) -> Option<[T; 3]>` is one (a `fn` on a device, a
@@ -12,7 +12,7 @@
 /// compensator family, Karan–Dey, the filtered Smith predictor) is built
 /// anew ([`Redesign::rebuild`], e.g. [`Rebuild`]): the new one runs beside
 /// the old on the same measurements, tracking the output the plant
-/// receives ([`Operate::apply`]), until its model's dead time and four time
+/// receives ([`crate::Operate::apply`]), until its model's dead time and four time
 /// constants have passed (its lines and states hold the loop's history),
 /// then takes over from that output (its integral where the tracking left
 /// it; its own law from then on, as after a bumpless return to automatic).
@@ -38,7 +38,7 @@ pub trait Redesign<T, C> {
 
     /// The dead time (s) of the scheme it built last, where that scheme
     /// runs another than the one asked for and cannot say so itself
-    /// ([`Operate::dead_time`] is `None` for a scheme whose dead time is
+    /// ([`crate::Operate::dead_time`] is `None` for a scheme whose dead time is
     /// fixed when it is built): the model in use, its log and its verdict
     /// carry the dead time the loop runs.
     fn built_dead_time(&self) -> Option<T> {
