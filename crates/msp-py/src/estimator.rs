@@ -43,7 +43,7 @@ const H: usize = 4096;
 /// >>> y, us = 0.0, []
 /// >>> for k in range(16000):
 /// ...     u = 1.0 if (k // 200) % 2 else -1.0
-/// ...     est.update(y, u)
+/// ...     _ = est.update(y, u)
 /// ...     us.append(u)
 /// ...     y = a * y + 2.0 * (1 - a) * (us[k - 12] if k >= 12 else 0.0)
 /// >>> e = est.estimate
