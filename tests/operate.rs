@@ -549,3 +549,141 @@ fn plant_gain_and_lag_events_follow_the_closed_form() {
         assert!(bad.parse::<msp::sim::Operation>().is_err(), "{bad}");
     }
 }
+
+/// A run of `plant` with `pi` and the events, sampled every 0.1 s.
+fn drift_run(plant: &str, events: &[&str], duration: f64) -> msp::sim::SimResult {
+    msp::study::Scenario {
+        ts: Some(0.1),
+        duration: Some(duration),
+        events: events.iter().map(|s| s.parse().unwrap()).collect(),
+        ..scenario(plant, "pi")
+    }
+    .run()
+    .unwrap()
+    .result
+}
+
+/// A drifting gain and lag, every sample against the ZOH recursion with the
+/// parameter of that sample: in manual (u = 1 from 0) an integrating
+/// process `K/s` with its gain drifting 0.5 → 1 at 0.01 per s from 50 s adds
+/// `ts·K[n]` a sample once the dead time has passed, `K[n]` moving 0.001 a
+/// sample from the sample after the event; a lag `2/(τs + 1)` drifting
+/// 5 → 2 s at 0.02 s per s steps `y ← 2 + (y − 2)·e^{−ts/τ[n]}`.
+#[test]
+fn plant_drifts_follow_the_sampled_recursion() {
+    let ts = 0.1f64;
+    let r = drift_run(
+        "0.5*e^-1s/s",
+        &["0:manual=1", "50:plant-gain=1~0.01"],
+        150.0,
+    );
+    let (mut y, mut worst) = (0.0f64, 0.0f64);
+    for n in 0..r.y.len() {
+        worst = worst.max((r.y[n] - y).abs());
+        let k = (0.5 + 0.001 * (n as f64 - 500.0).max(0.0)).min(1.0);
+        if n >= 10 {
+            y += ts * k;
+        }
+    }
+    // rounding of 1500 sums of about 10
+    assert!(worst < 1e-10, "gain drift: {worst:e}");
+    assert!(
+        (r.y[1500] - r.y[1499] - ts).abs() < 1e-12,
+        "arrived at K = 1"
+    );
+
+    let r = drift_run(
+        "2*e^-1s/(5s+1)",
+        &["0:manual=1", "50:plant-lag=2~0.02"],
+        300.0,
+    );
+    let (mut y, mut worst) = (0.0f64, 0.0f64);
+    for n in 0..r.y.len() {
+        worst = worst.max((r.y[n] - y).abs());
+        let tau = (5.0 - 0.002 * (n as f64 - 500.0).max(0.0)).max(2.0);
+        if n >= 10 {
+            y = 2.0 + (y - 2.0) * (-ts / tau).exp();
+        }
+    }
+    assert!(worst < 1e-10, "lag drift: {worst:e}");
+
+    for bad in [
+        "5:plant-gain=2~0",
+        "5:plant-lag=3~-1",
+        "5:plant-dead-time=-1~0.1",
+        "5:plant-gain=~1",
+    ] {
+        assert!(bad.parse::<msp::sim::Operation>().is_err(), "{bad}");
+    }
+    // the drift ends on the plant's fraction of a sample, or is refused with the reason
+    let off = msp::study::Scenario {
+        ts: Some(ts),
+        duration: Some(20.0),
+        events: vec!["5:plant-dead-time=2.05~0.1".parse().unwrap()],
+        ..scenario("e^-1s/(s+1)", "pi")
+    }
+    .run();
+    let msg = off.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(msg.contains("whole samples"), "{msg}");
+}
+
+/// A drifting dead time is the process whose dead time takes the nearest
+/// whole sample of `θ0 + RATE·(t − t0)` each sample: the same run as the
+/// step events at the samples where that nearest sample changes (found here
+/// from the formula, not from the simulator), bit for bit, under a PI that
+/// keeps the input moving (set-point steps every 40 s). Down as well as up.
+#[test]
+fn a_drifting_dead_time_steps_by_whole_samples() {
+    let ts = 0.1f64;
+    for (theta0, to, rate) in [(1.0f64, 3.0f64, 0.013f64), (3.0, 1.2, 0.0071)] {
+        let plant = format!("e^-{theta0}s/(4s+1)");
+        let drift = format!("20:plant-dead-time={to}~{rate}");
+        let mut steps = Vec::new();
+        let mut last = (theta0 / ts).round();
+        for j in 1..100_000 {
+            let now = theta0 / ts + (to - theta0).signum() * rate * f64::from(j);
+            let now = if (to - theta0) > 0.0 {
+                now.min(to / ts)
+            } else {
+                now.max(to / ts)
+            };
+            let nearest = now.round();
+            if nearest != last {
+                let t = 20.0 + ts * f64::from(j);
+                steps.push(format!("{t:.1}:plant-dead-time={:.1}", nearest * ts));
+                last = nearest;
+            }
+            if now == to / ts {
+                break;
+            }
+        }
+        assert!(steps.len() >= 18, "{steps:?}");
+        let events = |extra: Vec<String>| {
+            let mut e: Vec<String> = (1..12).map(|k| format!("{}:auto", 40 * k)).collect();
+            e.extend(extra);
+            e
+        };
+        let run = |ev: Vec<String>| {
+            let ev: Vec<&str> = ev.iter().map(String::as_str).collect();
+            msp::study::Scenario {
+                setpoint: (0..12)
+                    .map(|k| format!("{}@{}", k % 2, 40 * k).parse().unwrap())
+                    .collect(),
+                ..msp::study::Scenario {
+                    ts: Some(ts),
+                    duration: Some(480.0),
+                    events: ev.iter().map(|s| s.parse().unwrap()).collect(),
+                    ..scenario(&plant, "pi")
+                }
+            }
+            .run()
+            .unwrap()
+            .result
+        };
+        let drifted = run(events(vec![drift]));
+        let stepped = run(events(steps.clone()));
+        let first = drifted.y.iter().zip(&stepped.y).position(|(a, b)| a != b);
+        assert_eq!(first, None, "{theta0} → {to}: {steps:?}");
+        assert!(drifted.diverged_at.is_none());
+    }
+}

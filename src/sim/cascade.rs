@@ -180,9 +180,15 @@ impl JointSim {
     /// so both lines read further back or nearer by the same whole number
     /// of samples (at a steady state nothing moves). The fraction of a sample
     /// must stay what it was.
-    pub(super) fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+    /// The dead time from the plant input to `y` (samples).
+    pub(super) fn dead_time(&self) -> f64 {
         #[allow(clippy::cast_precision_loss)] // a delay line's length
         let now = self.kv as f64 + self.fv;
+        now
+    }
+
+    pub(super) fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+        let now = self.dead_time();
         let shift = samples - now;
         if !shift.is_finite() || (shift - shift.round()).abs() > 1e-9 {
             return Err(Error::Unsupported(

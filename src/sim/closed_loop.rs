@@ -3,6 +3,7 @@
 use std::vec::Vec;
 
 use super::cascade::JointSim;
+use super::drift::PlantParameter;
 use super::engine::{self, Flags, Run};
 use super::plant::PlantSim;
 use super::result::Columns;
@@ -88,6 +89,10 @@ pub enum Action {
     /// The process's time constant becomes this (s), for a plant with one
     /// lag (`K/(τs + 1)`, behind its dead time); its output does not jump.
     PlantLag(f64),
+    /// The process drifts: the parameter moves to the value (its units; a
+    /// dead time in s) at the rate (those units per second), from the next
+    /// sample on (see [`PlantParameter`]).
+    PlantDrift(PlantParameter, f64, f64),
     /// An adaptive controller's adaptation resumes (`true`) or freezes.
     Adapt(bool),
     /// A gain of the controller's primary PID changes (bumpless).
@@ -211,7 +216,18 @@ impl Process {
 const CASCADE_DRIFT: &str =
     "plant-gain and plant-lag events change a single plant, not a cascade process";
 
-impl Process {}
+impl Process {
+    /// The process's dead time (samples), gain or lag now.
+    pub(super) fn parameter(&self, what: PlantParameter) -> Result<f64, Error> {
+        match (self, what) {
+            (Process::Single(p), PlantParameter::DeadTime) => Ok(p.dead_time()),
+            (Process::Cascade { joint, .. }, PlantParameter::DeadTime) => Ok(joint.dead_time()),
+            (Process::Single(p), PlantParameter::Gain) => Ok(p.gain()),
+            (Process::Single(p), PlantParameter::Lag) => p.lag(),
+            (Process::Cascade { .. }, _) => Err(Error::Unsupported(CASCADE_DRIFT)),
+        }
+    }
+}
 
 /// A schedule `(time, item)` as `(first sample, item)` in time order (ties
 /// keep their order).
@@ -316,7 +332,9 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         .operations
         .iter()
         .filter_map(|o| match o.action {
-            Action::PlantDeadTime(d) => Some(d),
+            Action::PlantDeadTime(d) | Action::PlantDrift(PlantParameter::DeadTime, d, _) => {
+                Some(d)
+            }
             _ => None,
         })
         .fold(0.0, f64::max);

@@ -13,6 +13,7 @@
 use std::vec::Vec;
 
 use super::closed_loop::{Action, Noise, Process, SimConfig};
+use super::drift::{Drifts, PlantParameter};
 use super::result::Columns;
 use super::schedule::Track;
 use super::SimResult;
@@ -295,8 +296,12 @@ where
     let mut r = 0.0;
     let mut sig = std::vec![0.0; controller.signal_names().len()];
     let ts = run.flags.ts;
+    let mut drifts = Drifts::default();
     let mut i = 0usize;
     while i < run.n {
+        if drifts.active() {
+            drifts.advance(&mut run.process)?;
+        }
         // what happens at sample i
         while let Some(&(_, value)) = run.steps.get(next_step).filter(|e| e.0 <= i) {
             r = value;
@@ -309,9 +314,21 @@ where
                 Action::Auto => op.mode = Mode::Auto,
                 Action::DeadTime(d) => controller.set_dead_time(d / ts)?,
                 Action::DeadTimeRamp(d, rate) => controller.ramp_dead_time(d / ts, rate)?,
-                Action::PlantDeadTime(d) => run.process.set_dead_time(d / ts)?,
-                Action::PlantGain(k) => run.process.set_gain(k)?,
-                Action::PlantLag(tau) => run.process.set_lag(tau)?,
+                Action::PlantDeadTime(d) => {
+                    drifts.stop(PlantParameter::DeadTime);
+                    run.process.set_dead_time(d / ts)?;
+                }
+                Action::PlantGain(k) => {
+                    drifts.stop(PlantParameter::Gain);
+                    run.process.set_gain(k)?;
+                }
+                Action::PlantLag(tau) => {
+                    drifts.stop(PlantParameter::Lag);
+                    run.process.set_lag(tau)?;
+                }
+                Action::PlantDrift(what, to, rate) => {
+                    drifts.start(&run.process, what, to, rate, ts)?;
+                }
                 Action::Retune(g, v) => controller.retune(g, v)?,
                 Action::Adapt(on) => controller.set_adapting(on)?,
             }
@@ -332,6 +349,12 @@ where
         .flatten()
         .fold(run.n, usize::min)
         .max(i.saturating_add(1));
+        // a drift moves the process every sample
+        let end = if drifts.active() {
+            i.saturating_add(1)
+        } else {
+            end
+        };
         let done = segment::<C, OPERATED, PLAIN>(
             run,
             controller,

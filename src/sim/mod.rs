@@ -22,6 +22,7 @@
 
 mod cascade;
 mod closed_loop;
+mod drift;
 mod engine;
 mod plant;
 mod result;
@@ -31,6 +32,7 @@ pub use cascade::CascadeStepper;
 pub use closed_loop::{
     simulate, simulate_cascade, simulate_into, Action, Noise, Operation, Record, SimConfig,
 };
+pub use drift::PlantParameter;
 pub use plant::{open_loop, PlantStepper};
 pub use result::SimResult;
 pub(crate) use schedule::first_sample_at;

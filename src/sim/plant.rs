@@ -139,18 +139,38 @@ impl PlantSim {
     /// `(b1 s + b0)/(τs + 1)`), becomes `tau` at the same gain; its state is
     /// its output, which does not jump.
     pub(super) fn set_lag(&mut self, tau: f64) -> Result<(), Error> {
-        let a0 = match self.tf.den.as_slice() {
-            [a1, a0] if *a1 != 0.0 && *a0 != 0.0 && *a1 / *a0 > 0.0 => *a0,
-            _ => {
-                return Err(Error::Unsupported(
-                    "plant-lag changes the time constant of a stable plant with one lag, K/(τs+1): this plant has another denominator",
-                ))
-            }
-        };
+        let (_, a0) = self.one_lag()?;
         let mut tf = self.tf.clone();
         tf.den = std::vec![tau * a0, a0];
         let y = self.out.free_output();
         self.rebuild(tf, |_, new| new.set_output(y))
+    }
+
+    /// The denominator `a1·s + a0` of a stable plant with one lag.
+    fn one_lag(&self) -> Result<(f64, f64), Error> {
+        match self.tf.den.as_slice() {
+            [a1, a0] if *a1 != 0.0 && *a0 != 0.0 && *a1 / *a0 > 0.0 => Ok((*a1, *a0)),
+            _ => Err(Error::Unsupported(
+                "plant-lag changes the time constant of a stable plant with one lag, K/(τs+1): this plant has another denominator",
+            )),
+        }
+    }
+
+    /// The time constant `τ` of a plant with one lag.
+    pub(super) fn lag(&self) -> Result<f64, Error> {
+        self.one_lag().map(|(a1, a0)| a1 / a0)
+    }
+
+    /// The static gain (velocity gain of an integrating plant).
+    pub(super) fn gain(&self) -> f64 {
+        self.tf.gain()
+    }
+
+    /// The dead time (samples).
+    pub(super) fn dead_time(&self) -> f64 {
+        #[allow(clippy::cast_precision_loss)] // a delay line's length
+        let k = self.k as f64;
+        k + self.frac
     }
 
     /// Changes the dead time to `samples` (the process's transport delay

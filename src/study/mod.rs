@@ -270,6 +270,10 @@ impl Scenario {
             .iter()
             .filter_map(|e| match (e.action, plant) {
                 (crate::sim::Action::PlantDeadTime(d), true)
+                | (
+                    crate::sim::Action::PlantDrift(crate::sim::PlantParameter::DeadTime, d, _),
+                    true,
+                )
                 | (crate::sim::Action::DeadTime(d), false)
                 | (crate::sim::Action::DeadTimeRamp(d, _), false) => Some(d),
                 _ => None,
@@ -319,17 +323,22 @@ impl Scenario {
     /// The events' values and the actuator's range, checked (a scenario file
     /// may give them structured, past the flags' parser).
     fn check_operation(&self) -> Result<(), RunError> {
-        use crate::sim::Action;
+        use crate::sim::{Action, PlantParameter};
         for e in &self.events {
             crate::real::non_negative(e.at, "event time")?;
+            if let Action::PlantDrift(_, _, rate) = e.action {
+                crate::real::positive(rate, "event drift rate")?;
+            }
             match e.action {
                 Action::Manual(v) | Action::Track(v) => {
                     crate::real::finite(v, "event value")?;
                 }
-                Action::DeadTime(d) | Action::PlantDeadTime(d) => {
+                Action::DeadTime(d)
+                | Action::PlantDeadTime(d)
+                | Action::PlantDrift(PlantParameter::DeadTime, d, _) => {
                     crate::real::non_negative(d, "event dead time")?;
                 }
-                Action::PlantGain(k) => {
+                Action::PlantGain(k) | Action::PlantDrift(PlantParameter::Gain, k, _) => {
                     crate::real::finite(k, "event plant gain")?;
                     if k == 0.0 {
                         return Err(RunError::Invalid(Error::OutOfRange(
@@ -337,7 +346,7 @@ impl Scenario {
                         )));
                     }
                 }
-                Action::PlantLag(tau) => {
+                Action::PlantLag(tau) | Action::PlantDrift(PlantParameter::Lag, tau, _) => {
                     crate::real::positive(tau, "event plant lag")?;
                 }
                 Action::DeadTimeRamp(d, rate) => {

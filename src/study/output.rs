@@ -168,9 +168,10 @@ impl RunOutput {
             .iter()
             .filter_map(|e| {
                 let what = match e.action {
-                    Action::PlantGain(_) | Action::PlantLag(_) | Action::PlantDeadTime(_) => {
-                        "the process drifts"
-                    }
+                    Action::PlantGain(_)
+                    | Action::PlantLag(_)
+                    | Action::PlantDeadTime(_)
+                    | Action::PlantDrift(..) => "the process drifts",
                     Action::DeadTime(_) | Action::DeadTimeRamp(..) => {
                         "the controller's dead time changes"
                     }

@@ -6,7 +6,7 @@
 use std::string::{String, ToString};
 
 use crate::operate::Gain;
-use crate::sim::{Action, Disturbance, Location, Operation, SetpointStep, Shape};
+use crate::sim::{Action, Disturbance, Location, Operation, PlantParameter, SetpointStep, Shape};
 use crate::study::Perturbation;
 use crate::sweep::Range;
 
@@ -239,33 +239,64 @@ impl core::str::FromStr for Operation {
                 }
                 None => Action::DeadTime(seconds("dead time")?),
             },
-            "plant-dead-time" => Action::PlantDeadTime(seconds("plant dead time")?),
+            "plant-dead-time" | "plant-gain" | "plant-lag" => {
+                // `X` steps the process, `X~RATE` drifts it at RATE per second
+                let (x, rate) = match value.and_then(|v| v.split_once('~')) {
+                    Some((x, rate)) => (x, Some(parse_number(rate, "drift rate")?)),
+                    None => (value.unwrap_or(""), None),
+                };
+                if value.is_none() {
+                    return Err(std::format!("event '{s}': '{name}' needs a value: {name}=…"));
+                }
+                if rate.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
+                    return Err(std::format!(
+                        "event '{s}': a drift's rate (after '~') must be positive"
+                    ));
+                }
+                let (what, x) = match name {
+                    "plant-dead-time" => {
+                        let d = parse_number(x, "plant dead time")?;
+                        if d < 0.0 {
+                            return Err(std::format!(
+                                "event '{s}': a dead time must not be negative"
+                            ));
+                        }
+                        (PlantParameter::DeadTime, d)
+                    }
+                    "plant-gain" => {
+                        let k = parse_number(x, "plant gain")?;
+                        if !(k.is_finite() && k != 0.0) {
+                            return Err(std::format!(
+                                "event '{s}': a plant gain must be finite and not zero"
+                            ));
+                        }
+                        (PlantParameter::Gain, k)
+                    }
+                    _ => {
+                        let tau = parse_number(x, "plant lag")?;
+                        if !(tau.is_finite() && tau > 0.0) {
+                            return Err(std::format!(
+                                "event '{s}': a plant lag (time constant) must be positive"
+                            ));
+                        }
+                        (PlantParameter::Lag, tau)
+                    }
+                };
+                match (rate, what) {
+                    (Some(rate), _) => Action::PlantDrift(what, x, rate),
+                    (None, PlantParameter::DeadTime) => Action::PlantDeadTime(x),
+                    (None, PlantParameter::Gain) => Action::PlantGain(x),
+                    (None, PlantParameter::Lag) => Action::PlantLag(x),
+                }
+            }
             "adapt-freeze" if value.is_none() => Action::Adapt(false),
             "adapt-resume" if value.is_none() => Action::Adapt(true),
-            "plant-gain" => {
-                let k = needs("plant gain")?;
-                if !(k.is_finite() && k != 0.0) {
-                    return Err(std::format!(
-                        "event '{s}': a plant gain must be finite and not zero"
-                    ));
-                }
-                Action::PlantGain(k)
-            }
-            "plant-lag" => {
-                let tau = needs("plant lag")?;
-                if !(tau.is_finite() && tau > 0.0) {
-                    return Err(std::format!(
-                        "event '{s}': a plant lag (time constant) must be positive"
-                    ));
-                }
-                Action::PlantLag(tau)
-            }
             "kp" => Action::Retune(Gain::Kp, needs("kp")?),
             "ti" => Action::Retune(Gain::Ti, parse_setting(value.unwrap_or(""), "ti")?),
             "td" => Action::Retune(Gain::Td, needs("td")?),
             other => {
                 return Err(std::format!(
-                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, plant-gain=K, plant-lag=τ, adapt-freeze, adapt-resume, kp=V, ti=V, td=V"
+                    "event '{s}': unknown action '{other}': the actions are manual=U, track=U, auto, dead-time=θ, plant-dead-time=θ, plant-gain=K, plant-lag=τ (each plant-… also X~RATE, a drift), adapt-freeze, adapt-resume, kp=V, ti=V, td=V"
                 ))
             }
         };

@@ -123,7 +123,8 @@ pub(crate) struct ScenarioArgs {
     /// An operator's action TIME:ACTION (repeatable): manual=U, track=U, auto,
     /// dead-time=θ (the controller's model; θ~RATE moves it there at RATE s/s),
     /// plant-dead-time=θ (the process; for a cascade L1 + L2, the primary changing),
-    /// plant-gain=K, plant-lag=τ (the process drifting: its gain, its one lag's time constant),
+    /// plant-gain=K, plant-lag=τ (the process changing: its gain, its one lag's time constant;
+    /// each plant-…=X~RATE drifts there at RATE per second, e.g. plant-dead-time=9~0.003),
     /// adapt-freeze, adapt-resume (with --adapt),
     /// kp=V, ti=V, td=V (the primary PID retuned, bumpless),
     /// e.g. --event 60:manual=0.3 --event 120:auto.

@@ -214,7 +214,7 @@ struct Marker {
 /// (input and output) and its operator events; and the periods the
 /// controller was in manual or tracking (start, end).
 fn markers(out: &RunOutput) -> (Vec<Marker>, Vec<(f64, f64)>) {
-    use msp::sim::Action;
+    use msp::sim::{Action, PlantParameter};
     use msp::study::Event;
     let end = out.result.t.last().copied().unwrap_or(0.0);
     let mut m = Vec::new();
@@ -245,6 +245,11 @@ fn markers(out: &RunOutput) -> (Vec<Marker>, Vec<(f64, f64)>) {
             Action::PlantDeadTime(d) => format!("plant θ = {} s", fmt_sig(d)),
             Action::PlantGain(k) => format!("plant K = {}", fmt_sig(k)),
             Action::PlantLag(t) => format!("plant τ = {} s", fmt_sig(t)),
+            Action::PlantDrift(what, x, _) => match what {
+                PlantParameter::DeadTime => format!("plant θ → {} s", fmt_sig(x)),
+                PlantParameter::Gain => format!("plant K → {}", fmt_sig(x)),
+                PlantParameter::Lag => format!("plant τ → {} s", fmt_sig(x)),
+            },
             Action::Adapt(on) => (if on { "adapt on" } else { "adapt frozen" }).to_string(),
             Action::Retune(g, v) => format!("{} = {}", g.name(), fmt_sig(v)),
         };

@@ -407,7 +407,8 @@ def run(
         What an operator does, as the CLI's ``--event``: ``"60:manual=0.3"``, ``"60:track=0.3"``,
         ``"120:auto"`` (bumpless), ``"60:dead-time=9"`` (the controller's model;
         ``"60:dead-time=9~0.05"`` moves it there at 0.05 s per s), ``"60:plant-dead-time=9"``,
-        ``"60:plant-gain=4"``, ``"60:plant-lag=20"`` (the process drifting), ``"60:kp=3"`` (the primary PID retuned, bumpless).
+        ``"60:plant-gain=4"``, ``"60:plant-lag=20"`` (the process changing; ``"60:plant-gain=4~0.01"``
+        drifts it there at 0.01 per s, likewise dead time and lag), ``"60:kp=3"`` (the primary PID retuned, bumpless).
     actuator : (float, float), optional
         An actuator outside the controller: the plant receives the output clamped to
         ``(min, max)``; the result gets ``u_applied``.
