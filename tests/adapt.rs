@@ -572,8 +572,11 @@ fn the_monitor_raises_an_alarm_on_a_model_error_not_on_a_load() {
         "{log:?}"
     );
     let alarm = log.first().expect("an alarm");
-    assert!(alarm.at > 150.0 && alarm.at < 450.0, "{alarm:?}");
-    assert!(alarm.mismatch.is_some_and(|e| e >= 0.1), "{alarm:?}");
+    // the alarm reads the last response's comparison (a response or two
+    // after the change); the `mismatch` column, since the model was set,
+    // is still on its way to the closed form then
+    assert!(alarm.at > 150.0 && alarm.at < 200.0, "{alarm:?}");
+    assert!(alarm.mismatch.is_some_and(|e| e > 0.05), "{alarm:?}");
     assert!((last(&out, "mismatch") - 0.3).abs() < 0.02);
     assert_eq!(last(&out, "model_alarm"), 1.0);
     assert_eq!(last(&out, "k_model"), 1.0);

@@ -69,6 +69,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             pause: 0,
             block: (T::zero(), T::zero(), 0, true),
             skip: 0,
+            settled: (0, 0),
             onsets: 0,
         })
     }
@@ -171,8 +172,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             seen: 0,
             rival: T::zero(),
             weight: T::zero(),
+            recent: [T::zero(); 4],
         });
         Ok(())
+    }
+
+    /// The estimator samples of a response: the longest candidate dead
+    /// time, and with a prior model four of its time constants more.
+    pub fn window(&self) -> usize {
+        self.window
     }
 
     /// How far the model in use ([`Estimator::set_reference`]) is from the
@@ -182,16 +190,23 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     pub fn mismatch(&self) -> Option<Mismatch<T>> {
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         self.model?;
-        let best = r.rival;
-        let excess = r.cost - best;
-        Some(Mismatch {
-            error: if r.energy > T::zero() {
-                (excess.max(T::zero()) / r.energy).sqrt()
-            } else {
-                T::zero()
-            },
-            evidence: evidence(best, r.cost, r.weight),
-        })
+        Some(compare(r.cost, r.energy, r.rival, r.weight))
+    }
+
+    /// [`Estimator::mismatch`] over the last response's excited samples
+    /// only (the change detector's memory, `1 − 1/window` a sample), the
+    /// model in use against the best of the chosen candidate and the
+    /// change detector's simulations (the model of a response or two ago
+    /// at every dead time: a new dead time shows there before the bank
+    /// has chosen it): a change shows within a response or two, where the
+    /// costs' long memory takes many. The model-error alarm reads it.
+    pub fn recent_mismatch(&self) -> Option<Mismatch<T>> {
+        let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
+        self.model?;
+        let [cost, energy, rival, weight] = r.recent;
+        let scans = self.bank.get(..self.n).unwrap_or_default();
+        let best = scans.iter().fold(rival, |m, c| at_most(m, c.recent));
+        Some(compare(cost, energy, best, weight))
     }
 
     /// One controller sample: `y` measured now and `u` the input the plant
@@ -251,6 +266,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
         let (lo, hi) = self.a_range;
         let sign = self.sign;
+        // the recent comparison's memory: the change detector's
+        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
         if let Some(r) = self.reference.as_mut() {
             let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
             let e = target - pred;
@@ -258,6 +275,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             r.energy = cfg.cost_memory * r.energy + pred * pred;
             r.yhat = pred;
             if excited {
+                let [c, en, rival, w] = r.recent;
+                r.recent = [short * c + e * e, short * en + pred * pred, rival, w];
                 r.seen = r.seen.saturating_add(1);
             }
         }
@@ -387,6 +406,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if let Some(r) = self.reference.as_mut() {
             r.rival = cfg.cost_memory * r.rival + chosen_e * chosen_e;
             r.weight = cfg.cost_memory * r.weight + T::one();
+            if excited {
+                let [c, en, rival, w] = r.recent;
+                r.recent = [
+                    c,
+                    en,
+                    short * rival + chosen_e * chosen_e,
+                    short * w + T::one(),
+                ];
+            }
         }
         let before = self.chosen;
         self.detect(target, excited);

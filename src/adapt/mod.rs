@@ -153,6 +153,24 @@ struct Reference<T> {
     /// costs' weight since.
     rival: T,
     weight: T,
+    /// The cost, energy, rival cost and weight over the last response's
+    /// excited samples ([`Estimator::recent_mismatch`]).
+    recent: [T; 4],
+}
+
+/// The comparison of the model in use (cost `cost`, its prediction's
+/// energy `energy`) with the best other (`best`) over costs of weight
+/// `weight` (see [`Mismatch`]).
+fn compare<T: Real>(cost: T, energy: T, best: T, weight: T) -> Mismatch<T> {
+    let excess = cost - best;
+    Mismatch {
+        error: if energy > T::zero() {
+            (at_least(excess, T::zero()) / energy).sqrt()
+        } else {
+            T::zero()
+        },
+        evidence: evidence(best, cost, weight),
+    }
 }
 
 /// The process model an [`Estimator`] holds now.
@@ -224,6 +242,7 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     recent_weight: T,
     /// Changes of dead time the detector found (see [`Estimator::restarts`]).
     restarts: u32,
+
     /// Excited samples before the detector may restart the bank again.
     pause: usize,
     /// Samples after an excitation during which the estimator learns: the
@@ -236,6 +255,9 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// Samples of a load's onset still to pass unlearnt (see
     /// `Estimator::onset`).
     skip: usize,
+    /// An onset's samples taken into the models' state, and its samples
+    /// seen.
+    settled: (u32, u32),
     /// Load onsets found.
     onsets: u32,
 }

@@ -40,29 +40,47 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             // the controller's answer to it reaches the output a dead time on
             self.skip = ONSET_SAMPLES.min(d).max(1);
             self.onsets = self.onsets.saturating_add(1);
+            self.settled = (0, 0);
         }
+        // the onset's first two samples are not state: an output load's
+        // step is a pulse there (split over two when it falls inside a
+        // block of means); from the third each simulation is corrected
+        // towards the measurement by `1/n` of its error, the recursive
+        // least-squares estimate of the state a model's own dynamics carry
+        // (the Kalman filter without process noise, Åström & Wittenmark
+        // (1997) Sec. 11.3): a single noisy difference taken as the state
+        // would persist in every simulation for the lag's time, and the
+        // noise-free response is taken exactly
+        let (n, seen) = self.settled;
+        let counted = seen >= 2;
+        let n = if counted { n.saturating_add(1) } else { n };
+        self.settled = (n, seen.saturating_add(1));
         self.skip -= 1;
         let anchor = self.skip == 0;
-        // the simulations go on, and at the onset's end take the measurement
+        let gain = if counted {
+            T::one() / T::of(f64::from(n))
+        } else if anchor {
+            T::one()
+        } else {
+            T::zero()
+        };
+        let towards = |pred: T| pred + gain * (target - pred);
         let inputs = self.hist.from(cfg.d_min);
         let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
         let [snap, _] = self.snap;
         let bank = self.bank.get_mut(..self.n).unwrap_or_default();
         for (c, (&u0, &u1)) in bank.iter_mut().zip(pairs) {
-            if anchor {
-                (c.yhat, c.scan) = (target, target);
-            } else {
-                c.yhat = predict(c.theta, c.yhat, (u0, u1), cfg.integrating);
-                c.scan = predict(snap, c.scan, (u0, u1), cfg.integrating);
-            }
+            c.yhat = towards(predict(c.theta, c.yhat, (u0, u1), cfg.integrating));
+            c.scan = towards(predict(snap, c.scan, (u0, u1), cfg.integrating));
             c.psi = [T::zero(); 3];
         }
         if let Some(r) = self.reference.as_mut() {
-            r.yhat = if anchor {
-                target
-            } else {
-                predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating)
-            };
+            r.yhat = towards(predict(
+                r.theta,
+                r.yhat,
+                self.hist.pair(r.d),
+                cfg.integrating,
+            ));
         }
         true
     }

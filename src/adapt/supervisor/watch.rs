@@ -172,27 +172,42 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         inside(m.k, c.k) && inside(m.tau, c.tau)
     }
 
-    /// The model-error alarm: raised when the error reached `alarm` with
-    /// the evidence of `min_evidence` for `settle` samples, cleared when it
-    /// stayed below half of it as long; each logged.
+    /// The model-error alarm: raised when the error over the last response
+    /// ([`crate::adapt::Estimator::recent_mismatch`]) reached `alarm` with
+    /// the evidence of `min_evidence` for a quarter of a response's
+    /// samples, or the error since the model was set did for `settle`
+    /// samples; cleared when both stayed below half of it for `settle`;
+    /// each logged.
     pub(super) fn watch_model(&mut self) {
         if !self.cfg.alarm.is_finite() {
             return;
         }
-        let Some(mm) = self.est.mismatch() else {
+        // two comparisons of the model in use with the process: over the
+        // last response (a change shows within a response or two, when
+        // the data are clear enough for the evidence over so few samples)
+        // and since the model was set (slower, surer under noise)
+        let (Some(fast), Some(slow)) = (self.est.recent_mismatch(), self.est.mismatch()) else {
             return;
         };
-        let against = if self.alarm {
-            mm.error < self.cfg.alarm / T::of(2.0)
+        let (alarm, evidence) = (self.cfg.alarm, self.cfg.min_evidence);
+        let raise = |m: &crate::adapt::Mismatch<T>| m.error >= alarm && m.evidence >= evidence;
+        let (against, hold) = if self.alarm {
+            let quiet = slow.error < alarm / T::of(2.0) && fast.error < alarm / T::of(2.0);
+            (quiet, self.cfg.settle)
+        } else if raise(&fast) {
+            // held for a quarter of a response's excited samples (the
+            // recent comparison's memory is one response)
+            let quarter = u32::try_from(self.est.window() / 4).unwrap_or(u32::MAX);
+            (true, quarter.clamp(1, self.cfg.settle.max(1)))
         } else {
-            mm.error >= self.cfg.alarm && mm.evidence >= self.cfg.min_evidence
+            (raise(&slow), self.cfg.settle)
         };
         self.alarm_for = if against {
             self.alarm_for.saturating_add(1)
         } else {
             0
         };
-        if self.alarm_for >= self.cfg.settle {
+        if self.alarm_for >= hold {
             self.alarm = !self.alarm;
             self.alarm_for = 0;
             if self.alarm {
