@@ -1,11 +1,14 @@
-//! The adaptation's benchmark bank, reduced (#48): where the process does
-//! not change, the adaptive loop does no harm — set-point moves, input and
-//! output load steps, measurement noise and a 10-bit converter, on stable
-//! and integrating processes, at a coarse period and at a fine one — and
-//! where it changes into a loop the fixed model makes unstable, the
-//! adaptive one stays stable.
+//! The adaptation's benchmark bank (`msp::study::bank`), reduced: where
+//! the process does not change, the adaptive loop does no harm — set-point
+//! moves, input and output load steps, measurement noise and a 10-bit
+//! converter, on stable and integrating processes, at a coarse period and
+//! at msp's chosen one; where it changes (dead time stepping or drifting up
+//! and down, gain and lag doubled and halved) the adaptive loop ends near
+//! the loop built with the true model and never diverges. The full bank is
+//! `scripts/adapt-bank` and its table `docs/adapt-bank.md`.
 
 use msp::sim::SetpointStep;
+use msp::study::bank::Period;
 use msp::study::{AdaptOptions, RunOutput, Scenario};
 
 /// A run of `plant` under the Smith predictor at `ts` for `duration`
@@ -51,92 +54,114 @@ fn run(
     .unwrap()
 }
 
-/// The IAE of each event's segment (the report's `events`).
-fn event_iae(out: &RunOutput) -> Vec<f64> {
-    out.events
-        .iter()
-        .map(|e| match e {
-            msp::study::Event::Setpoint(s) => s.iae,
-            msp::study::Event::Disturbance(d) => d.iae,
-        })
+/// The bank's cases of `family` (seed 1) under `conditions` at `period`.
+fn bank_cases(
+    family: &str,
+    period: Period,
+    conditions: &[(f64, Option<u32>)],
+) -> Vec<msp::study::bank::BankCase> {
+    msp::study::bank::cases(1)
+        .into_iter()
+        .filter(|c| c.family == family && c.period == period)
+        .filter(|c| conditions.contains(&(c.noise, c.bits)))
         .collect()
 }
 
-/// No process change: with loads only between two set-point moves (output
-/// loads on the stable processes only), under
-/// each measurement condition and at a coarse period (twelve samples of
-/// dead time) and a fine one (120), the adaptive loop's IAE of every event
-/// is within 5 % of the fixed-model loop's, and no model is applied.
-#[test]
-fn loads_and_noise_do_no_harm() {
-    let plants: [(&str, f64, f64, &[&str]); 3] = [
-        (
-            "1.6e^-6s/(10s+1)",
-            6.0,
-            1900.0,
-            &["input:0.2@400", "output:0.3@800", "input:-0.15@1200"],
-        ),
-        (
-            "2.3e^-8s/(15s+1)",
-            8.0,
-            1900.0,
-            &["output:-0.2@500", "input:0.1@900", "output:0.25@1300"],
-        ),
-        // (an output load on an integrating process still teaches the
-        // estimator a wrong gain at a fine period: not in the bank yet)
-        (
-            "0.15e^-5s/s",
-            5.0,
-            1500.0,
-            &["input:0.5@300", "input:-0.4@1000"],
-        ),
-    ];
-    let conditions: [(f64, Option<u32>); 4] =
-        [(0.0, None), (0.005, None), (0.02, None), (0.0, Some(10))];
-    for (plant, theta, duration, loads) in plants {
-        for per in [12.0, 120.0] {
-            let ts = theta / per;
-            for (noise, bits) in conditions {
-                for seed in 1..=2u64 {
-                    let back = duration - 300.0;
-                    let with = |adapt| {
-                        run(
-                            plant,
-                            ts,
-                            duration,
-                            back,
-                            loads,
-                            &[],
-                            noise,
-                            bits,
-                            seed,
-                            adapt,
-                        )
-                    };
-                    let (fixed, adaptive) = (with(false), with(true));
-                    let case = format!("{plant} ts {ts} noise {noise} bits {bits:?} seed {seed}");
-                    let applied: Vec<_> = adaptive
-                        .report()
-                        .adaptation
-                        .iter()
-                        .filter(|c| {
-                            matches!(
-                                c.kind,
-                                msp::adapt::ChangeKind::Applied
-                                    | msp::adapt::ChangeKind::Emergency
-                                    | msp::adapt::ChangeKind::Detuned
-                            )
-                        })
-                        .cloned()
-                        .collect();
-                    assert!(applied.is_empty(), "{case}: {applied:?}");
-                    for (a, f) in event_iae(&adaptive).iter().zip(event_iae(&fixed)) {
-                        assert!(*a <= 1.05 * f + 1e-9, "{case}: IAE {a} against {f}");
-                    }
-                }
-            }
+/// Item 1, no harm: where the process does not change — the set point
+/// moving, or loads at the input and output (on integrating processes the
+/// input) — under every measurement condition of the bank and at both
+/// periods, no model is applied and no event's IAE is more than 5 % above
+/// the fixed-model loop's.
+fn no_harm(family: &str) {
+    for period in [Period::Chosen, Period::Coarse] {
+        let cases = bank_cases(family, period, &msp::study::bank::CONDITIONS);
+        assert_eq!(cases.len(), 25, "{family}");
+        for case in cases {
+            let r = case.run().unwrap();
+            assert_eq!(r.applied, 0, "{r:?}");
+            assert!(r.worst_event_ratio <= 1.05, "{r:?}");
         }
     }
+}
+
+#[test]
+fn no_change_with_the_set_point_moving_does_no_harm() {
+    no_harm("no change, set point");
+}
+
+#[test]
+fn no_change_with_loads_does_no_harm() {
+    no_harm("no change, loads");
+}
+
+/// Items 2 and 3, help and never destabilise: after each change of the
+/// bank on every process (0.5 % noise and a 10-bit converter at msp's
+/// chosen period, 0.5 % noise at the coarse one) the adaptive loop ends
+/// within 10 % of the IAE of the loop built with the true model — so
+/// where the fixed model loses 20 % or more it wins back at least half
+/// of that — and it never diverges (the fixed one does on every
+/// integrating process: a Smith predictor's margin there is thin).
+fn learns(family: &str) {
+    let mut n = 0;
+    for (period, conditions) in [
+        (Period::Chosen, &[(0.005, None), (0.0, Some(10))][..]),
+        (Period::Coarse, &[(0.005, None)][..]),
+    ] {
+        for case in bank_cases(family, period, conditions) {
+            let r = case.run().unwrap();
+            assert!(r.iae_adaptive.is_finite(), "{r:?}");
+            assert!(r.iae_adaptive <= 1.1 * r.iae_true, "{r:?}");
+            if r.iae_fixed.is_finite() && r.iae_fixed >= 1.2 * r.iae_true {
+                assert!(
+                    r.iae_adaptive <= r.iae_fixed - 0.5 * (r.iae_fixed - r.iae_true),
+                    "{r:?}"
+                );
+            }
+            n += 1;
+        }
+    }
+    // three conditions on every process (three stable ones for a lag)
+    assert!(n >= 9, "{family}: {n} cases");
+}
+
+#[test]
+fn a_dead_time_step_up_is_learnt() {
+    learns("dead time ×1.6");
+}
+
+#[test]
+fn a_dead_time_step_down_is_learnt() {
+    learns("dead time ×0.6");
+}
+
+#[test]
+fn a_dead_time_drifting_up_is_learnt() {
+    learns("dead time drifts ×1.5");
+}
+
+#[test]
+fn a_dead_time_drifting_down_is_learnt() {
+    learns("dead time drifts ×0.7");
+}
+
+#[test]
+fn a_gain_doubling_is_learnt() {
+    learns("gain ×2");
+}
+
+#[test]
+fn a_gain_halving_is_learnt() {
+    learns("gain ×0.5");
+}
+
+#[test]
+fn a_lag_doubling_is_learnt() {
+    learns("lag ×2");
+}
+
+#[test]
+fn a_lag_halving_is_learnt() {
+    learns("lag ×0.5");
 }
 
 /// Integrating processes whose dead time grows by 40 % (0.15 e^{−5s}/s to
@@ -295,6 +320,120 @@ fn process_changes_are_learnt_at_a_fine_period() {
         // 20 %)
         if ifx >= 1.2 * it {
             assert!(ia <= it + 0.25 * (ifx - it), "{case}");
+        }
+    }
+}
+
+/// Item 3 where the loop learns from loads alone: a process change that
+/// only load responses show (dead time ×1.6, gain ×0.5, lag ×2) is learnt
+/// in part or not at all (the bank's table says how far), but the adaptive
+/// loop never diverges, on any process, period or condition of the bank.
+#[test]
+fn a_change_that_only_loads_show_never_destabilises() {
+    for family in ["dead time ×1.6, loads", "gain ×0.5, loads", "lag ×2, loads"] {
+        for period in [Period::Chosen, Period::Coarse] {
+            for case in bank_cases(family, period, &[(0.02, None), (0.0, Some(10))]) {
+                let r = case.run().unwrap();
+                assert!(r.iae_adaptive.is_finite(), "{r:?}");
+            }
+        }
+    }
+}
+
+/// Item 5, the monitor (`--monitor`) tells a load from a model error: a
+/// change of 30 % either way of the dead time (a set-point move with it)
+/// raises the alarm within two of the loop's settling times of the
+/// response that shows it; a change of the gain or the lag raises it
+/// later (the bank must learn it first); on every process of the bank
+/// under 0.5 % noise at both periods. Loads alone never raise it, under
+/// every condition.
+#[test]
+fn the_monitor_alarms_on_a_30_percent_change_and_never_on_a_load() {
+    use msp::sim::PlantParameter;
+    use msp::study::bank::{BankCase, Change, Excitation, PLANTS};
+    let alarms = |out: &RunOutput| -> Vec<f64> {
+        out.report()
+            .adaptation
+            .iter()
+            .filter(|c| c.kind == msp::adapt::ChangeKind::Alarm)
+            .map(|c| c.at)
+            .collect()
+    };
+    for plant in PLANTS {
+        for period in [Period::Chosen, Period::Coarse] {
+            let case = |change, excitation, noise, bits| BankCase {
+                family: "monitor".into(),
+                plant,
+                change,
+                excitation,
+                noise,
+                bits,
+                period,
+                seed: 1,
+            };
+            for what in [
+                PlantParameter::DeadTime,
+                PlantParameter::Gain,
+                PlantParameter::Lag,
+            ] {
+                if what == PlantParameter::Lag && plant.tau.is_none() {
+                    continue;
+                }
+                for factor in [1.3, 0.7] {
+                    let change = Change {
+                        what,
+                        factor,
+                        drift: None,
+                    };
+                    let c = case(Some(change), Excitation::Setpoint, 0.005, None);
+                    let out = c.monitored().unwrap();
+                    let settling = out
+                        .events
+                        .iter()
+                        .find_map(|e| match e {
+                            msp::study::Event::Setpoint(s) => Some(s.step.settling_time),
+                            msp::study::Event::Disturbance(_) => None,
+                        })
+                        .unwrap();
+                    let first = alarms(&out)
+                        .into_iter()
+                        .find(|at| *at >= c.change_at())
+                        .unwrap_or(f64::INFINITY);
+                    // a dead time shows in the change detector's
+                    // simulations at once: named within two settling times
+                    // of the response that shows it (the first, or on a
+                    // dead-time-dominant process whose first response is
+                    // mostly dead time, the next: a half period of the
+                    // square wave, 4 scales, on); a gain or a lag must be
+                    // learnt by the bank first and is named later (one to
+                    // a dozen responses), but named
+                    let half = 4.0 * (plant.theta + plant.tau.unwrap_or(plant.theta));
+                    let bound = match what {
+                        PlantParameter::DeadTime => half + 2.0 * settling,
+                        _ => f64::INFINITY,
+                    };
+                    assert!(
+                        first.is_finite() && first - c.change_at() <= bound,
+                        "{:?} {what:?} ×{factor} {period:?}: alarm {first} s, change at {} s, settling {settling} s",
+                        plant, c.change_at()
+                    );
+                    assert!(
+                        alarms(&out).iter().all(|at| *at >= c.change_at()),
+                        "{:?}",
+                        alarms(&out)
+                    );
+                }
+            }
+            for (noise, bits) in msp::study::bank::CONDITIONS {
+                let out = case(None, Excitation::Loads, noise, bits)
+                    .monitored()
+                    .unwrap();
+                assert!(
+                    alarms(&out).is_empty(),
+                    "{plant:?} {period:?} noise {noise} {bits:?}: {:?}",
+                    alarms(&out)
+                );
+            }
         }
     }
 }

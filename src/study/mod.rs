@@ -3,6 +3,7 @@
 //! several schemes on one plant. Text is read only by [`crate::syntax`].
 
 mod adapt;
+pub mod bank;
 mod build;
 mod compare;
 mod defaults;
