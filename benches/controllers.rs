@@ -134,15 +134,17 @@ fn updates<T: Real>(c: &mut Criterion, ty: &str) {
     adaptive::<T>(c, &group);
 }
 
-/// The adaptive Smith predictor of the firmware (16 candidate dead times,
-/// 92 … 107 samples, around the model's 100) in the loop it was built
-/// for: the MathWorks process itself, its dead time in a ring, the set
-/// point switching every 4096 samples (it learns for the few hundred after
-/// each switch and looks on for the rest, as in a plant).
+/// The adaptive Smith predictor of the firmware (16 candidate dead times
+/// of 5 … 20 estimator samples, each the mean of 10 controller samples:
+/// half to twice the model's 100, as `msp run --adapt` decimates, plain
+/// differences) in the loop it was built for: the MathWorks process
+/// itself, its dead time in a ring, the set point switching every 4096
+/// samples (it learns for the few hundred after each switch and looks on
+/// for the rest, as in a plant).
 fn adaptive<T: Real>(c: &mut Criterion, group: &str) {
     let ts = T::of(0.939);
-    let mut est = msp::adapt::EstimatorConfig::new(ts, 92);
-    est.prefilter = (-ts / T::of(2.5 * 40.2)).exp();
+    let mut est = msp::adapt::EstimatorConfig::new(ts, 5);
+    est.decimation = 10;
     let mut ad = msp::adapt::Adaptive::<T, _, (), 16, 112>::new(
         smith::<T, 128>(100.0),
         (T::of(5.6), T::of(40.2), T::of(93.9)),
@@ -150,23 +152,38 @@ fn adaptive<T: Real>(c: &mut Criterion, group: &str) {
         (),
     )
     .expect("adaptive");
-    let a = T::of((-0.939f64 / 40.2).exp());
-    let b = T::of(5.6) * (T::one() - a);
-    let mut line = [T::zero(); 100];
-    let (mut at, mut y) = (0usize, T::zero());
-    let plant = move |u: T| {
-        y = a * y + b * line[at];
-        line[at] = u;
-        at = if at + 1 == line.len() { 0 } else { at + 1 };
-        y
-    };
     closed_through(
         c,
         group,
         "adaptive smith (16 candidates)",
         |r, y| ad.update(r, y),
-        plant,
+        mathworks::<T>(),
     );
+    // the same predictor without the estimator, through the same process:
+    // what the adaptation costs on top
+    let mut sp = smith::<T, 128>(100.0);
+    closed_through(
+        c,
+        group,
+        "smith (the adaptive one's loop)",
+        |r, y| sp.update(r, y),
+        mathworks::<T>(),
+    );
+}
+
+/// The MathWorks process `5.6 e^{−93.9s}/(40.2s + 1)` sampled at 0.939 s
+/// (its dead time a ring of 100 samples): `u` in, the next `y` out.
+fn mathworks<T: Real>() -> impl FnMut(T) -> T {
+    let a = T::of((-0.939f64 / 40.2).exp());
+    let b = T::of(5.6) * (T::one() - a);
+    let mut line = [T::zero(); 100];
+    let (mut at, mut y) = (0usize, T::zero());
+    move |u: T| {
+        y = a * y + b * line[at];
+        line[at] = u;
+        at = if at + 1 == line.len() { 0 } else { at + 1 };
+        y
+    }
 }
 
 /// Every scheme as the registry builds it (dynamic dispatch), in precision `T`.
