@@ -361,15 +361,18 @@ fn the_monitor_alarms_on_a_30_percent_change_and_never_on_a_load() {
     };
     for plant in PLANTS {
         for period in [Period::Chosen, Period::Coarse] {
+            // the bank's case of this process and period, its change and
+            // measurement replaced
+            let base = msp::study::bank::cases(1)
+                .into_iter()
+                .find(|c| c.plant == plant && c.period == period)
+                .unwrap();
             let case = |change, excitation, noise, bits| BankCase {
-                family: "monitor".into(),
-                plant,
                 change,
                 excitation,
                 noise,
                 bits,
-                period,
-                seed: 1,
+                ..base.clone()
             };
             for what in [
                 PlantParameter::DeadTime,
