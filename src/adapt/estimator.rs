@@ -71,6 +71,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             skip: 0,
             settled: (0, 0),
             onsets: 0,
+            pending: None,
         })
     }
 
@@ -213,217 +214,96 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// received in the last period (`u_applied`); `ok` false for a sample
     /// that is not the process's own response (saturated, manual,
     /// tracking, faulted): the history moves on, nothing is learnt from
-    /// its block. Returns whether a block of
-    /// [`EstimatorConfig::decimation`] samples ended here (the estimator
-    /// then took one sample of its own: the block's means).
+    /// its block. Returns whether an estimator sample's learning ended
+    /// here: with [`EstimatorConfig::decimation`] `M` the estimator takes
+    /// one sample of its own per block of `M` (the block's means), and with
+    /// `M ≥ 4` learns from it over four calls (half the candidates at the
+    /// block's end, the other half at the next call, the comparison and the
+    /// change detector at the one after, the choice at the fourth: the same
+    /// arithmetic as in one call, a fraction of its longest run), so the
+    /// estimate is the block's from the call that returns true.
     pub fn update(&mut self, y: T, u_applied: T, ok: bool) -> bool {
         if !(y.is_finite() && u_applied.is_finite()) {
             return false;
         }
+        // a block's learning under way goes on, a part a sample
+        let mut done = self.advance();
         let (sy, su, n, all) = self.block;
         let n = n + 1;
         if n < self.cfg.decimation {
             self.block = (sy + y, su + u_applied, n, all && ok);
-            return false;
+            return done;
+        }
+        // (with a block shorter than the parts, the last one ends first)
+        while self.pending.is_some() {
+            done |= self.advance();
         }
         self.block = (T::zero(), T::zero(), 0, true);
         let inv = T::one() / T::of(n as f64);
-        self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok);
-        true
+        self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok) || done
     }
 
     /// One estimator sample: the block's mean measurement and input.
-    fn sample(&mut self, y: T, u_applied: T, ok: bool) {
+    /// Returns whether its learning is done (else it goes on over the next
+    /// controller samples: [`Estimator::advance`]).
+    fn sample(&mut self, y: T, u_applied: T, ok: bool) -> bool {
         let dy = self.cfg.prefilter * self.last_dy + (y - self.last_y);
         let learn = ok && self.samples >= 2;
-        if learn {
-            self.learn(dy);
-        }
-        // the input of the period that just ended joins the history
-        self.hist.push(u_applied);
+        let pass = if learn {
+            self.learn_begin(dy, u_applied)
+        } else {
+            None
+        };
         self.last_y = y;
         self.last_dy = dy;
+        match pass {
+            None => {
+                self.close(u_applied);
+                true
+            }
+            Some(p) => {
+                self.pending = Some(p);
+                if self.cfg.decimation >= PARTS {
+                    // the first part now, the others with the next samples
+                    self.advance()
+                } else {
+                    while !self.advance() {}
+                    true
+                }
+            }
+        }
+    }
+
+    /// The input of the period that just ended joins the history, once
+    /// the estimator sample's learning read it.
+    fn close(&mut self, u_applied: T) {
+        self.hist.push(u_applied);
         self.samples = self.samples.saturating_add(1);
     }
 
-    /// The RLS step of every candidate for the new difference `dy`
-    /// (`Δy[k+1]`, with the history holding `Δu[k] … `).
-    fn learn(&mut self, dy: T) {
-        let cfg = self.cfg;
-        // the input moved by the gate's amount within the history the
-        // candidates read (`Δu[k] … Δu[k−d_max−1]`)
-        let excited = self.hist.quiet <= self.window;
-        let inv_lam = T::one() / cfg.forgetting;
-        // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
-        // taken to the left: the regressors are inputs only)
-        let target = if cfg.integrating {
-            dy - self.last_dy
-        } else {
-            dy
+    /// One part of the learning under way: half the candidates, the
+    /// comparison with the model in use and the change detector, or the
+    /// choice (the pass's end). Returns whether the pass ended here. The parts are the same arithmetic in the same
+    /// order as one call: spread, a controller sample carries at most half
+    /// of the bank's updates (the Cortex-M4F's longest call, #48 item 7).
+    fn advance(&mut self) -> bool {
+        let Some(mut p) = self.pending.take() else {
+            return false;
         };
-        if self.onset(target) {
-            return;
-        }
-        let (lo, hi) = self.a_range;
-        let sign = self.sign;
-        // the recent comparison's memory: the change detector's
-        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
-        if let Some(r) = self.reference.as_mut() {
-            let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
-            let e = target - pred;
-            r.cost = cfg.cost_memory * r.cost + e * e;
-            r.energy = cfg.cost_memory * r.energy + pred * pred;
-            r.yhat = pred;
-            if excited {
-                let [c, en, rival, w] = r.recent;
-                r.recent = [short * c + e * e, short * en + pred * pred, rival, w];
-                r.seen = r.seen.saturating_add(1);
-            }
-        }
-        // consecutive candidates share an input: candidate `d`'s
-        // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
-        // the search for the lowest cost (the first of them) rides along
-        let inputs = self.hist.from(cfg.d_min);
-        let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
-        let chosen = self.chosen;
-        let mut chosen_e = T::zero();
-        let (mut best, mut lowest) = (0, T::infinity());
-        // the dead zone, squared: the given one, or the measured noise's
-        // multiple (`|e| ≤ zone` as `e² ≤ zone²`: no square root)
-        let zone2 = cfg.dead_zone * cfg.dead_zone;
-        let zone2 = if cfg.dead_zone_ratio > T::zero() && self.weight > T::zero() {
-            let v = self.bank.get(chosen).map_or(T::zero(), |c| c.cost) / self.weight;
-            at_least(cfg.dead_zone_ratio * cfg.dead_zone_ratio * v, zone2)
+        if p.next < self.n {
+            let to = p.next.saturating_add(self.n.div_ceil(2)).min(self.n);
+            self.learn_bank(&mut p, to);
+            self.pending = Some(p);
+            false
+        } else if !p.compared {
+            self.learn_compare(&p);
+            p.compared = true;
+            self.pending = Some(p);
+            false
         } else {
-            zone2
-        };
-        let bank = self.bank.get_mut(..self.n).unwrap_or_default();
-        for ((i, c), (&f1, &f2)) in bank.iter_mut().enumerate().zip(pairs) {
-            // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
-            // in the regressor, not the measurement's — the output-error
-            // form (Landau's pseudo-linear regression), which noise on y
-            // does not bias as it does the equation-error (ARX) form; an
-            // integrating model has no `a` (its regressor and covariance
-            // row stay zero)
-            let f0 = if cfg.integrating { T::zero() } else { c.yhat };
-            let [t0, t1, t2] = c.theta;
-            let pred = t0 * f0 + t1 * f1 + t2 * f2;
-            let e = target - pred;
-            c.cost = cfg.cost_memory * c.cost + e * e;
-            if c.cost < lowest {
-                (best, lowest) = (i, c.cost);
-            }
-            if i == chosen {
-                chosen_e = e;
-            }
-            c.yhat = pred;
-            // the gradient of the prediction, ψ[k+1] = φ[k] + â·ψ[k] (the
-            // output error's Gauss–Newton direction: the recursive
-            // prediction-error method, Ljung (1999) Sec. 11.3; an
-            // integrating model's prediction is linear in its inputs, ψ = φ)
-            let [s0, s1, s2] = if cfg.integrating {
-                [f0, f1, f2]
-            } else {
-                let [p0, p1, p2] = c.psi;
-                [f0 + t0 * p0, f1 + t0 * p1, f2 + t0 * p2]
-            };
-            c.psi = [s0, s1, s2];
-            if !excited || e * e <= zone2 {
-                continue;
-            }
-            // RLS with forgetting along ψ (P symmetric: six entries):
-            // g = Pψ/(λ + ψᵀPψ), θ += g·e, P = (P − g·(Pψ)ᵀ)/λ
-            let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
-            let q0 = p00 * s0 + p01 * s1 + p02 * s2;
-            let q1 = p01 * s0 + p11 * s1 + p12 * s2;
-            let q2 = p02 * s0 + p12 * s1 + p22 * s2;
-            let denom = cfg.forgetting + s0 * q0 + s1 * q1 + s2 * q2;
-            if !(denom > T::zero()) {
-                continue;
-            }
-            let inv = T::one() / denom;
-            let (g0, g1, g2) = (q0 * inv, q1 * inv, q2 * inv);
-            let mut next = [t0 + g0 * e, t1 + g1 * e, t2 + g2 * e];
-            let n00 = (p00 - g0 * q0) * inv_lam;
-            let n01 = (p01 - g0 * q1) * inv_lam;
-            let n02 = (p02 - g0 * q2) * inv_lam;
-            let n11 = (p11 - g1 * q1) * inv_lam;
-            let n12 = (p12 - g1 * q2) * inv_lam;
-            let n22 = (p22 - g2 * q2) * inv_lam;
-            let trace = n00 + n11 + n22;
-            c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
-            // the trace bounded: no "bursting" when nothing moves
-            if trace > cfg.max_trace {
-                let k = cfg.max_trace / trace;
-                for row in &mut c.p {
-                    for x in row {
-                        *x = *x * k;
-                    }
-                }
-            }
-            if sign != T::zero() {
-                // projection: with the gain's sign known, both input
-                // coefficients carry it (a fraction `f` in [0, 1]); a
-                // coefficient of the wrong sign goes to zero along the
-                // covariance's direction (the projection in the metric of
-                // P⁻¹: the correlated coefficients move with it; Goodwin &
-                // Sin (1984) Sec. 3.7): b0 along P's second column, b1
-                // along its third. The second can carry b0 back across
-                // zero, and a coefficient without a direction stays: what
-                // is left of the wrong sign is cut to zero.
-                let [[_, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
-                let [mut t0, mut t1, mut t2] = next;
-                if sign * t1 < T::zero() && p11 > T::zero() {
-                    let along = t1 / p11;
-                    t0 = t0 - p01 * along;
-                    t2 = t2 - p12 * along;
-                    t1 = T::zero();
-                }
-                if sign * t2 < T::zero() && p22 > T::zero() {
-                    let along = t2 / p22;
-                    t0 = t0 - p02 * along;
-                    t1 = t1 - p12 * along;
-                    t2 = T::zero();
-                }
-                if sign * t1 < T::zero() {
-                    t1 = T::zero();
-                }
-                if sign * t2 < T::zero() {
-                    t2 = T::zero();
-                }
-                next = [t0, t1, t2];
-            }
-            let [mut a, b0, b1] = next;
-            if !cfg.integrating {
-                // projection onto plausible models: `a` in its range
-                a = at_most(at_least(a, lo), hi);
-            }
-            c.theta = [a, b0, b1];
-            // the a-posteriori output
-            c.yhat = a * f0 + b0 * f1 + b1 * f2;
-        }
-        self.weight = cfg.cost_memory * self.weight + T::one();
-        if let Some(r) = self.reference.as_mut() {
-            r.rival = cfg.cost_memory * r.rival + chosen_e * chosen_e;
-            r.weight = cfg.cost_memory * r.weight + T::one();
-            if excited {
-                let [c, en, rival, w] = r.recent;
-                r.recent = [
-                    c,
-                    en,
-                    short * rival + chosen_e * chosen_e,
-                    short * w + T::one(),
-                ];
-            }
-        }
-        let before = self.chosen;
-        self.detect(target, excited);
-        self.decide(best);
-        if self.chosen != before {
-            self.rebase();
-        }
-        if excited || self.chosen != before {
-            self.model = self.model_of();
+            self.learn_choose(&p);
+            self.close(p.u);
+            true
         }
     }
 
@@ -438,7 +318,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The chosen dead time moves to the best candidate `best` (of the
     /// lowest cost) only when the evidence for it over the current one
     /// reaches `switch_evidence` for `switch_hold` samples in a row.
-    fn decide(&mut self, best: usize) {
+    pub(super) fn decide(&mut self, best: usize) {
         let cur = self.bank.get(self.chosen).map_or(T::infinity(), |c| c.cost);
         let new = self.bank.get(best).map_or(T::infinity(), |c| c.cost);
         // a neighbour shares an end of the current one's dead times: a step
@@ -499,7 +379,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 
     /// `(K, τ, f)` of the chosen candidate's coefficients (`None`: `b0 + b1`
     /// zero), in closed form (see the module documentation).
-    fn model_of(&self) -> Option<(T, T, T)> {
+    pub(super) fn model_of(&self) -> Option<(T, T, T)> {
         let c = self.bank.get(self.chosen)?;
         let [a, b0, b1] = c.theta;
         let b = b0 + b1;

@@ -63,6 +63,8 @@ mod detect;
 mod estimator;
 mod history;
 mod onset;
+mod pass;
+use pass::{Pass, PARTS};
 mod supervisor;
 #[cfg(test)]
 mod tests;
@@ -260,6 +262,8 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     settled: (u32, u32),
     /// Load onsets found.
     onsets: u32,
+    /// A block's learning under way (see `Estimator::advance`).
+    pending: Option<Pass<T>>,
 }
 
 /// A load's onset: at rest, the chosen model's prediction error exceeds

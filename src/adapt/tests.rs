@@ -531,3 +531,72 @@ fn nothing_moves_nothing_learnt() {
     assert!(est.estimate().is_none());
     assert!(est.trace() <= 1e4 * (1.0 + 1e-9));
 }
+
+/// A block's learning spread over the controller samples after the block
+/// (two halves of the bank, then the detector and the choice) is the
+/// learning of one call: an estimator decimating by 10 and one fed the
+/// same block means one by one hold the same estimate, costs and evidence
+/// bit for bit after every pass (the first when its last part ends, two
+/// samples after the block), with a prior model and without, through a
+/// dead-time step (the detector's restart) and under noise.
+#[test]
+fn spread_learning_is_the_learning_of_one_call() {
+    for prior in [None, Some((1.5, 4.0, 1.2))] {
+        let ts = 0.01;
+        let mut fine = EstimatorConfig::new(ts, 2);
+        fine.decimation = 10;
+        let coarse = EstimatorConfig::new(ts * 10.0, 2);
+        let mut spread: Estimator<f64, 16, 40> = Estimator::new(fine).expect_ok();
+        let mut whole: Estimator<f64, 16, 40> = Estimator::new(coarse).expect_ok();
+        if let Some((k, tau, theta)) = prior {
+            // the same model: the decimating one counts its dead time from
+            // the blocks' centres
+            spread.start_from(k, tau, theta).expect_ok();
+            whole.start_from(k, tau, theta - fine.centre()).expect_ok();
+        }
+        let (a, mut y, mut seed) = ((-ts / 4.0f64).exp(), 0.0f64, 7u64);
+        let mut line = [0.0f64; 256];
+        let (mut u, mut sums, mut passes) = (0.0f64, (0.0f64, 0.0f64), 0);
+        for j in 0..40_000usize {
+            if j % 700 == 0 {
+                u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
+            }
+            let d = if j < 20_000 { 120 } else { 170 };
+            let ym = y + 0.01 * (uniform(&mut seed) - 0.5);
+            sums = (sums.0 + ym, sums.1 + u);
+            if j % 10 == 9 {
+                let inv = 1.0 / 10.0;
+                whole.update(sums.0 * inv, sums.1 * inv, true);
+                sums = (0.0, 0.0);
+            }
+            if spread.update(ym, u, true) {
+                passes += 1;
+                // the same model, its dead time counted from the blocks'
+                // centres in the decimating one (`EstimatorConfig::centre`)
+                let (s, w) = (spread.estimate(), whole.estimate());
+                let centre = fine.centre();
+                let moved = w.map(|w| Estimate {
+                    theta: w.theta + centre,
+                    ..w
+                });
+                assert_eq!(
+                    s.map(|s| (s.k, s.tau, s.d, s.evidence.to_bits())),
+                    w.map(|w| (w.k, w.tau, w.d, w.evidence.to_bits())),
+                    "sample {j}"
+                );
+                if let (Some(s), Some(w)) = (s, moved) {
+                    assert!((s.theta - w.theta).abs() < 1e-12, "sample {j}: {s:?} {w:?}");
+                }
+                assert!(spread.costs().eq(whole.costs()), "sample {j}");
+                assert_eq!(spread.restarts(), whole.restarts());
+            }
+            line[j % 256] = u;
+            y = a * y + 1.5 * (1.0 - a) * line[(j + 256 - d) % 256];
+        }
+        assert!(passes >= 3990, "{passes}");
+        assert!(
+            whole.restarts() >= 1,
+            "the detector's restart is in the run"
+        );
+    }
+}

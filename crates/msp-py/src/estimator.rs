@@ -86,7 +86,9 @@ impl Estimator {
     /// process's own response (saturated, manual, a fault). With
     /// ``decimation`` N the estimator learns from the means of each N
     /// samples (``d_min``, ``d_max`` and ``estimate["d"]`` count its own
-    /// samples, N·ts s each); returns whether such a block ended here.
+    /// samples, N·ts s each); returns whether a block's learning ended
+    /// here (from N = 4 it is spread over the block's last sample and the
+    /// three after it).
     #[pyo3(signature = (y, u_applied, ok = true))]
     fn update(&mut self, y: f64, u_applied: f64, ok: bool) -> bool {
         self.inner.update(y, u_applied, ok)

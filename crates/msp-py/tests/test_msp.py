@@ -1063,7 +1063,9 @@ def test_estimator_decimates_and_finds_load_onsets():
         blocks += est.update(y + d_out, u)
         late, line[j % d] = line[j % d], u + d_in
         y = a * y + k * (1 - a) * late
-    assert blocks == 6000
+    # a block's learning ends three samples after the block (spread over
+    # four calls): the last block's is still under way when the run ends
+    assert blocks == 5999
     assert est.onsets == 2
     e = est.estimate
     assert abs(e["k"] / k - 1) < 0.02 and abs(e["tau"] / tau - 1) < 0.02, e

@@ -1,0 +1,261 @@
+//! One estimator sample's learning, in parts: its start (the onset), the
+//! RLS step of a range of candidates, the comparison with the model in use
+//! and the change detector, and the choice. [`Estimator::update`] runs the parts in
+//! one call, or with a block of means over the controller samples after
+//! the block's end (`Estimator::advance`).
+
+use super::*;
+
+/// A block's learning under way (see `Estimator::advance`).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Pass<T> {
+    target: T,
+    excited: bool,
+    /// The recent comparison's memory (the change detector's).
+    short: T,
+    /// The dead zone, squared.
+    zone2: T,
+    chosen: usize,
+    /// The chosen candidate's error, the lowest cost so far and whose.
+    chosen_e: T,
+    best: usize,
+    lowest: T,
+    /// The next candidate to update.
+    pub(super) next: usize,
+    /// The comparison and the change detector are done.
+    pub(super) compared: bool,
+    /// The block's input, for the history once the pass has read it.
+    pub(super) u: T,
+}
+
+/// The parts of a pass: two halves of the bank, the comparison with the
+/// change detector, the choice. A block of fewer controller samples
+/// learns in one call.
+pub(super) const PARTS: usize = 4;
+
+impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
+    /// The start of the RLS step of every candidate for the new difference
+    /// `dy` (`Δy[k+1]`, with the history holding `Δu[k] … `): the target,
+    /// a load's onset (`None`: this sample teaches nothing), the dead zone.
+    pub(super) fn learn_begin(&mut self, dy: T, u: T) -> Option<Pass<T>> {
+        let cfg = self.cfg;
+        // the input moved by the gate's amount within the history the
+        // candidates read (`Δu[k] … Δu[k−d_max−1]`)
+        let excited = self.hist.quiet <= self.window;
+        // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
+        // taken to the left: the regressors are inputs only)
+        let target = if cfg.integrating {
+            dy - self.last_dy
+        } else {
+            dy
+        };
+        if self.onset(target) {
+            return None;
+        }
+        // the recent comparison's memory: the change detector's
+        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        let chosen = self.chosen;
+        // the dead zone, squared: the given one, or the measured noise's
+        // multiple (`|e| ≤ zone` as `e² ≤ zone²`: no square root)
+        let zone2 = cfg.dead_zone * cfg.dead_zone;
+        let zone2 = if cfg.dead_zone_ratio > T::zero() && self.weight > T::zero() {
+            let v = self.bank.get(chosen).map_or(T::zero(), |c| c.cost) / self.weight;
+            at_least(cfg.dead_zone_ratio * cfg.dead_zone_ratio * v, zone2)
+        } else {
+            zone2
+        };
+        Some(Pass {
+            target,
+            excited,
+            short,
+            zone2,
+            chosen,
+            chosen_e: T::zero(),
+            best: 0,
+            lowest: T::infinity(),
+            next: 0,
+            compared: false,
+            u,
+        })
+    }
+
+    /// The RLS step of candidates `pass.next .. to`.
+    pub(super) fn learn_bank(&mut self, pass: &mut Pass<T>, to: usize) {
+        let cfg = self.cfg;
+        let inv_lam = T::one() / cfg.forgetting;
+        let (lo, hi) = self.a_range;
+        let sign = self.sign;
+        let Pass {
+            target,
+            excited,
+            zone2,
+            chosen,
+            ..
+        } = *pass;
+        let (mut chosen_e, mut best, mut lowest) = (pass.chosen_e, pass.best, pass.lowest);
+        let from = pass.next;
+        // consecutive candidates share an input: candidate `d`'s
+        // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`; the search for
+        // the lowest cost (the first of them) rides along
+        let inputs = self.hist.from(cfg.d_min).get(from..).unwrap_or_default();
+        let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
+        let bank = self.bank.get_mut(from..to.min(self.n)).unwrap_or_default();
+        for ((j, c), (&f1, &f2)) in bank.iter_mut().enumerate().zip(pairs) {
+            let i = from + j;
+            // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
+            // in the regressor, not the measurement's — the output-error
+            // form (Landau's pseudo-linear regression), which noise on y
+            // does not bias as it does the equation-error (ARX) form; an
+            // integrating model has no `a` (its regressor and covariance
+            // row stay zero)
+            let f0 = if cfg.integrating { T::zero() } else { c.yhat };
+            let [t0, t1, t2] = c.theta;
+            let pred = t0 * f0 + t1 * f1 + t2 * f2;
+            let e = target - pred;
+            c.cost = cfg.cost_memory * c.cost + e * e;
+            if c.cost < lowest {
+                (best, lowest) = (i, c.cost);
+            }
+            if i == chosen {
+                chosen_e = e;
+            }
+            c.yhat = pred;
+            // the gradient of the prediction, ψ[k+1] = φ[k] + â·ψ[k] (the
+            // output error's Gauss–Newton direction: the recursive
+            // prediction-error method, Ljung (1999) Sec. 11.3; an
+            // integrating model's prediction is linear in its inputs, ψ = φ)
+            let [s0, s1, s2] = if cfg.integrating {
+                [f0, f1, f2]
+            } else {
+                let [p0, p1, p2] = c.psi;
+                [f0 + t0 * p0, f1 + t0 * p1, f2 + t0 * p2]
+            };
+            c.psi = [s0, s1, s2];
+            if !excited || e * e <= zone2 {
+                continue;
+            }
+            // RLS with forgetting along ψ (P symmetric: six entries):
+            // g = Pψ/(λ + ψᵀPψ), θ += g·e, P = (P − g·(Pψ)ᵀ)/λ
+            let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+            let q0 = p00 * s0 + p01 * s1 + p02 * s2;
+            let q1 = p01 * s0 + p11 * s1 + p12 * s2;
+            let q2 = p02 * s0 + p12 * s1 + p22 * s2;
+            let denom = cfg.forgetting + s0 * q0 + s1 * q1 + s2 * q2;
+            if !(denom > T::zero()) {
+                continue;
+            }
+            let inv = T::one() / denom;
+            let (g0, g1, g2) = (q0 * inv, q1 * inv, q2 * inv);
+            let mut next = [t0 + g0 * e, t1 + g1 * e, t2 + g2 * e];
+            let n00 = (p00 - g0 * q0) * inv_lam;
+            let n01 = (p01 - g0 * q1) * inv_lam;
+            let n02 = (p02 - g0 * q2) * inv_lam;
+            let n11 = (p11 - g1 * q1) * inv_lam;
+            let n12 = (p12 - g1 * q2) * inv_lam;
+            let n22 = (p22 - g2 * q2) * inv_lam;
+            let trace = n00 + n11 + n22;
+            c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
+            // the trace bounded: no "bursting" when nothing moves
+            if trace > cfg.max_trace {
+                let k = cfg.max_trace / trace;
+                for row in &mut c.p {
+                    for x in row {
+                        *x = *x * k;
+                    }
+                }
+            }
+            if sign != T::zero() {
+                // projection: with the gain's sign known, both input
+                // coefficients carry it (a fraction `f` in [0, 1]); a
+                // coefficient of the wrong sign goes to zero along the
+                // covariance's direction (the projection in the metric of
+                // P⁻¹: the correlated coefficients move with it; Goodwin &
+                // Sin (1984) Sec. 3.7): b0 along P's second column, b1
+                // along its third. The second can carry b0 back across
+                // zero, and a coefficient without a direction stays: what
+                // is left of the wrong sign is cut to zero.
+                let [[_, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+                let [mut t0, mut t1, mut t2] = next;
+                if sign * t1 < T::zero() && p11 > T::zero() {
+                    let along = t1 / p11;
+                    t0 = t0 - p01 * along;
+                    t2 = t2 - p12 * along;
+                    t1 = T::zero();
+                }
+                if sign * t2 < T::zero() && p22 > T::zero() {
+                    let along = t2 / p22;
+                    t0 = t0 - p02 * along;
+                    t1 = t1 - p12 * along;
+                    t2 = T::zero();
+                }
+                if sign * t1 < T::zero() {
+                    t1 = T::zero();
+                }
+                if sign * t2 < T::zero() {
+                    t2 = T::zero();
+                }
+                next = [t0, t1, t2];
+            }
+            let [mut a, b0, b1] = next;
+            if !cfg.integrating {
+                // projection onto plausible models: `a` in its range
+                a = at_most(at_least(a, lo), hi);
+            }
+            c.theta = [a, b0, b1];
+            // the a-posteriori output
+            c.yhat = a * f0 + b0 * f1 + b1 * f2;
+        }
+        pass.chosen_e = chosen_e;
+        pass.best = best;
+        pass.lowest = lowest;
+        pass.next = to;
+    }
+
+    /// The pass's third part: the model in use's prediction, the chosen
+    /// candidate against it, the costs' weight, the change detector.
+    pub(super) fn learn_compare(&mut self, pass: &Pass<T>) {
+        let cfg = self.cfg;
+        let Pass {
+            target,
+            excited,
+            short,
+            chosen_e,
+            ..
+        } = *pass;
+        // the model in use on the same sample (here, where the rest of the
+        // comparison is: between the parts of a pass it stays whole)
+        if let Some(r) = self.reference.as_mut() {
+            let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
+            let e = target - pred;
+            r.cost = cfg.cost_memory * r.cost + e * e;
+            r.energy = cfg.cost_memory * r.energy + pred * pred;
+            r.yhat = pred;
+            r.rival = cfg.cost_memory * r.rival + chosen_e * chosen_e;
+            r.weight = cfg.cost_memory * r.weight + T::one();
+            if excited {
+                let [c, en, rival, w] = r.recent;
+                r.recent = [
+                    short * c + e * e,
+                    short * en + pred * pred,
+                    short * rival + chosen_e * chosen_e,
+                    short * w + T::one(),
+                ];
+                r.seen = r.seen.saturating_add(1);
+            }
+        }
+        self.weight = cfg.cost_memory * self.weight + T::one();
+        self.detect(target, excited);
+    }
+
+    /// The pass's end: the choice of dead time and the model it gives.
+    pub(super) fn learn_choose(&mut self, pass: &Pass<T>) {
+        let before = self.chosen;
+        self.decide(pass.best);
+        if self.chosen != before {
+            self.rebase();
+        }
+        if pass.excited || self.chosen != before {
+            self.model = self.model_of();
+        }
+    }
+}
