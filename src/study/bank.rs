@@ -291,7 +291,8 @@ impl BankCase {
         };
         let disturbance = match self.excitation {
             Excitation::Setpoint => Vec::new(),
-            Excitation::Loads => loads(plant, duration, half),
+            // the same loads in the three loops: sized by the commissioned gain
+            Excitation::Loads => loads(&self.plant, duration, half),
         };
         let events = match (events, self.change) {
             (true, Some(c)) => std::vec![Operation {
