@@ -410,7 +410,7 @@ fn the_monitor_alarms_on_a_30_percent_change_and_never_on_a_load() {
                     // square wave, 4 scales, on); a gain or a lag must be
                     // learnt by the bank first and is named later (one to
                     // a dozen responses), but named
-                    let half = 4.0 * (plant.theta + plant.tau.unwrap_or(plant.theta));
+                    let half = plant.half_period();
                     let bound = match what {
                         PlantParameter::DeadTime => half + 2.0 * settling,
                         _ => f64::INFINITY,

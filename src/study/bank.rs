@@ -50,6 +50,12 @@ impl BankPlant {
         self.theta + self.tau.unwrap_or(self.theta)
     }
 
+    /// The set point's half period in a case of this process (s): four
+    /// settling scales.
+    pub fn half_period(&self) -> f64 {
+        4.0 * self.scale()
+    }
+
     /// The plant after `change`.
     fn changed(&self, change: Option<Change>) -> BankPlant {
         let Some(c) = change else { return *self };
@@ -275,7 +281,7 @@ impl BankCase {
     ) -> Result<Scenario, RunError> {
         let s = self.plant.scale();
         let duration = self.duration();
-        let half = 4.0 * s;
+        let half = self.plant.half_period();
         let setpoint = match self.excitation {
             Excitation::Setpoint => (0..)
                 .map(|i| SetpointStep {
