@@ -113,9 +113,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let pred = t0 * f0 + t1 * f1 + t2 * f2;
             let e = target - pred;
             c.cost = cfg.cost_memory * c.cost + e * e;
-            if c.cost < lowest {
-                (best, lowest) = (i, c.cost);
-            }
+            let lower = c.cost < lowest;
+            best = if lower { i } else { best };
+            lowest = if lower { c.cost } else { lowest };
             if i == chosen {
                 chosen_e = e;
             }
@@ -153,17 +153,17 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let n11 = (p11 - g1 * q1) * inv_lam;
             let n12 = (p12 - g1 * q2) * inv_lam;
             let n22 = (p22 - g2 * q2) * inv_lam;
+            // the trace bounded: no "bursting" when nothing moves (a
+            // factor 1 below the bound: exact; a select, not a branch)
             let trace = n00 + n11 + n22;
+            let k = if trace > cfg.max_trace {
+                cfg.max_trace / trace
+            } else {
+                T::one()
+            };
+            let (n00, n01, n02) = (n00 * k, n01 * k, n02 * k);
+            let (n11, n12, n22) = (n11 * k, n12 * k, n22 * k);
             c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
-            // the trace bounded: no "bursting" when nothing moves
-            if trace > cfg.max_trace {
-                let k = cfg.max_trace / trace;
-                for row in &mut c.p {
-                    for x in row {
-                        *x = *x * k;
-                    }
-                }
-            }
             if sign != T::zero() {
                 // projection: with the gain's sign known, both input
                 // coefficients carry it (a fraction `f` in [0, 1]); a
@@ -175,25 +175,25 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 // zero, and a coefficient without a direction stays: what
                 // is left of the wrong sign is cut to zero.
                 let [[_, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
-                let [mut t0, mut t1, mut t2] = next;
-                if sign * t1 < T::zero() && p11 > T::zero() {
-                    let along = t1 / p11;
-                    t0 = t0 - p01 * along;
-                    t2 = t2 - p12 * along;
-                    t1 = T::zero();
-                }
-                if sign * t2 < T::zero() && p22 > T::zero() {
-                    let along = t2 / p22;
-                    t0 = t0 - p02 * along;
-                    t1 = t1 - p12 * along;
-                    t2 = T::zero();
-                }
-                if sign * t1 < T::zero() {
-                    t1 = T::zero();
-                }
-                if sign * t2 < T::zero() {
-                    t2 = T::zero();
-                }
+                let [t0, t1, t2] = next;
+                // (as selects, not branches: which coefficient is of the
+                // wrong sign changes from sample to sample, unpredictably)
+                let cut1 = sign * t1 < T::zero() && p11 > T::zero();
+                let along = if cut1 { t1 / p11 } else { T::zero() };
+                let (t0, t1, t2) = (
+                    t0 - p01 * along,
+                    if cut1 { T::zero() } else { t1 },
+                    t2 - p12 * along,
+                );
+                let cut2 = sign * t2 < T::zero() && p22 > T::zero();
+                let along = if cut2 { t2 / p22 } else { T::zero() };
+                let (t0, t1, t2) = (
+                    t0 - p02 * along,
+                    t1 - p12 * along,
+                    if cut2 { T::zero() } else { t2 },
+                );
+                let t1 = if sign * t1 < T::zero() { T::zero() } else { t1 };
+                let t2 = if sign * t2 < T::zero() { T::zero() } else { t2 };
                 next = [t0, t1, t2];
             }
             let [mut a, b0, b1] = next;
