@@ -68,8 +68,8 @@ fn bank_cases(
 }
 
 /// Item 1, no harm: where the process does not change — the set point
-/// moving, or loads at the input and output (on integrating processes the
-/// input) — under every measurement condition of the bank and at both
+/// moving, loads stepping at the input and output (on integrating
+/// processes the input), or ramping to new levels — under every measurement condition of the bank and at both
 /// periods, no model is applied and no event's IAE is more than 5 % above
 /// the fixed-model loop's.
 fn no_harm(family: &str) {
@@ -92,6 +92,11 @@ fn no_change_with_the_set_point_moving_does_no_harm() {
 #[test]
 fn no_change_with_loads_does_no_harm() {
     no_harm("no change, loads");
+}
+
+#[test]
+fn no_change_with_ramping_loads_does_no_harm() {
+    no_harm("no change, ramps");
 }
 
 /// Items 2 and 3, help and never destabilise: after each change of the

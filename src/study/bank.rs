@@ -95,6 +95,11 @@ pub enum Excitation {
     /// Input load steps (output steps too on stable processes), the set
     /// point still after one step to 1.
     Loads,
+    /// Loads that ramp to a new level over a half period and hold it:
+    /// at the input and the output of stable processes, at the output of
+    /// integrating ones (whose Smith predictor answers an input ramp with
+    /// a growing error); the set point still after one step to 1.
+    Ramps,
 }
 
 /// The sample period of a case.
@@ -207,6 +212,7 @@ pub fn families() -> Vec<(String, Option<Change>, Excitation)> {
     let mut f = std::vec![
         ("no change, set point".into(), None, Excitation::Setpoint),
         ("no change, loads".into(), None, Excitation::Loads),
+        ("no change, ramps".into(), None, Excitation::Ramps),
     ];
     for (name, change) in [
         ("dead time ×1.6", step(DeadTime, 1.6)),
@@ -290,7 +296,7 @@ impl BankCase {
                 })
                 .take_while(|p| p.at < duration - half)
                 .collect(),
-            Excitation::Loads => std::vec![SetpointStep {
+            Excitation::Loads | Excitation::Ramps => std::vec![SetpointStep {
                 value: 1.0,
                 at: 0.0
             }],
@@ -299,6 +305,7 @@ impl BankCase {
             Excitation::Setpoint => Vec::new(),
             // the same loads in the three loops: sized by the commissioned gain
             Excitation::Loads => loads(&self.plant, duration, half),
+            Excitation::Ramps => ramps(&self.plant, duration, half),
         };
         let events = match (events, self.change) {
             (true, Some(c)) => std::vec![Operation {
@@ -440,6 +447,35 @@ fn loads(plant: &BankPlant, duration: f64, half: f64) -> Vec<Disturbance> {
             location,
             ..Disturbance::input_step(value, at)
         });
+        at += 2.0 * half;
+        i += 1;
+    }
+    d
+}
+
+/// Ramps every `2·half` seconds from `2·half` on, each to a new level
+/// over `half` seconds (a ramp and its opposite from there): on stable
+/// processes alternately at the input to ±0.2/K and at the output to
+/// ±0.3, on integrating ones at the output to ±0.3.
+fn ramps(plant: &BankPlant, duration: f64, half: f64) -> Vec<Disturbance> {
+    let mut d = Vec::new();
+    let mut at = 2.0 * half;
+    let mut i = 0u32;
+    while at < duration - 2.0 * half {
+        let sign = if i % 4 < 2 { 1.0 } else { -1.0 };
+        let output = plant.tau.is_none() || i % 2 == 1;
+        let (location, level) = if output {
+            (crate::sim::Location::Output, 0.3 * sign)
+        } else {
+            (crate::sim::Location::Input, 0.2 * sign / plant.k)
+        };
+        for (start, slope) in [(at, level / half), (at + half, -level / half)] {
+            d.push(Disturbance {
+                location,
+                shape: crate::sim::Shape::Ramp,
+                ..Disturbance::input_step(slope, start)
+            });
+        }
         at += 2.0 * half;
         i += 1;
     }
