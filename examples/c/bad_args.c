@@ -439,6 +439,42 @@ int main(void) {
                (double)e.theta);
         EXPECT(msp_estimator_update((msp_estimator *)(void *)ad, 0.0f, 0.0f, 1) == MSP_BAD_HANDLE);
 
+        /* the monitor: the same data weighed against a model in use whose
+           gain is 30 % low (1.4 for 2) and against the process's own */
+        {
+            msp_mismatch mm;
+            const float gains[2] = {1.4f, 2.0f};
+            float errors[2][2];
+            EXPECT(msp_estimator_mismatch(est, 0, NULL) == MSP_NULL_POINTER);
+            EXPECT(msp_estimator_set_reference(est, NULL) == MSP_NULL_POINTER);
+            for (int i = 0; i < 2; i++) {
+                msp_model ref = {MSP_FOPDT, gains[i], 4.0f, 1.25f};
+                EXPECT(msp_estimator_init(ebuf, msp_estimator_size(), &ec, &est) == MSP_OK);
+                EXPECT(msp_estimator_set_reference(est, &ref) == MSP_OK);
+                EXPECT(msp_estimator_mismatch(est, 0, &mm) == MSP_OK && isnan(mm.error));
+                y = 0.0f;
+                for (int k = 0; k < 6000; k++) {
+                    EXPECT(msp_estimator_update(est, y, us[k], 1) == MSP_OK);
+                    y = a * y + b0 * (k >= 12 ? us[k - 12] : 0.0f)
+                        + b1 * (k >= 13 ? us[k - 13] : 0.0f);
+                }
+                for (int recent = 0; recent < 2; recent++) {
+                    EXPECT(msp_estimator_mismatch(est, recent, &mm) == MSP_OK);
+                    errors[i][recent] = mm.error;
+                }
+            }
+            /* a gain error shows as its size relative to the model's
+               prediction, (2 - 1.4)/1.4 = 0.43: over the last response to
+               1 %, over the long memory to 5 % (which holds the estimator's
+               own first, unconverged responses); the right model as none */
+            for (int recent = 0; recent < 2; recent++) {
+                EXPECT(fabsf(errors[0][recent] - 0.6f / 1.4f) < (recent ? 0.01f : 0.05f) * 0.6f / 1.4f);
+                EXPECT(errors[1][recent] < 0.01f);
+            }
+            printf("estimator monitor: error %.3g (long), %.3g (recent) for a model's gain 30 %% low; %.2g for the right model\n",
+                   (double)errors[0][0], (double)errors[0][1], (double)errors[1][0]);
+        }
+
         /* the candidates end at d_max: on the same data with d_max 10 (the
            process's 12.5 samples beyond it) no estimate is longer */
         EXPECT(ec.d_min == 4 && ec.d_max == 19);

@@ -205,6 +205,32 @@ typedef struct {
 // In `double`, a host's type.
 typedef msp_estimate_of_f64 msp_estimate_f64;
 
+// How far the model in use (`msp_estimator_set_reference`) is from
+// the process (`msp::adapt::Mismatch`): `error`, the model's error
+// relative to the movement it predicts (0.3: about a gain 30 % off),
+// and the `evidence` that it is not the noise's. NaN before a whole
+// response was compared.
+typedef struct {
+  float error;
+  float evidence;
+} msp_mismatch_of_f32;
+
+// In `float`, the device's type.
+typedef msp_mismatch_of_f32 msp_mismatch;
+
+// How far the model in use (`msp_estimator_set_reference`) is from
+// the process (`msp::adapt::Mismatch`): `error`, the model's error
+// relative to the movement it predicts (0.3: about a gain 30 % off),
+// and the `evidence` that it is not the noise's. NaN before a whole
+// response was compared.
+typedef struct {
+  double error;
+  double evidence;
+} msp_mismatch_of_f64;
+
+// In `double`, a host's type.
+typedef msp_mismatch_of_f64 msp_mismatch_f64;
+
 // A PID in ISA form `kp(1 + 1/(ti s) + td s)` with actuator limits:
 // `ti = INFINITY` removes the integral, `td = 0` the derivative (filter
 // `td/10`), `u_min = -INFINITY`, `u_max = INFINITY` for no limits.
@@ -639,6 +665,34 @@ msp_status msp_estimator_estimate(msp_estimator *est, msp_estimate *out);
 // # Safety
 // As [`msp_estimator_estimate`].
 msp_status msp_estimator_estimate_f64(msp_estimator_f64 *est, msp_estimate_f64 *out);
+
+// The model in use, which the estimator weighs against its own
+// (`msp_estimator_mismatch`): a FOPDT or IPDT `model`.
+//
+// # Safety
+// `est` is null or from `msp_estimator_init`; `model` null or valid.
+msp_status msp_estimator_set_reference(msp_estimator *est, const msp_model *model);
+
+// [`msp_estimator_set_reference`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_set_reference`].
+msp_status msp_estimator_set_reference_f64(msp_estimator_f64 *est, const msp_model_f64 *model);
+
+// The model in use against the process (`*out`): over the costs'
+// long memory (`recent` zero: what gates an applied model), or over
+// the last response only (`recent` nonzero: the monitor's quick view,
+// beside the change detector's simulations at every dead time).
+//
+// # Safety
+// `est` is null or from `msp_estimator_init`; `out` null or writable.
+msp_status msp_estimator_mismatch(msp_estimator *est, int recent, msp_mismatch *out);
+
+// [`msp_estimator_mismatch`] in double precision.
+//
+// # Safety
+// As [`msp_estimator_mismatch`].
+msp_status msp_estimator_mismatch_f64(msp_estimator_f64 *est, int recent, msp_mismatch_f64 *out);
 
 // The defaults of an adaptive Smith predictor around `smith`: the 16
 // candidates from 6 samples below its dead time, forgetting 0.999, the

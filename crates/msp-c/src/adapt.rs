@@ -8,7 +8,9 @@
 //! [`MSP_ADAPT_HISTORY`] inputs (a dead time of at most
 //! `MSP_ADAPT_HISTORY − 18` samples).
 
-use msp_core::adapt::{Adaptive, AdaptiveConfig, Estimate, Estimator, EstimatorConfig, Redesign};
+use msp_core::adapt::{
+    Adaptive, AdaptiveConfig, Estimate, Estimator, EstimatorConfig, Mismatch, Redesign,
+};
 use msp_core::dtc::karan_dey::KaranDey;
 use msp_core::operate::Operate;
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real, SmithPredictor};
@@ -61,6 +63,18 @@ c_config! {
         tau: T,
         theta: T,
         d: u32,
+        evidence: T,
+    }
+}
+
+c_config! {
+    /// How far the model in use (`msp_estimator_set_reference`) is from
+    /// the process (`msp::adapt::Mismatch`): `error`, the model's error
+    /// relative to the movement it predicts (0.3: about a gain 30 % off),
+    /// and the `evidence` that it is not the noise's. NaN before a whole
+    /// response was compared.
+    msp_mismatch_of: msp_mismatch, msp_mismatch_f64 {
+        error: T,
         evidence: T,
     }
 }
@@ -308,6 +322,58 @@ twins! {
         };
         // SAFETY: non-null, the caller's
         unsafe { out.write(estimate_of(b.estimate())) };
+        msp_status::MSP_OK
+    }
+
+    /// The model in use, which the estimator weighs against its own
+    /// (`msp_estimator_mismatch`): a FOPDT or IPDT `model`.
+    ///
+    /// # Safety
+    /// `est` is null or from `msp_estimator_init`; `model` null or valid.
+    fn msp_estimator_set_reference, msp_estimator_set_reference_f64(
+        est: *mut msp_estimator | *mut msp_estimator_f64,
+        model: *const crate::msp_model | *const crate::msp_model_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        let Some(m) = (unsafe { read(model) }) else {
+            return msp_status::MSP_NULL_POINTER;
+        };
+        // SAFETY: forwarded
+        let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
+            return bad(est);
+        };
+        match fopdt_or_ipdt(&m).and_then(|(k, tau, theta)| b.set_reference(k, tau, theta)) {
+            Ok(()) => msp_status::MSP_OK,
+            Err(e) => e.into(),
+        }
+    }
+
+    /// The model in use against the process (`*out`): over the costs'
+    /// long memory (`recent` zero: what gates an applied model), or over
+    /// the last response only (`recent` nonzero: the monitor's quick view,
+    /// beside the change detector's simulations at every dead time).
+    ///
+    /// # Safety
+    /// `est` is null or from `msp_estimator_init`; `out` null or writable.
+    fn msp_estimator_mismatch, msp_estimator_mismatch_f64(
+        est: *mut msp_estimator | *mut msp_estimator_f64,
+        recent: core::ffi::c_int,
+        out: *mut msp_mismatch | *mut msp_mismatch_f64,
+    ) -> msp_status {
+        if out.is_null() {
+            return msp_status::MSP_NULL_POINTER;
+        }
+        // SAFETY: forwarded
+        let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
+            return bad(est);
+        };
+        let m = if recent != 0 {
+            b.recent_mismatch()
+        } else {
+            b.mismatch()
+        };
+        // SAFETY: non-null, the caller's
+        unsafe { out.write(mismatch_of(m)) };
         msp_status::MSP_OK
     }
 

@@ -142,10 +142,64 @@ impl Estimator {
         self.inner.trace()
     }
 
+    /// The model in use, ``k e^(−theta s)/(tau s + 1)`` (``tau=inf``:
+    /// integrating), which the estimator weighs against its own
+    /// (:attr:`mismatch`, :attr:`recent_mismatch`).
+    fn set_reference(&mut self, k: f64, tau: f64, theta: f64) -> PyResult<()> {
+        self.inner.set_reference(k, tau, theta).map_err(value_err)
+    }
+
+    /// How far the model in use (:meth:`set_reference`) is from the
+    /// process over the costs' long memory, a dict with ``error`` (the
+    /// model's error relative to the movement it predicts: 0.3, about a
+    /// gain 30 % off) and ``evidence`` (that it is not the noise's), or
+    /// ``None`` before a whole response was compared.
+    #[getter]
+    fn mismatch<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        mismatch_dict(py, self.inner.mismatch())
+    }
+
+    /// :attr:`mismatch` over the last response only, the change
+    /// detector's simulations at every dead time beside the chosen
+    /// candidate (the monitor's quick view).
+    #[getter]
+    fn recent_mismatch<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        mismatch_dict(py, self.inner.recent_mismatch())
+    }
+
+    /// The estimator samples of a response: the longest candidate dead
+    /// time and, with a prior model, four of its time constants (the
+    /// excitation gate's and the recent view's memory).
+    #[getter]
+    fn window(&self) -> usize {
+        self.inner.window()
+    }
+
+    /// The measurement noise's standard deviation as the estimator sees it
+    /// (0 before any data).
+    #[getter]
+    fn noise_level(&self) -> f64 {
+        self.inner.noise_level()
+    }
+
     /// How many times the change detector found a step of the dead time
     /// and restarted the candidates from the model before it.
     #[getter]
     fn restarts(&self) -> u32 {
         self.inner.restarts()
     }
+}
+
+/// A model error as a dict (``None``: not yet compared).
+fn mismatch_dict<'py>(
+    py: Python<'py>,
+    m: Option<msp::adapt::Mismatch<f64>>,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(m) = m else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("error", m.error)?;
+    d.set_item("evidence", m.evidence)?;
+    Ok(Some(d))
 }

@@ -1168,6 +1168,44 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
         msp.Estimator(ts=0.1, d_min=5000)
 
 
+def test_estimator_monitor_weighs_the_model_in_use():
+    """msp.Estimator's monitor on 2 e^(-1.25 s)/(4 s + 1) sampled exactly: a model in use whose
+    gain is 1.4 shows an error of about (2 - 1.4)/1.4 relative to its own prediction, over the
+    last response and over the long memory (to 5 %: the rival is the estimator's own model, which
+    learns, and over the last response also the change detector's simulations); the process's own
+    model none; nothing before a whole response (``window``
+    samples) was compared. The measured noise level follows the noise: twice the noise, twice
+    the level (to 10 %)."""
+    a = math.exp(-0.1 / 4.0)
+    b0, b1 = 2.0 * (1 - a ** 0.5), 2.0 * (a ** 0.5 - a)
+
+    def run(k_model, sigma=0.0, samples=6000):
+        est = msp.Estimator(ts=0.1, d_min=4)
+        est.set_reference(k_model, 4.0, 1.25)
+        rng = np.random.default_rng(7)
+        y, us = 0.0, []
+        for k in range(samples):
+            u = 1.0 if (k // 150) % 2 else -1.0
+            est.update(y + sigma * rng.standard_normal(), u)
+            if k < est.window:
+                assert est.mismatch is None and est.recent_mismatch is None
+            us.append(u)
+            late = lambda m: us[k - m] if k >= m else 0.0
+            y = a * y + b0 * late(12) + b1 * late(13)
+        return est
+
+    wrong, right = run(1.4), run(2.0)
+    expected = 0.6 / 1.4
+    assert abs(wrong.recent_mismatch["error"] - expected) < 0.05 * expected, wrong.recent_mismatch
+    assert abs(wrong.mismatch["error"] - expected) < 0.05 * expected, wrong.mismatch
+    assert wrong.mismatch["evidence"] > 100
+    assert right.mismatch["error"] < 0.01 and right.recent_mismatch["error"] < 0.01
+    levels = [run(2.0, sigma, 3000).noise_level for sigma in (0.01, 0.02)]
+    assert 0 < levels[0] and abs(levels[1] / levels[0] - 2.0) < 0.2, levels
+    with pytest.raises(ValueError):
+        msp.Estimator(ts=0.1, d_min=4).set_reference(0.0, 4.0, 1.25)
+
+
 def test_estimator_detects_a_dead_time_step():
     """msp.Estimator started from the process 2 e^(-1.25 s)/(4 s + 1) whose dead time steps to
     1.65 s at sample 6000: the change detector restarts the candidates once (never before the

@@ -48,6 +48,14 @@ pub(super) fn estimate_of<T: Real>(e: Option<Estimate<T>>) -> msp_estimate_of<T>
     }
 }
 
+/// A model error for C (NaN before a whole response was compared).
+pub(super) fn mismatch_of<T: Real>(m: Option<Mismatch<T>>) -> msp_mismatch_of<T> {
+    msp_mismatch_of {
+        error: m.map_or(T::nan(), |m| m.error),
+        evidence: m.map_or(T::nan(), |m| m.evidence),
+    }
+}
+
 /// The last of the 16 candidates from `d_min`.
 pub(super) fn bank_end(d_min: u32) -> u32 {
     d_min.saturating_add(N as u32 - 1)
