@@ -79,8 +79,18 @@ pub fn eval(p: &[f64], x: f64) -> f64 {
 
 /// Complex roots `(re, im)` of a polynomial: the eigenvalues of its companion
 /// matrix (as MATLAB's `roots`), fixed-size up to degree 16, on the heap beyond.
+/// Roots at exactly zero (trailing zero coefficients: an `s^m` factor, the
+/// poles of integrators) are taken out first and returned as exact zeros: a
+/// multiple root's eigenvalues would scatter by `ε^{1/m}` around it, some
+/// into the right half plane.
 pub fn poly_roots(p: &[f64]) -> Result<Vec<(f64, f64)>, Error> {
     let p = trim(p);
+    let zeros = p.iter().rev().take_while(|c| **c == 0.0).count();
+    if zeros > 0 && zeros < p.len() {
+        let mut out = poly_roots(p.get(..p.len() - zeros).unwrap_or(&[]))?;
+        out.extend(core::iter::repeat((0.0, 0.0)).take(zeros));
+        return Ok(out);
+    }
     let deg = p.len().saturating_sub(1);
     if deg > 16 {
         let lead = p.first().copied().unwrap_or(1.0);

@@ -231,6 +231,85 @@ fn pi_on_an_integrator_with_dead_time() {
     }
 }
 
+/// A pure gain (`-c none --set kp=K`) on python-control's margin cases of type 2 and 3,
+/// `(s + 0.1)/(s²(s + 1))` and `(s + 0.1)²/(s³(s + 1))`: the plant's poles
+/// at the origin are exact (a double or triple root's eigenvalues would
+/// scatter into the right half plane and count as an unstable pole). Their
+/// ZOH equivalents here by partial fractions over the least common
+/// denominator `(z − 1)^m (z − a)`, `a = e^{−h}`, with the holds of `1/s`,
+/// `1/s²`, `1/s³`: `h/(z − 1)`, `h²(z + 1)/(2(z − 1)²)`,
+/// `h³(z² + 4z + 1)/(6(z − 1)³)`. The type-3 loop is stable only between a
+/// lower and an upper gain limit.
+#[test]
+fn p_on_a_double_and_a_triple_integrator() {
+    let h = 0.1;
+    let a = f64::exp(-h);
+    let lag = vec![1.0, -a];
+    let one = vec![1.0, -1.0];
+    let scale = |p: &[f64], k: f64| p.iter().map(|x| x * k).collect::<Vec<_>>();
+    // (s + 0.1)/(s²(s + 1)) = 0.1/s² + 0.9/s − 0.9/(s + 1)
+    let num2 = add(
+        &add(
+            &mul(&scale(&[1.0, 1.0], 0.1 * h * h / 2.0), &lag),
+            &mul(&scale(&one, 0.9 * h), &lag),
+        ),
+        &scale(&mul(&one, &one), -0.9 * (1.0 - a)),
+    );
+    let den2 = mul(&mul(&one, &one), &lag);
+    // (s + 0.1)²/(s³(s + 1)) = 0.01/s³ + 0.19/s² + 0.81/s − 0.81/(s + 1)
+    let one2 = mul(&one, &one);
+    let num3 = add(
+        &add(
+            &mul(&scale(&[1.0, 4.0, 1.0], 0.01 * h * h * h / 6.0), &lag),
+            &mul(&mul(&scale(&[1.0, 1.0], 0.19 * h * h / 2.0), &one), &lag),
+        ),
+        &add(
+            &mul(&mul(&scale(&one, 0.81 * h), &one), &lag),
+            &scale(&mul(&one2, &one), -0.81 * (1.0 - a)),
+        ),
+    );
+    let den3 = mul(&mul(&one2, &one), &lag);
+    let p_only =
+        |plant: &'static str| move |kp: f64| verdict(plant, None, "none", &[("kp", kp)], h);
+    let radius2 = |k: f64| spectral_radius(&add(&den2, &scale(&num2, k)));
+    let plant2 = "(s+0.1)/(s^2(s+1))";
+    check(
+        plant2,
+        &radius2,
+        &p_only(plant2),
+        critical(&radius2, 1.0, 100.0),
+        true,
+    );
+    let radius3 = |k: f64| spectral_radius(&add(&den3, &scale(&num3, k)));
+    let plant3 = "(s+0.1)^2/(s^3(s+1))";
+    check(
+        plant3,
+        &radius3,
+        &p_only(plant3),
+        critical(&radius3, 1.0, 100.0),
+        true,
+    );
+    // the lower limit: unstable below, stable above
+    let lower = critical(&|k| 1.0 / radius3(k).max(1e-300), 0.01, 1.0);
+    check(plant3, &radius3, &p_only(plant3), lower, false);
+    let v = msp::analysis::analyze(
+        &Scenario {
+            plant: Some(plant2.parse().unwrap()),
+            ts: Some(h),
+            ..Default::default()
+        },
+        View::Discrete,
+        None,
+    )
+    .unwrap();
+    assert_eq!(
+        v.stability.open_loop_unstable_poles,
+        Some(0),
+        "{:?}",
+        v.stability
+    );
+}
+
 #[test]
 fn pi_on_an_unstable_lag_with_dead_time() {
     // one open-loop pole outside the unit circle: stable only between two gains
