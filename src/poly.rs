@@ -184,6 +184,12 @@ impl TransferFunction {
         self.den.len().saturating_sub(1)
     }
 
+    /// As many zeros as poles: a direct feedthrough `G(∞) ≠ 0`.
+    pub fn is_biproper(&self) -> bool {
+        let num = trim(&self.num);
+        !num.is_empty() && num.len() >= trim(&self.den).len()
+    }
+
     /// Poles `(re, im)`.
     pub fn poles(&self) -> Result<Vec<(f64, f64)>, Error> {
         poly_roots(&self.den)

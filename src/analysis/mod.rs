@@ -33,11 +33,13 @@ use crate::poly::TransferFunction;
 use crate::FrequencyResponse;
 use crate::{Discretization, Error, Lti};
 
+mod continuous;
 mod report;
 pub mod stability;
 mod step;
 mod transfer;
 
+pub use continuous::continuous_verdict;
 pub use report::{
     analyze, analyze_tuned, loop_stability, process_response, published_note, tuned_stability,
     Analysis, MarginsReport, RegionPoint,

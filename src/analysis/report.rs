@@ -397,7 +397,27 @@ fn analysis_of(
         (Some(p2), Some(q), Some((_, m2))) => Some((p2, q, m2)),
         _ => None,
     };
-    let verdict = loop_stability(ctrl, &shown, inner_loop, ts);
+    // the continuous view of the plant alone or behind a gain: the
+    // continuous loop's own equation; a sampled controller's loop is the
+    // sampled one whatever the view
+    let continuous = view == View::Continuous && bare && inner.is_none();
+    let verdict = if continuous {
+        let k = built.params.get("kp").unwrap_or(1.0);
+        super::continuous_verdict(&plant, k)
+    } else {
+        let mut v = loop_stability(ctrl, &shown, inner_loop, ts);
+        if view == View::Continuous {
+            v.reason.push_str(&std::format!(
+                " (of the sampled loop at ts = {} s: the controller is sampled, whatever the view of the plant)",
+                crate::poly::fmt_num(ts)
+            ));
+        } else if shown.is_biproper() {
+            v.reason.push_str(
+                " (the plant's direct feedthrough acts a sample late in the sampled loop, as the simulator applies it: the controller's computation takes its sample)",
+            );
+        }
+        v
+    };
     let m = margins_of(&loop_fn, &w);
     // the crossover margins are distances to instability from a stable loop:
     // of an unstable loop they are no margins at all
@@ -480,6 +500,15 @@ fn analysis_of(
     probe.disturbance.clear();
     probe.noise = None;
     let stability = match probe.run_tuned(tuned, plant.clone(), model.clone(), inner.clone()) {
+        // the simulator runs the sampled loop: of a continuous loop with a
+        // direct feedthrough (which it applies a sample late) it says nothing
+        Ok(_) if continuous && shown.is_biproper() => {
+            let mut v = verdict;
+            v.reason.push_str(
+                "; not cross-checked by the simulation, which applies the direct feedthrough a sample late",
+            );
+            v
+        }
         Ok(out) => verdict.with_simulation(crate::sweep::stable(&out), out.duration),
         Err(e) => {
             let mut v = verdict;

@@ -184,7 +184,14 @@ fn winding(f: &dyn Fn(f64) -> Complex<f64>, rate: f64) -> Result<i64, String> {
     while a < pi {
         let b = (a * 1.05).min(a + step).min(pi);
         let fb = f(b);
-        turned += follow(f, a, fa, b, fb, 0)?;
+        turned += follow(f, a, fa, b, fb, 0).map_err(|lost| match lost {
+            Lost::NotFinite(b) => std::format!(
+                "the characteristic equation is not finite at {b:.6e} rad/sample (a closed-loop pole on the unit circle)"
+            ),
+            Lost::Unresolved(b) => std::format!(
+                "a closed-loop pole lies on the unit circle at {b:.6} rad/sample, to working precision: the loop is at the stability limit"
+            ),
+        })?;
         (a, fa) = (b, fb);
     }
     if fa.im.abs() > 1e-6 * fa.abs() {
@@ -206,41 +213,51 @@ fn winding(f: &dyn Fn(f64) -> Complex<f64>, rate: f64) -> Result<i64, String> {
     Ok(w.round() as i64)
 }
 
+/// Where [`follow`] could not follow the phase: `f` not finite (or zero)
+/// at this point, or a turn not resolved there to working precision (a
+/// root of `f` on the path).
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Lost {
+    NotFinite(f64),
+    Unresolved(f64),
+}
+
 /// The phase turned by `f` from `a` to `b`, halving the step where it turns
 /// by more than an eighth of a turn.
-fn follow(
+pub(super) fn follow(
     f: &dyn Fn(f64) -> Complex<f64>,
     a: f64,
     fa: Complex<f64>,
     b: f64,
     fb: Complex<f64>,
     depth: u32,
-) -> Result<f64, String> {
+) -> Result<f64, Lost> {
     if !(fb.re.is_finite() && fb.im.is_finite()) || fb.abs() == 0.0 {
-        return Err(std::format!(
-            "the characteristic equation is not finite at {b:.6e} rad/sample (a closed-loop pole on the unit circle)"
-        ));
+        return Err(Lost::NotFinite(b));
     }
     // the angle from fa to fb: arg(fb·conj(fa)), scaled to unit length
     // first only where the product would leave the floating-point range
-    let product = fb.mul(fa.conj());
-    let d = if product.re.is_finite() && product.im.is_finite() && product.abs() > 1e-280 {
-        product.arg()
-    } else {
-        let unit = |c: Complex<f64>| c.scale(1.0 / c.abs());
-        unit(fb).mul(unit(fa).conj()).arg()
-    };
+    let d = turn(fa, fb);
     if d.abs() <= core::f64::consts::FRAC_PI_4 {
         return Ok(d);
     }
     if depth >= 40 || b - a <= 4.0 * f64::EPSILON * b {
-        return Err(std::format!(
-            "a closed-loop pole lies on the unit circle at {b:.6} rad/sample, to working precision: the loop is at the stability limit"
-        ));
+        return Err(Lost::Unresolved(b));
     }
     let c = 0.5 * (a + b);
     let fc = f(c);
     Ok(follow(f, a, fa, c, fc, depth + 1)? + follow(f, c, fc, b, fb, depth + 1)?)
+}
+
+/// The angle from `fa` to `fb`, in `(−π, π]`.
+pub(super) fn turn(fa: Complex<f64>, fb: Complex<f64>) -> f64 {
+    let product = fb.mul(fa.conj());
+    if product.re.is_finite() && product.im.is_finite() && product.abs() > 1e-280 {
+        product.arg()
+    } else {
+        let unit = |c: Complex<f64>| c.scale(1.0 / c.abs());
+        unit(fb).mul(unit(fa).conj()).arg()
+    }
 }
 
 /// The verdict for a controller whose feedback path is `Cy = Nc/Dc`
