@@ -344,6 +344,40 @@ def test_margins_of_the_bare_plant_are_matlabs() -> None:
         msp.margins("1/(s+1)", discrete=True, continuous=True)
 
 
+def test_continuous_verdicts_and_margins_agree_with_python_control() -> None:
+    """python-control's own margin fixtures (control/tests/margin_test.py), the plant alone in the
+    continuous view: the verdict is the closed loop's poles' (control.feedback), the margins
+    python-control's (its gm of a loop stable only above a gain is msp's gm_lower; a phase margin
+    past 180 degrees is wrapped as python-control wraps it)."""
+    control = pytest.importorskip("control")
+    s = control.tf("s")
+    cases = [
+        ("(s+2)/(s^2+2s+3)", (s + 2) / (s**2 + 2 * s + 3)),
+        ("1/(s^3+2s^2+3s+4)", 1 / (s**3 + 2 * s**2 + 3 * s + 4)),
+        ("3(10+s)/(2+s)", 3 * (10 + s) / (2 + s)),
+        ("0.01(10-s)/((2+s)(1+s))", 0.01 * (10 - s) / (2 + s) / (1 + s)),
+        ("2s/(s+1)", 2 * s / (s + 1)),
+        ("2/(s+1)^3", 2 / (s + 1) ** 3),
+        ("(s+0.1)/(s(s+1))", (s + 0.1) / s / (s + 1)),
+        ("(s+0.1)/(s^2(s+1))", (s + 0.1) / s**2 / (s + 1)),
+        ("(s+0.1)^2/(s^3(s+1))", (s + 0.1) ** 2 / s**3 / (s + 1)),
+        ("(s-18)/(s^2-3s-10)", (s - 18) / (s**2 - 3 * s - 10)),
+    ]
+    for text, sys in cases:
+        m = msp.margins(text, continuous=True)
+        stable = bool(np.all(np.real(control.feedback(sys, 1).poles()) < 0))
+        assert m["stable"] == stable, (text, m["stability"])
+        if not stable:
+            continue
+        gm, pm, _, wpc, wgc, _ = control.stability_margins(sys)
+        ours_gm = m["gm_lower"] if m["gm_lower"] > 0 else m["gm"]
+        assert math.isclose(ours_gm, gm, rel_tol=2e-3) or (math.isinf(ours_gm) and math.isinf(gm)), text
+        pm_ours = m["pm"] - 360.0 if math.isfinite(m["pm"]) and m["pm"] > 180.0 else m["pm"]
+        assert math.isclose(pm_ours, pm, rel_tol=2e-3) or (math.isinf(pm_ours) and math.isinf(pm)), text
+        if math.isfinite(wgc):
+            assert math.isclose(m["wcp"], wgc, rel_tol=2e-3), text
+
+
 def test_margins_phase_is_unwrapped_as_matlabs_bode() -> None:
     m = msp.margins("e^-20s/(s+1)", continuous=True)
     want = np.degrees(-np.arctan(m.w) - 20.0 * m.w)
