@@ -211,13 +211,20 @@ pub fn metrics(
         .max(from);
     // the first step's own target: the value it steps to
     let y_final = steps.first().map_or(y_final, |s| s.value);
-    let s: StepInfo = step_info(
-        tt.get(from..to).unwrap_or(&[]),
-        yy.get(from..to).unwrap_or(&[]),
-        y0,
-        y_final,
-        shift,
-    );
+    // nor do the step's figures of a loop that diverged: what the data
+    // hold before the end are the first swings of the divergence (a "rise
+    // time" of the first crossing, an "overshoot" of thousands of percent)
+    let s: StepInfo = if res.diverged_at.is_some() {
+        step_info(&[], &[], 0.0, nan, shift)
+    } else {
+        step_info(
+            tt.get(from..to).unwrap_or(&[]),
+            yy.get(from..to).unwrap_or(&[]),
+            y0,
+            y_final,
+            shift,
+        )
+    };
     Ok(Metrics { indices, step: s })
 }
 
@@ -301,6 +308,7 @@ pub fn events(
         every(res.r, stride),
     );
     let end = t.last().copied().unwrap_or(0.0);
+    let diverged = res.diverged_at.is_some();
     let mut starts: Vec<f64> = setpoint
         .iter()
         .map(|s| s.at)
@@ -338,6 +346,10 @@ pub fn events(
             .or(y.get(a))
             .copied()
             .unwrap_or(0.0);
+        // no window of a loop that diverged measures the loop (its first
+        // swings already grow)
+        let cut = diverged;
+        let b = if cut { a } else { b };
         let step = step_info(
             t.get(a..b).unwrap_or(&[]),
             y.get(a..b).unwrap_or(&[]),
@@ -351,7 +363,7 @@ pub fn events(
                 at: s.at,
                 until: until(s.at),
                 value: s.value,
-                iae: iae(a, b),
+                iae: if cut { f64::NAN } else { iae(a, b) },
                 step,
             }),
         ));
@@ -366,6 +378,8 @@ pub fn events(
         } else {
             index(until(d.at)).max(a)
         };
+        let b = if diverged { a } else { b };
+        let cut = diverged;
         // the output just before: an output disturbance shows at its own sample
         let y_ref = a
             .checked_sub(1)
@@ -399,10 +413,10 @@ pub fn events(
                 until: until(d.at),
                 location: d.location,
                 value: d.value,
-                peak_deviation: peak,
-                peak_time: peak_at,
-                recovery_time,
-                iae: iae(a, b),
+                peak_deviation: if cut { f64::NAN } else { peak },
+                peak_time: if cut { f64::NAN } else { peak_at },
+                recovery_time: if cut { f64::NAN } else { recovery_time },
+                iae: if cut { f64::NAN } else { iae(a, b) },
             }),
         ));
     }

@@ -590,3 +590,102 @@ fn design_targets_reach_every_command() {
         .code(2)
         .stderr(predicate::str::contains("Ms > 1"));
 }
+
+/// A loop that diverges has no figures: the README's perturbed race at the
+/// common Ms (Karan–Dey gets no lower than 2.2 on this plant and diverges
+/// under +10 % gain and delay) prints every time-domain and frequency row of
+/// it as "—", its report holds null for each (the run's metrics and every
+/// event's), and the plot's axes are the bounded loop's, with the diverged
+/// one labelled as such. At the thesis's λ both loops stay bounded and every
+/// figure is a number.
+#[test]
+fn a_diverged_loop_has_no_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, svg) = (dir.path().join("r.json"), dir.path().join("p.svg"));
+    let base = [
+        "compare",
+        "--plant",
+        "0.2/s*e^-7.4s",
+        "--controllers",
+        "karan-dey,smith",
+        "--perturb",
+        "gain=+10%,delay=+10%",
+    ];
+    let out = msp()
+        .args(base)
+        .arg("--report")
+        .arg(&json)
+        .arg("--plot")
+        .arg(&svg)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let rows: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("stable (characteristic eq.)"))
+        .take_while(|l| !l.starts_with("warning"))
+        .filter(|l| !l.starts_with("e = ") && !l.starts_with("frequency domain"))
+        .collect();
+    assert!(rows.len() > 20, "{text}");
+    for row in &rows {
+        let cells: Vec<&str> = row.split_whitespace().rev().take(2).collect();
+        let (kd, smith) = (cells[1], cells[0]);
+        if row.starts_with("stable") {
+            assert_eq!((kd, smith), ("UNSTABLE", "stable"), "{row}");
+        } else {
+            assert_eq!(kd, "—", "{row}");
+            assert!(smith.parse::<f64>().is_ok(), "{row}");
+        }
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let kd = &r[0];
+    assert!(kd["diverged_at"].as_f64().is_some());
+    for (k, v) in kd["metrics"].as_object().unwrap() {
+        assert!(v.is_null(), "{k}: {v}");
+    }
+    for e in kd["events"].as_array().unwrap() {
+        for (k, v) in e.as_object().unwrap() {
+            if !["at", "until", "value", "kind", "location"].contains(&k.as_str()) {
+                assert!(v.is_null(), "{k}: {v}");
+            }
+        }
+    }
+    assert!(r[1]["metrics"]["iae"].as_f64().is_some());
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        plot.contains("diverged at"),
+        "the diverged loop is labelled"
+    );
+    // the y axes: the bounded loop's (y peaks near 1.2, u near 0.6), not
+    // the diverged one's swings to the simulator's bound of 1e6 (the time
+    // axes run to a few hundred seconds)
+    let ticks: Vec<f64> = plot
+        .split("<text")
+        .filter_map(|t| {
+            t.split('>')
+                .nth(1)?
+                .split('<')
+                .next()?
+                .trim()
+                .parse::<f64>()
+                .ok()
+        })
+        .collect();
+    assert!(
+        !ticks.is_empty() && ticks.iter().all(|t| t.abs() < 1000.0),
+        "{ticks:?}"
+    );
+    // the thesis's λ: both bounded, every figure a number
+    let out = msp()
+        .args(base)
+        .args(["--lambda", "1.85"])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(!text.contains('—') && !text.contains("UNSTABLE"), "{text}");
+}

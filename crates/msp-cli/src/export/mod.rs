@@ -489,6 +489,12 @@ pub(crate) fn pct(x: f64) -> String {
 
 /// Four significant digits.
 pub(crate) fn fmt_sig(v: f64) -> String {
+    // a figure that does not exist (of a diverged loop, a response that
+    // never settles, a crossover that is not there) is a dash, as null is
+    // in JSON; an infinite margin stays `inf`
+    if v.is_nan() {
+        return "—".into();
+    }
     if !v.is_finite() {
         return format!("{v}");
     }

@@ -306,9 +306,21 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
             (format!("{name} {who}"), color(i))
         }
     };
-    let mut ys: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.y).collect();
+    // the axes are the loops' that stayed bounded: a diverged one's swings
+    // (to the simulator's bound) would flatten every other curve; its own
+    // is clipped to the panel, and its label says it diverged
+    let calm: Vec<&&RunOutput> = runs
+        .iter()
+        .filter(|r| r.result.diverged_at.is_none())
+        .collect();
+    let scaled: Vec<&&RunOutput> = if calm.is_empty() {
+        runs.iter().collect()
+    } else {
+        calm
+    };
+    let mut ys: Vec<&Vec<f64>> = scaled.iter().map(|r| &r.result.y).collect();
     ys.push(&first.result.r);
-    let mut us: Vec<&Vec<f64>> = runs.iter().map(|r| &r.result.u).collect();
+    let mut us: Vec<&Vec<f64>> = scaled.iter().map(|r| &r.result.u).collect();
     // the loads, drawn with u when there are any: at the input and at the output
     let d = &first.result.d;
     let has_d = d.iter().any(|v| *v != 0.0);
@@ -414,6 +426,10 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
         let mut drawn: Vec<Vec<(f64, f64)>> = vec![pts(&first.result.t, &first.result.r)];
         for (i, r) in runs.iter().enumerate() {
             let (label, col) = style(i, "y", color(0), "y");
+            let label = match r.result.diverged_at {
+                Some(at) => format!("{label} (diverged at {} s)", fmt_sig(at)),
+                None => label,
+            };
             let p = pts(&r.result.t, &r.result.y);
             drawn.push(p.clone());
             fine.line(&mut c, &p, col.stroke_width(1), None)?
