@@ -1146,6 +1146,102 @@ fn outputs_are_all_or_nothing() {
         .starts_with("t,r,y,u"));
 }
 
+/// An output that names a file the command reads is refused before
+/// anything runs, naming both, by any spelling (a link to it too), and the
+/// input is left as it was; a device such as /dev/null takes any number of
+/// outputs.
+#[test]
+fn no_output_writes_over_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.csv");
+    std::fs::write(&input, "t,r\n0,1\n0.1,1\n0.2,1\n").unwrap();
+    let scenario = dir.path().join("s.toml");
+    std::fs::write(&scenario, "plant = \"e^-1s/(s+1)\"\nduration = 5\n").unwrap();
+    let link = dir.path().join("link.toml");
+    std::os::unix::fs::symlink(&scenario, &link).unwrap();
+    let cases: Vec<(Vec<std::ffi::OsString>, &str)> = vec![
+        (
+            vec![
+                "run".into(),
+                "-p".into(),
+                "e^-1s/(s+1)".into(),
+                "--ts".into(),
+                "0.1".into(),
+                "--input".into(),
+                input.clone().into(),
+                "-o".into(),
+                input.clone().into(),
+            ],
+            "--output",
+        ),
+        (
+            vec![
+                "run".into(),
+                "--scenario".into(),
+                scenario.clone().into(),
+                "-o".into(),
+                "/dev/null".into(),
+                "--report".into(),
+                scenario.clone().into(),
+            ],
+            "--report",
+        ),
+        (
+            vec![
+                "compare".into(),
+                "-c".into(),
+                "smith,pid".into(),
+                "--scenario".into(),
+                scenario.clone().into(),
+                "--plot".into(),
+                link.clone().into(),
+            ],
+            "--plot",
+        ),
+        (
+            vec![
+                "margins".into(),
+                "--scenario".into(),
+                scenario.clone().into(),
+                "--plot".into(),
+                scenario.clone().into(),
+            ],
+            "--plot",
+        ),
+    ];
+    for (args, flag) in cases {
+        msp()
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(flag).and(predicate::str::contains("reads")));
+    }
+    assert_eq!(
+        std::fs::read_to_string(&input).unwrap(),
+        "t,r\n0,1\n0.1,1\n0.2,1\n"
+    );
+    assert!(std::fs::read_to_string(&scenario)
+        .unwrap()
+        .starts_with("plant"));
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    msp()
+        .args(["run", "-q", "--scenario"])
+        .arg(&scenario)
+        .args([
+            "-o",
+            "/dev/null",
+            "--report",
+            "/dev/null",
+            "--plot",
+            "/dev/null",
+        ])
+        .assert()
+        .success();
+}
+
 #[test]
 fn wrong_inputs_that_were_accepted() {
     // juxtaposed numbers are not a product

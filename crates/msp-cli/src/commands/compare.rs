@@ -7,7 +7,7 @@ use crate::export;
 
 pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
     let sc = scenario_from(&a.scenario)?;
-    let mut files = super::plan(&a.files)?;
+    let mut files = super::plan(&a.files, &[("--scenario", a.scenario.scenario.as_ref())])?;
     let runs = msp::study::compare(&sc, &a.controllers, a.perturb.unwrap_or_default())?;
     let margins: Vec<Option<msp::analysis::Margins>> = a
         .controllers

@@ -6,10 +6,13 @@ use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
-    let mut files = export::Outputs::plan(&[
-        ("--plot", a.plot.as_ref()),
-        ("--nyquist", a.nyquist.as_ref()),
-    ])?;
+    let mut files = export::Outputs::plan_reading(
+        &[
+            ("--plot", a.plot.as_ref()),
+            ("--nyquist", a.nyquist.as_ref()),
+        ],
+        &[("--scenario", a.scenario.scenario.as_ref())],
+    )?;
     let mut sc = scenario_from(&a.scenario)?;
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);

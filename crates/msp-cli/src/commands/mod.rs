@@ -13,15 +13,24 @@ pub(crate) mod sweep;
 pub(crate) mod tradeoff;
 pub(crate) mod tune;
 
+use std::path::PathBuf;
+
 use crate::cli::SimulationFiles;
 use crate::error::CliError;
 use crate::export;
 
-/// Every output path of a simulation (`run`, `compare`), checked before it runs.
-pub(crate) fn plan(f: &SimulationFiles) -> Result<export::Outputs<'_>, CliError> {
-    export::Outputs::plan(&[
-        ("--output", f.output.as_ref()),
-        ("--report", f.report.as_ref()),
-        ("--plot", f.plot.as_ref()),
-    ])
+/// Every output path of a simulation (`run`, `compare`), checked before it
+/// runs, none of them a file it reads (`inputs`).
+pub(crate) fn plan<'a>(
+    f: &'a SimulationFiles,
+    inputs: &[(&str, Option<&PathBuf>)],
+) -> Result<export::Outputs<'a>, CliError> {
+    export::Outputs::plan_reading(
+        &[
+            ("--output", f.output.as_ref()),
+            ("--report", f.report.as_ref()),
+            ("--plot", f.plot.as_ref()),
+        ],
+        inputs,
+    )
 }

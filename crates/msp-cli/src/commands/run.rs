@@ -14,7 +14,13 @@ pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
         sc = with_input(sc, path)?;
     }
     // every output path is checked before the run
-    let planned = super::plan(&a.files)?;
+    let planned = super::plan(
+        &a.files,
+        &[
+            ("--input", a.input.as_ref()),
+            ("--scenario", a.scenario.scenario.as_ref()),
+        ],
+    )?;
     let out = export::busy("simulating", a.quiet, || sc.run())?;
     let mut files = planned; // after `out`: the CSV streams from its columns
     let warnings = out.warnings();

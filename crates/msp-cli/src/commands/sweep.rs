@@ -7,7 +7,10 @@ use crate::export;
 
 pub(crate) fn sweep(a: &SweepArgs) -> Result<(), CliError> {
     // the output path is checked before a sweep that may take minutes
-    let mut files = export::Outputs::plan(&[("--output", a.output.as_ref())])?;
+    let mut files = export::Outputs::plan_reading(
+        &[("--output", a.output.as_ref())],
+        &[("--scenario", a.scenario.scenario.as_ref())],
+    )?;
     if !a.merge.is_empty() {
         let files_in = a
             .merge

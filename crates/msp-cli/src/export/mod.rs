@@ -238,9 +238,47 @@ pub(crate) fn is_stdout(path: &Path) -> bool {
     false
 }
 
+/// A file as every spelling of it resolves (`x.csv`, `sub/../x.csv`, a link
+/// to it), or as its directory does for one not yet there.
+fn resolved(path: &Path) -> PathBuf {
+    let dir = parent(path);
+    std::fs::canonicalize(path)
+        .or_else(|_| {
+            std::fs::canonicalize(&dir).map(|d| match path.file_name() {
+                Some(f) => d.join(f),
+                None => d,
+            })
+        })
+        .unwrap_or_else(|_| path.to_path_buf())
+}
+
+/// A device (`/dev/null`, a terminal), which any number of outputs may
+/// name: writing it replaces nothing.
+fn is_device(path: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::metadata(path).is_ok_and(|m| m.file_type().is_char_device())
+}
+
 impl<'a> Outputs<'a> {
     /// Checks the paths of a command's outputs (`None` for one not asked for).
     pub(crate) fn plan(paths: &[(&str, Option<&PathBuf>)]) -> Result<Self, CliError> {
+        Self::plan_reading(paths, &[])
+    }
+
+    /// [`Outputs::plan`] for a command that also reads `inputs` (`--input`,
+    /// `--scenario`): an output that names an input is refused, naming
+    /// both — msp never writes over what it reads.
+    pub(crate) fn plan_reading(
+        paths: &[(&str, Option<&PathBuf>)],
+        inputs: &[(&str, Option<&PathBuf>)],
+    ) -> Result<Self, CliError> {
+        let read: Vec<(PathBuf, &str)> = inputs
+            .iter()
+            .filter_map(|(flag, p)| {
+                p.filter(|p| !is_stdout(p) && !is_device(p))
+                    .map(|p| (resolved(p), *flag))
+            })
+            .collect();
         let mut seen: Vec<(PathBuf, &str)> = Vec::new();
         for (flag, path) in paths {
             let Some(path) = path else { continue };
@@ -267,15 +305,18 @@ impl<'a> Outputs<'a> {
                     path.display()
                 )));
             }
+            // a device takes any number of outputs
+            if is_device(path) {
+                continue;
+            }
             // the same file by any spelling: `x.csv`, `sub/../x.csv`, a link to it
-            let key = std::fs::canonicalize(path)
-                .or_else(|_| {
-                    std::fs::canonicalize(&dir).map(|d| match path.file_name() {
-                        Some(f) => d.join(f),
-                        None => d,
-                    })
-                })
-                .unwrap_or_else(|_| path.to_path_buf());
+            let key = resolved(path);
+            if let Some((_, input)) = read.iter().find(|(k, _)| *k == key) {
+                return Err(CliError::Input(format!(
+                    "{flag} {} is the file {input} reads: choose another output (msp never writes over its input)",
+                    path.display()
+                )));
+            }
             if let Some((_, other)) = seen.iter().find(|(k, _)| *k == key) {
                 return Err(CliError::Input(format!(
                     "{other} and {flag} name the same file {}",
