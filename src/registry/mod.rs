@@ -162,7 +162,8 @@ pub struct Params {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Rule {
     /// `imc` (IMC-PID, Bag (2022) Eqs. 3.19–3.27), `simc` (Skogestad
-    /// (2003)) or an ultimate-cycle rule of Bag (2022) Tables 3.2/3.3 (`zn`, …).
+    /// (2003)), an ultimate-cycle rule of Bag (2022) Tables 3.2/3.3 (`zn`,
+    /// …), or `given` (every gain set by the user).
     pub name: &'static str,
     /// The ultimate gain (ultimate-cycle rules).
     pub ku: Option<f64>,
@@ -191,6 +192,18 @@ impl Params {
     /// tuning is its source's own: the report's `source` names it).
     pub fn rule(&self) -> Option<Rule> {
         self.rule
+    }
+    /// The same, every tuned parameter given by the user: no `λ` and no
+    /// rule stand behind it (a PI/PID's tuning reads `given`).
+    pub fn as_given(mut self) -> Self {
+        self.lambda = None;
+        self.rule = self.rule.map(|_| Rule {
+            name: "given",
+            ku: None,
+            tu: None,
+            weights: None,
+        });
+        self
     }
     /// The same, tuned for the closed-loop time constant `lambda`.
     pub fn with_lambda(mut self, lambda: f64) -> Self {

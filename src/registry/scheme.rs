@@ -136,7 +136,8 @@ impl Scheme {
                 });
             }
         }
-        Ok(params)
+        // every parameter given: neither λ nor a rule made them
+        Ok(if all_given { params.as_given() } else { params })
     }
 
     /// Builds the controller.

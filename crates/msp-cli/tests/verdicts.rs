@@ -471,6 +471,36 @@ fn the_tuning_is_named() {
         json_out(&["tune", "--plant", "1/(5s+1)", "--json"])["controller"]["name"],
         "pid"
     );
+    // every gain given: no λ and no rule made them, and none is claimed
+    let given = ["--set", "kp=3", "--set", "ti=10", "--set", "td=0.4"];
+    assert_eq!(tuning(&given)["rule"], "given");
+    let mut args = vec!["tune", "--plant", plant, "-c", "pid", "--json"];
+    args.extend_from_slice(&given);
+    let j = json_out(&args);
+    assert!(j["controller"]["params"].get("lambda").is_none(), "{j}");
+    assert!(!j["chosen"].to_string().contains("lambda"), "{j}");
+    let out = msp()
+        .args([
+            "run",
+            "--plant",
+            plant,
+            "-c",
+            "pid",
+            "--duration",
+            "20",
+            "-o",
+            "/dev/null",
+        ])
+        .args(given)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let summary = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        !summary.contains("lambda") && !summary.contains("imc"),
+        "{summary}"
+    );
 }
 
 /// `msp margins` on the thesis's benchmark plants says in one line that
