@@ -166,6 +166,13 @@ impl TransferFunction {
         if num.len() > den.len() {
             return Err(Error::Improper("num"));
         }
+        // the grammar's bound, for coefficients handed in directly (a
+        // degree of thousands takes the analysis seconds per root-finding)
+        if den.len() > usize::from(crate::syntax::expr::MAX_DEGREE) + 1 {
+            return Err(Error::OutOfRange(
+                "den: the degree is at most 256 (as the plant grammar allows)",
+            ));
+        }
         Ok(TransferFunction { num, den, delay })
     }
 

@@ -195,3 +195,18 @@ fn plants_print_factored_and_parse_back() {
         assert_eq!(again.delay, tf.delay);
     }
 }
+
+/// Coefficients handed in directly (Python's `msp.Plant(num, den)`, a
+/// scenario's lists) are bounded as the grammar bounds an expression: a
+/// degree of 256 is a plant, one above it an error that says the bound.
+#[test]
+fn a_transfer_function_made_from_coefficients_has_the_grammars_degree_bound() {
+    use msp::poly::TransferFunction;
+    assert!(TransferFunction::new(&[1.0], &[1.0; 257], 0.0).is_ok());
+    let e = TransferFunction::new(&[1.0], &[1.0; 2001], 0.0).unwrap_err();
+    assert!(e.to_string().contains("256"), "{e}");
+    // the grammar's own bound is the same number
+    let deep = format!("1/(s+1)^{}", 257);
+    assert!(deep.parse::<TransferFunction>().is_err());
+    assert!("1/(s+1)^256".parse::<TransferFunction>().is_ok());
+}

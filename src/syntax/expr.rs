@@ -478,8 +478,9 @@ impl Parser<'_> {
     }
 }
 
-/// Largest polynomial degree an expression may build.
-const MAX_DEGREE: u16 = 256;
+/// Largest polynomial degree an expression may build, and a transfer
+/// function may have however it is made ([`crate::poly::TransferFunction::new`]).
+pub const MAX_DEGREE: u16 = 256;
 
 fn check_degree(v: &Val, col: usize) -> PResult<()> {
     if v.num.len().max(v.den.len()) > usize::from(MAX_DEGREE) + 1 {

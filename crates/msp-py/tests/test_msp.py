@@ -1202,6 +1202,13 @@ def test_estimator_finds_gain_lag_and_fractional_dead_time():
         msp.Estimator(ts=0.1, d_min=5000)
 
 
+def test_a_plant_from_coefficients_has_the_grammars_degree_bound():
+    """msp.Plant(num, den) is bounded as the plant grammar is: degree 256 at most."""
+    assert msp.Plant([1.0], [1.0] * 257).order == 256
+    with pytest.raises(ValueError, match="256"):
+        msp.Plant([1.0], [1.0] * 2001)
+
+
 def test_estimator_monitor_weighs_the_model_in_use():
     """msp.Estimator's monitor on 2 e^(-1.25 s)/(4 s + 1) sampled exactly: a model in use whose
     gain is 1.4 shows an error of about (2 - 1.4)/1.4 relative to its own prediction, over the
