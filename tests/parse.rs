@@ -97,6 +97,9 @@ fn bad_expressions_name_the_problem_and_column() {
     bad("", 1, "empty");
     bad("   ", 1, "empty");
     bad("1/(s+1)+e^-2s/(s+2)", 8, "different delays");
+    // a power of the exponent's s is no delay (not (e^-5s)^2 = e^-10s)
+    bad("e^-5s^2/(s+1)", 6, "a power of s in a delay exponent");
+    bad("3*e^-s^2/(s+1)", 7, "a power of s in a delay exponent");
     // juxtaposed numbers are not a product
     bad("2 3*e^-1s/(s+1)", 3, "a number after another factor");
     bad("(s+1)2", 6, "a number after another factor");
@@ -209,4 +212,12 @@ fn a_transfer_function_made_from_coefficients_has_the_grammars_degree_bound() {
     let deep = format!("1/(s+1)^{}", 257);
     assert!(deep.parse::<TransferFunction>().is_err());
     assert!("1/(s+1)^256".parse::<TransferFunction>().is_ok());
+}
+
+/// A squared delay is written with parentheses, and means what it says.
+#[test]
+fn a_delay_raised_to_a_power_in_parentheses() {
+    use msp::poly::TransferFunction;
+    let t: TransferFunction = "(e^-5s)^2/(s+1)".parse().unwrap();
+    assert_eq!(t.delay, 10.0);
 }

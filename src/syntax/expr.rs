@@ -461,6 +461,16 @@ impl Parser<'_> {
                         c4,
                     ));
                 }
+                // `e^-5s^2` is e^(−5s²) to a reader (a power binds to
+                // the `s` before it), not (e^−5s)²: no delay, refused here
+                // where the power stands
+                let (t5, c5) = self.peek();
+                if t5 == Tok::Caret {
+                    return Err((
+                        "a power of s in a delay exponent is no delay: e^-θs takes no '^' after its s (for a squared delay write (e^-θs)^2)".into(),
+                        c5,
+                    ));
+                }
                 let v = Val {
                     num: vec![sign * coef, 0.0],
                     den: vec![1.0],
