@@ -75,6 +75,10 @@ impl<'a> Column<'a> {
     }
 }
 
+/// The most numbers [`read_columns`] keeps: 64 Mi (512 MiB of `f64`, 1 GiB
+/// while a column doubles).
+const KEPT_CAP: u64 = 1 << 26;
+
 /// Reads the columns `want` by their header names; every cell of them must
 /// be a finite number (the error names the row and the column).
 pub(crate) fn read_columns<R: Read>(
@@ -88,24 +92,56 @@ pub(crate) fn read_columns<R: Read>(
     let mut at = Vec::with_capacity(want.len());
     for c in want {
         let pos = c.names.iter().find_map(|n| find(n));
+        // a name given to two columns: which one is meant is not ours to guess
+        if let Some(p) = pos {
+            let named = head.get(p).map(str::trim).unwrap_or("");
+            if let Some(q) = head.iter().skip(p + 1).position(|h| h.trim() == named) {
+                return Err(format!(
+                    "{name}: two columns are named '{named}' (columns {} and {}): rename one",
+                    p + 1,
+                    p + q + 2
+                ));
+            }
+        }
         match (pos, c.optional) {
             (Some(p), _) => at.push(Some(p)),
             (None, true) => at.push(None),
             (None, false) => {
+                // the header's names, the first twenty of a wide one
+                let names: Vec<&str> = head.iter().map(str::trim).take(20).collect();
+                let more = head.len().saturating_sub(names.len());
+                let rest = if more > 0 {
+                    format!(", … and {more} more")
+                } else {
+                    String::new()
+                };
                 return Err(format!(
-                    "{name}: no column '{}' ({} names it; the columns are: {})",
+                    "{name}: no column '{}' ({} names it; the columns are: {}{rest})",
                     c.names.first().copied().unwrap_or(""),
                     c.flag,
-                    head.iter().map(str::trim).collect::<Vec<_>>().join(", ")
-                ))
+                    names.join(", ")
+                ));
             }
         }
     }
     let mut out: Vec<Vec<f64>> = vec![Vec::new(); want.len()];
+    // what is kept is counted, not the bytes read: a short line of text
+    // makes a number of eight bytes
+    let mut kept = 0u64;
     for (line, rec) in r.records().enumerate() {
         let rec = rec.map_err(|e| format!("{name}: {e}"))?;
         for (col, pos) in out.iter_mut().zip(&at) {
             let Some(c) = *pos else { continue };
+            kept += 1;
+            if kept > KEPT_CAP {
+                return Err(format!(
+                    "{name}: more than {KEPT_CAP} numbers in the columns read (1 GiB with their growth): a larger input is refused"
+                ));
+            }
+            if col.len() == col.capacity() {
+                col.try_reserve(col.len().max(1024))
+                    .map_err(|e| format!("{name}: the numbers read do not fit in memory: {e}"))?;
+            }
             let v = rec
                 .get(c)
                 .and_then(|v| v.trim().parse::<f64>().ok())

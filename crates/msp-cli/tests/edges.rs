@@ -426,3 +426,53 @@ fn a_dead_time_a_rounding_short_of_whole_samples_fits() {
             .success();
     }
 }
+
+/// Text without end on a pipe is read until what it makes is too much —
+/// the numbers kept, not the bytes (a short line makes numbers of eight
+/// bytes each): refused with a clear error under a 4 GiB address space,
+/// never an abort. A header of 200 000 columns gives a message of a few
+/// hundred bytes, and a column named twice is refused, naming both.
+#[test]
+fn endless_wide_and_ambiguous_csv() {
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    for cmd in ["identify --data /dev/stdin", "stepinfo --data /dev/stdin"] {
+        let line = format!(
+            "ulimit -v 4194304; (echo t,u,y; yes 1,1,1) | '{}' {cmd}",
+            bin.display()
+        );
+        let out = std::process::Command::new("bash")
+            .args(["-c", &line])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{cmd}: {:?} {err}", out.status);
+        assert!(err.contains("numbers in the columns read"), "{cmd}: {err}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let wide = dir.path().join("wide.csv");
+    let head: Vec<String> = (0..200_000).map(|i| format!("c{i}")).collect();
+    std::fs::write(&wide, format!("{}\n", head.join(","))).unwrap();
+    let out = msp()
+        .args(["stepinfo", "--data"])
+        .arg(&wide)
+        .assert()
+        .code(2)
+        .get_output()
+        .clone();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.len() < 1000 && err.contains("and 199980 more"),
+        "{} bytes",
+        err.len()
+    );
+    let twice = dir.path().join("twice.csv");
+    std::fs::write(&twice, "t,y,u,y\n0,0,1,5\n1,1,1,6\n2,1,1,6\n").unwrap();
+    msp()
+        .args(["stepinfo", "--data"])
+        .arg(&twice)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "two columns are named 'y' (columns 2 and 4)",
+        ));
+}
