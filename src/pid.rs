@@ -312,11 +312,21 @@ impl<T: Real> Pid<T> {
         } else {
             T::of(10.0)
         };
+        // an integral turned on in a controller that had none gets the
+        // anti-windup the ISA form gives one (back-calculation): `None` was
+        // there only for want of an integral, and would let it wind up
+        // against the limits; a chosen scheme stays
+        let anti_windup = if c.ki == T::zero() && matches!(c.anti_windup, AntiWindup::None) {
+            isa.anti_windup
+        } else {
+            c.anti_windup
+        };
         let cfg = PidConfig {
             kp: isa.kp,
             ki: isa.ki,
             kd: isa.kd,
             tf: td / ratio,
+            anti_windup,
             ..c
         };
         let mut next = Pid::new(cfg)?;

@@ -275,3 +275,37 @@ fn pid_rs_combined_operation() {
     assert_eq!(c.update(10.0, 0.0), 0.0);
     assert_eq!(c.update(10.0, 5.0), -10.0);
 }
+
+/// A P controller made PI by an operator (`retune(Ti, 5)` of one built with
+/// `Ti = ∞`) gets the anti-windup a PI built with `Ti = 5` has: held at its
+/// limit by a large error and then given a set point it can reach, it
+/// leaves the limit on the same sample as that PI, and computes the same
+/// outputs to rounding (it had no anti-windup, and wound up for tens of
+/// seconds).
+#[test]
+fn an_integral_turned_on_by_a_retune_does_not_wind_up() {
+    use msp::operate::Gain;
+    let ts = 0.1;
+    let build =
+        |ti: f64| Pid::new(PidConfig::isa(2.0, ti, 0.0, ts).with_limits(-1.0, 1.0)).unwrap();
+    let mut retuned = build(f64::INFINITY);
+    retuned.retune(Gain::Ti, 5.0).unwrap();
+    let mut built = build(5.0);
+    // each on its own plant y+ = 0.9·y + 0.1·u (a gain of one), the set
+    // point out of reach for 100 s (u held at its limit 1, y at 1), then 0.2
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let (mut ya, mut yb) = (0.0, 0.0);
+    for k in 0..2000 {
+        let r = if k < 1000 { 50.0 } else { 0.2 };
+        let (ua, ub) = (retuned.update(r, ya), built.update(r, yb));
+        (ya, yb) = (0.9 * ya + 0.1 * ua, 0.9 * yb + 0.1 * ub);
+        a.push(ua);
+        b.push(ub);
+    }
+    let left = |u: &[f64]| u.iter().skip(1000).position(|v| *v < 1.0).unwrap();
+    assert_eq!(left(&a), left(&b));
+    assert!(left(&a) <= 1, "{}", left(&a));
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() <= 1e-12, "{x} {y}");
+    }
+}
