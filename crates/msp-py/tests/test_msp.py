@@ -1209,6 +1209,24 @@ def test_a_plant_from_coefficients_has_the_grammars_degree_bound():
         msp.Plant([1.0], [1.0] * 2001)
 
 
+def test_arrays_as_python_control_gives_them():
+    """python-control's (1, n) outputs (and columns) are taken as the vectors they are; an array
+    of another shape, or of things that are not numbers, is the ValueError the docs promise,
+    naming the argument."""
+    t = np.arange(0.0, 50.0, 0.1)
+    y = 1.0 - np.exp(-np.maximum(t - 2.0, 0.0) / 5.0)
+    flat = msp.step_info(t, y)
+    assert msp.step_info(t[np.newaxis, :], y[np.newaxis, :]) == flat
+    assert msp.step_info(t[:, np.newaxis], y) == flat
+    u = (t >= 1.0).astype(float)
+    assert msp.identify(t[np.newaxis, :], u[np.newaxis, :], y[np.newaxis, :])["model"] == \
+        msp.identify(t, u, y)["model"]
+    with pytest.raises(ValueError, match="y: a vector"):
+        msp.step_info(t, np.ones((2, t.size)))
+    with pytest.raises(ValueError, match="t: not an array"):
+        msp.step_info(["a", "b"], [1.0, 2.0])
+
+
 def test_estimator_monitor_weighs_the_model_in_use():
     """msp.Estimator's monitor on 2 e^(-1.25 s)/(4 s + 1) sampled exactly: a model in use whose
     gain is 1.4 shows an error of about (2 - 1.4)/1.4 relative to its own prediction, over the

@@ -96,10 +96,31 @@ def test_separate_components() -> None:
     assert (round(pid.p), round(pid.i), round(pid.d)) == (5, 0, -50)
 
 
-def test_repr_names_the_settings() -> None:
+def test_repr_names_the_settings_and_builds_the_controller() -> None:
     text = repr(Pid(2.0, ti=10.0, td=0.5, ts=0.1, umin=0, umax=1))
-    for part in ("kp=2", "ti=10", "td=0.5", "ts=0.1", "umin=0", "umax=1", "mode=auto"):
+    for part in ("kp=2", "ti=10", "td=0.5", "ts=0.1", "umin=0", "umax=1"):
         assert part in text, text
+    # eval(repr(p)) computes p's outputs: the ISA form, the parallel form (a
+    # pure I controller, which the ISA form cannot hold), every setting
+    import msp
+    for pid in (Pid(2.0, ti=10.0, td=0.5, ts=0.1, umin=0, umax=1),
+                Pid.parallel(1, 2, 3, 0.01),
+                Pid.parallel(0, 10, 0, 0.1),
+                Pid(0.5, ti=4.0, ts=0.1, n=8.0, b=0.5, c=0.0, anti_windup="clamping", rate_limit=2.0),
+                Pid(1.0, ts=0.2, anti_windup="none")):
+        twin = eval(repr(pid), {"msp": msp})
+        assert repr(twin) == repr(pid)
+        for k in range(50):
+            r, y = (1.0 if k > 2 else 0.0), 0.01 * k
+            assert twin.update(r, y) == pid.update(r, y), repr(pid)
+
+
+def test_a_pure_integral_controller_keeps_its_gain() -> None:
+    pid = Pid.parallel(0, 10, 0, 0.1)
+    assert pid.params == {"kp": 0.0, "ti": None, "td": None, "ki": 10.0, "kd": 0.0}
+    assert "nan" not in repr(pid).lower()
+    # forward Euler: 0 first, then ki·ts·e = 1
+    assert pid.update(1.0, 0.0) == 0.0 and math.isclose(pid.update(1.0, 0.0), 1.0)
 
 
 def test_converge_system() -> None:

@@ -896,6 +896,21 @@ def step(plant: PlantLike, *, ts: Optional[float] = None, duration: Optional[flo
     return Step(_msp.step(_plant(plant, delay), ts=ts, duration=duration))
 
 
+def _vector(name: str, v: Any) -> "np.ndarray":
+    """``v`` as a contiguous float64 vector: a sequence, a 1-D array, or a row
+    or column of a 2-D one (python-control's ``(1, n)`` outputs); anything
+    else a ValueError that names it."""
+    try:
+        a = np.asarray(v, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{name}: not an array of numbers ({e})") from None
+    if a.ndim == 2 and 1 in a.shape:
+        a = a.reshape(-1)
+    if a.ndim != 1:
+        raise ValueError(f"{name}: a vector of samples is needed, got an array of shape {a.shape}")
+    return np.ascontiguousarray(a)
+
+
 def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:
     """Step-test identification, as ``msp identify``: the two-point or slope/intercept estimate,
     refined by least squares on the exact sampled response.
@@ -927,7 +942,7 @@ def identify(t: Any, u: Any, y: Any, model: str = "fopdt") -> Dict[str, Any]:
     >>> round(fit["k"], 3), round(fit["t"], 2), round(fit["l"], 2)
     (2.0, 5.0, 4.0)
     """
-    arr = [np.ascontiguousarray(np.asarray(v, dtype=np.float64)) for v in (t, u, y)]
+    arr = [_vector(n, v) for n, v in (("t", t), ("u", u), ("y", y))]
     return _msp.identify(arr[0], arr[1], arr[2], model)
 
 
@@ -982,8 +997,8 @@ def simulate(
     >>> bool(np.array_equal(res.y, same.y))
     True
     """
-    arrays = [None if v is None else np.ascontiguousarray(np.asarray(v, dtype=np.float64))
-              for v in (t, r, d, d_out)]
+    arrays = [None if v is None else _vector(n, v)
+              for n, v in (("t", t), ("r", r), ("d", d), ("d_out", d_out))]
     kw = _scenario(scenario, controller=controller, params=params)
     return Result(_msp.simulate(_plant(plant, delay), arrays[0], arrays[1], arrays[2], arrays[3], **kw))
 
@@ -1035,7 +1050,7 @@ def step_info(
     >>> round(info["rise_time"], 4), round(2.0 * float(np.log(9.0)), 4)
     (4.3944, 4.3944)
     """
-    arr = [np.ascontiguousarray(np.asarray(v, dtype=np.float64)) for v in (t, y)]
+    arr = [_vector(n, v) for n, v in (("t", t), ("y", y))]
     lo, hi = rise_limits
     return dict(_msp.step_info(arr[0], arr[1], None if yinit is None else float(yinit),
                                None if yfinal is None else float(yfinal), float(settling_threshold),

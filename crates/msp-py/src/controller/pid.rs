@@ -152,30 +152,65 @@ impl PyPid {
         self.inner.preset(u).map_err(value_err)
     }
 
+    /// The constructor call that builds this controller (``eval`` gives
+    /// one that computes the same outputs from the same state): the ISA
+    /// form, or the parallel form for ``kp = 0`` (a pure I or D controller,
+    /// which the ISA form cannot hold). Its state (``mode``, ``output``) is
+    /// in its properties.
     fn __repr__(&self) -> String {
         let c = self.inner.config();
-        let n = if c.tf > 0.0 {
-            c.td() / c.tf
+        let num = |v: f64| {
+            if v.is_nan() {
+                "float('nan')".to_string()
+            } else if v.is_infinite() {
+                format!("float('{}inf')", if v < 0.0 { "-" } else { "" })
+            } else {
+                format!("{v:?}")
+            }
+        };
+        let (aw, tt) = match c.anti_windup {
+            AntiWindup::None => ("none", None),
+            AntiWindup::BackCalculation { tt } => ("back-calculation", Some(tt)),
+            AntiWindup::Conditional => ("clamping", None),
+        };
+        let tail = format!(
+            "b={}, c={}, umin={}, umax={}, anti_windup='{aw}', tt={}, rate_limit={})",
+            num(c.b),
+            num(c.c),
+            num(c.u_min),
+            num(c.u_max),
+            tt.map_or("None".to_string(), num),
+            num(c.rate_limit)
+        );
+        if c.kp == 0.0 {
+            format!(
+                "msp.Pid.parallel(kp={}, ki={}, kd={}, ts={}, tf={}, {tail}",
+                num(c.kp),
+                num(c.ki),
+                num(c.kd),
+                num(c.ts),
+                num(c.tf)
+            )
         } else {
-            f64::INFINITY
-        };
-        let mode = match self.inner.mode() {
-            msp::pid::Mode::Auto => "auto",
-            msp::pid::Mode::Manual => "manual",
-        };
-        format!(
-            "Pid(kp={}, ti={}, td={}, ts={}, n={}, b={}, c={}, umin={}, umax={}, mode={mode}, output={})",
-            c.kp,
-            c.ti(),
-            c.td(),
-            c.ts,
-            if c.td() > 0.0 { n } else { f64::NAN },
-            c.b,
-            c.c,
-            c.u_min,
-            c.u_max,
-            self.inner.output()
-        )
+            // N = Td/Tf (any value without a derivative: 10, the default)
+            let n = if c.td() > 0.0 {
+                if c.tf > 0.0 {
+                    c.td() / c.tf
+                } else {
+                    f64::INFINITY
+                }
+            } else {
+                10.0
+            };
+            format!(
+                "msp.Pid(kp={}, ti={}, td={}, ts={}, n={}, {tail}",
+                num(c.kp),
+                num(c.ti()),
+                num(c.td()),
+                num(c.ts),
+                num(n)
+            )
+        }
     }
     /// One sample.
     fn update(&mut self, r: f64, y: f64) -> f64 {
@@ -236,14 +271,19 @@ impl PyPid {
     fn fault(&self) -> bool {
         self.inner.fault()
     }
-    /// Parameters ``kp``, ``ti``, ``td``.
+    /// Parameters: the ISA ``kp``, ``ti``, ``td`` and the parallel ``ki``,
+    /// ``kd`` (``ti`` and ``td`` are ``None`` for ``kp = 0``, a pure I or D
+    /// controller, which has no ISA form).
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.inner.config();
         let d = PyDict::new(py);
+        let isa = c.kp != 0.0;
         d.set_item("kp", c.kp)?;
-        d.set_item("ti", c.ti())?;
-        d.set_item("td", c.td())?;
+        d.set_item("ti", isa.then(|| c.ti()))?;
+        d.set_item("td", isa.then(|| c.td()))?;
+        d.set_item("ki", c.ki)?;
+        d.set_item("kd", c.kd)?;
         Ok(d)
     }
 }
