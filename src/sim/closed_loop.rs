@@ -383,7 +383,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         applied: operated && applies,
         d_inner: !middles.is_empty(),
     };
-    let zeroed = res.size(controller.signal_names(), n_rows, columns);
+    let zeroed = res.size(controller.signal_names(), n_rows, columns)?;
     let mut run = Run {
         n,
         m,

@@ -246,9 +246,14 @@ impl PlantSim {
 /// `n` zeros, taken fallibly: a line the system cannot provide is an
 /// error, not an abort.
 pub(super) fn vec_zeros(n: usize) -> Result<Vec<f64>, Error> {
+    vec_zeros_for(n, "plant dead-time line")
+}
+
+/// `n` zeros for `what`, taken fallibly.
+pub(super) fn vec_zeros_for(n: usize, what: &'static str) -> Result<Vec<f64>, Error> {
     let mut v = Vec::new();
     v.try_reserve_exact(n)
-        .map_err(|_| Error::OutOfMemory("plant dead-time line"))?;
+        .map_err(|_| Error::OutOfMemory(what))?;
     v.resize(n, 0.0);
     Ok(v)
 }

@@ -51,17 +51,18 @@ impl SimResult {
         names: &[&str],
         rows: usize,
         c: Columns,
-    ) -> super::engine::Zeroed {
-        // a column without the room is allocated zeroed (the allocator's
-        // fresh pages: nothing written before the run writes it); a reused
-        // one keeps its memory and its old rows, which the run overwrites
-        let fit = |v: &mut Vec<f64>| {
+    ) -> Result<super::engine::Zeroed, crate::Error> {
+        // a column without the room is allocated anew, zeroed, fallibly (a
+        // column the process cannot have is an error, not an abort); a
+        // reused one keeps its memory and its old rows, which the run
+        // overwrites
+        let fit = |v: &mut Vec<f64>| -> Result<bool, crate::Error> {
             if v.capacity() < rows {
-                *v = std::vec![0.0; rows];
-                true
+                *v = super::plant::vec_zeros_for(rows, "recorded signals")?;
+                Ok(true)
             } else {
                 v.resize(rows, 0.0);
-                false
+                Ok(false)
             }
         };
         let mut zeroed = super::engine::Zeroed::default();
@@ -78,7 +79,7 @@ impl SimResult {
         ];
         for (v, on, zero) in recorded {
             if on {
-                let fresh = fit(v);
+                let fresh = fit(v)?;
                 if let Some(z) = zero {
                     *z = fresh;
                 }
@@ -89,7 +90,7 @@ impl SimResult {
         self.diverged_at = None;
         if !c.all {
             self.signals.clear();
-            return zeroed;
+            return Ok(zeroed);
         }
         let same = self.signals.len() == names.len()
             && self.signals.iter().zip(names).all(|((a, _), b)| a == b);
@@ -104,9 +105,9 @@ impl SimResult {
                 .collect();
         }
         for (_, v) in &mut self.signals {
-            fit(v);
+            fit(v)?;
         }
-        zeroed
+        Ok(zeroed)
     }
 
     /// Cuts every column to its first `rows` rows.

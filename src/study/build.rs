@@ -70,13 +70,40 @@ pub struct BuiltController {
     pub u_max: f64,
 }
 
-/// The memory the system can still give (Linux's `MemAvailable`), or `None`
-/// where that cannot be read.
+/// The memory this process can still have, or `None` where none of it can
+/// be read: the least of what the system can give (Linux's
+/// `MemAvailable`), what the process's address-space limit leaves
+/// (`RLIMIT_AS`, less its address space now: `ulimit -v`) and what its
+/// control group's limit leaves (cgroup v2 `memory.max` less
+/// `memory.current`: a container's).
 fn available_memory() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
+    let read = |path: &str| std::fs::read_to_string(path).ok();
+    let field = |text: &str, key: &str| -> Option<f64> {
+        let line = text.lines().find(|l| l.starts_with(key))?;
+        line.get(key.len()..)?
+            .split_whitespace()
+            .next()?
+            .parse()
+            .ok()
+    };
+    let system = read("/proc/meminfo")
+        .and_then(|t| field(&t, "MemAvailable:"))
+        .map(|k| k * 1024.0);
+    let address = read("/proc/self/limits")
+        .and_then(|t| field(&t, "Max address space"))
+        .and_then(|limit| {
+            let used = read("/proc/self/status").and_then(|t| field(&t, "VmSize:"))? * 1024.0;
+            Some((limit - used).max(0.0))
+        });
+    let group = read("/sys/fs/cgroup/memory.max").and_then(|m| {
+        let max: f64 = m.trim().parse().ok()?;
+        let now: f64 = read("/sys/fs/cgroup/memory.current")?.trim().parse().ok()?;
+        Some((max - now).max(0.0))
+    });
+    [system, address, group]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min)
 }
 
 /// Refuses what needs about `bytes` (described by `what`) when that is above
@@ -101,7 +128,7 @@ pub fn check_budget(max_memory: Option<u64>, bytes: f64, what: &str) -> Result<(
     if let Some(free) = available_memory() {
         if bytes > free {
             return Err(RunError::Limit(std::format!(
-                "the run needs about {} ({what}); the machine has {} available",
+                "the run needs about {} ({what}); this process can have {} (the machine's available memory, its address-space limit and its control group's, the least of them)",
                 human(bytes),
                 human(free)
             )));

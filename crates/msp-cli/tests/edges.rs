@@ -476,3 +476,27 @@ fn endless_wide_and_ambiguous_csv() {
             "two columns are named 'y' (columns 2 and 4)",
         ));
 }
+
+/// A budget raised past what the process may have (`--max-memory 100G`
+/// under a 4 GiB address-space limit, a run of about 12 GiB) is refused
+/// before anything is allocated, saying what the process can have: the
+/// check reads the process's own limits, not the machine's memory alone.
+#[test]
+fn a_budget_beyond_the_process_limit_is_refused_cleanly() {
+    let (code, err) = limited(&[
+        "run",
+        "-p",
+        "e^-5s/(10s+1)",
+        "--ts",
+        "1e-5",
+        "--duration",
+        "1000",
+        "--max-memory",
+        "100G",
+        "-o",
+        "/dev/null",
+        "-q",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("this process can have"), "{err}");
+}
