@@ -271,17 +271,7 @@ twins! {
         model: *const crate::msp_model | *const crate::msp_model_f64,
     ) -> msp_status {
         // SAFETY: forwarded
-        let Some(m) = (unsafe { read(model) }) else {
-            return msp_status::MSP_NULL_POINTER;
-        };
-        // SAFETY: forwarded
-        let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
-            return bad(est);
-        };
-        match fopdt_or_ipdt(&m).and_then(|(k, tau, theta)| b.start_from(k, tau, theta)) {
-            Ok(()) => msp_status::MSP_OK,
-            Err(e) => e.into(),
-        }
+        unsafe { with_model(est, model, Bank::start_from) }
     }
 
     /// One sample: `y` measured now, `u_applied` the input the plant
@@ -335,17 +325,7 @@ twins! {
         model: *const crate::msp_model | *const crate::msp_model_f64,
     ) -> msp_status {
         // SAFETY: forwarded
-        let Some(m) = (unsafe { read(model) }) else {
-            return msp_status::MSP_NULL_POINTER;
-        };
-        // SAFETY: forwarded
-        let Some(b) = (unsafe { value::<_, Bank<_>>(est) }) else {
-            return bad(est);
-        };
-        match fopdt_or_ipdt(&m).and_then(|(k, tau, theta)| b.set_reference(k, tau, theta)) {
-            Ok(()) => msp_status::MSP_OK,
-            Err(e) => e.into(),
-        }
+        unsafe { with_model(est, model, Bank::set_reference) }
     }
 
     /// The model in use against the process (`*out`): over the costs'

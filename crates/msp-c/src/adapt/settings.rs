@@ -48,6 +48,30 @@ pub(super) fn estimate_of<T: Real>(e: Option<Estimate<T>>) -> msp_estimate_of<T>
     }
 }
 
+/// `apply` with the FOPDT or IPDT `model`'s `(K, τ, θ)` on the estimator
+/// behind `est`: its status.
+///
+/// # Safety
+/// `est` is null or from `msp_estimator_init`; `model` null or valid.
+pub(super) unsafe fn with_model<T: Real, E: Tagged>(
+    est: *mut E,
+    model: *const msp_model_of<T>,
+    apply: impl FnOnce(&mut Bank<T>, T, T, T) -> Result<(), Error>,
+) -> msp_status {
+    // SAFETY: the caller's pointer, null-checked
+    let Some(m) = (unsafe { read(model) }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    // SAFETY: the caller's pointer, tag-checked
+    let Some(b) = (unsafe { value::<_, Bank<T>>(est) }) else {
+        return bad(est);
+    };
+    match fopdt_or_ipdt(&m).and_then(|(k, tau, theta)| apply(b, k, tau, theta)) {
+        Ok(()) => msp_status::MSP_OK,
+        Err(e) => e.into(),
+    }
+}
+
 /// A model error for C (NaN before a whole response was compared).
 pub(super) fn mismatch_of<T: Real>(m: Option<Mismatch<T>>) -> msp_mismatch_of<T> {
     msp_mismatch_of {
