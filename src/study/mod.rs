@@ -20,7 +20,7 @@ pub use adapt::{AdaptOptions, CANDIDATES as ADAPT_CANDIDATES};
 
 pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
-use build::{BYTES_PER_ROW, BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE};
+use build::{BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE, RECORDED_COLUMNS};
 pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use forced::SampledInput;

@@ -331,10 +331,30 @@ impl Scenario {
         // scenario and the report's copies, the event figures)
         #[allow(clippy::cast_precision_loss)]
         let items = (self.setpoint.len() + self.disturbance.len() + self.events.len()) as f64;
+        // the columns this run records: the fixed ones and the controller's
+        // signals (an estimate close to what is taken, so that a process
+        // limit near it is not refused for columns it never has)
+        #[allow(clippy::cast_precision_loss)] // a few dozen signals
+        // (u_applied only where an operator or an actuator changes what the
+        // plant receives)
+        let applied = if self.events.is_empty() && self.actuator.is_none() {
+            0.0
+        } else {
+            1.0
+        };
+        let columns = if keep == Keep::Output {
+            // the output and the input only (t, y, u; y2)
+            3.0 + applied + if inner.is_some() { 1.0 } else { 0.0 }
+        } else {
+            RECORDED_COLUMNS - 1.0
+                + applied
+                + if inner.is_some() { 2.0 } else { 0.0 }
+                + ctrl.signal_names().len() as f64
+        };
         self.within_budget(
             model_samples * CONTROLLER_BYTES_PER_SAMPLE
                 + plant_samples * PLANT_BYTES_PER_SAMPLE
-                + rows * BYTES_PER_ROW
+                + rows * 8.0 * columns
                 + items * BYTES_PER_SCHEDULED,
             &std::format!(
                 "{} scheduled steps and events, {} recorded rows ({} s at ts = {} s{}) and {} samples of dead time",
