@@ -26,7 +26,7 @@
 //! second within that disc again. So a long delay costs steps only near
 //! the crossover.
 
-use core::ops::{Add, Div, Mul, Sub};
+use core::ops::{Add, Div, Sub};
 use std::string::String;
 use std::vec::Vec;
 
@@ -36,6 +36,7 @@ use crate::poly::{poly_roots, trim, TransferFunction};
 
 /// The poles, zeros and gain of `k·G`, and how it is followed.
 struct Loop {
+    plant: TransferFunction,
     num: Vec<f64>,
     den: Vec<f64>,
     k: f64,
@@ -45,17 +46,10 @@ struct Loop {
 }
 
 impl Loop {
-    /// `L(jω)`.
+    /// `L(jω)`: the plant's own frequency response, times the gain.
     fn at(&self, w: f64) -> Complex<f64> {
-        let ev = |p: &[f64]| {
-            p.iter().fold(Complex::real(0.0), |acc, c| {
-                acc.mul(Complex::new(0.0, w)).add(Complex::real(*c))
-            })
-        };
-        ev(&self.num)
-            .div(ev(&self.den))
-            .mul(Complex::cis(-w * self.delay))
-            .scale(self.k)
+        let (re, im) = self.plant.freq(w);
+        Complex::new(re, im).scale(self.k)
     }
 
     /// The continuous phase of `L(jω)` for `ω > 0`: each pole's and zero's
@@ -142,6 +136,7 @@ fn count(plant: &TransferFunction, k: f64) -> Result<(usize, usize), String> {
     }
     let lost = |e: crate::Error| std::format!("the loop's poles and zeros could not be found: {e}");
     let l = Loop {
+        plant: plant.clone(),
         zeros: poly_roots(&num).map_err(lost)?,
         poles: poly_roots(&den).map_err(lost)?,
         num,
