@@ -140,108 +140,29 @@ fn check(row: &Row, l: &dyn Fn(f64) -> C) {
 
 #[test]
 fn every_printed_msp_row_is_the_open_loop_with_the_output_disconnected() {
+    // (model, gain factor, delay factor, table, Gm dB, Pm °, Wco, its decimals, Wpm, its decimals)
+    #[rustfmt::skip]
     let rows = [
         // model 1, 0.2e^{−7.4s}/s
-        (
-            &MODEL1,
-            1.0,
-            1.0,
-            Row {
-                table: "Table 5.1/5.3",
-                gm_db: 7.56,
-                pm: 26.40,
-                wco: (0.90, 2),
-                wpm: (0.10, 2),
-            },
-        ),
-        (
-            &MODEL1,
-            1.0,
-            1.1,
-            Row {
-                table: "Table 5.7 (+10 % delay)",
-                gm_db: 7.56,
-                pm: 25.40,
-                wco: (0.93, 2),
-                wpm: (0.09, 2),
-            },
-        ),
-        (
-            &MODEL1,
-            1.1,
-            1.0,
-            Row {
-                table: "Table 5.11 (+10 % gain)",
-                gm_db: 8.39,
-                pm: 20.10,
-                wco: (0.95, 2),
-                wpm: (0.09, 2),
-            },
-        ),
-        (
-            &MODEL1,
-            1.1,
-            1.1,
-            Row {
-                table: "Table 5.15 (+10 % both)",
-                gm_db: 8.38,
-                pm: 18.80,
-                wco: (0.99, 2),
-                wpm: (0.09, 2),
-            },
-        ),
+        (&MODEL1, 1.0, 1.0, "Table 5.1/5.3", 7.56, 26.40, 0.90, 2, 0.10, 2),
+        (&MODEL1, 1.0, 1.1, "Table 5.7 (+10 % delay)", 7.56, 25.40, 0.93, 2, 0.09, 2),
+        (&MODEL1, 1.1, 1.0, "Table 5.11 (+10 % gain)", 8.39, 20.10, 0.95, 2, 0.09, 2),
+        (&MODEL1, 1.1, 1.1, "Table 5.15 (+10 % both)", 8.38, 18.80, 0.99, 2, 0.09, 2),
         // model 2, 0.05e^{−6s}/s
-        (
-            &MODEL2,
-            1.0,
-            1.0,
-            Row {
-                table: "Table 5.5",
-                gm_db: 7.57,
-                pm: 26.30,
-                wco: (1.11, 2),
-                wpm: (0.121, 3),
-            },
-        ),
-        (
-            &MODEL2,
-            1.0,
-            1.1,
-            Row {
-                table: "Table 5.9 (+10 % delay)",
-                gm_db: 7.57,
-                pm: 25.30,
-                wco: (1.15, 2),
-                wpm: (0.111, 3),
-            },
-        ),
-        (
-            &MODEL2,
-            1.1,
-            1.0,
-            Row {
-                table: "Table 5.13 (+10 % gain)",
-                gm_db: 8.39,
-                pm: 20.10,
-                wco: (1.18, 2),
-                wpm: (0.11, 2),
-            },
-        ),
-        (
-            &MODEL2,
-            1.1,
-            1.1,
-            Row {
-                table: "Table 5.17 (+10 % both)",
-                gm_db: 8.38,
-                pm: 18.70,
-                wco: (1.22, 2),
-                wpm: (0.11, 2),
-            },
-        ),
+        (&MODEL2, 1.0, 1.0, "Table 5.5", 7.57, 26.30, 1.11, 2, 0.121, 3),
+        (&MODEL2, 1.0, 1.1, "Table 5.9 (+10 % delay)", 7.57, 25.30, 1.15, 2, 0.111, 3),
+        (&MODEL2, 1.1, 1.0, "Table 5.13 (+10 % gain)", 8.39, 20.10, 1.18, 2, 0.11, 2),
+        (&MODEL2, 1.1, 1.1, "Table 5.17 (+10 % both)", 8.38, 18.70, 1.22, 2, 0.11, 2),
     ];
-    for (m, gain, delay, row) in &rows {
-        check(row, &thesis_loop(m, *gain, *delay));
+    for (m, gain, delay, table, gm_db, pm, wco, wco_dp, wpm, wpm_dp) in rows {
+        let row = Row {
+            table,
+            gm_db,
+            pm,
+            wco: (wco, wco_dp),
+            wpm: (wpm, wpm_dp),
+        };
+        check(&row, &thesis_loop(m, gain, delay));
     }
 }
 
