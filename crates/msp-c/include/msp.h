@@ -925,6 +925,23 @@ size_t msp_pid_size_f64(const msp_pid_config_f64 *config,
                         uint32_t max_dead_time_samples,
                         msp_status *status);
 
+// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
+// is its handle.
+//
+// # Safety
+// `buf` is null or points to `len` writable bytes that stay in place
+// while the controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_pid_init(void *buf, size_t len, const msp_pid_config *config, msp_controller **ctrl);
+
+// [`msp_pid_init`] in double precision.
+//
+// # Safety
+// As [`msp_pid_init`].
+msp_status msp_pid_init_f64(void *buf,
+                            size_t len,
+                            const msp_pid_config_f64 *config,
+                            msp_controller_f64 **ctrl);
+
 // The bytes a Smith predictor needs for its model's dead time, or for
 // `max_dead_time_samples` when that is longer (room to lengthen the dead
 // time at run time); 0 on an error, with the reason in `*status`.
@@ -943,6 +960,26 @@ size_t msp_smith_size_f64(const msp_smith_config_f64 *config,
                           uint32_t max_dead_time_samples,
                           msp_status *status);
 
+// Builds a Smith predictor in `buf`: its delay line takes the rest of the
+// buffer (the longest dead time it can be given later).
+//
+// # Safety
+// `buf` is null or points to `len` writable bytes that stay in place
+// while the controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_smith_init(void *buf,
+                          size_t len,
+                          const msp_smith_config *config,
+                          msp_controller **ctrl);
+
+// [`msp_smith_init`] in double precision.
+//
+// # Safety
+// As [`msp_smith_init`].
+msp_status msp_smith_init_f64(void *buf,
+                              size_t len,
+                              const msp_smith_config_f64 *config,
+                              msp_controller_f64 **ctrl);
+
 // [`msp_smith_size`] for the Karan–Dey predictor.
 //
 // # Safety
@@ -958,6 +995,25 @@ size_t msp_karan_dey_size(const msp_karan_dey_config *config,
 size_t msp_karan_dey_size_f64(const msp_karan_dey_config_f64 *config,
                               uint32_t max_dead_time_samples,
                               msp_status *status);
+
+// Builds a Karan–Dey predictor in `buf`.
+//
+// # Safety
+// `buf` is null or points to `len` writable bytes that stay in place
+// while the controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_karan_dey_init(void *buf,
+                              size_t len,
+                              const msp_karan_dey_config *config,
+                              msp_controller **ctrl);
+
+// [`msp_karan_dey_init`] in double precision.
+//
+// # Safety
+// As [`msp_karan_dey_init`].
+msp_status msp_karan_dey_init_f64(void *buf,
+                                  size_t len,
+                                  const msp_karan_dey_config_f64 *config,
+                                  msp_controller_f64 **ctrl);
 
 // [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
 // included).
@@ -976,64 +1032,11 @@ size_t msp_fsp_size_f64(const msp_fsp_config_f64 *config,
                         uint32_t max_dead_time_samples,
                         msp_status *status);
 
-// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
-// is its handle.
-//
-// # Safety
-// `buf` is null or points to `len` writable bytes that stay in place while
-// the controller is used; `config` and `ctrl` are null or valid.
-msp_status msp_pid_init(void *buf, size_t len, const msp_pid_config *config, msp_controller **ctrl);
-
-// [`msp_pid_init`] in double precision.
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_pid_init_f64(void *buf,
-                            size_t len,
-                            const msp_pid_config_f64 *config,
-                            msp_controller_f64 **ctrl);
-
-// Builds a Smith predictor in `buf`: its delay line takes the rest of the
-// buffer (the longest dead time it can be given later).
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_smith_init(void *buf,
-                          size_t len,
-                          const msp_smith_config *config,
-                          msp_controller **ctrl);
-
-// [`msp_smith_init`] in double precision.
-//
-// # Safety
-// As [`msp_smith_init`].
-msp_status msp_smith_init_f64(void *buf,
-                              size_t len,
-                              const msp_smith_config_f64 *config,
-                              msp_controller_f64 **ctrl);
-
-// Builds a Karan–Dey predictor in `buf`.
-//
-// # Safety
-// As [`msp_pid_init`].
-msp_status msp_karan_dey_init(void *buf,
-                              size_t len,
-                              const msp_karan_dey_config *config,
-                              msp_controller **ctrl);
-
-// [`msp_karan_dey_init`] in double precision.
-//
-// # Safety
-// As [`msp_karan_dey_init`].
-msp_status msp_karan_dey_init_f64(void *buf,
-                                  size_t len,
-                                  const msp_karan_dey_config_f64 *config,
-                                  msp_controller_f64 **ctrl);
-
 // Designs and builds a filtered Smith predictor in `buf`.
 //
 // # Safety
-// As [`msp_pid_init`].
+// `buf` is null or points to `len` writable bytes that stay in place
+// while the controller is used; `config` and `ctrl` are null or valid.
 msp_status msp_fsp_init(void *buf, size_t len, const msp_fsp_config *config, msp_controller **ctrl);
 
 // [`msp_fsp_init`] in double precision.

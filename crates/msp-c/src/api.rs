@@ -8,121 +8,79 @@
 use crate::handle::*;
 use crate::msp_status;
 
-twins! {
+/// Each scheme's two construction calls in both precisions (through
+/// `twins!`): `size` (the bytes its buffer needs; 0 on an error, with the
+/// reason in `*status`) and `init` (builds it in the buffer, `*ctrl` its
+/// handle), from its configuration type, its buffer's kind and dead-time
+/// count, and its constructor.
+macro_rules! scheme_entries {
+    ($(
+        $(#[doc = $size_doc:literal])*
+        fn $size:ident, $size64:ident = ($kind:expr, $samples:expr);
+        $(#[doc = $init_doc:literal])*
+        fn $init:ident, $init64:ident = $make:expr;
+        config: $cfg:ident, $cfg64:ident;
+    )*) => { twins! { $(
+        $(#[doc = $size_doc])*
+        ///
+        /// # Safety
+        /// `config` and `status` are null or valid pointers.
+        fn $size, $size64(
+            config: *const $cfg | *const $cfg64,
+            max_dead_time_samples: u32,
+            status: *mut msp_status,
+        ) -> usize {
+            // SAFETY: forwarded
+            unsafe { config_size(config, max_dead_time_samples, status, $kind, $samples) }
+        }
+
+        $(#[doc = $init_doc])*
+        ///
+        /// # Safety
+        /// `buf` is null or points to `len` writable bytes that stay in place
+        /// while the controller is used; `config` and `ctrl` are null or valid.
+        fn $init, $init64(
+            buf: *mut core::ffi::c_void,
+            len: usize,
+            config: *const $cfg | *const $cfg64,
+            ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
+        ) -> msp_status {
+            // SAFETY: forwarded
+            unsafe { config_init(buf, len, config, ctrl, $make) }
+        }
+    )* } };
+}
+
+scheme_entries! {
     /// The bytes a PID controller needs; 0 on an error, with the reason in
     /// `*status` (`status` may be null). `max_dead_time_samples` is not read.
-    ///
-    /// # Safety
-    /// `config` and `status` are null or valid pointers.
-    fn msp_pid_size, msp_pid_size_f64(
-        config: *const msp_pid_config | *const msp_pid_config_f64,
-        max_dead_time_samples: u32,
-        status: *mut msp_status,
-    ) -> usize {
-        // SAFETY: forwarded
-        unsafe { config_size(config, max_dead_time_samples, status, Kind::Pid, pid_samples) }
-    }
+    fn msp_pid_size, msp_pid_size_f64 = (Kind::Pid, pid_samples);
+    /// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
+    /// is its handle.
+    fn msp_pid_init, msp_pid_init_f64 = |c, _| make_pid(c);
+    config: msp_pid_config, msp_pid_config_f64;
 
     /// The bytes a Smith predictor needs for its model's dead time, or for
     /// `max_dead_time_samples` when that is longer (room to lengthen the dead
     /// time at run time); 0 on an error, with the reason in `*status`.
-    ///
-    /// # Safety
-    /// `config` and `status` are null or valid pointers.
-    fn msp_smith_size, msp_smith_size_f64(
-        config: *const msp_smith_config | *const msp_smith_config_f64,
-        max_dead_time_samples: u32,
-        status: *mut msp_status,
-    ) -> usize {
-        // SAFETY: forwarded
-        unsafe { config_size(config, max_dead_time_samples, status, Kind::Line, smith_samples) }
-    }
+    fn msp_smith_size, msp_smith_size_f64 = (Kind::Line, smith_samples);
+    /// Builds a Smith predictor in `buf`: its delay line takes the rest of the
+    /// buffer (the longest dead time it can be given later).
+    fn msp_smith_init, msp_smith_init_f64 = make_smith;
+    config: msp_smith_config, msp_smith_config_f64;
 
     /// [`msp_smith_size`] for the Karan–Dey predictor.
-    ///
-    /// # Safety
-    /// `config` and `status` are null or valid pointers.
-    fn msp_karan_dey_size, msp_karan_dey_size_f64(
-        config: *const msp_karan_dey_config | *const msp_karan_dey_config_f64,
-        max_dead_time_samples: u32,
-        status: *mut msp_status,
-    ) -> usize {
-        // SAFETY: forwarded
-        unsafe { config_size(config, max_dead_time_samples, status, Kind::Line, karan_dey_samples) }
-    }
+    fn msp_karan_dey_size, msp_karan_dey_size_f64 = (Kind::Line, karan_dey_samples);
+    /// Builds a Karan–Dey predictor in `buf`.
+    fn msp_karan_dey_init, msp_karan_dey_init_f64 = make_karan_dey;
+    config: msp_karan_dey_config, msp_karan_dey_config_f64;
 
     /// [`msp_smith_size`] for the filtered Smith predictor (its design's scratch
     /// included).
-    ///
-    /// # Safety
-    /// `config` and `status` are null or valid pointers.
-    fn msp_fsp_size, msp_fsp_size_f64(
-        config: *const msp_fsp_config | *const msp_fsp_config_f64,
-        max_dead_time_samples: u32,
-        status: *mut msp_status,
-    ) -> usize {
-        // SAFETY: forwarded
-        unsafe { config_size(config, max_dead_time_samples, status, Kind::Fsp, fsp_samples) }
-    }
-
-    /// Builds a PID controller in `buf` (`len` bytes, any alignment); `*ctrl`
-    /// is its handle.
-    ///
-    /// # Safety
-    /// `buf` is null or points to `len` writable bytes that stay in place while
-    /// the controller is used; `config` and `ctrl` are null or valid.
-    fn msp_pid_init, msp_pid_init_f64(
-        buf: *mut core::ffi::c_void,
-        len: usize,
-        config: *const msp_pid_config | *const msp_pid_config_f64,
-        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
-    ) -> msp_status {
-        // SAFETY: forwarded
-        unsafe { config_init(buf, len, config, ctrl, |c, _| make_pid(c)) }
-    }
-
-    /// Builds a Smith predictor in `buf`: its delay line takes the rest of the
-    /// buffer (the longest dead time it can be given later).
-    ///
-    /// # Safety
-    /// As [`msp_pid_init`].
-    fn msp_smith_init, msp_smith_init_f64(
-        buf: *mut core::ffi::c_void,
-        len: usize,
-        config: *const msp_smith_config | *const msp_smith_config_f64,
-        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
-    ) -> msp_status {
-        // SAFETY: forwarded
-        unsafe { config_init(buf, len, config, ctrl, make_smith) }
-    }
-
-    /// Builds a Karan–Dey predictor in `buf`.
-    ///
-    /// # Safety
-    /// As [`msp_pid_init`].
-    fn msp_karan_dey_init, msp_karan_dey_init_f64(
-        buf: *mut core::ffi::c_void,
-        len: usize,
-        config: *const msp_karan_dey_config | *const msp_karan_dey_config_f64,
-        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
-    ) -> msp_status {
-        // SAFETY: forwarded
-        unsafe { config_init(buf, len, config, ctrl, make_karan_dey) }
-    }
-
+    fn msp_fsp_size, msp_fsp_size_f64 = (Kind::Fsp, fsp_samples);
     /// Designs and builds a filtered Smith predictor in `buf`.
-    ///
-    /// # Safety
-    /// As [`msp_pid_init`].
-    fn msp_fsp_init, msp_fsp_init_f64(
-        buf: *mut core::ffi::c_void,
-        len: usize,
-        config: *const msp_fsp_config | *const msp_fsp_config_f64,
-        ctrl: *mut *mut msp_controller | *mut *mut msp_controller_f64,
-    ) -> msp_status {
-        // SAFETY: forwarded
-        unsafe { config_init(buf, len, config, ctrl, make_fsp) }
-    }
+    fn msp_fsp_init, msp_fsp_init_f64 = make_fsp;
+    config: msp_fsp_config, msp_fsp_config_f64;
 }
 
 /// One sample: the set point `r` and the measurement `y` in, the actuator
@@ -191,6 +149,26 @@ mod trampoline {
     const _: () = assert!(offset_of!(Handle<f32>, magic) == 0);
     const _: () = assert!(offset_of!(Handle<f64>, magic) == 0);
 
+    /// The trampoline: the tag checked, the bound update tail-called; else
+    /// the NaN the given instructions put in the return register.
+    macro_rules! dispatch {
+        ($update:ident, $magic:ident, $($nan:literal),+) => {
+            core::arch::naked_asm!(
+                "cbz r0, 2f",
+                "ldr r1, [r0]",
+                "cmp r1, #{magic}",
+                "bne 2f",
+                "ldrd r1, r0, [r0, #{update}]",
+                "bx r1",
+                "2:",
+                $($nan,)+
+                "bx lr",
+                update = const $update,
+                magic = const $magic,
+            )
+        };
+    }
+
     const UPDATE: usize = offset_of!(Handle<f32>, update);
     const UPDATE_F64: usize = offset_of!(Handle<f64>, update);
     // `ldrd` takes the update and the controller's address as a pair
@@ -204,20 +182,12 @@ mod trampoline {
     #[unsafe(naked)]
     #[no_mangle]
     pub unsafe extern "C" fn msp_update(_ctrl: *mut msp_controller, _r: f32, _y: f32) -> f32 {
-        core::arch::naked_asm!(
-            "cbz r0, 2f",
-            "ldr r1, [r0]",
-            "cmp r1, #{magic}",
-            "bne 2f",
-            "ldrd r1, r0, [r0, #{update}]",
-            "bx r1",
-            "2:",
+        dispatch!(
+            UPDATE,
+            MAGIC,
             "movw r1, #0",
             "movt r1, #0x7fc0",
-            "vmov s0, r1",
-            "bx lr",
-            update = const UPDATE,
-            magic = const MAGIC,
+            "vmov s0, r1"
         )
     }
 
@@ -232,21 +202,13 @@ mod trampoline {
         _r: f64,
         _y: f64,
     ) -> f64 {
-        core::arch::naked_asm!(
-            "cbz r0, 2f",
-            "ldr r1, [r0]",
-            "cmp r1, #{magic}",
-            "bne 2f",
-            "ldrd r1, r0, [r0, #{update}]",
-            "bx r1",
-            "2:",
+        dispatch!(
+            UPDATE_F64,
+            MAGIC_F64,
             "movs r1, #0",
             "movw r2, #0",
             "movt r2, #0x7ff8",
-            "vmov d0, r1, r2",
-            "bx lr",
-            update = const UPDATE_F64,
-            magic = const MAGIC_F64,
+            "vmov d0, r1, r2"
         )
     }
 }

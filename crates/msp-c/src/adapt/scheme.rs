@@ -112,20 +112,108 @@ pub(super) unsafe fn tag<H: Tagged, V>(slot: *mut Tag<V>, v: V, out: *mut *mut H
     msp_status::MSP_OK
 }
 
-/// A scheme's configuration that adapts in the caller's memory.
-pub(super) trait Scheme<T: Precision>: Sized + Copy {
+/// A scheme's own configuration, as its adaptive one reads it.
+pub(super) trait SchemeConfig<T>: Copy {
+    /// Why an adaptive scheme of it needs its λ (it is redesigned at every
+    /// change), `None` where it is not.
+    const REDESIGNED: Option<&'static str>;
+    fn model(&self) -> &msp_model_of<T>;
+    fn ts(&self) -> T;
+    /// Checks the settings; the dead time in samples.
+    fn samples(&self) -> Result<T, Error>;
+}
+
+/// `SchemeConfig` of the configuration types: the model, the period and
+/// the dead-time count, and the redesign's reason.
+macro_rules! scheme_config {
+    ($($config:ident, $samples:ident, $redesigned:expr;)*) => {$(
+        impl<T: Real> SchemeConfig<T> for $config<T> {
+            const REDESIGNED: Option<&'static str> = $redesigned;
+            fn model(&self) -> &msp_model_of<T> {
+                &self.model
+            }
+            fn ts(&self) -> T {
+                self.ts
+            }
+            fn samples(&self) -> Result<T, Error> {
+                $samples(self)
+            }
+        }
+    )*};
+}
+
+scheme_config! {
+    msp_smith_config_of, smith_samples, None;
+    msp_karan_dey_config_of, karan_dey_samples, Some(
+        "lambda: the Karan-Dey predictor is redesigned at every change (0: its default)",
+    );
+    msp_fsp_config_of, fsp_samples, Some(
+        "lambda: the filtered Smith predictor is redesigned at every change (0: λ = θ)",
+    );
+}
+
+/// An adaptive configuration's two parts: the scheme's own and the
+/// adaptation's.
+pub(super) trait Parts<T>: Sized + Copy {
     /// The dead-time lines it needs (two: a redesigned scheme warms up
     /// beside the one in use).
     const LOTS: usize;
     /// The scheme's own configuration.
-    type Inner: Copy;
+    type Inner: SchemeConfig<T>;
+    /// The adaptive configuration of `inner` with `adapt`.
+    fn of(inner: Self::Inner, adapt: msp_adapt_config_of<T>) -> Self;
+    /// The scheme's own configuration and the adaptation's.
+    fn parts(&self) -> (&Self::Inner, &msp_adapt_config_of<T>);
+}
+
+/// `Parts` of the adaptive configuration types: the field that holds the
+/// scheme's own configuration, its type, the lines it needs.
+macro_rules! parts {
+    ($($config:ident { $field:ident: $inner:ident }, $lots:literal;)*) => {$(
+        impl<T: Real> Parts<T> for $config<T> {
+            const LOTS: usize = $lots;
+            type Inner = $inner<T>;
+            fn of($field: Self::Inner, adapt: msp_adapt_config_of<T>) -> Self {
+                Self { $field, adapt }
+            }
+            fn parts(&self) -> (&Self::Inner, &msp_adapt_config_of<T>) {
+                (&self.$field, &self.adapt)
+            }
+        }
+    )*};
+}
+
+parts! {
+    msp_adaptive_config_of { smith: msp_smith_config_of }, 1;
+    msp_adaptive_karan_dey_config_of { karan_dey: msp_karan_dey_config_of }, 2;
+    msp_adaptive_fsp_config_of { fsp: msp_fsp_config_of }, 2;
+}
+
+/// A scheme's configuration that adapts in the caller's memory.
+pub(super) trait Scheme<T: Precision>: Parts<T> {
     /// The defaults around the scheme's configuration.
-    fn around(inner: Self::Inner) -> Result<Self, Error>;
-    fn model(&self) -> &msp_model_of<T>;
-    fn ts(&self) -> T;
-    fn adapt(&self) -> &msp_adapt_config_of<T>;
+    fn around(inner: Self::Inner) -> Result<Self, Error> {
+        let adapt = scheme_default(inner.model(), inner.ts(), inner.samples())?;
+        Ok(Self::of(inner, adapt))
+    }
+    fn model(&self) -> &msp_model_of<T> {
+        self.parts().0.model()
+    }
+    fn ts(&self) -> T {
+        self.parts().0.ts()
+    }
+    fn adapt(&self) -> &msp_adapt_config_of<T> {
+        self.parts().1
+    }
     /// Checks the scheme's own settings; its dead time in samples.
-    fn samples(&self) -> Result<T, Error>;
+    fn samples(&self) -> Result<T, Error> {
+        if let Some(why) = Self::Inner::REDESIGNED {
+            if self.adapt().lambda.is_nan() {
+                return Err(Error::NonFinite(why));
+            }
+        }
+        self.parts().0.samples()
+    }
     /// The scheme with its lines in `lots`, designed in `scratch`.
     fn make(
         &self,
@@ -152,24 +240,6 @@ pub(super) trait Scheme<T: Precision>: Sized + Copy {
 }
 
 impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
-    const LOTS: usize = 1;
-    type Inner = msp_smith_config_of<T>;
-    fn around(smith: Self::Inner) -> Result<Self, Error> {
-        let adapt = scheme_default(&smith.model, smith.ts, smith_samples(&smith))?;
-        Ok(Self { smith, adapt })
-    }
-    fn model(&self) -> &msp_model_of<T> {
-        &self.smith.model
-    }
-    fn ts(&self) -> T {
-        self.smith.ts
-    }
-    fn adapt(&self) -> &msp_adapt_config_of<T> {
-        &self.adapt
-    }
-    fn samples(&self) -> Result<T, Error> {
-        smith_samples(&self.smith)
-    }
     fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot), _: Lot) -> Result<Adapting<T>, Error> {
         let c = &self.smith;
         let m = fopdt_or_ipdt(&c.model)?;
@@ -182,30 +252,6 @@ impl<T: Precision> Scheme<T> for msp_adaptive_config_of<T> {
 }
 
 impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
-    const LOTS: usize = 2;
-    type Inner = msp_karan_dey_config_of<T>;
-    fn around(karan_dey: Self::Inner) -> Result<Self, Error> {
-        let m = &karan_dey.model;
-        let adapt = scheme_default(m, karan_dey.ts, karan_dey_samples(&karan_dey))?;
-        Ok(Self { karan_dey, adapt })
-    }
-    fn model(&self) -> &msp_model_of<T> {
-        &self.karan_dey.model
-    }
-    fn ts(&self) -> T {
-        self.karan_dey.ts
-    }
-    fn adapt(&self) -> &msp_adapt_config_of<T> {
-        &self.adapt
-    }
-    fn samples(&self) -> Result<T, Error> {
-        if self.adapt.lambda.is_nan() {
-            return Err(Error::NonFinite(
-                "lambda: the Karan-Dey predictor is redesigned at every change (0: its default)",
-            ));
-        }
-        karan_dey_samples(&self.karan_dey)
-    }
     fn make(&self, cfg: AdaptiveConfig<T>, lots: (Lot, Lot), _: Lot) -> Result<Adapting<T>, Error> {
         let c = &self.karan_dey;
         let m = fopdt_or_ipdt(&c.model)?;
@@ -224,29 +270,6 @@ impl<T: Precision> Scheme<T> for msp_adaptive_karan_dey_config_of<T> {
 }
 
 impl<T: Precision> Scheme<T> for msp_adaptive_fsp_config_of<T> {
-    const LOTS: usize = 2;
-    type Inner = msp_fsp_config_of<T>;
-    fn around(fsp: Self::Inner) -> Result<Self, Error> {
-        let adapt = scheme_default(&fsp.model, fsp.ts, fsp_samples(&fsp))?;
-        Ok(Self { fsp, adapt })
-    }
-    fn model(&self) -> &msp_model_of<T> {
-        &self.fsp.model
-    }
-    fn ts(&self) -> T {
-        self.fsp.ts
-    }
-    fn adapt(&self) -> &msp_adapt_config_of<T> {
-        &self.adapt
-    }
-    fn samples(&self) -> Result<T, Error> {
-        if self.adapt.lambda.is_nan() {
-            return Err(Error::NonFinite(
-                "lambda: the filtered Smith predictor is redesigned at every change (0: λ = θ)",
-            ));
-        }
-        fsp_samples(&self.fsp)
-    }
     /// The predictor for the longest candidate's dead time rounded up.
     fn values(&self) -> usize {
         self.lot().0
@@ -287,6 +310,23 @@ impl<T> msp_adaptive_fsp_config_of<T> {
     fn lot(&self) -> (usize, usize) {
         fsp_storage((self.adapt.d_max as usize).saturating_add(1)).unwrap_or((usize::MAX, 0))
     }
+}
+
+/// The configuration behind `config` of an `init` call whose buffer `buf`
+/// and handle `out` are given (`Err`: one of the three is null).
+///
+/// # Safety
+/// `config` is null or valid.
+unsafe fn given<C: Copy, H>(
+    buf: *mut core::ffi::c_void,
+    config: *const C,
+    out: *mut *mut H,
+) -> Result<C, msp_status> {
+    if buf.is_null() || out.is_null() {
+        return Err(msp_status::MSP_NULL_POINTER);
+    }
+    // SAFETY: the caller's pointer
+    unsafe { read(config) }.ok_or(msp_status::MSP_NULL_POINTER)
 }
 
 /// The defaults of adaptation for a scheme of the model `m` at `ts`.
@@ -369,12 +409,10 @@ pub(super) unsafe fn adaptive_init<H: Tagged, S: Scheme<H::T>>(
     config: *const S,
     out: *mut *mut H,
 ) -> msp_status {
-    if buf.is_null() || out.is_null() {
-        return msp_status::MSP_NULL_POINTER;
-    }
     // SAFETY: forwarded
-    let Some(c) = (unsafe { read(config) }) else {
-        return msp_status::MSP_NULL_POINTER;
+    let c = match unsafe { given(buf, config, out) } {
+        Ok(c) => c,
+        Err(status) => return status,
     };
     let cfg = match c.config() {
         Ok(cfg) => cfg,
@@ -462,12 +500,10 @@ pub(super) unsafe fn estimator_init<H: Tagged>(
     config: *const msp_estimator_config_of<H::T>,
     out: *mut *mut H,
 ) -> msp_status {
-    if buf.is_null() || out.is_null() {
-        return msp_status::MSP_NULL_POINTER;
-    }
     // SAFETY: forwarded
-    let Some(c) = (unsafe { read(config) }) else {
-        return msp_status::MSP_NULL_POINTER;
+    let c = match unsafe { given(buf, config, out) } {
+        Ok(c) => c,
+        Err(status) => return status,
     };
     let bank = match estimator_config(&c).and_then(Bank::<H::T>::new) {
         Ok(b) => b,
