@@ -229,13 +229,12 @@ pub fn sweep(
         let plant = nominal.perturbed(gain, delay, tau)?;
         // t, y and u, and the row's metrics only (not the delayed-reference
         // ones nor the event figures)
-        let out = sc.run_tuned_measured(
-            &tuned,
-            plant.clone(),
-            model.clone(),
-            inner.clone(),
-            Keep::Output,
-        )?;
+        let plants = crate::study::Plants {
+            plant: &plant,
+            model: &model,
+            inner: inner.as_ref(),
+        };
+        let out = sc.run_tuned_measured(&tuned, plants, Keep::Output)?;
         let next = crate::study::next_event(&out.setpoint, &out.disturbance);
         let metrics =
             crate::study::metrics(&out.result.columns(), &out.setpoint, next, out.ts, 0.0)?;

@@ -32,6 +32,7 @@ pub use report::{
     AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,
 };
 pub use robustness::Robustness;
+pub(crate) use run::Plants;
 pub use target::{Figure, Target, TargetReport};
 pub use tradeoff::{tradeoff, tradeoff_factors, Tradeoff, TradeoffPoint};
 

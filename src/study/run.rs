@@ -3,6 +3,15 @@
 
 use super::*;
 
+/// The loop a tuned run simulates: the plant, the model its controllers
+/// were designed for, and a cascade's inner plant and model.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Plants<'a> {
+    pub(crate) plant: &'a TransferFunction,
+    pub(crate) model: &'a TransferFunction,
+    pub(crate) inner: Option<&'a (TransferFunction, TransferFunction)>,
+}
+
 impl Scenario {
     /// Tunes, builds and simulates; the output carries the tuned loop's
     /// robustness ([`Scenario::robustness`]).
@@ -45,9 +54,11 @@ impl Scenario {
             } else {
                 self.run_tuned_measured(
                     &tuned,
-                    plant,
-                    model,
-                    inner,
+                    Plants {
+                        plant: &plant,
+                        model: &model,
+                        inner: inner.as_ref(),
+                    },
                     if measure {
                         Keep::Measured
                     } else {
@@ -213,7 +224,12 @@ impl Scenario {
         model: TransferFunction,
         inner: Option<(TransferFunction, TransferFunction)>,
     ) -> Result<RunOutput, RunError> {
-        self.run_tuned_measured(tuned, plant, model, inner, Keep::Measured)
+        let plants = Plants {
+            plant: &plant,
+            model: &model,
+            inner: inner.as_ref(),
+        };
+        self.run_tuned_measured(tuned, plants, Keep::Measured)
     }
 
     /// [`Scenario::run_tuned`] keeping `keep` (with a duration given: a
@@ -221,9 +237,7 @@ impl Scenario {
     pub(crate) fn run_tuned_measured(
         &self,
         tuned: &Tuned,
-        plant: TransferFunction,
-        model: TransferFunction,
-        inner: Option<(TransferFunction, TransferFunction)>,
+        plants: Plants<'_>,
         keep: Keep,
     ) -> Result<RunOutput, RunError> {
         // a chosen duration is extended until the run settles: measured
@@ -232,7 +246,7 @@ impl Scenario {
         } else {
             keep
         };
-        let mut out = self.run_once(tuned, plant.clone(), model.clone(), inner.clone(), keep)?;
+        let mut out = self.run_once(tuned, plants, keep)?;
         if self.duration.is_some() {
             return Ok(out);
         }
@@ -242,7 +256,7 @@ impl Scenario {
                 return Ok(out);
             }
             longer.duration = Some(out.duration * 2.0);
-            match longer.run_once(tuned, plant.clone(), model.clone(), inner.clone(), keep) {
+            match longer.run_once(tuned, plants, keep) {
                 Ok(mut o) => {
                     o.duration_chosen = true;
                     out = o;
@@ -265,13 +279,16 @@ impl Scenario {
     pub(super) fn run_once(
         &self,
         tuned: &Tuned,
-        plant: TransferFunction,
-        model: TransferFunction,
-        inner: Option<(TransferFunction, TransferFunction)>,
+        plants: Plants<'_>,
         keep: Keep,
     ) -> Result<RunOutput, RunError> {
+        let Plants {
+            plant,
+            model,
+            inner,
+        } = plants;
         let measure = keep == Keep::Measured;
-        let built = self.build_tuned(tuned, &model, inner.as_ref().map(|(_, m)| m))?;
+        let built = self.build_tuned(tuned, model, inner.map(|(_, m)| m))?;
         let (scheme, params, mut ctrl, ts, ts_chosen) = (
             built.scheme,
             built.params,
@@ -291,7 +308,7 @@ impl Scenario {
             // constant of its own)
             None => (
                 choose_duration(
-                    &match &inner {
+                    &match inner {
                         Some((p2, _)) => plant.series(p2)?,
                         None => plant.clone(),
                     },
@@ -318,10 +335,10 @@ impl Scenario {
             return Err(RunError::Invalid(Error::OutOfRange("substeps")));
         }
         // the plant's delay lines and the recorded signals, before they are allocated
-        let model_samples = (model.delay + inner.as_ref().map_or(0.0, |(_, m)| m.delay))
+        let model_samples = (model.delay + inner.map_or(0.0, |(_, m)| m.delay))
             .max(self.event_dead_time(false))
             / ts;
-        let plant_samples = (plant.delay + inner.as_ref().map_or(0.0, |(p, _)| p.delay))
+        let plant_samples = (plant.delay + inner.map_or(0.0, |(p, _)| p.delay))
             .max(self.event_dead_time(true))
             / ts;
         self.check_operation()?;
@@ -411,13 +428,13 @@ impl Scenario {
             reset_feedback: self.reset_feedback,
             setpoint_ramp: self.setpoint_ramp.unwrap_or(f64::INFINITY),
         };
-        let result = match &inner {
-            Some((p2, _)) => simulate_cascade(&plant, p2, &mut ctrl, &cfg)?,
+        let result = match inner {
+            Some((p2, _)) => simulate_cascade(plant, p2, &mut ctrl, &cfg)?,
             None => {
                 // into the buffers a finished run on this thread gave back
                 // (a sweep's rows): memory already mapped
                 let mut res = spare();
-                crate::sim::simulate_into(&plant, &mut ctrl, &cfg, &mut res)?;
+                crate::sim::simulate_into(plant, &mut ctrl, &cfg, &mut res)?;
                 res
             }
         };
@@ -446,9 +463,9 @@ impl Scenario {
         let loop_change = RunOutput::find_loop_change(&self.events, &result);
         Ok(RunOutput {
             loop_change,
-            plant,
-            model,
-            inner,
+            plant: plant.clone(),
+            model: model.clone(),
+            inner: inner.cloned(),
             ts,
             ts_chosen,
             duration,
