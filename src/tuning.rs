@@ -392,11 +392,11 @@ macro_rules! rules {
     };
 }
 
-/// The PI rules of Bag (2022) Table 3.2 that need only `Ku`
-/// and `Tu` (Hwang–Chang also needs a decay measurement and is left out).
-/// Rows without an author in the extracted table carry the previous author's
-/// name and a number.
-pub static PI_RULES: &[UltimateRule] = rules![
+/// Every rule of Bag (2022) Tables 3.2 (PI, the first [`PI_COUNT`]) and
+/// 3.3 (PID): one table, the two views below.
+const ULTIMATE_RULES: &[UltimateRule] = rules![
+    // Table 3.2: rows without an author in the extracted table carry the
+    // previous author's name and a number
     "zn-pi", "Ziegler-Nichols, quarter decay ratio", 0.45, 0.83, 0.0;
     "hang-pi", "Hang et al., dominant time delay", 0.25, 0.2546, 0.0;
     "mcmillan-pi", "McMillan", 0.3571, 1.0, 0.0;
@@ -405,11 +405,7 @@ pub static PI_RULES: &[UltimateRule] = rules![
     "yu-pi", "Yu, Am = 3.45", 0.2015, 0.1537, 0.0;
     "yu-pi-2", "phase margin 46 deg", 0.5, 0.43, 0.0;
     "yu-pi-3", "quarter decay ratio", 0.33, 2.0, 0.0;
-];
-
-/// The PID rules of Bag (2022) Table 3.3 with single values
-/// (for a range, its lower end; Karaboga–Kalinli's ranges are left out).
-pub static PID_RULES: &[UltimateRule] = rules![
+    // Table 3.3
     "zn", "Ziegler-Nichols, quarter decay ratio (Kc from [0.6, 1] Ku)", 0.6, 0.5, 0.125;
     "blickley", "Blickley, quarter decay ratio", 0.5, 1.0, 0.125;
     "parr", "Parr, about 20 % servo overshoot", 0.5, 1.0, 0.2;
@@ -433,12 +429,22 @@ pub static PID_RULES: &[UltimateRule] = rules![
     "st-clair-2", "St. Clair, 'conservative'", 0.25, 1.2, 0.125;
 ];
 
+/// The number of PI rules (Table 3.2) at the head of the table.
+const PI_COUNT: usize = 8;
+
+/// The PI rules of Bag (2022) Table 3.2 that need only `Ku`
+/// and `Tu` (Hwang–Chang also needs a decay measurement and is left out).
+/// Rows without an author in the extracted table carry the previous author's
+/// name and a number.
+pub static PI_RULES: &[UltimateRule] = ULTIMATE_RULES.split_at(PI_COUNT).0;
+
+/// The PID rules of Bag (2022) Table 3.3 with single values
+/// (for a range, its lower end; Karaboga–Kalinli's ranges are left out).
+pub static PID_RULES: &[UltimateRule] = ULTIMATE_RULES.split_at(PI_COUNT).1;
+
 /// The rule called `name` in Tables 3.2 and 3.3.
 pub fn ultimate_rule(name: &str) -> Option<&'static UltimateRule> {
-    PI_RULES
-        .iter()
-        .chain(PID_RULES.iter())
-        .find(|r| r.name == name)
+    ULTIMATE_RULES.iter().find(|r| r.name == name)
 }
 
 /// Settings from the ultimate gain `ku` and period `tu` by `rule`.

@@ -146,3 +146,16 @@ fn the_rules_table_has_every_rule_with_its_loop() {
     let rows = unstable.rules_report().unwrap();
     assert!(rows.iter().any(|r| r.error.is_some()));
 }
+
+/// Table 3.2's rules are PI (no derivative), Table 3.3's PID; the first
+/// and last of each as the thesis prints them.
+#[test]
+fn the_pi_and_pid_views_split_the_ultimate_rules_where_the_tables_do() {
+    let (pi, pid) = (msp::tuning::PI_RULES, msp::tuning::PID_RULES);
+    assert!(pi.iter().all(|r| r.c == 0.0), "{pi:?}");
+    assert!(pid.iter().all(|r| r.c > 0.0), "{pid:?}");
+    let names =
+        |rs: &[msp::tuning::UltimateRule]| (rs.first().map(|r| r.name), rs.last().map(|r| r.name));
+    assert_eq!(names(pi), (Some("zn-pi"), Some("yu-pi-3")));
+    assert_eq!(names(pid), (Some("zn"), Some("st-clair-2")));
+}
