@@ -148,3 +148,27 @@ def test_finite_inputs_never_latch() -> None:
     assert pid.fault
     outs = [pid.update(1, 0.5) for _ in range(20)]
     assert all(math.isfinite(u) for u in outs) and not pid.fault
+
+
+def test_both_forms_read_the_same_options_and_refuse_an_unknown_one_by_name() -> None:
+    """``Pid`` and ``Pid.parallel`` take the :class:`msp.PidOptions` keywords, read in one
+    place: the same limits clamp both forms alike; a misspelt keyword or a value of the wrong
+    type is a TypeError that names it."""
+    import typing
+
+    from msp import PidOptions
+
+    assert set(typing.get_type_hints(PidOptions)) == {
+        "b", "c", "umin", "umax", "anti_windup", "tt", "rate_limit"}
+    isa = Pid(2.0, ti=10.0, ts=1.0, umin=-0.5, umax=0.5, b=0.5)
+    par = Pid.parallel(2.0, 0.2, 0.0, 1.0, umin=-0.5, umax=0.5, b=0.5)
+    assert [isa.update(1.0, 0.0) for _ in range(3)] == [par.update(1.0, 0.0) for _ in range(3)]
+    assert isa.update(1.0, 0.0) == 0.5
+    for make in (lambda: Pid(1.0, umax_=1.0), lambda: Pid.parallel(1.0, umax_=1.0)):
+        with pytest.raises(TypeError, match="'umax_'"):
+            make()
+    with pytest.raises(TypeError, match="'umin'"):
+        Pid(1.0, umin="low")
+    with pytest.raises(ValueError, match="anti_windup 'windup'"):
+        Pid(1.0, ti=5.0, anti_windup="windup")
+    assert Pid(1.0, ti=5.0, tt=None).params["kp"] == 1.0

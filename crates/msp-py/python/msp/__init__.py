@@ -71,6 +71,23 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
     adapt: Union[bool, Dict[str, Any]]
     monitor: bool
 
+
+class PidOptions(TypedDict, total=False):
+    """The keywords both forms of :class:`Pid` take, read in one place by the compiled
+    module (an unknown one is refused by name): the set-point weights ``b``, ``c`` (1), the
+    limits ``umin``, ``umax`` (none), ``anti_windup`` (``"back-calculation"``), its tracking
+    time ``tt`` (the form's default) and ``rate_limit`` (none). Each is documented at
+    :class:`Pid`."""
+
+    b: float
+    c: float
+    umin: float
+    umax: float
+    anti_windup: str
+    tt: Optional[float]
+    rate_limit: float
+
+
 __all__ = [
     "AstromHangLim",
     "autotune",
@@ -88,6 +105,7 @@ __all__ = [
     "Margins",
     "MatausekMicic",
     "Pid",
+    "PidOptions",
     "PiLoop",
     "PidLoop",
     "Plant",

@@ -2,7 +2,9 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, f
 
 import numpy as np
 import numpy.typing as npt
-from typing_extensions import disjoint_base
+from typing_extensions import Unpack, disjoint_base
+
+from msp import PidOptions
 
 __all__ = ["Controller", "Estimator", "PendingAnalysis", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_rules"]
 __version__: str
@@ -195,13 +197,7 @@ class Pid:
         ts: float = 1.0,
         *,
         n: float = 10.0,
-        b: float = 1.0,
-        c: float = 1.0,
-        umin: float = ...,
-        umax: float = ...,
-        anti_windup: str = "back-calculation",
-        tt: Optional[float] = None,
-        rate_limit: float = ...,
+        **options: Unpack[PidOptions],
     ) -> "Pid": ...
     @staticmethod
     def parallel(
@@ -211,13 +207,7 @@ class Pid:
         ts: float = 1.0,
         *,
         tf: Optional[float] = None,
-        b: float = 1.0,
-        c: float = 1.0,
-        umin: float = ...,
-        umax: float = ...,
-        anti_windup: str = "back-calculation",
-        tt: Optional[float] = None,
-        rate_limit: float = ...,
+        **options: Unpack[PidOptions],
     ) -> "Pid": ...
     def preset(self, u: float) -> None: ...
     def update(self, r: float, y: float) -> float: ...

@@ -2,6 +2,7 @@
 //! its weights, limits, rate limit and anti-windup.
 
 use super::*;
+use pyo3::exceptions::PyTypeError;
 
 /// The industrial PID controller (ISA form ``Kp(1 + 1/(Ti s) + Td s)``).
 ///
@@ -39,26 +40,69 @@ pub struct PyPid {
     inner: Pid<f64>,
 }
 
-impl PyPid {
-    /// The weights, limits, rate limit and anti-windup of either form, checked.
-    #[allow(clippy::too_many_arguments)]
-    fn finish(
-        cfg: PidConfig<f64>,
-        b: f64,
-        c: f64,
-        umin: f64,
-        umax: f64,
-        anti_windup: &str,
-        tt: Option<f64>,
-        rate_limit: f64,
-    ) -> PyResult<Self> {
+/// The keywords both forms take (`PidOptions` in the stubs): the set-point
+/// weights, the limits, the rate limit and the anti-windup, read in one
+/// place; an unknown keyword is refused by name, as Python's own are.
+struct PidOptions {
+    b: f64,
+    c: f64,
+    umin: f64,
+    umax: f64,
+    anti_windup: String,
+    tt: Option<f64>,
+    rate_limit: f64,
+}
+
+impl PidOptions {
+    fn read(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let mut o = PidOptions {
+            b: 1.0,
+            c: 1.0,
+            umin: f64::NEG_INFINITY,
+            umax: f64::INFINITY,
+            anti_windup: "back-calculation".to_string(),
+            tt: None,
+            rate_limit: f64::INFINITY,
+        };
+        for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
+            let key: String = k.extract()?;
+            let number = || {
+                v.extract::<f64>().map_err(|_| {
+                    PyTypeError::new_err(format!("argument '{key}': a number, not {v}"))
+                })
+            };
+            match key.as_str() {
+                "b" => o.b = number()?,
+                "c" => o.c = number()?,
+                "umin" => o.umin = number()?,
+                "umax" => o.umax = number()?,
+                "rate_limit" => o.rate_limit = number()?,
+                "tt" => o.tt = if v.is_none() { None } else { Some(number()?) },
+                "anti_windup" => {
+                    o.anti_windup = v.extract().map_err(|_| {
+                        PyTypeError::new_err(format!("argument 'anti_windup': a name, not {v}"))
+                    })?
+                }
+                _ => {
+                    return Err(PyTypeError::new_err(format!(
+                        "unexpected keyword argument '{key}'"
+                    )))
+                }
+            }
+        }
+        Ok(o)
+    }
+
+    /// The controller of `cfg` with these options, checked.
+    fn build(self, cfg: PidConfig<f64>) -> PyResult<PyPid> {
         let mut cfg = cfg
-            .with_weights(b, c)
-            .with_limits(umin, umax)
-            .with_rate_limit(rate_limit);
+            .with_weights(self.b, self.c)
+            .with_limits(self.umin, self.umax)
+            .with_rate_limit(self.rate_limit);
         // the name is checked whatever the form needs
         let integral = cfg.ki != 0.0;
-        cfg.anti_windup = match (anti_windup, cfg.anti_windup) {
+        let tt = self.tt;
+        cfg.anti_windup = match (self.anti_windup.as_str(), cfg.anti_windup) {
             ("back-calculation" | "clamping" | "conditional" | "none", _) if !integral => {
                 AntiWindup::None
             }
@@ -87,23 +131,16 @@ impl PyPid {
 #[pymethods]
 impl PyPid {
     #[new]
-    #[pyo3(signature = (kp, ti=f64::INFINITY, td=0.0, ts=1.0, *, n=10.0, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
-                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (kp, ti=f64::INFINITY, td=0.0, ts=1.0, *, n=10.0, **options))]
     fn new(
         kp: f64,
         ti: f64,
         td: f64,
         ts: f64,
         n: f64,
-        b: f64,
-        c: f64,
-        umin: f64,
-        umax: f64,
-        anti_windup: &str,
-        tt: Option<f64>,
-        rate_limit: f64,
+        options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let options = PidOptions::read(options)?;
         // in the ISA form kp scales every term: with kp = 0 a given ti or td
         // would do nothing, and is not dropped without a word
         if kp == 0.0 && (ti.is_finite() || td > 0.0) {
@@ -114,36 +151,30 @@ impl PyPid {
         let cfg = PidConfig::try_isa(kp, ti, td, ts)
             .map_err(value_err)?
             .with_filter(n);
-        Self::finish(cfg, b, c, umin, umax, anti_windup, tt, rate_limit)
+        options.build(cfg)
     }
 
     /// The parallel form ``u = kp·(b·r − y) + ki·∫(r − y) + kd·d(c·r − y)/dt``
     /// (pid-rs's and simple-pid's gains): ``kp = 0`` is allowed (a pure I or
     /// D controller). ``tf`` is the derivative filter's time constant (default
-    /// ``kd/(10·kp)``, ``0`` — unfiltered — when ``kp = 0``).
+    /// ``kd/(10·kp)``, ``0`` — unfiltered — when ``kp = 0``); the other
+    /// keywords are :class:`PidOptions`, as the constructor's.
     #[staticmethod]
-    #[pyo3(signature = (kp, ki=0.0, kd=0.0, ts=1.0, *, tf=None, b=1.0, c=1.0, umin=f64::NEG_INFINITY,
-                        umax=f64::INFINITY, anti_windup="back-calculation", tt=None, rate_limit=f64::INFINITY))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (kp, ki=0.0, kd=0.0, ts=1.0, *, tf=None, **options))]
     fn parallel(
         kp: f64,
         ki: f64,
         kd: f64,
         ts: f64,
         tf: Option<f64>,
-        b: f64,
-        c: f64,
-        umin: f64,
-        umax: f64,
-        anti_windup: &str,
-        tt: Option<f64>,
-        rate_limit: f64,
+        options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let options = PidOptions::read(options)?;
         let mut cfg = PidConfig::parallel(kp, ki, kd, ts);
         if let Some(tf) = tf {
             cfg = cfg.with_filter_time(tf);
         }
-        Self::finish(cfg, b, c, umin, umax, anti_windup, tt, rate_limit)
+        options.build(cfg)
     }
 
     /// Sets the integral so that the next output is ``u`` for zero error (a
