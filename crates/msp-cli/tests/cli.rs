@@ -1,21 +1,8 @@
 //! End-to-end tests of the real `msp` binary.
-use assert_cmd::Command;
+mod common;
+
+use common::*;
 use predicates::prelude::*;
-
-/// Runs a command that must succeed and reads its standard output as JSON.
-fn json_of(cmd: &mut Command) -> serde_json::Value {
-    let out = cmd.assert().success().get_output().stdout.clone();
-    serde_json::from_slice(&out).unwrap()
-}
-
-fn msp() -> Command {
-    Command::cargo_bin("msp").unwrap()
-}
-
-/// A command line's words (arguments without spaces).
-fn words(line: &str) -> std::str::SplitWhitespace<'_> {
-    line.split_whitespace()
-}
 
 #[test]
 fn run_writes_csv_report_and_plot() {
@@ -103,17 +90,6 @@ fn float32_runs_the_controller_in_f32() {
     }
 }
 
-/// What a successful command printed on stdout.
-fn stdout_of(cmd: &mut Command) -> String {
-    String::from_utf8(cmd.assert().success().get_output().stdout.clone()).unwrap()
-}
-
-/// Standard error of `msp ARGS…`, which must exit with `status`.
-fn stderr_of<const N: usize>(args: [&str; N], status: i32) -> String {
-    let out = msp().args(args).assert().code(status).get_output().clone();
-    String::from_utf8(out.stderr).unwrap()
-}
-
 #[test]
 fn csv_goes_to_stdout_and_set_overrides() {
     let text = stdout_of(msp().args(words(
@@ -155,11 +131,7 @@ where
     I: IntoIterator<Item = S>,
     S: AsRef<std::ffi::OsStr>,
 {
-    msp()
-        .args(args)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(says));
+    fails(msp().args(args), 2, says);
 }
 
 #[test]
@@ -260,13 +232,10 @@ fn scenario_file_and_unknown_fields() {
 
 #[test]
 fn tune_prints_kaya_settings() {
-    msp()
-        .args(words("tune --plant e^-10s/(s+1)^2 --set alpha=0.5 --json"))
-        .assert()
-        .success()
-        .stdout(
-            predicate::str::contains("\"kp\": 0.4").and(predicate::str::contains("\"td\": 0.5")),
-        );
+    prints(
+        msp().args(words("tune --plant e^-10s/(s+1)^2 --set alpha=0.5 --json")),
+        &["\"kp\": 0.4", "\"td\": 0.5"],
+    );
 }
 
 fn read_csv(path: &std::path::Path) -> Vec<Vec<String>> {
@@ -399,15 +368,12 @@ fn margins_of_the_bare_plant() {
     assert_eq!(j["controller"]["name"], "none");
     assert_eq!(j["view"], "continuous");
     assert!((j["gm"].as_f64().unwrap() - 2.0).abs() < 1e-9);
-    msp()
-        .args(words(
+    prints(
+        msp().args(words(
             "margins --plant 1/(s^3+2s^2+3s+4) -c none --set kp=0.5",
-        ))
-        .assert()
-        .success()
-        .stdout(
-            predicate::str::contains("L = 0.5·G").and(predicate::str::contains("behind a hold")),
-        );
+        )),
+        &["L = 0.5·G", "behind a hold"],
+    );
     msp()
         .args(words("margins --plant 1/(s+1) --continuous --discrete"))
         .assert()
@@ -444,31 +410,21 @@ fn step_prints_the_open_loop_response() {
     assert!(std::fs::read_to_string(&svg)
         .unwrap()
         .contains("final value 2"));
-    msp()
-        .args(words("step --plant 1/s"))
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("does not settle"));
-    msp()
-        .arg("--help")
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("step "));
+    prints(msp().args(words("step --plant 1/s")), &["does not settle"]);
+    prints(msp().arg("--help"), &["step "]);
 }
 
 /// `msp tune` prints the loop's margins beside the tuning and warns of a
 /// fragile one (the default Karan–Dey loop: Ms 2.5, dm 16 % of θ).
 #[test]
 fn tune_prints_robustness_and_warns() {
-    msp()
-        .args(words("tune --plant 0.2/s*e^-7.4s"))
-        .assert()
-        .success()
-        .stdout(
-            predicate::str::contains("robustness  gm 1.6893").and(predicate::str::contains(
-                "warning: robustness: the sensitivity peak Ms = 2.52",
-            )),
-        );
+    prints(
+        msp().args(words("tune --plant 0.2/s*e^-7.4s")),
+        &[
+            "robustness  gm 1.6893",
+            "warning: robustness: the sensitivity peak Ms = 2.52",
+        ],
+    );
     let j = json_of(msp().args(words("tune --plant e^-2s/(5s+1) --json")));
     assert!(j["robustness"]["ms"].as_f64().unwrap() < 2.0);
     assert_eq!(j["warnings"], serde_json::json!([]));
@@ -691,9 +647,9 @@ fn tune_prints_the_designed_filter() {
         (cancels[1].as_f64().unwrap() - (0.2f64 / 20.0).exp()).abs() < 1e-9,
         "{d}"
     );
-    msp().arg("tune").args(args).assert().success().stdout(
-        predicate::str::contains("design\n  fr")
-            .and(predicate::str::contains("kf          = 14.952")),
+    prints(
+        msp().arg("tune").args(args),
+        &["design\n  fr", "kf          = 14.952"],
     );
     let g = json_of(
         msp()
@@ -788,12 +744,13 @@ fn a_dash_is_standard_output() {
         .clone();
     assert!(String::from_utf8(out).unwrap().starts_with("t,r,y,u,"));
     assert!(!dir.path().join("-").exists());
-    msp()
-        .current_dir(dir.path())
-        .args(words("run --plant e^-2s/(5s+1) -o - --report -"))
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("both name standard output"));
+    fails(
+        msp()
+            .current_dir(dir.path())
+            .args(words("run --plant e^-2s/(5s+1) -o - --report -")),
+        2,
+        "both name standard output",
+    );
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
@@ -849,31 +806,26 @@ fn margins_json_has_the_matlab_keys() {
 
 #[test]
 fn compare_prints_the_frequency_rows() {
-    msp()
-        .args(words(
+    prints(
+        msp().args(words(
             "compare --plant 0.2/s*e^-7.4s -c karan-dey,smith --duration 60",
-        ))
-        .assert()
-        .success()
-        .stdout(
-            predicate::str::contains("Gm (dB)")
-                .and(predicate::str::contains("Wpm (rad/s)"))
-                .and(predicate::str::contains("IAE")),
-        );
+        )),
+        &["Gm (dB)", "Wpm (rad/s)", "IAE"],
+    );
 }
 
 #[test]
 fn autotune_reports_the_identified_and_the_true_model() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("at.json");
-    msp()
-        .args(words(
-            "autotune --plant 0.2/s*e^-7.4s --hysteresis 0.05 --report",
-        ))
-        .arg(&report)
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("identified"));
+    prints(
+        msp()
+            .args(words(
+                "autotune --plant 0.2/s*e^-7.4s --hysteresis 0.05 --report",
+            ))
+            .arg(&report),
+        &["identified"],
+    );
     let j: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(j["identified"]["model"], "ipdt");
@@ -882,11 +834,11 @@ fn autotune_reports_the_identified_and_the_true_model() {
     assert_eq!(j["true"]["model"], "ipdt");
     assert!(j["relay"]["period"].is_number() && j["metrics"]["iae"].is_number());
     assert_eq!(j["controller"]["name"], "karan-dey");
-    msp()
-        .args(words("autotune --plant 0.2/s*e^-7.4s --band 0.5"))
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("aborted"));
+    fails(
+        msp().args(words("autotune --plant 0.2/s*e^-7.4s --band 0.5")),
+        1,
+        "aborted",
+    );
 }
 
 /// A step test of `2e^{−4s}/(5s + 1)`: a unit step at 5 s, 1200 rows every
@@ -942,14 +894,11 @@ fn identify_takes_named_columns_and_refuses_closed_loop_data() {
             .arg(&data),
     );
     assert!((j["k"].as_f64().unwrap() - 2.0).abs() < 0.02, "{j}");
-    msp()
-        .args(["identify", "--data"])
-        .arg(&data)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "no column 'u' (--input names it; the columns are: time, valve, level)",
-        ));
+    fails(
+        msp().args(["identify", "--data"]).arg(&data),
+        2,
+        "no column 'u' (--input names it; the columns are: time, valve, level)",
+    );
     let closed = dir.path().join("closed.csv");
     msp()
         .args(words(
@@ -958,12 +907,11 @@ fn identify_takes_named_columns_and_refuses_closed_loop_data() {
         .arg(&closed)
         .assert()
         .success();
-    msp()
-        .args(["identify", "--data"])
-        .arg(&closed)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("closed-loop data"));
+    fails(
+        msp().args(["identify", "--data"]).arg(&closed),
+        2,
+        "closed-loop data",
+    );
 }
 
 mod loader {
@@ -1115,14 +1063,15 @@ fn outputs_are_all_or_nothing() {
         (dir.path().join("missing_dir/r.json"), "does not exist"),
         (keep.clone(), "name the same file"),
     ] {
-        msp()
-            .args(words("run --plant 0.2/s*e^-7.4s -o"))
-            .arg(&keep)
-            .arg("--report")
-            .arg(&report)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(says));
+        fails(
+            msp()
+                .args(words("run --plant 0.2/s*e^-7.4s -o"))
+                .arg(&keep)
+                .arg("--report")
+                .arg(&report),
+            2,
+            says,
+        );
         assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
     }
     // a run that succeeds leaves its files and no temporary beside them
@@ -1292,13 +1241,11 @@ fn merging_a_shard_twice_is_an_error() {
         .arg(&a)
         .assert()
         .success();
-    msp()
-        .args(["sweep", "--merge"])
-        .arg(&a)
-        .arg(&a)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("is a shard given twice"));
+    fails(
+        msp().args(["sweep", "--merge"]).arg(&a).arg(&a),
+        2,
+        "is a shard given twice",
+    );
 }
 
 /// Runs `msp` under a 4 GiB address-space limit: an allocation the budget
@@ -1423,14 +1370,11 @@ fn identify_names_a_time_that_does_not_increase() {
         text.push_str(&format!("{t},{u},{y}\n"));
     }
     std::fs::write(&f, text).unwrap();
-    msp()
-        .args(["identify", "--data"])
-        .arg(&f)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "`time` must increase: data row 21",
-        ));
+    fails(
+        msp().args(["identify", "--data"]).arg(&f),
+        2,
+        "`time` must increase: data row 21",
+    );
 }
 
 #[test]
@@ -1470,11 +1414,11 @@ fn ti_inf_switches_the_integral_off() {
         .unwrap();
     assert!((y - 0.5).abs() < 1e-9, "y = {y}");
     // a gain of inf is still refused, by name
-    msp()
-        .args(words("run --plant e^-1s/(s+1) --set kp=inf"))
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("kp"));
+    fails(
+        msp().args(words("run --plant e^-1s/(s+1) --set kp=inf")),
+        2,
+        "kp",
+    );
 }
 
 #[cfg(unix)]
@@ -1684,18 +1628,20 @@ fn stepinfo_of_step_data_is_steps_own() {
             "{key}: {a} vs {b}"
         );
     }
-    msp()
-        .args(["stepinfo", "--output", "q", "--data"])
-        .arg(&csv)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("no column 'q'"));
-    msp()
-        .args(["stepinfo", "--rise-limits", "0.9,0.1", "--data"])
-        .arg(&csv)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("rise_limits"));
+    fails(
+        msp()
+            .args(["stepinfo", "--output", "q", "--data"])
+            .arg(&csv),
+        2,
+        "no column 'q'",
+    );
+    fails(
+        msp()
+            .args(["stepinfo", "--rise-limits", "0.9,0.1", "--data"])
+            .arg(&csv),
+        2,
+        "rise_limits",
+    );
 }
 
 /// `msp run --input FILE.csv` (columns t, r, d, d_out) writes the CSV that
@@ -1723,12 +1669,13 @@ fn run_input_is_the_run_with_the_equivalent_steps() {
     )));
     assert_eq!(a, b);
     std::fs::write(&input, "t,r\n0,1\n0.5,1\n1.2,1\n1.5,1\n").unwrap();
-    msp()
-        .args(words("run --plant 2e^-3s/(4s+1) -q -o - --input"))
-        .arg(&input)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("sample 3"));
+    fails(
+        msp()
+            .args(words("run --plant 2e^-3s/(4s+1) -q -o - --input"))
+            .arg(&input),
+        2,
+        "sample 3",
+    );
 }
 
 /// `msp tradeoff`: the table (text, CSV, JSON) and the picture, a curve and

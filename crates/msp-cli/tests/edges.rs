@@ -3,12 +3,16 @@
 //! could hang, and output paths that must not be replaced.
 #![cfg(target_os = "linux")]
 
-use assert_cmd::Command;
-use predicates::prelude::*;
+mod common;
+
+use common::*;
 use std::time::{Duration, Instant};
 
-fn msp() -> Command {
-    Command::cargo_bin("msp").unwrap()
+/// `msp step --plant 1/(s+1) -o PATH`: a small CSV written to `path`.
+fn step_to(path: impl AsRef<std::ffi::OsStr>) -> assert_cmd::Command {
+    let mut cmd = msp();
+    cmd.args(["step", "--plant", "1/(s+1)", "-o"]).arg(path);
+    cmd
 }
 
 /// Runs `msp ARGS` under a 4 GiB address-space limit; the exit status
@@ -35,45 +39,18 @@ fn limited(args: &[&str]) -> (i32, String) {
 /// raised past the machine, the budget still ends in an error.
 #[test]
 fn dead_time_events_beyond_memory_are_refused() {
+    const SMITH: &str = "--plant 2*e^-3s/(4s+1) -c smith";
     for d in ["1e7", "1e9", "1e12"] {
         let event = format!("20:dead-time={d}");
-        let (code, err) = limited(&[
-            "margins",
-            "--plant",
-            "2*e^-3s/(4s+1)",
-            "-c",
-            "smith",
-            "--event",
-            &event,
-        ]);
+        let (code, err) = limited(&line(&format!("margins {SMITH} --event {event}")));
         assert_eq!(code, 2, "margins {event}: {err}");
-        let (code, err) = limited(&[
-            "run",
-            "--plant",
-            "2*e^-3s/(4s+1)",
-            "-c",
-            "smith",
-            "--event",
-            &event,
-            "-o",
-            "/dev/null",
-        ]);
+        let (code, err) = limited(&line(&format!("run {SMITH} --event {event} -o /dev/null")));
         assert_eq!(code, 2);
         assert!(err.contains("the event at 20 s"), "{err}");
     }
-    let (code, err) = limited(&[
-        "run",
-        "--plant",
-        "2*e^-3s/(4s+1)",
-        "-c",
-        "smith",
-        "--event",
-        "20:dead-time=1e9",
-        "--max-memory",
-        "100000T",
-        "-o",
-        "/dev/null",
-    ]);
+    let (code, err) = limited(&line(&format!(
+        "run {SMITH} --event 20:dead-time=1e9 --max-memory 100000T -o /dev/null"
+    )));
     assert_eq!(code, 2, "{err}");
 }
 
@@ -108,22 +85,21 @@ fn special_inputs_end_in_errors() {
         .unwrap()
         .success());
     let started = Instant::now();
-    msp()
-        .args(["identify", "--data"])
-        .arg(&fifo)
-        .timeout(Duration::from_secs(60))
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("no data came"));
+    fails(
+        msp()
+            .args(["identify", "--data"])
+            .arg(&fifo)
+            .timeout(Duration::from_secs(60)),
+        2,
+        "no data came",
+    );
     assert!(started.elapsed() < Duration::from_secs(30));
     // and nobody reads from: an error at once
-    msp()
-        .args(["step", "--plant", "1/(s+1)", "-o"])
-        .arg(&fifo)
-        .timeout(Duration::from_secs(60))
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("nobody reads"));
+    fails(
+        step_to(&fifo).timeout(Duration::from_secs(60)),
+        1,
+        "nobody reads",
+    );
 }
 
 /// `-o` through a link to standard output writes to standard output: the
@@ -134,9 +110,7 @@ fn links_are_followed_not_replaced() {
     let dir = tempfile::tempdir().unwrap();
     let link = dir.path().join("out.csv");
     std::os::unix::fs::symlink("/proc/self/fd/1", &link).unwrap();
-    let out = msp()
-        .args(["step", "--plant", "1/(s+1)", "-o"])
-        .arg(&link)
+    let out = step_to(&link)
         .assert()
         .success()
         .get_output()
@@ -151,11 +125,7 @@ fn links_are_followed_not_replaced() {
     std::fs::write(&target, "old").unwrap();
     let to_file = dir.path().join("to_file.csv");
     std::os::unix::fs::symlink(&target, &to_file).unwrap();
-    msp()
-        .args(["step", "--plant", "1/(s+1)", "-o"])
-        .arg(&to_file)
-        .assert()
-        .success();
+    step_to(&to_file).assert().success();
     assert!(std::fs::symlink_metadata(&to_file)
         .unwrap()
         .file_type()
@@ -180,14 +150,15 @@ fn links_are_followed_not_replaced() {
     std::fs::create_dir(dir.path().join("sub")).unwrap();
     let x = dir.path().join("x.csv");
     let y = dir.path().join("sub/../x.csv");
-    msp()
-        .args(["run", "--plant", "1/(s+1)", "-o"])
-        .arg(&x)
-        .arg("--report")
-        .arg(&y)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("name the same file"));
+    fails(
+        msp()
+            .args(["run", "--plant", "1/(s+1)", "-o"])
+            .arg(&x)
+            .arg("--report")
+            .arg(&y),
+        2,
+        "name the same file",
+    );
 }
 
 /// A replaced file keeps its permission bits but not a set-user-ID bit; a
@@ -200,22 +171,14 @@ fn replacing_files_keeps_what_is_not_ours() {
     let f = dir.path().join("su.csv");
     std::fs::write(&f, "x").unwrap();
     std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o4755)).unwrap();
-    msp()
-        .args(["step", "--plant", "1/(s+1)", "-o"])
-        .arg(&f)
-        .assert()
-        .success();
+    step_to(&f).assert().success();
     assert_eq!(
         std::fs::metadata(&f).unwrap().permissions().mode() & 0o7777,
         0o755
     );
     let users = dir.path().join(".msp-99999999-x.tmp");
     std::fs::write(&users, "mine").unwrap();
-    msp()
-        .args(["step", "--plant", "1/(s+1)", "-o"])
-        .arg(dir.path().join("a.csv"))
-        .assert()
-        .success();
+    step_to(dir.path().join("a.csv")).assert().success();
     assert!(users.exists(), "a user's file was deleted");
     // a stale temporary of ours (a dead PID, our name) goes, but only after a success
     let stale = dir.path().join(".msp-99999999-abcdefghijkl.tmp");
@@ -226,11 +189,7 @@ fn replacing_files_keeps_what_is_not_ours() {
         .assert()
         .code(2);
     assert!(stale.exists(), "cleaned up by a command that failed");
-    msp()
-        .args(["step", "--plant", "1/(s+1)", "-o"])
-        .arg(dir.path().join("b.csv"))
-        .assert()
-        .success();
+    step_to(dir.path().join("b.csv")).assert().success();
     assert!(!stale.exists());
 }
 
@@ -383,11 +342,7 @@ fn wrong_inputs_that_were_accepted_are_refused() {
         ),
     ];
     for (args, words) in cases {
-        msp()
-            .args(&args)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(words));
+        fails(msp().args(&args), 2, words);
     }
     // a long name is not echoed whole
     let out = msp()
@@ -467,14 +422,11 @@ fn endless_wide_and_ambiguous_csv() {
     );
     let twice = dir.path().join("twice.csv");
     std::fs::write(&twice, "t,y,u,y\n0,0,1,5\n1,1,1,6\n2,1,1,6\n").unwrap();
-    msp()
-        .args(["stepinfo", "--data"])
-        .arg(&twice)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "two columns are named 'y' (columns 2 and 4)",
-        ));
+    fails(
+        msp().args(["stepinfo", "--data"]).arg(&twice),
+        2,
+        "two columns are named 'y' (columns 2 and 4)",
+    );
 }
 
 /// A budget raised past what the process may have (`--max-memory 100G`

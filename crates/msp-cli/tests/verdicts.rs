@@ -1,24 +1,10 @@
 //! Verdicts an engineer acts on, end to end: the stability verdict, margins
 //! and metrics of unstable loops, durations that keep what was scheduled,
 //! and negative numbers on the command line.
-use assert_cmd::Command;
+mod common;
+
+use common::*;
 use predicates::prelude::*;
-
-fn msp() -> Command {
-    Command::cargo_bin("msp").unwrap()
-}
-
-/// Runs `msp ARGS` (which prints JSON) and reads its standard output.
-fn json_out(args: &[&str]) -> serde_json::Value {
-    let out = msp()
-        .args(args)
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    serde_json::from_slice(&out).unwrap()
-}
 
 /// Runs `msp ARGS --report R` and reads the report.
 fn report(args: &[&str]) -> serde_json::Value {
@@ -53,27 +39,10 @@ fn a_diverging_loop_is_not_reported_stable() {
     assert_eq!(j["stability"]["stable"], false);
     assert!(j["stability"]["unstable_poles"].as_u64().unwrap() >= 1);
     // the same loop by run with that model, and by margins
-    let model = "0.356*e^-5s/s";
-    let r = report(&[
-        "run",
-        "--plant",
-        "0.7*e^-2s/(s*(4s+1))",
-        "--model",
-        model,
-        "-c",
-        "karan-dey",
-    ]);
+    let the_loop = "--plant 0.7*e^-2s/(s*(4s+1)) --model 0.356*e^-5s/s -c karan-dey";
+    let r = report(&words(&format!("run {the_loop}")).collect::<Vec<_>>());
     assert_eq!(r["stable"], false);
-    let m = json_out(&[
-        "margins",
-        "--plant",
-        "0.7*e^-2s/(s*(4s+1))",
-        "--model",
-        model,
-        "-c",
-        "karan-dey",
-        "--json",
-    ]);
+    let m = json_out(&words(&format!("margins {the_loop} --json")).collect::<Vec<_>>());
     assert_eq!(m["stable"], false);
 }
 
@@ -177,8 +146,8 @@ fn unstable_loops_have_no_margins_and_diverged_runs_no_indices() {
     if m["stable"] == false {
         assert!(m["ms"].is_null() && m["gm"].is_null());
     }
-    msp()
-        .args([
+    prints(
+        msp().args([
             "margins",
             "--plant",
             "0.2/s*e^-7.4s",
@@ -186,13 +155,9 @@ fn unstable_loops_have_no_margins_and_diverged_runs_no_indices() {
             "pid",
             "--set",
             "kp=5",
-        ])
-        .assert()
-        .success()
-        .stdout(
-            predicate::str::contains("UNSTABLE")
-                .and(predicate::str::contains("margins do not apply")),
-        );
+        ]),
+        &["UNSTABLE", "margins do not apply"],
+    );
 }
 
 /// The automatic duration covers the last thing scheduled and its settling;
@@ -215,14 +180,11 @@ fn durations_keep_what_was_scheduled() {
     let last = j["events"].as_array().unwrap().last().unwrap().clone();
     assert_eq!(last["at"], 150.0, "{last}");
     assert!(last["settling_time"].is_number(), "{last}");
-    msp()
-        .args(steps)
-        .args(["--duration", "100", "-o", "-"])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "set-point step to 3 at 150 s is after the end of the run (100 s)",
-        ));
+    fails(
+        msp().args(steps).args(["--duration", "100", "-o", "-"]),
+        2,
+        "set-point step to 3 at 150 s is after the end of the run (100 s)",
+    );
     // an operator event of the default scenario stays inside the run
     let j = report(&[
         "run",
@@ -306,8 +268,8 @@ fn step_output_identifies_the_plant() {
         assert!((got - v).abs() < 1e-3 * v, "{k}: {got}");
     }
     // a step too long for the budget is refused before it is computed
-    msp()
-        .args([
+    fails(
+        msp().args([
             "step",
             "--plant",
             "1/(s+1)",
@@ -317,10 +279,10 @@ fn step_output_identifies_the_plant() {
             "9.9e4",
             "-o",
             "-",
-        ])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("the limit is 1 GiB"));
+        ]),
+        2,
+        "the limit is 1 GiB",
+    );
 }
 
 /// Advice comes with its price: the scheme (or λ) a robustness warning
@@ -328,15 +290,14 @@ fn step_output_identifies_the_plant() {
 /// beside the present ones.
 #[test]
 fn advice_shows_its_price() {
-    msp()
-        .args(["tune", "--plant", "0.2/s*e^-7.4s"])
-        .assert()
-        .success()
-        .stdout(
-            predicate::str::contains("at a price: overshoot")
-                .and(predicate::str::contains("settling"))
-                .and(predicate::str::contains("IAE of a unit input load")),
-        );
+    prints(
+        msp().args(["tune", "--plant", "0.2/s*e^-7.4s"]),
+        &[
+            "at a price: overshoot",
+            "settling",
+            "IAE of a unit input load",
+        ],
+    );
 }
 
 /// compare is a fair race by default: every scheme whose tuning is left to
@@ -345,19 +306,10 @@ fn advice_shows_its_price() {
 /// scenario (a set-point step, then a load).
 #[test]
 fn compare_runs_at_equal_robustness() {
-    let out = msp()
-        .args([
-            "compare",
-            "--plant",
-            "1.5*e^-4s/(10s+1)",
-            "-c",
-            "smith,filtered-smith,pid",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let plant = "1.5*e^-4s/(10s+1)";
+    let compare =
+        |line: &str| stdout_of(msp().args(words(&format!("compare --plant {plant} {line}"))));
+    let text = compare("-c smith,filtered-smith,pid");
     let ms_row = text
         .lines()
         .find(|l| l.starts_with("Ms "))
@@ -389,14 +341,7 @@ fn compare_runs_at_equal_robustness() {
             .unwrap()
             .trim_end_matches(')');
         let j = json_out(&[
-            "margins",
-            "--plant",
-            "1.5*e^-4s/(10s+1)",
-            "-c",
-            scheme,
-            "--lambda",
-            lambda,
-            "--json",
+            "margins", "--plant", plant, "-c", scheme, "--lambda", lambda, "--json",
         ]);
         let got = j["ms"].as_f64().unwrap();
         assert!(
@@ -408,21 +353,7 @@ fn compare_runs_at_equal_robustness() {
     // the load is part of the race
     assert!(text.contains("IAE"));
     // a lambda given keeps its tuning
-    let out = msp()
-        .args([
-            "compare",
-            "--plant",
-            "1.5*e^-4s/(10s+1)",
-            "-c",
-            "smith,pid",
-            "--lambda",
-            "4",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    assert!(!String::from_utf8_lossy(&out.stdout).contains("tuned for the common Ms"));
+    assert!(!compare("-c smith,pid --lambda 4").contains("tuned for the common Ms"));
 }
 
 /// The tuning is named: the rule (IMC-PID by default for a FOPDT, SIMC when
@@ -553,16 +484,8 @@ fn margins_point_to_the_thesis_tables() {
 /// of reach exits 2 naming the range and the schemes that reach it.
 #[test]
 fn design_targets_reach_every_command() {
-    let t = json_out(&[
-        "tune",
-        "--plant",
-        "2*e^-3s/(4s+1)",
-        "-c",
-        "pi",
-        "--target",
-        "pm=60",
-        "--json",
-    ]);
+    const PI: &str = "--plant 2*e^-3s/(4s+1) -c pi";
+    let t = json_out(&line(&format!("tune {PI} --target pm=60 --json")));
     let target = &t["controller"]["target"];
     assert_eq!(target["target"], "pm=60");
     assert!(
@@ -573,28 +496,11 @@ fn design_targets_reach_every_command() {
         (t["robustness"]["pm"].as_f64().unwrap() - 60.0).abs() < 0.06,
         "{t}"
     );
-    msp()
-        .args([
-            "tune",
-            "--plant",
-            "2*e^-3s/(4s+1)",
-            "-c",
-            "pi",
-            "--target",
-            "ms=1.4",
-        ])
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("target      ms=1.4: lambda = "));
-    let r = report(&[
-        "run",
-        "--plant",
-        "2*e^-3s/(4s+1)",
-        "-c",
-        "pi",
-        "--target",
-        "gm=3",
-    ]);
+    prints(
+        msp().args(line(&format!("tune {PI} --target ms=1.4"))),
+        &["target      ms=1.4: lambda = "],
+    );
+    let r = report(&line(&format!("run {PI} --target gm=3")));
     assert!(
         (r["controller"]["target"]["achieved"].as_f64().unwrap() - 3.0).abs() < 3e-3,
         "{r}"
@@ -614,11 +520,11 @@ fn design_targets_reach_every_command() {
         .stderr(
             predicate::str::contains("out of reach").and(predicate::str::contains("reached by:")),
         );
-    msp()
-        .args(["tune", "--plant", "2*e^-3s/(4s+1)", "--target", "ms=0.5"])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("Ms > 1"));
+    fails(
+        msp().args(["tune", "--plant", "2*e^-3s/(4s+1)", "--target", "ms=0.5"]),
+        2,
+        "Ms > 1",
+    );
 }
 
 /// A loop that diverges has no figures: the README's perturbed race at the
