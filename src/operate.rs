@@ -288,7 +288,8 @@ pub(crate) fn feed_back<T: Real, C: Operate<T> + ?Sized>(
     applied: Option<T>,
 ) {
     if let (Some(a), Mode::Auto) = (applied, mode) {
-        if a.is_finite() {
+        // an actuator value too large to compute with is not taken in
+        if a.usable() {
             c.apply(a, Tracking::Reset);
         }
     }

@@ -261,7 +261,7 @@ impl<T: Real> Pid<T> {
     /// feedback: no windup against a limit the controller does not own; full
     /// tracking when the controller has no back-calculation).
     pub fn apply(&mut self, applied: T, how: crate::Tracking) {
-        if !applied.is_finite() || !self.started {
+        if !applied.usable() || !self.started {
             return;
         }
         let t = self.terms;
@@ -400,11 +400,13 @@ impl<T: Real> Pid<T> {
         let i = self.integral;
         let u = p + i;
         let next = i + self.bi * e;
-        // one test before any state is written: a NaN or ±∞ set point or
-        // measurement makes `next` NaN or ±∞ (`bi·e`, even for bi = 0), and
-        // finite inputs whose terms leave the float range make `u` or `next`
-        // ±∞ — a fault either way, never a state that latches ±∞ or NaN
-        if !(u + next).is_finite() {
+        // one test before any state is written: a control error too large
+        // to compute with (`Real::usable`; NaN and ±∞ among them), or terms
+        // that leave the float range (`u` or `next` ±∞ or NaN) — a fault
+        // either way, never a state that latches ±∞ or NaN (one comparison:
+        // `(u + next)·0` is NaN exactly when u + next is not finite, and
+        // NaN fails it)
+        if !((u + next) * T::zero() + e).usable() {
             return self.hold();
         }
         self.integral = next;
@@ -436,8 +438,9 @@ impl<T: Real> Pid<T> {
     #[inline(always)]
     fn step(&mut self, r: T, y: T, track: Option<T>) -> T {
         let e = r - y;
-        // NaN or ±∞ in r or y (or a difference beyond the float range)
-        if !e.is_finite() {
+        // NaN or ±∞ in r or y, or a control error too large to compute
+        // with (`Real::usable`): the output held, the fault raised
+        if !e.usable() {
             return self.hold();
         }
         let recovering = self.fault;

@@ -24,9 +24,33 @@ pub trait Real:
     fn half() -> Self {
         Self::of(0.5)
     }
+    /// The largest set point or measurement a controller computes with:
+    /// 2³² (4.3·10⁹) in `f32`, 2²⁵⁶ (1.2·10⁷⁷) in `f64`, the fourth root
+    /// of the largest number: a predictor's filters multiply a measurement
+    /// by gains and their states by it again, and at √MAX one product of
+    /// them overflows (a finite spike then poisons the state for good).
+    const USABLE: Self;
+    /// Whether `self` can be computed with: `|x| ≤ USABLE`. A controller
+    /// asks it of its control error `r − y` (one comparison, as the test
+    /// for NaN and ±∞ it replaces; a set point or measurement beyond the
+    /// bound makes the error so): NaN, ±∞ and a finite number beyond it are
+    /// a fault alike, the output held and the fault raised until the inputs
+    /// are usable again (no state computed from them).
+    #[inline(always)]
+    fn usable(self) -> bool {
+        self.abs() <= Self::USABLE
+    }
+    /// `self` and `other` usable together: `|self| + |other| ≤ USABLE`,
+    /// one comparison (NaN and ±∞ fail it); the adaptive estimator's test
+    /// of a measurement and the input the plant received.
+    #[inline(always)]
+    fn usable_with(self, other: Self) -> bool {
+        self.abs() + other.abs() <= Self::USABLE
+    }
 }
 
 impl Real for f32 {
+    const USABLE: Self = 4_294_967_296.0; // 2^32
     #[inline(always)]
     #[allow(clippy::cast_possible_truncation)]
     fn of(x: f64) -> Self {
@@ -39,6 +63,8 @@ impl Real for f32 {
 }
 
 impl Real for f64 {
+    // 2^256
+    const USABLE: Self = 1.157920892373162e77;
     #[inline(always)]
     fn of(x: f64) -> Self {
         x
@@ -106,5 +132,42 @@ pub(crate) fn at_most<T: Real>(x: T, hi: T) -> T {
         x
     } else {
         hi
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Real;
+
+    /// `usable` is `|x| ≤ USABLE` at the bound, the numbers beside it,
+    /// zero, NaN and ±∞, and the bounds are the powers of two the docs
+    /// state.
+    fn agrees<T: Real + core::fmt::LowerExp>(around: [T; 3]) {
+        let special = [
+            T::zero(),
+            -T::zero(),
+            T::nan(),
+            T::infinity(),
+            -T::infinity(),
+        ];
+        for x in around.into_iter().chain(special) {
+            for x in [x, -x] {
+                assert_eq!(x.usable(), x.abs() <= T::USABLE, "{x:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn usable_is_the_bound_on_the_magnitude() {
+        assert_eq!(f32::USABLE, 2f32.powi(32));
+        assert_eq!(f64::USABLE, 2f64.powi(256));
+        let up32 = f32::from_bits(f32::USABLE.to_bits() + 1);
+        let down32 = f32::from_bits(f32::USABLE.to_bits() - 1);
+        agrees([f32::USABLE, up32, down32]);
+        let up64 = f64::from_bits(f64::USABLE.to_bits() + 1);
+        let down64 = f64::from_bits(f64::USABLE.to_bits() - 1);
+        agrees([f64::USABLE, up64, down64]);
+        assert!(f32::USABLE.usable() && !up32.usable() && !f32::NAN.usable());
+        assert!(1.0f32.usable_with(-2.0) && !f64::USABLE.usable_with(f64::USABLE));
     }
 }

@@ -204,6 +204,15 @@ int main(void) {
     EXPECT(msp_reset_f64((msp_controller_f64 *)c) == MSP_BAD_HANDLE);
     EXPECT(msp_fault_f64((msp_controller_f64 *)c));
     EXPECT(msp_karan_dey_init(odd, room, &kc, &c) == MSP_OK && msp_update(c, 1.0f, 0.0f) > 0.0f);
+    /* a finite measurement too large to compute with (beyond 2^32 in float)
+       is a fault, held, and clears with the next usable one */
+    {
+        float before = msp_update(c, 1.0f, 0.0f);
+        float spike = msp_update(c, 1.0f, 1e38f);
+        EXPECT(isfinite(spike) && spike == before && msp_fault(c));
+        EXPECT(isfinite(msp_update(c, 1.0f, -5e9f)) && msp_fault(c));
+        EXPECT(isfinite(msp_update(c, 1.0f, 0.0f)) && !msp_fault(c));
+    }
     EXPECT(msp_fsp_init(odd, room, &fc, &c) == MSP_OK && msp_update(c, 1.0f, 0.0f) > 0.0f);
     EXPECT(msp_pid_init(odd, room, &pc, &c) == MSP_OK && msp_update(c, 1.0f, 0.0f) == 1.0f);
     EXPECT(msp_smith_init_f64(odd, room, &sc64, &c64) == MSP_OK &&

@@ -223,7 +223,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// arithmetic as in one call, a fraction of its longest run), so the
     /// estimate is the block's from the call that returns true.
     pub fn update(&mut self, y: T, u_applied: T, ok: bool) -> bool {
-        if !(y.is_finite() && u_applied.is_finite()) {
+        // a sample a controller would not compute with (`Real::usable_with`)
+        // is not one to learn from, nor to take into a block's mean
+        if !y.usable_with(u_applied) {
             return false;
         }
         // a block's learning under way goes on, a part a sample

@@ -290,7 +290,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// period (`None`: this controller's own output).
     pub fn update_applied(&mut self, r: T, y: T, u_applied: Option<T>) -> T {
         if let Some(u) = u_applied {
-            if u.is_finite() && (u - self.last_u).abs() > T::epsilon() * (T::one() + u.abs()) {
+            if u.usable() && (u - self.last_u).abs() > T::epsilon() * (T::one() + u.abs()) {
                 self.last_u = u;
                 self.ok = false;
             }

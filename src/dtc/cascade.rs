@@ -249,7 +249,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Imc<T, S> {
     /// `(applied − u)/Q(∞)` so that `Q`'s output was `applied` too (`Q` is
     /// biproper): the inner set point `r2` that gives it.
     pub fn apply(&mut self, applied: T) {
-        if !(applied.is_finite() && self.u.is_finite()) {
+        if !(applied.usable() && self.u.is_finite()) {
             return;
         }
         self.model.amend_input(applied - self.u);
@@ -356,7 +356,7 @@ impl<T: Real, O, S> Cascade<T, O, S> {
 impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Cascade<T, O, S> {
     fn step(&mut self, r: T, y: T, y2: Option<T>) -> T {
         let r2 = self.outer.update(r, y);
-        let y2 = y2.filter(|v| v.is_finite());
+        let y2 = y2.filter(|v| v.usable());
         let u = self.inner.update(r2, y2);
         self.fault = self.outer.fault() || y2.is_none();
         u

@@ -495,12 +495,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Compensator<T, N, S> {
     #[inline]
     fn update(&mut self, r: T, y: T) -> T {
-        // NaN or ±∞ in r or y (or a difference beyond the float range)
-        if !(r - y).is_finite() {
+        // NaN or ±∞ in r or y, or a control error too large to compute
+        // with (`Real::usable`): the output held, the fault raised
+        if !(r - y).usable() {
             return self.on_fault(y);
         }
         self.fault = false;
-        // y is finite (r − y is)
+        // y is finite
         let (ym, eps) = self.model.predict_finite(y);
         let fed = if let ErrorPath::Direct = self.err {
             eps

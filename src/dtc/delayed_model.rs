@@ -56,7 +56,8 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
     pub fn predict(&mut self, y: T) -> (T, T) {
         let (ym, ym_d) = self.read();
         let error = y - ym_d;
-        if error.is_finite() {
+        // a measurement a controller does not compute with is not kept
+        if y.usable() {
             self.error = error;
         }
         (ym, error)

@@ -128,7 +128,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     /// really receives) and the PID tracks it.
     fn apply(&mut self, applied: T, how: crate::Tracking) {
         let u = self.pid.output();
-        if !(applied.is_finite() && u.is_finite()) {
+        if !(applied.usable() && u.is_finite()) {
             return;
         }
         self.model.amend_input(applied - u);

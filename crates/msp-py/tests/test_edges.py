@@ -3,6 +3,7 @@ constructor's delay line beyond memory), values that were dropped without a
 word, and the autotuner's errors. Each runs in a subprocess where an abort
 would be possible, so that an abort fails the test instead of the suite."""
 
+import math
 import subprocess
 import sys
 
@@ -71,3 +72,25 @@ def test_autotune_errors_are_value_errors() -> None:
     # a reverse-acting plant is autotuned, not refused
     res = msp.autotune("-1.5*e^-4s/(10s+1)")
     assert res["identified"]["k"] < 0 and res["run"].stable is True
+
+
+@pytest.mark.parametrize("make", [
+    lambda: msp.AstromHangLim("0.2/s*e^-7.4s", ts=0.1),
+    lambda: msp.KaranDey("0.2/s*e^-7.4s", ts=0.1),
+    lambda: msp.FilteredSmithUnstable("e^-2s/(5s-1)", ts=0.1),
+    lambda: msp.SmithPredictor("2*e^-3s/(4s+1)", ts=0.1),
+])
+@pytest.mark.parametrize("spike", [1e308, -1e308, 1e100])
+def test_a_measurement_too_large_to_compute_with_is_a_fault_that_clears(make, spike: float) -> None:
+    """Beyond 2**256 (f64) a finite measurement is a fault exactly as NaN is: the output held,
+    the fault raised for that sample only, and the next samples those of a twin that saw NaN
+    (no state took the value; the spike of 1e100 would have overflowed a predictor)."""
+    c, twin = make(), make()
+    for _ in range(50):
+        assert c.update(1.0, 0.0) == twin.update(1.0, 0.0)
+    held = c.update(1.0, spike)
+    assert math.isfinite(held) and c.fault
+    assert twin.update(1.0, float("nan")) == held
+    for _ in range(50):
+        u = c.update(1.0, 0.0)
+        assert math.isfinite(u) and not c.fault and u == twin.update(1.0, 0.0)

@@ -13,7 +13,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     /// is `u1 + Gc2·ym`, tracks `u1`'s change. `Gc2` and `Gd` see the model's
     /// output and error, which the amendment keeps right.
     fn apply(&mut self, applied: T, how: crate::Tracking) {
-        if !(applied.is_finite() && self.u.is_finite()) {
+        if !(applied.usable() && self.u.is_finite()) {
             return;
         }
         let u1_applied = applied + self.u3;

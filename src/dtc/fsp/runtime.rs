@@ -105,7 +105,7 @@ impl<T: Real> Matched2Dof<T> {
 
 impl<T: Real> crate::Controller<T> for Matched2Dof<T> {
     fn update(&mut self, r: T, y: T) -> T {
-        self.fault = !(r.is_finite() && y.is_finite());
+        self.fault = !(r - y).usable();
         if self.fault {
             return self.u;
         }
@@ -128,7 +128,7 @@ impl<T: Real> crate::Operate<T> for Matched2Dof<T> {
     /// `K`'s state moves so that its output continues from `applied` (as a
     /// PID's integrator is set in manual mode).
     fn apply(&mut self, applied: T, _how: crate::Tracking) {
-        if applied.is_finite() && self.k.shift_output(applied - self.u) {
+        if applied.usable() && self.k.shift_output(applied - self.u) {
             self.u = applied;
         }
     }
@@ -571,7 +571,7 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
 
 impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, K> {
     fn update(&mut self, r: T, y: T) -> T {
-        if !(r.is_finite() && y.is_finite()) {
+        if !(r - y).usable() {
             // the output is held (the primary's fault); the predictor keeps
             // following the actuator
             self.pred.predict_held();
