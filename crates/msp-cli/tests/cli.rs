@@ -430,13 +430,13 @@ fn tune_prints_robustness_and_warns() {
     assert_eq!(j["warnings"], serde_json::json!([]));
 }
 
-/// Temporaries of a process that died without cleaning up (`.msp-PID-` and
-/// twelve letters or digits, `.tmp`, of a PID that no longer runs) are
-/// removed by the next run that writes there; those of a live process are
-/// left alone.
+/// Files named as msp names its temporaries (`.msp-PID-` and twelve
+/// letters or digits, `.tmp`), of a process gone or running, are left
+/// alone: a killed run's cannot be told from a look-alike of someone
+/// else's, and msp deletes only what this run made.
 #[cfg(target_os = "linux")]
 #[test]
-fn stale_temporaries_are_removed() {
+fn temporaries_of_other_runs_are_left_alone() {
     let dir = tempfile::tempdir().unwrap();
     let dead = dir.path().join(".msp-4000000000-abc123def456.tmp");
     let live = dir
@@ -449,7 +449,12 @@ fn stale_temporaries_are_removed() {
         .arg(dir.path().join("run.csv"))
         .assert()
         .success();
-    assert!(!dead.exists() && live.exists());
+    assert!(dead.exists() && live.exists());
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert_eq!(names.len(), 3, "{names:?}");
 }
 
 /// Ctrl-C (SIGINT) stops a long command cleanly: exit status 130 and no
@@ -476,6 +481,59 @@ fn an_interrupt_stops_cleanly() {
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130));
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+/// SIGTERM at any moment of a run that writes three files — before, while
+/// and after the temporaries are made and renamed — leaves the outputs
+/// whole or absent, never a temporary: 60 signals spread over the run's
+/// own duration, measured first.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_signal_at_any_moment_leaves_no_temporary() {
+    let bin = assert_cmd::cargo::cargo_bin("msp");
+    let run = |dir: &std::path::Path| {
+        let mut cmd = std::process::Command::new(&bin);
+        cmd.args(words("run --plant e^-2s/(5s+1) --duration 2000 --ts 0.01 -o"))
+            .arg(dir.join("run.csv"))
+            .arg("--report")
+            .arg(dir.join("run.json"))
+            .arg("--plot")
+            .arg(dir.join("run.svg"))
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
+        cmd
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let started = std::time::Instant::now();
+    assert!(run(dir.path()).status().unwrap().success());
+    let whole = started.elapsed();
+    let sizes: Vec<u64> = ["run.csv", "run.json", "run.svg"]
+        .iter()
+        .map(|f| std::fs::metadata(dir.path().join(f)).unwrap().len())
+        .collect();
+    for i in 0..60u32 {
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = run(dir.path()).spawn().unwrap();
+        std::thread::sleep(whole * i / 50);
+        let _ = std::process::Command::new("kill")
+            .args(["-TERM", &child.id().to_string()])
+            .status();
+        let status = child.wait().unwrap();
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        assert!(
+            names.iter().all(|n| !n.ends_with(".tmp")),
+            "try {i} ({status:?}): {names:?}"
+        );
+        // each output whole, or not there
+        for (f, size) in ["run.csv", "run.json", "run.svg"].iter().zip(&sizes) {
+            if let Ok(m) = std::fs::metadata(dir.path().join(f)) {
+                assert_eq!(m.len(), *size, "try {i}: {f} is not whole");
+            }
+        }
+    }
 }
 
 /// On a terminal, `msp run` without `-o` prints the summary, not thousands of

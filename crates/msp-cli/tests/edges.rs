@@ -180,17 +180,47 @@ fn replacing_files_keeps_what_is_not_ours() {
     std::fs::write(&users, "mine").unwrap();
     step_to(dir.path().join("a.csv")).assert().success();
     assert!(users.exists(), "a user's file was deleted");
-    // a stale temporary of ours (a dead PID, our name) goes, but only after a success
-    let stale = dir.path().join(".msp-99999999-abcdefghijkl.tmp");
-    std::fs::write(&stale, "").unwrap();
-    msp()
-        .args(["step", "--plant", "1/(s+1)", "--ts", "-1", "-o"])
-        .arg(dir.path().join("b.csv"))
-        .assert()
-        .code(2);
-    assert!(stale.exists(), "cleaned up by a command that failed");
+    // nor one named as msp names its temporaries, of a process gone
+    let look_alike = dir.path().join(".msp-99999999-abcdefghijkl.tmp");
+    std::fs::write(&look_alike, "").unwrap();
     step_to(dir.path().join("b.csv")).assert().success();
-    assert!(!stale.exists());
+    assert!(look_alike.exists(), "a file msp did not make was deleted");
+}
+
+/// A file that belongs to another user is not replaced, directly or
+/// through a link (msp would make it this user's; root too): exit 2 naming
+/// the owner, the file and the link as they were. As root the file is
+/// given to `nobody`; otherwise the link leads to `/etc/passwd` (root's).
+#[test]
+fn a_file_of_another_user_is_not_replaced() {
+    use std::os::unix::fs::MetadataExt;
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::fs::metadata("/proc/self").unwrap().uid() == 0;
+    let theirs = if root {
+        let f = dir.path().join("theirs.csv");
+        std::fs::write(&f, "keep").unwrap();
+        std::os::unix::fs::chown(&f, Some(65534), Some(65534)).unwrap();
+        f
+    } else {
+        std::path::PathBuf::from("/etc/passwd")
+    };
+    let before = std::fs::read(&theirs).unwrap();
+    let owner = std::fs::metadata(&theirs).unwrap().uid();
+    let link = dir.path().join("link.csv");
+    std::os::unix::fs::symlink(&theirs, &link).unwrap();
+    let mut targets = vec![link.clone()];
+    if root {
+        targets.push(theirs.clone());
+    }
+    for target in targets {
+        fails(&mut step_to(&target), 2, "belongs to another user");
+    }
+    assert_eq!(std::fs::read(&theirs).unwrap(), before);
+    assert_eq!(std::fs::metadata(&theirs).unwrap().uid(), owner);
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
 }
 
 /// An existing file the user may not write is not replaced, even in a

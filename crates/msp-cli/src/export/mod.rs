@@ -69,10 +69,10 @@ static PENDING: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new(
 /// others are not there).
 pub(crate) fn remove_temporaries_on_interrupt() {
     let _ = ctrlc::set_handler(|| {
-        if let Ok(list) = PENDING.lock() {
-            for p in list.iter() {
-                let _ = std::fs::remove_file(p);
-            }
+        // the lock is kept to the exit: no temporary is made after this
+        let list = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+        for p in list.iter() {
+            let _ = std::fs::remove_file(p);
         }
         std::process::exit(130);
     });
@@ -85,47 +85,6 @@ fn temp_prefix() -> String {
 
 /// The random part of a temporary's name: this many letters and digits.
 const TEMP_RANDOM: usize = 12;
-
-/// Whether `name` is a temporary's name as [`Outputs::commit`] makes them:
-/// `.msp-PID-` then exactly [`TEMP_RANDOM`] letters and digits, then `.tmp`;
-/// `Some(PID)`.
-fn temporary_pid(name: &str) -> Option<u32> {
-    let rest = name.strip_prefix(".msp-")?.strip_suffix(".tmp")?;
-    let (pid, random) = rest.split_once('-')?;
-    let ours = random.len() == TEMP_RANDOM && random.bytes().all(|b| b.is_ascii_alphanumeric());
-    ours.then(|| pid.parse().ok()).flatten()
-}
-
-/// Removes the temporaries that a process killed without a chance to clean
-/// up (SIGKILL, a power cut) left in `dir`: only files that are certainly
-/// such temporaries — named as [`temporary_pid`] reads them, of a PID that
-/// no longer runs, regular files owned by this user — so that no file of
-/// anyone else's goes (Linux, where `/proc` says which processes run).
-fn remove_stale_temporaries(dir: &Path) {
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::fs::MetadataExt;
-        let Ok(me) = std::fs::metadata("/proc/self").map(|m| m.uid()) else {
-            return;
-        };
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for e in entries.flatten() {
-            let name = e.file_name();
-            let Some(pid) = name.to_str().and_then(temporary_pid) else {
-                continue;
-            };
-            let mine = std::fs::symlink_metadata(e.path())
-                .is_ok_and(|m| m.file_type().is_file() && m.uid() == me);
-            if mine && !Path::new("/proc").join(pid.to_string()).exists() {
-                let _ = std::fs::remove_file(e.path());
-            }
-        }
-    }
-    #[cfg(not(target_os = "linux"))]
-    let _ = dir;
-}
 
 /// Where an output goes: the file to replace atomically (a symbolic link's
 /// target, so that the link stays a link), or a file written in place (a
@@ -174,15 +133,34 @@ fn target_of(path: &Path) -> Result<Target, String> {
 }
 
 /// An existing file this user may not write is not replaced (as `cp` would
-/// not): writing it through a rename would step over its permissions.
+/// not): writing it through a rename would step over its permissions. Nor
+/// is one that belongs to another user (also for root): the file put in
+/// its place would be this user's, and writing into it in place (as `cp`
+/// does) could leave it half-written; msp never changes a file's owner.
 fn check_writable(path: &Path) -> Result<(), String> {
-    match std::fs::OpenOptions::new().write(true).open(path) {
-        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => Err(format!(
-            "{}: permission denied (the file is not writable for you)",
-            path.display()
-        )),
-        _ => Ok(()),
+    if let Err(e) = std::fs::OpenOptions::new().write(true).open(path) {
+        if e.kind() == std::io::ErrorKind::PermissionDenied {
+            return Err(format!(
+                "{}: permission denied (the file is not writable for you)",
+                path.display()
+            ));
+        }
     }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let me = std::fs::metadata("/proc/self").map(|m| m.uid());
+        if let (Ok(me), Ok(m)) = (me, std::fs::metadata(path)) {
+            if m.uid() != me {
+                return Err(format!(
+                    "{}: it belongs to another user (uid {}); msp replaces a file whole, and the new one would be yours: write it elsewhere",
+                    path.display(),
+                    m.uid()
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Opens a file written in place; a FIFO without a reader is an error,
@@ -361,7 +339,6 @@ impl<'a> Outputs<'a> {
     pub(crate) fn commit(self) -> Result<(), CliError> {
         let mut staged = Vec::with_capacity(self.files.len());
         let mut devices = Vec::new();
-        let mut dirs: Vec<PathBuf> = Vec::new();
         for (path, content) in self.files {
             let fail = |e: std::io::Error| {
                 CliError::Runtime(format!("cannot write {}: {e}", path.display()))
@@ -388,22 +365,32 @@ impl<'a> Outputs<'a> {
             // the umask), or the permission bits of the file it replaces —
             // never a set-user-ID, set-group-ID or sticky bit
             #[cfg(unix)]
-            {
+            let mode = {
                 use std::os::unix::fs::PermissionsExt;
-                let mode = std::fs::metadata(&target).map_or(0o666, |m| m.permissions().mode());
-                builder.permissions(std::fs::Permissions::from_mode(mode & 0o777));
-            }
+                std::fs::metadata(&target).map_or(0o666, |m| m.permissions().mode()) & 0o777
+            };
             let dir = parent(&target);
-            let mut tmp = builder.tempfile_in(&dir).map_err(fail)?;
-            if let Ok(mut list) = PENDING.lock() {
-                list.push(tmp.path().to_path_buf());
-            }
+            // the name joins the list before the file exists, under the
+            // list's lock: an interrupt (whose handler takes the lock)
+            // finds every temporary there is, and none is made after it
+            let mut tmp = builder
+                .make_in(&dir, |name| {
+                    let mut list = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+                    list.push(name.to_path_buf());
+                    let mut open = std::fs::OpenOptions::new();
+                    open.write(true).create_new(true);
+                    #[cfg(unix)]
+                    std::os::unix::fs::OpenOptionsExt::mode(&mut open, mode);
+                    let made = open.open(name);
+                    if made.is_err() {
+                        list.pop();
+                    }
+                    made
+                })
+                .map_err(fail)?;
             content.write_to(&mut tmp).map_err(fail)?;
             tmp.as_file().sync_all().map_err(fail)?;
             staged.push((tmp, target));
-            if !dirs.contains(&dir) {
-                dirs.push(dir);
-            }
         }
         for (path, content) in devices {
             let written = open_in_place(&path).and_then(|mut f| content.write_to(&mut f));
@@ -431,10 +418,6 @@ impl<'a> Outputs<'a> {
             list.clear();
         }
         renamed?;
-        // what killed runs left behind, once this one has succeeded
-        for dir in &dirs {
-            remove_stale_temporaries(dir);
-        }
         match self.stdout {
             Some(content) => print_content(content),
             None => Ok(()),
