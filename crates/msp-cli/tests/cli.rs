@@ -493,14 +493,16 @@ fn a_signal_at_any_moment_leaves_no_temporary() {
     let bin = assert_cmd::cargo::cargo_bin("msp");
     let run = |dir: &std::path::Path| {
         let mut cmd = std::process::Command::new(&bin);
-        cmd.args(words("run --plant e^-2s/(5s+1) --duration 2000 --ts 0.01 -o"))
-            .arg(dir.join("run.csv"))
-            .arg("--report")
-            .arg(dir.join("run.json"))
-            .arg("--plot")
-            .arg(dir.join("run.svg"))
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null());
+        cmd.args(words(
+            "run --plant e^-2s/(5s+1) --duration 2000 --ts 0.01 -o",
+        ))
+        .arg(dir.join("run.csv"))
+        .arg("--report")
+        .arg(dir.join("run.json"))
+        .arg("--plot")
+        .arg(dir.join("run.svg"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null());
         cmd
     };
     let dir = tempfile::tempdir().unwrap();
