@@ -109,11 +109,14 @@ fn available_memory() -> Option<f64> {
 }
 
 /// Refuses what needs about `bytes` (described by `what`) when that is above
-/// the budget `max_memory` (default [`DEFAULT_MAX_MEMORY`]) or above what the
-/// machine can still give: checked before anything is allocated, so that a
-/// budget raised past the machine ends in this error, not in an abort.
+/// the budget `max_memory` (default [`DEFAULT_MAX_MEMORY`]; a run among `n`
+/// side by side has an `n`-th of it) or above what the machine can still
+/// give: checked before anything is allocated, so that a budget raised past
+/// the machine ends in this error, not in an abort.
 pub fn check_budget(max_memory: Option<u64>, bytes: f64, what: &str) -> Result<(), RunError> {
-    let limit = max_memory.unwrap_or(DEFAULT_MAX_MEMORY);
+    // runs side by side (a sweep, a trade-off, a comparison) share it
+    let share = super::SHARE.with(core::cell::Cell::get).max(1);
+    let limit = max_memory.unwrap_or(DEFAULT_MAX_MEMORY) / share;
     #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
     let limit_f = limit as f64;
     if bytes.is_nan() || bytes > limit_f {
@@ -373,5 +376,22 @@ impl Scenario {
             u_min,
             u_max,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_budget;
+
+    /// A run among `n` side by side (`SHARE`, set by `each`) has an `n`-th
+    /// of the budget; alone, all of it.
+    #[test]
+    fn runs_side_by_side_share_the_budget() {
+        assert!(check_budget(Some(1000), 300.0, "a run").is_ok());
+        let outer = super::super::SHARE.with(|s| s.replace(4));
+        let shared = check_budget(Some(1000), 300.0, "a run");
+        super::super::SHARE.with(|s| s.set(outer));
+        assert!(shared.is_err(), "{shared:?}");
+        assert!(check_budget(Some(1000), 250.0, "a run").is_ok());
     }
 }

@@ -10,8 +10,25 @@ use crate::poly::{fmt_num, PlantKind, TransferFunction};
 /// closed-loop time constant `τ` and sampled with forward-Euler integration
 /// gives `τ − Ts/2` (e.g. the Karan–Dey MSP's IAE on the delayed reference is
 /// `θ/8 − Ts/2`). The period divides the dead time into a whole number of
-/// samples (then the delay is exact in the controller's model too).
+/// samples (then the delay is exact in the controller's model too), and
+/// never into more than [`MAX_CHOSEN_SAMPLES`]: a lag below 10⁻⁴ of the dead
+/// time is then shorter than a tenth of a sample, exact in the ZOH model
+/// but not resolved between samples, where a finer period would give a
+/// delay line, a simulation and an analysis that grow with θ/τ (θ/τ = 10⁶:
+/// 10⁷ samples, half a minute and a gigabyte for `msp tune`).
 pub fn choose_ts(plant: &TransferFunction) -> f64 {
+    let ts = finest_ts(plant);
+    if plant.delay > 0.0 {
+        let n = (plant.delay / ts).ceil().clamp(1.0, MAX_CHOSEN_SAMPLES);
+        plant.delay / n
+    } else {
+        ts
+    }
+}
+
+/// [`choose_ts`] before the dead time is divided into whole samples and
+/// their number capped.
+fn finest_ts(plant: &TransferFunction) -> f64 {
     let scales = plant.time_scales().unwrap_or_default();
     let dyn_min = scales
         .iter()
@@ -26,12 +43,11 @@ pub fn choose_ts(plant: &TransferFunction) -> f64 {
     if !ts.is_finite() {
         ts = 0.01;
     }
-    if plant.delay > 0.0 {
-        let n = (plant.delay / ts).ceil().max(1.0);
-        ts = plant.delay / n;
-    }
     ts
 }
+
+/// The most samples of dead time a chosen period gives ([`choose_ts`]).
+pub const MAX_CHOSEN_SAMPLES: f64 = 1e5;
 
 /// A duration that covers settling: ten dead times, ten of the slowest time
 /// constants, or ten times the sum of the lags, whichever is longest. The sum
@@ -71,10 +87,16 @@ pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
 /// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`.
 pub fn describe_ts(plant: &TransferFunction, ts: f64) -> String {
     if plant.delay > 0.0 {
+        let n = (plant.delay / ts).round();
         std::format!(
-            "{} s ({} samples of dead time)",
+            "{} s ({} samples of dead time{})",
             fmt_num(ts),
-            fmt_num((plant.delay / ts).round())
+            fmt_num(n),
+            if plant.delay / finest_ts(plant) > MAX_CHOSEN_SAMPLES && ts == choose_ts(plant) {
+                ", the most a chosen period gives: faster lags are not resolved between samples"
+            } else {
+                ""
+            }
         )
     } else {
         std::format!("{} s", fmt_num(ts))
@@ -84,4 +106,36 @@ pub fn describe_ts(plant: &TransferFunction, ts: f64) -> String {
 /// Kind of a plant, for messages.
 pub fn kind_of(plant: &TransferFunction) -> PlantKind {
     plant.kind()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{choose_ts, describe_ts, MAX_CHOSEN_SAMPLES};
+    use crate::poly::TransferFunction;
+
+    /// A tenth of the lag and 1/1000 of the dead time, the dead time a whole
+    /// number of samples, never more than 10⁵ of them (θ/τ = 10⁶: 10 s,
+    /// where a tenth of the lag would give 10⁷ samples), and the description
+    /// says when the cap chose it.
+    #[test]
+    fn the_chosen_period_divides_the_dead_time_into_at_most_1e5_samples(
+    ) -> Result<(), crate::syntax::ParseError> {
+        let cases = [
+            ("e^-5s/(10s+1)", 0.005, false),
+            ("e^-10s/(0.5s+1)", 0.01, false),
+            ("e^-1e4s/(s+1)", 0.1, false),
+            ("e^-1e5s/(s+1)", 1.0, true),
+            ("e^-1e6s/(s+1)", 10.0, true),
+        ];
+        for (text, ts, capped) in cases {
+            let plant: TransferFunction = text.parse()?;
+            let got = choose_ts(&plant);
+            assert!((got - ts).abs() <= 1e-12 * ts, "{text}: {got}");
+            let n = (plant.delay / got).round();
+            assert!(n <= MAX_CHOSEN_SAMPLES, "{text}: {n}");
+            let said = describe_ts(&plant, got).contains("the most a chosen period gives");
+            assert_eq!(said, capped, "{text}");
+        }
+        Ok(())
+    }
 }

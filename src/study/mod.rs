@@ -204,12 +204,31 @@ pub(crate) fn each<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + S
     #[cfg(feature = "parallel")]
     {
         use rayon::prelude::*;
-        items.par_iter().map(f).collect()
+        // the runs side by side share the memory budget: each may take
+        // its part ([`check_budget`] divides by it), so that together they
+        // stay within what one run may take
+        let side_by_side = rayon::current_num_threads().min(items.len()).max(1);
+        let share = u64::try_from(side_by_side).unwrap_or(u64::MAX);
+        items
+            .par_iter()
+            .map(|item| {
+                let outer = SHARE.with(|s| s.replace(s.get().max(share)));
+                let r = f(item);
+                SHARE.with(|s| s.set(outer));
+                r
+            })
+            .collect()
     }
     #[cfg(not(feature = "parallel"))]
     {
         items.iter().map(f).collect()
     }
+}
+
+std::thread_local! {
+    /// How many runs share the memory budget on this thread's behalf (1:
+    /// it is this run's alone; see [`each`]).
+    pub(crate) static SHARE: core::cell::Cell<u64> = const { core::cell::Cell::new(1) };
 }
 
 /// Gives the buffers of a finished run back for the next run on this

@@ -1332,10 +1332,20 @@ fn runs_that_ask_for_too_much_memory_are_refused_before_allocating() {
     let plant = "0.2/s*e^-7.4s";
     for args in [
         vec!["run", "--plant", plant, "--ts", "1e-12"],
-        vec!["run", "--plant", "e^-1e9s/(s+1)"],
-        vec!["run", "--plant", "e^-1e6s/(s+1)"],
-        vec!["run", "--plant", "e^-1s/(1e-9*s+1)"],
-        vec!["run", "--plant", "e^-1s/(s+1)", "--model", "e^-1e9s/(s+1)"],
+        // (a chosen period gives at most 1e5 samples of dead time: these
+        // periods are the user's)
+        vec!["run", "--plant", "e^-1e9s/(s+1)", "--ts", "0.1"],
+        vec!["run", "--plant", "e^-1e6s/(s+1)", "--ts", "0.1"],
+        vec!["run", "--plant", "e^-1s/(1e-9*s+1)", "--ts", "1e-10"],
+        vec![
+            "run",
+            "--plant",
+            "e^-1s/(s+1)",
+            "--model",
+            "e^-1e9s/(s+1)",
+            "--ts",
+            "0.1",
+        ],
         vec![
             "run",
             "--plant",
@@ -1374,6 +1384,15 @@ fn runs_that_ask_for_too_much_memory_are_refused_before_allocating() {
             "{args:?}: {err}"
         );
     }
+    // a period msp chooses keeps the dead time within 1e5 samples: such a
+    // plant runs (it asked for 1e10 samples of 1e9 s before)
+    let out = limited(&["run", "--plant", "e^-1e9s/(s+1)", "-o", "/dev/null"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("100000 samples of dead time, the most a chosen period gives"),
+        "{err}"
+    );
     // the flag moves the limit both ways
     let out = limited(&["run", "--plant", plant, "--max-memory", "1K"]);
     assert_eq!(out.status.code(), Some(2));
