@@ -171,13 +171,7 @@ pub fn stable(out: &crate::study::RunOutput) -> bool {
     settles(&out.result.y) && out.result.diverged_at.is_none()
 }
 
-/// The swing of a signal, `max − min` (0 for none).
-pub fn swing(v: &[f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.iter().fold(f64::MIN, |m, x| m.max(*x)) - v.iter().fold(f64::MAX, |m, x| m.min(*x))
-}
+pub use crate::study::swing;
 
 /// The test of [`stable`] on an output sequence.
 pub fn settles(y: &[f64]) -> bool {

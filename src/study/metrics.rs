@@ -108,6 +108,14 @@ pub fn next_event(setpoint: &[SetpointStep], disturbances: &[Disturbance]) -> f6
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The swing of a signal, `max − min` (0 for none).
+pub fn swing(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.iter().fold(f64::MIN, |m, x| m.max(*x)) - v.iter().fold(f64::MAX, |m, x| m.min(*x))
+}
+
 /// Whether the output `y` of a run of `duration` with step information
 /// `metrics` has come to rest: a settling time before the last tenth of the
 /// run, or (a loop that rests off its set point, e.g. P-only) a last tenth
@@ -117,7 +125,7 @@ pub fn settled(y: &[f64], metrics: &Metrics, duration: f64) -> bool {
     if metrics.step.settling_time <= 0.9 * duration {
         return true;
     }
-    let swing = crate::sweep::swing(y.get(n - n / 10..).unwrap_or(&[]));
+    let swing = swing(y.get(n - n / 10..).unwrap_or(&[]));
     let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
     n >= 10 && swing <= 1e-3 * scale
 }

@@ -25,7 +25,8 @@ pub use compare::{compare, Perturbation};
 pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of};
 pub use forced::SampledInput;
 pub use metrics::{
-    measure, metrics, next_event, settled, Columns, DisturbanceEvent, Event, Metrics, SetpointEvent,
+    measure, metrics, next_event, settled, swing, Columns, DisturbanceEvent, Event, Metrics,
+    SetpointEvent,
 };
 pub use output::RunOutput;
 pub use report::{
