@@ -11,21 +11,8 @@
 //! (the fraction of a sample the plant was built with stays, which keeps the
 //! sub-sample pieces exact).
 
-use super::closed_loop::Process;
+use super::config::{PlantParameter, Process};
 use crate::Error;
-
-/// The process parameter a drift moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
-pub enum PlantParameter {
-    /// The dead time (s; the rate in seconds of dead time per second).
-    DeadTime,
-    /// The static gain (the velocity gain of an integrating process).
-    Gain,
-    /// The time constant of a plant with one lag (s; the rate in s/s).
-    Lag,
-}
 
 /// One parameter on its way: where it is, where it goes, how far a sample.
 #[derive(Debug, Clone, Copy)]
@@ -45,13 +32,12 @@ struct Ramp {
 #[derive(Debug, Default)]
 pub(super) struct Drifts([Option<Ramp>; 3]);
 
-impl PlantParameter {
-    fn slot(self) -> usize {
-        match self {
-            PlantParameter::DeadTime => 0,
-            PlantParameter::Gain => 1,
-            PlantParameter::Lag => 2,
-        }
+/// A parameter's slot among the drifts.
+fn slot(p: PlantParameter) -> usize {
+    match p {
+        PlantParameter::DeadTime => 0,
+        PlantParameter::Gain => 1,
+        PlantParameter::Lag => 2,
     }
 }
 
@@ -80,7 +66,7 @@ impl Drifts {
             }
             PlantParameter::Gain | PlantParameter::Lag => (to, rate * ts),
         };
-        if let Some(slot) = self.0.get_mut(what.slot()) {
+        if let Some(slot) = self.0.get_mut(slot(what)) {
             *slot = Some(Ramp {
                 from: now,
                 now,
@@ -95,7 +81,7 @@ impl Drifts {
 
     /// A step event of the same parameter ends its drift.
     pub(super) fn stop(&mut self, what: PlantParameter) {
-        if let Some(slot) = self.0.get_mut(what.slot()) {
+        if let Some(slot) = self.0.get_mut(slot(what)) {
             *slot = None;
         }
     }

@@ -12,9 +12,9 @@
 
 use std::vec::Vec;
 
-use super::closed_loop::{Action, Noise, Process, SimConfig};
-use super::drift::{Drifts, PlantParameter};
-use super::result::Columns;
+use super::config::{Action, Noise, PlantParameter, Process, SimConfig};
+use super::drift::Drifts;
+use super::result::{Columns, Zeroed};
 use super::schedule::Track;
 use super::SimResult;
 use crate::operate::{feed_back, in_mode, Mode};
@@ -44,14 +44,6 @@ pub(super) struct Run<'a> {
     pub(super) flags: Flags,
     /// The load columns the sizing left at zero.
     pub(super) zeroed: Zeroed,
-}
-
-/// Which load columns hold zeros in every row before the run writes them
-/// (freshly allocated), so that a zero load need not be written.
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Zeroed {
-    pub(super) d: bool,
-    pub(super) d_out: bool,
 }
 
 /// What a run's samples check, fixed before the first.

@@ -22,6 +22,7 @@
 
 mod cascade;
 mod closed_loop;
+mod config;
 mod drift;
 mod engine;
 mod plant;
@@ -29,10 +30,8 @@ mod result;
 mod schedule;
 
 pub use cascade::CascadeStepper;
-pub use closed_loop::{
-    simulate, simulate_cascade, simulate_into, Action, Noise, Operation, Record, SimConfig,
-};
-pub use drift::PlantParameter;
+pub use closed_loop::{simulate, simulate_cascade, simulate_into};
+pub use config::{Action, Noise, Operation, PlantParameter, Record, SimConfig};
 pub use plant::{open_loop, PlantStepper};
 pub use result::SimResult;
 pub(crate) use schedule::first_sample_at;

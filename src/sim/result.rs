@@ -3,6 +3,14 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
+/// Which load columns hold zeros in every row before the run writes them
+/// (freshly allocated), so that a zero load need not be written.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Zeroed {
+    pub(super) d: bool,
+    pub(super) d_out: bool,
+}
+
 /// The signals of a run, one entry per sample.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SimResult {
@@ -51,7 +59,7 @@ impl SimResult {
         names: &[&str],
         rows: usize,
         c: Columns,
-    ) -> Result<super::engine::Zeroed, crate::Error> {
+    ) -> Result<Zeroed, crate::Error> {
         // a column without the room is allocated anew, zeroed, fallibly (a
         // column the process cannot have is an error, not an abort); a
         // reused one keeps its memory and its old rows, which the run
@@ -65,7 +73,7 @@ impl SimResult {
                 Ok(false)
             }
         };
-        let mut zeroed = super::engine::Zeroed::default();
+        let mut zeroed = Zeroed::default();
         let recorded = [
             (&mut self.t, true, None),
             (&mut self.y, true, None),
