@@ -14,6 +14,10 @@ use crate::{Discretization, Error, Lti};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
+/// Largest polynomial degree an expression may build, and a transfer
+/// function may have however it is made ([`TransferFunction::new`]).
+pub const MAX_DEGREE: u16 = 256;
+
 mod display;
 
 /// Polynomial product (descending coefficients).
@@ -168,7 +172,7 @@ impl TransferFunction {
         }
         // the grammar's bound, for coefficients handed in directly (a
         // degree of thousands takes the analysis seconds per root-finding)
-        if den.len() > usize::from(crate::syntax::expr::MAX_DEGREE) + 1 {
+        if den.len() > usize::from(MAX_DEGREE) + 1 {
             return Err(Error::OutOfRange(
                 "den: the degree is at most 256 (as the plant grammar allows)",
             ));

@@ -471,8 +471,8 @@ impl<T: Real, const N: usize> Lti<T, N> {
 
 #[cfg(all(test, feature = "std"))]
 mod tests {
+    use super::{Discretization, Lti};
     use crate::complex::Complex;
-    use crate::poly::TransferFunction;
     use crate::test_util::ExpectOk;
     use core::ops::Sub;
 
@@ -482,17 +482,23 @@ mod tests {
     /// pole.
     #[test]
     fn low_orders_in_closed_form_are_the_elimination() {
-        for (plant, order) in [
-            ("2/(3s+1)", 1),
-            ("(s+1)/(2s+1)", 1),
-            ("-0.5/s", 1),
-            ("(s+2)/((3s+1)(0.5s+1))", 2),
-            ("(2s-1)/(s^2+0.4s+1)", 2),
-            ("(0.3s^2+s+2)/(s^2+0.02s+4)", 2),
-            ("1/(s(4s+1))", 2),
-        ] {
-            let tf = plant.parse::<TransferFunction>().expect_ok();
-            let lti = tf.to_lti::<4>(0.7).expect_ok();
+        // (plant, numerator and denominator in descending powers of s, order)
+        let plants: [(&str, &[f64], &[f64], usize); 7] = [
+            ("2/(3s+1)", &[2.0], &[3.0, 1.0], 1),
+            ("(s+1)/(2s+1)", &[1.0, 1.0], &[2.0, 1.0], 1),
+            ("-0.5/s", &[-0.5], &[1.0, 0.0], 1),
+            ("(s+2)/((3s+1)(0.5s+1))", &[1.0, 2.0], &[1.5, 3.5, 1.0], 2),
+            ("(2s-1)/(s^2+0.4s+1)", &[2.0, -1.0], &[1.0, 0.4, 1.0], 2),
+            (
+                "(0.3s^2+s+2)/(s^2+0.02s+4)",
+                &[0.3, 1.0, 2.0],
+                &[1.0, 0.02, 4.0],
+                2,
+            ),
+            ("1/(s(4s+1))", &[1.0], &[4.0, 1.0, 0.0], 2),
+        ];
+        for (plant, num, den, order) in plants {
+            let lti = Lti::<f64, 4>::from_tf(num, den, 0.7, Discretization::Zoh).expect_ok();
             assert_eq!(lti.order(), order, "{plant}");
             for k in 0..400 {
                 let theta = f64::from(k) * 0.00787 + 1e-9;

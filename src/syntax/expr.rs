@@ -488,9 +488,7 @@ impl Parser<'_> {
     }
 }
 
-/// Largest polynomial degree an expression may build, and a transfer
-/// function may have however it is made ([`crate::poly::TransferFunction::new`]).
-pub const MAX_DEGREE: u16 = 256;
+pub use crate::poly::MAX_DEGREE;
 
 fn check_degree(v: &Val, col: usize) -> PResult<()> {
     if v.num.len().max(v.den.len()) > usize::from(MAX_DEGREE) + 1 {
