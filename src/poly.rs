@@ -18,6 +18,10 @@ use num_traits::Float;
 /// function may have however it is made ([`TransferFunction::new`]).
 pub const MAX_DEGREE: u16 = 256;
 
+/// Largest model order the registry's controllers and the simulator's
+/// state-space plants hold (`msp::registry::MAX_ORDER` too).
+pub const MAX_ORDER: usize = 8;
+
 mod display;
 
 /// Polynomial product (descending coefficients).

@@ -37,8 +37,7 @@ use crate::LoopController;
 use crate::Real;
 use common::{both, by_order};
 
-/// Largest model order the registry's controllers hold.
-pub const MAX_ORDER: usize = 8;
+pub use crate::poly::MAX_ORDER;
 
 /// A controller built by the registry.
 pub type DynController = DynControllerOf<f64>;

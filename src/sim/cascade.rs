@@ -6,7 +6,7 @@ use std::vec::Vec;
 use super::plant::{cuts, split_delay, vec_zeros, PlantSim, ToUsize};
 use crate::delay::Delay;
 use crate::poly::TransferFunction;
-use crate::registry::MAX_ORDER;
+use crate::poly::MAX_ORDER;
 use crate::{Discretization, Error, Lti};
 
 /// The exact sampled cascade process (primary `p1` fed by the secondary `p2`),

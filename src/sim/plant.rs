@@ -5,7 +5,7 @@ use std::vec::Vec;
 
 use crate::delay::Delay;
 use crate::poly::TransferFunction;
-use crate::registry::MAX_ORDER;
+use crate::poly::MAX_ORDER;
 use crate::{Discretization, Error, Lti};
 
 /// One piece of a sampling period, integrated exactly by its own ZOH discretization.
