@@ -113,6 +113,19 @@ pub fn compare(
         let verdict = crate::analysis::tuned_stability(one, t, &plant, &model, inner.as_ref());
         out.stability = out.cross_checked(verdict, settled);
         out.default_scenario = default;
+        // the margins the comparison's table prints, in the report too: an
+        // unstable loop has none; a cascade's loop is broken at the inner
+        // set point, a single loop at the plant input (the plant behind
+        // the hold), as the run's controller was tuned
+        out.robustness = if out.stability.stable == Some(false) {
+            Some(crate::analysis::Margins::unstable())
+        } else if inner.is_some() {
+            crate::analysis::analyze(one, crate::analysis::View::Discrete, None)
+                .ok()
+                .map(|an| an.margins)
+        } else {
+            one.margins_of_tuned(t, &plant, &model, 6000)
+        };
         if let Some(t) = &out.target {
             out.notes.push(std::format!(
                 "{}: tuned for the target {}: lambda = {} gives {} = {}",

@@ -625,3 +625,41 @@ fn a_diverged_loop_has_no_figures() {
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(!text.contains('—') && !text.contains("UNSTABLE"), "{text}");
 }
+
+/// `msp compare --report` carries the margins its table prints (the same
+/// numbers in every output): each scheme's Ms, and null for a loop the
+/// perturbation makes unstable ("—" in the table).
+#[test]
+fn compare_reports_the_margins_it_prints() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.json");
+    for perturb in ["gain=0%", "gain=+10%,delay=+10%"] {
+        let table = stdout_of(
+            msp()
+                .args(line(&format!(
+                    "compare --plant 0.2/s*e^-7.4s -c karan-dey,smith --perturb {perturb} -o /dev/null --report"
+                )))
+                .arg(&path),
+        );
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let row: Vec<&str> = table
+            .lines()
+            .find(|l| l.starts_with("Ms "))
+            .unwrap_or_else(|| panic!("{table}"))
+            .split_whitespace()
+            .skip(1)
+            .collect();
+        assert_eq!(row.len(), 2, "{table}");
+        for (i, shown) in row.iter().enumerate() {
+            let ms = &report[i]["robustness"]["ms"];
+            match shown.parse::<f64>() {
+                Ok(v) => {
+                    let got = ms.as_f64().unwrap_or_else(|| panic!("{perturb}: {ms}"));
+                    assert!((got - v).abs() <= 5e-5 * v, "{perturb}: {got} vs {v}");
+                }
+                Err(_) => assert!(ms.is_null(), "{perturb}: {shown} vs {ms}"),
+            }
+        }
+    }
+}
