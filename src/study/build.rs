@@ -120,8 +120,13 @@ pub fn check_budget(max_memory: Option<u64>, bytes: f64, what: &str) -> Result<(
     #[allow(clippy::cast_precision_loss)] // a budget in bytes, compared roughly
     let limit_f = limit as f64;
     if bytes.is_nan() || bytes > limit_f {
+        let shared = if share > 1 {
+            std::format!(" (its share: {share} runs side by side share the budget)")
+        } else {
+            String::new()
+        };
         return Err(RunError::Limit(std::format!(
-            "the run needs about {} ({what}); the limit is {}: raise it with --max-memory (Python: max_memory=)",
+            "the run needs about {} ({what}); the limit is {}{shared}: raise it with --max-memory (Python: max_memory=)",
             human(bytes),
             human(limit_f)
         )));
@@ -391,7 +396,8 @@ mod tests {
         let outer = super::super::SHARE.with(|s| s.replace(4));
         let shared = check_budget(Some(1000), 300.0, "a run");
         super::super::SHARE.with(|s| s.set(outer));
-        assert!(shared.is_err(), "{shared:?}");
+        let why = std::format!("{shared:?}");
+        assert!(why.contains("4 runs side by side"), "{why}");
         assert!(check_budget(Some(1000), 250.0, "a run").is_ok());
     }
 }
