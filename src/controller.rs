@@ -25,6 +25,20 @@ pub trait Controller<T: Real> {
     fn update(&mut self, setpoint: T, measurement: T) -> T;
     /// Returns every state to zero (the delay lines included).
     fn reset(&mut self);
+    /// Returns every state to zero, as [`Controller::reset`], with the
+    /// loop at rest before the next sample: every signal before it zero,
+    /// the initial condition of the controller's transfer function
+    /// ([`FrequencyResponse::transfer`], Python's `to_control()`). The
+    /// difference is a PID's first update: after `reset` (or built new) it
+    /// takes its first sample as the derivative's reference — no kick, a
+    /// controller started on a running process, as pid-rs and simple-pid
+    /// do — and after `reset_to_rest` it differences against zero, as the
+    /// transfer function from rest does (msp's simulator starts every loop
+    /// so: a step at the first sample gives the transfer function's step
+    /// response, sample for sample).
+    fn reset_to_rest(&mut self) {
+        self.reset();
+    }
     /// True when the last update received a non-finite set point or measurement
     /// and held its output instead.
     fn fault(&self) -> bool {
@@ -161,6 +175,9 @@ macro_rules! forward {
             fn reset(&mut self) {
                 (**self).reset()
             }
+            fn reset_to_rest(&mut self) {
+                (**self).reset_to_rest()
+            }
             fn fault(&self) -> bool {
                 (**self).fault()
             }
@@ -256,6 +273,9 @@ impl<C: Controller<f32>> Controller<f64> for Widened<C> {
     }
     fn reset(&mut self) {
         self.0.reset();
+    }
+    fn reset_to_rest(&mut self) {
+        self.0.reset_to_rest();
     }
     fn fault(&self) -> bool {
         self.0.fault()

@@ -304,6 +304,10 @@ impl<T: Real, C: Operate<T>> Controller<T> for Operated<T, C> {
         self.started = false;
         self.r = T::zero();
     }
+    fn reset_to_rest(&mut self) {
+        self.reset();
+        self.inner.reset_to_rest();
+    }
     fn fault(&self) -> bool {
         self.inner.fault()
     }

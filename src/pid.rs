@@ -212,6 +212,19 @@ impl<T: Real> Pid<T> {
         self.refresh();
     }
 
+    /// Returns every state to zero, as [`Pid::reset`], with the loop at
+    /// rest before the next sample (every signal zero, the transfer
+    /// function's initial condition): the first update's derivative
+    /// differences `c·r − y` against zero, `D = bd·(c·r − y)`, where after
+    /// `reset` it takes the first sample as its reference (no kick; see
+    /// [`crate::Controller::reset_to_rest`]). The last output, the rate
+    /// limit's reference, is zero too.
+    pub fn reset_to_rest(&mut self) {
+        self.reset();
+        self.started = true;
+        self.refresh();
+    }
+
     /// Sets the integral term so that the next output is `u` for zero error
     /// (bumpless start from a steady state with actuator value `u`).
     pub fn preset(&mut self, u: T) -> Result<(), Error> {
@@ -540,6 +553,9 @@ impl<T: Real> crate::Controller<T> for Pid<T> {
     }
     fn reset(&mut self) {
         Pid::reset(self)
+    }
+    fn reset_to_rest(&mut self) {
+        Pid::reset_to_rest(self)
     }
     fn fault(&self) -> bool {
         Pid::fault(self)

@@ -80,6 +80,38 @@ fn no_derivative_kick_with_c_zero() {
     );
 }
 
+/// The first update: built new or `reset`, the first sample is the
+/// derivative's reference (no kick: a controller started on a running
+/// process); `reset_to_rest`, it differences against zero, the transfer
+/// function's initial condition. Backward Euler through the filter
+/// `Tf = Td/N`: `D = Kp·Td/(Tf + h)·Δ(c·r − y)` from zero.
+#[test]
+fn first_update_from_a_running_process_and_from_rest() {
+    let (kp, ti, td, h, n) = (0.5f64, 4.0, 2.0, 0.1, 10.0);
+    let cfg = PidConfig::isa(kp, ti, td, h);
+    let mut c = Pid::new(cfg).unwrap();
+    assert_eq!(c.update(1.0, 0.25), kp * 0.75, "no kick on a new PID");
+    c.update(1.0, 0.5);
+    c.reset();
+    assert_eq!(c.update(1.0, 0.25), kp * 0.75, "none after reset");
+    let kick = kp * td / (td / n + h);
+    for y in [0.0, 0.25, -3.0] {
+        c.reset_to_rest();
+        let u = c.update(1.0, y);
+        let want = kp * (1.0 - y) + kick * (1.0 - y);
+        assert!((u - want).abs() <= 1e-15 * want.abs(), "{u} vs {want}");
+        assert_eq!(c.terms().i, 0.0);
+    }
+    // through the trait and a scheme that holds a PID: the same kick
+    let m: msp::ProcessModel<f64> = msp::Fopdt::new(1.0, 5.0, 1.0).unwrap().into();
+    let mut sp = msp::SmithPredictor::<f64, 1, [f64; 16]>::from_model(cfg, &m, h).unwrap();
+    msp::Controller::reset_to_rest(&mut sp);
+    let u = msp::Controller::update(&mut sp, 1.0, 0.0);
+    assert!((u - (kp + kick)).abs() <= 1e-15 * u, "{u}");
+    msp::Controller::reset(&mut sp);
+    assert_eq!(msp::Controller::update(&mut sp, 1.0, 0.0), kp);
+}
+
 #[test]
 fn tracking_input_and_rate_limit() {
     let cfg = PidConfig::isa(1.0, 1.0, 0.0, 0.1).with_rate_limit(1.0);

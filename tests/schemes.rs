@@ -633,15 +633,19 @@ fn the_chosen_duration_covers_a_chain_of_lags() {
     );
 }
 
-/// The Smith predictor on an integrator with a lag: its PID cancels the lag,
-/// so the loop is the IMC-PI's on `K/s` (13.5 % overshoot, less with the
-/// derivative filter) and settles; tuned for the half-rule IPDT instead (the
-/// lag folded into the delay the predictor removes) it diverged.
+/// The Smith predictor on an integrator with a lag: its PID (kp 28, ti 3.5,
+/// td 0.4286, N 10) cancels the lag, so the loop settles as the delay-free
+/// continuous one, `C·G/(1 + C·G)` with `G = 2/(s(3s + 1))`, whose step
+/// overshoots 18.5 % (python-control's `step_response`; 9.2 % with the
+/// derivative on the measurement alone: the set point's kick is part of
+/// it); tuned for the half-rule IPDT instead (the lag folded into the
+/// delay the predictor removes) it diverged.
 #[test]
 fn smith_cancels_the_lag_of_an_integrating_plant() {
     let o = run("2/(s*(3s+1))*e^-1s", "smith", |sc| sc.duration = Some(40.0));
     let over = o.metrics.step.overshoot;
-    assert!(over > 0.0 && over < 13.5, "overshoot {over} %");
+    // sampled (ZOH, the filter by backward Euler): within a percent of it
+    assert!((over - 18.5).abs() < 1.0, "overshoot {over} %");
     assert!((o.result.y.last().unwrap() - 1.0).abs() < 1e-4);
 }
 

@@ -29,15 +29,12 @@ fn filter(num: &[f64], den: &[f64], x: &[f64]) -> Vec<f64> {
 }
 
 /// A deterministic excitation: a few incommensurate sinusoids and steps,
-/// zero at the first sample (the controller's state at rest, as the
-/// transfer function's: a PID takes its first sample as the derivative's
-/// reference, no kick).
+/// away from zero from the first sample on (a controller reset to rest
+/// differences its first sample against zero, as the transfer function
+/// from rest does: the derivative's kick included).
 fn signal(n: usize, seed: f64) -> Vec<f64> {
     (0..n)
         .map(|k| {
-            if k == 0 {
-                return 0.0;
-            }
             let t = k as f64;
             (0.31 * t + seed).sin()
                 + 0.5 * (1.7 * t * seed).cos()
@@ -144,7 +141,7 @@ fn coefficients_reproduce_every_controller() {
                 .zip(&ur2)
                 .chain(uy.iter().zip(&uy2))
                 .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            c.reset();
+            c.reset_to_rest();
             let mut scale = 1.0f64;
             let mut worst = 0.0f64;
             for k in 0..n {

@@ -231,6 +231,19 @@ int main(void) {
                                                   .u_min = -1.0, .u_max = 1.0}};
     EXPECT(msp_pid_init_f64(odd, room, &pc64, &c64) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) == 1.0);
     EXPECT(msp_pid_init_f64(odd, room, NULL, &c64) == MSP_NULL_POINTER);
+    /* the first update: after init or reset the first sample is the
+       derivative's reference (no kick); after reset_to_rest it differences
+       against zero, the transfer function's initial condition:
+       kp + kp·td/(td/10 + ts) = 0.5 + 0.5·2/(0.2 + 0.1) */
+    {
+        msp_pid_config_f64 pd = {.ts = 0.1, .pid = {.kp = 0.5, .ti = 4.0, .td = 2.0,
+                                                    .u_min = -INFINITY, .u_max = INFINITY}};
+        EXPECT(msp_pid_init_f64(odd, room, &pd, &c64) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) == 0.5);
+        EXPECT(msp_reset_f64(c64) == MSP_OK && msp_update_f64(c64, 1.0, 0.0) == 0.5);
+        EXPECT(msp_reset_to_rest_f64(c64) == MSP_OK &&
+               fabs(msp_update_f64(c64, 1.0, 0.0) - (0.5 + 1.0 / 0.3)) < 1e-14);
+        EXPECT(msp_reset_to_rest(NULL) == MSP_NULL_POINTER);
+    }
 
     /* operation: manual and back to auto without a bump, the applied value,
        a run-time dead time within the buffer */

@@ -377,6 +377,11 @@ impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Ca
         self.fault = false;
     }
 
+    fn reset_to_rest(&mut self) {
+        self.reset();
+        self.outer.reset_to_rest();
+    }
+
     fn fault(&self) -> bool {
         self.fault
     }

@@ -111,6 +111,12 @@ impl<T: Real> InnerPath<T> {
         }
     }
 
+    fn reset_to_rest(&mut self) {
+        if let InnerPath::Pid(g) = self {
+            g.reset_to_rest();
+        }
+    }
+
     /// `Gc2(e^{jθ})`.
     fn response(&self, theta: T) -> Complex<T> {
         self.response_at(&Frequency::new(theta))
@@ -559,6 +565,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Comp
         self.u3 = T::zero();
         self.u = T::zero();
         self.fault = false;
+    }
+
+    fn reset_to_rest(&mut self) {
+        self.reset();
+        // the PIDs are the blocks with a first sample of their own
+        self.gc1.reset_to_rest();
+        self.gc2.reset_to_rest();
     }
 
     fn fault(&self) -> bool {

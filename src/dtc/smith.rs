@@ -115,6 +115,11 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
         self.model.reset();
     }
 
+    fn reset_to_rest(&mut self) {
+        self.pid.reset_to_rest();
+        self.model.reset();
+    }
+
     /// The PID's: a non-finite set point or measurement.
     fn fault(&self) -> bool {
         self.pid.fault()

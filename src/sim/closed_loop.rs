@@ -23,6 +23,10 @@ fn by_sample<T>(items: impl Iterator<Item = (f64, T)>, ts: f64) -> Vec<(usize, T
 
 /// Runs the closed loop of `controller` on `plant`.
 ///
+/// The loop starts at rest ([`crate::Controller::reset_to_rest`]: the
+/// controller's state and every signal before the first sample zero, as
+/// its transfer function from rest has them).
+///
 /// The plant is simulated exactly at the sample instants (its ZOH
 /// equivalent, the dead time as whole samples of delay): a PI with
 /// `Kp·K = 1`, `Ti = T` on `K/(Ts + 1)` makes the loop `1/(T s + 1)`, whose
@@ -190,6 +194,11 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         zeroed,
     };
     let plain = run.is_plain(cfg);
+    // the loop starts at rest: every state zero and every signal before
+    // the first sample zero, the transfer functions' initial condition (a
+    // PID's first update differences against zero: a step at the first
+    // sample gives the transfer function's step response, sample for sample)
+    controller.reset_to_rest();
     let rows = match (operated, plain) {
         (true, true) => engine::samples::<C, true, true>(&mut run, controller, cfg, res),
         (true, false) => engine::samples::<C, true, false>(&mut run, controller, cfg, res),

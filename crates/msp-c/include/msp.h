@@ -1079,6 +1079,23 @@ msp_status msp_reset(msp_controller *ctrl);
 // As [`msp_reset`].
 msp_status msp_reset_f64(msp_controller_f64 *ctrl);
 
+// Clears the controller's state as [`msp_reset`] does, with the loop at
+// rest before the next update (every signal zero, the initial condition
+// of the controller's transfer function): a PID's first update then
+// differences its derivative input against zero (a step kicks it),
+// where after [`msp_reset`] or `init` it takes its first sample as the
+// reference (no kick: a controller started on a running process).
+//
+// # Safety
+// As [`msp_update`].
+msp_status msp_reset_to_rest(msp_controller *ctrl);
+
+// [`msp_reset_to_rest`] in double precision.
+//
+// # Safety
+// As [`msp_reset_to_rest`].
+msp_status msp_reset_to_rest_f64(msp_controller_f64 *ctrl);
+
 // Whether the last update met a NaN or infinite input (the output was held
 // and the model kept following the actuator). A bad handle is a fault.
 //

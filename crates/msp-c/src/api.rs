@@ -232,6 +232,28 @@ twins! {
         }
     }
 
+    /// Clears the controller's state as [`msp_reset`] does, with the loop at
+    /// rest before the next update (every signal zero, the initial condition
+    /// of the controller's transfer function): a PID's first update then
+    /// differences its derivative input against zero (a step kicks it),
+    /// where after [`msp_reset`] or `init` it takes its first sample as the
+    /// reference (no kick: a controller started on a running process).
+    ///
+    /// # Safety
+    /// As [`msp_update`].
+    fn msp_reset_to_rest, msp_reset_to_rest_f64(
+        ctrl: *mut msp_controller | *mut msp_controller_f64,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        match unsafe { handle(ctrl) } {
+            Some(h) => {
+                reset_to_rest(h);
+                msp_status::MSP_OK
+            }
+            None => bad(ctrl),
+        }
+    }
+
     /// Whether the last update met a NaN or infinite input (the output was held
     /// and the model kept following the actuator). A bad handle is a fault.
     ///

@@ -250,6 +250,14 @@ impl<T: Real> OperateFn<T, ()> for Reset {
     }
 }
 
+/// [`msp_core::Controller::reset_to_rest`].
+struct ResetToRest;
+impl<T: Real> OperateFn<T, ()> for ResetToRest {
+    fn call<C: Operate<T>>(self, c: &mut C) {
+        c.reset_to_rest();
+    }
+}
+
 /// [`Operate::retune`].
 struct Retune<T>(msp_core::operate::Gain, T);
 impl<T: Real> OperateFn<T, Result<(), Error>> for Retune<T> {
@@ -376,6 +384,11 @@ pub(crate) unsafe fn handle<'a, H: Opaque>(ctrl: *mut H) -> Option<&'a mut Handl
 
 pub(crate) fn reset<T: Precision>(h: &mut Handle<T>) {
     h.operate(Reset);
+    h.bind();
+}
+
+pub(crate) fn reset_to_rest<T: Precision>(h: &mut Handle<T>) {
+    h.operate(ResetToRest);
     h.bind();
 }
 

@@ -417,9 +417,18 @@ impl Controller {
     fn is_cascade(&self) -> bool {
         self.inner.inner().is_cascade()
     }
-    /// Zeroes every state.
+    /// Zeroes every state; the next update takes its sample as a PID's
+    /// derivative reference (no kick: started on a running process).
     fn reset(&mut self) {
         self.inner.reset();
+    }
+    /// Zeroes every state with the loop at rest before the next update
+    /// (every signal zero): the controller is then the transfer functions
+    /// of :meth:`to_control` from rest, sample for sample, a PID's
+    /// derivative kick on a first-sample step included — as
+    /// :func:`simulate` starts every loop.
+    fn reset_to_rest(&mut self) {
+        self.inner.reset_to_rest();
     }
     /// The scheme's name.
     #[getter]

@@ -234,14 +234,42 @@ def test_to_control_is_the_loop_msp_analyses(scheme: str, plant: str, ts: float)
     num, den = sys["L"].num[0][0], sys["L"].den[0][0]
     assert np.allclose(np.trim_zeros(np.array(t["l"]["num"]), "f"), num)
     assert np.allclose(np.array(t["l"]["den"]), den)
-    # per sample: u = Cr·r − Cy·y from the controller object itself
+    # per sample: u = Cr·r − Cy·y from the controller object itself, at
+    # rest before the first sample (a step there kicks a derivative as the
+    # transfer functions from rest do)
     n = 200
     k = np.arange(n)
-    r, y = np.where(k > 0, 1.0, 0.0), np.where(k > 0, np.sin(0.3 * k), 0.0)
+    r, y = np.ones(n), 0.2 + np.sin(0.3 * k)
+    c.reset_to_rest()
     u = np.array([c.update(float(a), float(b)) for a, b in zip(r, y)])
     _, ur = control.forced_response(sys["cr"], T=k * ts, U=r)
     _, uy = control.forced_response(sys["cy"], T=k * ts, U=y)
     assert np.allclose(u, ur - uy, rtol=1e-8, atol=1e-9)
+
+
+def test_a_run_starts_the_loop_at_rest_as_to_control_does() -> None:
+    # a PID with a derivative (the Smith predictor on an integrator with a
+    # lag: td 0.43) and the set point's step at the first sample: the run's
+    # input is Cr·r − Cy·y from rest, the derivative's kick included
+    control = pytest.importorskip("control")
+    plant, ts = "2/(s*(3s+1))*e^-1s", 0.05
+    res = msp.run(plant, "smith", ts=ts, duration=10)
+    c = msp.Controller("smith", plant, ts)
+    assert c.params["td"] > 0 and res.t[0] == 0 and res.r[0] == 1
+    sys = c.to_control()
+    _, ur = control.forced_response(sys["cr"], T=res.t, U=res.r)
+    _, uy = control.forced_response(sys["cy"], T=res.t, U=res.y)
+    # (Cr·r and Cy·y are each some 800 where the input settles near 0: the
+    # rounding of the two order-24 recursions, relative to their size)
+    scale = max(np.abs(ur).max(), np.abs(uy).max())
+    assert np.allclose(res.u, ur - uy, rtol=0, atol=1e-10 * scale)
+    # and the controller object reset to rest gives the same, sample for sample
+    c.reset_to_rest()
+    u = c.update_many(np.asarray(res.r), np.asarray(res.y))
+    assert np.array_equal(u, res.u)
+    # reset instead: the first sample is the derivative's reference (no kick)
+    c.reset()
+    assert c.update(1.0, 0.0) < res.u[0]
 
 
 def test_to_control_of_a_cascade_gives_the_controller_only() -> None:
@@ -702,7 +730,8 @@ def test_every_public_function_is_documented_and_its_examples_run() -> None:
     tests = [t for obj in (msp.Controller, msp.Estimator, msp.Pid, msp.Plant, msp.parse_plant, msp.controllers)
              for t in finder.find(obj, obj.__name__, globs={}) if t.examples]
     assert sorted(t.name for t in tests) == [
-        "Controller", "Controller.to_control", "Estimator", "Pid", "Plant", "controllers", "parse_plant"]
+        "Controller", "Controller.to_control", "Estimator", "Pid", "Pid.reset_to_rest", "Plant", "controllers",
+        "parse_plant"]
     for t in tests:
         runner.run(t)
     assert runner.summarize(verbose=False).failed == 0

@@ -19,6 +19,12 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.pending = None;
     }
 
+    /// As [`Controller::reset`], the scheme at rest.
+    fn reset_to_rest(&mut self) {
+        self.reset();
+        self.inner.reset_to_rest();
+    }
+
     fn fault(&self) -> bool {
         self.inner.fault()
     }

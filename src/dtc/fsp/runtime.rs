@@ -598,6 +598,11 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Controller<T> for Predicted<T, P, 
         self.yhat = T::zero();
     }
 
+    fn reset_to_rest(&mut self) {
+        self.reset();
+        self.k.reset_to_rest();
+    }
+
     /// The primary's: a non-finite set point or measurement.
     fn fault(&self) -> bool {
         self.k.fault()

@@ -261,9 +261,27 @@ impl PyPid {
         let c = &mut self.inner;
         loop_many(py, r, y, |r, y| c.update(r, y))
     }
-    /// Zeroes the state, back to auto mode.
+    /// Zeroes the state, back to auto mode: the next update takes its
+    /// sample as the derivative's reference (no kick).
     fn reset(&mut self) {
         self.inner.reset();
+    }
+    /// Zeroes the state, back to auto mode, with the loop at rest before
+    /// the next update (every signal zero, as the transfer function from
+    /// rest has it): its derivative differences ``c·r − y`` against zero,
+    /// a step kicks it as it does later.
+    ///
+    /// Examples
+    /// --------
+    /// >>> import msp
+    /// >>> c = msp.Pid(kp=0.5, ti=4, td=2, ts=0.1)
+    /// >>> c.update(1, 0)  # new: the first sample is the derivative's reference
+    /// 0.5
+    /// >>> c.reset_to_rest()
+    /// >>> round(c.update(1, 0), 12)  # 0.5 + 0.5·2/(0.2 + 0.1)
+    /// 3.833333333333
+    fn reset_to_rest(&mut self) {
+        self.inner.reset_to_rest();
     }
     /// Manual mode holding the last output.
     fn set_manual(&mut self) {
