@@ -5,7 +5,7 @@ use std::string::String;
 use std::vec::Vec;
 
 use crate::sim::Noise;
-use crate::study::{choose_duration, choose_ts, Keep, Metrics, RunError, Scenario};
+use crate::study::{choose_duration, choose_ts_as, Keep, Metrics, RunError, Scenario};
 
 /// A relative range `lo..hi` (e.g. `-0.2..0.2` for −20 % … +20 %).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -206,7 +206,10 @@ pub fn sweep(
     let mut sc = base.clone();
     let ts = match base.ts {
         Some(ts) => ts,
-        None => choose_ts(&whole(&model, inner.as_ref().map(|(_, m)| m))?),
+        None => choose_ts_as(
+            &whole(&model, inner.as_ref().map(|(_, m)| m))?,
+            base.float32,
+        ),
     };
     sc.ts = Some(ts);
     if sc.duration.is_none() {

@@ -118,3 +118,51 @@ fn a_float32_scenario_runs_the_controller_in_f32() {
         assert!(worst < 1e-3 * scale, "{plant}: {worst:e}");
     }
 }
+
+/// A period msp chooses for an `f32` controller keeps the plant's slowest
+/// pole at least 2⁻¹⁰ from 1 once sampled (`choose_ts_as`), and there the
+/// `f32` loop follows the `f64` loop at the same period — where at the
+/// `f64` choice (1000 samples of dead time) the filtered Smith predictor
+/// of the unstable plant drifts by percents.
+#[test]
+fn a_chosen_f32_period_keeps_the_f32_loop_on_the_f64_one() {
+    let run = |plant: &str, ts: Option<f64>, float32: bool| {
+        msp::study::Scenario {
+            plant: Some(plant.parse().unwrap()),
+            ts,
+            duration: Some(400.0),
+            float32,
+            ..Default::default()
+        }
+        .run()
+        .unwrap()
+    };
+    let gap = |a: &msp::study::RunOutput, b: &msp::study::RunOutput| {
+        let scale = a.result.y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        a.result
+            .y
+            .iter()
+            .zip(&b.result.y)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / scale
+    };
+    for (plant, slowest) in [
+        ("5*e^-6s/(100s-1)", 100.0),
+        ("2*e^-1s/(30s-1)", 30.0),
+        ("5.6*e^-93.9s/(40.2s+1)", 40.2),
+        ("e^-5s/(60s+1)", 60.0),
+        ("e^-2s/((50s+1)(3s+1))", 50.0),
+        ("0.2/s*e^-7.4s", 0.0),
+    ] {
+        let narrow = run(plant, None, true);
+        assert!(narrow.ts_chosen && narrow.ts >= slowest / 1024.0 * (1.0 - 1e-12));
+        let wide = run(plant, Some(narrow.ts), false);
+        let g = gap(&wide, &narrow);
+        println!("{plant}: ts {} gap {g:e}", narrow.ts);
+        assert!(g < 1e-3, "{plant} at {}: f32 off by {g:e}", narrow.ts);
+    }
+    // the f64 choice for the unstable plant, in f32: the drift the floor avoids
+    let fine = run("5*e^-6s/(100s-1)", None, false);
+    let drift = gap(&fine, &run("5*e^-6s/(100s-1)", Some(fine.ts), true));
+    assert!(fine.ts < 100.0 / 1024.0 && drift > 1e-2, "{drift:e}");
+}

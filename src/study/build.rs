@@ -3,7 +3,7 @@
 
 use std::string::String;
 
-use super::{choose_ts, RunError, Scenario, DEFAULT_MAX_MEMORY};
+use super::{choose_ts_as, RunError, Scenario, DEFAULT_MAX_MEMORY};
 use crate::poly::TransferFunction;
 use crate::registry::{self, Build, Params, MAX_ORDER};
 use crate::Error;
@@ -286,7 +286,7 @@ impl Scenario {
         }
         let (ts, ts_chosen) = match self.ts {
             Some(ts) => (crate::real::positive(ts, "ts")?, false),
-            None => (choose_ts(&whole), true),
+            None => (choose_ts_as(&whole, self.float32), true),
         };
         // the controller's delay lines, before tuning or building allocates
         // them: as long as the model's dead time, or an event's, whichever is longer

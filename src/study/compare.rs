@@ -3,7 +3,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::{choose_duration, choose_ts, RunError, RunOutput, Scenario};
+use super::{choose_duration, choose_ts_as, RunError, RunOutput, Scenario};
 use crate::Error;
 
 /// Relative perturbations of the plant for `msp compare` (each controller keeps
@@ -57,7 +57,7 @@ pub fn compare(
     let mut sc = base.clone();
     sc.ts = Some(match base.ts {
         Some(ts) => ts,
-        None => choose_ts(&whole_model),
+        None => choose_ts_as(&whole_model, base.float32),
     });
     if sc.duration.is_none() {
         sc.duration = Some(choose_duration(&whole_plant, sc.ts.unwrap_or(1.0)));

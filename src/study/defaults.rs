@@ -26,6 +26,66 @@ pub fn choose_ts(plant: &TransferFunction) -> f64 {
     }
 }
 
+/// [`choose_ts`] for a controller that computes in `f32` (`float32`), or
+/// in `f64`. In `f32` the period is also no finer than 2⁻¹⁰ of the plant's
+/// slowest time constant ([`F32_POLE_DISTANCE`]): a discrete pole
+/// `e^{−Ts/τ}` is then at least 2⁻¹⁰ from 1, and the 24-bit significand
+/// keeps 14 bits of that distance (at 1000 samples of dead time the
+/// filtered Smith predictor of `5e^{−6s}/(100s − 1)` has its poles
+/// 6·10⁻⁵ from 1, 10 bits, and its `f32` loop settles after 2 400 s
+/// where the exact one takes 39 s; at 2⁻¹⁰ they agree to 10⁻⁴). The dead
+/// time stays a whole number of samples, each at least that long.
+pub fn choose_ts_as(plant: &TransferFunction, float32: bool) -> f64 {
+    let ts = choose_ts(plant);
+    let floor = f32_floor(plant);
+    if !float32 || ts >= floor {
+        return ts;
+    }
+    if plant.delay > 0.0 {
+        plant.delay / (plant.delay / floor).floor().max(1.0)
+    } else {
+        floor
+    }
+}
+
+/// The least distance from 1 of an `f32` controller's discrete poles that
+/// a chosen period keeps, `Ts/τ` ([`choose_ts_as`]).
+pub const F32_POLE_DISTANCE: f64 = 1.0 / 1024.0;
+
+/// The finest period an `f32` controller is given for `plant`:
+/// [`F32_POLE_DISTANCE`] of its slowest pole's time constant `1/|p|` (the
+/// poles at the origin, exactly 1 when sampled, aside; 0 for none).
+fn f32_floor(plant: &TransferFunction) -> f64 {
+    let slowest = plant
+        .poles()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(re, im)| re.hypot(im))
+        .filter(|m| *m > 1e-9)
+        .map(|m| 1.0 / m)
+        .fold(0.0, f64::max);
+    slowest * F32_POLE_DISTANCE
+}
+
+/// For a controller in `f32` at a period finer than [`choose_ts_as`]'s
+/// floor: how close to 1 the plant's slowest pole comes, what it risks and
+/// the period that keeps it 2⁻¹⁰ away.
+pub(crate) fn f32_note(plant: &TransferFunction, ts: f64) -> Option<String> {
+    let floor = f32_floor(plant);
+    if !(ts < floor * (1.0 - 1e-9)) {
+        return None;
+    }
+    let distance = ts / floor * F32_POLE_DISTANCE;
+    let bits = (24.0 + distance.log2()).round().max(0.0);
+    Some(std::format!(
+        "float32: at ts {} s the plant's slowest pole is {} from 1 once sampled, {} bits of an f32's 24: the controller's rounding can make its loop drift from the exact one; --ts {} keeps it 2^-10 away",
+        fmt_num(ts),
+        fmt_num(crate::poly::round_sig(distance, 2)),
+        fmt_num(bits),
+        fmt_num(crate::poly::round_sig(choose_ts_as(plant, true), 4)),
+    ))
+}
+
 /// [`choose_ts`] before the dead time is divided into whole samples and
 /// their number capped.
 fn finest_ts(plant: &TransferFunction) -> f64 {
@@ -84,20 +144,26 @@ pub fn choose_duration(plant: &TransferFunction, ts: f64) -> f64 {
     (10.0 * plant.delay.max(slow).max(lags)).max(100.0 * ts)
 }
 
-/// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`.
-pub fn describe_ts(plant: &TransferFunction, ts: f64) -> String {
+/// Shown next to a chosen value: `0.074 (chosen: 100 samples of dead time)`,
+/// and why, where a bound chose it rather than the plant's time scales.
+pub fn describe_ts(plant: &TransferFunction, ts: f64, float32: bool) -> String {
+    let f32_chose = float32 && ts != choose_ts(plant) && ts == choose_ts_as(plant, true);
+    let why = if f32_chose {
+        ", the finest at which f32 keeps the slowest pole 2^-10 from 1"
+    } else if plant.delay / finest_ts(plant) > MAX_CHOSEN_SAMPLES && ts == choose_ts(plant) {
+        ", the most a chosen period gives: faster lags are not resolved between samples"
+    } else {
+        ""
+    };
     if plant.delay > 0.0 {
         let n = (plant.delay / ts).round();
         std::format!(
-            "{} s ({} samples of dead time{})",
+            "{} s ({} samples of dead time{why})",
             fmt_num(ts),
-            fmt_num(n),
-            if plant.delay / finest_ts(plant) > MAX_CHOSEN_SAMPLES && ts == choose_ts(plant) {
-                ", the most a chosen period gives: faster lags are not resolved between samples"
-            } else {
-                ""
-            }
+            fmt_num(n)
         )
+    } else if f32_chose {
+        std::format!("{} s ({})", fmt_num(ts), why.trim_start_matches(", "))
     } else {
         std::format!("{} s", fmt_num(ts))
     }
@@ -133,7 +199,7 @@ mod tests {
             assert!((got - ts).abs() <= 1e-12 * ts, "{text}: {got}");
             let n = (plant.delay / got).round();
             assert!(n <= MAX_CHOSEN_SAMPLES, "{text}: {n}");
-            let said = describe_ts(&plant, got).contains("the most a chosen period gives");
+            let said = describe_ts(&plant, got, false).contains("the most a chosen period gives");
             assert_eq!(said, capped, "{text}");
         }
         Ok(())

@@ -22,7 +22,10 @@ pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
 use build::{BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE, RECORDED_COLUMNS};
 pub use compare::{compare, Perturbation};
-pub use defaults::{choose_duration, choose_ts, describe_ts, kind_of, MAX_CHOSEN_SAMPLES};
+pub use defaults::{
+    choose_duration, choose_ts, choose_ts_as, describe_ts, kind_of, F32_POLE_DISTANCE,
+    MAX_CHOSEN_SAMPLES,
+};
 pub use forced::SampledInput;
 pub use metrics::{
     measure, metrics, next_event, settled, swing, Columns, DisturbanceEvent, Event, Metrics,

@@ -461,7 +461,7 @@ impl Scenario {
             (nan, nan, Vec::new())
         };
         let loop_change = RunOutput::find_loop_change(&self.events, &result);
-        Ok(RunOutput {
+        let mut out = RunOutput {
             loop_change,
             plant: plant.clone(),
             model: model.clone(),
@@ -489,6 +489,11 @@ impl Scenario {
                 "the run was not analysed (a run by Scenario::run is)",
             ),
             design: Vec::new(),
-        })
+        };
+        if self.float32 {
+            out.notes
+                .extend(super::defaults::f32_note(&out.whole_model(), ts));
+        }
+        Ok(out)
     }
 }

@@ -90,6 +90,39 @@ fn float32_runs_the_controller_in_f32() {
     }
 }
 
+/// In `f32` the chosen period keeps the plant's slowest pole 2⁻¹⁰ from 1
+/// (the unstable plant's 100 s: 0.098 s, 61 samples of dead time, where
+/// `f64` takes 1000) and says why; a finer `--ts` is warned of.
+#[test]
+fn float32_chooses_a_period_f32_resolves_and_warns_of_a_finer_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("run.csv");
+    let said = |extra: &str| {
+        let out = msp()
+            .args(words(&format!(
+                "run --plant 5e^-6s/(100s-1) --float32 {extra} -o"
+            )))
+            .arg(&csv)
+            .assert()
+            .success()
+            .get_output()
+            .clone();
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr)
+    };
+    let chosen = said("");
+    assert!(
+        chosen.contains("(61 samples of dead time, the finest at which f32 keeps the slowest pole 2^-10 from 1)"),
+        "{chosen}"
+    );
+    assert!(!chosen.contains("warning: float32"), "{chosen}");
+    let fine = said("--ts 0.006");
+    assert!(
+        fine.contains("warning: float32: at ts 0.006 s the plant's slowest pole is 6e-5 from 1")
+            && fine.contains("--ts 0.09836 keeps it 2^-10 away"),
+        "{fine}"
+    );
+}
+
 #[test]
 fn csv_goes_to_stdout_and_set_overrides() {
     let text = stdout_of(msp().args(words(

@@ -25,7 +25,7 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
     }
     s.push_str(&format!(
         "ts          {}{}\n",
-        describe_ts(&out.whole_model(), out.ts),
+        describe_ts(&out.whole_model(), out.ts, out.float32),
         if out.ts_chosen {
             "  [chosen from the plant; --ts to change]"
         } else {
