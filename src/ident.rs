@@ -229,6 +229,19 @@ fn score(m: &ProcessModel<f64>, ts: f64, du: &[f64], y: &[f64], y0: f64) -> Fit 
     }
 }
 
+/// The dead time, in lags, beyond which a relay cycle's peaks no longer
+/// resolve `e^{−L/T}` (10⁻⁶ of the static level: a peak's rounding and a
+/// sample's timing are of that order): the FOPDT's exact relations give
+/// way to a search over the recorded cycles ([`identify_relay`]).
+const SATURATED: f64 = 14.0;
+
+/// The most samples a least-squares search evaluates its candidates on
+/// ([`least_squares`]: a longer record is decimated for the search).
+const COARSE: usize = 20_000;
+
+/// The simplex steps of the polish on a whole long record.
+const POLISH: usize = 150;
+
 /// Least-squares fit of `kind` to samples `(u, y)` taken every `ts`, starting
 /// from `start`; `(u0, y0)` is the initial steady state.
 pub fn least_squares(
@@ -241,12 +254,14 @@ pub fn least_squares(
     start: &ProcessModel<f64>,
 ) -> Result<Fit, Error> {
     let du: Vec<f64> = u.iter().map(|v| v - u0).collect();
-    let cost = |p: &[f64]| -> f64 {
-        match model_from(kind, p).and_then(|m| response(&m, ts, &du, y0)) {
+    // the squared error of the model of parameters `p` on the record `(du, y)`
+    let on = |du: &[f64], y: &[f64], ts: f64, p: &[f64]| -> f64 {
+        match model_from(kind, p).and_then(|m| response(&m, ts, du, y0)) {
             Some(yh) => y.iter().zip(&yh).map(|(a, b)| (a - b) * (a - b)).sum(),
             None => f64::INFINITY,
         }
     };
+    let cost = |p: &[f64]| on(&du, y, ts, p);
     let mut x = params_of(start);
     if kind == ModelKind::Sopdt {
         if let ProcessModel::Fopdt(f) = start {
@@ -273,8 +288,37 @@ pub fn least_squares(
         .enumerate()
         .map(|(i, v)| if i == 0 { 0.1 * v.abs().max(1e-6) } else { 0.2 })
         .collect();
-    for _ in 0..3 {
-        x = nelder_mead(&cost, &x, &step, 4000);
+    // a long record (a relay's cycles at 10⁵ samples of dead time: 10⁶
+    // samples, each of the search's thousands of evaluations a simulation
+    // of all of them) is fitted first on every `m`-th sample, at most
+    // [`COARSE`] of them (the input held from mid-interval: a switch moves
+    // by at most half an interval, either way), then polished on the whole
+    // record from there with a simplex of a hundredth of the first one's
+    // size and few evaluations: the cost does not grow with the record
+    let m = y.len().div_ceil(COARSE);
+    if m > 1 {
+        let pick = |v: &[f64], from: usize| -> Vec<f64> {
+            v.iter().skip(from).step_by(m).copied().collect()
+        };
+        let (du_c, y_c) = (pick(&du, m / 2), pick(y, 0));
+        let n = du_c.len().min(y_c.len());
+        let coarse = |p: &[f64]| {
+            on(
+                du_c.get(..n).unwrap_or(&[]),
+                y_c.get(..n).unwrap_or(&[]),
+                ts * m as f64,
+                p,
+            )
+        };
+        for _ in 0..3 {
+            x = nelder_mead(&coarse, &x, &step, 4000);
+        }
+        let fine: Vec<f64> = step.iter().map(|s| 0.1 * s).collect();
+        x = nelder_mead(&cost, &x, &fine, POLISH);
+    } else {
+        for _ in 0..3 {
+            x = nelder_mead(&cost, &x, &step, 4000);
+        }
     }
     let m = model_from(kind, &x).ok_or(Error::Numerical("least squares (no valid model found)"))?;
     Ok(score(&m, ts, &du, y, y0))
@@ -492,6 +536,11 @@ pub fn identify_relay(
     cfg: &RelayConfig<f64>,
     refine: bool,
 ) -> Result<Fit, Error> {
+    // the exact relations need the cycle to carry the lag: with a dead time
+    // of many lags the output reaches its static level every half period,
+    // `e^{−L/T}` is below what the peaks resolve, and the search starts
+    // from a lag a twentieth of the dead time read off the half periods
+    let mut searched = false;
     let start: ProcessModel<f64> = match kind {
         ModelKind::Ipdt => identify_ipdt(r)?.into(),
         ModelKind::Foipdt => {
@@ -503,11 +552,18 @@ pub fn identify_relay(
             let k = r.gain().ok_or(Error::Unsupported(
                 "FOPDT/SOPDT identification needs the gain: run the relay with a bias",
             ))?;
-            identify_fopdt(r, k)?.into()
+            match identify_fopdt(r, k) {
+                Ok(m) if m.l < SATURATED * m.t => m.into(),
+                _ => {
+                    searched = true;
+                    let l = 0.9 * r.t_up.min(r.t_down);
+                    Fopdt::new(k, (l / 20.0).max(run.ts), l)?.into()
+                }
+            }
         }
     };
     let du: Vec<f64> = run.u.iter().map(|v| v - cfg.u0).collect();
-    if !refine && matches!(kind, ModelKind::Fopdt | ModelKind::Ipdt) {
+    if !refine && !searched && matches!(kind, ModelKind::Fopdt | ModelKind::Ipdt) {
         return Ok(score(&start, run.ts, &du, &run.y, cfg.y0));
     }
     let fit = least_squares(kind, run.ts, &run.u, &run.y, cfg.u0, cfg.y0, &start)?;

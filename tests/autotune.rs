@@ -302,3 +302,30 @@ fn a_reverse_acting_plant_is_autotuned() {
         assert!(out.run.metrics.step.settling_time.is_finite());
     }
 }
+
+/// A dead time of many lags: the relay's output reaches its static level
+/// every half period, the cycle's peaks no longer resolve `e^{−L/T}` and
+/// the exact relations give way to a search over the recorded cycles
+/// (`msp autotune -p e^-100s/(s+1)` failed: "not that of an FOPDT plant").
+/// From 10⁴ lags on the record (10⁶ samples at 10⁵) is searched on a
+/// decimated copy and polished on the whole: still exact, with the model
+/// given or chosen.
+#[test]
+fn a_dead_time_of_many_lags_is_identified_exactly() {
+    for (theta, tau, k) in [(30.0, 1.0, 1.0), (100.0, 1.0, 2.0), (2000.0, 0.5, 0.7)] {
+        let plant = format!("{k}*e^-{theta}s/({tau}s+1)");
+        for model in [None, Some(ModelKind::Fopdt)] {
+            let out = tune(
+                &plant,
+                AutotuneOptions {
+                    model,
+                    ..Default::default()
+                },
+            );
+            check(
+                &out.fit.model,
+                &[("k", k, 1e-6), ("t", tau, 1e-4), ("l", theta, 1e-6)],
+            );
+        }
+    }
+}
