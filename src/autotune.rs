@@ -24,11 +24,26 @@
 //!   `L = −T ln x` (all in deviations from `(u0, y0)`). Without a bias the
 //!   gain must come from elsewhere (a step test, or [`RelayResult::gain`] of a biased run).
 //!
+//! - **Unstable FOPDT** `K e^{−Ls}/(Ts − 1)` (`T y' = y + K u(t − L)`: from
+//!   `y₀` under a constant `u` the output runs away as `−K u + (y₀ + K u)e^{t/T}`),
+//!   with an asymmetric relay (Majhi & Atherton (2000) derive the cycle of
+//!   this plant under it; the relations here are derived the same way, for
+//!   this relay with hysteresis). With `E = e^{L/T}`, from the switch low at
+//!   `+ε` the input is `u₊` for `L` more seconds, the peak, then `u₋`, down
+//!   to `−ε`, and likewise up: `a₊ = −K u₊ + (ε + K u₊)E`,
+//!   `a₋ = −K u₋ + (K u₋ − ε)E`, `P₋ = L + T ln((K u₋ − ε)/(a₊ + K u₋))`,
+//!   `P₊ = L + T ln((K u₊ + ε)/(a₋ + K u₊))`. For a trial `L/T`, `a₊` gives
+//!   `K`, `P₊` gives `T` and `P₋` is predicted; `L/T` is the root of that
+//!   prediction's error (a scan, then bisection), and `a₋` checks the fit.
+//!   A symmetric relay leaves `L/T` undetermined (its cycle gives a swing
+//!   and a half period for three parameters): a bias is needed, as for the
+//!   FOPDT's gain.
+//!
 //! The describing function also gives the ultimate gain and period,
 //! `Ku = 4h/(π a)`, `Tu = P`, for the ultimate-cycle rules of Tables 3.2/3.3.
 
 use crate::real::{finite, non_negative, positive};
-use crate::{Error, Fopdt, Ipdt, Real};
+use crate::{Error, Fopdt, Ipdt, Real, Ufopdt};
 
 /// Settings of a relay experiment.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -420,6 +435,76 @@ pub fn identify_fopdt<T: Real>(r: &RelayResult<T>, k: T) -> Result<Fopdt<T>, Err
     Fopdt::new(k, t, l)
 }
 
+/// The unstable FOPDT `K e^{−Ls}/(Ts − 1)` of a limit cycle (see the module
+/// documentation): exact for plants of that form, from a relay with a bias
+/// (a symmetric cycle does not determine it: an error). An error where no ratio
+/// `L/T` in `(10⁻³, 3)` reproduces the cycle within 2 % of its swing.
+pub fn identify_ufopdt<T: Real>(r: &RelayResult<T>) -> Result<Ufopdt<T>, Error> {
+    // a symmetric cycle gives two figures (its swing and half period) for
+    // three parameters: every `L/T` fits
+    if !(r.bias.abs() > T::of(1e-6) * r.amplitude.abs()) {
+        return Err(Error::Unsupported(
+            "unstable FOPDT identification needs an asymmetric relay: give it a bias",
+        ));
+    }
+    let (up, dn) = (r.bias + r.amplitude, r.bias - r.amplitude);
+    let (eps, a_max, a_min) = (r.hysteresis, r.a_max, r.a_min);
+    let swing = a_max - a_min;
+    // for a trial g = L/T: (K, T, the error of the predicted P₋, of a₋)
+    let trial = |g: T| -> Option<(T, T, T, T)> {
+        let e = g.exp();
+        let k = (a_max - eps * e) / (up * (e - T::one()));
+        let r1 = (k * dn - eps) / (a_max + k * dn);
+        let r2 = (k * up + eps) / (a_min + k * up);
+        let (l1, l2) = ((e * r1).ln(), (e * r2).ln());
+        if !(r1 > T::zero() && r2 > T::zero() && l1 > T::zero() && l2 > T::zero()) {
+            return None;
+        }
+        let t = r.t_up / l2;
+        let a_min_model = k * dn * (e - T::one()) - eps * e;
+        Some((k, t, t * l1 - r.t_down, (a_min_model - a_min) / swing))
+    };
+    let (lo, hi) = (T::of(1e-3), T::of(3.0));
+    let grid = 400usize;
+    let at = |i: usize| lo * (hi / lo).powf(T::of(i as f64) / T::of((grid - 1) as f64));
+    let mut best: Option<(T, T, T, T)> = None;
+    let mut prev: Option<(T, T)> = None;
+    for i in 0..grid {
+        let g = at(i);
+        let f = trial(g).map(|(_, _, f, _)| f);
+        if let (Some((g0, f0)), Some(f1)) = (prev, f) {
+            if f0 * f1 <= T::zero() {
+                // bisection on the bracket [g0, g]
+                let (mut a, mut b, mut fa) = (g0, g, f0);
+                for _ in 0..80 {
+                    let m = T::half() * (a + b);
+                    let Some((_, _, fm, _)) = trial(m) else {
+                        break;
+                    };
+                    if fa * fm <= T::zero() {
+                        b = m;
+                    } else {
+                        (a, fa) = (m, fm);
+                    }
+                }
+                let g = T::half() * (a + b);
+                if let Some((k, t, _, miss)) = trial(g) {
+                    if best.map_or(true, |(_, _, _, m)| miss.abs() < m.abs()) {
+                        best = Some((k, t, g, miss));
+                    }
+                }
+            }
+        }
+        prev = f.map(|f| (g, f));
+    }
+    match best {
+        Some((k, t, g, miss)) if miss.abs() <= T::of(0.02) => Ufopdt::new(k, t, g * t),
+        _ => Err(Error::Numerical(
+            "unstable FOPDT identification (the limit cycle is not that of an unstable FOPDT plant)",
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -487,6 +572,41 @@ mod tests {
             (m.t - 5.0).abs() < 0.05 && (m.l - 4.0).abs() < 0.04,
             "{m:?}"
         );
+        Ok(())
+    }
+
+    /// Unstable FOPDT plants with `L/T` from 0.1 to 0.4 (a cycle exists
+    /// below ln 2), gains from 0.5 to 4, with and without
+    /// hysteresis: `K`, `T`, `L` from the cycle of the exactly sampled plant.
+    #[test]
+    fn ufopdt_exact_with_bias() -> Result<(), Box<dyn std::error::Error>> {
+        for (k, t, l, eps) in [
+            (2.0, 3.0, 1.0, 0.0),
+            (1.0, 5.0, 1.5, 0.0),
+            (0.5, 10.0, 1.0, 0.02),
+            (4.0, 2.0, 0.8, 0.05),
+        ] {
+            let cfg = RelayConfig {
+                bias: 0.2,
+                hysteresis: eps,
+                ..RelayConfig::new(1.0, 0.0002)
+            };
+            let r = cycle(&[k], &[t, -1.0], l, cfg)?;
+            let m = identify_ufopdt(&r)?;
+            // the relations are exact in continuous time; the sampled relay
+            // switches at the sample after a crossing, an error of order
+            // Ts/L (10⁻⁴ here) that a hysteresis of a quarter of the swing
+            // makes a few times larger
+            let rel = |a: f64, b: f64| (a - b).abs() / b;
+            assert!(
+                rel(m.k, k) < 2e-3 && rel(m.t, t) < 2e-3 && rel(m.l, l) < 2e-3,
+                "{k} {t} {l}: {m:?}"
+            );
+        }
+        // a symmetric relay: L/T is not determined
+        let cfg = RelayConfig::new(1.0, 0.001);
+        let r = cycle(&[2.0], &[3.0, -1.0], 1.0, cfg)?;
+        assert!(identify_ufopdt(&r).is_err());
         Ok(())
     }
 

@@ -4,10 +4,10 @@
 use std::vec::Vec;
 
 use crate::autotune::{
-    identify_fopdt, identify_ipdt, RelayConfig, RelayResult, RelayState, RelayTest,
+    identify_fopdt, identify_ipdt, identify_ufopdt, RelayConfig, RelayResult, RelayState, RelayTest,
 };
 use crate::poly::TransferFunction;
-use crate::{Error, Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt};
+use crate::{Error, Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
 
 mod autotune;
 pub use autotune::*;
@@ -25,6 +25,9 @@ pub enum ModelKind {
     Ipdt,
     /// Integrator with a first-order lag plus dead time `K e^{−Ls}/(s(Ts + 1))`.
     Foipdt,
+    /// Unstable first order plus dead time `K e^{−Ls}/(Ts − 1)`: from a
+    /// relay's limit cycle only (its step response runs away).
+    Ufopdt,
 }
 
 impl core::str::FromStr for ModelKind {
@@ -35,8 +38,9 @@ impl core::str::FromStr for ModelKind {
             "sopdt" => Ok(ModelKind::Sopdt),
             "ipdt" => Ok(ModelKind::Ipdt),
             "foipdt" => Ok(ModelKind::Foipdt),
+            "ufopdt" => Ok(ModelKind::Ufopdt),
             o => Err(std::format!(
-                "unknown model '{o}': use fopdt, sopdt, ipdt or foipdt"
+                "unknown model '{o}': use fopdt, sopdt, ipdt, foipdt or ufopdt"
             )),
         }
     }
@@ -180,6 +184,9 @@ fn model_from(kind: ModelKind, p: &[f64]) -> Option<ProcessModel<f64>> {
                 .ok()
                 .map(Into::into)
         }
+        ModelKind::Ufopdt => Ufopdt::new(g(0)?, g(1)?.exp(), g(2)?.exp())
+            .ok()
+            .map(Into::into),
     }
 }
 
@@ -235,10 +242,6 @@ fn score(m: &ProcessModel<f64>, ts: f64, du: &[f64], y: &[f64], y0: f64) -> Fit 
 /// way to a search over the recorded cycles ([`identify_relay`]).
 const SATURATED: f64 = 14.0;
 
-/// The most samples a least-squares search evaluates its candidates on
-/// ([`least_squares`]: a longer record is decimated for the search).
-const COARSE: usize = 20_000;
-
 /// The simplex steps of the polish on a whole long record.
 const POLISH: usize = 150;
 
@@ -291,11 +294,11 @@ pub fn least_squares(
     // a long record (a relay's cycles at 10⁵ samples of dead time: 10⁶
     // samples, each of the search's thousands of evaluations a simulation
     // of all of them) is fitted first on every `m`-th sample, at most
-    // [`COARSE`] of them (the input held from mid-interval: a switch moves
+    // [`FIT_SAMPLES`] of them (the input held from mid-interval: a switch moves
     // by at most half an interval, either way), then polished on the whole
     // record from there with a simplex of a hundredth of the first one's
     // size and few evaluations: the cost does not grow with the record
-    let m = y.len().div_ceil(COARSE);
+    let m = y.len().div_ceil(FIT_SAMPLES);
     if m > 1 {
         let pick = |v: &[f64], from: usize| -> Vec<f64> {
             v.iter().skip(from).step_by(m).copied().collect()
@@ -450,6 +453,11 @@ fn identify_step_fit(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result
             Foipdt::new(i.k, (0.3 * i.l).max(ts), 0.7 * i.l)?.into()
         }
         ModelKind::Fopdt | ModelKind::Sopdt => two_point(t, u, y)?.into(),
+        ModelKind::Ufopdt => {
+            return Err(Error::Unsupported(
+                "an unstable model runs away in a step test: identify it from a relay's limit cycle (msp autotune --model ufopdt)",
+            ))
+        }
     };
     // Each cost evaluation of the fit simulates the model over the data, and
     // the search takes thousands of them: beyond FIT_SAMPLES rows the fit
@@ -470,7 +478,8 @@ fn identify_step_fit(kind: ModelKind, t: &[f64], u: &[f64], y: &[f64]) -> Result
     Ok(score(&coarse.model, ts, &du, y, y0))
 }
 
-/// The rows the least-squares fit simulates at most ([`identify_step`]).
+/// The rows a least-squares search simulates at most ([`identify_step`],
+/// [`least_squares`]).
 const FIT_SAMPLES: usize = 20_000;
 
 /// Bytes a relay experiment records per sample: `u` and `y` in `f64` ([`RelayRun`]).
@@ -526,6 +535,63 @@ pub fn relay_experiment(
     })
 }
 
+/// The unstable FOPDT `m`'s limit cycle under the relay of `r` against the
+/// last recorded period (from the record's last switch up, at `−ε`): its
+/// rms error and `r²` there. The model's cycle in closed form, from the
+/// switch up at `t = 0`: the input `u₋` for `L` more seconds, down to its
+/// own `a₋`, then `u₊` up to `+ε` at its own `P₊`, then `u₊` for `L`, up to
+/// `a₊`, then `u₋` (see [`crate::autotune`]).
+fn cycle_fit(run: &RelayRun, r: &RelayResult<f64>, m: &Ufopdt<f64>) -> Fit {
+    let (up, dn, eps) = (r.bias + r.amplitude, r.bias - r.amplitude, r.hysteresis);
+    let (k, t, l) = (m.k, m.t, m.l);
+    let e = (l / t).exp();
+    let a_min = -k * dn + (k * dn - eps) * e;
+    let a_max = -k * up + (eps + k * up) * e;
+    let t_up = l + t * ((k * up + eps) / (a_min + k * up)).ln();
+    let model = |s: f64| -> f64 {
+        let run_away = |level: f64, from: f64, dt: f64| -level + (from + level) * (dt / t).exp();
+        if s < l {
+            run_away(k * dn, -eps, s)
+        } else if s < t_up {
+            run_away(k * up, a_min, s - l)
+        } else if s < t_up + l {
+            run_away(k * up, eps, s - t_up)
+        } else {
+            run_away(k * dn, a_max, s - t_up - l)
+        }
+    };
+    let y0 = run.y.first().copied().unwrap_or(0.0);
+    let dy: Vec<f64> = run.y.iter().map(|v| v - y0).collect();
+    // the last crossing of −ε downwards, interpolated in its sample
+    let end = (1..dy.len()).rev().find_map(|i| {
+        let (a, b) = (*dy.get(i - 1)?, *dy.get(i)?);
+        #[allow(clippy::cast_precision_loss)]
+        (a >= -eps && b < -eps).then(|| run.ts * ((i - 1) as f64 + (-eps - a) / (b - a)))
+    });
+    let (mut sse, mut sum, mut sum2, mut n) = (0.0, 0.0, 0.0, 0.0f64);
+    if let Some(end) = end {
+        let start = end - r.period;
+        for (i, v) in dy.iter().enumerate() {
+            #[allow(clippy::cast_precision_loss)]
+            let s = i as f64 * run.ts - start;
+            if (0.0..r.period).contains(&s) {
+                sse += (v - model(s)).powi(2);
+                (sum, sum2, n) = (sum + v, sum2 + v * v, n + 1.0);
+            }
+        }
+    }
+    let sst = sum2 - sum * sum / n.max(1.0);
+    Fit {
+        model: (*m).into(),
+        rmse: if n > 0.0 {
+            (sse / n).sqrt()
+        } else {
+            f64::INFINITY
+        },
+        r2: if sst > 0.0 { 1.0 - sse / sst } else { f64::NAN },
+    }
+}
+
 /// Models from a relay run: the exact closed forms, then (with `refine`) a
 /// least-squares fit to the recorded cycles, which removes the bias that
 /// measurement noise puts on the peaks.
@@ -542,6 +608,9 @@ pub fn identify_relay(
     // from a lag a twentieth of the dead time read off the half periods
     let mut searched = false;
     let start: ProcessModel<f64> = match kind {
+        // exact from the cycle; its fit scored on the last recorded cycle
+        // (a least-squares search would simulate a model that runs away)
+        ModelKind::Ufopdt => return Ok(cycle_fit(run, r, &identify_ufopdt(r)?)),
         ModelKind::Ipdt => identify_ipdt(r)?.into(),
         ModelKind::Foipdt => {
             // the IPDT fit's dead time split between the lag and the delay

@@ -353,6 +353,37 @@ int main(void) {
         EXPECT(msp_karan_dey_init(odd, room, &kc, &c) == MSP_OK);
     }
 
+    /* the unstable FOPDT 2 e^{-s}/(3s - 1) sampled every 0.01 s (x' = (x + 2u(t - 1))/3:
+       x[k+1] = a x + 2(a - 1) v, a = e^{0.01/3}), a biased relay, identified back;
+       a symmetric relay's cycle does not determine it */
+    {
+        enum { DELAY = 100 };
+        static float line[DELAY];
+        int head = 0;
+        float x = 0.0f;
+        const float a = expf(0.01f / 3.0f);
+        EXPECT(msp_relay_default_config(1.0f, 0.01f, &rc) == MSP_OK);
+        rc.bias = 0.2f;
+        EXPECT(msp_relay_init(odd, room, &rc, &relay) == MSP_OK);
+        st = MSP_RELAY_RUNNING;
+        for (int i = 0; i < 200000 && st == MSP_RELAY_RUNNING; i++) {
+            float u = msp_relay_update(relay, x);
+            float v = line[head];
+            line[head] = u;
+            head = (head + 1) % DELAY;
+            x = a * x + 2.0f * (a - 1.0f) * v;
+            EXPECT(msp_relay_poll(relay, &st, &rr) == MSP_OK);
+        }
+        EXPECT(st == MSP_RELAY_DONE);
+        EXPECT(msp_relay_ufopdt(&rr, &m) == MSP_OK && m.kind == MSP_UFOPDT);
+        EXPECT(fabsf(m.k - 2.0f) < 0.02f && fabsf(m.tau - 3.0f) < 0.03f && fabsf(m.theta - 1.0f) < 0.01f);
+        printf("relay, unstable: period %.4g s, identified k %.4g, tau %.4g s, theta %.4g s\n",
+               (double)rr.period, (double)m.k, (double)m.tau, (double)m.theta);
+        EXPECT(msp_relay_ufopdt(NULL, &m) == MSP_NULL_POINTER);
+        rr.bias = 0.0f;
+        EXPECT(msp_relay_ufopdt(&rr, &m) == MSP_UNSUPPORTED);
+    }
+
     /* a finite measurement at the float range's end is a fault, never a
        latched NaN: later normal samples give finite outputs again */
     {

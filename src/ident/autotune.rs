@@ -118,16 +118,20 @@ pub fn autotune(
     o: &AutotuneOptions,
     base: &crate::study::Scenario,
 ) -> Result<AutotuneOutput, AutotuneError> {
-    let integrating = plant.kind() == crate::poly::PlantKind::Integrating;
+    let kind = plant.kind();
     // the candidate models: the one asked for, or the plain one and the one
-    // with a lag, the lag kept where the relay data shows it
-    let candidates: &[ModelKind] = match (o.model, integrating) {
+    // with a lag, the lag kept where the relay data shows it; an unstable
+    // process's, the unstable FOPDT
+    let candidates: &[ModelKind] = match (o.model, kind) {
         (Some(ModelKind::Ipdt), _) => &[ModelKind::Ipdt],
         (Some(ModelKind::Foipdt), _) => &[ModelKind::Foipdt],
         (Some(ModelKind::Fopdt), _) => &[ModelKind::Fopdt],
         (Some(ModelKind::Sopdt), _) => &[ModelKind::Sopdt],
-        (None, true) => &[ModelKind::Ipdt, ModelKind::Foipdt],
-        (None, false) => &[ModelKind::Fopdt, ModelKind::Sopdt],
+        (Some(ModelKind::Ufopdt), _) | (None, crate::poly::PlantKind::Unstable) => {
+            &[ModelKind::Ufopdt]
+        }
+        (None, crate::poly::PlantKind::Integrating) => &[ModelKind::Ipdt, ModelKind::Foipdt],
+        (None, _) => &[ModelKind::Fopdt, ModelKind::Sopdt],
     };
     let integrating_model = candidates
         .iter()
@@ -222,9 +226,23 @@ pub fn autotune(
             }
         }
     };
+    // the unstable plants' predictors take a dead time of whole samples:
+    // the identified one to the nearest (within half a sample of the fit)
+    let mut model = fit.model;
+    if let ProcessModel::Ufopdt(u) = &mut model {
+        let whole = (u.l / ts).round().max(1.0) * ts;
+        if whole != u.l {
+            notes.push(std::format!(
+                "the identified dead time {} s is taken as {} s, a whole number of samples, for the predictor",
+                crate::poly::fmt_num(crate::poly::round_sig(u.l, 6)),
+                crate::poly::fmt_num(whole)
+            ));
+            u.l = whole;
+        }
+    }
     let mut sc = base.clone();
     sc.plant = Some(plant.clone());
-    sc.model = Some(TransferFunction::from_model(&fit.model));
+    sc.model = Some(TransferFunction::from_model(&model));
     // the relay experiment saw the plant alone
     (sc.inner_plant, sc.inner_model) = (None, None);
     sc.controller = o.controller.clone().or(sc.controller);

@@ -1274,6 +1274,15 @@ msp_status msp_relay_ipdt(const msp_relay_result *result, msp_model *model);
 // `result` is null or readable, `model` null or writable.
 msp_status msp_relay_fopdt(const msp_relay_result *result, float k, msp_model *model);
 
+// The unstable FOPDT model `k e^{−θs}/(τs − 1)` of a limit cycle from a
+// biased relay (the cycle's asymmetry determines it; a symmetric relay's
+// does not: `MSP_UNSUPPORTED`). Exact for plants of that form, to the
+// relay's sampling.
+//
+// # Safety
+// `result` is null or readable, `model` null or writable.
+msp_status msp_relay_ufopdt(const msp_relay_result *result, msp_model *model);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

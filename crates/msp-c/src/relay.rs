@@ -2,7 +2,7 @@
 //! controller's configuration, and the relay experiment that finds the model.
 
 use msp_core::autotune::{
-    identify_fopdt, identify_ipdt, RelayConfig, RelayResult, RelayState, RelayTest,
+    identify_fopdt, identify_ipdt, identify_ufopdt, RelayConfig, RelayResult, RelayState, RelayTest,
 };
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real};
 
@@ -412,6 +412,32 @@ pub unsafe extern "C" fn msp_relay_fopdt(
     };
     let m = identify_fopdt(&RelayResult::from(r), k).map(|m| msp_model_of {
         kind: msp_model_kind::MSP_FOPDT as u32,
+        k: m.k,
+        tau: m.t,
+        theta: m.l,
+    });
+    // SAFETY: forwarded
+    unsafe { tuned(model, m) }
+}
+
+/// The unstable FOPDT model `k e^{−θs}/(τs − 1)` of a limit cycle from a
+/// biased relay (the cycle's asymmetry determines it; a symmetric relay's
+/// does not: `MSP_UNSUPPORTED`). Exact for plants of that form, to the
+/// relay's sampling.
+///
+/// # Safety
+/// `result` is null or readable, `model` null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn msp_relay_ufopdt(
+    result: *const msp_relay_result,
+    model: *mut crate::msp_model,
+) -> msp_status {
+    // SAFETY: null-checked by `as_ref`
+    let Some(r) = (unsafe { result.as_ref() }) else {
+        return msp_status::MSP_NULL_POINTER;
+    };
+    let m = identify_ufopdt(&RelayResult::from(r)).map(|m| msp_model_of {
+        kind: msp_model_kind::MSP_UFOPDT as u32,
         k: m.k,
         tau: m.t,
         theta: m.l,

@@ -344,8 +344,9 @@ pub(crate) struct AutotuneArgs {
     /// Noise seed.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,
-    /// Model to identify: ipdt, foipdt, fopdt or sopdt (default: the plain model of the
-    /// plant's kind, or the one with a lag where the relay data shows it).
+    /// Model to identify: ipdt, foipdt, fopdt, sopdt or ufopdt (default: the plain model of
+    /// the plant's kind, or the one with a lag where the relay data shows it; ufopdt, the
+    /// unstable FOPDT, for an unstable plant, from a biased relay).
     #[arg(long, value_parser = str::parse::<msp::ident::ModelKind>)]
     pub(crate) model: Option<msp::ident::ModelKind>,
     /// Controller to tune (default by the identified model).

@@ -798,6 +798,14 @@ def test_autotune_and_identify() -> None:
     y = np.where(t > 9, 2 * (1 - np.exp(-(t - 9) / 5)), 0.0)
     fit = msp.identify(t, u, y, "fopdt")
     assert abs(fit["k"] - 2) < 0.02 and abs(fit["t"] - 5) < 0.1 and abs(fit["l"] - 4) < 0.1
+    # an unstable process: the unstable FOPDT from the biased relay's cycle, a stable loop
+    out = msp.autotune("2e^-1s/(3s-1)")
+    ident = out["identified"]
+    assert ident["model"] == "ufopdt"
+    assert abs(ident["k"] - 2) < 4e-3 and abs(ident["t"] - 3) < 6e-3 and abs(ident["l"] - 1) < 2e-3
+    assert out["run"].stable
+    with pytest.raises(ValueError, match="relay"):
+        msp.identify(t, u, y, "ufopdt")
 
 
 @pytest.mark.skipif(not pathlib.Path(MSP_BIN).exists(), reason="the msp binary is not built")

@@ -828,8 +828,9 @@ def autotune(
     seed : int, optional
         The noise seed (default 0).
     model : str, optional
-        The model to identify: ``"ipdt"``, ``"foipdt"``, ``"fopdt"`` or ``"sopdt"`` (default: the
-        plain model of the plant's kind, or the one with a lag where the relay data shows it).
+        The model to identify: ``"ipdt"``, ``"foipdt"``, ``"fopdt"``, ``"sopdt"`` or ``"ufopdt"``
+        (default: the plain model of the plant's kind, or the one with a lag where the relay data
+        shows it; the unstable FOPDT ``"ufopdt"`` for an unstable plant, from a biased relay).
     controller : str, optional
         The scheme to tune on the identified model.
     ts : float, optional
