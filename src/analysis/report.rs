@@ -91,6 +91,14 @@ pub struct MarginsReport {
     /// they differ ([`published_note`]).
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub published: Option<&'static str>,
+    /// The loop response's frequencies (rad/s): what the Bode and Nyquist
+    /// plots draw.
+    pub w: Vec<f64>,
+    /// `L(jω)` at `w`, as `[re, im]` pairs.
+    pub l: Vec<[f64; 2]>,
+    /// The phase of `L` (degrees) at `w`, unwrapped as MATLAB's `bode`
+    /// draws it ([`super::LoopResponse::phase_unwrapped`]).
+    pub phase_unwrapped: Vec<f64>,
 }
 
 /// Bag (2022) prints margins for its two benchmark plants `0.2e^{−7.4s}/s`
@@ -148,6 +156,9 @@ impl Analysis {
             robust_peak: self.robust_peak,
             robustly_stable: self.robust_peak.map(|p| p < 1.0),
             published: published_note(&self.plant, self.controller),
+            w: self.response.w.clone(),
+            l: self.response.l.iter().map(|c| [c.re, c.im]).collect(),
+            phase_unwrapped: self.response.phase_unwrapped(self.plant.delay),
         }
     }
 }

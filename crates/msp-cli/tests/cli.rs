@@ -895,6 +895,27 @@ fn margins_json_has_the_matlab_keys() {
         assert!(j[k].is_number(), "{k}");
     }
     assert_eq!(j["stable"], true);
+    // the loop response the plots draw: L(jω) and its unwrapped phase, whose
+    // wrapped value is L's argument and whose steps between neighbours are
+    // under half a turn once the dead time's exact −ωθ is taken out
+    let (w, l, phase) = (
+        j["w"].as_array().unwrap(),
+        j["l"].as_array().unwrap(),
+        j["phase_unwrapped"].as_array().unwrap(),
+    );
+    assert!(w.len() > 100 && l.len() == w.len() && phase.len() == w.len());
+    let mut prev: Option<f64> = None;
+    for ((w, l), p) in w.iter().zip(l).zip(phase) {
+        let (w, p) = (w.as_f64().unwrap(), p.as_f64().unwrap());
+        let (re, im) = (l[0].as_f64().unwrap(), l[1].as_f64().unwrap());
+        let turns = (p - im.atan2(re).to_degrees()) / 360.0;
+        assert!((turns - turns.round()).abs() < 1e-9, "{p} vs {re} {im}");
+        let rest = p + (w * 93.9).to_degrees();
+        if let Some(q) = prev {
+            assert!((rest - q).abs() < 180.0, "{q} → {rest} at {w}");
+        }
+        prev = Some(rest);
+    }
 }
 
 #[test]

@@ -112,16 +112,20 @@ pub(crate) fn margins<'py>(
     let an = py
         .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
         .map_err(value_err)?;
-    // the library's report (the keys of `msp margins --json`), then the loop response
-    let d = pythonize::pythonize(py, &an.report())?.downcast_into::<PyDict>()?;
-    d.set_item("w", an.response.w.clone().into_pyarray(py))?;
-    let l: Vec<f64> = an.response.l.iter().flat_map(|c| [c.re, c.im]).collect();
-    let arr = l.into_pyarray(py).reshape([an.response.w.len(), 2])?;
-    d.set_item("l", arr)?;
-    d.set_item(
-        "phase_unwrapped",
-        an.response.phase_unwrapped(an.plant.delay).into_pyarray(py),
-    )?;
+    // the library's report (the keys of `msp margins --json`), its loop
+    // response as numpy arrays
+    let mut report = an.report();
+    let (w, l, phase) = (
+        std::mem::take(&mut report.w),
+        std::mem::take(&mut report.l),
+        std::mem::take(&mut report.phase_unwrapped),
+    );
+    let d = pythonize::pythonize(py, &report)?.downcast_into::<PyDict>()?;
+    let n = w.len();
+    d.set_item("w", w.into_pyarray(py))?;
+    let flat: Vec<f64> = l.into_iter().flatten().collect();
+    d.set_item("l", flat.into_pyarray(py).reshape([n, 2])?)?;
+    d.set_item("phase_unwrapped", phase.into_pyarray(py))?;
     Ok(d)
 }
 
