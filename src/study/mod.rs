@@ -1,6 +1,15 @@
 //! The study layer: a typed [`Scenario`] is parsed at its edge, tuned, built,
 //! simulated by the engine ([`crate::sim`]) and measured; [`compare`] runs
 //! several schemes on one plant. Text is read only by [`crate::syntax`].
+//!
+//! Its rooms: `defaults` (the sample period and duration msp chooses),
+//! `build` (tuning and construction, the memory budget), `run` (one closed
+//! loop), `metrics` and `output` (what a run measured), `report` (the serde
+//! types every front end prints), `robustness` (margins and their advice),
+//! `target` (λ solved for a robustness or bandwidth target), `compare`,
+//! `tradeoff`, `forced` (a run driven by sampled set points and loads),
+//! `adapt` (a scenario's adaptive dead-time compensation) and `bank` (the
+//! adaptation's benchmark bank).
 
 mod adapt;
 pub mod bank;
