@@ -50,6 +50,29 @@ static float lag_doubles(msp_adaptive *ad, int samples) {
     return worst;
 }
 
+/* Runs `relay` on the plant x[k+1] = a x[k] + b v[k], v the relay's output
+   `delay` (at most 200) samples earlier, until it ends or 200 000 samples
+   pass; its state, and its result in `rr`. */
+static msp_relay_state relay_on(msp_relay *relay, float a, float b, int delay,
+                                msp_relay_result *rr) {
+    static float line[200];
+    int head = 0;
+    float x = 0.0f;
+    msp_relay_state st = MSP_RELAY_RUNNING;
+    for (int i = 0; i < delay; i++) {
+        line[i] = 0.0f;
+    }
+    for (int i = 0; i < 200000 && st == MSP_RELAY_RUNNING; i++) {
+        float u = msp_relay_update(relay, x);
+        float v = line[head];
+        line[head] = u;
+        head = (head + 1) % delay;
+        x = a * x + b * v;
+        EXPECT(msp_relay_poll(relay, &st, rr) == MSP_OK);
+    }
+    return st;
+}
+
 int main(void) {
     msp_status s;
     msp_controller *c = NULL;
@@ -328,21 +351,9 @@ int main(void) {
     /* a whole experiment: the relay on the IPDT plant 0.2 e^{-2 s}/s sampled
        every 0.01 s (an integrator behind a 200-sample delay), identified back */
     {
-        enum { DELAY = 200 };
-        static float line[DELAY];
-        int head = 0;
-        float x = 0.0f;
         EXPECT(msp_relay_default_config(1.0f, 0.01f, &rc) == MSP_OK);
         EXPECT(msp_relay_init(odd, room, &rc, &relay) == MSP_OK);
-        st = MSP_RELAY_RUNNING;
-        for (int i = 0; i < 200000 && st == MSP_RELAY_RUNNING; i++) {
-            float u = msp_relay_update(relay, x);
-            float v = line[head];
-            line[head] = u;
-            head = (head + 1) % DELAY;
-            x += 0.2f * 0.01f * v;
-            EXPECT(msp_relay_poll(relay, &st, &rr) == MSP_OK);
-        }
+        st = relay_on(relay, 1.0f, 0.2f * 0.01f, 200, &rr);
         EXPECT(st == MSP_RELAY_DONE);
         EXPECT(msp_relay_ipdt(&rr, &m) == MSP_OK && m.kind == MSP_IPDT);
         EXPECT(fabsf(m.k - 0.2f) < 0.01f && fabsf(m.theta - 2.0f) < 0.05f);
@@ -357,23 +368,11 @@ int main(void) {
        x[k+1] = a x + 2(a - 1) v, a = e^{0.01/3}), a biased relay, identified back;
        a symmetric relay's cycle does not determine it */
     {
-        enum { DELAY = 100 };
-        static float line[DELAY];
-        int head = 0;
-        float x = 0.0f;
         const float a = expf(0.01f / 3.0f);
         EXPECT(msp_relay_default_config(1.0f, 0.01f, &rc) == MSP_OK);
         rc.bias = 0.2f;
         EXPECT(msp_relay_init(odd, room, &rc, &relay) == MSP_OK);
-        st = MSP_RELAY_RUNNING;
-        for (int i = 0; i < 200000 && st == MSP_RELAY_RUNNING; i++) {
-            float u = msp_relay_update(relay, x);
-            float v = line[head];
-            line[head] = u;
-            head = (head + 1) % DELAY;
-            x = a * x + 2.0f * (a - 1.0f) * v;
-            EXPECT(msp_relay_poll(relay, &st, &rr) == MSP_OK);
-        }
+        st = relay_on(relay, a, 2.0f * (a - 1.0f), 100, &rr);
         EXPECT(st == MSP_RELAY_DONE);
         EXPECT(msp_relay_ufopdt(&rr, &m) == MSP_OK && m.kind == MSP_UFOPDT);
         EXPECT(fabsf(m.k - 2.0f) < 0.02f && fabsf(m.tau - 3.0f) < 0.03f && fabsf(m.theta - 1.0f) < 0.01f);
