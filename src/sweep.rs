@@ -240,7 +240,7 @@ pub fn sweep(
         // the signals are read: their buffers serve this thread's next run
         crate::study::recycle(out.result);
         // the characteristic equation's verdict; the run's where it is unknown
-        let verdict = crate::analysis::tuned_stability(&sc, &tuned, &plant, &model, inner.as_ref())
+        let verdict = crate::study::tuned_stability(&sc, &tuned, &plant, &model, inner.as_ref())
             .stable
             .unwrap_or(settled);
         progress(done.fetch_add(1, core::sync::atomic::Ordering::Relaxed) + 1);

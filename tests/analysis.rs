@@ -231,7 +231,7 @@ fn stability_verdicts_are_true() {
             sc.set.insert(k.into(), v.parse().unwrap());
         }
         sc.max_memory = max_memory;
-        let an = msp::analysis::analyze(&sc, View::Sampled, None).unwrap();
+        let an = msp::study::analyze(&sc, View::Sampled, None).unwrap();
         (an.stable, an.stability)
     };
     for (plant, kp, want) in [
@@ -269,7 +269,7 @@ fn bare_plant_margins_are_matlabs() {
         if let Some(k) = kp {
             sc.set.insert("kp".into(), k);
         }
-        msp::analysis::analyze(&sc, view, None).unwrap()
+        msp::study::analyze(&sc, view, None).unwrap()
     };
     let c = analyze(View::Continuous, None);
     assert_eq!(c.controller, "none");
@@ -313,7 +313,7 @@ fn bare_plant_margins_are_matlabs() {
         ..Default::default()
     };
     sc.set.insert("ti".into(), 3.0);
-    let e = msp::analysis::analyze(&sc, View::Sampled, None)
+    let e = msp::study::analyze(&sc, View::Sampled, None)
         .unwrap_err()
         .to_string();
     assert!(e.contains("kp"), "{e}");
@@ -428,7 +428,7 @@ fn unwrapped_phase_is_the_closed_form() {
         controller: Some("none".into()),
         ..Default::default()
     };
-    let an = msp::analysis::analyze(&sc, View::Continuous, None).unwrap();
+    let an = msp::study::analyze(&sc, View::Continuous, None).unwrap();
     let p = an.response.phase_unwrapped(20.0);
     assert!(p.len() == an.response.w.len() && p.len() > 800);
     for (w, got) in an.response.w.iter().zip(&p) {

@@ -337,7 +337,7 @@ fn example2_internally_stable_nominal_and_perturbed() -> R {
 fn eq17(sc: &Scenario, scheme: &str, p: Perturbation) -> Result<f64, Box<dyn std::error::Error>> {
     let mut one = sc.clone();
     one.controller = Some(scheme.into());
-    let an = msp::analysis::analyze(&one, msp::analysis::View::Discrete, Some(p))?;
+    let an = msp::study::analyze(&one, msp::analysis::View::Discrete, Some(p))?;
     Ok(an.robust_peak.unwrap_or(f64::NAN))
 }
 

@@ -22,7 +22,7 @@ fn analyze(plant: &str, k: f64) -> Analysis {
         ..Default::default()
     };
     sc.set.insert("kp".into(), k);
-    msp::analysis::analyze(&sc, View::Continuous, None).unwrap()
+    msp::study::analyze(&sc, View::Continuous, None).unwrap()
 }
 
 /// The largest real part of the roots of `p` (descending powers).
@@ -284,7 +284,7 @@ fn direct_feedthrough_in_the_continuous_and_the_sampled_views() {
             plant: Some("2s/(s+1)".parse().unwrap()),
             ..Default::default()
         };
-        msp::analysis::analyze(&sc, View::Sampled, None).unwrap()
+        msp::study::analyze(&sc, View::Sampled, None).unwrap()
     };
     assert!(
         sampled.stability.reason.contains("a sample late"),

@@ -780,7 +780,7 @@ fn runs_warn_of_fragile_tunings_and_name_a_better_one() {
         controller: Some(o.controller.into()),
         ..sc
     };
-    let an = msp::analysis::analyze(&better, msp::analysis::View::Sampled, None).unwrap();
+    let an = msp::study::analyze(&better, msp::analysis::View::Sampled, None).unwrap();
     assert!(
         an.margins.ms <= 2.0 && an.margins.dm >= 0.2 * 6.0,
         "{:?}",

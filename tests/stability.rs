@@ -124,7 +124,7 @@ fn verdict(
     for (k, v) in set {
         sc.set.insert((*k).into(), *v);
     }
-    let an = msp::analysis::analyze(&sc, View::Discrete, None).unwrap();
+    let an = msp::study::analyze(&sc, View::Discrete, None).unwrap();
     assert_eq!(
         an.stability.stable, an.stable,
         "one verdict: {:?}",
@@ -292,7 +292,7 @@ fn p_on_a_double_and_a_triple_integrator() {
     // the lower limit: unstable below, stable above
     let lower = critical(&|k| 1.0 / radius3(k).max(1e-300), 0.01, 1.0);
     check(plant3, &radius3, &p_only(plant3), lower, false);
-    let v = msp::analysis::analyze(
+    let v = msp::study::analyze(
         &Scenario {
             plant: Some(plant2.parse().unwrap()),
             ts: Some(h),

@@ -41,8 +41,8 @@ mod transfer;
 
 pub use continuous::continuous_verdict;
 pub use report::{
-    analyze, analyze_tuned, loop_stability, process_response, published_note, tuned_stability,
-    Analysis, MarginsReport, RegionPoint,
+    loop_stability, process_response, published_note, Analysis, InnerLoop, ProcessResponse,
+    RegionPoint,
 };
 pub use stability::Stability;
 pub use step::{step_grid, step_response, OpenLoopStep};

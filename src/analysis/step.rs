@@ -55,7 +55,7 @@ pub fn step_grid(
     let duration = match duration {
         Some(d) => crate::real::positive(d, "duration")?,
         None => {
-            let d = crate::study::choose_duration(plant, 0.0);
+            let d = crate::sim::choose_duration(plant, 0.0);
             if d > 0.0 && d.is_finite() {
                 d
             } else {
@@ -75,7 +75,7 @@ pub fn step_grid(
 /// exactly (the input is constant between them; the dead time's fraction of
 /// a sample by the modified z-transform), and the step information uses
 /// MATLAB's `stepinfo` definitions with the static gain as the final value.
-/// `duration` defaults to [`crate::study::choose_duration`] (ten dead times,
+/// `duration` defaults to [`crate::sim::choose_duration`] (ten dead times,
 /// ten slowest time constants, ten times the sum of the lags; 10 s for a pure
 /// integrator), `ts` to `duration/4000`.
 pub fn step_response(

@@ -23,6 +23,7 @@
 mod cascade;
 mod closed_loop;
 mod config;
+mod defaults;
 mod drift;
 mod engine;
 mod plant;
@@ -32,6 +33,11 @@ mod schedule;
 pub use cascade::CascadeStepper;
 pub use closed_loop::{simulate, simulate_cascade, simulate_into};
 pub use config::{Action, Noise, Operation, PlantParameter, Record, SimConfig};
+pub(crate) use defaults::f32_note;
+pub use defaults::{
+    choose_duration, choose_ts, choose_ts_as, describe_ts, kind_of, F32_POLE_DISTANCE,
+    MAX_CHOSEN_SAMPLES,
+};
 pub use plant::{open_loop, PlantStepper};
 pub use result::SimResult;
 pub(crate) use schedule::first_sample_at;

@@ -110,7 +110,7 @@ pub fn compare(
     super::each(&tuned, |(one, t)| {
         let mut out = one.run_tuned(t, plant.clone(), model.clone(), inner.clone())?;
         let settled = out.settled_as_built(&out.result.t, &out.result.y);
-        let verdict = crate::analysis::tuned_stability(one, t, &plant, &model, inner.as_ref());
+        let verdict = super::tuned_stability(one, t, &plant, &model, inner.as_ref());
         out.stability = out.cross_checked(verdict, settled);
         out.default_scenario = default;
         // the margins the comparison's table prints, in the report too: an
@@ -120,7 +120,7 @@ pub fn compare(
         out.robustness = if out.stability.stable == Some(false) {
             Some(crate::analysis::Margins::unstable())
         } else if inner.is_some() {
-            crate::analysis::analyze(one, crate::analysis::View::Discrete, None)
+            super::analyze(one, crate::analysis::View::Discrete, None)
                 .ok()
                 .map(|an| an.margins)
         } else {

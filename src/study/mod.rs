@@ -2,21 +2,22 @@
 //! simulated by the engine ([`crate::sim`]) and measured; [`compare`] runs
 //! several schemes on one plant. Text is read only by [`crate::syntax`].
 //!
-//! Its rooms: `defaults` (the sample period and duration msp chooses),
-//! `build` (tuning and construction, the memory budget), `run` (one closed
-//! loop), `metrics` and `output` (what a run measured), `report` (the serde
-//! types every front end prints), `robustness` (margins and their advice),
+//! Its rooms: `build` (tuning and construction, the memory budget), `run`
+//! (one closed loop), `metrics` and `output` (what a run measured), `report`
+//! (the serde types every front end prints), `margins` (a scenario's loop
+//! analysed: `msp margins`), `robustness` (margins and their advice),
 //! `target` (λ solved for a robustness or bandwidth target), `compare`,
 //! `tradeoff`, `forced` (a run driven by sampled set points and loads),
 //! `adapt` (a scenario's adaptive dead-time compensation) and `bank` (the
-//! adaptation's benchmark bank).
+//! adaptation's benchmark bank). The period and duration a run chooses are
+//! the engine's ([`crate::sim::choose_ts`]), re-exported here.
 
 mod adapt;
 pub mod bank;
 mod build;
 mod compare;
-mod defaults;
 mod forced;
+mod margins;
 mod metrics;
 mod output;
 mod report;
@@ -31,11 +32,13 @@ pub(crate) use build::PLANT_BYTES_PER_SAMPLE;
 pub use build::{check_budget, check_controller_memory, BuiltController, Tuned};
 use build::{BYTES_PER_SCHEDULED, CONTROLLER_BYTES_PER_SAMPLE, RECORDED_COLUMNS};
 pub use compare::{compare, Perturbation};
-pub use defaults::{
+// the sample period and duration a run chooses: the engine's, seen from here
+pub use crate::sim::{
     choose_duration, choose_ts, choose_ts_as, describe_ts, kind_of, F32_POLE_DISTANCE,
     MAX_CHOSEN_SAMPLES,
 };
 pub use forced::SampledInput;
+pub use margins::{analyze, analyze_tuned, tuned_stability, MarginsReport};
 pub use metrics::{
     measure, metrics, next_event, settled, swing, Columns, DisturbanceEvent, Event, Metrics,
     SetpointEvent,

@@ -375,7 +375,7 @@ impl super::Scenario {
         let robust_peak = match uncertainty {
             Some(u) => {
                 let view = crate::analysis::View::Discrete;
-                crate::analysis::analyze_tuned(self, &tuned, view, Some(u))?.robust_peak
+                super::analyze_tuned(self, &tuned, view, Some(u))?.robust_peak
             }
             None => None,
         };

@@ -90,7 +90,7 @@ impl Scenario {
         model: &TransferFunction,
         inner: Option<&(TransferFunction, TransferFunction)>,
     ) -> (crate::analysis::Stability, Option<Robustness>) {
-        let stability = crate::analysis::tuned_stability(self, tuned, plant, model, inner);
+        let stability = super::tuned_stability(self, tuned, plant, model, inner);
         let robust = match (inner, stability.stable) {
             // an unstable loop has no margins: the verdict says why
             (None, Some(false)) => Some(Robustness {
@@ -492,7 +492,7 @@ impl Scenario {
         };
         if self.float32 {
             out.notes
-                .extend(super::defaults::f32_note(&out.whole_model(), ts));
+                .extend(crate::sim::f32_note(&out.whole_model(), ts));
         }
         Ok(out)
     }

@@ -218,7 +218,7 @@ impl Scenario {
         sc.lambda = Some(lambda);
         sc.target = None;
         let t = sc.tune_for(model, None).ok()?;
-        let st = crate::analysis::tuned_stability(&sc, &t, model, model, None);
+        let st = super::tuned_stability(&sc, &t, model, model, None);
         if st.stable != Some(true) {
             return None;
         }

@@ -171,7 +171,7 @@ fn point(
     let Ok(tuned) = sc.tune_for(model, None) else {
         return out;
     };
-    let st = crate::analysis::tuned_stability(&sc, &tuned, plant, model, None);
+    let st = super::tuned_stability(&sc, &tuned, plant, model, None);
     out.stable = st.stable;
     if st.stable != Some(true) {
         return out;

@@ -110,7 +110,7 @@ pub(crate) fn margins<'py>(
         (false, false) => msp::analysis::View::Sampled,
     };
     let an = py
-        .allow_threads(|| msp::analysis::analyze(&sc, view, uncertainty))
+        .allow_threads(|| msp::study::analyze(&sc, view, uncertainty))
         .map_err(value_err)?;
     // the library's report (the keys of `msp margins --json`), its loop
     // response as numpy arrays

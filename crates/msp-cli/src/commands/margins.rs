@@ -23,7 +23,7 @@ pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
         _ => msp::analysis::View::Sampled,
     };
     let an = export::busy("analysing", false, || {
-        msp::analysis::analyze(&sc, view, a.uncertainty)
+        msp::study::analyze(&sc, view, a.uncertainty)
     })?;
     if let Some(p) = &a.plot {
         let svg =

@@ -10,7 +10,7 @@ pub(crate) fn report_json(out: &RunOutput) -> Value {
     serde_json::to_value(out.report()).unwrap_or(Value::Null)
 }
 
-/// The `msp margins --json` document: the library's [`msp::analysis::MarginsReport`].
+/// The `msp margins --json` document: the library's [`msp::study::MarginsReport`].
 pub(crate) fn margins_json(an: &msp::analysis::Analysis) -> Value {
     serde_json::to_value(an.report()).unwrap_or(Value::Null)
 }
