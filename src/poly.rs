@@ -537,7 +537,7 @@ impl TransferFunction {
         let rest: Vec<f64> = num.iter().zip(&den).map(|(n, a)| n - d * a).collect();
         let (nz, dz) = if den.len() > 1 {
             let sp: Lti<f64, N> = Lti::from_tf(&rest, &den, ts, Discretization::Zoh)?;
-            let (n, d) = crate::dtc::fsp::model_tf(&sp);
+            let (n, d) = crate::lti::small::model_tf(&sp);
             (n.as_slice().to_vec(), d.as_slice().to_vec())
         } else {
             (vec![0.0], vec![1.0])

@@ -70,6 +70,7 @@ mod design;
 pub(crate) mod matrix;
 #[cfg(feature = "serde")]
 mod serde_arrays;
+pub mod small;
 pub mod zdomain;
 
 #[cfg(feature = "alloc")]

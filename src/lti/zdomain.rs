@@ -90,7 +90,7 @@ impl<T: Real> Point<T> for Frequency<T> {
         Complex::delay_response(self.theta, k)
     }
     fn taps(&self, num: &[T], den: &[T]) -> Complex<T> {
-        crate::dtc::fsp::taps_at(num, self.w) / crate::dtc::fsp::taps_at(den, self.w)
+        crate::lti::small::taps_at(num, self.w) / crate::lti::small::taps_at(den, self.w)
     }
     /// In closed form: the Dirichlet kernel `e^{−jθ(h+1)/2}·sin(hθ/2)/sin(θ/2)`
     /// (`h` at θ = 0).
@@ -360,7 +360,7 @@ mod symbolic {
             Rational::new(&[0.0, 1.0], &[1.0])
         }
         fn lti<const N: usize>(&self, b: &Lti<T, N>) -> Rational {
-            let (num, den) = crate::dtc::fsp::model_tf(b);
+            let (num, den) = crate::lti::small::model_tf(b);
             Rational::new(num.as_slice(), den.as_slice())
         }
         fn delay(&self, k: T) -> Rational {

@@ -7,107 +7,10 @@
 use super::{solve, MAX_CONDITIONS};
 use crate::complex::Complex;
 use crate::delay::DelayStorage;
-use crate::{Error, Lti, Real};
+use crate::lti::small::{model_tf, SmallPoly, SMALL};
+use crate::{Error, Lti};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
-
-/// Capacity of [`SmallPoly`].
-pub const SMALL: usize = 24;
-
-/// A polynomial of degree below [`SMALL`] (descending coefficients).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SmallPoly {
-    c: [f64; SMALL],
-    len: usize,
-}
-
-impl SmallPoly {
-    /// `p` with its leading zeros dropped (at least one coefficient kept).
-    pub fn new(p: &[f64]) -> Result<Self, Error> {
-        let first = p
-            .iter()
-            .position(|v| *v != 0.0)
-            .unwrap_or(p.len().saturating_sub(1));
-        let p = p.get(first..).unwrap_or(&[]);
-        if p.len() > SMALL {
-            return Err(Error::OrderTooHigh("polynomial"));
-        }
-        let mut c = [0.0; SMALL];
-        for (d, v) in c.iter_mut().zip(p) {
-            *d = *v;
-        }
-        Ok(SmallPoly {
-            c,
-            len: p.len().max(1),
-        })
-    }
-    /// The coefficients.
-    pub fn as_slice(&self) -> &[f64] {
-        self.c.get(..self.len).unwrap_or(&[])
-    }
-    /// The product with `b`.
-    pub fn mul(&self, b: &[f64]) -> Result<Self, Error> {
-        let n = self.len.saturating_add(b.len()).saturating_sub(1);
-        if n > SMALL {
-            return Err(Error::OrderTooHigh("polynomial"));
-        }
-        let mut c = [0.0; SMALL];
-        for (i, x) in self.as_slice().iter().enumerate() {
-            for (j, y) in b.iter().enumerate() {
-                if let Some(o) = c.get_mut(i.saturating_add(j)) {
-                    *o += x * y;
-                }
-            }
-        }
-        Ok(SmallPoly { c, len: n.max(1) })
-    }
-    /// Number of coefficients.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-    /// Always false: a polynomial keeps one coefficient.
-    pub fn is_empty(&self) -> bool {
-        false
-    }
-    fn lead(&self) -> f64 {
-        self.c.first().copied().unwrap_or(1.0)
-    }
-}
-
-/// Numerator and denominator (descending powers of `z`, the numerator with
-/// as many coefficients as the denominator) of a discrete block, by
-/// Faddeev–LeVerrier on its realization.
-pub fn model_tf<T: Real, const N: usize>(b: &Lti<T, N>) -> (SmallPoly, SmallPoly) {
-    let n = b.order().min(N);
-    let at = |m: &[[f64; N]; N], i: usize, j: usize| {
-        m.get(i).and_then(|r| r.get(j)).copied().unwrap_or(0.0)
-    };
-    // numerator: C·M_k·Γ for k = 0..n−1 (the coefficient of z^{n−1−k}), plus D·den
-    let (cv, g, d) = (b.output_vector(), b.input_vector(), b.feedthrough());
-    let mut num = [0.0; SMALL];
-    let (c, len) = crate::lti::faddeev(b, |k, mk| {
-        let v: f64 = (0..n)
-            .map(|i| {
-                cv.get(i).map_or(0.0, |c| c.f64())
-                    * (0..n)
-                        .map(|j| at(mk, i, j) * g.get(j).map_or(0.0, |g| g.f64()))
-                        .sum::<f64>()
-            })
-            .sum();
-        if let Some(x) = num.get_mut(k + 1) {
-            *x = v;
-        }
-    });
-    let len = len.min(SMALL);
-    let mut den = [0.0; SMALL];
-    for (x, v) in den.iter_mut().zip(c.iter()).take(len) {
-        *x = *v;
-    }
-    for (x, ck) in num.iter_mut().zip(den.iter()).take(len) {
-        *x += d.f64() * ck;
-    }
-    (SmallPoly { c: num, len }, SmallPoly { c: den, len })
-}
 
 /// The shape of the robustness filter `Fr = Nr/Dr` whose free coefficients
 /// Eq. 10 fixes.

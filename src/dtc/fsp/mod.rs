@@ -160,15 +160,15 @@ mod runtime;
 
 pub(crate) use self::design::buffer;
 pub use self::design::{
-    design, design_in, design_tf_in, design_with, model_tf, FrSpec, FspDesign, Realization,
-    SmallPoly, SMALL,
+    design, design_in, design_tf_in, design_with, FrSpec, FspDesign, Realization,
 };
-pub(crate) use self::runtime::taps_at;
+// the block-level polynomials the designs are written in (`crate::lti::small`)
 #[cfg(feature = "alloc")]
 pub use self::runtime::Plan;
 pub use self::runtime::{
     DirectForm, FilteredSmith, FspPredictor, Matched2Dof, Predicted, Predictor, Primary, SplitForm,
 };
+pub use crate::lti::small::{model_tf, taps_at, SmallPoly, SMALL};
 
 crate::params::param_struct! {
     /// Parameters of the filtered Smith predictor: the PI primary controller

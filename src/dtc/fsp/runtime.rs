@@ -1,10 +1,13 @@
 //! The controllers: generic over `f32`/`f64` and over the storage of the
 //! dead-time-sized buffers (`Vec` on a host, arrays on a device).
 
-use super::design::{buffer, sized, FspDesign, Realization, SMALL};
 #[cfg(feature = "alloc")]
-use super::design::{FrSpec, SmallPoly};
+use super::design::FrSpec;
+use super::design::{buffer, sized, FspDesign, Realization};
 use crate::delay::{samples_of, DelayStorage};
+#[cfg(feature = "alloc")]
+use crate::lti::small::SmallPoly;
+use crate::lti::small::SMALL;
 use crate::lti::zdomain::{Algebra, Frequency, Point};
 use crate::params::ParamList;
 use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
@@ -297,25 +300,6 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> DirectForm<T, S> {
             self.den.get(..self.dlen).unwrap_or(&[]),
         )
     }
-}
-
-/// `Σ p_k w^k`: Horner's rule (one complex product per tap instead of a
-/// sine and cosine) as four interleaved chains in `w⁴` — the taps `4m + j`
-/// summed in the chain `j` — so that a numerator spanning a long dead time
-/// is not one chain of dependent products (the analysis evaluates it at
-/// thousands of frequencies).
-pub(crate) fn taps_at<T: Real>(p: &[T], w: Complex<T>) -> Complex<T> {
-    let w2 = w * w;
-    let w4 = w2 * w2;
-    let mut acc = [Complex::default(); 4];
-    // from the highest power down; a partial last chunk meets chains still at zero
-    for chunk in p.chunks(4).rev() {
-        for (a, b) in acc.iter_mut().zip(chunk) {
-            *a = *a * w4 + Complex::real(*b);
-        }
-    }
-    let [a0, a1, a2, a3] = acc;
-    a0 + w * a1 + w2 * (a2 + w * a3)
 }
 
 /// The filtered Smith predictor's output predictor `ŷ = S(z)·u + Fr(z)·y`
@@ -621,9 +605,6 @@ impl<T: Real, P: Predictor<T>, K: Primary<T>> Predicted<T, P, K> {
         (kr / d.clone(), ky * sy / d)
     }
 }
-
-#[cfg(test)]
-mod tests;
 
 #[cfg(all(test, feature = "std"))]
 mod split_tests;
