@@ -161,31 +161,7 @@ pub fn points(spec: &SweepSpec) -> Result<Vec<(usize, f64, f64, f64)>, RunError>
         .collect())
 }
 
-/// The stability verdict of a run, from its boundedness, never from where
-/// it settled (a P-only loop settles off the set point and is stable): it did
-/// not diverge, and its output comes to rest — the swing (max − min) of its
-/// last tenth is within 2 % of the largest |y| and no larger than the tenth
-/// before (to rounding) — or its oscillation is still decaying (the last fifth's swing below
-/// 0.9 of the fifth before). A ramp or a sustained oscillation fails both.
-pub fn stable(out: &crate::study::RunOutput) -> bool {
-    settles(&out.result.y) && out.result.diverged_at.is_none()
-}
-
-pub use crate::study::swing;
-
-/// The test of [`stable`] on an output sequence.
-pub fn settles(y: &[f64]) -> bool {
-    let n = y.len();
-    if n < 10 || y.iter().any(|v| !v.is_finite()) {
-        return false;
-    }
-    let swing = |a: usize, b: usize| y.get(a..b).map_or(0.0, swing);
-    let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
-    // growth beyond rounding (1e-9 of the response) is not rest
-    let at_rest = swing(n * 9 / 10, n) <= 0.02 * scale
-        && swing(n * 9 / 10, n) <= swing(n * 8 / 10, n * 9 / 10) + 1e-9 * scale;
-    at_rest || swing(n * 4 / 5, n) < 0.9 * swing(n * 3 / 5, n * 4 / 5)
-}
+pub use crate::study::{settles, stable, swing};
 
 /// Runs the sweep of `base` (its plant perturbed, its model kept nominal; for a
 /// cascade process the primary is perturbed, the secondary kept).

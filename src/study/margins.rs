@@ -294,7 +294,7 @@ fn analysis_of(
             );
             v
         }
-        Ok(out) => verdict.with_simulation(crate::sweep::stable(&out), out.duration),
+        Ok(out) => verdict.with_simulation(super::stable(&out), out.duration),
         Err(e) => {
             let mut v = verdict;
             v.reason.push_str(&std::format!(

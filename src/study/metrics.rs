@@ -108,6 +108,30 @@ pub fn next_event(setpoint: &[SetpointStep], disturbances: &[Disturbance]) -> f6
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The stability verdict of a run, from its boundedness, never from where
+/// it settled (a P-only loop settles off the set point and is stable): it did
+/// not diverge, and its output comes to rest — the swing (max − min) of its
+/// last tenth is within 2 % of the largest |y| and no larger than the tenth
+/// before (to rounding) — or its oscillation is still decaying (the last fifth's swing below
+/// 0.9 of the fifth before). A ramp or a sustained oscillation fails both.
+pub fn stable(out: &super::RunOutput) -> bool {
+    settles(&out.result.y) && out.result.diverged_at.is_none()
+}
+
+/// The test of [`stable`] on an output sequence.
+pub fn settles(y: &[f64]) -> bool {
+    let n = y.len();
+    if n < 10 || y.iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    let swing = |a: usize, b: usize| y.get(a..b).map_or(0.0, swing);
+    let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
+    // growth beyond rounding (1e-9 of the response) is not rest
+    let at_rest = swing(n * 9 / 10, n) <= 0.02 * scale
+        && swing(n * 9 / 10, n) <= swing(n * 8 / 10, n * 9 / 10) + 1e-9 * scale;
+    at_rest || swing(n * 4 / 5, n) < 0.9 * swing(n * 3 / 5, n * 4 / 5)
+}
+
 /// The swing of a signal, `max − min` (0 for none).
 pub fn swing(v: &[f64]) -> f64 {
     if v.is_empty() {

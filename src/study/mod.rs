@@ -40,8 +40,8 @@ pub use crate::sim::{
 pub use forced::SampledInput;
 pub use margins::{analyze, analyze_tuned, tuned_stability, MarginsReport};
 pub use metrics::{
-    measure, metrics, next_event, settled, swing, Columns, DisturbanceEvent, Event, Metrics,
-    SetpointEvent,
+    measure, metrics, next_event, settled, settles, stable, swing, Columns, DisturbanceEvent,
+    Event, Metrics, SetpointEvent,
 };
 pub use output::RunOutput;
 pub use report::{
