@@ -30,7 +30,10 @@ use crate::real::{finite, non_negative, positive};
 use crate::{Error, Real};
 
 mod config;
+mod gains;
 pub use config::PidConfig;
+pub(crate) use gains::pid_params;
+pub use gains::PidGains;
 
 /// How the integrator is kept from winding up while the output is limited.
 #[derive(Debug, Clone, Copy, PartialEq)]

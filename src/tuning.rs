@@ -4,26 +4,8 @@ use crate::dtc::KaranDeyParams;
 use crate::real::positive;
 use crate::{Error, Ipdt, ProcessModel, Real};
 
-crate::params::base_struct! { $ pid_params;
-    /// PID settings in ISA form `Kp(1 + 1/(Ti s) + Td s)`; `td = 0` for PI.
-    /// The parameters of the `pid`, `smith` and `watanabe-ito` schemes;
-    /// `pid_params!` declares a predictor's around an ISA PID (these first).
-    pub struct PidGains {
-        /// Proportional gain `Kp`.
-        kp: Finite,
-        /// Integral time `Ti` (s).
-        ti: Positive,
-        /// Derivative time `Td` (s).
-        td: NonNegative,
-    }
-}
-
-impl<T: Real> PidGains<T> {
-    /// The PID configuration for sample period `ts` (defaults of [`crate::PidConfig::isa`]).
-    pub fn config(&self, ts: T) -> crate::PidConfig<T> {
-        crate::PidConfig::isa(self.kp, self.ti, self.td, ts)
-    }
-}
+// the gains the rules give: the PID's own parameter type
+pub use crate::pid::PidGains;
 
 /// Kaya's IMC tuning of the primary controller of a Smith predictor
 /// (Kaya (2003) Eqs. 18–33), for a closed-loop (filter) time

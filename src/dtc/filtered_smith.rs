@@ -15,7 +15,7 @@ use crate::dtc::compensator::{Compensator, ErrorPath, AUX};
 use crate::params::ParamList;
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
-crate::tuning::pid_params! {
+crate::pid::pid_params! {
     /// Parameters of the filtered Smith predictor: the PID and the lead-lag
     /// filter `F = (1 + a·s)/(1 + b·s)` on the model error (Normey-Rico &
     /// Camacho's filter). The PID's design does not read `F`: the tuning

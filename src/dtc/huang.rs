@@ -18,7 +18,7 @@ use crate::dtc::compensator::{Compensator, ErrorPath};
 use crate::params::ParamList;
 use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
 
-crate::tuning::pid_params! {
+crate::pid::pid_params! {
     /// Parameters of Huang's predictor: the PID and `B = kb/(tb·s + 1)`.
     /// The PID's design does not read `B`: the tuning gives the MathWorks
     /// example's (`B = 0.05/(40 s + 1)` for the 40.2 s lag), and `--set kb=…`

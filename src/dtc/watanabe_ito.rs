@@ -18,7 +18,7 @@
 use crate::delay::Delay;
 use crate::dtc::compensator::Compensator;
 use crate::params::ParamList;
-use crate::tuning::PidGains;
+use crate::pid::PidGains;
 use crate::{Error, Lti, Pid, PidConfig, Real};
 
 /// The compensator for an integrating model with velocity gain `kv` and dead
