@@ -483,6 +483,22 @@ fn a_quiet_hour_changes_nothing() {
             1.0
         };
         let u = c.update(r, y + 0.02 * gaussian());
+        if k % 997 == 0 {
+            // the recorded row (all signals at once) is signal by signal
+            use msp::Introspect;
+            let names = c.signal_names();
+            let mut row = vec![0.0; names.len()];
+            c.write_signals(&mut row);
+            for (i, v) in row.iter().enumerate() {
+                let one = c.signal(i);
+                assert!(
+                    *v == one || (v.is_nan() && one.is_nan()),
+                    "{}: {v} vs {one}",
+                    names[i]
+                );
+            }
+            assert_eq!(c.signal_by_name("theta_model"), Some(1.0));
+        }
         let late = line[k % 10];
         line[k % 10] = u;
         y = a * y + (1.0 - a) * late;

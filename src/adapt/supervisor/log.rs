@@ -114,31 +114,20 @@ where
     }
 
     fn signal(&self, i: usize) -> T {
-        let own = self.signal_names().len() - SIGNALS.len();
-        if i < own {
-            return self.inner.signal(i);
+        match i.checked_sub(self.scheme_signals()) {
+            None => self.inner.signal(i),
+            Some(j) => self.own_signals().get(j).copied().unwrap_or_else(T::nan),
         }
-        let e = self.est.estimate();
-        let m = self.model;
-        match i - own {
-            0 => e.map_or(T::nan(), |e| e.k),
-            1 => e.map_or(T::nan(), |e| e.tau),
-            2 => e.map_or(T::nan(), |e| e.theta),
-            3 => e.map_or(T::nan(), |e| e.evidence),
-            4 => m.k,
-            5 => m.tau,
-            6 => m.theta,
-            7 => T::of(self.logged as f64),
-            8 => T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
-            9 => self.est.mismatch().map_or(T::nan(), |m| m.error),
-            10 => {
-                if self.alarm {
-                    T::one()
-                } else {
-                    T::zero()
-                }
-            }
-            _ => T::nan(),
+    }
+
+    /// The scheme's signals, then the estimate and the model once for all
+    /// of [`SIGNALS`] (a run records them every sample).
+    fn write_signals(&self, out: &mut [T]) {
+        let own = self.scheme_signals().min(out.len());
+        let (scheme, mine) = out.split_at_mut(own);
+        self.inner.write_signals(scheme);
+        for (o, v) in mine.iter_mut().zip(self.own_signals()) {
+            *o = v;
         }
     }
 
@@ -148,6 +137,45 @@ where
 
     fn param(&self, i: usize) -> T {
         self.inner.param(i)
+    }
+}
+
+impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
+    Adaptive<T, C, R, N, H, L>
+{
+    /// How many of [`Introspect::signal_names`] are the scheme's: all of
+    /// its own with `std`, none without (see `joined`).
+    fn scheme_signals(&self) -> usize
+    where
+        C: Introspect<T>,
+    {
+        if cfg!(feature = "std") {
+            self.inner.signal_names().len()
+        } else {
+            0
+        }
+    }
+
+    /// The values of [`SIGNALS`], in their order: the estimate (NaN before
+    /// it means anything), the model in use, the log's count and last
+    /// kind, the mismatch and the alarm.
+    fn own_signals(&self) -> [T; SIGNALS.len()] {
+        let e = self.est.estimate();
+        let m = self.model;
+        let nan = T::nan();
+        [
+            e.map_or(nan, |e| e.k),
+            e.map_or(nan, |e| e.tau),
+            e.map_or(nan, |e| e.theta),
+            e.map_or(nan, |e| e.evidence),
+            m.k,
+            m.tau,
+            m.theta,
+            T::of(self.logged as f64),
+            T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
+            self.est.mismatch().map_or(nan, |m| m.error),
+            if self.alarm { T::one() } else { T::zero() },
+        ]
     }
 }
 
