@@ -186,6 +186,32 @@ fn whole(c: &mut Criterion) {
         })
     });
     g.finish();
+    // a long run with and without --adapt (#48's target: within 3x), the
+    // MathWorks plant at its own 0.939 s, 10^6 samples, every column, CSV
+    let mut g = c.benchmark_group("msp run, 10^6 samples");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(1_000_001));
+    for adapt in [false, true] {
+        let name = if adapt { "smith --adapt" } else { "smith" };
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let out = Scenario {
+                    plant: Some("5.6*e^-93.9s/(40.2s+1)".parse().unwrap()),
+                    controller: Some("smith".into()),
+                    ts: Some(0.939),
+                    duration: Some(939_000.0),
+                    adapt: adapt.then(Default::default),
+                    ..Default::default()
+                }
+                .run()
+                .expect("run");
+                let mut v = Vec::new();
+                out.result.write_csv(&mut v).expect("csv");
+                v.len()
+            })
+        });
+    }
+    g.finish();
     let mut g = c.benchmark_group("parse");
     for e in [
         "0.2/s*e^-7.4s",
