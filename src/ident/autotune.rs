@@ -274,7 +274,7 @@ pub fn autotune(
                     let ms = o2.robustness.map_or(f64::NAN, |m| m.ms);
                     out = o2;
                     notes.push(std::format!(
-                        "the loop tuned at lambda = {} was {was} on the process (the model's error): lambda raised to {} (Ms = {})",
+                        "the loop tuned at lambda = {} was {was} on the process: lambda raised to {} (Ms = {})",
                         crate::poly::fmt_num(crate::poly::round_sig(l0, 3)),
                         crate::poly::fmt_num(l),
                         crate::poly::fmt_num(crate::poly::round_sig(ms, 3))
