@@ -72,6 +72,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             settled: (0, 0),
             onsets: 0,
             pending: None,
+            current: None,
         })
     }
 
@@ -119,6 +120,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.challenger_for = 0;
         self.rebase();
         self.model = self.model_of();
+        self.current = self.estimate_now();
         self.set_reference(k, tau, theta)
     }
 
@@ -351,8 +353,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 
     /// The model of the chosen candidate (`None` before it means anything:
-    /// `b0 + b1` of the wrong sign or zero).
+    /// `b0 + b1` of the wrong sign or zero), as of the end of the last
+    /// estimator sample's learning (between the parts of a pass spread over
+    /// controller samples, the one before it).
     pub fn estimate(&self) -> Option<Estimate<T>> {
+        self.current
+    }
+
+    /// [`Estimator::estimate`] from the bank as it is (a pass's end keeps it).
+    pub(super) fn estimate_now(&self) -> Option<Estimate<T>> {
         let c = self.bank.get(self.chosen)?;
         let (k, tau, frac) = self.model?;
         // a neighbour's interval of dead times shares an end with the

@@ -264,6 +264,8 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     onsets: u32,
     /// A block's learning under way (see `Estimator::advance`).
     pending: Option<Pass<T>>,
+    /// The estimate as of the last pass's end ([`Estimator::estimate`]).
+    current: Option<Estimate<T>>,
 }
 
 /// A load's onset: at rest, the chosen model's prediction error exceeds

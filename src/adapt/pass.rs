@@ -79,12 +79,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         })
     }
 
-    /// The RLS step of candidates `pass.next .. to`.
+    /// The RLS step of candidates `pass.next .. to`, in two sweeps: every
+    /// candidate's prediction, cost and gradient (the same few operations
+    /// for each, no branch), then the RLS step of those that learn (an
+    /// excited sample, an error beyond the dead zone). The first sweep keeps
+    /// each candidate's error and regressor `Δŷ[k]` for the second.
     pub(super) fn learn_bank(&mut self, pass: &mut Pass<T>, to: usize) {
         let cfg = self.cfg;
-        let inv_lam = T::one() / cfg.forgetting;
-        let (lo, hi) = self.a_range;
-        let sign = self.sign;
         let Pass {
             target,
             excited,
@@ -92,16 +93,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             chosen,
             ..
         } = *pass;
-        let (mut chosen_e, mut best, mut lowest) = (pass.chosen_e, pass.best, pass.lowest);
         let from = pass.next;
+        let to = to.min(self.n);
         // consecutive candidates share an input: candidate `d`'s
-        // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`; the search for
-        // the lowest cost (the first of them) rides along
+        // `Δu[k−d−1]` is candidate `d + 1`'s `Δu[k−d−1]`
         let inputs = self.hist.from(cfg.d_min).get(from..).unwrap_or_default();
         let pairs = inputs.iter().zip(inputs.get(1..).unwrap_or_default());
-        let bank = self.bank.get_mut(from..to.min(self.n)).unwrap_or_default();
-        for ((j, c), (&f1, &f2)) in bank.iter_mut().enumerate().zip(pairs) {
-            let i = from + j;
+        let bank = self.bank.get_mut(from..to).unwrap_or_default();
+        let mut errors = [(T::zero(), T::zero()); N];
+        for ((c, (&f1, &f2)), slot) in bank.iter_mut().zip(pairs.clone()).zip(&mut errors) {
             // φ = (Δŷ[k], Δu[k−d], Δu[k−d−1]): the model's own past output
             // in the regressor, not the measurement's — the output-error
             // form (Landau's pseudo-linear regression), which noise on y
@@ -113,102 +113,48 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let pred = t0 * f0 + t1 * f1 + t2 * f2;
             let e = target - pred;
             c.cost = cfg.cost_memory * c.cost + e * e;
-            let lower = c.cost < lowest;
-            best = if lower { i } else { best };
-            lowest = if lower { c.cost } else { lowest };
-            if i == chosen {
-                chosen_e = e;
-            }
             c.yhat = pred;
             // the gradient of the prediction, ψ[k+1] = φ[k] + â·ψ[k] (the
             // output error's Gauss–Newton direction: the recursive
             // prediction-error method, Ljung (1999) Sec. 11.3; an
             // integrating model's prediction is linear in its inputs, ψ = φ)
-            let [s0, s1, s2] = if cfg.integrating {
+            c.psi = if cfg.integrating {
                 [f0, f1, f2]
             } else {
                 let [p0, p1, p2] = c.psi;
                 [f0 + t0 * p0, f1 + t0 * p1, f2 + t0 * p2]
             };
-            c.psi = [s0, s1, s2];
-            if !excited || e * e <= zone2 {
-                continue;
-            }
-            // RLS with forgetting along ψ (P symmetric: six entries):
-            // g = Pψ/(λ + ψᵀPψ), θ += g·e, P = (P − g·(Pψ)ᵀ)/λ
-            let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
-            let q0 = p00 * s0 + p01 * s1 + p02 * s2;
-            let q1 = p01 * s0 + p11 * s1 + p12 * s2;
-            let q2 = p02 * s0 + p12 * s1 + p22 * s2;
-            let denom = cfg.forgetting + s0 * q0 + s1 * q1 + s2 * q2;
-            if !(denom > T::zero()) {
-                continue;
-            }
-            let inv = T::one() / denom;
-            let (g0, g1, g2) = (q0 * inv, q1 * inv, q2 * inv);
-            let mut next = [t0 + g0 * e, t1 + g1 * e, t2 + g2 * e];
-            let n00 = (p00 - g0 * q0) * inv_lam;
-            let n01 = (p01 - g0 * q1) * inv_lam;
-            let n02 = (p02 - g0 * q2) * inv_lam;
-            let n11 = (p11 - g1 * q1) * inv_lam;
-            let n12 = (p12 - g1 * q2) * inv_lam;
-            let n22 = (p22 - g2 * q2) * inv_lam;
-            // the trace bounded: no "bursting" when nothing moves (a
-            // factor 1 below the bound: exact; a select, not a branch)
-            let trace = n00 + n11 + n22;
-            let k = if trace > cfg.max_trace {
-                cfg.max_trace / trace
-            } else {
-                T::one()
-            };
-            let (n00, n01, n02) = (n00 * k, n01 * k, n02 * k);
-            let (n11, n12, n22) = (n11 * k, n12 * k, n22 * k);
-            c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
-            if sign != T::zero() {
-                // projection: with the gain's sign known, both input
-                // coefficients carry it (a fraction `f` in [0, 1]); a
-                // coefficient of the wrong sign goes to zero along the
-                // covariance's direction (the projection in the metric of
-                // P⁻¹: the correlated coefficients move with it; Goodwin &
-                // Sin (1984) Sec. 3.7): b0 along P's second column, b1
-                // along its third. The second can carry b0 back across
-                // zero, and a coefficient without a direction stays: what
-                // is left of the wrong sign is cut to zero.
-                let [[_, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
-                let [t0, t1, t2] = next;
-                // (as selects, not branches: which coefficient is of the
-                // wrong sign changes from sample to sample, unpredictably)
-                let cut1 = sign * t1 < T::zero() && p11 > T::zero();
-                let along = if cut1 { t1 / p11 } else { T::zero() };
-                let (t0, t1, t2) = (
-                    t0 - p01 * along,
-                    if cut1 { T::zero() } else { t1 },
-                    t2 - p12 * along,
-                );
-                let cut2 = sign * t2 < T::zero() && p22 > T::zero();
-                let along = if cut2 { t2 / p22 } else { T::zero() };
-                let (t0, t1, t2) = (
-                    t0 - p02 * along,
-                    t1 - p12 * along,
-                    if cut2 { T::zero() } else { t2 },
-                );
-                let t1 = if sign * t1 < T::zero() { T::zero() } else { t1 };
-                let t2 = if sign * t2 < T::zero() { T::zero() } else { t2 };
-                next = [t0, t1, t2];
-            }
-            let [mut a, b0, b1] = next;
-            if !cfg.integrating {
-                // projection onto plausible models: `a` in its range
-                a = at_most(at_least(a, lo), hi);
-            }
-            c.theta = [a, b0, b1];
-            // the a-posteriori output
-            c.yhat = a * f0 + b0 * f1 + b1 * f2;
+            *slot = (e, f0);
         }
-        pass.chosen_e = chosen_e;
+        // the lowest cost (the first of them) and the chosen one's error
+        let (mut best, mut lowest) = (pass.best, pass.lowest);
+        for (j, c) in bank.iter().enumerate() {
+            let lower = c.cost < lowest;
+            best = if lower { from + j } else { best };
+            lowest = if lower { c.cost } else { lowest };
+        }
+        if let Some(&(e, _)) = chosen.checked_sub(from).and_then(|j| errors.get(j)) {
+            if chosen < to {
+                pass.chosen_e = e;
+            }
+        }
         pass.best = best;
         pass.lowest = lowest;
         pass.next = to;
+        if !excited {
+            return;
+        }
+        let step = Step {
+            inv_lam: T::one() / cfg.forgetting,
+            a_range: self.a_range,
+            sign: self.sign,
+            cfg,
+        };
+        for ((c, (&f1, &f2)), &(e, f0)) in bank.iter_mut().zip(pairs).zip(&errors) {
+            if e * e > zone2 {
+                step.rls(c, e, [f0, f1, f2]);
+            }
+        }
     }
 
     /// The pass's third part: the model in use's prediction, the chosen
@@ -257,5 +203,100 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if pass.excited || self.chosen != before {
             self.model = self.model_of();
         }
+        self.current = self.estimate_now();
+    }
+}
+
+/// What a candidate's RLS step reads besides its own state.
+struct Step<T> {
+    inv_lam: T,
+    a_range: (T, T),
+    sign: T,
+    cfg: EstimatorConfig<T>,
+}
+
+impl<T: Real> Step<T> {
+    /// Candidate `c`'s RLS step for its error `e` with the regressor
+    /// `φ = (Δŷ[k], Δu[k−d], Δu[k−d−1])` along its gradient `c.psi`, then
+    /// its a-posteriori output.
+    #[inline(always)]
+    fn rls(&self, c: &mut Candidate<T>, e: T, [f0, f1, f2]: [T; 3]) {
+        let Step {
+            inv_lam,
+            a_range: (lo, hi),
+            sign,
+            cfg,
+        } = *self;
+        let [t0, t1, t2] = c.theta;
+        let [s0, s1, s2] = c.psi;
+        // RLS with forgetting along ψ (P symmetric: six entries):
+        // g = Pψ/(λ + ψᵀPψ), θ += g·e, P = (P − g·(Pψ)ᵀ)/λ
+        let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = c.p;
+        let q0 = p00 * s0 + p01 * s1 + p02 * s2;
+        let q1 = p01 * s0 + p11 * s1 + p12 * s2;
+        let q2 = p02 * s0 + p12 * s1 + p22 * s2;
+        let denom = cfg.forgetting + s0 * q0 + s1 * q1 + s2 * q2;
+        if !(denom > T::zero()) {
+            return;
+        }
+        let inv = T::one() / denom;
+        let (g0, g1, g2) = (q0 * inv, q1 * inv, q2 * inv);
+        let mut next = [t0 + g0 * e, t1 + g1 * e, t2 + g2 * e];
+        let n00 = (p00 - g0 * q0) * inv_lam;
+        let n01 = (p01 - g0 * q1) * inv_lam;
+        let n02 = (p02 - g0 * q2) * inv_lam;
+        let n11 = (p11 - g1 * q1) * inv_lam;
+        let n12 = (p12 - g1 * q2) * inv_lam;
+        let n22 = (p22 - g2 * q2) * inv_lam;
+        // the trace bounded: no "bursting" when nothing moves (a
+        // factor 1 below the bound: exact; a select, not a branch)
+        let trace = n00 + n11 + n22;
+        let k = if trace > cfg.max_trace {
+            cfg.max_trace / trace
+        } else {
+            T::one()
+        };
+        let (n00, n01, n02) = (n00 * k, n01 * k, n02 * k);
+        let (n11, n12, n22) = (n11 * k, n12 * k, n22 * k);
+        c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
+        if sign != T::zero() {
+            // projection: with the gain's sign known, both input
+            // coefficients carry it (a fraction `f` in [0, 1]); a
+            // coefficient of the wrong sign goes to zero along the
+            // covariance's direction (the projection in the metric of
+            // P⁻¹: the correlated coefficients move with it; Goodwin &
+            // Sin (1984) Sec. 3.7): b0 along P's second column, b1
+            // along its third. The second can carry b0 back across
+            // zero, and a coefficient without a direction stays: what
+            // is left of the wrong sign is cut to zero.
+            let [t0, t1, t2] = next;
+            // (as selects, not branches: which coefficient is of the
+            // wrong sign changes from sample to sample, unpredictably)
+            let cut1 = sign * t1 < T::zero() && n11 > T::zero();
+            let along = if cut1 { t1 / n11 } else { T::zero() };
+            let (t0, t1, t2) = (
+                t0 - n01 * along,
+                if cut1 { T::zero() } else { t1 },
+                t2 - n12 * along,
+            );
+            let cut2 = sign * t2 < T::zero() && n22 > T::zero();
+            let along = if cut2 { t2 / n22 } else { T::zero() };
+            let (t0, t1, t2) = (
+                t0 - n02 * along,
+                t1 - n12 * along,
+                if cut2 { T::zero() } else { t2 },
+            );
+            let t1 = if sign * t1 < T::zero() { T::zero() } else { t1 };
+            let t2 = if sign * t2 < T::zero() { T::zero() } else { t2 };
+            next = [t0, t1, t2];
+        }
+        let [mut a, b0, b1] = next;
+        if !cfg.integrating {
+            // projection onto plausible models: `a` in its range
+            a = at_most(at_least(a, lo), hi);
+        }
+        c.theta = [a, b0, b1];
+        // the a-posteriori output
+        c.yhat = a * f0 + b0 * f1 + b1 * f2;
     }
 }

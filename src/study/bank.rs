@@ -353,11 +353,16 @@ impl BankCase {
         .run()
     }
 
+    /// The adaptive loop alone (`--adapt`), its log in the report.
+    pub fn adaptive(&self) -> Result<RunOutput, RunError> {
+        self.scenario(&self.plant, true, true, self.ts()?)?.run()
+    }
+
     /// Runs the three loops and compares them.
     pub fn run(&self) -> Result<BankResult, RunError> {
         let ts = self.ts()?;
         let fixed = self.scenario(&self.plant, true, false, ts)?.run()?;
-        let adaptive = self.scenario(&self.plant, true, true, ts)?.run()?;
+        let adaptive = self.adaptive()?;
         let from = match self.change {
             None => 0.0,
             Some(_) => 0.75 * self.duration(),
