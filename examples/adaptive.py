@@ -5,7 +5,7 @@ built with (fixed) and with its model kept right by on-line identification (``ad
 the CLI's ``--adapt``). Set-point changes every 30 s; measurement noise 2 % of the step. Prints
 the set-point IAE from 1050 s on of both and of the loop built with the drifted process's model.
 
-    python examples/adaptive.py [OUT]   (a file, e.g. docs/msp-adapt.svg as scripts/figures
+    python examples/adaptive.py [OUT]   (a file, e.g. docs/guide/src/figures/msp-adapt.svg as scripts/figures
                                          writes it, or a directory: OUT/adaptive.png)
 """
 

@@ -3,7 +3,7 @@ the plant's dead time goes from 93.9 s to 140.85 s at 700 s, with the controller
 left as it was and with the model's dead time updated at the same time
 (``Controller.set_dead_time``, the CLI's ``--event T:dead-time=θ``). Then a set-point step.
 
-    python examples/dead_time_change.py [OUT]   (a file, e.g. docs/msp-dead-time.svg as
+    python examples/dead_time_change.py [OUT]   (a file, e.g. docs/guide/src/figures/msp-dead-time.svg as
                                                  scripts/figures writes it, or a directory:
                                                  OUT/dead_time_change.png)
 """

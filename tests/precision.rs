@@ -79,7 +79,7 @@ fn every_scheme_in_f32_follows_its_f64_build() {
 /// an f32 number) against the exact f64 plant, close to the f64 run. The
 /// unstable plant's FSP at h = 100 samples of dead time, as in the firmware:
 /// at the default h = 1000 its S, a sum over the dead time's inputs, drifts
-/// in f32 (README, "Performance").
+/// in f32 (the guide's "Performance" chapter).
 #[test]
 fn a_float32_scenario_runs_the_controller_in_f32() {
     for (plant, ts) in [

@@ -527,7 +527,7 @@ fn design_targets_reach_every_command() {
     );
 }
 
-/// A loop that diverges has no figures: the README's perturbed race at the
+/// A loop that diverges has no figures: the guide's perturbed race at the
 /// common Ms (Karan–Dey gets no lower than 2.2 on this plant and diverges
 /// under +10 % gain and delay) prints every time-domain and frequency row of
 /// it as "—", its report holds null for each (the run's metrics and every

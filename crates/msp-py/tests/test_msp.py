@@ -585,7 +585,7 @@ def test_identify_refuses_closed_loop_data() -> None:
 
 
 def test_readme_figures_render_from_the_current_code(tmp_path: pathlib.Path) -> None:
-    """Every SVG the README shows is made by scripts/figures from today's code; each renders to a
+    """Every SVG the README and the guide show is made by scripts/figures from today's code; each renders to a
     PNG of the expected size that is not blank (more than 2 % of its pixels drawn)."""
     import re
 
@@ -594,8 +594,11 @@ def test_readme_figures_render_from_the_current_code(tmp_path: pathlib.Path) -> 
 
     subprocess.run(["bash", str(ROOT / "scripts" / "figures"), str(tmp_path)], check=True,
                    env={**os.environ, "MSP_BIN": MSP_BIN, "PYTHON": sys.executable})
-    shown = re.findall(r"\((docs/[\w.-]+\.svg)\)", (ROOT / "README.md").read_text())
-    assert len(shown) >= 2, shown
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs" / "guide" / "src").glob("*.md"))]
+    shown = sorted({pathlib.Path(name).name for page in pages
+                    for name in re.findall(r"\(((?:docs/guide/src/)?figures/[\w.-]+\.svg)\)",
+                                           page.read_text())})
+    assert len(shown) >= 6, shown
     for name in shown:
         svg = tmp_path / pathlib.Path(name).name
         png = tmp_path / (svg.stem + ".png")
