@@ -43,7 +43,7 @@
 //! `Ku = 4h/(π a)`, `Tu = P`, for the ultimate-cycle rules of Tables 3.2/3.3.
 
 use crate::real::{finite, non_negative, positive};
-use crate::{Error, Fopdt, Ipdt, Real, Ufopdt};
+use crate::{error::Error, model::Fopdt, model::Ipdt, model::Ufopdt, real::Real};
 
 /// Settings of a relay experiment.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -512,8 +512,8 @@ mod tests {
 
     /// Runs the relay on an exactly discretized plant `x' = Φx + Γ u(t − L)`.
     fn run(num: &[f64], den: &[f64], delay: f64, cfg: RelayConfig<f64>) -> RelayState<f64> {
-        let plant: crate::Lti<f64, 4> =
-            crate::Lti::from_tf(num, den, cfg.ts, crate::Discretization::Zoh).expect_ok();
+        let plant: crate::lti::Lti<f64, 4> =
+            crate::lti::Lti::from_tf(num, den, cfg.ts, crate::lti::Discretization::Zoh).expect_ok();
         let mut p = plant;
         let d = (delay / cfg.ts).round() as usize;
         let mut line = vec![cfg.u0; d + 1];

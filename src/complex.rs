@@ -2,7 +2,7 @@
 
 use core::ops::Add;
 
-use crate::Real;
+use crate::real::Real;
 
 /// `re + j·im`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -21,7 +21,7 @@
 //! only at run time, or with `alloc` a `Vec`.
 
 use crate::real::{finite, non_negative};
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 /// A delay line over any storage that dereferences to a slice of samples.
 ///

@@ -7,7 +7,10 @@ use crate::autotune::{
     identify_fopdt, identify_ipdt, identify_ufopdt, RelayConfig, RelayResult, RelayState, RelayTest,
 };
 use crate::poly::TransferFunction;
-use crate::{Error, Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
+use crate::{
+    error::Error, model::Foipdt, model::Fopdt, model::Ipdt, model::ProcessModel, model::Sopdt,
+    model::Ufopdt,
+};
 
 mod autotune;
 pub use autotune::*;

@@ -63,6 +63,7 @@ mod controller;
 pub mod delay;
 pub mod dtc;
 mod error;
+mod loop_controller;
 pub mod lti;
 pub mod metrics;
 pub mod model;
@@ -92,12 +93,11 @@ pub mod sweep;
 pub mod syntax;
 
 pub use complex::Complex;
-pub use controller::{
-    CascadeControl, Controller, FrequencyResponse, Introspect, LoopController, Widened,
-};
+pub use controller::{CascadeControl, Controller, FrequencyResponse, Introspect};
 pub use delay::{Delay, DelayLine, DelayLineRef};
 pub use dtc::{KaranDey, SmithPredictor};
 pub use error::Error;
+pub use loop_controller::{LoopController, Widened};
 pub use lti::{Discretization, Lti};
 pub use metrics::IntegralIndices;
 pub use model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};

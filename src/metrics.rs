@@ -9,7 +9,7 @@
 //! samples do not drift.
 
 use crate::real::positive;
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 /// A sum that stays accurate over millions of terms: in `f32` (where a plain
 /// running sum drifts after ~10⁵ terms) a double word `s + c`, each
@@ -197,8 +197,8 @@ pub fn step_info_of_data(
     y_init: Option<f64>,
     y_final: Option<f64>,
     opts: StepInfoOptions,
-) -> Result<StepInfo, crate::Error> {
-    use crate::Error;
+) -> Result<StepInfo, crate::error::Error> {
+    use crate::error::Error;
     if t.len() != y.len() {
         return Err(Error::Unsupported("t and y must have the same length"));
     }

@@ -13,7 +13,7 @@
 //! | UFOPDT | `K e^{−Ls}/(T s − 1)` |
 
 use crate::real::{finite, non_negative, positive};
-use crate::{Discretization, Error, Lti, Real};
+use crate::{error::Error, lti::Discretization, lti::Lti, real::Real};
 
 /// A model's struct, and its constructor checking each parameter with the
 /// function written after its name (`nonzero`, `positive`, `non_negative`).

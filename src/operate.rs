@@ -16,7 +16,7 @@
 //! mode sets them (Åström & Hägglund (2006), Sec. 3.5, tracking and
 //! bumpless transfer).
 
-use crate::{Controller, Error, Real};
+use crate::{controller::Controller, error::Error, real::Real};
 
 /// How an amended output reaches the integrators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -313,8 +313,8 @@ impl<T: Real, C: Operate<T>> Controller<T> for Operated<T, C> {
     }
 }
 
-impl<T: Real, C: Operate<T> + crate::CascadeControl<T>> crate::CascadeControl<T>
-    for Operated<T, C>
+impl<T: Real, C: Operate<T> + crate::controller::CascadeControl<T>>
+    crate::controller::CascadeControl<T> for Operated<T, C>
 {
     fn update_cascade(&mut self, r: T, y: T, y2: T) -> T {
         self.step_with(r, |c, r| c.update_cascade(r, y, y2))

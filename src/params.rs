@@ -8,7 +8,7 @@
 //! keeps of its own parameters for [`crate::Introspect`]; it is built from a
 //! typed struct only.
 
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 /// Most parameters one scheme has.
 pub const MAX_PARAMS: usize = 16;

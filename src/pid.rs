@@ -27,7 +27,7 @@
 //! [`Pid::fault`] is raised until valid data returns.
 
 use crate::real::{finite, non_negative, positive};
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 mod config;
 mod gains;
@@ -276,13 +276,13 @@ impl<T: Real> Pid<T> {
     /// by the back-calculation gain `h/Tt`·(applied − output) (external reset
     /// feedback: no windup against a limit the controller does not own; full
     /// tracking when the controller has no back-calculation).
-    pub fn apply(&mut self, applied: T, how: crate::Tracking) {
+    pub fn apply(&mut self, applied: T, how: crate::operate::Tracking) {
         if !applied.usable() || !self.started {
             return;
         }
         let t = self.terms;
         self.integral = match how {
-            crate::Tracking::Reset if self.ar > T::zero() => {
+            crate::operate::Tracking::Reset if self.ar > T::zero() => {
                 self.integral + self.ar * (applied - t.output)
             }
             _ => applied - t.p - t.d,
@@ -373,7 +373,7 @@ impl<T: Real> Pid<T> {
     /// The linear (unsaturated) frequency response at `z = e^{jθ}` as the pair
     /// `(Cr, Cy)` of `u = Cr·r − Cy·y`: `Cr = kp·b + ki·h/(z − 1) + D(z)·c`,
     /// `Cy = kp + ki·h/(z − 1) + D(z)`, `D(z) = kd/(Tf + h)·(1 − z⁻¹)/(1 − Tf/(Tf + h)·z⁻¹)`.
-    pub fn response(&self, theta: T) -> (crate::Complex<T>, crate::Complex<T>) {
+    pub fn response(&self, theta: T) -> (crate::complex::Complex<T>, crate::complex::Complex<T>) {
         self.response_at(&crate::lti::zdomain::Frequency::new(theta))
     }
 
@@ -539,8 +539,8 @@ impl<T: Real> Pid<T> {
     }
 }
 
-impl<T: Real> crate::Operate<T> for Pid<T> {
-    fn apply(&mut self, applied: T, how: crate::Tracking) {
+impl<T: Real> crate::operate::Operate<T> for Pid<T> {
+    fn apply(&mut self, applied: T, how: crate::operate::Tracking) {
         Pid::apply(self, applied, how);
     }
     fn retune(&mut self, gain: crate::operate::Gain, value: T) -> Result<(), Error> {
@@ -549,7 +549,7 @@ impl<T: Real> crate::Operate<T> for Pid<T> {
 }
 
 /// The plain PID loop is a controller too (the `pid` scheme).
-impl<T: Real> crate::Controller<T> for Pid<T> {
+impl<T: Real> crate::controller::Controller<T> for Pid<T> {
     #[inline(always)]
     fn update(&mut self, r: T, y: T) -> T {
         Pid::update(self, r, y)
@@ -565,9 +565,9 @@ impl<T: Real> crate::Controller<T> for Pid<T> {
     }
 }
 
-impl<T: Real> crate::CascadeControl<T> for Pid<T> {}
+impl<T: Real> crate::controller::CascadeControl<T> for Pid<T> {}
 
-impl<T: Real> crate::Introspect<T> for Pid<T> {
+impl<T: Real> crate::controller::Introspect<T> for Pid<T> {
     fn signal_names(&self) -> &'static [&'static str] {
         &["p_term", "i_term", "d_term"]
     }
@@ -595,8 +595,11 @@ impl<T: Real> crate::Introspect<T> for Pid<T> {
     }
 }
 
-impl<T: Real> crate::FrequencyResponse<T> for Pid<T> {
-    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+impl<T: Real> crate::controller::FrequencyResponse<T> for Pid<T> {
+    fn response(
+        &self,
+        theta: T,
+    ) -> Option<(crate::complex::Complex<T>, crate::complex::Complex<T>)> {
         Some(Pid::response(self, theta))
     }
     #[cfg(feature = "alloc")]

@@ -10,7 +10,7 @@ use core::fmt;
 use crate::complex::Complex;
 use crate::lti::roots;
 use crate::model::{Foipdt, Fopdt, Ipdt, ProcessModel, Sopdt, Ufopdt};
-use crate::{Discretization, Error, Lti};
+use crate::{error::Error, lti::Discretization, lti::Lti};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 

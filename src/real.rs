@@ -78,26 +78,26 @@ impl Real for f64 {
 
 /// Checks that `x` is finite.
 #[inline]
-pub(crate) fn finite<T: Real>(x: T, field: &'static str) -> Result<T, crate::Error> {
+pub(crate) fn finite<T: Real>(x: T, field: &'static str) -> Result<T, crate::error::Error> {
     x.is_finite()
         .then_some(x)
-        .ok_or(crate::Error::NonFinite(field))
+        .ok_or(crate::error::Error::NonFinite(field))
 }
 
 /// Checks that `x` is finite and strictly positive.
 #[inline]
-pub(crate) fn positive<T: Real>(x: T, field: &'static str) -> Result<T, crate::Error> {
+pub(crate) fn positive<T: Real>(x: T, field: &'static str) -> Result<T, crate::error::Error> {
     (finite(x, field)? > T::zero())
         .then_some(x)
-        .ok_or(crate::Error::NotPositive(field))
+        .ok_or(crate::error::Error::NotPositive(field))
 }
 
 /// Checks that `x` is finite and not negative.
 #[inline]
-pub(crate) fn non_negative<T: Real>(x: T, field: &'static str) -> Result<T, crate::Error> {
+pub(crate) fn non_negative<T: Real>(x: T, field: &'static str) -> Result<T, crate::error::Error> {
     (finite(x, field)? >= T::zero())
         .then_some(x)
-        .ok_or(crate::Error::Negative(field))
+        .ok_or(crate::error::Error::Negative(field))
 }
 
 /// `x` limited to `[lo, hi]` by comparisons (on a Cortex-M4 `f32::max`/`min`

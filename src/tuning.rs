@@ -2,7 +2,7 @@
 
 use crate::dtc::KaranDeyParams;
 use crate::real::positive;
-use crate::{Error, Ipdt, ProcessModel, Real};
+use crate::{error::Error, model::Ipdt, model::ProcessModel, real::Real};
 
 // the gains the rules give: the PID's own parameter type
 pub use crate::pid::PidGains;
@@ -107,7 +107,7 @@ pub fn kaya_alpha<T: Real>(model: &ProcessModel<T>, alpha: T) -> Result<PidGains
 }
 
 /// [`kaya`] for an FOPDT model with `λ = α·L`.
-pub fn kaya_fopdt<T: Real>(model: &crate::Fopdt<T>, alpha: T) -> Result<PidGains<T>, Error> {
+pub fn kaya_fopdt<T: Real>(model: &crate::model::Fopdt<T>, alpha: T) -> Result<PidGains<T>, Error> {
     kaya_alpha(&ProcessModel::Fopdt(*model), alpha)
 }
 
@@ -150,7 +150,7 @@ pub fn imc_pi_integrating<T: Real>(model: &Ipdt<T>, lambda: T) -> Result<PidGain
 /// # Ok::<(), msp::Error>(())
 /// ```
 pub fn imc_pid_integrating_lag<T: Real>(
-    model: &crate::Foipdt<T>,
+    model: &crate::model::Foipdt<T>,
     lambda: T,
 ) -> Result<PidGains<T>, Error> {
     // the integrator and dead time of the model: the PI of K/s reads only K
@@ -214,7 +214,7 @@ pub fn karan_dey_default_lambda<T: Real>(model: &Ipdt<T>) -> T {
 /// assert!((g.ti - 12.0).abs() < 1e-12 && (g.td - 40.0 / 24.0).abs() < 1e-12);
 /// # Ok::<(), msp::Error>(())
 /// ```
-pub fn imc_pid<T: Real>(model: &crate::Fopdt<T>, lambda: T) -> Result<PidGains<T>, Error> {
+pub fn imc_pid<T: Real>(model: &crate::model::Fopdt<T>, lambda: T) -> Result<PidGains<T>, Error> {
     let lambda = positive(lambda, "lambda")?;
     let h = T::half() * model.l;
     Ok(PidGains {

@@ -1,7 +1,7 @@
 //! The settings of an [`super::Estimator`].
 
 use crate::real::positive;
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 /// Settings of an [`super::Estimator`].
 #[derive(Debug, Clone, Copy, PartialEq)]

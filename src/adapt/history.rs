@@ -1,7 +1,7 @@
 //! The input history an [`super::Estimator`] reads, and the running median
 //! it measures jitter and noise with.
 
-use crate::Real;
+use crate::real::Real;
 
 /// A running median of a magnitude, followed by multiplicative steps (a
 /// quantile tracker: up by 1 % when a value is above it, down when below),

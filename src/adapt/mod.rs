@@ -56,7 +56,7 @@
 //! manual, tracking, a fault).
 
 use crate::real::{at_least, at_most};
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 mod config;
 mod detect;

@@ -42,7 +42,10 @@
 use super::{Estimate, Estimator};
 use crate::operate::{Gain, Operate, Tracking};
 use crate::real::{at_least, at_most};
-use crate::{CascadeControl, Controller, Error, FrequencyResponse, Introspect, Real};
+use crate::{
+    controller::CascadeControl, controller::Controller, controller::FrequencyResponse,
+    controller::Introspect, error::Error, real::Real,
+};
 
 mod block;
 mod config;

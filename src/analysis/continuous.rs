@@ -134,7 +134,8 @@ fn count(plant: &TransferFunction, k: f64) -> Result<(usize, usize), String> {
             "the loop is improper (more zeros than poles): it has no continuous verdict",
         ));
     }
-    let lost = |e: crate::Error| std::format!("the loop's poles and zeros could not be found: {e}");
+    let lost =
+        |e: crate::error::Error| std::format!("the loop's poles and zeros could not be found: {e}");
     let l = Loop {
         plant: plant.clone(),
         zeros: poly_roots(&num).map_err(lost)?,

@@ -29,9 +29,9 @@ use core::ops::{Add, Div, Mul, Sub};
 use std::vec::Vec;
 
 use crate::complex::Complex;
+use crate::controller::FrequencyResponse;
 use crate::poly::TransferFunction;
-use crate::FrequencyResponse;
-use crate::{Discretization, Error, Lti};
+use crate::{error::Error, lti::Discretization, lti::Lti};
 
 mod continuous;
 mod report;

@@ -7,8 +7,8 @@ use std::vec::Vec;
 
 use super::{DiscretePlant, LoopResponse, Margins, View};
 use crate::complex::Complex;
+use crate::error::Error;
 use crate::poly::TransferFunction;
-use crate::Error;
 
 /// Everything `msp margins` reports.
 #[derive(Debug, Clone)]
@@ -66,7 +66,7 @@ pub struct RegionPoint {
 /// saying so for those plants and schemes (`docs/fidelity.md`; the
 /// computation that reproduces every printed row is `tests/thesis_margins.rs`).
 pub fn published_note(plant: &TransferFunction, controller: &str) -> Option<&'static str> {
-    let Some(crate::ProcessModel::Ipdt(m)) = plant.exact_model() else {
+    let Some(crate::model::ProcessModel::Ipdt(m)) = plant.exact_model() else {
         return None;
     };
     let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
@@ -178,7 +178,7 @@ fn right_half_plane_poles(p: &TransferFunction) -> Result<usize, String> {
 /// with its dead time, `P = Np/1`, or for a cascade
 /// `P = P12·Q / (1 + Q(P2 − P2m))` (its determinant apart).
 pub fn loop_stability(
-    controller: &dyn crate::LoopController<f64>,
+    controller: &dyn crate::loop_controller::LoopController<f64>,
     plant: &TransferFunction,
     inner: Option<InnerLoop<'_>>,
     ts: f64,

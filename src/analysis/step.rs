@@ -3,8 +3,8 @@
 use std::string::String;
 use std::vec::Vec;
 
+use crate::error::Error;
 use crate::poly::TransferFunction;
-use crate::Error;
 
 /// The open-loop step response of a plant, as MATLAB's `step` and
 /// `stepinfo` (python-control's `step_response` and `step_info`) give it.

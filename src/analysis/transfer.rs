@@ -5,7 +5,7 @@ use std::vec::Vec;
 
 use crate::lti::zdomain::Rational;
 use crate::poly::TransferFunction;
-use crate::{Error, FrequencyResponse};
+use crate::{controller::FrequencyResponse, error::Error};
 
 /// A discrete transfer function `num(z)/den(z)`, descending powers of `z`
 /// and both lists of one length, as MATLAB's `tf(num, den, Ts)` and

@@ -11,7 +11,7 @@
 use crate::delay::Delay;
 use crate::dtc::compensator::{AhlFilter, Compensator, DisturbancePath, ErrorPath};
 use crate::params::{param_struct, ParamList};
-use crate::{Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 pub use crate::dtc::compensator::AhlFilter as DisturbanceCompensator;
 

@@ -28,11 +28,16 @@ use crate::delay::Delay;
 #[cfg(feature = "alloc")]
 use crate::delay::DelayStorage;
 #[cfg(feature = "alloc")]
-use crate::poly::{mul, trim, TransferFunction};
+use crate::lti::Discretization;
 #[cfg(feature = "alloc")]
-use crate::Discretization;
-use crate::{AntiWindup, Complex, Error, Lti, PidConfig, Real};
-use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
+use crate::poly::{mul, trim, TransferFunction};
+use crate::{
+    complex::Complex, error::Error, lti::Lti, pid::AntiWindup, pid::PidConfig, real::Real,
+};
+use crate::{
+    controller::CascadeControl, controller::Controller, controller::FrequencyResponse,
+    controller::Introspect,
+};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -387,12 +392,12 @@ impl<T: Real, O: Controller<T>, S: AsRef<[T]> + AsMut<[T]>> Controller<T> for Ca
     }
 }
 
-impl<T: Real, O: crate::Operate<T>, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
+impl<T: Real, O: crate::operate::Operate<T>, S: AsRef<[T]> + AsMut<[T]>> crate::operate::Operate<T>
     for Cascade<T, O, S>
 {
     /// The inner loop follows `applied` (its model and `Q`), and the outer
     /// controller the inner set point that gives it.
-    fn apply(&mut self, applied: T, how: crate::Tracking) {
+    fn apply(&mut self, applied: T, how: crate::operate::Tracking) {
         self.inner.apply(applied);
         self.outer.apply(self.inner.setpoint(), how);
     }

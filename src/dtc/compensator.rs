@@ -32,8 +32,11 @@ use crate::lti::zdomain::{Algebra, Frequency, Point};
 use crate::metrics::Sum;
 use crate::params::{ParamList, ParamSet};
 use crate::real::finite;
-use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
-use crate::{Complex, Error, Lti, Pid, Real};
+use crate::{complex::Complex, error::Error, lti::Lti, pid::Pid, real::Real};
+use crate::{
+    controller::CascadeControl, controller::Controller, controller::FrequencyResponse,
+    controller::Introspect,
+};
 use core::ops::{Add, Mul, Sub};
 
 mod traits;
@@ -441,7 +444,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Compensator<T, N, S> {
             &[finite(kv, "k")? * l],
             &[l, T::one()],
             ts,
-            crate::Discretization::Zoh,
+            crate::lti::Discretization::Zoh,
         )
     }
 

@@ -13,7 +13,7 @@
 //! alone (Smith's structure, Bag (2022) Eq. 4.5).
 
 use crate::delay::Delay;
-use crate::{Complex, Error, Lti, Real};
+use crate::{complex::Complex, error::Error, lti::Lti, real::Real};
 
 /// The model `G_m` (order `≤ N`, strictly proper) and its dead time `d`
 /// (a [`Delay`] over storage `S`), with the last `y_m[k]`, `y_m[k − d]` and `ε[k]`.
@@ -180,7 +180,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{DelayLine, Discretization};
+    use crate::{delay::DelayLine, lti::Discretization};
 
     /// A first-order lag `1/(s + 1)` behind 3 samples: `y_m[k − 3]` is
     /// `y_m[k]` three samples late, the step response of the ZOH model is

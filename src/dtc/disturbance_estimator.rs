@@ -12,7 +12,7 @@
 
 use crate::dtc::compensator::{CompensatorParams, Controllers};
 use crate::params::param_struct;
-use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Discretization, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 param_struct! {
     /// Parameters of the predictor with a disturbance estimator

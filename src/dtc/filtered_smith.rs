@@ -13,7 +13,7 @@
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, ErrorPath, AUX};
 use crate::params::ParamList;
-use crate::{Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 crate::pid::pid_params! {
     /// Parameters of the filtered Smith predictor: the PID and the lead-lag

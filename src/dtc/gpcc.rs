@@ -30,7 +30,7 @@ use crate::complex::Complex;
 use crate::delay::{samples_of, whole_samples, Delay, DelayStorage};
 use crate::dtc::fsp::{buffer, model_tf, Predictor, SmallPoly, SMALL};
 use crate::lti::zdomain::{Algebra, Point};
-use crate::{Discretization, Error, Lti, Real};
+use crate::{error::Error, lti::Discretization, lti::Lti, real::Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 

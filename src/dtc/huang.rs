@@ -16,7 +16,7 @@
 use crate::delay::Delay;
 use crate::dtc::compensator::{Compensator, ErrorPath};
 use crate::params::ParamList;
-use crate::{Discretization, Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Discretization, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 crate::pid::pid_params! {
     /// Parameters of Huang's predictor: the PID and `B = kb/(tb·s + 1)`.

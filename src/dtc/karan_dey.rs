@@ -30,7 +30,7 @@ use crate::delay::{Delay, DelayStorage};
 use crate::dtc::compensator::{self, Compensator, CompensatorParams, Controllers};
 use crate::params::{param_struct, ParamSet};
 use crate::real::finite;
-use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
+use crate::{error::Error, lti::Lti, model::ProcessModel, pid::Pid, pid::PidConfig, real::Real};
 
 param_struct! {
     /// Tuned parameters of the Karan–Dey MSP (names as in reports and `--set`).

@@ -10,7 +10,7 @@
 //! ([`crate::dtc::compensator`]), which the thesis derives from it.
 
 use crate::dtc::compensator::{CompensatorParams, Controllers};
-use crate::{Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 crate::params::base_struct! { $ kaya_atherton_params;
     /// Parameters of the PI-PD Smith predictor: `Gc1 = kp(1 + 1/(ti s))`,

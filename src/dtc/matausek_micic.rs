@@ -15,7 +15,7 @@
 
 use crate::dtc::compensator::{CompensatorParams, Controllers};
 use crate::params::param_struct;
-use crate::{Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 param_struct! {
     /// Parameters of the Matausek–Micić predictor.

@@ -15,8 +15,11 @@
 
 use super::DelayedModel;
 use crate::delay::{Delay, DelayStorage};
-use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
-use crate::{Error, Lti, Pid, PidConfig, ProcessModel, Real};
+use crate::{
+    controller::CascadeControl, controller::Controller, controller::FrequencyResponse,
+    controller::Introspect,
+};
+use crate::{error::Error, lti::Lti, model::ProcessModel, pid::Pid, pid::PidConfig, real::Real};
 use core::ops::{Add, Mul, Sub};
 
 /// Smith predictor around a [`Pid`], with a model of order `≤ N` and its dead
@@ -126,12 +129,12 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> Controller<T>
     }
 }
 
-impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::operate::Operate<T>
     for SmithPredictor<T, N, S>
 {
     /// The model is amended to the applied input (it predicts what the plant
     /// really receives) and the PID tracks it.
-    fn apply(&mut self, applied: T, how: crate::Tracking) {
+    fn apply(&mut self, applied: T, how: crate::operate::Tracking) {
         let u = self.pid.output();
         if !(applied.usable() && u.is_finite()) {
             return;
@@ -159,10 +162,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     }
 
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
-        let model: crate::ProcessModel<T> = if tau.is_infinite() && tau > T::zero() {
-            crate::Ipdt::new(gain, T::zero())?.into()
+        let model: crate::model::ProcessModel<T> = if tau.is_infinite() && tau > T::zero() {
+            crate::model::Ipdt::new(gain, T::zero())?.into()
         } else {
-            crate::Fopdt::new(gain, tau, T::zero())?.into()
+            crate::model::Fopdt::new(gain, tau, T::zero())?.into()
         };
         let (block, _) = model.discretize::<N>(self.pid.config().ts)?;
         self.model.set_model(block)
@@ -217,7 +220,10 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
     for SmithPredictor<T, N, S>
 {
     /// `u = G1r/(1 + G1y·Gm(1 − z^{−d}))·r − G1y/(1 + G1y·Gm(1 − z^{−d}))·y`.
-    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+    fn response(
+        &self,
+        theta: T,
+    ) -> Option<(crate::complex::Complex<T>, crate::complex::Complex<T>)> {
         Some(self.response_at(&crate::lti::zdomain::Frequency::new(theta)))
     }
 
@@ -226,13 +232,16 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> FrequencyResponse<T>
         Some(self.response_at(&crate::lti::zdomain::Symbolic))
     }
 
-    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+    fn inner_response(&self, theta: T) -> Option<crate::complex::Complex<T>> {
         Some(self.pid.response(theta).1.mul(self.model.response(theta).0))
     }
 
     /// `Nc = G1y`, `Dc = 1 + G1y·Gm(1 − z^{−d})`: the predictor's own loop.
-    fn feedback_parts(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
-        use crate::Complex;
+    fn feedback_parts(
+        &self,
+        theta: T,
+    ) -> Option<(crate::complex::Complex<T>, crate::complex::Complex<T>)> {
+        use crate::complex::Complex;
         let at = crate::lti::zdomain::Frequency::new(theta);
         let (_, g1y) = self.pid.response_at(&at);
         let (gm, d) = self.model.response_at(&at);

@@ -19,7 +19,7 @@ use crate::delay::Delay;
 use crate::dtc::compensator::Compensator;
 use crate::params::ParamList;
 use crate::pid::PidGains;
-use crate::{Error, Lti, Pid, PidConfig, Real};
+use crate::{error::Error, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
 
 /// The compensator for an integrating model with velocity gain `kv` and dead
 /// time `l` (s); `pid` (gains `p`) carries the period and limits.

@@ -5,7 +5,7 @@ use super::matrix::{array_of, expm_and_integral, inverse, mat_of, rows_of, vecto
 use super::{Discretization, Lti};
 use crate::complex::Complex;
 use crate::real::{finite, positive};
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 use core::ops::{Add, Div, Mul, Sub};
 
 /// Strips leading zeros of a descending coefficient slice.

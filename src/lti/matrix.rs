@@ -9,7 +9,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 

@@ -24,7 +24,7 @@
 //!   [`Discretization::Matched`]).
 
 use crate::complex::Complex;
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 use core::ops::{Add, Div, Mul, Sub};
 
 /// How a continuous block is turned into a discrete one.

@@ -92,7 +92,7 @@ fn fixed<'de, D: Deserializer<'de>, T: Element<'de>, const N: usize>(
 
 #[cfg(all(test, feature = "serde"))]
 mod tests {
-    use crate::{Discretization, Lti};
+    use crate::{lti::Discretization, lti::Lti};
 
     /// A second-order block goes to JSON and back unchanged (its matrix as
     /// rows, its vectors as sequences); a row of the wrong length is refused.

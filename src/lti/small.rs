@@ -3,7 +3,7 @@
 //! analysis's `z`-domain evaluation share, without allocation.
 
 use crate::complex::Complex;
-use crate::{Error, Lti, Real};
+use crate::{error::Error, lti::Lti, real::Real};
 
 /// Capacity of [`SmallPoly`].
 pub const SMALL: usize = 24;

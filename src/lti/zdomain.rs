@@ -12,7 +12,7 @@
 
 use crate::complex::Complex;
 use crate::lti::Lti;
-use crate::Real;
+use crate::real::Real;
 use core::ops::{Add, Div, Mul, Sub};
 
 /// What a transfer function is at a [`Point`]: closed under `+ − × ÷`, with
@@ -116,7 +116,7 @@ mod symbolic {
     use super::{Algebra, Point};
     use crate::complex::Complex;
     use crate::lti::Lti;
-    use crate::Real;
+    use crate::real::Real;
     use alloc::vec;
     use alloc::vec::Vec;
     use core::ops::{Add, Div, Mul, Sub};

@@ -1,7 +1,7 @@
 //! The parameters of an ISA PID as a scheme's parameter type ([`PidGains`]),
 //! and `pid_params!`, which declares a predictor's parameters around them.
 
-use crate::Real;
+use crate::real::Real;
 
 crate::params::base_struct! { $ pid_params;
     /// PID settings in ISA form `Kp(1 + 1/(Ti s) + Td s)`; `td = 0` for PI.
@@ -19,7 +19,7 @@ crate::params::base_struct! { $ pid_params;
 
 impl<T: Real> PidGains<T> {
     /// The PID configuration for sample period `ts` (defaults of [`crate::PidConfig::isa`]).
-    pub fn config(&self, ts: T) -> crate::PidConfig<T> {
-        crate::PidConfig::isa(self.kp, self.ti, self.td, ts)
+    pub fn config(&self, ts: T) -> crate::pid::PidConfig<T> {
+        crate::pid::PidConfig::isa(self.kp, self.ti, self.td, ts)
     }
 }

@@ -10,7 +10,7 @@ use super::integrating::{kaya_atherton_on, kaya_atherton_settings};
 use super::{Build, Design, Params, MAX_ORDER};
 use crate::dtc;
 use crate::poly::TransferFunction;
-use crate::{Lti, ParamList, ParamSet, Pid, PidConfig, Real};
+use crate::{lti::Lti, params::ParamList, params::ParamSet, pid::Pid, pid::PidConfig, real::Real};
 
 use crate::dtc::cascade::{
     self, Cascade, CascadePrimary, CascadePrimaryTuning, FspccParams, FspccTuning, GpccParams,
@@ -25,7 +25,7 @@ use num_traits::Float;
 /// The inner IMC filter time constant: given, or the secondary dead time
 /// (the paper's examples: λ2 = L2 = 2 s in Example 1), or a tenth of the
 /// secondary's slowest time scale when it has no dead time.
-fn lambda2_for(p2: &Tf, lambda2: Option<f64>) -> Result<f64, crate::Error> {
+fn lambda2_for(p2: &Tf, lambda2: Option<f64>) -> Result<f64, crate::error::Error> {
     if let Some(l) = lambda2 {
         return Ok(l);
     }
@@ -43,7 +43,7 @@ fn cascade_primary(
     p1: &TransferFunction,
     p2: &TransferFunction,
     d: &CascadePrimaryTuning,
-) -> Result<(f64, f64, [f64; 4], TransferFunction), crate::Error> {
+) -> Result<(f64, f64, [f64; 4], TransferFunction), crate::error::Error> {
     let lambda2 = lambda2_for(p2, d.lambda2)?;
     let gm = cascade::primary_model(p1, p2, lambda2)?;
     let lambda = match (d.lambda, d.alpha) {
@@ -63,7 +63,7 @@ fn cascade_primary_params(
     p1: &TransferFunction,
     p2: &TransferFunction,
     d: &Design,
-) -> Result<(CascadePrimary, TransferFunction, f64), crate::Error> {
+) -> Result<(CascadePrimary, TransferFunction, f64), crate::error::Error> {
     let d: CascadePrimaryTuning = d.typed();
     let (lambda2, lambda, [kp, ki, kd, tau], gm) = cascade_primary(p1, p2, &d)?;
     let primary = CascadePrimary {
@@ -105,7 +105,7 @@ fn cascade_inner<T: Real>(
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<(TransferFunction, Imc<T, Vec<T>>), crate::Error> {
+) -> Result<(TransferFunction, Imc<T, Vec<T>>), crate::error::Error> {
     let imc =
         Imc::<T, Vec<T>>::design(p2, lambda2, b.ts)?.with_limits(T::of(b.u_min), T::of(b.u_max))?;
     Ok((cascade::primary_model(p1, p2, lambda2)?, imc))
@@ -116,7 +116,7 @@ fn cascade_parts<T: Real>(
     p1: &TransferFunction,
     p2: &TransferFunction,
     b: &Build,
-) -> Result<CascadeParts<T>, crate::Error> {
+) -> Result<CascadeParts<T>, crate::error::Error> {
     let c: CascadePrimary = p.typed()?;
     let (model, imc) = cascade_inner(c.lambda2, p1, p2, b)?;
     Ok(CascadeParts {
@@ -188,8 +188,8 @@ fn outer_model(
     p1: &TransferFunction,
     inner: Option<&Tf>,
     ts: f64,
-) -> Result<CascadeParts<f64>, crate::Error> {
-    let p2 = inner.ok_or(crate::Error::Unsupported(
+) -> Result<CascadeParts<f64>, crate::error::Error> {
+    let p2 = inner.ok_or(crate::error::Error::Unsupported(
         "a cascade scheme needs the secondary process",
     ))?;
     let b = Build::unlimited(ts);
@@ -273,7 +273,7 @@ pub fn build_uma<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
     let c = cascade_parts(p, p1, p2, b)?;
     let u: UmaParams = p.typed()?;
     if [u.kpd, u.kid, u.kdd].iter().any(|v| v.is_nan()) {
-        return Err(crate::Error::Unsupported(
+        return Err(crate::error::Error::Unsupported(
             "uma: the disturbance controller Gcd has no tuning rule in the sources; set kpd, kid and kdd (and lead, lag) with --set",
         ));
     }
@@ -289,14 +289,14 @@ pub fn build_uma<T: Real>(p: &Params, p1: &Tf, p2: &Tf, b: &Build) -> Built<T> {
         &num,
         &den,
         b.ts,
-        crate::Discretization::Matched,
+        crate::lti::Discretization::Matched,
     )?);
     let err = if u.tf > 0.0 {
         ErrorPath::Filter(Lti::of(&Lti::<f64, AUX>::from_tf(
             &[1.0],
             &[u.tf, 1.0],
             b.ts,
-            crate::Discretization::Matched,
+            crate::lti::Discretization::Matched,
         )?))
     } else {
         ErrorPath::Direct

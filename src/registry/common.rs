@@ -9,20 +9,22 @@ use crate::delay::Delay;
 use crate::dtc::{self, compensator::CompensatorParams, Compensator};
 use crate::poly::{PlantKind, TransferFunction};
 use crate::tuning::PidGains;
-use crate::{DesignSet, Ipdt, Lti, PidConfig, ProcessModel, Real};
+use crate::{
+    lti::Lti, model::Ipdt, model::ProcessModel, params::DesignSet, pid::PidConfig, real::Real,
+};
 
 /// A plant or model, as the registry's functions take it.
 pub(super) type Tf = TransferFunction;
 /// What a scheme's tuning returns.
-pub(super) type Tuned = Result<Params, crate::Error>;
+pub(super) type Tuned = Result<Params, crate::error::Error>;
 /// What a scheme's construction returns.
-pub(super) type Built<T> = Result<DynControllerOf<T>, crate::Error>;
+pub(super) type Built<T> = Result<DynControllerOf<T>, crate::error::Error>;
 /// What a scheme's `describe` returns.
-pub(super) type Described = Result<super::DesignReport, crate::Error>;
+pub(super) type Described = Result<super::DesignReport, crate::error::Error>;
 
 /// The PID of a scheme's parameters (its `kp`, `ti`, `td`) with the build's
 /// period and actuator limits.
-pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::Error> {
+pub(super) fn pid_cfg<T: Real>(p: &Params, b: &Build) -> Result<PidConfig<T>, crate::error::Error> {
     let g: PidGains<T> = p.typed()?;
     let cfg = PidConfig::try_isa(g.kp, g.ti, g.td, T::of(b.ts))?
         .with_limits(T::of(b.u_min), T::of(b.u_max));
@@ -69,7 +71,7 @@ pub(super) type ModelParts<T, const N: usize> = (Lti<T, N>, Delay<T, Vec<T>>);
 pub(super) fn model_parts<T: Real, const N: usize>(
     model: &TransferFunction,
     b: &Build,
-) -> Result<ModelParts<T, N>, crate::Error> {
+) -> Result<ModelParts<T, N>, crate::error::Error> {
     Ok((
         Lti::of(&model.to_model_lti::<N>(b.ts)?),
         delay_again(model, b)?,
@@ -82,7 +84,7 @@ pub(super) fn model_parts<T: Real, const N: usize>(
 pub(super) fn delay_again<T: Real>(
     model: &TransferFunction,
     b: &Build,
-) -> Result<Delay<T, Vec<T>>, crate::Error> {
+) -> Result<Delay<T, Vec<T>>, crate::error::Error> {
     let d = model.delay_samples(b.ts)?;
     let room = if b.max_dead_time > 0.0 {
         (b.max_dead_time / b.ts).max(d)
@@ -99,7 +101,7 @@ pub(super) fn compensator<T: Real, P: CompensatorParams<T>, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::error::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     limited(
         dtc::compensator::build(&p.typed::<T, P>()?, T::of(b.ts), lti, delay)?,
@@ -111,7 +113,7 @@ pub(super) fn compensator<T: Real, P: CompensatorParams<T>, const N: usize>(
 pub(super) fn limited<T: Real, const N: usize>(
     c: Compensator<T, N, Vec<T>>,
     b: &Build,
-) -> Result<DynControllerOf<T>, crate::Error> {
+) -> Result<DynControllerOf<T>, crate::error::Error> {
     Ok(Box::new(c.with_limits(T::of(b.u_min), T::of(b.u_max))?))
 }
 
@@ -120,14 +122,14 @@ pub(super) fn limited<T: Real, const N: usize>(
 pub(super) fn integrating_model(
     plant: &TransferFunction,
     scheme: &'static str,
-) -> Result<Ipdt<f64>, crate::Error> {
+) -> Result<Ipdt<f64>, crate::error::Error> {
     match plant.reduce(false)? {
         ProcessModel::Ipdt(m) => Ok(m),
         // an integrator with a lag T acts at low frequency as K/s with T more
         // dead time (Skogestad's half rule puts every lag of an integrating
         // plant into the delay); the predictor still holds the whole model
         ProcessModel::Foipdt(f) => Ipdt::new(f.k, f.l + f.t),
-        _ => Err(crate::Error::Unsupported(scheme)),
+        _ => Err(crate::error::Error::Unsupported(scheme)),
     }
 }
 
@@ -141,7 +143,7 @@ macro_rules! by_order {
             p: &Params,
             m: &TransferFunction,
             b: &Build,
-        ) -> Result<DynControllerOf<T>, crate::Error> {
+        ) -> Result<DynControllerOf<T>, crate::error::Error> {
             match m.model_order() {
                 0 | 1 => $($f)::+::<T, $($p<T>,)? 1>(p, m, b),
                 2 => $($f)::+::<T, $($p<T>,)? 2>(p, m, b),

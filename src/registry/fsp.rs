@@ -9,7 +9,7 @@ use super::common::*;
 use super::{Build, Design, Params, MAX_ORDER};
 use crate::dtc;
 use crate::dtc::fsp::{FspParams, FspTuning};
-use crate::{tuning, ParamList, PidConfig, ProcessModel, Real};
+use crate::{model::ProcessModel, params::ParamList, pid::PidConfig, real::Real, tuning};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -29,7 +29,7 @@ pub fn tune_fsp(plant: &Tf, d: &Design) -> Tuned {
 
 /// The dead time of `model` in whole samples: the predictors of García et al. (2010)
 /// realize `z^{−h}` inside `S` and `F1`, so `h` must be an integer.
-pub(super) fn whole_samples(model: &Tf, ts: f64) -> Result<usize, crate::Error> {
+pub(super) fn whole_samples(model: &Tf, ts: f64) -> Result<usize, crate::error::Error> {
     crate::delay::whole_samples(
         model.delay_samples(ts)?,
         usize::MAX,
@@ -65,11 +65,11 @@ pub(super) fn room_samples(b: &Build) -> usize {
 /// samples of dead time, keeping the model and the filter's shape so that a
 /// run-time dead time (up to [`Build::max_dead_time`]) redesigns them.
 pub(super) fn fsp_predictor<T: Real>(
-    gm: &crate::Lti<f64, MAX_ORDER>,
+    gm: &crate::lti::Lti<f64, MAX_ORDER>,
     h: usize,
     b: &Build,
     spec: dtc::fsp::FrSpec,
-) -> Result<dtc::fsp::FspPredictor<T, Vec<T>>, crate::Error> {
+) -> Result<dtc::fsp::FspPredictor<T, Vec<T>>, crate::error::Error> {
     let design = dtc::fsp::design_with::<Vec<f64>, MAX_ORDER>(gm, h, b.ts, &spec)?;
     let (nm, dm) = dtc::fsp::model_tf(gm);
     Ok(dtc::fsp::FspPredictor::new(&design)?.with_redesign(
@@ -88,14 +88,14 @@ pub(super) fn fsp_predictor<T: Real>(
 /// for the integral action (Eq. 10's conditions).
 pub(super) fn fr_report<const N: usize>(
     design: &dtc::fsp::FspDesign<Vec<f64>>,
-    gm: &crate::Lti<f64, N>,
+    gm: &crate::lti::Lti<f64, N>,
 ) -> Described {
     use super::DesignValue::{Filter, List, Scalar};
     const RHO: [&str; 4] = ["rho1", "rho2", "rho3", "rho4"];
     const GAMMA: [&str; 4] = ["gamma1", "gamma2", "gamma3", "gamma4"];
     let (nr, dr) = (design.nr.as_slice(), design.dr.as_slice());
     let lead = |p: &[f64]| p.iter().copied().find(|c| *c != 0.0).unwrap_or(1.0);
-    let real = |p: &[f64]| -> Result<Vec<f64>, crate::Error> {
+    let real = |p: &[f64]| -> Result<Vec<f64>, crate::error::Error> {
         let mut r: Vec<f64> = crate::poly::poly_roots(p)?
             .into_iter()
             .filter(|(re, im)| im.abs() <= 1e-9 * re.abs().max(1.0))

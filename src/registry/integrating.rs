@@ -11,7 +11,7 @@ use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
 use crate::dtc::{self, Compensator, KaranDeyParams};
 use crate::poly::TransferFunction;
 use crate::tuning::{LambdaTuning, PidGains};
-use crate::{tuning, DesignSet, ProcessModel, Real};
+use crate::{model::ProcessModel, params::DesignSet, real::Real, tuning};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -20,17 +20,17 @@ pub fn tune_karan_dey(plant: &Tf, d: &Design) -> Tuned {
     // PI ignores a lag, which the predictor then keeps in the loop
     let m = match plant.exact_model() {
         Some(ProcessModel::Ipdt(m)) if m.l <= 0.0 => {
-            return Err(crate::Error::Unsupported(
+            return Err(crate::error::Error::Unsupported(
                 "the Karan-Dey MSP compensates a dead time, and this integrator has none; use pid (the default for it)",
             ))
         }
         Some(ProcessModel::Ipdt(m)) => m,
         _ if plant.kind() == crate::poly::PlantKind::Integrating => {
-            return Err(crate::Error::Unsupported(
+            return Err(crate::error::Error::Unsupported(
                 "the Karan-Dey MSP is designed for an IPDT model K*e^(-θs)/s; for an integrating plant with lags or zeros use matausek-micic or pid (msp picks one by default), or give --model as an IPDT",
             ))
         }
-        _ => return Err(crate::Error::Unsupported("the Karan-Dey MSP needs an integrating plant")),
+        _ => return Err(crate::error::Error::Unsupported("the Karan-Dey MSP needs an integrating plant")),
     };
     let lambda = lambda_for(&m.into(), &d.typed::<LambdaTuning>(), 0.25);
     Ok(Params::of(&tuning::karan_dey(&m, lambda)?).with_lambda(lambda))
@@ -132,7 +132,7 @@ pub fn tune_matausek_micic(plant: &Tf, d: &Design) -> Tuned {
         "the Matausek-Micic predictor needs an integrating plant",
     )?;
     if m.l <= 0.0 {
-        return Err(crate::Error::Unsupported(
+        return Err(crate::error::Error::Unsupported(
             "the Matausek-Micic predictor designs its load gain k0 = 0.5/(K*θ) from a dead time or a lag, and this plant has neither; use pid (the default for it)",
         ));
     }
@@ -151,7 +151,7 @@ const KA_PLANT: &str = "the Kaya-Atherton predictor needs a stable or integratin
 pub(super) fn kaya_atherton_settings<D: DesignSet>(
     plant: &TransferFunction,
     d: &D,
-) -> Result<(KayaAthertonParams, f64), crate::Error> {
+) -> Result<(KayaAthertonParams, f64), crate::error::Error> {
     let m = match plant.kind() {
         crate::poly::PlantKind::Integrating => {
             ProcessModel::Ipdt(integrating_model(plant, KA_PLANT)?)
@@ -188,7 +188,7 @@ pub(super) fn kaya_atherton_settings<D: DesignSet>(
             };
             (p, lambda)
         }
-        _ => return Err(crate::Error::Unsupported(KA_PLANT)),
+        _ => return Err(crate::error::Error::Unsupported(KA_PLANT)),
     })
 }
 
@@ -202,7 +202,7 @@ pub(super) fn kaya_atherton_on<T: Real, const N: usize>(
     p: &Params,
     model: &TransferFunction,
     b: &Build,
-) -> Result<Compensator<T, N, Vec<T>>, crate::Error> {
+) -> Result<Compensator<T, N, Vec<T>>, crate::error::Error> {
     let (lti, delay) = model_parts::<T, N>(model, b)?;
     dtc::compensator::build(
         &p.typed::<T, KayaAthertonParams<T>>()?,

@@ -30,11 +30,11 @@ use crate::dtc::huang::HuangParams;
 use crate::dtc::kaya_atherton::KayaAthertonParams;
 use crate::dtc::matausek_micic::{MatausekMicicParams, MatausekMicicTuning};
 use crate::dtc::KaranDeyParams;
+use crate::loop_controller::LoopController;
 use crate::params::{DesignSet, ParamList, ParamSet};
 use crate::poly::{PlantKind, TransferFunction};
+use crate::real::Real;
 use crate::tuning::{LambdaTuning, PidGains};
-use crate::LoopController;
-use crate::Real;
 use common::{both, by_order};
 
 pub use crate::poly::MAX_ORDER;
@@ -50,7 +50,7 @@ pub type DynControllerOf<T> = Box<dyn LoopController<T> + Send + Sync>;
 #[derive(Debug, Clone, PartialEq)]
 pub enum RegistryError {
     /// A parameter or model was rejected by the core.
-    Core(crate::Error),
+    Core(crate::error::Error),
     /// No scheme has this name.
     UnknownScheme(String),
     /// `--set` named a parameter the scheme does not have.
@@ -73,8 +73,8 @@ pub enum RegistryError {
     },
 }
 
-impl From<crate::Error> for RegistryError {
-    fn from(e: crate::Error) -> Self {
+impl From<crate::error::Error> for RegistryError {
+    fn from(e: crate::error::Error) -> Self {
         RegistryError::Core(e)
     }
 }
@@ -211,7 +211,7 @@ impl Params {
     }
     /// The typed struct `P` in precision `T` (every field of `P` read by name;
     /// `P` may be a part of the scheme's struct, the PID of a predictor).
-    pub fn typed<T: Real, P: ParamSet<T>>(&self) -> Result<P, crate::Error> {
+    pub fn typed<T: Real, P: ParamSet<T>>(&self) -> Result<P, crate::error::Error> {
         P::from_list(&self.list)
     }
     /// The value of `name` (`lambda` included).
@@ -380,13 +380,13 @@ pub type DescribeFn = fn(
     &TransferFunction,
     Option<&TransferFunction>,
     f64,
-) -> Result<DesignReport, crate::Error>;
+) -> Result<DesignReport, crate::error::Error>;
 
 /// A single-loop tuning rule: model → parameters.
-pub type TuneFn = fn(&TransferFunction, &Design) -> Result<Params, crate::Error>;
+pub type TuneFn = fn(&TransferFunction, &Design) -> Result<Params, crate::error::Error>;
 /// A single-loop construction: parameters + model → controller in precision `T`.
 pub type BuildFn<T = f64> =
-    fn(&Params, &TransferFunction, &Build) -> Result<DynControllerOf<T>, crate::Error>;
+    fn(&Params, &TransferFunction, &Build) -> Result<DynControllerOf<T>, crate::error::Error>;
 
 /// A construction in both precisions (the same generic function instantiated twice).
 #[derive(Clone, Copy)]
@@ -424,14 +424,14 @@ impl Precision for f32 {
 }
 /// A cascade tuning rule: `(P1, P2, design)` → parameters.
 pub type CascadeTuneFn =
-    fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::Error>;
+    fn(&TransferFunction, &TransferFunction, &Design) -> Result<Params, crate::error::Error>;
 /// A cascade construction: `(parameters, P1, P2, build)` → controller.
 pub type CascadeBuildFn<T = f64> = fn(
     &Params,
     &TransferFunction,
     &TransferFunction,
     &Build,
-) -> Result<DynControllerOf<T>, crate::Error>;
+) -> Result<DynControllerOf<T>, crate::error::Error>;
 
 /// How a scheme is tuned and built: from the plant's model, or — for a cascade
 /// scheme (García et al. (2010)) — from the primary and the secondary models.
@@ -597,7 +597,7 @@ pub fn find(name: &str) -> Result<&'static Scheme, RegistryError> {
 pub fn default_for(model: &TransferFunction) -> Result<&'static Scheme, RegistryError> {
     match model.kind() {
         PlantKind::Integrating => match (model.exact_model(), model.integrating_half_rule()) {
-            (Some(crate::ProcessModel::Ipdt(m)), _) if m.l > 0.0 => find("karan-dey"),
+            (Some(crate::model::ProcessModel::Ipdt(m)), _) if m.l > 0.0 => find("karan-dey"),
             (_, Some((theta, t))) if theta >= t && theta > 0.0 => find("matausek-micic"),
             _ => find("pid"),
         },
@@ -611,7 +611,7 @@ pub fn default_for(model: &TransferFunction) -> Result<&'static Scheme, Registry
 
 /// A cascade scheme asked for without the secondary process.
 fn needs_inner() -> RegistryError {
-    RegistryError::Core(crate::Error::Unsupported(
+    RegistryError::Core(crate::error::Error::Unsupported(
         "a cascade scheme needs the secondary process (--inner-plant)",
     ))
 }

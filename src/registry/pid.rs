@@ -4,9 +4,9 @@ use alloc::boxed::Box;
 
 use super::common::*;
 use super::{Build, Design, Params};
+use crate::pid::Pid;
 use crate::tuning::LambdaTuning;
-use crate::Pid;
-use crate::{tuning, Fopdt, Ipdt, ProcessModel, Real};
+use crate::{model::Fopdt, model::Ipdt, model::ProcessModel, real::Real, tuning};
 
 pub fn tune_pid(plant: &Tf, d: &Design) -> Tuned {
     tune(plant, d, false)
@@ -47,7 +47,7 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
     };
     let (g, lambda, named) = match rule {
         "imc" | "imc-pid" if pi_only => {
-            return Err(crate::Error::Unsupported(
+            return Err(crate::error::Error::Unsupported(
                 "IMC-PID is a PID: use --controller pid, or --rule simc for a PI",
             ))
         }
@@ -55,7 +55,7 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
             let f = match plant.reduce(false)? {
                 ProcessModel::Fopdt(f) => f,
                 _ => {
-                    return Err(crate::Error::Unsupported(
+                    return Err(crate::error::Error::Unsupported(
                         "IMC-PID needs a stable FOPDT model (use --rule simc)",
                     ))
                 }
@@ -82,17 +82,17 @@ fn tune(plant: &Tf, d: &Design, pi_only: bool) -> Tuned {
             (g, f64::NAN, rule)
         }
         name => {
-            let r = tuning::ultimate_rule(name).ok_or(crate::Error::Unsupported(
+            let r = tuning::ultimate_rule(name).ok_or(crate::error::Error::Unsupported(
                 "unknown tuning rule (see `msp list`)",
             ))?;
             if pi_only && r.c != 0.0 {
-                return Err(crate::Error::Unsupported(
+                return Err(crate::error::Error::Unsupported(
                     "this ultimate-cycle rule gives a PID: use --controller pid, or a PI rule (see `msp list`)",
                 ));
             }
-            let (ku, tu) = plant
-                .ultimate()
-                .ok_or(crate::Error::Unsupported("the plant has no ultimate point"))?;
+            let (ku, tu) = plant.ultimate().ok_or(crate::error::Error::Unsupported(
+                "the plant has no ultimate point",
+            ))?;
             let rule = super::Rule {
                 name: r.name,
                 ku: Some(ku),

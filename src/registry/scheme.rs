@@ -35,7 +35,7 @@ impl Scheme {
         model: &TransferFunction,
         inner: Option<&TransferFunction>,
         ts: f64,
-    ) -> Result<DesignReport, crate::Error> {
+    ) -> Result<DesignReport, crate::error::Error> {
         match self.describe {
             Some(f) => f(params, model, inner, ts),
             None => Ok(Vec::new()),
@@ -69,7 +69,7 @@ impl Scheme {
         // the order first: a model beyond the blocks' capacity says so,
         // whatever else is wrong with it
         if model.model_order() > MAX_ORDER {
-            return Err(crate::Error::OrderTooHigh("model").into());
+            return Err(crate::error::Error::OrderTooHigh("model").into());
         }
         model.check_controllable()?;
         if let Some(p2) = inner {
@@ -77,7 +77,7 @@ impl Scheme {
         }
         // a named rule is for the PID schemes; elsewhere it would be ignored
         if rule.is_some() && !matches!(self.name, "pid" | "pi") {
-            return Err(RegistryError::Core(crate::Error::Unsupported(
+            return Err(RegistryError::Core(crate::error::Error::Unsupported(
                 "--rule (rule=) names a PID tuning rule: only the pid and pi schemes have them; tune the others with --lambda or --set",
             )));
         }

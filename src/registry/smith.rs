@@ -10,14 +10,14 @@ use crate::dtc::huang::HuangParams;
 use crate::dtc::{self, SmithPredictor};
 use crate::poly::TransferFunction;
 use crate::tuning::LambdaTuning;
-use crate::{tuning, DesignSet, ParamSet, ProcessModel, Real};
+use crate::{model::ProcessModel, params::DesignSet, params::ParamSet, real::Real, tuning};
 
 /// Kaya's PI/PID for a stable model, the thesis's IMC-PI for an integrating one.
 fn primary_gains<D: DesignSet>(
     plant: &TransferFunction,
     d: &D,
     stable_factor: f64,
-) -> Result<(tuning::PidGains<f64>, f64, ProcessModel<f64>), crate::Error> {
+) -> Result<(tuning::PidGains<f64>, f64, ProcessModel<f64>), crate::error::Error> {
     let m = plant.reduce(plant.order() >= 2)?;
     Ok(match m {
         ProcessModel::Foipdt(f) => {

@@ -7,7 +7,7 @@ use super::plant::{cuts, split_delay, vec_zeros, PlantSim, ToUsize};
 use crate::delay::Delay;
 use crate::poly::TransferFunction;
 use crate::poly::MAX_ORDER;
-use crate::{Discretization, Error, Lti};
+use crate::{error::Error, lti::Discretization, lti::Lti};
 
 /// The exact sampled cascade process (primary `p1` fed by the secondary `p2`),
 /// stepped one held input at a time (see [`super::simulate_cascade`]).

@@ -9,9 +9,9 @@ use super::plant::PlantSim;
 use super::result::Columns;
 use super::schedule::{first_sample_at, Track};
 use super::{Location, SimResult};
+use crate::error::Error;
 use crate::poly::TransferFunction;
-use crate::Error;
-use crate::{CascadeControl, Introspect, Operate};
+use crate::{controller::CascadeControl, controller::Introspect, operate::Operate};
 
 /// A schedule `(time, item)` as `(first sample, item)` in time order (ties
 /// keep their order).

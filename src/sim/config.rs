@@ -10,7 +10,7 @@ use std::vec::Vec;
 use super::cascade::JointSim;
 use super::plant::PlantSim;
 use super::{Disturbance, SetpointStep};
-use crate::Error;
+use crate::error::Error;
 
 /// The process parameter a drift moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

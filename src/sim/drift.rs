@@ -12,7 +12,7 @@
 //! sub-sample pieces exact).
 
 use super::config::{PlantParameter, Process};
-use crate::Error;
+use crate::error::Error;
 
 /// One parameter on its way: where it is, where it goes, how far a sample.
 #[derive(Debug, Clone, Copy)]

@@ -17,9 +17,9 @@ use super::drift::Drifts;
 use super::result::{Columns, Zeroed};
 use super::schedule::Track;
 use super::SimResult;
+use crate::error::Error;
 use crate::operate::{feed_back, in_mode, Mode};
-use crate::Error;
-use crate::{CascadeControl, Introspect, Operate};
+use crate::{controller::CascadeControl, controller::Introspect, operate::Operate};
 
 /// What a run prepared before its first sample.
 pub(super) struct Run<'a> {

@@ -6,7 +6,7 @@ use std::vec::Vec;
 use crate::delay::Delay;
 use crate::poly::TransferFunction;
 use crate::poly::MAX_ORDER;
-use crate::{Discretization, Error, Lti};
+use crate::{error::Error, lti::Discretization, lti::Lti};
 
 /// One piece of a sampling period, integrated exactly by its own ZOH discretization.
 pub(super) struct Piece {

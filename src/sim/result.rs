@@ -59,12 +59,12 @@ impl SimResult {
         names: &[&str],
         rows: usize,
         c: Columns,
-    ) -> Result<Zeroed, crate::Error> {
+    ) -> Result<Zeroed, crate::error::Error> {
         // a column without the room is allocated anew, zeroed, fallibly (a
         // column the process cannot have is an error, not an abort); a
         // reused one keeps its memory and its old rows, which the run
         // overwrites
-        let fit = |v: &mut Vec<f64>| -> Result<bool, crate::Error> {
+        let fit = |v: &mut Vec<f64>| -> Result<bool, crate::error::Error> {
             if v.capacity() < rows {
                 *v = super::plant::vec_zeros_for(rows, "recorded signals")?;
                 Ok(true)

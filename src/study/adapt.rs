@@ -9,7 +9,7 @@ use super::{RunError, Scenario};
 use crate::adapt::{Adaptive, AdaptiveConfig, EstimatorConfig};
 use crate::poly::TransferFunction;
 use crate::registry::DynController;
-use crate::{Error, ProcessModel};
+use crate::{error::Error, model::ProcessModel};
 
 /// Candidate dead times the host's estimator compares.
 pub const CANDIDATES: usize = 32;

@@ -4,9 +4,9 @@
 use std::string::String;
 
 use super::{choose_ts_as, RunError, Scenario, DEFAULT_MAX_MEMORY};
+use crate::error::Error;
 use crate::poly::TransferFunction;
 use crate::registry::{self, Build, Params, MAX_ORDER};
-use crate::Error;
 
 /// Bytes per sample of the controller's dead time: a scheme holds up to four
 /// lines of it (the model's, a filter's or a second model's) in `f64`.
@@ -357,7 +357,7 @@ impl Scenario {
             },
         };
         let controller: registry::DynController = if self.float32 {
-            Box::new(crate::Widened(
+            Box::new(crate::loop_controller::Widened(
                 scheme.build_process_as::<f32>(params, model, inner, &build)?,
             ))
         } else {

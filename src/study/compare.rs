@@ -4,7 +4,7 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::{choose_duration, choose_ts_as, RunError, RunOutput, Scenario};
-use crate::Error;
+use crate::error::Error;
 
 /// Relative perturbations of the plant for `msp compare` (each controller keeps
 /// the nominal model): `0.1` is +10 %.

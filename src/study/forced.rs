@@ -5,8 +5,8 @@
 use std::vec::Vec;
 
 use super::{RunError, Scenario};
+use crate::error::Error;
 use crate::sim::{Disturbance, Location, SetpointStep, Shape};
-use crate::Error;
 
 /// Sampled inputs of a forced response: the times (uniform, from 0: their
 /// step is the controller's period), the set point `r`, and optionally the

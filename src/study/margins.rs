@@ -11,8 +11,8 @@ use crate::analysis::{
     LoopResponse, Margins, ProcessResponse, RegionPoint, Stability, View,
 };
 use crate::complex::Complex;
+use crate::error::Error;
 use crate::poly::TransferFunction;
-use crate::Error;
 
 /// What `msp margins --json` prints and Python's `margins` returns (beside
 /// the loop response arrays): one serde type, the same keys in both.

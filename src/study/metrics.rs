@@ -3,9 +3,9 @@
 use std::borrow::Cow;
 use std::vec::Vec;
 
+use crate::error::Error;
 use crate::metrics::{step_info, Indices, IntegralIndices, StepInfo};
 use crate::sim::{Disturbance, Location, SetpointStep, SimResult};
-use crate::Error;
 
 /// The metrics of a run, with the key names of the JSON report and Python:
 /// the integral indices of the error and the step information of the

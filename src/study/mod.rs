@@ -55,10 +55,10 @@ pub use tradeoff::{tradeoff, tradeoff_factors, Tradeoff, TradeoffPoint};
 use std::string::String;
 use std::vec::Vec;
 
+use crate::error::Error;
 use crate::poly::{PlantKind, TransferFunction};
 use crate::registry::{self, Params, RegistryError};
 use crate::sim::{simulate_cascade, Disturbance, SetpointStep, SimConfig, SimResult};
-use crate::Error;
 
 /// A complete run description: what `msp run` takes from its flags or from a
 /// TOML/JSON file (`msp run --scenario file.toml`), and Python's `run` from

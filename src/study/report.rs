@@ -52,7 +52,7 @@ impl ControllerReport {
     /// The report of scheme `name` with `params`.
     pub fn new(name: &'static str, params: Params) -> Self {
         // the filter and weights of PidConfig::isa, which the PI/PID schemes build
-        let isa = crate::PidConfig::<f64>::isa(1.0, 1.0, 1.0, 1.0);
+        let isa = crate::pid::PidConfig::<f64>::isa(1.0, 1.0, 1.0, 1.0);
         let tuning = params.rule().map(|r| TuningReport {
             rule: r.name,
             ku: r.ku,

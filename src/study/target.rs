@@ -8,8 +8,8 @@ use std::vec::Vec;
 
 use super::{RunError, Scenario, Tuned};
 use crate::analysis::Margins;
+use crate::error::Error;
 use crate::poly::TransferFunction;
-use crate::Error;
 
 /// The figure a design target fixes.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -73,7 +73,7 @@ pub fn tradeoff(
 ) -> Result<Tradeoff, RunError> {
     let (plant, model) = base.plant_and_model()?;
     if base.inner_plant.is_some() {
-        return Err(RunError::Invalid(crate::Error::Unsupported(
+        return Err(RunError::Invalid(crate::error::Error::Unsupported(
             "the trade-off is for single loops (not a cascade process)",
         )));
     }
@@ -109,7 +109,7 @@ pub fn tradeoff(
         };
         let Some(l0) = tuned.params.lambda().filter(|l| l.is_finite() && *l > 0.0) else {
             if named {
-                return Err(RunError::Invalid(crate::Error::Unsupported(
+                return Err(RunError::Invalid(crate::error::Error::Unsupported(
                     "the trade-off sweeps a scheme's lambda, and this scheme's tuning has none",
                 )));
             }

@@ -1,5 +1,5 @@
 use super::*;
-use crate::{Fopdt, Sopdt};
+use crate::{model::Fopdt, model::Sopdt};
 
 #[test]
 fn kaya_examples_2_and_3() -> Result<(), Box<dyn std::error::Error>> {

@@ -1,7 +1,7 @@
 //! The settings of an [`super::Adaptive`] controller.
 
 use crate::adapt::EstimatorConfig;
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 /// Settings of an [`crate::adapt::Adaptive`] controller.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -92,13 +92,19 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 where
     C: FrequencyResponse<T>,
 {
-    fn response(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+    fn response(
+        &self,
+        theta: T,
+    ) -> Option<(crate::complex::Complex<T>, crate::complex::Complex<T>)> {
         self.inner.response(theta)
     }
-    fn inner_response(&self, theta: T) -> Option<crate::Complex<T>> {
+    fn inner_response(&self, theta: T) -> Option<crate::complex::Complex<T>> {
         self.inner.inner_response(theta)
     }
-    fn feedback_parts(&self, theta: T) -> Option<(crate::Complex<T>, crate::Complex<T>)> {
+    fn feedback_parts(
+        &self,
+        theta: T,
+    ) -> Option<(crate::complex::Complex<T>, crate::complex::Complex<T>)> {
         self.inner.feedback_parts(theta)
     }
     fn unstable_poles(&self) -> usize {

@@ -16,7 +16,7 @@ fn series_pid_equals_the_series_form() -> Result<(), Error> {
     // the continuous limit: responses of Gcs and of the parallel form agree
     let (kp, ki, kd, tau, eps) = (4.6571, 0.1829, 12.2857, 2.8571, 0.3);
     let cfg = series_pid(kp, ki, kd, tau, eps, 1e-4)?;
-    let pid = crate::Pid::new(cfg)?;
+    let pid = crate::pid::Pid::new(cfg)?;
     for w in [0.01, 0.1, 1.0] {
         let theta = w * 1e-4;
         let (cr, cy) = pid.response(theta);

@@ -4,7 +4,7 @@
 
 use super::*;
 
-impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
+impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::operate::Operate<T>
     for Compensator<T, N, S>
 {
     /// With `u = u1 − u3`, an applied `u` means `u1 = u + u3`: the model (driven
@@ -12,7 +12,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::Operate<T>
     /// Watanabe–Ito's correction are amended to it, and `Gc1`, whose output
     /// is `u1 + Gc2·ym`, tracks `u1`'s change. `Gc2` and `Gd` see the model's
     /// output and error, which the amendment keeps right.
-    fn apply(&mut self, applied: T, how: crate::Tracking) {
+    fn apply(&mut self, applied: T, how: crate::operate::Tracking) {
         if !(applied.usable() && self.u.is_finite()) {
             return;
         }

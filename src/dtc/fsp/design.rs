@@ -8,7 +8,7 @@ use super::{solve, MAX_CONDITIONS};
 use crate::complex::Complex;
 use crate::delay::DelayStorage;
 use crate::lti::small::{model_tf, SmallPoly, SMALL};
-use crate::{Error, Lti};
+use crate::{error::Error, lti::Lti};
 #[allow(unused_imports)] // f64 methods under no_std
 use num_traits::Float;
 
@@ -105,7 +105,7 @@ pub(crate) fn sized<T, S: AsRef<[T]>>(s: S, len: usize) -> Result<S, Error> {
 }
 
 /// Storage of at least `len` values.
-pub(crate) fn buffer<T: crate::Real, S: DelayStorage<T>>(len: usize) -> Result<S, Error> {
+pub(crate) fn buffer<T: crate::real::Real, S: DelayStorage<T>>(len: usize) -> Result<S, Error> {
     let n = u32::try_from(len).map_err(|_| Error::DelayTooLong("predictor storage"))?;
     let s = S::for_delay(T::of(f64::from(n)))?;
     if s.as_ref().len() < len {

@@ -15,7 +15,7 @@
 
 #[cfg(doc)]
 use crate::delay::DelayStorage;
-use crate::{Error, Real};
+use crate::{error::Error, real::Real};
 
 /// Largest number of conditions (roots with multiplicity) the solver takes.
 pub const MAX_CONDITIONS: usize = 6;

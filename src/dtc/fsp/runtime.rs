@@ -10,8 +10,11 @@ use crate::lti::small::SmallPoly;
 use crate::lti::small::SMALL;
 use crate::lti::zdomain::{Algebra, Frequency, Point};
 use crate::params::ParamList;
-use crate::{CascadeControl, Controller, FrequencyResponse, Introspect};
-use crate::{Complex, Error, Lti, Pid, PidConfig, Real};
+use crate::{complex::Complex, error::Error, lti::Lti, pid::Pid, pid::PidConfig, real::Real};
+use crate::{
+    controller::CascadeControl, controller::Controller, controller::FrequencyResponse,
+    controller::Introspect,
+};
 
 mod split;
 mod traits;
@@ -61,7 +64,7 @@ pub trait Predictor<T: Real> {
 /// The primary controller of a predictor scheme: `u = Cr(z)·r − Cy(z)·ŷ`,
 /// run and operated as any controller (a non-finite `ŷ` holds the output
 /// and is a fault), with its response and last output.
-pub trait Primary<T: Real>: crate::Operate<T> {
+pub trait Primary<T: Real>: crate::operate::Operate<T> {
     /// `(Cr, Cy)` at `z = e^{jθ}`.
     fn response(&self, theta: T) -> (Complex<T>, Complex<T>) {
         self.response_at(&Frequency::new(theta))
@@ -106,7 +109,7 @@ impl<T: Real> Matched2Dof<T> {
     }
 }
 
-impl<T: Real> crate::Controller<T> for Matched2Dof<T> {
+impl<T: Real> crate::controller::Controller<T> for Matched2Dof<T> {
     fn update(&mut self, r: T, y: T) -> T {
         self.fault = !(r - y).usable();
         if self.fault {
@@ -127,10 +130,10 @@ impl<T: Real> crate::Controller<T> for Matched2Dof<T> {
     }
 }
 
-impl<T: Real> crate::Operate<T> for Matched2Dof<T> {
+impl<T: Real> crate::operate::Operate<T> for Matched2Dof<T> {
     /// `K`'s state moves so that its output continues from `applied` (as a
     /// PID's integrator is set in manual mode).
-    fn apply(&mut self, applied: T, _how: crate::Tracking) {
+    fn apply(&mut self, applied: T, _how: crate::operate::Tracking) {
         if applied.usable() && self.k.shift_output(applied - self.u) {
             self.u = applied;
         }

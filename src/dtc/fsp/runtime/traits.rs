@@ -3,10 +3,10 @@
 
 use super::*;
 
-impl<T: Real, P: Predictor<T>, K: Primary<T>> crate::Operate<T> for Predicted<T, P, K> {
+impl<T: Real, P: Predictor<T>, K: Primary<T>> crate::operate::Operate<T> for Predicted<T, P, K> {
     /// The primary controller follows `applied` and the predictor records it
     /// as the input of the last sample.
-    fn apply(&mut self, applied: T, how: crate::Tracking) {
+    fn apply(&mut self, applied: T, how: crate::operate::Tracking) {
         let u = self.k.output();
         if !(applied.is_finite() && u.is_finite()) {
             return;
