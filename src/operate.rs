@@ -114,7 +114,7 @@ pub trait Operate<T: Real>: Controller<T> {
     /// Calls `f` with each change an adaptive controller logged, oldest
     /// first ([`crate::adapt::Adaptive::log`]); nothing for one that does
     /// not adapt.
-    fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<T>)) {
+    fn visit_log(&self, f: &mut dyn FnMut(Change<T>)) {
         let _ = f;
     }
 
@@ -346,7 +346,83 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     fn set_adapting(&mut self, on: bool) -> Result<(), Error> {
         self.inner.set_adapting(on)
     }
-    fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<T>)) {
+    fn visit_log(&self, f: &mut dyn FnMut(Change<T>)) {
         self.inner.visit_log(f);
     }
+}
+
+/// What a logged change of a controller's model did (an adaptive
+/// controller's log, [`Operate::visit_log`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum ChangeKind {
+    /// A settled estimate became the model.
+    Applied,
+    /// The loop oscillated after a change: the last good model came back.
+    Restored,
+    /// A scheme's operation refused the model: adaptation froze.
+    Refused,
+    /// The model in use no longer matches the process (the entry's model
+    /// is the estimate's).
+    Alarm,
+    /// The model in use matches again.
+    Cleared,
+    /// The loop was going unstable and the estimate was clear: applied at
+    /// once (the entry's model).
+    Emergency,
+    /// The loop was going unstable without a clear estimate: the
+    /// primary's gain halved (the entry's model is the one in use).
+    Detuned,
+    /// An estimate at the end of the dead-time range, or beyond the gain's
+    /// or the time constant's bound: not applied (the entry's model is the
+    /// estimate's).
+    Edge,
+}
+
+impl ChangeKind {
+    /// The number the `adapt_kind` signal gives it (1 … 8).
+    pub fn code(self) -> u8 {
+        match self {
+            ChangeKind::Applied => 1,
+            ChangeKind::Restored => 2,
+            ChangeKind::Refused => 3,
+            ChangeKind::Alarm => 4,
+            ChangeKind::Cleared => 5,
+            ChangeKind::Emergency => 6,
+            ChangeKind::Detuned => 7,
+            ChangeKind::Edge => 8,
+        }
+    }
+
+    /// The kind of a code of [`ChangeKind::code`].
+    pub fn from_code(code: u8) -> Option<Self> {
+        match code {
+            1 => Some(ChangeKind::Applied),
+            2 => Some(ChangeKind::Restored),
+            3 => Some(ChangeKind::Refused),
+            4 => Some(ChangeKind::Alarm),
+            5 => Some(ChangeKind::Cleared),
+            6 => Some(ChangeKind::Emergency),
+            7 => Some(ChangeKind::Detuned),
+            8 => Some(ChangeKind::Edge),
+            _ => None,
+        }
+    }
+}
+
+/// One entry of the adaptation log: the model in use from `sample` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Change<T> {
+    /// The sample at which it happened (counted from the first update).
+    pub sample: u64,
+    /// What happened.
+    pub kind: ChangeKind,
+    /// The model's gain `K`.
+    pub k: T,
+    /// The model's time constant `τ` (s; infinite: integrating).
+    pub tau: T,
+    /// The model's dead time `θ` (s).
+    pub theta: T,
 }

@@ -24,21 +24,9 @@ pub const MAX_ORDER: usize = 8;
 
 mod display;
 
-/// Polynomial product (descending coefficients).
-pub fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {
-    if a.is_empty() || b.is_empty() {
-        return Vec::new();
-    }
-    let mut out = vec![0.0; a.len().saturating_add(b.len()).saturating_sub(1)];
-    for (i, x) in a.iter().enumerate() {
-        for (j, y) in b.iter().enumerate() {
-            if let Some(o) = out.get_mut(i.saturating_add(j)) {
-                *o += x * y;
-            }
-        }
-    }
-    out
-}
+/// Polynomial product (descending coefficients; defined with the
+/// z-domain's rational functions, below this module).
+pub use crate::lti::zdomain::mul;
 
 /// Polynomial sum (descending coefficients).
 pub fn add(a: &[f64], b: &[f64]) -> Vec<f64> {

@@ -54,9 +54,10 @@ mod redesign;
 mod traits;
 mod watch;
 
+pub use crate::operate::{Change, ChangeKind};
 use block::{near, Block};
 pub use config::AdaptiveConfig;
-pub use log::{Change, ChangeKind, SIGNALS};
+pub use log::SIGNALS;
 pub use redesign::{Rebuild, Redesign};
 
 /// A rebuilt scheme warming up beside the one in use.

@@ -109,7 +109,7 @@ impl<T: Real> Point<T> for Frequency<T> {
 }
 
 #[cfg(feature = "alloc")]
-pub use symbolic::{Rational, Symbolic};
+pub use symbolic::{mul, Rational, Symbolic};
 
 #[cfg(feature = "alloc")]
 mod symbolic {
@@ -140,10 +140,25 @@ mod symbolic {
     #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
     pub struct Symbolic;
 
+    /// Polynomial product (the coefficients in either order, the same in
+    /// both factors and the product; `msp::poly::mul`).
+    pub fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {
+        if a.is_empty() || b.is_empty() {
+            return Vec::new();
+        }
+        let mut out = vec![0.0; a.len().saturating_add(b.len()).saturating_sub(1)];
+        for (i, x) in a.iter().enumerate() {
+            for (j, y) in b.iter().enumerate() {
+                if let Some(o) = out.get_mut(i.saturating_add(j)) {
+                    *o += x * y;
+                }
+            }
+        }
+        out
+    }
+
     fn product(factors: &[Vec<f64>]) -> Vec<f64> {
-        factors
-            .iter()
-            .fold(vec![1.0], |acc, f| crate::poly::mul(&acc, f))
+        factors.iter().fold(vec![1.0], |acc, f| mul(&acc, f))
     }
 
     /// `p` without its trailing zeros (`[]` for the zero polynomial).
@@ -321,8 +336,8 @@ mod symbolic {
             a.iter_mut().for_each(|c| *c *= self.gain);
             let mut b = product(&o.num);
             b.iter_mut().for_each(|c| *c *= o.gain);
-            let mut num = crate::poly::mul(&a, &product(&rest_b));
-            let other = crate::poly::mul(&b, &product(&rest_a));
+            let mut num = mul(&a, &product(&rest_b));
+            let other = mul(&b, &product(&rest_a));
             if num.len() < other.len() {
                 num.resize(other.len(), 0.0);
             }
