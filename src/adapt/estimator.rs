@@ -73,6 +73,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             onsets: 0,
             pending: None,
             current: None,
+            hyp: [Hypothesis {
+                coef: [a0, T::zero(), T::zero()],
+                yhat: T::zero(),
+                recent: T::zero(),
+            }; HYPOTHESES],
         })
     }
 
@@ -200,15 +205,21 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// only (the change detector's memory, `1 − 1/window` a sample), the
     /// model in use against the best of the chosen candidate and the
     /// change detector's simulations (the model of a response or two ago
-    /// at every dead time: a new dead time shows there before the bank
-    /// has chosen it): a change shows within a response or two, where the
-    /// costs' long memory takes many. The model-error alarm reads it.
+    /// at every dead time, and at the chosen dead time with other gains
+    /// and lags, [`GAINS`], [`LAGS`]: a new dead time, gain or lag shows
+    /// there before the bank has learnt it): a change shows within a
+    /// response or two, where the costs' long memory takes many. The
+    /// model-error alarm reads it.
     pub fn recent_mismatch(&self) -> Option<Mismatch<T>> {
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         self.model?;
         let [cost, energy, rival, weight] = r.recent;
         let scans = self.bank.get(..self.n).unwrap_or_default();
         let best = scans.iter().fold(rival, |m, c| at_most(m, c.recent));
+        let best = self
+            .hypotheses()
+            .iter()
+            .fold(best, |m, h| at_most(m, h.recent));
         Some(compare(cost, energy, best, weight))
     }
 

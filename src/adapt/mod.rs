@@ -266,7 +266,37 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     pending: Option<Pass<T>>,
     /// The estimate as of the last pass's end ([`Estimator::estimate`]).
     current: Option<Estimate<T>>,
+    /// The change detector's snapshot model with other gains and lags, at
+    /// the chosen dead time ([`HYPOTHESES`]): what the model-error alarm
+    /// compares the model in use with besides the other dead times.
+    hyp: [Hypothesis<T>; HYPOTHESES],
 }
+
+/// One of the change detector's hypotheses about the process's gain or
+/// lag: the snapshot model with its gain or its lag times a factor
+/// ([`GAINS`], [`LAGS`]), simulated at the chosen dead time.
+#[derive(Debug, Clone, Copy)]
+struct Hypothesis<T> {
+    coef: [T; 3],
+    /// Its simulated output `Δŷ[k]` and its squared error over about the
+    /// last response (as a candidate's `scan` and `recent`).
+    yhat: T,
+    recent: T,
+}
+
+/// The gain factors the change detector simulates: a process whose gain
+/// went to 0.7 or 1.3 times the model's is explained by one of them to
+/// within a quarter of the model's error ([`EXPLAINED`]).
+pub const GAINS: [f64; 4] = [0.5, 0.7, 1.4, 2.0];
+
+/// The lag factors the change detector simulates (a stable process's):
+/// the time constant times 1/2, 2/3, 4/3, 2, whose coefficients `a^{1/l}`
+/// are squares and square roots of the model's (no logarithm in a
+/// microcontroller's longest call).
+pub const LAGS: [f64; 4] = [0.5, 2.0 / 3.0, 4.0 / 3.0, 2.0];
+
+/// The change detector's gain and lag hypotheses.
+pub const HYPOTHESES: usize = GAINS.len() + LAGS.len();
 
 /// A load's onset: at rest, the chosen model's prediction error exceeds
 /// this many times the measured noise (see [`Estimator::onsets`]).
