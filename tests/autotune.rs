@@ -368,6 +368,15 @@ fn unstable_processes_are_autotuned() {
             let ts = out.run.ts;
             let whole = out.run.model.delay / ts;
             assert!((whole - whole.round()).abs() < 1e-9, "{plant}: {whole}");
+            // the rounding is said, with the identified dead time, where it
+            // moved it
+            let rounded = (out.fit.model.delay() / ts - whole).abs() > 1e-9;
+            let said = out
+                .run
+                .notes
+                .iter()
+                .any(|n| n.contains("a whole number of samples, for the predictor"));
+            assert_eq!(rounded, said, "{plant}: {:?}", out.run.notes);
         }
     }
     // an unstable process with a lag: an approximate model, a stable loop

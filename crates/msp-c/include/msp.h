@@ -682,7 +682,8 @@ msp_status msp_estimator_set_reference_f64(msp_estimator_f64 *est, const msp_mod
 // The model in use against the process (`*out`): over the costs'
 // long memory (`recent` zero: what gates an applied model), or over
 // the last response only (`recent` nonzero: the monitor's quick view,
-// beside the change detector's simulations at every dead time).
+// beside the change detector's simulations at every dead time, and at
+// the chosen one with other gains and lags).
 //
 // # Safety
 // `est` is null or from `msp_estimator_init`; `out` null or writable.

@@ -331,7 +331,8 @@ twins! {
     /// The model in use against the process (`*out`): over the costs'
     /// long memory (`recent` zero: what gates an applied model), or over
     /// the last response only (`recent` nonzero: the monitor's quick view,
-    /// beside the change detector's simulations at every dead time).
+    /// beside the change detector's simulations at every dead time, and at
+    /// the chosen one with other gains and lags).
     ///
     /// # Safety
     /// `est` is null or from `msp_estimator_init`; `out` null or writable.

@@ -955,6 +955,53 @@ fn autotune_reports_the_identified_and_the_true_model() {
     );
 }
 
+/// `msp autotune` of unstable processes (the unstable FOPDT from the biased
+/// relay's cycle, its dead time rounded to whole samples and said so, the
+/// filtered Smith predictor on it): the model in the report within 0.2 % of
+/// the process, a stable loop; a symmetric relay is refused by name.
+#[test]
+fn autotune_identifies_unstable_processes() {
+    let dir = tempfile::tempdir().unwrap();
+    for (plant, k, t, l) in [
+        ("2e^-1s/(3s-1)", 2.0, 3.0, 1.0),
+        ("1e^-1.5s/(5s-1)", 1.0, 5.0, 1.5),
+    ] {
+        let report = dir.path().join("u.json");
+        let out = msp()
+            .args(["autotune", "--plant", plant, "--report"])
+            .arg(&report)
+            .assert()
+            .success()
+            .get_output()
+            .clone();
+        let text = String::from_utf8_lossy(&out.stdout);
+        let j: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        assert_eq!(j["identified"]["model"], "ufopdt", "{plant}");
+        for (key, want) in [("k", k), ("t", t), ("l", l)] {
+            let got = j["identified"][key].as_f64().unwrap();
+            assert!((got - want).abs() < 2e-3 * want, "{plant} {key}: {got}");
+        }
+        assert_eq!(j["stable"], true, "{plant}");
+        let samples = j["identified"]["l"].as_f64().unwrap() / j["ts"].as_f64().unwrap();
+        let rounded = (samples - samples.round()).abs() > 1e-9;
+        let said = j["warnings"]
+            .to_string()
+            .contains("a whole number of samples");
+        assert_eq!(rounded, said, "{plant}: {}", j["warnings"]);
+        assert_eq!(
+            said,
+            text.contains("a whole number of samples"),
+            "{plant}: {text}"
+        );
+    }
+    fails(
+        msp().args(["autotune", "--plant", "2e^-1s/(3s-1)", "--bias", "0"]),
+        1,
+        "asymmetric relay: give it a bias",
+    );
+}
+
 /// A step test of `2e^{−4s}/(5s + 1)`: a unit step at 5 s, 1200 rows every
 /// 0.05 s, under the header `head`.
 fn step_test_csv(head: &str) -> String {

@@ -160,8 +160,10 @@ impl Estimator {
     }
 
     /// :attr:`mismatch` over the last response only, the change
-    /// detector's simulations at every dead time beside the chosen
-    /// candidate (the monitor's quick view).
+    /// detector's simulations at every dead time, and at the chosen one
+    /// with other gains and lags, beside the chosen candidate (the
+    /// monitor's quick view: a new dead time, gain or lag shows there
+    /// before the estimate has learnt it).
     #[getter]
     fn recent_mismatch<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         mismatch_dict(py, self.inner.recent_mismatch())
