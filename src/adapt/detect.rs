@@ -43,14 +43,7 @@ impl<T: Real> Scan<T> {
         };
         let mut sum = c.cusum;
         if self.excited && i.abs_diff(self.chosen) >= 2 {
-            let gain = self.e2 - e2;
-            sum = if self.scale > T::zero() {
-                at_least(sum + gain / self.scale, T::zero())
-            } else if gain > T::zero() {
-                T::infinity()
-            } else {
-                T::zero()
-            };
+            sum = page(sum, self.e2 - e2, self.scale);
             // significant, and of the chosen one's recent error above the
             // noise most explained: a model wrong in its gain or lag is
             // beaten by some other dead time now and then, not by this much
@@ -97,7 +90,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// costs cleared (their evidence is from before the change), the
     /// choice left to the bank's comparison as before; the detector rests
     /// for four responses.
-    pub(super) fn detect(&mut self, target: T, excited: bool) {
+    pub(super) fn detect(&mut self, target: T, excited: bool, e_ref: T) {
         let Some(mut scan) = self.detect_begin(target, excited) else {
             return;
         };
@@ -108,21 +101,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         for ((i, c), (&u0, &u1)) in bank.iter_mut().enumerate().zip(pairs) {
             scan.step(i, c, u0, u1);
         }
-        // the other gains and lags at the chosen dead time: simulated for
-        // the model-error alarm ([`Estimator::recent_mismatch`]), never a
-        // restart (a gain or a lag is the bank's to learn)
-        let (u0, u1) = self.hist.pair(self.cfg.d_min + self.chosen);
-        let integrating = self.cfg.integrating;
-        for h in self.hyp.iter_mut() {
-            let [a, b0, b1] = h.coef;
-            let a = if integrating { T::zero() } else { a };
-            let pred = a * h.yhat + b0 * u0 + b1 * u1;
-            let e = target - pred;
-            if excited {
-                h.recent = scan.short * h.recent + e * e;
-            }
-            h.yhat = pred;
-        }
+        // the model in use with other gains and lags
+        self.test_hypotheses(target, e_ref, excited, scan.scale);
         self.detect_end(scan);
     }
 
@@ -212,7 +192,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 let now = self.bank.get(chosen).map_or(snap, |c| c.theta);
                 self.snap = [self.snap[1], now];
                 self.snap_count = 0;
-                self.rescale();
             }
         }
     }
@@ -228,71 +207,19 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         for c in &mut self.bank {
             c.cusum = T::zero();
         }
-        // the hypotheses anew at the chosen dead time, from its simulation
-        // and with its recent error (no better than it until the data say)
-        self.rescale();
-        let (y, recent) = self
-            .bank
-            .get(self.chosen)
-            .map_or((T::zero(), T::zero()), |c| (c.scan, c.recent));
-        for h in &mut self.hyp {
-            h.yhat = y;
-            h.recent = recent;
-        }
-    }
-
-    /// The hypotheses' coefficients from the older snapshot ([`changed`]).
-    fn rescale(&mut self) {
-        let [snap, _] = self.snap;
-        let integrating = self.cfg.integrating;
-        for (i, h) in self.hyp.iter_mut().enumerate() {
-            h.coef = changed(snap, i, integrating);
-        }
-    }
-
-    /// The hypotheses the detector simulates: the gains and the lags (an
-    /// integrating model's gains only).
-    pub(super) fn hypotheses(&self) -> &[Hypothesis<T>] {
-        let tested = if self.cfg.integrating {
-            GAINS.len()
-        } else {
-            HYPOTHESES
-        };
-        self.hyp.get(..tested).unwrap_or_default()
     }
 }
 
-/// The model `[a, b0, b1]` with hypothesis `i`'s change ([`HYPOTHESES`]):
-/// the gain `g` times, `[a, g·b0, g·b1]`; the lag `l` times with the same
-/// `K` and fraction `f`, `a' = a^{1/l}`, `b0 = K(1 − r')`, `b1 = K(r' − a')`
-/// with `r' = (a^{1−f})^{1/l}` (the module's equations), the powers
-/// `2, 3/2, 3/4, 1/2` by square roots. An integrating model has no lag to
-/// change: the model itself.
-fn changed<T: Real>(model: [T; 3], i: usize, integrating: bool) -> [T; 3] {
-    let [a, b0, b1] = model;
-    if let Some(g) = GAINS.get(i) {
-        let g = T::of(*g);
-        return [a, b0 * g, b1 * g];
-    }
-    if integrating || !(a < T::one()) || !(a > T::zero()) {
-        return model;
-    }
-    let k = (b0 + b1) / (T::one() - a);
-    let r = at_most(at_least(T::one() - b0 / k, a), T::one());
-    let power = |x: T| {
-        let s = x.sqrt();
-        match i.saturating_sub(GAINS.len()) {
-            0 => x * x,
-            1 => x * s,
-            2 => s * s.sqrt(),
-            _ => s,
-        }
-    };
-    let (a, r) = (power(a), power(r));
-    let c = [a, k * (T::one() - r), k * (r - a)];
-    if c.iter().all(|x| x.is_finite()) {
-        c
+/// Page's cumulative sum `max(0, S + gain/σ̂²)` for a sample's evidence
+/// `gain` (a squared error less another) and the noise's variance `scale`
+/// (infinite evidence for a gain without noise).
+#[inline(always)]
+pub(super) fn page<T: Real>(sum: T, gain: T, scale: T) -> T {
+    if scale > T::zero() {
+        at_least(sum + gain / scale, T::zero())
+    } else if gain > T::zero() {
+        T::infinity()
     } else {
-        model
+        T::zero()
     }
 }

@@ -76,8 +76,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             hyp: [Hypothesis {
                 coef: [a0, T::zero(), T::zero()],
                 yhat: T::zero(),
+                cusum: T::zero(),
                 recent: T::zero(),
             }; HYPOTHESES],
+            proposal: None,
+            proposal_for: 0,
+            explaining: None,
+            energy: T::zero(),
         })
     }
 
@@ -182,6 +187,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             weight: T::zero(),
             recent: [T::zero(); 4],
         });
+        self.reset_hypotheses(theta);
         Ok(())
     }
 
@@ -216,10 +222,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let [cost, energy, rival, weight] = r.recent;
         let scans = self.bank.get(..self.n).unwrap_or_default();
         let best = scans.iter().fold(rival, |m, c| at_most(m, c.recent));
+        // a gain or a lag: the hypothesis that explains the recent data
+        // (not one that explains a part of a load's response better)
         let best = self
-            .hypotheses()
-            .iter()
-            .fold(best, |m, h| at_most(m, h.recent));
+            .explaining
+            .and_then(|i| self.hyp.get(i))
+            .map_or(best, |h| at_most(best, h.recent));
         Some(compare(cost, energy, best, weight))
     }
 
@@ -403,31 +411,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// zero), in closed form (see the module documentation).
     pub(super) fn model_of(&self) -> Option<(T, T, T)> {
         let c = self.bank.get(self.chosen)?;
-        let [a, b0, b1] = c.theta;
-        let b = b0 + b1;
-        if !(b.abs() > T::epsilon()) {
-            return None;
-        }
-        let ts = self.cfg.period();
-        Some(if self.cfg.integrating {
-            (
-                b / ts,
-                T::infinity(),
-                at_most(at_least(b1 / b, T::zero()), T::one()),
-            )
-        } else {
-            let k = b / (T::one() - a);
-            // a^{1−f} = 1 − b0/K
-            let r = at_most(at_least(T::one() - b0 / k, a), T::one());
-            let ln_a = a.ln();
-            // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
-            let f = if r > T::zero() {
-                T::one() - r.ln() / ln_a
-            } else {
-                T::zero()
-            };
-            (k, -ts / ln_a, at_most(at_least(f, T::zero()), T::one()))
-        })
+        model_from(c.theta, self.cfg.period(), self.cfg.integrating)
     }
 
     /// Each candidate's discounted squared prediction error, from the
@@ -457,4 +441,36 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             })
         })
     }
+}
+
+/// `(K, τ, f)` of the coefficients `[a, b0, b1]` at the period `ts` (`None`:
+/// `b0 + b1` zero), in closed form (see the module documentation).
+pub(super) fn model_from<T: Real>(
+    [a, b0, b1]: [T; 3],
+    ts: T,
+    integrating: bool,
+) -> Option<(T, T, T)> {
+    let b = b0 + b1;
+    if !(b.abs() > T::epsilon()) {
+        return None;
+    }
+    Some(if integrating {
+        (
+            b / ts,
+            T::infinity(),
+            at_most(at_least(b1 / b, T::zero()), T::one()),
+        )
+    } else {
+        let k = b / (T::one() - a);
+        // a^{1−f} = 1 − b0/K
+        let r = at_most(at_least(T::one() - b0 / k, a), T::one());
+        let ln_a = a.ln();
+        // f = 1 − ln r/ln a: r = 1 is a whole sample more (f = 1), r = a none
+        let f = if r > T::zero() {
+            T::one() - r.ln() / ln_a
+        } else {
+            T::zero()
+        };
+        (k, -ts / ln_a, at_most(at_least(f, T::zero()), T::one()))
+    })
 }

@@ -46,7 +46,12 @@
 //! the evidence for each, and when one dead time explains most of the
 //! chosen one's error the bank restarts from the chosen model, its costs
 //! cleared (see `Estimator::detect`; Page (1954), Basseville & Nikiforov
-//! (1993)). An update is skipped when
+//! (1993)). The same test on the model in use with its gain or its lag
+//! changed names a gain's or a lag's error for the model-error alarm, and
+//! a hypothesis that explains the last response with the evidence is
+//! proposed to the supervisor: a loop that only loads move shows a change
+//! in a few responses, from which the bank, with its long memory, would
+//! take tens (see `hypotheses.rs`). An update is skipped when
 //! the input has not moved clearly more than its own jitter within the
 //! response's time (the excitation gate: in closed loop the noise moves the
 //! input too, and data in which only the noise does identify the
@@ -62,6 +67,7 @@ mod config;
 mod detect;
 mod estimator;
 mod history;
+mod hypotheses;
 mod onset;
 mod pass;
 use pass::{Pass, PARTS};
@@ -266,21 +272,34 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     pending: Option<Pass<T>>,
     /// The estimate as of the last pass's end ([`Estimator::estimate`]).
     current: Option<Estimate<T>>,
-    /// The change detector's snapshot model with other gains and lags, at
-    /// the chosen dead time ([`HYPOTHESES`]): what the model-error alarm
-    /// compares the model in use with besides the other dead times.
+    /// The model in use with other gains and lags, at its dead time
+    /// ([`HYPOTHESES`]; see `hypotheses.rs`): what the model-error alarm
+    /// compares the model in use with besides the other dead times, and
+    /// what the supervisor may apply ([`Estimator::proposal`]).
     hyp: [Hypothesis<T>; HYPOTHESES],
+    /// The hypothesis that passes the proposal's test, as of the last
+    /// excited sample, and for how many excited samples in a row it has.
+    proposal: Option<usize>,
+    proposal_for: usize,
+    /// The hypothesis that explains most of the model in use's recent
+    /// error, as of the last excited sample (the model-error alarm's).
+    explaining: Option<usize>,
+    /// The target's energy over the last response (as `recent_weight`):
+    /// what a [`MATERIAL`] error is measured against.
+    energy: T,
 }
 
 /// One of the change detector's hypotheses about the process's gain or
-/// lag: the snapshot model with its gain or its lag times a factor
-/// ([`GAINS`], [`LAGS`]), simulated at the chosen dead time.
+/// lag: the model in use with its gain or its lag times a factor
+/// ([`GAINS`], [`LAGS`]), simulated at its dead time.
 #[derive(Debug, Clone, Copy)]
 struct Hypothesis<T> {
     coef: [T; 3],
-    /// Its simulated output `Δŷ[k]` and its squared error over about the
-    /// last response (as a candidate's `scan` and `recent`).
+    /// Its simulated output `Δŷ[k]`, Page's sum of the evidence for it
+    /// against the model in use, and its squared error over about the last
+    /// response (as a candidate's `scan`, `cusum` and `recent`).
     yhat: T,
+    cusum: T,
     recent: T,
 }
 
@@ -311,6 +330,14 @@ pub const ONSET_SAMPLES: usize = 4;
 /// error over the last response, both less the noise's share (see
 /// [`Estimator::restarts`]).
 pub const EXPLAINED: f64 = 0.25;
+
+/// A gain or lag hypothesis is proposed ([`Estimator::proposal`]) only
+/// when the chosen simulation's squared error over the last response,
+/// less the noise's share, is at least this fraction squared of the
+/// target's energy over it: a model error of 10 % of the response, not
+/// the block means' departure from the model (a percent or two) that
+/// noise-free data make significant.
+pub const MATERIAL: f64 = 0.1;
 
 /// With a prior model, the time constants an estimate may take lie within
 /// this factor of the model's (a plausible range: a process whose lag

@@ -74,11 +74,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             c.scan = towards(predict(snap, c.scan, (u0, u1), cfg.integrating));
             c.psi = [T::zero(); 3];
         }
-        let (u0, u1) = self.hist.pair(cfg.d_min + self.chosen);
-        for h in &mut self.hyp {
-            h.yhat = towards(predict(h.coef, h.yhat, (u0, u1), cfg.integrating));
-        }
         if let Some(r) = self.reference.as_mut() {
+            let (u0, u1) = self.hist.pair(r.d);
+            for h in &mut self.hyp {
+                h.yhat = towards(predict(h.coef, h.yhat, (u0, u1), cfg.integrating));
+            }
             r.yhat = towards(predict(
                 r.theta,
                 r.yhat,

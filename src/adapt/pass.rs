@@ -170,9 +170,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         } = *pass;
         // the model in use on the same sample (here, where the rest of the
         // comparison is: between the parts of a pass it stays whole)
+        let mut e_ref = T::zero();
         if let Some(r) = self.reference.as_mut() {
             let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
             let e = target - pred;
+            e_ref = e;
             r.cost = cfg.cost_memory * r.cost + e * e;
             r.energy = cfg.cost_memory * r.energy + pred * pred;
             r.yhat = pred;
@@ -190,7 +192,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             }
         }
         self.weight = cfg.cost_memory * self.weight + T::one();
-        self.detect(target, excited);
+        self.detect(target, excited, e_ref);
     }
 
     /// The pass's end: the choice of dead time and the model it gives.

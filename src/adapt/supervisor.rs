@@ -144,6 +144,10 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     detune: T,
     /// An edge warning was logged for the estimate as it stands.
     edge_warned: bool,
+    /// The model in use is a change detector's hypothesis
+    /// ([`Adaptive::propose`]): the bank's settled estimate replaces it
+    /// when it differs by a quarter of `min_change`.
+    provisional: bool,
     /// The statistics of the current block of `settle` samples.
     block: Block<T>,
     /// The last complete block's mean, when the estimate held still in it.
@@ -216,6 +220,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             r_moved: false,
             detune: T::one(),
             edge_warned: false,
+            provisional: false,
             block: Block::default(),
             settled: None,
             since: 0,
@@ -495,7 +500,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !self.cfg.apply || self.blocks < self.rest_until || self.shadow.is_some() {
             return;
         }
-        if self.edge() {
+        if self.edge() || self.propose() {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held
@@ -527,8 +532,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return;
         }
         let cur = self.model;
-        let differs = !near(cur.k, m.k, self.cfg.min_change)
-            || !near(cur.tau, m.tau, self.cfg.min_change)
+        let tol = if self.provisional {
+            tol / T::of(4.0)
+        } else {
+            tol
+        };
+        let differs = !near(cur.k, m.k, tol)
+            || !near(cur.tau, m.tau, tol)
             || (cur.theta - m.theta).abs() > period / T::of(2.0);
         if !differs {
             self.edge_warned = false;
@@ -544,6 +554,52 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !self.beats_model() {
             return;
         }
+        self.apply(m);
+        self.provisional = false;
+    }
+
+    /// The change detector's gain or lag hypothesis
+    /// ([`Estimator::proposal`]) applied when it differs from the model in
+    /// use by `min_change`, lies within the bounds, and predicts the last
+    /// response's data better than the model in use with the evidence of
+    /// `validate` (as the bank's estimate must: the same rule, on the
+    /// detector's memory of a response rather than on the data since the
+    /// model in use was set). A loop that only loads move learns this way
+    /// in responses where the bank takes tens of them. Returns whether it
+    /// was applied.
+    fn propose(&mut self) -> bool {
+        if self.since < self.cfg.min_interval {
+            return false;
+        }
+        let Some(m) = self.est.proposal().and_then(|m| self.plausible(m)) else {
+            return false;
+        };
+        let cur = self.model;
+        let m = Model {
+            k: m.k,
+            tau: m.tau,
+            theta: m.theta,
+        };
+        let differs =
+            !near(cur.k, m.k, self.cfg.min_change) || !near(cur.tau, m.tau, self.cfg.min_change);
+        // (and the bank's own model predicts the last response worse:
+        // where it learns, its estimate is the one to apply)
+        let validated = self
+            .est
+            .proposal_mismatch()
+            .is_some_and(|(mm, bank_better)| mm.evidence >= self.cfg.validate && !bank_better);
+        if !differs || !validated || !self.within_bounds(m) {
+            return false;
+        }
+        self.apply(m);
+        self.provisional = true;
+        true
+    }
+
+    /// The estimate `m` applied, its gain and time constant at most a
+    /// factor `max_step` from the model in use's.
+    fn apply(&mut self, m: Model<T>) {
+        let cur = self.model;
         let step = self.cfg.max_step;
         let limit = |old: T, new: T| {
             if old.is_infinite() || new.is_infinite() {

@@ -1,0 +1,242 @@
+//! The change detector's hypotheses about the model in use: its gain or
+//! its lag times a factor ([`GAINS`], [`LAGS`]), each simulated at its dead
+//! time beside it. The model-error alarm reads them
+//! ([`Estimator::recent_mismatch`]: a gain's or a lag's error is named as
+//! soon as a dead time's), and one that explains the last response with
+//! the evidence is proposed to the supervisor ([`Estimator::proposal`]).
+
+use super::detect::page;
+use super::estimator::model_from;
+use super::*;
+
+impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
+    /// One sample of every hypothesis (after the model in use's own, whose
+    /// error is `e_ref`): its simulation at the model in use's dead time
+    /// (`Δŷ_h[k+1] = â_h·Δŷ_h[k] + b̂0_h·Δu[k−d] + b̂1_h·Δu[k−d−1]`), its
+    /// squared error over the last response, and Page's sum of the
+    /// evidence for it against the model in use,
+    /// `S_h = max(0, S_h + (e_ref² − e_h²)/σ²)` (as the dead times', see
+    /// [`Estimator::detect`]; Page (1954)), in units `σ²` of the model in
+    /// use's own mean squared error over the last response or the noise's
+    /// variance `scale`, the larger (what no model explains, such as a
+    /// load's response, is not evidence). While the sum is zero the
+    /// hypothesis's recent error is the model in use's: its error is that
+    /// of a change at the time the sum points to.
+    ///
+    /// The hypothesis that leaves the least recent error explains the
+    /// model in use's error (the model-error alarm counts it) when it
+    /// leaves at most [`EXPLAINED`] of its excess over the noise and
+    /// explains more than every other dead time (a drifting dead time is
+    /// not a gain); it is proposed when besides its sum reached [`EstimatorConfig::switch_evidence`] and, as mean
+    /// squared errors per excited sample over the last response less the
+    /// noise's: the model in use's error is [`MATERIAL`] (at least that
+    /// fraction squared of the target's energy) and the data identify the
+    /// process (the target's energy above the noise is at least the
+    /// noise's, and the hypothesis explains at least half of it: in data
+    /// that do not, a model of a smaller response is nearer to them than
+    /// the right one).
+    pub(super) fn test_hypotheses(
+        &mut self,
+        target: T,
+        e_ref: T,
+        excited: bool,
+        scale: T,
+    ) {
+        let tested = self.hypotheses().len();
+        let cfg = self.cfg;
+        let Some(r) = self.reference.as_ref() else {
+            return;
+        };
+        let (u0, u1) = self.hist.pair(r.d);
+        let hyp = self.hyp.get_mut(..tested).unwrap_or_default();
+        if !excited {
+            // the simulations go on; nothing is compared
+            for h in hyp.iter_mut() {
+                h.yhat = predict(h.coef, h.yhat, (u0, u1), cfg.integrating);
+            }
+            return;
+        }
+        let [ref_recent, _, _, weight] = r.recent;
+        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        self.energy = short * self.energy + target * target;
+        // per excited sample over the last response
+        let per_sample = if weight > T::zero() {
+            T::one() / weight
+        } else {
+            T::zero()
+        };
+        let e_ref2 = e_ref * e_ref;
+        // the evidence in units of the model in use's own recent error
+        // (the residual's variance under the hypothesis of no change: the
+        // noise's, and what no model explains, such as a load's response;
+        // against the noise alone, noise-free data make any difference
+        // decisive)
+        let unit = at_least(scale, ref_recent * per_sample);
+        let mut lowest: Option<usize> = None;
+        let mut least = T::infinity();
+        for (i, h) in hyp.iter_mut().enumerate() {
+            let pred = predict(h.coef, h.yhat, (u0, u1), cfg.integrating);
+            h.yhat = pred;
+            let e = target - pred;
+            let e2 = e * e;
+            h.cusum = page(h.cusum, e_ref2 - e2, unit);
+            // the recent error of the model in use until the change the
+            // sum points to, and of the hypothesis since (no evidence for
+            // a change: the model in use's error)
+            h.recent = if h.cusum > T::zero() {
+                short * h.recent + e2
+            } else {
+                ref_recent
+            };
+            if h.recent < least {
+                least = h.recent;
+                lowest = Some(i);
+            }
+        }
+        // the tests, on the hypothesis that explains the most
+        let h = lowest.and_then(|i| self.hyp.get(i));
+        let (explains, ok) = h.map_or((false, false), |h| {
+            let energy = if self.recent_weight > T::zero() {
+                self.energy / self.recent_weight - scale
+            } else {
+                -scale
+            };
+            let missed = ref_recent * per_sample - scale;
+            let mean = h.recent * per_sample;
+            // (the other dead times last: the test is rarely passed so far)
+            let explains = mean - scale <= T::of(EXPLAINED) * missed && mean < self.nearest();
+            let ok = explains
+                && h.cusum >= cfg.switch_evidence
+                && missed >= T::of(MATERIAL * MATERIAL) * (energy + scale)
+                && energy >= scale
+                && mean - scale <= energy / T::of(2.0);
+            (explains, ok)
+        });
+        self.explaining = lowest.filter(|_| explains);
+        let found = lowest.filter(|_| ok);
+        let same = found.is_some() && found == self.proposal;
+        self.proposal_for = if same {
+            self.proposal_for.saturating_add(1)
+        } else {
+            usize::from(found.is_some())
+        };
+        self.proposal = found;
+    }
+
+    /// The lowest recent squared error per excited sample of the other
+    /// dead times' simulations (the chosen one's neighbours too).
+    fn nearest(&self) -> T {
+        let scans = self.bank.get(..self.n).unwrap_or_default();
+        let chosen = self.chosen;
+        let least = scans
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != chosen)
+            .fold(T::infinity(), |m, (_, c)| at_most(m, c.recent));
+        if self.recent_weight > T::zero() {
+            least / self.recent_weight
+        } else {
+            T::infinity()
+        }
+    }
+
+    /// The hypotheses anew for the model in use `model` (`[a, b0, b1]`):
+    /// their coefficients ([`changed`]), their simulations from rest as
+    /// the model in use's, their sums cleared.
+    pub(super) fn reset_hypotheses(&mut self, model: [T; 3]) {
+        let integrating = self.cfg.integrating;
+        for (i, h) in self.hyp.iter_mut().enumerate() {
+            *h = Hypothesis {
+                coef: changed(model, i, integrating),
+                yhat: T::zero(),
+                cusum: T::zero(),
+                recent: T::zero(),
+            };
+        }
+        self.proposal = None;
+        self.proposal_for = 0;
+        self.explaining = None;
+    }
+
+    /// The hypothesis that explains the recent data (see
+    /// [`Estimator::test_hypotheses`]) as a model, once it has for a
+    /// response's excited samples in a row: the model in use with its gain
+    /// or its lag times one of [`GAINS`], [`LAGS`]. It leaves the bank
+    /// alone (whose estimators, with a memory of a thousand excited
+    /// samples, take many responses to follow a change that only loads
+    /// excite); the supervisor validates it against the model in use as
+    /// any estimate ([`Estimator::proposal_mismatch`]).
+    pub fn proposal(&self) -> Option<Estimate<T>> {
+        let i = self
+            .proposal
+            .filter(|_| self.proposal_for >= self.window / 2)?;
+        let h = self.hyp.get(i)?;
+        let d = self.reference.as_ref()?.d;
+        let (k, tau, frac) = model_from(h.coef, self.cfg.period(), self.cfg.integrating)?;
+        Some(Estimate {
+            k,
+            tau,
+            theta: (T::of(d as f64) + frac) * self.cfg.period() + self.cfg.centre(),
+            d,
+            evidence: self.current.map_or(T::zero(), |c| c.evidence),
+        })
+    }
+
+    /// How far the model in use is from the data over the last response
+    /// against the [`Estimator::proposal`] (as [`Estimator::mismatch`]
+    /// against the chosen model since the model in use was set), and
+    /// whether the bank's chosen model predicts that response at least as
+    /// well as the proposal.
+    pub fn proposal_mismatch(&self) -> Option<(Mismatch<T>, bool)> {
+        let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
+        let h = self.hyp.get(self.proposal?)?;
+        let [cost, energy, rival, weight] = r.recent;
+        Some((compare(cost, energy, h.recent, weight), rival <= h.recent))
+    }
+
+    /// The hypotheses the detector simulates: the gains and the lags (an
+    /// integrating model's gains only).
+    pub(super) fn hypotheses(&self) -> &[Hypothesis<T>] {
+        let tested = if self.cfg.integrating {
+            GAINS.len()
+        } else {
+            HYPOTHESES
+        };
+        self.hyp.get(..tested).unwrap_or_default()
+    }
+}
+
+/// The model `[a, b0, b1]` with hypothesis `i`'s change ([`HYPOTHESES`]):
+/// the gain `g` times, `[a, g·b0, g·b1]`; the lag `l` times with the same
+/// `K` and fraction `f`, `a' = a^{1/l}`, `b0 = K(1 − r')`, `b1 = K(r' − a')`
+/// with `r' = (a^{1−f})^{1/l}` (the module's equations), the powers
+/// `2, 3/2, 3/4, 1/2` by square roots. An integrating model has no lag to
+/// change: the model itself.
+fn changed<T: Real>(model: [T; 3], i: usize, integrating: bool) -> [T; 3] {
+    let [a, b0, b1] = model;
+    if let Some(g) = GAINS.get(i) {
+        let g = T::of(*g);
+        return [a, b0 * g, b1 * g];
+    }
+    if integrating || !(a < T::one()) || !(a > T::zero()) {
+        return model;
+    }
+    let k = (b0 + b1) / (T::one() - a);
+    let r = at_most(at_least(T::one() - b0 / k, a), T::one());
+    let power = |x: T| {
+        let s = x.sqrt();
+        match i.saturating_sub(GAINS.len()) {
+            0 => x * x,
+            1 => x * s,
+            2 => s * s.sqrt(),
+            _ => s,
+        }
+    };
+    let (a, r) = (power(a), power(r));
+    let c = [a, k * (T::one() - r), k * (r - a)];
+    if c.iter().all(|x| x.is_finite()) {
+        c
+    } else {
+        model
+    }
+}
