@@ -26,8 +26,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The hypothesis that leaves the least recent error explains the
     /// model in use's error (the model-error alarm counts it) when it
     /// leaves at most [`EXPLAINED`] of its excess over the noise and
-    /// explains more than every other dead time (a drifting dead time is
-    /// not a gain); it is proposed when besides its sum reached [`EstimatorConfig::switch_evidence`] and, as mean
+    /// explains more than the bank's chosen model (which a change has not
+    /// reached yet: one that has is the estimate) and every other dead time
+    /// (a drifting dead time is not a gain); it is proposed when besides
+    /// its sum reached [`EstimatorConfig::switch_evidence`] and, as mean
     /// squared errors per excited sample over the last response less the
     /// noise's: the model in use's error is [`MATERIAL`] (at least that
     /// fraction squared of the target's energy) and the data identify the
@@ -35,13 +37,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// noise's, and the hypothesis explains at least half of it: in data
     /// that do not, a model of a smaller response is nearer to them than
     /// the right one).
-    pub(super) fn test_hypotheses(
-        &mut self,
-        target: T,
-        e_ref: T,
-        excited: bool,
-        scale: T,
-    ) {
+    pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, excited: bool, scale: T) {
         let tested = self.hypotheses().len();
         let cfg = self.cfg;
         let Some(r) = self.reference.as_ref() else {
@@ -56,7 +52,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             }
             return;
         }
-        let [ref_recent, _, _, weight] = r.recent;
+        let [ref_recent, _, rival, weight] = r.recent;
         let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
         self.energy = short * self.energy + target * target;
         // per excited sample over the last response
@@ -104,7 +100,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let missed = ref_recent * per_sample - scale;
             let mean = h.recent * per_sample;
             // (the other dead times last: the test is rarely passed so far)
-            let explains = mean - scale <= T::of(EXPLAINED) * missed && mean < self.nearest();
+            let explains = mean - scale <= T::of(EXPLAINED) * missed
+                && h.recent < rival
+                && mean < self.nearest();
             let ok = explains
                 && h.cusum >= cfg.switch_evidence
                 && missed >= T::of(MATERIAL * MATERIAL) * (energy + scale)
@@ -121,6 +119,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             usize::from(found.is_some())
         };
         self.proposal = found;
+    }
+
+    /// A gain or lag hypothesis explains most of the model in use's
+    /// recent error (see [`Estimator::test_hypotheses`]).
+    pub fn explains(&self) -> bool {
+        self.explaining.is_some()
     }
 
     /// The lowest recent squared error per excited sample of the other

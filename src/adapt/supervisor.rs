@@ -73,7 +73,7 @@ struct Shadow<T, C> {
 
 /// A model `(K, τ, θ)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-struct Model<T> {
+pub(super) struct Model<T> {
     k: T,
     tau: T,
     theta: T,
@@ -531,16 +531,12 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !agree || self.since < self.cfg.min_interval {
             return;
         }
-        let cur = self.model;
         let tol = if self.provisional {
             tol / T::of(4.0)
         } else {
             tol
         };
-        let differs = !near(cur.k, m.k, tol)
-            || !near(cur.tau, m.tau, tol)
-            || (cur.theta - m.theta).abs() > period / T::of(2.0);
-        if !differs {
+        if !self.differs(m, tol) {
             self.edge_warned = false;
             return;
         }
@@ -556,6 +552,16 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
         self.apply(m);
         self.provisional = false;
+    }
+
+    /// `m` differs from the model in use: its gain or its time constant
+    /// by `tol` (relative), or its dead time by half an estimator sample.
+    pub(super) fn differs(&self, m: Model<T>, tol: T) -> bool {
+        let cur = self.model;
+        let period = self.cfg.estimator.period();
+        !near(cur.k, m.k, tol)
+            || !near(cur.tau, m.tau, tol)
+            || (cur.theta - m.theta).abs() > period / T::of(2.0)
     }
 
     /// The change detector's gain or lag hypothesis

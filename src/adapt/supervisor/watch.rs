@@ -190,17 +190,37 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return;
         };
         let (alarm, evidence) = (self.cfg.alarm, self.cfg.min_evidence);
-        let raise = |m: &crate::adapt::Mismatch<T>| m.error >= alarm && m.evidence >= evidence;
+        // a model error is another model that predicts the data better:
+        // the estimate away from the model in use (its gain or its lag by
+        // the alarm's fraction: less cannot miss that much of the output's
+        // movement; or half an estimator sample of dead time), or, over the
+        // last response, a gain or a lag hypothesis that explains its
+        // error; a model nearer than that fits the block means' departure
+        // from every model (an integrating process's response at a fine
+        // period), not a change
+        let estimated = self.est.estimate().is_some_and(|e| {
+            self.differs(
+                Model {
+                    k: e.k,
+                    tau: e.tau,
+                    theta: e.theta,
+                },
+                alarm,
+            )
+        });
+        let raise = |m: &crate::adapt::Mismatch<T>, distinct: bool| {
+            distinct && m.error >= alarm && m.evidence >= evidence
+        };
         let (against, hold) = if self.alarm {
             let quiet = slow.error < alarm / T::of(2.0) && fast.error < alarm / T::of(2.0);
             (quiet, self.cfg.settle)
-        } else if raise(&fast) {
+        } else if raise(&fast, estimated || self.est.explains()) {
             // held for a quarter of a response's excited samples (the
             // recent comparison's memory is one response)
             let quarter = u32::try_from(self.est.window() / 4).unwrap_or(u32::MAX);
             (true, quarter.clamp(1, self.cfg.settle.max(1)))
         } else {
-            (raise(&slow), self.cfg.settle)
+            (raise(&slow, estimated), self.cfg.settle)
         };
         self.alarm_for = if against {
             self.alarm_for.saturating_add(1)
