@@ -187,6 +187,36 @@ impl<T: Real> ProcessModel<T> {
         }
     }
 
+    /// The gain `|G(jω)|` and the unwrapped phase `arg G(jω)` (radians,
+    /// from 0 at `ω = 0` for a positive gain: `−ωL − atan(ωT)` for a FOPDT,
+    /// `−π/2 − ωL` for an IPDT, `−π + atan(ωT) − ωL` for `K/(Ts − 1)`), of
+    /// the model with its gain's magnitude; the sign of `K` is the caller's
+    /// (a reverse-acting process).
+    pub fn frequency_response(&self, w: T) -> (T, T) {
+        let lag = |t: T| ((T::one() + (w * t) * (w * t)).sqrt(), (w * t).atan());
+        let half_pi = T::of(core::f64::consts::FRAC_PI_2);
+        let (k, mag, phase) = match *self {
+            ProcessModel::Fopdt(m) => {
+                let (a, p) = lag(m.t);
+                (m.k, a, -p)
+            }
+            ProcessModel::Sopdt(m) => {
+                let ((a1, p1), (a2, p2)) = (lag(m.t1), lag(m.t2));
+                (m.k, a1 * a2, -p1 - p2)
+            }
+            ProcessModel::Ipdt(m) => (m.k, w, -half_pi),
+            ProcessModel::Foipdt(m) => {
+                let (a, p) = lag(m.t);
+                (m.k, w * a, -half_pi - p)
+            }
+            ProcessModel::Ufopdt(m) => {
+                let (a, p) = lag(m.t);
+                (m.k, a, -half_pi - half_pi + p)
+            }
+        };
+        (k.abs() / mag, phase - w * self.delay())
+    }
+
     /// The name and value of each parameter, in the order of the model's formula.
     pub fn params(&self) -> ([(&'static str, T); 4], usize) {
         let z = ("", T::zero());

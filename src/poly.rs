@@ -423,14 +423,24 @@ impl TransferFunction {
         let arg = |(re, im): &(f64, f64)| (w - im).atan2(-re);
         let zeros: f64 = self.zeros()?.iter().map(arg).sum();
         let poles: f64 = self.poles()?.iter().map(arg).sum();
-        let lead =
-            self.num.first().copied().unwrap_or(1.0) / self.den.first().copied().unwrap_or(1.0);
-        let sign = if lead < 0.0 {
+        let sign = if self.lead_sign() < 0.0 {
             -core::f64::consts::PI
         } else {
             0.0
         };
         Ok(zeros - poles + sign - w * self.delay)
+    }
+
+    /// The sign of the leading coefficients' ratio (−1: a reverse-acting
+    /// plant, whose phase [`TransferFunction::phase`] starts at −180°).
+    pub fn lead_sign(&self) -> f64 {
+        let lead =
+            self.num.first().copied().unwrap_or(1.0) / self.den.first().copied().unwrap_or(1.0);
+        if lead < 0.0 {
+            -1.0
+        } else {
+            1.0
+        }
     }
 
     /// The ultimate point: the first frequency `ωu` where the phase reaches

@@ -7,6 +7,9 @@ use crate::{error::Error, model::Ipdt, model::ProcessModel, real::Real};
 // the gains the rules give: the PID's own parameter type
 pub use crate::pid::PidGains;
 
+mod shaping;
+pub use shaping::{at_crossover, pi_at, pid_at, TD_RATIO};
+
 /// Kaya's IMC tuning of the primary controller of a Smith predictor
 /// (Kaya (2003) Eqs. 18–33), for a closed-loop (filter) time
 /// constant `lambda`:

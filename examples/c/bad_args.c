@@ -94,6 +94,20 @@ int main(void) {
     EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.0f, 0.0f, &sc) == MSP_NOT_POSITIVE);
     EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.939f, NAN, &sc) == MSP_NOT_FINITE);
     EXPECT(msp_tune_smith_fopdt(5.6f, 40.2f, 93.9f, 0.939f, 0.0f, NULL) == MSP_NULL_POINTER);
+    /* a PI at a crossover with a phase margin: pidtune's Kp 0.0501, Ti 47.3
+       for the MathWorks process; a crossover where the controller would
+       have to lead, a null model, a NaN phase margin */
+    msp_model mw = {MSP_FOPDT, 5.6f, 40.2f, 93.9f};
+    msp_pid_config xc;
+    EXPECT(msp_tune_pid_crossover(&mw, 0.006f, 60.0f, 0, 0.0939f, &xc) == MSP_OK);
+    EXPECT(fabsf(xc.pid.kp - 0.0501f) < 5e-5f && fabsf(xc.pid.ti - 47.3f) < 0.05f);
+    EXPECT(xc.pid.td == 0.0f && xc.ts == 0.0939f);
+    EXPECT(msp_tune_pid_crossover(&mw, 0.006f, 60.0f, 1, 0.0939f, &xc) == MSP_OK);
+    EXPECT(fabsf(xc.pid.td - xc.pid.ti / 4.0f) < 1e-4f);
+    EXPECT(msp_tune_pid_crossover(&mw, 0.1f, 60.0f, 0, 0.0939f, &xc) == MSP_UNSUPPORTED);
+    EXPECT(msp_tune_pid_crossover(NULL, 0.006f, 60.0f, 0, 0.0939f, &xc) == MSP_NULL_POINTER);
+    EXPECT(msp_tune_pid_crossover(&mw, 0.006f, NAN, 0, 0.0939f, &xc) != MSP_OK);
+    EXPECT(msp_tune_pid_crossover(&mw, 0.006f, 60.0f, 0, 0.0939f, NULL) == MSP_NULL_POINTER);
     msp_karan_dey_config kc;
     EXPECT(msp_tune_karan_dey_ipdt(0.2f, NAN, 0.074f, 0.0f, &kc) == MSP_NOT_FINITE);
     EXPECT(msp_tune_karan_dey_ipdt(0.2f, 7.4f, -0.074f, 0.0f, &kc) == MSP_NOT_POSITIVE);

@@ -232,6 +232,9 @@ impl Scenario {
             lambda_chosen,
             target: None,
         };
+        if let Some(target) = self.target.filter(|t| t.pm.is_some()) {
+            return self.design_at_crossover(target, model, inner, tuned, &overrides);
+        }
         match self.target {
             // a target fixes λ where the user left it to the rule (a single
             // loop: a cascade's figures are its outer loop's, not solved here)

@@ -128,12 +128,10 @@ pub fn compare(
         };
         if let Some(t) = &out.target {
             out.notes.push(std::format!(
-                "{}: tuned for the target {}: lambda = {} gives {} = {}",
+                "{}: tuned for the target {}: {}",
                 out.controller,
                 t.target,
-                crate::poly::fmt_num(crate::poly::round_sig(t.lambda, 4)),
-                t.figure.name(),
-                crate::poly::fmt_num(crate::poly::round_sig(t.achieved, 3))
+                t.outcome()
             ));
         }
         if let (Some(ms), Some(l)) = (target, one.lambda.filter(|_| base.lambda.is_none())) {

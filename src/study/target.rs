@@ -59,7 +59,10 @@ impl Figure {
 }
 
 /// A design target: `ms=1.4`, `pm=60`, `gm=3`, `dm=0.3θ` (or `dm=2` s),
-/// `wc=0.2` (rad/s). A scenario file writes it as the flag does.
+/// `wc=0.2` (rad/s), each solved for with the tuning's `λ`; or a crossover
+/// and a phase margin together, `wc=0.006,pm=60` (`pidtune`'s two targets),
+/// which design a PI or a PID at the crossover ([`crate::tuning::pi_at`]).
+/// A scenario file writes it as the flag does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target {
     /// The figure.
@@ -68,6 +71,9 @@ pub struct Target {
     pub value: f64,
     /// `dm` given as a fraction of the model's dead time.
     pub of_dead_time: bool,
+    /// With `wc`: the phase margin (degrees) designed for at that
+    /// crossover (two targets, `wc=…,pm=…`).
+    pub pm: Option<f64>,
 }
 
 #[cfg(feature = "serde")]
@@ -90,6 +96,25 @@ impl core::str::FromStr for Target {
     /// `NAME=VALUE`: `ms`, `pm` (degrees), `gm` (ratio, or `…dB`), `dm`
     /// (seconds, or `…θ`/`…theta`: a fraction of the dead time), `wc` (rad/s).
     fn from_str(s: &str) -> Result<Self, String> {
+        if let Some((a, b)) = s.split_once(',') {
+            let (a, b): (Target, Target) = (a.parse()?, b.parse()?);
+            let (wc, pm) = match (a.figure, b.figure) {
+                (Figure::Wc, Figure::Pm) => (a, b),
+                (Figure::Pm, Figure::Wc) => (b, a),
+                _ => {
+                    return Err(format!(
+                        "two targets together are a crossover and a phase margin (wc=0.006,pm=60, as pidtune's), got '{s}'"
+                    ))
+                }
+            };
+            if wc.pm.is_some() || pm.pm.is_some() {
+                return Err(format!("at most two targets, got '{s}'"));
+            }
+            return Ok(Target {
+                pm: Some(pm.value),
+                ..wc
+            });
+        }
         let (name, value) = s.split_once('=').ok_or_else(|| {
             format!("a target is NAME=VALUE (ms=1.4, pm=60, gm=3, dm=0.3θ, wc=0.2), got '{s}'")
         })?;
@@ -148,6 +173,7 @@ impl core::str::FromStr for Target {
             figure,
             value,
             of_dead_time,
+            pm: None,
         })
     }
 }
@@ -156,10 +182,18 @@ impl core::fmt::Display for Target {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let v = crate::poly::fmt_num(crate::poly::round_sig(self.value, 6));
         if self.of_dead_time {
-            write!(f, "{}={}θ", self.figure.name(), v)
+            write!(f, "{}={}θ", self.figure.name(), v)?;
         } else {
-            write!(f, "{}={}", self.figure.name(), v)
+            write!(f, "{}={}", self.figure.name(), v)?;
         }
+        if let Some(pm) = self.pm {
+            write!(
+                f,
+                ",pm={}",
+                crate::poly::fmt_num(crate::poly::round_sig(pm, 6))
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -175,11 +209,39 @@ pub struct TargetReport {
     pub value: f64,
     /// The value the tuned loop reaches (from its margins).
     pub achieved: f64,
-    /// The `λ` solved for.
-    pub lambda: f64,
+    /// The `λ` solved for (none for a design at the crossover).
+    pub lambda: Option<f64>,
+    /// With the crossover: the phase margin asked for (degrees) and the one
+    /// the tuned loop reaches.
+    pub pm: Option<f64>,
+    /// The phase margin the tuned loop reaches (degrees), with `pm`.
+    pub pm_achieved: Option<f64>,
     /// Said when the figure is not monotone in `λ` over the range searched:
     /// which crossing was taken.
     pub branch: Option<String>,
+}
+
+impl TargetReport {
+    /// What the tuning did for the target, as the reports say it:
+    /// `lambda = 6.1 gives ms = 1.4`, or for a design at the crossover
+    /// `designed at the crossover: wc = 0.006, pm = 60` (the sampled loop's).
+    pub fn outcome(&self) -> String {
+        let fmt = |v: f64| crate::poly::fmt_num(crate::poly::round_sig(v, 4));
+        match (self.lambda, self.pm_achieved) {
+            (Some(l), _) => format!(
+                "lambda = {} gives {} = {}",
+                fmt(l),
+                self.figure.name(),
+                fmt(self.achieved)
+            ),
+            (None, pm) => format!(
+                "designed at the crossover: {} = {}, pm = {}",
+                self.figure.name(),
+                fmt(self.achieved),
+                pm.map_or_else(|| "-".to_string(), fmt)
+            ),
+        }
+    }
 }
 
 /// The range of `λ` searched: from 1/64 to 64 times the rule's own, on a
@@ -298,10 +360,112 @@ impl Scenario {
                 figure,
                 value,
                 achieved,
-                lambda,
+                lambda: Some(lambda),
+                pm: None,
+                pm_achieved: None,
                 branch,
             },
         ))
+    }
+
+    /// The PI or PID designed at the crossover `target.value` with the
+    /// phase margin `target.pm` ([`crate::tuning::pi_at`],
+    /// [`crate::tuning::pid_at`], on the plant's frequency response with
+    /// the exact delay, as `pidtune` designs the continuous controller),
+    /// then run sampled: the report gives the crossover and the phase
+    /// margin of the sampled loop (the exact analysis), which the
+    /// controller's sampling moves by a fraction of `ωc·Ts`.
+    pub(crate) fn design_at_crossover(
+        &self,
+        target: Target,
+        model: &TransferFunction,
+        inner: Option<&TransferFunction>,
+        tuned: Tuned,
+        overrides: &[(String, f64)],
+    ) -> Result<Tuned, RunError> {
+        let unsupported = |m: &'static str| RunError::Invalid(Error::Unsupported(m));
+        let pm = target.pm.unwrap_or(60.0);
+        let pid = match tuned.scheme.name {
+            "pi" => false,
+            "pid" => true,
+            _ => {
+                return Err(unsupported(
+                    "a crossover with a phase margin (wc=…,pm=…) designs a PI or a PID, as pidtune does: use --controller pi or pid",
+                ))
+            }
+        };
+        if inner.is_some() {
+            return Err(unsupported(
+                "a design target is for a single loop (not a cascade process)",
+            ));
+        }
+        if self.lambda.is_some() || self.rule.is_some() {
+            return Err(unsupported(
+                "a crossover with a phase margin designs the gains: give it or --lambda/--rule, not both",
+            ));
+        }
+        if let Some((k, _)) = overrides
+            .iter()
+            .find(|(k, _)| matches!(k.as_str(), "kp" | "ti" | "td" | "lambda"))
+        {
+            return Err(RunError::Limit(format!(
+                "a crossover with a phase margin designs kp, ti and td: drop --set {k}="
+            )));
+        }
+        let wc = target.value;
+        let (re, im) = model.freq(wc);
+        // a reverse-acting plant: designed for −G, the controller's gain
+        // negative
+        let sign = model.lead_sign();
+        let phase = model.phase(wc).map_err(RunError::Invalid)?
+            + if sign < 0.0 {
+                core::f64::consts::PI
+            } else {
+                0.0
+            };
+        let gains = if pid {
+            crate::tuning::pid_at(re.hypot(im), phase, wc, pm)
+        } else {
+            crate::tuning::pi_at(re.hypot(im), phase, wc, pm)
+        }
+        .map(|g| crate::tuning::PidGains {
+            kp: sign * g.kp,
+            ..g
+        })
+        .map_err(|e| match e {
+            Error::Unsupported(m) => {
+                RunError::Limit(format!("the target {target} is out of reach: {m}"))
+            }
+            other => RunError::Invalid(other),
+        })?;
+        let mut params = crate::registry::Params::of(&gains).with_rule(crate::registry::Rule {
+            name: "crossover",
+            ku: None,
+            tu: None,
+            weights: None,
+        });
+        for (k, v) in overrides {
+            // the design values (N, b, c) and the like, as --set gives them
+            params.set(k, *v);
+        }
+        let mut t = Tuned {
+            scheme: tuned.scheme,
+            params,
+            lambda_chosen: false,
+            target: None,
+        };
+        let m = self.margins_of_tuned(&t, model, model, 6000);
+        t.target = Some(TargetReport {
+            target: target.to_string(),
+            figure: Figure::Wc,
+            value: wc,
+            achieved: m.as_ref().map_or(f64::NAN, |m| m.wcp),
+            lambda: None,
+            pm: Some(pm),
+            pm_achieved: m.map(|m| m.pm),
+            branch: None,
+        });
+        Ok(t)
     }
 
     /// `(λ, figure)` of the stable loops on the search grid.

@@ -1227,6 +1227,33 @@ msp_status msp_tune_karan_dey_ipdt_f64(double k,
                                        double lambda,
                                        msp_karan_dey_config_f64 *config);
 
+// Designs a PI (or, `derivative` nonzero, a PID with `td = ti/4`) for
+// the process model `model` whose loop crosses 0 dB at `wc` rad/s with
+// the phase margin `pm` degrees (MATLAB `pidtune(G, 'PI', wc)` with its
+// `PhaseMargin`; the closed form of `msp::tuning::pi_at`), sampled every
+// `ts`. A loop that would need the controller to lead (or a PI to lag
+// by 90° or more) is `MSP_UNSUPPORTED`.
+//
+// # Safety
+// `model` is null or readable; `config` is null or writable.
+msp_status msp_tune_pid_crossover(const msp_model *model,
+                                  float wc,
+                                  float pm,
+                                  uint8_t derivative,
+                                  float ts,
+                                  msp_pid_config *config);
+
+// [`msp_tune_pid_crossover`] in double precision.
+//
+// # Safety
+// As [`msp_tune_pid_crossover`].
+msp_status msp_tune_pid_crossover_f64(const msp_model_f64 *model,
+                                      double wc,
+                                      double pm,
+                                      uint8_t derivative,
+                                      double ts,
+                                      msp_pid_config_f64 *config);
+
 // The defaults for an amplitude and a period: no hysteresis, no bias,
 // steady state at zero, no limits, no band, 3 periods agreeing within 1 %,
 // at most 10⁶ samples.

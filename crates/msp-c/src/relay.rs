@@ -7,8 +7,8 @@ use msp_core::autotune::{
 use msp_core::{tuning, Error, Fopdt, Ipdt, ProcessModel, Real};
 
 use crate::handle::{
-    msp_karan_dey_config_of, msp_model_kind, msp_model_of, msp_pid_params_of, msp_smith_config_of,
-    Arena, Precision,
+    model, msp_karan_dey_config_of, msp_model_kind, msp_model_of, msp_pid_config_of,
+    msp_pid_params_of, msp_smith_config_of, Arena, Precision,
 };
 use crate::msp_status;
 
@@ -136,6 +136,55 @@ twins! {
     ) -> msp_status {
         // SAFETY: forwarded
         unsafe { tuned(config, karan_dey_ipdt(k, theta, ts, lambda)) }
+    }
+}
+
+fn pid_crossover<T: Real>(
+    m: *const msp_model_of<T>,
+    wc: T,
+    pm: T,
+    derivative: bool,
+    ts: T,
+) -> Result<msp_pid_config_of<T>, Error> {
+    // SAFETY: the caller's pointer, null or readable (checked here)
+    let m = unsafe { m.as_ref() }.ok_or(Error::Unsupported("null model"))?;
+    let g = tuning::at_crossover(&model(m)?, wc, pm, derivative)?;
+    g.config(ts).validate()?;
+    Ok(msp_pid_config_of {
+        ts,
+        pid: msp_pid_params_of {
+            kp: g.kp,
+            ti: g.ti,
+            td: g.td,
+            u_min: T::neg_infinity(),
+            u_max: T::infinity(),
+        },
+    })
+}
+
+twins! {
+    /// Designs a PI (or, `derivative` nonzero, a PID with `td = ti/4`) for
+    /// the process model `model` whose loop crosses 0 dB at `wc` rad/s with
+    /// the phase margin `pm` degrees (MATLAB `pidtune(G, 'PI', wc)` with its
+    /// `PhaseMargin`; the closed form of `msp::tuning::pi_at`), sampled every
+    /// `ts`. A loop that would need the controller to lead (or a PI to lag
+    /// by 90° or more) is `MSP_UNSUPPORTED`.
+    ///
+    /// # Safety
+    /// `model` is null or readable; `config` is null or writable.
+    fn msp_tune_pid_crossover, msp_tune_pid_crossover_f64(
+        model: *const crate::msp_model | *const crate::msp_model_f64,
+        wc: f32 | f64,
+        pm: f32 | f64,
+        derivative: u8,
+        ts: f32 | f64,
+        config: *mut crate::msp_pid_config | *mut crate::msp_pid_config_f64,
+    ) -> msp_status {
+        if model.is_null() {
+            return msp_status::MSP_NULL_POINTER;
+        }
+        // SAFETY: forwarded
+        unsafe { tuned(config, pid_crossover(model, wc, pm, derivative != 0, ts)) }
     }
 }
 

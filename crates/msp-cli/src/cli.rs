@@ -51,7 +51,8 @@ pub(crate) struct DesignArgs {
     #[arg(long)]
     pub(crate) rule: Option<String>,
     /// Design target the tuning's lambda is solved for on the exact analysis:
-    /// ms=1.4, pm=60 (deg), gm=3 (or 9.5dB), dm=0.3θ (of the dead time; or dm=2 s), wc=0.2 (rad/s).
+    /// ms=1.4, pm=60 (deg), gm=3 (or 9.5dB), dm=0.3θ (of the dead time; or dm=2 s), wc=0.2 (rad/s);
+    /// or, for -c pi/pid, a crossover with a phase margin (pidtune's): wc=0.006,pm=60.
     #[arg(long, value_parser = str::parse::<msp::study::Target>)]
     pub(crate) target: Option<msp::study::Target>,
     /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;

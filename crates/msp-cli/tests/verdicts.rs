@@ -481,7 +481,8 @@ fn margins_point_to_the_thesis_tables() {
 
 /// `--target` on tune, run and compare: the solved λ and the figure the
 /// loop reaches beside the target, in the text and the JSON; a target out
-/// of reach exits 2 naming the range and the schemes that reach it.
+/// of reach exits 2 naming the range and the schemes that reach it; a
+/// crossover with a phase margin designs the PI as pidtune does.
 #[test]
 fn design_targets_reach_every_command() {
     const PI: &str = "--plant 2*e^-3s/(4s+1) -c pi";
@@ -524,6 +525,39 @@ fn design_targets_reach_every_command() {
         msp().args(["tune", "--plant", "2*e^-3s/(4s+1)", "--target", "ms=0.5"]),
         2,
         "Ms > 1",
+    );
+    // a crossover with a phase margin designs the PI (pidtune's numbers for
+    // the MathWorks example: Kp 0.0501, Ti 47.3), in the text and the JSON
+    const MW: &str = "--plant 5.6e^-93.9s/(40.2s+1) -c pi --target wc=0.006,pm=60";
+    prints(
+        msp().args(line(&format!("tune {MW}"))),
+        &[
+            "kp       = 0.050143",
+            "ti       = 47.291",
+            "rule crossover",
+            "target      wc=0.006,pm=60: designed at the crossover: wc = 0.006, pm = 59.97",
+        ],
+    );
+    let t = json_out(&line(&format!("tune {MW} --json")));
+    let target = &t["controller"]["target"];
+    assert!(target["lambda"].is_null() && target["pm"] == 60.0, "{t}");
+    assert!(
+        (t["robustness"]["pm"].as_f64().unwrap() - 60.0).abs() < 0.1,
+        "{t}"
+    );
+    fails(
+        msp().args(line(
+            "tune --plant 5.6e^-93.9s/(40.2s+1) -c pi --target wc=0.1,pm=60",
+        )),
+        2,
+        "a PI only lags",
+    );
+    fails(
+        msp().args(line(
+            "tune --plant 5.6e^-93.9s/(40.2s+1) -c smith --target wc=0.006,pm=60",
+        )),
+        2,
+        "designs a PI or a PID",
     );
 }
 

@@ -450,6 +450,18 @@ def test_design_target_is_met_and_reported() -> None:
         msp.tune("2*e^-3s/(4s+1)", target="ms=0.9")
 
 
+def test_a_crossover_with_a_phase_margin_gives_pidtunes_pi() -> None:
+    # MathWorks' dead-time example: pidtune(P, pidstd(1,1), 0.006) gives Kp 0.0501, Ti 47.3
+    t = msp.tune("5.6e^-93.9s/(40.2s+1)", "pi", target="wc=0.006,pm=60")
+    p = t["controller"]["params"]
+    assert (round(p["kp"], 4), round(p["ti"], 1)) == (0.0501, 47.3)
+    rep = t["controller"]["target"]
+    assert rep["lambda"] is None and rep["pm"] == 60.0
+    assert math.isclose(rep["pm_achieved"], 60.0, abs_tol=0.1)
+    with pytest.raises(ValueError, match="a PI only lags"):
+        msp.tune("5.6e^-93.9s/(40.2s+1)", "pi", target="wc=0.1,pm=60")
+
+
 def test_step_info_of_data_is_python_controls_and_the_clis(tmp_path: pathlib.Path) -> None:
     import control
 

@@ -3,7 +3,7 @@
 
 use super::*;
 
-pub(super) fn model<T: Real>(m: &msp_model_of<T>) -> Result<ProcessModel<T>, Error> {
+pub(crate) fn model<T: Real>(m: &msp_model_of<T>) -> Result<ProcessModel<T>, Error> {
     Ok(match kind_of(m.kind).ok_or(Error::OutOfRange("kind"))? {
         msp_model_kind::MSP_FOPDT => Fopdt::new(m.k, m.tau, m.theta)?.into(),
         msp_model_kind::MSP_IPDT => Ipdt::new(m.k, m.theta)?.into(),

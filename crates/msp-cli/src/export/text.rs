@@ -594,13 +594,7 @@ pub(crate) fn step_text(s: &msp::analysis::OpenLoopStep) -> String {
 /// `tuning      rule zn (Ku 2.26, Tu 3.1 s); ISA form, N = 10, b = 1, c = 1`.
 /// The design target and what the loop reaches: `target      ms=1.4: lambda = 6.1 gives ms = 1.4`.
 pub(crate) fn target_line(t: &msp::study::TargetReport) -> String {
-    let mut s = format!(
-        "target      {}: lambda = {} gives {} = {}\n",
-        t.target,
-        fmt_sig(t.lambda),
-        t.figure.name(),
-        fmt_sig(t.achieved)
-    );
+    let mut s = format!("target      {}: {}\n", t.target, t.outcome());
     if let Some(b) = &t.branch {
         s.push_str(&format!("            {b}\n"));
     }

@@ -413,7 +413,9 @@ def run(
         ``"dm=0.3θ"`` (a fraction of the dead time; ``"dm=2"`` in seconds), ``"wc=0.2"``
         (rad/s). The report's ``controller["target"]`` gives the λ and the figure reached; an
         unreachable target raises ``ValueError`` naming this scheme's range and the schemes
-        that reach it.
+        that reach it. For ``"pi"``/``"pid"``, ``"wc=0.006,pm=60"`` designs the controller at
+        the crossover with the phase margin, as ``pidtune(G, 'PI', wc)`` does (``lambda`` is
+        then ``None`` and ``pm_achieved`` the sampled loop's).
     substeps : int, optional
         Plant outputs per controller period in the signals (smooth intersample curves).
     float32 : bool, optional
