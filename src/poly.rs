@@ -23,6 +23,8 @@ pub const MAX_DEGREE: u16 = 256;
 pub const MAX_ORDER: usize = 8;
 
 mod display;
+mod matrix;
+pub use matrix::{TransferMatrix, MAX_SIZE};
 
 /// Polynomial product (descending coefficients; defined with the
 /// z-domain's rational functions, below this module).

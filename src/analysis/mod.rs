@@ -34,6 +34,7 @@ use crate::poly::TransferFunction;
 use crate::{error::Error, lti::Discretization, lti::Lti};
 
 mod continuous;
+pub mod mimo;
 mod report;
 pub mod stability;
 mod step;

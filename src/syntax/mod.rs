@@ -5,10 +5,12 @@
 //! values in [`crate::sim`] and [`crate::study`].
 
 pub mod expr;
+mod matrix;
 #[cfg(feature = "std")]
 mod schedule;
 
 pub use expr::{parse_plant, ParseError};
+pub use matrix::parse_matrix;
 #[cfg(all(feature = "std", feature = "serde"))]
 pub use schedule::{exact_pair, text_or_struct};
 #[cfg(feature = "std")]

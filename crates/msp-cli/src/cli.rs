@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
-use msp::poly::TransferFunction;
+use msp::poly::{TransferFunction, TransferMatrix};
 use msp::sim::{Disturbance, SetpointStep};
 use msp::study::Perturbation;
 
@@ -490,9 +490,11 @@ pub(crate) fn parse_pair(s: &str) -> Result<(f64, f64), String> {
 
 #[derive(Debug, Args)]
 pub(crate) struct TuneArgs {
-    /// Plant (or model) transfer function.
-    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
-    pub(crate) plant: TransferFunction,
+    /// Plant (or model) transfer function; or a square matrix of them, MATLAB's way,
+    /// "[g11, g12; g21, g22]" (0 for no coupling): the RGA, the Niederlinski index and
+    /// BLT-tuned decentralized PI loops.
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = parse_plant_arg)]
+    pub(crate) plant: PlantArg,
     /// Cascade process: the secondary process (the default controller is then fspcc).
     #[arg(long, allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
     pub(crate) inner_plant: Option<TransferFunction>,
@@ -591,5 +593,21 @@ mod tests {
             .unwrap();
         assert!((p.gain - 0.1).abs() < 1e-12 && (p.delay + 0.05).abs() < 1e-12 && p.tau == 0.2);
         assert!("mass=1".parse::<Perturbation>().is_err());
+    }
+}
+
+/// A plant argument: a transfer function, or a matrix of them.
+#[derive(Debug, Clone)]
+pub(crate) enum PlantArg {
+    Single(TransferFunction),
+    Matrix(TransferMatrix),
+}
+
+/// `[…]` is a matrix ([`msp::syntax::parse_matrix`]), anything else a plant.
+fn parse_plant_arg(s: &str) -> Result<PlantArg, msp::syntax::ParseError> {
+    if s.trim_start().starts_with('[') {
+        s.parse().map(PlantArg::Matrix)
+    } else {
+        s.parse().map(PlantArg::Single)
     }
 }

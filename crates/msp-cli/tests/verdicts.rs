@@ -697,3 +697,40 @@ fn compare_reports_the_margins_it_prints() {
         }
     }
 }
+
+/// A matrix plant (MATLAB's `[g11, g12; g21, g22]`): `msp tune` gives the
+/// RGA, the pairing, the Niederlinski index and Luyben's BLT loops for the
+/// Wood–Berry column (F = 2.55, Kc = 0.375 and −0.075, τI = 8.29 and 23.6
+/// min), in the text and the JSON; a malformed matrix exits 2 naming the
+/// column of the entry's error.
+#[test]
+fn a_matrix_plant_is_tuned_by_blt() {
+    const WB: &str =
+        "[12.8e^-1s/(16.7s+1), -18.9e^-3s/(21s+1); 6.6e^-7s/(10.9s+1), -19.4e^-3s/(14.4s+1)]";
+    prints(
+        msp().args(["tune", "--plant", WB]),
+        &[
+            "rga         [2.0094, -1.0094]",
+            "pairing     y1-u1, y2-u2",
+            "F = 2.5446",
+            "loop 1    kp = 0.37502, ti = 8.2857",
+            "loop 2    kp = -0.0754, ti = 23.606",
+        ],
+    );
+    let j = json_out(&["tune", "--plant", WB, "--json"]);
+    assert!((j["f"].as_f64().unwrap() - 2.55).abs() < 0.006, "{j}");
+    assert!(
+        (j["loops"][1]["ti"].as_f64().unwrap() - 23.6).abs() < 0.05,
+        "{j}"
+    );
+    fails(
+        msp().args(["tune", "--plant", "[1/(s+1), 2/(s+1); 3/(s+1), 4/(q+1)]"]),
+        2,
+        "column 32",
+    );
+    fails(
+        msp().args(["tune", "--plant", WB, "-c", "pi"]),
+        2,
+        "BLT decentralized PI loops",
+    );
+}

@@ -336,6 +336,17 @@ pub(crate) fn tune<'py>(
     Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
 }
 
+/// The multivariable report of ``msp tune --plant "[…]" --json``: the RGA,
+/// the pairing, the Niederlinski index and the BLT loops.
+#[pyfunction]
+pub(crate) fn tune_matrix<'py>(py: Python<'py>, plant: &str) -> PyResult<Bound<'py, PyDict>> {
+    let m: msp::poly::TransferMatrix = plant.parse().map_err(value_err)?;
+    let r = py
+        .allow_threads(|| msp::analysis::mimo::tuning(&m))
+        .map_err(value_err)?;
+    Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
+}
+
 /// Every PI/PID tuning rule applied to the plant with the loop each gives, as
 /// ``msp tune --rules --json`` prints its ``rules``.
 #[pyfunction]

@@ -462,6 +462,25 @@ def test_a_crossover_with_a_phase_margin_gives_pidtunes_pi() -> None:
         msp.tune("5.6e^-93.9s/(40.2s+1)", "pi", target="wc=0.1,pm=60")
 
 
+WOOD_BERRY = [["12.8e^-1s/(16.7s+1)", "-18.9e^-3s/(21s+1)"],
+              ["6.6e^-7s/(10.9s+1)", "-19.4e^-3s/(14.4s+1)"]]
+
+
+def test_a_matrix_plant_gives_luybens_blt_tuning_and_the_clis_report() -> None:
+    t = msp.tune(WOOD_BERRY)
+    assert round(t["rga"][0][0], 2) == 2.01 and t["pairing"] == [0, 1]
+    assert [round(l["kp"], 3) for l in t["loops"]] == [0.375, -0.075]
+    assert [round(t["loops"][0]["ti"], 2), round(t["loops"][1]["ti"], 1)] == [8.29, 23.6]
+    assert abs(t["f"] - 2.55) < 0.006
+    # the same numbers as msp tune --json, from the matrix string
+    text = "[" + "; ".join(", ".join(r) for r in WOOD_BERRY) + "]"
+    out = subprocess.run([MSP_BIN, "tune", "--plant", text, "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    assert json.loads(out) == msp.tune(text)
+    with pytest.raises(ValueError, match="square"):
+        msp.tune([["1/(s+1)", "2/(s+1)"]])
+
+
 def test_step_info_of_data_is_python_controls_and_the_clis(tmp_path: pathlib.Path) -> None:
     import control
 

@@ -1119,15 +1119,35 @@ def tune(
     ValueError
         As :func:`run`.
 
+    A multivariable plant (MATLAB's ``"[g11, g12; g21, g22]"``, or a nested list of expressions)
+    gives ``msp tune``'s matrix report instead: ``{"plant", "rga", "pairing", "niederlinski",
+    "f", "lcm", "loops": [{"kp", "ti"}, ...], "ziegler_nichols"}`` (the BLT tuning of
+    decentralized PI loops, Luyben 1986).
+
     Examples
     --------
     >>> t = msp.tune("0.2/s*e^-7.4s")
     >>> t["controller"]["name"], round(t["controller"]["params"]["kp"], 4), t["chosen"]
     ('karan-dey', 5.4054, ['lambda'])
     """
+    matrix = _matrix(plant)
+    if matrix is not None:
+        if controller is not None or params or delay is not None or uncertainty is not None or scenario:
+            raise ValueError("a matrix plant is tuned by BLT decentralized PI loops: no other options")
+        return _msp.tune_matrix(matrix)
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     kw = _scenario(scenario, controller=controller, params=params)
     return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)
+
+
+def _matrix(plant: Any) -> Optional[str]:
+    """A multivariable plant as MATLAB's matrix string: ``"[g11, g12; g21, g22]"`` as given,
+    or a nested list of expressions (``0`` for a channel without coupling); ``None`` else."""
+    if isinstance(plant, str):
+        return plant if plant.lstrip().startswith("[") else None
+    if isinstance(plant, (list, tuple)) and plant and all(isinstance(r, (list, tuple)) for r in plant):
+        return "[" + "; ".join(", ".join(str(e) for e in row) for row in plant) + "]"
+    return None
 
 
 def tune_rules(
