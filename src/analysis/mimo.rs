@@ -31,13 +31,7 @@ pub fn det(a: &[C64], n: usize) -> C64 {
     let mut m = a.to_vec();
     let mut d = Complex::real(1.0);
     for col in 0..n {
-        let pivot = (col..n).fold(col, |best, r| {
-            if at(&m, n, r, col).abs() > at(&m, n, best, col).abs() {
-                r
-            } else {
-                best
-            }
-        });
+        let pivot = pivot(&m, n, col);
         let p = at(&m, n, pivot, col);
         if p.abs() == 0.0 {
             return Complex::real(0.0);
@@ -62,6 +56,17 @@ pub fn det(a: &[C64], n: usize) -> C64 {
     d
 }
 
+/// The row from `col` down with the largest entry in column `col`.
+fn pivot(m: &[C64], n: usize, col: usize) -> usize {
+    (col..n).fold(col, |best, r| {
+        if at(m, n, r, col).abs() > at(m, n, best, col).abs() {
+            r
+        } else {
+            best
+        }
+    })
+}
+
 fn at(m: &[C64], n: usize, i: usize, j: usize) -> C64 {
     m.get(i * n + j).copied().unwrap_or(Complex::real(0.0))
 }
@@ -75,13 +80,7 @@ pub fn inverse(a: &[C64], n: usize) -> Option<Vec<C64>> {
         .collect();
     let scale = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
     for col in 0..n {
-        let pivot = (col..n).fold(col, |best, r| {
-            if at(&m, n, r, col).abs() > at(&m, n, best, col).abs() {
-                r
-            } else {
-                best
-            }
-        });
+        let pivot = pivot(&m, n, col);
         let p = at(&m, n, pivot, col);
         if !(p.abs() > 1e-13 * scale) {
             return None;

@@ -41,6 +41,17 @@ pub(crate) unsafe fn tuned<C>(out: *mut C, c: Result<C, Error>) -> msp_status {
     }
 }
 
+/// The PID parameters of gains `g`, without actuator limits.
+fn unlimited<T: Real>(g: &tuning::PidGains<T>) -> msp_pid_params_of<T> {
+    msp_pid_params_of {
+        kp: g.kp,
+        ti: g.ti,
+        td: g.td,
+        u_min: T::neg_infinity(),
+        u_max: T::infinity(),
+    }
+}
+
 fn smith_fopdt<T: Real>(
     k: T,
     tau: T,
@@ -61,13 +72,7 @@ fn smith_fopdt<T: Real>(
             tau,
             theta,
         },
-        pid: msp_pid_params_of {
-            kp: g.kp,
-            ti: g.ti,
-            td: g.td,
-            u_min: T::neg_infinity(),
-            u_max: T::infinity(),
-        },
+        pid: unlimited(&g),
     })
 }
 
@@ -152,13 +157,7 @@ fn pid_crossover<T: Real>(
     g.config(ts).validate()?;
     Ok(msp_pid_config_of {
         ts,
-        pid: msp_pid_params_of {
-            kp: g.kp,
-            ti: g.ti,
-            td: g.td,
-            u_min: T::neg_infinity(),
-            u_max: T::infinity(),
-        },
+        pid: unlimited(&g),
     })
 }
 

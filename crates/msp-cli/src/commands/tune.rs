@@ -26,11 +26,7 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     }
     let r = sc.tune_report(a.uncertainty)?;
     if a.json {
-        export::outln!(
-            "{}",
-            serde_json::to_string_pretty(&r).map_err(|e| CliError::Runtime(e.to_string()))?
-        )?;
-        return Ok(());
+        return export::print_json(&r);
     }
     let plant = sc.plant.as_ref().map(|p| (p.to_string(), p.kind()));
     if let Some((p, kind)) = plant {
@@ -87,11 +83,7 @@ fn matrix(m: &msp::poly::TransferMatrix, a: &TuneArgs) -> Result<(), CliError> {
     }
     let r = msp::analysis::mimo::tuning(m).map_err(|e| CliError::Input(e.to_string()))?;
     if a.json {
-        export::outln!(
-            "{}",
-            serde_json::to_string_pretty(&r).map_err(|e| CliError::Runtime(e.to_string()))?
-        )?;
-        return Ok(());
+        return export::print_json(&r);
     }
     let n = m.size();
     export::outln!("plant       {} ({n}x{n})", r.plant)?;
@@ -149,11 +141,7 @@ fn rules(sc: &Scenario, json: bool) -> Result<(), CliError> {
             "plant": sc.plant.as_ref().map(ToString::to_string),
             "rules": rows,
         });
-        export::outln!(
-            "{}",
-            serde_json::to_string_pretty(&j).map_err(|e| CliError::Runtime(e.to_string()))?
-        )?;
-        return Ok(());
+        return export::print_json(&j);
     }
     if let Some(p) = &sc.plant {
         export::outln!("plant       {p} ({})", p.kind())?;

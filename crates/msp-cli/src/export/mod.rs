@@ -456,6 +456,12 @@ pub(crate) fn print(bytes: &[u8]) -> Result<(), CliError> {
         .map_err(|e| CliError::stdout(&e))
 }
 
+/// Prints `value` as pretty JSON on standard output (`--json`).
+pub(crate) fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| CliError::Runtime(e.to_string()))?;
+    print_line(format_args!("{text}"))
+}
+
 /// One line of text to standard output, as [`print`].
 pub(crate) fn print_line(args: std::fmt::Arguments<'_>) -> Result<(), CliError> {
     print(format!("{args}\n").as_bytes())
