@@ -151,9 +151,25 @@ fn identities_on_random_matrices() {
 /// interaction of a step in loop 1 shows in output 2.
 #[test]
 fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
-    use msp::sim::{simulate_decentralized, SetpointStep};
+    use msp::sim::{simulate_decentralized, MimoRun, SetpointStep};
     use msp::{Controller, Pid, PidConfig};
     let ts = 0.1;
+    // the PI loops `gains` on `plant`, sampled every `ts`
+    let closed = |plant: &TransferMatrix,
+                  gains: &[(f64, f64)],
+                  sps: &[Vec<SetpointStep>],
+                  t: f64|
+     -> MimoRun {
+        let mut pids: Vec<Pid<f64>> = gains
+            .iter()
+            .map(|(kp, ti)| Pid::new(PidConfig::isa(*kp, *ti, 0.0, ts)).unwrap())
+            .collect();
+        let mut refs: Vec<&mut dyn Controller<f64>> = pids
+            .iter_mut()
+            .map(|p| p as &mut dyn Controller<f64>)
+            .collect();
+        simulate_decentralized(plant, &mut refs, sps, ts, t).unwrap()
+    };
     let step = |at: f64, value: f64| vec![SetpointStep { value, at }];
     // diagonal
     let diag = TransferMatrix::new(vec![
@@ -162,16 +178,8 @@ fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
     ])
     .unwrap();
     let gains = [(0.8, 4.0), (-0.9, 6.0)];
-    let mut pids: Vec<Pid<f64>> = gains
-        .iter()
-        .map(|(kp, ti)| Pid::new(PidConfig::isa(*kp, *ti, 0.0, ts)).unwrap())
-        .collect();
-    let mut refs: Vec<&mut dyn Controller<f64>> = pids
-        .iter_mut()
-        .map(|p| p as &mut dyn Controller<f64>)
-        .collect();
     let sps = [step(1.0, 1.0), step(3.0, -0.5)];
-    let run = simulate_decentralized(&diag, &mut refs, &sps, ts, 60.0).unwrap();
+    let run = closed(&diag, &gains, &sps, 60.0);
     for i in 0..2 {
         let sc = msp::study::Scenario {
             plant: Some(diag.get(i, i).unwrap().clone()),
@@ -213,16 +221,8 @@ fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
         [3usize, 6, 5, 2],
     );
     let gains = [(0.9, 2.0), (1.1, 2.5)];
-    let mut pids: Vec<Pid<f64>> = gains
-        .iter()
-        .map(|(kp, ti)| Pid::new(PidConfig::isa(*kp, *ti, 0.0, ts)).unwrap())
-        .collect();
-    let mut refs: Vec<&mut dyn Controller<f64>> = pids
-        .iter_mut()
-        .map(|p| p as &mut dyn Controller<f64>)
-        .collect();
     let sps = [step(0.5, 1.0), Vec::new()];
-    let run = simulate_decentralized(&coupled, &mut refs, &sps, ts, 30.0).unwrap();
+    let run = closed(&coupled, &gains, &sps, 30.0);
     let mut x = [0.0f64; 4];
     let mut hist: Vec<[f64; 2]> = vec![[0.0; 2]; 10];
     let mut integral = [0.0f64; 2];

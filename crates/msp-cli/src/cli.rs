@@ -64,9 +64,10 @@ pub(crate) struct DesignArgs {
 /// Everything that describes a closed-loop scenario (shared by run and compare).
 #[derive(Debug, Args)]
 pub(crate) struct ScenarioArgs {
-    /// Plant transfer function, e.g. "0.2/s*e^-7.4s".
-    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = str::parse::<TransferFunction>)]
-    pub(crate) plant: Option<TransferFunction>,
+    /// Plant transfer function, e.g. "0.2/s*e^-7.4s"; for msp run also a square matrix,
+    /// "[g11, g12; g21, g22]": BLT-tuned decentralized PI loops on the diagonal.
+    #[arg(long, short = 'p', allow_hyphen_values = true, value_parser = parse_plant_arg)]
+    pub(crate) plant: Option<PlantArg>,
     /// Scenario file (TOML or JSON); flags given as well override its fields.
     #[arg(long)]
     pub(crate) scenario: Option<PathBuf>,
@@ -91,6 +92,10 @@ pub(crate) struct ScenarioArgs {
     /// Set-point step VALUE[@TIME] (repeatable); default 1@0.
     #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>, allow_hyphen_values = true)]
     pub(crate) setpoint: Vec<SetpointStep>,
+    /// A matrix plant's set-point step of one loop, LOOP:VALUE[@TIME] (1-based, repeatable);
+    /// default: loop i steps to 1 at (i-1)/n of the run.
+    #[arg(long, value_name = "L:V[@T]", value_parser = parse_loop_step, allow_hyphen_values = true)]
+    pub(crate) loop_setpoint: Vec<(usize, SetpointStep)>,
     /// Disturbance input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable);
     /// for a cascade process d2 = input, d1 = output, d0 = inner (at the secondary output).
     #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]
@@ -610,4 +615,18 @@ fn parse_plant_arg(s: &str) -> Result<PlantArg, msp::syntax::ParseError> {
     } else {
         s.parse().map(PlantArg::Single)
     }
+}
+
+/// `LOOP:VALUE[@TIME]`, the loop 1-based.
+fn parse_loop_step(s: &str) -> Result<(usize, SetpointStep), String> {
+    let (l, step) = s
+        .split_once(':')
+        .ok_or_else(|| format!("a loop's set point is LOOP:VALUE[@TIME] (2:1@50), got '{s}'"))?;
+    let l: usize = l
+        .trim()
+        .parse()
+        .ok()
+        .filter(|l| *l >= 1)
+        .ok_or_else(|| format!("'{l}' is not a loop number (1, 2, ...)"))?;
+    Ok((l - 1, step.parse()?))
 }

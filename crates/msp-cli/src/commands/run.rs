@@ -1,11 +1,14 @@
 //! `msp run`.
 
 use super::scenario::scenario_from;
-use crate::cli::RunArgs;
+use crate::cli::{PlantArg, RunArgs};
 use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
+    if let Some(PlantArg::Matrix(m)) = &a.scenario.plant {
+        return matrix(m, a);
+    }
     let mut sc = scenario_from(&a.scenario)?;
     if a.controller.is_some() {
         sc.controller.clone_from(&a.controller);
@@ -84,4 +87,104 @@ fn with_input(
     };
     sc.with_input(input)
         .map_err(|e| CliError::Input(format!("{name}: {e}")))
+}
+
+/// `msp run --plant "[…]"`: the BLT loops on the exact sampled plant
+/// (`msp::study::run_blt`); CSV columns `t, r1, y1, u1, r2, y2, u2, …`,
+/// the report the library's `MimoOutput`, a summary of each loop's IAE and
+/// each step's interaction.
+fn matrix(m: &msp::poly::TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
+    let s = &a.scenario;
+    if a.controller.is_some() || !s.setpoint.is_empty() || a.input.is_some() || s.scenario.is_some()
+    {
+        return Err(CliError::Input(
+            "a matrix plant runs BLT decentralized PI loops: its set points by --loop-setpoint LOOP:V@T (no -c, --setpoint, --input or --scenario yet)".into(),
+        ));
+    }
+    if a.files.plot.is_some() {
+        return Err(CliError::Input(
+            "a matrix plant's run has no plot yet: drop --plot".into(),
+        ));
+    }
+    let n = m.size();
+    let mut setpoints = vec![Vec::new(); n];
+    for (l, step) in &s.loop_setpoint {
+        setpoints
+            .get_mut(*l)
+            .ok_or_else(|| {
+                CliError::Input(format!(
+                    "--loop-setpoint {}: the plant has {n} loops",
+                    l + 1
+                ))
+            })?
+            .push(*step);
+    }
+    let planned = super::plan(&a.files, &[])?;
+    let out = export::busy("simulating", a.quiet, || {
+        msp::study::run_blt(m, setpoints, s.ts, s.duration)
+    })?;
+    let mut files = planned;
+    if let Some(p) = &a.files.report {
+        let text = serde_json::to_vec_pretty(&out).map_err(|e| CliError::Runtime(e.to_string()))?;
+        files.add(p, text);
+    }
+    let mut csv = String::from("t");
+    for i in 1..=n {
+        csv.push_str(&format!(",r{i},y{i},u{i}"));
+    }
+    csv.push('\n');
+    let r = &out.run;
+    for (k, t) in r.t.iter().enumerate() {
+        csv.push_str(&export::fmt_f(*t));
+        for i in 0..n {
+            for col in [&r.r, &r.y, &r.u] {
+                let v = col
+                    .get(i)
+                    .and_then(|c| c.get(k))
+                    .copied()
+                    .unwrap_or(f64::NAN);
+                csv.push(',');
+                csv.push_str(&export::fmt_f(v));
+            }
+        }
+        csv.push('\n');
+    }
+    use std::io::IsTerminal;
+    let to_terminal = a.files.output.is_none() && std::io::stdout().is_terminal();
+    if !to_terminal {
+        files.add_or_print(a.files.output.as_ref(), csv.into_bytes())?;
+    }
+    files.commit()?;
+    if !a.quiet || to_terminal {
+        let t = &out.tuning;
+        export::noteln!(
+            "plant       {} ({n}x{n}), ts = {} s, {} s",
+            t.plant,
+            export::fmt_sig(out.ts),
+            export::fmt_sig(out.duration)
+        );
+        export::noteln!(
+            "controller  decentralized PI, BLT (Luyben 1986): F = {}",
+            export::fmt_sig(t.f)
+        );
+        for (i, (l, iae)) in t.loops.iter().zip(&out.iae).enumerate() {
+            export::noteln!(
+                "  loop {}    kp = {}, ti = {}; IAE {}",
+                i + 1,
+                export::fmt_sig(l.kp),
+                export::fmt_sig(l.ti),
+                export::fmt_sig(*iae)
+            );
+        }
+        for x in &out.interaction {
+            let dev: Vec<String> = x.deviation.iter().map(|d| export::fmt_sig(*d)).collect();
+            export::noteln!(
+                "step        loop {} at {} s: largest deviation of each output {}",
+                x.step_loop + 1,
+                export::fmt_sig(x.at),
+                dev.join(", ")
+            );
+        }
+    }
+    Ok(())
 }

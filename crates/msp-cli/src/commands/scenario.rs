@@ -4,7 +4,7 @@ use std::path::Path;
 
 use msp::study::Scenario;
 
-use crate::cli::ScenarioArgs;
+use crate::cli::{PlantArg, ScenarioArgs};
 use crate::error::CliError;
 
 /// A scenario file, or the scenario a run report carries (then `true`).
@@ -59,8 +59,21 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
     macro_rules! over {
         ($($f:ident),*) => {$( if a.$f.is_some() { sc.$f = a.$f.clone(); } )*};
     }
+    match &a.plant {
+        Some(PlantArg::Single(p)) => sc.plant = Some(p.clone()),
+        Some(PlantArg::Matrix(_)) => {
+            return Err(CliError::Input(
+                "a matrix plant is for msp run and msp tune (decentralized BLT loops); this command takes a single loop".into(),
+            ))
+        }
+        None => {}
+    }
+    if !a.loop_setpoint.is_empty() {
+        return Err(CliError::Input(
+            "--loop-setpoint is for a matrix plant (--plant \"[g11, g12; g21, g22]\"); a single loop takes --setpoint".into(),
+        ));
+    }
     over!(
-        plant,
         model,
         inner_plant,
         inner_model,
