@@ -122,7 +122,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 
     /// A gain or lag hypothesis explains most of the model in use's
-    /// recent error (see [`Estimator::test_hypotheses`]).
+    /// recent error: it leaves at most [`EXPLAINED`] of its excess over
+    /// the noise over the last response, and less error than the bank's
+    /// chosen model and every other dead time (see the module
+    /// documentation).
     pub fn explains(&self) -> bool {
         self.explaining.is_some()
     }
@@ -162,8 +165,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.explaining = None;
     }
 
-    /// The hypothesis that explains the recent data (see
-    /// [`Estimator::test_hypotheses`]) as a model, once it has for a
+    /// The hypothesis that explains the recent data (the change
+    /// detector's test: evidence, a [`MATERIAL`] error of the model in use
+    /// that it leaves at most [`EXPLAINED`] of, data that identify the
+    /// process) as a model, once it has for a
     /// response's excited samples in a row: the model in use with its gain
     /// or its lag times one of [`GAINS`], [`LAGS`]. It leaves the bank
     /// alone (whose estimators, with a memory of a thousand excited
