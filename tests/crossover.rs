@@ -183,6 +183,19 @@ fn impossible_crossovers_are_refused_with_the_reason() {
         ..base
     };
     assert!(both.tune_for(&plant, None).is_err());
+    // a --set beside it (a gain, the λ rule's alpha, a typo) is refused,
+    // never dropped
+    for name in ["kp", "alpha", "kpp"] {
+        let mut given = both.clone();
+        given.lambda = None;
+        given.set.insert(name.into(), 1.0);
+        let e = given.tune_for(&plant, None).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("{name}"))
+                && (e.contains("drop --set") || e.contains("no parameter")),
+            "{e}"
+        );
+    }
     assert!("wc=0.006,ms=1.4".parse::<msp::study::Target>().is_err());
     assert_eq!(
         "pm=45,wc=0.2"

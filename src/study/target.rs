@@ -404,14 +404,6 @@ impl Scenario {
                 "a crossover with a phase margin designs the gains: give it or --lambda/--rule, not both",
             ));
         }
-        if let Some((k, _)) = overrides
-            .iter()
-            .find(|(k, _)| matches!(k.as_str(), "kp" | "ti" | "td" | "lambda"))
-        {
-            return Err(RunError::Limit(format!(
-                "a crossover with a phase margin designs kp, ti and td: drop --set {k}="
-            )));
-        }
         let wc = target.value;
         let (re, im) = model.freq(wc);
         // a reverse-acting plant: designed for −G, the controller's gain
@@ -438,15 +430,19 @@ impl Scenario {
             }
             other => RunError::Invalid(other),
         })?;
-        let mut params = crate::registry::Params::of(&gains).with_rule(crate::registry::Rule {
+        let params = crate::registry::Params::of(&gains).with_rule(crate::registry::Rule {
             name: "crossover",
             ku: None,
             tu: None,
             weights: None,
         });
-        for (k, v) in overrides {
-            // the design values (N, b, c) and the like, as --set gives them
-            params.set(k, *v);
+        // the design sets every parameter and has no λ-rule's design values
+        // (lambda, alpha): a --set name is refused, never dropped
+        if let Some((k, _)) = overrides.first() {
+            return Err(RunError::Limit(format!(
+                "a crossover with a phase margin designs {}'s kp, ti and td and nothing else: drop --set {k}=",
+                tuned.scheme.name
+            )));
         }
         let mut t = Tuned {
             scheme: tuned.scheme,

@@ -145,14 +145,12 @@ twins! {
 }
 
 fn pid_crossover<T: Real>(
-    m: *const msp_model_of<T>,
+    m: &msp_model_of<T>,
     wc: T,
     pm: T,
     derivative: bool,
     ts: T,
 ) -> Result<msp_pid_config_of<T>, Error> {
-    // SAFETY: the caller's pointer, null or readable (checked here)
-    let m = unsafe { m.as_ref() }.ok_or(Error::Unsupported("null model"))?;
     let g = tuning::at_crossover(&model(m)?, wc, pm, derivative)?;
     g.config(ts).validate()?;
     Ok(msp_pid_config_of {
@@ -179,9 +177,10 @@ twins! {
         ts: f32 | f64,
         config: *mut crate::msp_pid_config | *mut crate::msp_pid_config_f64,
     ) -> msp_status {
-        if model.is_null() {
+        // SAFETY: the caller's pointer, null or readable
+        let Some(model) = (unsafe { model.as_ref() }) else {
             return msp_status::MSP_NULL_POINTER;
-        }
+        };
         // SAFETY: forwarded
         unsafe { tuned(config, pid_crossover(model, wc, pm, derivative != 0, ts)) }
     }
