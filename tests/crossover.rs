@@ -191,8 +191,7 @@ fn impossible_crossovers_are_refused_with_the_reason() {
         given.set.insert(name.into(), 1.0);
         let e = given.tune_for(&plant, None).unwrap_err().to_string();
         assert!(
-            e.contains(&format!("{name}"))
-                && (e.contains("drop --set") || e.contains("no parameter")),
+            e.contains(name) && (e.contains("drop --set") || e.contains("no parameter")),
             "{e}"
         );
     }
