@@ -66,6 +66,7 @@ mod error;
 mod loop_controller;
 pub mod lti;
 pub mod metrics;
+pub mod mimo;
 pub mod model;
 pub mod operate;
 pub mod params;

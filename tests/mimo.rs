@@ -142,7 +142,8 @@ fn identities_on_random_matrices() {
     assert!(ours >= peak - 1e-6 && ours - peak < 1e-3, "{ours} {peak}");
 }
 
-/// The decentralized closed loop (`msp::sim::simulate_decentralized`): on
+/// The decentralized closed loop (`msp::sim::simulate_mimo` of
+/// `msp::mimo::Decentralized`): on
 /// a diagonal plant each loop is exactly msp's single-loop run of its own
 /// channel with the same PI (the study's `pi` with `kp`, `ti` set); on a
 /// coupled 2×2 of first-order lags with whole-sample dead times, the same
@@ -151,8 +152,9 @@ fn identities_on_random_matrices() {
 /// interaction of a step in loop 1 shows in output 2.
 #[test]
 fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
-    use msp::sim::{simulate_decentralized, MimoRun, SetpointStep};
-    use msp::{Controller, Pid, PidConfig};
+    use msp::mimo::Decentralized;
+    use msp::sim::{simulate_mimo, MimoRun, SetpointStep};
+    use msp::{Pid, PidConfig};
     let ts = 0.1;
     // the PI loops `gains` on `plant`, sampled every `ts`
     let closed = |plant: &TransferMatrix,
@@ -160,15 +162,11 @@ fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
                   sps: &[Vec<SetpointStep>],
                   t: f64|
      -> MimoRun {
-        let mut pids: Vec<Pid<f64>> = gains
+        let pids: Vec<Pid<f64>> = gains
             .iter()
             .map(|(kp, ti)| Pid::new(PidConfig::isa(*kp, *ti, 0.0, ts)).unwrap())
             .collect();
-        let mut refs: Vec<&mut dyn Controller<f64>> = pids
-            .iter_mut()
-            .map(|p| p as &mut dyn Controller<f64>)
-            .collect();
-        simulate_decentralized(plant, &mut refs, sps, ts, t).unwrap()
+        simulate_mimo(plant, &mut Decentralized::new(pids), sps, ts, t).unwrap()
     };
     let step = |at: f64, value: f64| vec![SetpointStep { value, at }];
     // diagonal
@@ -246,7 +244,7 @@ fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
             x[c] = a * x[c] + k[c] * (1.0 - a) * late;
         }
     }
-    let inter = run.interaction(0.5);
+    let inter = run.interaction(0.5, 40.0);
     assert!(inter[1] > 0.05, "{inter:?}");
 }
 

@@ -153,7 +153,7 @@ pub fn process_response(
 /// circle once sampled), or why that is not a count the verdict can use
 /// (poles on the imaginary axis away from the origin sample onto the unit
 /// circle, where the indentation at `z = 1` does not reach).
-fn right_half_plane_poles(p: &TransferFunction) -> Result<usize, String> {
+pub(super) fn right_half_plane_poles(p: &TransferFunction) -> Result<usize, String> {
     let poles = p
         .poles()
         .map_err(|e| std::format!("the plant's poles could not be found: {e}"))?;

@@ -282,7 +282,21 @@ pub fn verdict(
     if parts(0.1).is_none() {
         return Stability::unknown("this controller has no frequency response");
     }
-    match winding(&delta, rate) {
+    from_characteristic(&delta, open, rate)
+}
+
+/// The verdict from the characteristic function `delta(θ)` at `z = e^{jθ}`
+/// (the return difference times the controller's determinants: its zeros
+/// outside the unit circle are the closed loop's unstable poles, its poles
+/// there the `open` unstable poles of the blocks), `rate` as in
+/// [`verdict`]: the single-loop equation, or a multivariable loop's
+/// determinant ([`crate::analysis::mimo`]).
+pub(crate) fn from_characteristic(
+    delta: &dyn Fn(f64) -> Complex<f64>,
+    open: usize,
+    rate: f64,
+) -> Stability {
+    match winding(delta, rate) {
         Ok(turns) => {
             let open_i = i64::try_from(open).unwrap_or(i64::MAX);
             let outside = open_i - turns;

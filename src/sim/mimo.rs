@@ -1,14 +1,15 @@
 //! The exact sampled-data closed loop of a multivariable plant under
 //! decentralized control: every channel `gᵢⱼ` discretized exactly with its
 //! own dead time ([`PlantStepper`]: ZOH, the delay as samples plus its
-//! fraction), output `i` the sum of its row's channels, and on the
-//! diagonal pairing loop `i` a controller from `rᵢ` and `yᵢ` to `uᵢ`.
+//! fraction), output `i` the sum of its row's channels, and a
+//! [`MultiController`] from `r` and `y` to `u` (loop `i` on output and
+//! input `i`: the pairing is the diagonal).
 
 use std::vec::Vec;
 
 use super::{first_sample_at, setpoint_at, PlantStepper, SetpointStep};
-use crate::controller::Controller;
 use crate::error::Error;
+use crate::mimo::MultiController;
 use crate::poly::TransferMatrix;
 
 /// The longest run (samples): its columns within a few hundred megabytes.
@@ -44,19 +45,20 @@ impl MimoRun {
     }
 
     /// The interaction of a set-point step at `at` (s): the largest
-    /// deviation of every other output from its value at the step, from
-    /// the step to the run's end (`NaN` for loop `i` itself).
-    pub fn interaction(&self, at: f64) -> Vec<f64> {
+    /// deviation of every output from its value at the step, from the step
+    /// to `until` (the next set-point change, or the run's end).
+    pub fn interaction(&self, at: f64, until: f64) -> Vec<f64> {
         let ts = match (self.t.first(), self.t.get(1)) {
             (Some(a), Some(b)) => b - a,
             _ => return Vec::new(),
         };
-        let k0 = first_sample_at(at, ts);
+        let (k0, k1) = (first_sample_at(at, ts), first_sample_at(until, ts));
         self.y
             .iter()
             .map(|y| {
                 let base = y.get(k0).copied().unwrap_or(f64::NAN);
                 y.iter()
+                    .take(k1)
                     .skip(k0)
                     .fold(0.0f64, |m, v| m.max((v - base).abs()))
             })
@@ -64,20 +66,21 @@ impl MimoRun {
     }
 }
 
-/// Runs `controllers` (loop `i` closes output `i` through input `i`) on
+/// Runs `controller` (loop `i` closes output `i` through input `i`) on
 /// `plant` every `ts` seconds for `duration`, the set points
-/// `setpoints[i]` per loop (absent: zero).
-pub fn simulate_decentralized(
+/// `setpoints[i]` per loop (absent: zero), from rest.
+pub fn simulate_mimo(
     plant: &TransferMatrix,
-    controllers: &mut [&mut dyn Controller<f64>],
+    controller: &mut dyn MultiController<f64>,
     setpoints: &[Vec<SetpointStep>],
     ts: f64,
     duration: f64,
 ) -> Result<MimoRun, Error> {
     let n = plant.size();
-    if controllers.len() != n {
-        return Err(Error::OutOfRange("one controller per loop"));
+    if controller.loops() != n {
+        return Err(Error::OutOfRange("one controller loop per output"));
     }
+    controller.reset_to_rest();
     crate::real::positive(ts, "ts")?;
     crate::real::positive(duration, "duration")?;
     let steps = num_traits::ToPrimitive::to_usize(&(duration / ts).round())
@@ -110,29 +113,30 @@ pub fn simulate_decentralized(
         run.y.push(column()?);
         run.u.push(column()?);
     }
-    let mut u = std::vec![0.0; n];
+    let (mut r, mut y, mut u) = (std::vec![0.0; n], std::vec![0.0; n], std::vec![0.0; n]);
     for k in 0..steps {
         let t = k as f64 * ts;
         run.t.push(t);
-        for (i, c) in controllers.iter_mut().enumerate() {
-            let y: f64 = channels
+        for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
+            *yi = channels
                 .get(i * n..(i + 1) * n)
                 .unwrap_or_default()
                 .iter()
                 .map(PlantStepper::output)
                 .sum();
-            let r = setpoints.get(i).map_or(0.0, |s| setpoint_at(s, t));
-            let ui = c.update(r, y);
-            if let Some(x) = u.get_mut(i) {
-                *x = ui;
-            }
-            if let (Some(rc), Some(yc), Some(uc)) =
-                (run.r.get_mut(i), run.y.get_mut(i), run.u.get_mut(i))
-            {
-                rc.push(r);
-                yc.push(y);
-                uc.push(ui);
-            }
+            *ri = setpoints.get(i).map_or(0.0, |s| setpoint_at(s, t));
+        }
+        controller.update(&r, &y, &mut u);
+        for (((col_r, col_y), col_u), ((ri, yi), ui)) in run
+            .r
+            .iter_mut()
+            .zip(run.y.iter_mut())
+            .zip(run.u.iter_mut())
+            .zip(r.iter().zip(&y).zip(&u))
+        {
+            col_r.push(*ri);
+            col_y.push(*yi);
+            col_u.push(*ui);
         }
         for (k, ch) in channels.iter_mut().enumerate() {
             ch.advance(u.get(k % n).copied().unwrap_or(0.0));

@@ -19,7 +19,7 @@ mod compare;
 mod forced;
 mod margins;
 mod metrics;
-mod mimo;
+pub mod mimo;
 mod output;
 mod report;
 mod robustness;
@@ -44,7 +44,7 @@ pub use metrics::{
     measure, metrics, next_event, settled, settles, stable, swing, Columns, DisturbanceEvent,
     Event, Metrics, SetpointEvent,
 };
-pub use mimo::{run_blt, Interaction, MimoOutput};
+pub use mimo::{run_mimo, Interaction, MimoDesign, MimoOutput, MimoScheme, MIMO_SCHEMES};
 pub use output::RunOutput;
 pub use report::{
     AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,

@@ -737,7 +737,7 @@ fn a_matrix_plant_is_tuned_by_blt() {
 
 /// `msp run` on a matrix plant: the BLT loops on the exact sampled plant,
 /// CSV columns `t, r1, y1, u1, r2, y2, u2` whose samples are the library's
-/// run (`msp::study::run_blt`), the report its `MimoOutput`; a loop that
+/// run (`msp::study::run_mimo`), the report its `MimoOutput`; a loop that
 /// does not exist and a plot (not yet drawn) are refused.
 #[test]
 fn a_matrix_plant_runs_its_blt_loops() {
@@ -776,7 +776,7 @@ fn a_matrix_plant_runs_its_blt_loops() {
             at: 10.0,
         }],
     ];
-    let lib = msp::study::run_blt(&m, steps, Some(0.1), Some(120.0)).unwrap();
+    let lib = msp::study::run_mimo(&m, "pi", steps, Some(0.1), Some(120.0)).unwrap();
     assert_eq!(rows.len(), lib.run.t.len());
     for (k, row) in rows.iter().enumerate() {
         for i in 0..2 {

@@ -89,18 +89,19 @@ fn with_input(
         .map_err(|e| CliError::Input(format!("{name}: {e}")))
 }
 
-/// `msp run --plant "[…]"`: the BLT loops on the exact sampled plant
-/// (`msp::study::run_blt`); CSV columns `t, r1, y1, u1, r2, y2, u2, …`,
-/// the report the library's `MimoOutput`, a summary of each loop's IAE and
+/// `msp run --plant "[…]"`: a multivariable scheme (`-c pi`, `smith` or
+/// `decoupled`) on the exact sampled plant (`msp::study::run_mimo`); CSV
+/// columns `t, r1, y1, u1, r2, y2, u2, …`, the report the library's
+/// `MimoOutput`, a summary of the design, the verdict, each loop's IAE and
 /// each step's interaction.
 fn matrix(m: &msp::poly::TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
     let s = &a.scenario;
-    if a.controller.is_some() || !s.setpoint.is_empty() || a.input.is_some() || s.scenario.is_some()
-    {
+    if !s.setpoint.is_empty() || a.input.is_some() || s.scenario.is_some() {
         return Err(CliError::Input(
-            "a matrix plant runs BLT decentralized PI loops: its set points by --loop-setpoint LOOP:V@T (no -c, --setpoint, --input or --scenario yet)".into(),
+            "a matrix plant's set points are per loop, by --loop-setpoint LOOP:V@T (no --setpoint, --input or --scenario yet)".into(),
         ));
     }
+    let scheme = a.controller.as_deref().unwrap_or("pi");
     if a.files.plot.is_some() {
         return Err(CliError::Input(
             "a matrix plant's run has no plot yet: drop --plot".into(),
@@ -121,7 +122,7 @@ fn matrix(m: &msp::poly::TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
     }
     let planned = super::plan(&a.files, &[])?;
     let out = export::busy("simulating", a.quiet, || {
-        msp::study::run_blt(m, setpoints, s.ts, s.duration)
+        msp::study::run_mimo(m, scheme, setpoints, s.ts, s.duration)
     })?;
     let mut files = planned;
     if let Some(p) = &a.files.report {
@@ -163,19 +164,43 @@ fn matrix(m: &msp::poly::TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
             export::fmt_sig(out.ts),
             export::fmt_sig(out.duration)
         );
+        let d = &out.design;
+        let summary = msp::study::MIMO_SCHEMES
+            .iter()
+            .find(|x| x.name == d.scheme)
+            .map_or("", |x| x.summary);
         export::noteln!(
-            "controller  decentralized PI, BLT (Luyben 1986): F = {}",
-            export::fmt_sig(t.f)
+            "controller  {}: {summary}; F = {}",
+            d.scheme,
+            export::fmt_sig(d.f)
         );
-        for (i, (l, iae)) in t.loops.iter().zip(&out.iae).enumerate() {
+        for (i, (l, iae)) in d.loops.iter().zip(&out.iae).enumerate() {
+            let p: Vec<String> = l
+                .iter()
+                .map(|(k, v)| format!("{k} = {}", export::fmt_sig(v)))
+                .collect();
             export::noteln!(
-                "  loop {}    kp = {}, ti = {}; IAE {}",
+                "  loop {}    {}; IAE {}",
                 i + 1,
-                export::fmt_sig(l.kp),
-                export::fmt_sig(l.ti),
+                p.join(", "),
                 export::fmt_sig(*iae)
             );
         }
+        for e in &d.decoupler {
+            export::noteln!("  decoupler {}", e.describe());
+        }
+        export::noteln!(
+            "stability   {}: {}",
+            out.stability.summary(),
+            out.stability.reason
+        );
+        if let Some(v) = &out.decoupler_stability {
+            export::noteln!("decoupler   {}: {}", v.summary(), v.reason);
+        }
+        export::noteln!(
+            "Lcm         {} dB (biggest log modulus of the sampled loop)",
+            export::fmt_sig(out.lcm)
+        );
         for x in &out.interaction {
             let dev: Vec<String> = x.deviation.iter().map(|d| export::fmt_sig(*d)).collect();
             export::noteln!(

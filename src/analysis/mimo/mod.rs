@@ -21,9 +21,15 @@ use std::vec::Vec;
 use crate::complex::Complex;
 use crate::error::Error;
 
+mod decouple;
+mod sampled;
+
+pub use decouple::{design as decoupler_design, ElementDesign, Realization};
+pub use sampled::{decoupler_verdict, Decoupling, SampledLoop};
+
 pub use crate::poly::{TransferMatrix, MAX_SIZE};
 
-type C64 = Complex<f64>;
+pub(crate) type C64 = Complex<f64>;
 
 /// The determinant of the `n×n` complex matrix `a` (row-major), by
 /// Gaussian elimination with partial pivoting.
@@ -225,7 +231,14 @@ pub fn biggest_log_modulus(m: &TransferMatrix, loops: &[PiLoop]) -> f64 {
         20.0 * (w_ / (w_ + Complex::real(1.0))).abs().log10()
     };
     let (slow, fast) = m.scales();
-    let (lo, hi) = ((0.01 / slow).ln(), (10.0 / fast).ln());
+    peak(&lc, (0.01 / slow).ln(), (10.0 / fast).ln())
+}
+
+/// The largest value of `f` over `ln x ∈ [lo, hi]`: a logarithmic grid of
+/// 400 points a decade (at most 40 decades), the grid's peak refined by
+/// golden-section search on `ln x`.
+pub(super) fn peak(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    let lc = f;
     // (a grid of at most 400 points a decade over 40 decades)
     let decades = ((hi - lo) / core::f64::consts::LN_10).clamp(1.0, 40.0);
     let points = num_traits::ToPrimitive::to_usize(&(decades * 400.0).ceil()).unwrap_or(400);
@@ -237,7 +250,7 @@ pub fn biggest_log_modulus(m: &TransferMatrix, loops: &[PiLoop]) -> f64 {
             (best, at_k) = (v, k);
         }
     }
-    // golden section on ln ω around the grid's peak
+    // golden section on ln x around the grid's peak
     let (mut a, mut b) = (
         lo + step * (at_k as f64 - 1.0),
         lo + step * (at_k as f64 + 1.0),
