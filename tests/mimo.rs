@@ -166,7 +166,15 @@ fn the_decentralized_loop_is_the_single_loops_and_the_difference_equations() {
             .iter()
             .map(|(kp, ti)| Pid::new(PidConfig::isa(*kp, *ti, 0.0, ts)).unwrap())
             .collect();
-        simulate_mimo(plant, &mut Decentralized::new(pids), sps, ts, t).unwrap()
+        simulate_mimo(
+            plant,
+            &mut Decentralized::new(pids),
+            sps,
+            &Default::default(),
+            ts,
+            t,
+        )
+        .unwrap()
     };
     let step = |at: f64, value: f64| vec![SetpointStep { value, at }];
     // diagonal

@@ -259,7 +259,7 @@ fn the_decoupled_loops_are_independent_on_realizable_plants() {
                 at: 0.0,
             }];
             let mut c = controller(&m, &d).unwrap();
-            let run = simulate_mimo(&m, &mut *c, &sps, ts, duration).unwrap();
+            let run = simulate_mimo(&m, &mut *c, &sps, &Default::default(), ts, duration).unwrap();
             for i in (0..n).filter(|i| *i != step) {
                 let worst = run.y[i].iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 assert!(

@@ -7,9 +7,10 @@
 
 use std::vec::Vec;
 
-use super::{first_sample_at, setpoint_at, PlantStepper, SetpointStep};
+use super::{first_sample_at, setpoint_at, Location, PlantStepper, SetpointStep};
 use crate::error::Error;
 use crate::mimo::MultiController;
+use crate::poly::TransferFunction;
 use crate::poly::TransferMatrix;
 
 /// The longest run (samples): its columns within a few hundred megabytes.
@@ -66,13 +67,66 @@ impl MimoRun {
     }
 }
 
+/// A step load on one loop: at its input (added to `uᵢ` where the plant
+/// receives it) or at its output (added to `yᵢ`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct LoopLoad {
+    /// The loop (0-based).
+    #[cfg_attr(feature = "serde", serde(rename = "loop"))]
+    pub loop_index: usize,
+    /// `input` or `output`.
+    pub location: Location,
+    /// The step's size.
+    pub value: f64,
+    /// When (s).
+    pub at: f64,
+}
+
+/// A measured disturbance entering every output through its own channel
+/// (Wood–Berry's feed: `[3.8e^-8.1s/(14.9s+1); 4.9e^-3.4s/(13.2s+1)]`),
+/// driven by steps of the disturbance variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DisturbanceVector {
+    /// Output `i`'s channel from the disturbance.
+    pub channels: Vec<TransferFunction>,
+    /// The disturbance variable's steps.
+    pub steps: Vec<SetpointStep>,
+}
+
+/// A channel's dead time changing during the run (the process changes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ChannelDeadTime {
+    /// The output's row (0-based).
+    pub row: usize,
+    /// The input's column (0-based).
+    pub col: usize,
+    /// The new dead time (s; its fraction of a sample the same as before).
+    pub dead_time: f64,
+    /// When (s).
+    pub at: f64,
+}
+
+/// What happens to a multivariable loop besides its set points.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MimoEvents {
+    /// Step loads per loop.
+    pub loads: Vec<LoopLoad>,
+    /// A disturbance through its own channels.
+    pub disturbance: Option<DisturbanceVector>,
+    /// Changes of a channel's dead time.
+    pub dead_times: Vec<ChannelDeadTime>,
+}
+
 /// Runs `controller` (loop `i` closes output `i` through input `i`) on
 /// `plant` every `ts` seconds for `duration`, the set points
-/// `setpoints[i]` per loop (absent: zero), from rest.
+/// `setpoints[i]` per loop (absent: zero) and `events`, from rest.
 pub fn simulate_mimo(
     plant: &TransferMatrix,
     controller: &mut dyn MultiController<f64>,
     setpoints: &[Vec<SetpointStep>],
+    events: &MimoEvents,
     ts: f64,
     duration: f64,
 ) -> Result<MimoRun, Error> {
@@ -80,12 +134,22 @@ pub fn simulate_mimo(
     if controller.loops() != n {
         return Err(Error::OutOfRange("one controller loop per output"));
     }
-    controller.reset_to_rest();
     crate::real::positive(ts, "ts")?;
     crate::real::positive(duration, "duration")?;
     let steps = num_traits::ToPrimitive::to_usize(&(duration / ts).round())
         .filter(|s| *s <= MAX_SAMPLES)
         .ok_or(Error::OutOfRange("duration/ts"))?;
+    if events.loads.iter().any(|l| l.loop_index >= n) {
+        return Err(Error::OutOfRange(
+            "a load on a loop the plant does not have",
+        ));
+    }
+    if events.loads.iter().any(|l| l.location == Location::Inner) {
+        return Err(Error::Unsupported(
+            "a matrix plant's loads act at a loop's input or output",
+        ));
+    }
+    controller.reset_to_rest();
     let mut channels = Vec::new();
     channels
         .try_reserve_exact(n * n)
@@ -95,9 +159,31 @@ pub fn simulate_mimo(
             let g = plant
                 .get(i, j)
                 .ok_or(Error::OutOfRange("the matrix's size"))?;
-            channels.push(PlantStepper::new(g, ts)?);
+            let room = events
+                .dead_times
+                .iter()
+                .filter(|e| e.row == i && e.col == j)
+                .fold(0.0f64, |m, e| m.max(e.dead_time));
+            channels.push(PlantStepper::with_room(g, ts, room)?);
         }
     }
+    if events.dead_times.iter().any(|e| e.row >= n || e.col >= n) {
+        return Err(Error::OutOfRange(
+            "a dead-time change of a channel the plant does not have",
+        ));
+    }
+    let mut feed =
+        match &events.disturbance {
+            Some(d) if d.channels.len() != n => return Err(Error::Unsupported(
+                "a disturbance vector needs one channel per output (as many rows as the plant has)",
+            )),
+            Some(d) => d
+                .channels
+                .iter()
+                .map(|g| PlantStepper::new(g, ts))
+                .collect::<Result<Vec<_>, _>>()?,
+            None => Vec::new(),
+        };
     let column = || -> Result<Vec<f64>, Error> {
         let mut v = Vec::new();
         v.try_reserve_exact(steps)
@@ -113,9 +199,33 @@ pub fn simulate_mimo(
         run.y.push(column()?);
         run.u.push(column()?);
     }
+    let load = |i: usize, at: Location, t: f64| -> f64 {
+        events
+            .loads
+            .iter()
+            .filter(|l| l.loop_index == i && l.location == at)
+            .map(|l| {
+                setpoint_at(
+                    &[SetpointStep {
+                        value: l.value,
+                        at: l.at,
+                    }],
+                    t,
+                )
+            })
+            .sum()
+    };
+    let mut pending: Vec<ChannelDeadTime> = events.dead_times.clone();
+    pending.sort_by(|a, b| a.at.total_cmp(&b.at));
+    let mut pending = pending.into_iter().peekable();
     let (mut r, mut y, mut u) = (std::vec![0.0; n], std::vec![0.0; n], std::vec![0.0; n]);
     for k in 0..steps {
         let t = k as f64 * ts;
+        while let Some(e) = pending.next_if(|e| t >= e.at - 1e-9 * ts) {
+            if let Some(ch) = channels.get_mut(e.row * n + e.col) {
+                ch.set_dead_time(e.dead_time / ts)?;
+            }
+        }
         run.t.push(t);
         for (i, (ri, yi)) in r.iter_mut().zip(y.iter_mut()).enumerate() {
             *yi = channels
@@ -123,7 +233,9 @@ pub fn simulate_mimo(
                 .unwrap_or_default()
                 .iter()
                 .map(PlantStepper::output)
-                .sum();
+                .sum::<f64>()
+                + feed.get(i).map_or(0.0, PlantStepper::output)
+                + load(i, Location::Output, t);
             *ri = setpoints.get(i).map_or(0.0, |s| setpoint_at(s, t));
         }
         controller.update(&r, &y, &mut u);
@@ -139,7 +251,12 @@ pub fn simulate_mimo(
             col_u.push(*ui);
         }
         for (k, ch) in channels.iter_mut().enumerate() {
-            ch.advance(u.get(k % n).copied().unwrap_or(0.0));
+            let j = k % n;
+            ch.advance(u.get(j).copied().unwrap_or(0.0) + load(j, Location::Input, t));
+        }
+        if let Some(d) = &events.disturbance {
+            let v = setpoint_at(&d.steps, t);
+            feed.iter_mut().for_each(|f| f.advance(v));
         }
     }
     Ok(run)

@@ -275,6 +275,15 @@ impl PlantStepper {
     pub fn new(plant: &TransferFunction, ts: f64) -> Result<Self, Error> {
         Ok(PlantStepper(PlantSim::new(plant, ts, 1)?))
     }
+    /// [`PlantStepper::new`] whose dead time can later be set up to
+    /// `max_delay` seconds ([`PlantStepper::set_dead_time`]).
+    pub fn with_room(plant: &TransferFunction, ts: f64, max_delay: f64) -> Result<Self, Error> {
+        Ok(PlantStepper(PlantSim::with_room(plant, ts, 1, max_delay)?))
+    }
+    /// The dead time becomes `samples` (its fraction of a sample kept).
+    pub fn set_dead_time(&mut self, samples: f64) -> Result<(), Error> {
+        self.0.set_dead_time(samples)
+    }
     /// The output now.
     pub fn output(&self) -> f64 {
         self.0.output()

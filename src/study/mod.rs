@@ -44,7 +44,9 @@ pub use metrics::{
     measure, metrics, next_event, settled, settles, stable, swing, Columns, DisturbanceEvent,
     Event, Metrics, SetpointEvent,
 };
-pub use mimo::{run_mimo, Interaction, MimoDesign, MimoOutput, MimoScheme, MIMO_SCHEMES};
+pub use mimo::{
+    Interaction, MimoDesign, MimoOutput, MimoReport, MimoScenario, MimoScheme, MIMO_SCHEMES,
+};
 pub use output::RunOutput;
 pub use report::{
     AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,

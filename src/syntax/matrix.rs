@@ -13,6 +13,47 @@ use crate::poly::{TransferFunction, TransferMatrix};
 /// the column in the whole input (an entry's own error shifted to where the
 /// entry stands).
 pub fn parse_matrix(input: &str) -> Result<TransferMatrix, ParseError> {
+    let (rows, at) = parse_rows(input)?;
+    let err = |message: String, column: usize| ParseError {
+        message,
+        column,
+        input: input.to_string(),
+    };
+    let n = rows.len();
+    if let Some(bad) = rows.iter().position(|r| r.len() != n) {
+        return Err(err(
+            alloc::format!(
+                "a plant matrix is square: {n} row(s), and row {} has {} entries",
+                bad + 1,
+                rows.get(bad).map_or(0, Vec::len)
+            ),
+            at,
+        ));
+    }
+    TransferMatrix::new(rows).map_err(|e| err(e.to_string(), at))
+}
+
+/// A column of transfer functions, `[d1; d2; …]` (a disturbance's channel
+/// to each output: Wood–Berry's feed `[3.8e^-8.1s/(14.9s+1);
+/// 4.9e^-3.4s/(13.2s+1)]`).
+pub fn parse_column(input: &str) -> Result<Vec<TransferFunction>, ParseError> {
+    let (rows, at) = parse_rows(input)?;
+    if let Some(bad) = rows.iter().position(|r| r.len() != 1) {
+        return Err(ParseError {
+            message: alloc::format!(
+                "a column has one entry a row ('[d1; d2]'), and row {} has {}",
+                bad + 1,
+                rows.get(bad).map_or(0, Vec::len)
+            ),
+            column: at,
+            input: input.to_string(),
+        });
+    }
+    Ok(rows.into_iter().flatten().collect())
+}
+
+/// The rows of `[a, b; c, d]` and the column of its first entry.
+fn parse_rows(input: &str) -> Result<(Vec<Vec<TransferFunction>>, usize), ParseError> {
     let err = |message: String, column: usize| ParseError {
         message,
         column,
@@ -53,18 +94,7 @@ pub fn parse_matrix(input: &str) -> Result<TransferMatrix, ParseError> {
             _ => {}
         }
     }
-    let n = rows.len();
-    if let Some(bad) = rows.iter().position(|r| r.len() != n) {
-        return Err(err(
-            alloc::format!(
-                "a plant matrix is square: {n} row(s), and row {} has {} entries",
-                bad + 1,
-                rows.get(bad).map_or(0, Vec::len)
-            ),
-            first + 1,
-        ));
-    }
-    TransferMatrix::new(rows).map_err(|e| err(e.to_string(), first + 1))
+    Ok((rows, first + 1))
 }
 
 /// One entry (starting at character `at` of the input): `0`, or a plant.

@@ -10,8 +10,10 @@ mod matrix;
 mod schedule;
 
 pub use expr::{parse_plant, ParseError};
-pub use matrix::parse_matrix;
+pub use matrix::{parse_column, parse_matrix};
 #[cfg(all(feature = "std", feature = "serde"))]
 pub use schedule::{exact_pair, text_or_struct};
 #[cfg(feature = "std")]
-pub use schedule::{parse_actuator, parse_bytes, parse_dead_times, parse_number, parse_setting};
+pub use schedule::{
+    parse_actuator, parse_bytes, parse_dead_times, parse_loop_setpoint, parse_number, parse_setting,
+};

@@ -6,7 +6,10 @@
 use std::string::{String, ToString};
 
 use crate::operate::Gain;
-use crate::sim::{Action, Disturbance, Location, Operation, PlantParameter, SetpointStep, Shape};
+use crate::sim::{
+    Action, ChannelDeadTime, Disturbance, Location, LoopLoad, Operation, PlantParameter,
+    SetpointStep, Shape,
+};
 use crate::study::Perturbation;
 use crate::sweep::Range;
 
@@ -440,5 +443,71 @@ pub mod exact_pair {
                 other.len()
             ))),
         }
+    }
+}
+
+/// A 1-based loop (row, column) number, 0-based.
+fn loop_number(l: &str) -> Result<usize, String> {
+    l.trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|l| *l >= 1)
+        .map(|l| l - 1)
+        .ok_or_else(|| std::format!("'{l}' is not a loop number (1, 2, ...)"))
+}
+
+/// A matrix plant's set-point step of one loop, `LOOP:VALUE[@TIME]`
+/// (1-based: `2:1@50`), as the loop (0-based) and its step.
+pub fn parse_loop_setpoint(s: &str) -> Result<(usize, SetpointStep), String> {
+    let (l, step) = s.split_once(':').ok_or_else(|| {
+        std::format!("a loop's set point is LOOP:VALUE[@TIME] (2:1@50), got '{s}'")
+    })?;
+    Ok((loop_number(l)?, step.parse()?))
+}
+
+impl core::str::FromStr for LoopLoad {
+    type Err = String;
+    /// `LOOP:input|output:VALUE[@TIME]` (1-based: `2:input:0.1@50`).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let mut parts = s.splitn(3, ':');
+        let (Some(l), Some(loc), Some(step)) = (parts.next(), parts.next(), parts.next()) else {
+            return Err(std::format!(
+                "a loop's load is LOOP:input|output:VALUE[@TIME] (2:input:0.1@50), got '{s}'"
+            ));
+        };
+        let step: SetpointStep = step.parse()?;
+        Ok(LoopLoad {
+            loop_index: loop_number(l)?,
+            location: Location::from_name(loc.trim())?,
+            value: step.value,
+            at: step.at,
+        })
+    }
+}
+
+impl core::str::FromStr for ChannelDeadTime {
+    type Err = String;
+    /// `ROW,COL=SECONDS@TIME` (1-based: `1,2=5@600`).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let form = || {
+            std::format!(
+                "a channel's dead-time change is ROW,COL=SECONDS@TIME (1,2=5@600), got '{s}'"
+            )
+        };
+        let (rc, rest) = s.split_once('=').ok_or_else(form)?;
+        let (r, c) = rc.split_once(',').ok_or_else(form)?;
+        let (dead_time, at) = value_at(rest, "dead time")?;
+        if dead_time < 0.0 {
+            return Err(std::format!(
+                "{}: the dead time must not be negative",
+                form()
+            ));
+        }
+        Ok(ChannelDeadTime {
+            row: loop_number(r)?,
+            col: loop_number(c)?,
+            dead_time,
+            at,
+        })
     }
 }

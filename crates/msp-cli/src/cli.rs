@@ -94,8 +94,22 @@ pub(crate) struct ScenarioArgs {
     pub(crate) setpoint: Vec<SetpointStep>,
     /// A matrix plant's set-point step of one loop, LOOP:VALUE[@TIME] (1-based, repeatable);
     /// default: loop i steps to 1 at (i-1)/n of the run.
-    #[arg(long, value_name = "L:V[@T]", value_parser = parse_loop_step, allow_hyphen_values = true)]
+    #[arg(long, value_name = "L:V[@T]", value_parser = msp::syntax::parse_loop_setpoint, allow_hyphen_values = true)]
     pub(crate) loop_setpoint: Vec<(usize, SetpointStep)>,
+    /// A matrix plant's step load on one loop, LOOP:input|output:VALUE[@TIME] (1-based, repeatable).
+    #[arg(long, value_name = "L:LOC:V[@T]", value_parser = str::parse::<msp::sim::LoopLoad>, allow_hyphen_values = true)]
+    pub(crate) loop_disturbance: Vec<msp::sim::LoopLoad>,
+    /// A matrix plant's disturbance through its own channel to each output, a column
+    /// "[d1; d2]" (Wood-Berry's feed: "[3.8e^-8.1s/(14.9s+1); 4.9e^-3.4s/(13.2s+1)]").
+    #[arg(long, value_name = "[D1; D2]", allow_hyphen_values = true, value_parser = parse_column)]
+    pub(crate) disturbance_plant: Option<Column>,
+    /// The --disturbance-plant's input steps, VALUE[@TIME] (repeatable).
+    #[arg(long, value_name = "V[@T]", value_parser = str::parse::<SetpointStep>, allow_hyphen_values = true)]
+    pub(crate) disturbance_step: Vec<SetpointStep>,
+    /// A matrix plant's channel changing its dead time, ROW,COL=SECONDS@TIME (1-based, repeatable;
+    /// the fraction of a sample kept).
+    #[arg(long, value_name = "R,C=S@T", value_parser = str::parse::<msp::sim::ChannelDeadTime>)]
+    pub(crate) channel_dead_time: Vec<msp::sim::ChannelDeadTime>,
     /// Disturbance input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable);
     /// for a cascade process d2 = input, d1 = output, d0 = inner (at the secondary output).
     #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]
@@ -618,15 +632,10 @@ fn parse_plant_arg(s: &str) -> Result<PlantArg, msp::syntax::ParseError> {
 }
 
 /// `LOOP:VALUE[@TIME]`, the loop 1-based.
-fn parse_loop_step(s: &str) -> Result<(usize, SetpointStep), String> {
-    let (l, step) = s
-        .split_once(':')
-        .ok_or_else(|| format!("a loop's set point is LOOP:VALUE[@TIME] (2:1@50), got '{s}'"))?;
-    let l: usize = l
-        .trim()
-        .parse()
-        .ok()
-        .filter(|l| *l >= 1)
-        .ok_or_else(|| format!("'{l}' is not a loop number (1, 2, ...)"))?;
-    Ok((l - 1, step.parse()?))
+/// A column of transfer functions (one value to clap, not a list of them).
+#[derive(Debug, Clone)]
+pub(crate) struct Column(pub(crate) Vec<TransferFunction>);
+
+fn parse_column(s: &str) -> Result<Column, msp::syntax::ParseError> {
+    msp::syntax::parse_column(s).map(Column)
 }

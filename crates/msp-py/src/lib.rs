@@ -18,8 +18,8 @@ mod study;
 use controller::{Controller, PyPid};
 use plant::{parse_plant, Plant};
 use study::{
-    autotune, compare, controllers, identify, margins, run, simulate, step, step_info, sweep,
-    tradeoff, tune, tune_matrix, tune_rules,
+    autotune, compare, controllers, identify, margins, run, run_matrix, simulate, step, step_info,
+    sweep, tradeoff, tune, tune_matrix, tune_rules,
 };
 
 /// The compiled part of the ``msp`` package.
@@ -35,6 +35,7 @@ fn _msp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tune, m)?)?;
     m.add_function(wrap_pyfunction!(tune_rules, m)?)?;
     m.add_function(wrap_pyfunction!(tune_matrix, m)?)?;
+    m.add_function(wrap_pyfunction!(run_matrix, m)?)?;
     m.add_function(wrap_pyfunction!(step_info, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(tradeoff, m)?)?;

@@ -337,14 +337,97 @@ pub(crate) fn tune<'py>(
 }
 
 /// The multivariable report of ``msp tune --plant "[…]" --json``: the RGA,
-/// the pairing, the Niederlinski index and the BLT loops.
+/// the pairing, the Niederlinski index, the design of ``controller``
+/// (``pi``, ``smith``, ``decoupled``), the sampled loop's verdict and Lcm.
 #[pyfunction]
-pub(crate) fn tune_matrix<'py>(py: Python<'py>, plant: &str) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (plant, controller=None, ts=None))]
+pub(crate) fn tune_matrix<'py>(
+    py: Python<'py>,
+    plant: &str,
+    controller: Option<String>,
+    ts: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
     let m: msp::poly::TransferMatrix = plant.parse().map_err(value_err)?;
     let r = py
-        .allow_threads(|| msp::analysis::mimo::tuning(&m))
+        .allow_threads(|| msp::study::mimo::report(&m, controller.as_deref().unwrap_or("pi"), ts))
         .map_err(value_err)?;
     Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
+}
+
+/// A matrix plant's run (``msp run --plant "[…]"``): the report (the JSON
+/// of ``--report``) and the columns ``t`` and per loop ``r``, ``y``, ``u``.
+#[pyfunction]
+#[pyo3(signature = (plant, controller=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new()))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub(crate) fn run_matrix<'py>(
+    py: Python<'py>,
+    plant: &str,
+    controller: Option<String>,
+    ts: Option<f64>,
+    duration: Option<f64>,
+    loop_setpoint: Vec<String>,
+    loop_disturbance: Vec<String>,
+    disturbance_plant: Option<String>,
+    disturbance_step: Vec<String>,
+    channel_dead_time: Vec<String>,
+) -> PyResult<(
+    Bound<'py, PyDict>,
+    Bound<'py, numpy::PyArray1<f64>>,
+    Vec<[Bound<'py, numpy::PyArray1<f64>>; 3]>,
+)> {
+    let m: msp::poly::TransferMatrix = plant.parse().map_err(value_err)?;
+    let n = m.size();
+    let mut setpoints = vec![Vec::new(); n];
+    for s in &loop_setpoint {
+        let (l, step) = msp::syntax::parse_loop_setpoint(s).map_err(value_err)?;
+        setpoints
+            .get_mut(l)
+            .ok_or_else(|| value_err(format!("loop_setpoint {s}: the plant has {n} loops")))?
+            .push(step);
+    }
+    let parse_all = |v: &[String]| -> PyResult<Vec<msp::sim::SetpointStep>> {
+        v.iter().map(|s| s.parse().map_err(value_err)).collect()
+    };
+    let disturbance = match disturbance_plant {
+        Some(d) => Some(msp::sim::DisturbanceVector {
+            channels: msp::syntax::parse_column(&d).map_err(value_err)?,
+            steps: parse_all(&disturbance_step)?,
+        }),
+        None if disturbance_step.is_empty() => None,
+        None => return Err(value_err(
+            "disturbance_step needs disturbance_plant (the disturbance's channel to each output)",
+        )),
+    };
+    let sc = msp::study::MimoScenario {
+        plant: m,
+        controller,
+        ts,
+        duration,
+        setpoints,
+        events: msp::sim::MimoEvents {
+            loads: loop_disturbance
+                .iter()
+                .map(|s| s.parse().map_err(value_err))
+                .collect::<PyResult<_>>()?,
+            disturbance,
+            dead_times: channel_dead_time
+                .iter()
+                .map(|s| s.parse().map_err(value_err))
+                .collect::<PyResult<_>>()?,
+        },
+    };
+    let mut out = py.allow_threads(|| sc.run()).map_err(value_err)?;
+    let report = pythonize::pythonize(py, &out)?.downcast_into::<PyDict>()?;
+    let run = std::mem::take(&mut out.run);
+    let mut loops = Vec::with_capacity(n);
+    for ((r, y), u) in run.r.into_iter().zip(run.y).zip(run.u) {
+        loops.push([
+            crate::columns::array(py, r)?,
+            crate::columns::array(py, y)?,
+            crate::columns::array(py, u)?,
+        ]);
+    }
+    Ok((report, crate::columns::array(py, run.t)?, loops))
 }
 
 /// Every PI/PID tuning rule applied to the plant with the loop each gives, as

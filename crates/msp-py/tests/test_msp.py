@@ -479,6 +479,37 @@ def test_a_matrix_plant_gives_luybens_blt_tuning_and_the_clis_report() -> None:
     assert json.loads(out) == msp.tune(text)
     with pytest.raises(ValueError, match="square"):
         msp.tune([["1/(s+1)", "2/(s+1)"]])
+    d = msp.tune(WOOD_BERRY, "decoupled", ts=1.0)
+    assert [e["realization"]["as"] for e in d["decoupler"]] == ["exact", "exact"]
+    assert d["stability"]["stable"] and d["decoupler_stability"]["stable"]
+
+
+def test_a_matrix_plant_runs_as_the_cli_does(tmp_path: pathlib.Path) -> None:
+    kw = dict(ts=1.0, duration=200.0, loop_setpoint=["1:1@0", "2:1@100"],
+              loop_disturbance="1:input:0.05@150")
+    res = msp.run(WOOD_BERRY, "decoupled", **kw)
+    assert res.y.shape == (2, 200) and res.t.shape == (200,)
+    # decoupled: the step of loop 1 leaves output 2 where it was (to rounding)
+    first = res.interaction[0]
+    assert first["step_loop"] == 0 and first["deviation"][1] < 1e-9
+    assert res.stable is True
+    text = "[" + "; ".join(", ".join(r) for r in WOOD_BERRY) + "]"
+    csv_path, rep_path = tmp_path / "wb.csv", tmp_path / "wb.json"
+    subprocess.run([MSP_BIN, "run", "--plant", text, "-c", "decoupled", "--ts", "1",
+                    "--duration", "200", "--loop-setpoint", "1:1@0", "--loop-setpoint", "2:1@100",
+                    "--loop-disturbance", "1:input:0.05@150", "-q", "-o", str(csv_path),
+                    "--report", str(rep_path)], check=True)
+    cols = np.loadtxt(csv_path, delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(cols[:, 2], res.y[0])
+    np.testing.assert_array_equal(cols[:, 6], res.u[1])
+    assert json.loads(rep_path.read_text())["iae"] == res.iae
+    axes = res.plot()
+    assert len(axes) == 4
+    pi, dec = msp.compare(WOOD_BERRY, ["pi", "decoupled"], **kw)
+    assert pi.report["scheme"] == "pi" and pi.interaction[0]["deviation"][1] > 0.3
+    np.testing.assert_array_equal(dec.y, res.y)
+    with pytest.raises(ValueError, match="does not take noise"):
+        msp.run(WOOD_BERRY, noise=0.1)
 
 
 def test_step_info_of_data_is_python_controls_and_the_clis(tmp_path: pathlib.Path) -> None:
@@ -950,7 +981,10 @@ def test_run_and_compare_take_every_scenario_field() -> None:
     want = [renamed.get(f, f) for f in _msp.SCENARIO_FIELDS if f != "plant"]
     assert sorted(_msp.SCENARIO_KEYWORDS) == sorted(want)
     named = {"controller", "params"}
-    for options, compiled in ((msp.RunOptions, _msp.SCENARIO_KEYWORDS),
+    # a matrix plant's own keywords (the CLI's flags), which its run reads beside these
+    matrix_only = set(msp.MATRIX_KEYWORDS) - set(_msp.SCENARIO_KEYWORDS)
+    assert matrix_only <= set(msp.RunOptions.__annotations__)
+    for options, compiled in ((msp.RunOptions, [*_msp.SCENARIO_KEYWORDS, *matrix_only]),
                               (msp.DesignOptions, _msp.DESIGN_KEYWORDS),
                               (msp.TuneOptions, _msp.TUNE_KEYWORDS)):
         assert sorted(set(options.__annotations__) | named) == sorted(compiled), options

@@ -18,7 +18,9 @@ use super::RunError;
 use crate::analysis::mimo::{tuning, MimoTuning};
 use crate::analysis::Stability;
 use crate::poly::TransferMatrix;
-use crate::sim::{choose_duration, choose_ts, simulate_mimo, MimoRun, SetpointStep};
+use crate::sim::{
+    choose_duration, choose_ts, simulate_mimo, LoopLoad, MimoEvents, MimoRun, SetpointStep,
+};
 
 /// The interaction of one set-point step: loop `step_loop`'s step at `at`
 /// (s) and the largest deviation of every output after it.
@@ -34,28 +36,104 @@ pub struct Interaction {
     pub deviation: Vec<f64>,
 }
 
+/// A multivariable design analysed (the JSON of `msp tune` and `msp
+/// margins` for a matrix plant, and the head of `msp run`'s): the plant's
+/// interaction measures, the scheme's design (`scheme`, `ts`, `f`, `loops`,
+/// `decoupler`) and the sampled closed loop's verdict and biggest log
+/// modulus.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct MimoReport {
+    /// The plant, as written back (`[g11, g12; g21, g22]`).
+    pub plant: std::string::String,
+    /// The relative gain array at steady state, by rows (Bristol (1966)).
+    pub rga: Vec<Vec<f64>>,
+    /// The input each output is best paired with (`None`: no pairing has
+    /// every relative gain positive).
+    pub pairing: Option<Vec<usize>>,
+    /// `det G(0)/Π gᵢᵢ(0)` (Niederlinski (1971)).
+    pub niederlinski: f64,
+    /// The scheme's design.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub design: MimoDesign,
+    /// The BLT tuning's Ziegler–Nichols loops before detuning (`pi`).
+    pub ziegler_nichols: Option<Vec<crate::analysis::mimo::PiLoop>>,
+    /// The sampled closed loop's stability verdict (a run adds its
+    /// cross-check).
+    pub stability: Stability,
+    /// The decoupler's own loop's verdict (`decoupled`).
+    pub decoupler_stability: Option<Stability>,
+    /// The sampled closed loop's biggest log modulus (dB).
+    pub lcm: f64,
+}
+
+/// The sample period of a matrix plant's loops: the diagonal's fastest
+/// loop's choice ([`choose_ts`]).
+pub fn period(plant: &TransferMatrix) -> f64 {
+    (0..plant.size())
+        .filter_map(|i| plant.get(i, i))
+        .map(choose_ts)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// [`MimoReport`] of `scheme` on `plant` at `ts` ([`period`] when `None`).
+pub fn report(
+    plant: &TransferMatrix,
+    scheme: &str,
+    ts: Option<f64>,
+) -> Result<MimoReport, RunError> {
+    let ts = ts.unwrap_or_else(|| period(plant));
+    crate::real::positive(ts, "ts").map_err(RunError::Invalid)?;
+    let t: MimoTuning = tuning(plant).map_err(RunError::Invalid)?;
+    let design = design(plant, scheme, ts)?;
+    let (stability, decoupler_stability, lcm) = analyse(plant, &design)?;
+    Ok(MimoReport {
+        plant: t.plant,
+        rga: t.rga,
+        pairing: t.pairing,
+        niederlinski: t.niederlinski,
+        ziegler_nichols: (design.scheme == "pi").then_some(t.ziegler_nichols),
+        design,
+        stability,
+        decoupler_stability,
+        lcm,
+    })
+}
+
+/// A multivariable scenario: the plant, the scheme, the set points per
+/// loop and the events (the input of [`MimoScenario::run`], which `msp run
+/// --plant "[…]"` and Python's `msp.run` fill).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MimoScenario {
+    /// The plant.
+    pub plant: TransferMatrix,
+    /// The scheme's name ([`MIMO_SCHEMES`]; `pi` when `None`).
+    pub controller: Option<std::string::String>,
+    /// The sample period (s; [`period`] when `None`).
+    pub ts: Option<f64>,
+    /// The run's duration (s; enough for the slowest loop to settle after
+    /// each step when `None`).
+    pub duration: Option<f64>,
+    /// Each loop's set-point steps (none at all: loop `i` steps to 1 at
+    /// `i/n` of the run, one after the other).
+    pub setpoints: Vec<Vec<SetpointStep>>,
+    /// Loads, a disturbance vector, channels' dead-time changes.
+    pub events: MimoEvents,
+}
+
 /// A multivariable run's report (the JSON of `msp run --plant "[…]"`).
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct MimoOutput {
-    /// The plant's analysis (RGA, pairing, Niederlinski index) and its
-    /// BLT loops.
-    pub tuning: MimoTuning,
-    /// The scheme's design: its loops, detuning and decoupler.
-    pub design: MimoDesign,
-    /// The sampled closed loop's stability verdict, cross-checked by the
-    /// run.
-    pub stability: Stability,
-    /// The decoupler's own loop's (`decoupled` only).
-    pub decoupler_stability: Option<Stability>,
-    /// The sampled closed loop's biggest log modulus (dB).
-    pub lcm: f64,
-    /// The sample period (s).
-    pub ts: f64,
+    /// The design analysed, the verdict cross-checked by the run.
+    #[cfg_attr(feature = "serde", serde(flatten))]
+    pub report: MimoReport,
     /// The run's duration (s).
     pub duration: f64,
     /// Each loop's set-point steps.
     pub setpoints: Vec<Vec<SetpointStep>>,
+    /// Each loop's loads.
+    pub loads: Vec<LoopLoad>,
     /// Each loop's IAE over the run.
     pub iae: Vec<f64>,
     /// Each set-point step's interaction.
@@ -65,93 +143,90 @@ pub struct MimoOutput {
     pub run: MimoRun,
 }
 
-/// Designs `scheme` for `plant` and runs it every `ts` (chosen from the
-/// diagonal's fastest loop when `None`) for `duration` (enough for the
-/// slowest loop to settle after each step when `None`), the set points
-/// `setpoints[i]` per loop (none given: loop `i` steps to 1 at `i/n` of
-/// the run, one after the other).
-pub fn run_mimo(
-    plant: &TransferMatrix,
-    scheme: &str,
-    setpoints: Vec<Vec<SetpointStep>>,
-    ts: Option<f64>,
-    duration: Option<f64>,
-) -> Result<MimoOutput, RunError> {
-    let n = plant.size();
-    let diagonal: Vec<_> = (0..n).filter_map(|i| plant.get(i, i)).collect();
-    let ts = ts.unwrap_or_else(|| {
-        diagonal
-            .iter()
-            .map(|g| choose_ts(g))
-            .fold(f64::INFINITY, f64::min)
-    });
-    let settle = diagonal
-        .iter()
-        .map(|g| choose_duration(g, ts))
-        .fold(0.0, f64::max);
-    let duration = duration.unwrap_or(settle * n as f64);
-    let setpoints = if setpoints.iter().all(Vec::is_empty) {
-        (0..n)
-            .map(|i| {
-                std::vec![SetpointStep {
-                    value: 1.0,
-                    at: duration * i as f64 / n as f64,
-                }]
-            })
-            .collect()
-    } else {
-        setpoints
-    };
-    if setpoints.len() > n {
-        return Err(RunError::Limit(std::format!(
-            "a set point for loop {} of a {n}x{n} plant",
-            setpoints.len()
-        )));
-    }
-    let tuned = tuning(plant).map_err(RunError::Invalid)?;
-    let design = design(plant, scheme, ts)?;
-    let (stability, decoupler_stability, lcm) = analyse(plant, &design)?;
-    let mut c = controller(plant, &design)?;
-    let run = simulate_mimo(plant, &mut *c, &setpoints, ts, duration).map_err(RunError::Invalid)?;
-    let stability = cross_check(stability, &run, duration);
-    // each step's interaction, up to the next set-point change of any loop
-    let mut times: Vec<f64> = setpoints.iter().flatten().map(|s| s.at).collect();
-    times.sort_by(f64::total_cmp);
-    let interaction = setpoints
-        .iter()
-        .enumerate()
-        .flat_map(|(i, s)| s.iter().map(move |s| (i, s.at)))
-        .map(|(step_loop, at)| {
-            let until = times.iter().copied().find(|t| *t > at).unwrap_or(duration);
-            Interaction {
-                step_loop,
-                at,
-                deviation: run.interaction(at, until),
+impl MimoScenario {
+    /// Designs, analyses and runs the scenario.
+    pub fn run(&self) -> Result<MimoOutput, RunError> {
+        let plant = &self.plant;
+        let n = plant.size();
+        let ts = self.ts.unwrap_or_else(|| period(plant));
+        let settle = (0..n)
+            .filter_map(|i| plant.get(i, i))
+            .map(|g| choose_duration(g, ts))
+            .fold(0.0, f64::max);
+        #[allow(clippy::cast_precision_loss)]
+        let duration = self.duration.unwrap_or(settle * n as f64);
+        if self.setpoints.len() > n {
+            return Err(RunError::Limit(std::format!(
+                "a set point for loop {} of a {n}x{n} plant",
+                self.setpoints.len()
+            )));
+        }
+        let setpoints =
+            if self.setpoints.iter().all(Vec::is_empty) && self.events == MimoEvents::default() {
+                #[allow(clippy::cast_precision_loss)]
+                (0..n)
+                    .map(|i| {
+                        std::vec![SetpointStep {
+                            value: 1.0,
+                            at: duration * i as f64 / n as f64,
+                        }]
+                    })
+                    .collect()
+            } else {
+                self.setpoints.clone()
+            };
+        let mut out = report(plant, self.controller.as_deref().unwrap_or("pi"), Some(ts))?;
+        let mut c = controller(plant, &out.design)?;
+        let run = simulate_mimo(plant, &mut *c, &setpoints, &self.events, ts, duration)
+            .map_err(RunError::Invalid)?;
+        out.stability = match self.events.dead_times.iter().map(|e| e.at).reduce(f64::min) {
+            // the loop as built, cross-checked up to the first change
+            Some(at) => {
+                let k = crate::sim::first_sample_at(at, ts);
+                let settled = (k >= 10).then(|| prefix_settles(&run, k));
+                out.stability
+                    .as_built(settled, at, "a channel's dead time changes")
             }
+            None => cross_check(out.stability, &run, duration),
+        };
+        // each step's interaction, up to the next set-point change of any loop
+        let mut times: Vec<f64> = setpoints.iter().flatten().map(|s| s.at).collect();
+        times.sort_by(f64::total_cmp);
+        let interaction = setpoints
+            .iter()
+            .enumerate()
+            .flat_map(|(i, s)| s.iter().map(move |s| (i, s.at)))
+            .map(|(step_loop, at)| {
+                let until = times.iter().copied().find(|t| *t > at).unwrap_or(duration);
+                Interaction {
+                    step_loop,
+                    at,
+                    deviation: run.interaction(at, until),
+                }
+            })
+            .collect();
+        Ok(MimoOutput {
+            iae: (0..n).map(|i| run.iae(i)).collect(),
+            report: out,
+            duration,
+            setpoints,
+            loads: self.events.loads.clone(),
+            interaction,
+            run,
         })
-        .collect();
-    Ok(MimoOutput {
-        iae: (0..n).map(|i| run.iae(i)).collect(),
-        tuning: tuned,
-        design,
-        stability,
-        decoupler_stability,
-        lcm,
-        ts,
-        duration,
-        setpoints,
-        interaction,
-        run,
-    })
+    }
 }
 
 /// The verdict with the run's cross-check: every output and input settles
 /// ([`super::metrics::settles`], the single-loop runs' test).
 fn cross_check(v: Stability, run: &MimoRun, duration: f64) -> Stability {
-    let settled = run
-        .y
+    v.with_simulation(prefix_settles(run, run.t.len()), duration)
+}
+
+/// Every output and input of the run's first `k` samples settles.
+fn prefix_settles(run: &MimoRun, k: usize) -> bool {
+    run.y
         .iter()
         .chain(&run.u)
-        .all(|s| super::metrics::settles(s));
-    v.with_simulation(settled, duration)
+        .all(|s| super::metrics::settles(s.get(..k).unwrap_or(s)))
 }

@@ -1,11 +1,14 @@
 //! `msp margins`.
 
 use super::scenario::scenario_from;
-use crate::cli::MarginsArgs;
+use crate::cli::{MarginsArgs, PlantArg};
 use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
+    if let Some(PlantArg::Matrix(m)) = &a.scenario.plant {
+        return super::mimo::margins(m, a);
+    }
     let mut files = export::Outputs::plan_reading(
         &[
             ("--plot", a.plot.as_ref()),

@@ -6,6 +6,7 @@ pub(crate) mod compare;
 pub(crate) mod identify;
 pub(crate) mod list;
 pub(crate) mod margins;
+pub(crate) mod mimo;
 pub(crate) mod run;
 pub(crate) mod scenario;
 pub(crate) mod step;

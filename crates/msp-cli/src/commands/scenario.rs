@@ -63,15 +63,38 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         Some(PlantArg::Single(p)) => sc.plant = Some(p.clone()),
         Some(PlantArg::Matrix(_)) => {
             return Err(CliError::Input(
-                "a matrix plant is for msp run and msp tune (decentralized BLT loops); this command takes a single loop".into(),
+                "a matrix plant is for msp run, tune, margins and compare; this command takes a single loop".into(),
             ))
         }
         None => {}
     }
-    if !a.loop_setpoint.is_empty() {
-        return Err(CliError::Input(
-            "--loop-setpoint is for a matrix plant (--plant \"[g11, g12; g21, g22]\"); a single loop takes --setpoint".into(),
-        ));
+    let matrix_only = [
+        ("--loop-setpoint", !a.loop_setpoint.is_empty(), "--setpoint"),
+        (
+            "--loop-disturbance",
+            !a.loop_disturbance.is_empty(),
+            "--disturbance",
+        ),
+        (
+            "--disturbance-plant",
+            a.disturbance_plant.is_some(),
+            "--disturbance",
+        ),
+        (
+            "--disturbance-step",
+            !a.disturbance_step.is_empty(),
+            "--disturbance",
+        ),
+        (
+            "--channel-dead-time",
+            !a.channel_dead_time.is_empty(),
+            "--event T:plant-dead-time=S",
+        ),
+    ];
+    if let Some((flag, _, single)) = matrix_only.iter().find(|(_, given, _)| *given) {
+        return Err(CliError::Input(format!(
+            "{flag} is for a matrix plant (--plant \"[g11, g12; g21, g22]\"); a single loop takes {single}"
+        )));
     }
     over!(
         model,

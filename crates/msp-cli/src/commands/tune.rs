@@ -8,7 +8,7 @@ use msp::study::Scenario;
 pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     let plant = match &a.plant {
         PlantArg::Single(p) => p.clone(),
-        PlantArg::Matrix(m) => return matrix(m, a),
+        PlantArg::Matrix(m) => return super::mimo::tune(m, a),
     };
     let sc = Scenario {
         plant: Some(plant),
@@ -69,66 +69,6 @@ pub(crate) fn tune(a: &TuneArgs) -> Result<(), CliError> {
     }
     for w in &r.warnings {
         export::outln!("warning: {w}")?;
-    }
-    Ok(())
-}
-
-/// `msp tune --plant "[…]"`: the RGA and its pairing, the Niederlinski
-/// index and the BLT tuning of the diagonal loops (Luyben (1986)).
-fn matrix(m: &msp::poly::TransferMatrix, a: &TuneArgs) -> Result<(), CliError> {
-    if a.controller.is_some() || a.inner_plant.is_some() || a.rules || a.uncertainty.is_some() {
-        return Err(CliError::Input(
-            "a matrix plant is tuned by BLT decentralized PI loops: drop -c, --inner-plant, --rules and --uncertainty".into(),
-        ));
-    }
-    let r = msp::analysis::mimo::tuning(m).map_err(|e| CliError::Input(e.to_string()))?;
-    if a.json {
-        return export::print_json(&r);
-    }
-    let n = m.size();
-    export::outln!("plant       {} ({n}x{n})", r.plant)?;
-    for (i, row) in r.rga.iter().enumerate() {
-        let cells: Vec<String> = row.iter().map(|x| export::fmt_sig(*x)).collect();
-        let label = if i == 0 { "rga" } else { "" };
-        export::outln!("{label:<11} [{}]", cells.join(", "))?;
-    }
-    match &r.pairing {
-        Some(p) => {
-            let pairs: Vec<String> = p
-                .iter()
-                .enumerate()
-                .map(|(i, j)| format!("y{}-u{}", i + 1, j + 1))
-                .collect();
-            export::outln!(
-                "pairing     {} (positive relative gains nearest 1)",
-                pairs.join(", ")
-            )?;
-        }
-        None => export::outln!("pairing     none with every relative gain positive")?,
-    }
-    export::outln!(
-        "niederlinski {}{}",
-        export::fmt_sig(r.niederlinski),
-        if r.niederlinski < 0.0 {
-            " (negative: the diagonal loops with integral action are unstable for every tuning)"
-        } else {
-            ""
-        }
-    )?;
-    export::outln!(
-        "controller  decentralized PI, BLT (Luyben 1986): F = {}, biggest log modulus {} dB",
-        export::fmt_sig(r.f),
-        export::fmt_sig(r.lcm)
-    )?;
-    for (i, (l, z)) in r.loops.iter().zip(&r.ziegler_nichols).enumerate() {
-        export::outln!(
-            "  loop {}    kp = {}, ti = {}  (Ziegler-Nichols alone: kp = {}, ti = {})",
-            i + 1,
-            export::fmt_sig(l.kp),
-            export::fmt_sig(l.ti),
-            export::fmt_sig(z.kp),
-            export::fmt_sig(z.ti)
-        )?;
     }
     Ok(())
 }

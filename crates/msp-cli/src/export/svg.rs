@@ -640,6 +640,8 @@ pub(crate) fn step_svg(
 
 // after the macros above, which they use
 mod frequency;
+mod mimo;
 mod tradeoff;
 pub(crate) use frequency::{bode_svg, nyquist_svg};
+pub(crate) use mimo::mimo_svg;
 pub(crate) use tradeoff::tradeoff_svg;

@@ -70,6 +70,95 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
     setpoint_ramp: float
     adapt: Union[bool, Dict[str, Any]]
     monitor: bool
+    loop_setpoint: Union[str, Sequence[str]]
+    loop_disturbance: Union[str, Sequence[str]]
+    disturbance_plant: Union[str, Sequence[Any]]
+    disturbance_step: Union[str, Sequence[str]]
+    channel_dead_time: Union[str, Sequence[str]]
+
+
+#: The keywords of a matrix plant's run (the CLI's flags of the same names).
+MATRIX_KEYWORDS = (
+    "ts",
+    "duration",
+    "loop_setpoint",
+    "loop_disturbance",
+    "disturbance_plant",
+    "disturbance_step",
+    "channel_dead_time",
+)
+
+
+class MimoResult:
+    """A multivariable run (:func:`run` of a matrix plant): the signals as numpy arrays, a row
+    per loop, and the report of ``msp run --plant "[…]" --report``.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        The sample instants (s).
+    r, y, u : numpy.ndarray
+        Shape ``(n, samples)``: each loop's set point, output and input.
+    report : dict
+        ``{"plant", "rga", "pairing", "niederlinski", "scheme", "ts", "f", "loops",
+        "decoupler", "ziegler_nichols", "stability", "decoupler_stability", "lcm", "duration",
+        "setpoints", "loads", "iae", "interaction"}``.
+    iae : list of float
+        Each loop's IAE.
+    interaction : list of dict
+        Per set-point step: ``step_loop`` (0-based), ``at`` and ``deviation`` (the largest of
+        each output up to the next step).
+    stable : bool or None
+        The sampled loop's verdict (the generalized Nyquist criterion on ``det(I + GC)``).
+    """
+
+    def __init__(self, raw: Tuple[Dict[str, Any], Any, List[Any]]) -> None:
+        import numpy as np
+
+        report, t, loops = raw
+        self.report: Dict[str, Any] = report
+        self.t = t
+        self.r = np.array([c[0] for c in loops])
+        self.y = np.array([c[1] for c in loops])
+        self.u = np.array([c[2] for c in loops])
+        self.iae: List[float] = report["iae"]
+        self.interaction: List[Dict[str, Any]] = report["interaction"]
+        self.stable: Optional[bool] = report["stability"]["stable"]
+
+    def __repr__(self) -> str:
+        n = len(self.y)
+        return (f"MimoResult({self.report['scheme']} on a {n}x{n} plant, {len(self.t)} samples, "
+                f"IAE {[round(v, 4) for v in self.iae]})")
+
+    def plot(self, axes: Any = None) -> Any:
+        """A panel per output (set point dashed) and per input, as ``msp run --plot``."""
+        from msp.plotting import plot_mimo
+
+        return plot_mimo(self, axes)
+
+
+def _loop_list(v: Any) -> List[str]:
+    if v is None:
+        return []
+    return [v] if isinstance(v, str) else [str(x) for x in v]
+
+
+def _run_matrix(matrix: str, controller: Optional[str], params: Any, delay: Any,
+                scenario: Mapping[str, Any]) -> MimoResult:
+    if params or delay is not None:
+        raise ValueError("a matrix plant's run takes no params or delay yet")
+    unknown = sorted(set(scenario) - set(MATRIX_KEYWORDS))
+    if unknown:
+        raise ValueError(f"a matrix plant does not take {', '.join(unknown)} yet: its keywords are "
+                         f"{', '.join(MATRIX_KEYWORDS)}")
+    dp = scenario.get("disturbance_plant")
+    if dp is not None and not isinstance(dp, str):
+        dp = "[" + "; ".join(str(e) for e in dp) + "]"
+    return MimoResult(_msp.run_matrix(
+        matrix, controller, scenario.get("ts"), scenario.get("duration"),
+        _loop_list(scenario.get("loop_setpoint")), _loop_list(scenario.get("loop_disturbance")),
+        dp, _loop_list(scenario.get("disturbance_step")),
+        _loop_list(scenario.get("channel_dead_time"))))
 
 
 class PidOptions(TypedDict, total=False):
@@ -90,6 +179,8 @@ class PidOptions(TypedDict, total=False):
 
 __all__ = [
     "AstromHangLim",
+    "MATRIX_KEYWORDS",
+    "MimoResult",
     "autotune",
     "Controller",
     "DisturbanceEstimator",
@@ -459,6 +550,15 @@ def run(
     Without ``setpoint``, ``disturbance`` and ``duration`` the run is msp's default scenario: a
     unit set-point step, then a step load at the plant input once the response has settled.
 
+    A multivariable plant (``"[g11, g12; g21, g22]"`` or a nested list of expressions) runs a
+    scheme of ``msp run --plant "[…]"`` (``controller``: ``"pi"``, BLT's decentralized PI, the
+    default; ``"smith"``, decentralized Smith predictors; ``"decoupled"``, an inverted
+    decoupler with a Smith predictor in each loop) and returns a :class:`MimoResult`; its
+    keywords are the CLI's flags (:data:`MATRIX_KEYWORDS`): ``ts``, ``duration``,
+    ``loop_setpoint=["1:1@0", "2:1@50"]``, ``loop_disturbance=["1:input:0.1@80"]``,
+    ``disturbance_plant="[d1; d2]"`` (or a list) with ``disturbance_step=["0.1@20"]``, and
+    ``channel_dead_time=["1,2=5@100"]``.
+
     Returns
     -------
     Result
@@ -480,6 +580,9 @@ def run(
     >>> round(msp.run("0.2/s*e^-7.4s", setpoint=1.0).metrics["rise_time"], 2)
     2.02
     """
+    matrix = _matrix(plant)
+    if matrix is not None:
+        return _run_matrix(matrix, controller, params, delay, scenario)  # type: ignore[return-value]
     raw = _msp.run(_plant(plant, delay), **_scenario(scenario, controller=controller, params=params))
     return Result(raw)
 
@@ -515,7 +618,8 @@ def compare(
     Returns
     -------
     list of Result
-        One per controller, in order, all at one common sample period.
+        One per controller, in order, all at one common sample period (a matrix plant: one
+        :class:`MimoResult` per scheme, as :func:`run` gives it).
 
     Raises
     ------
@@ -528,6 +632,12 @@ def compare(
     >>> [r.controller["name"] for r in runs]
     ['karan-dey', 'pid']
     """
+    matrix = _matrix(plant)
+    if matrix is not None:
+        if perturb is not None:
+            raise ValueError("a matrix plant's compare takes no perturb yet")
+        return [_run_matrix(matrix, c, params, delay, scenario)  # type: ignore[misc]
+                for c in controllers]
     raw = _msp.compare(_plant(plant, delay), list(controllers),
                        perturb=dict(perturb) if isinstance(perturb, Mapping) else perturb,
                        **_scenario(scenario, params=params))
@@ -1121,8 +1231,10 @@ def tune(
 
     A multivariable plant (MATLAB's ``"[g11, g12; g21, g22]"``, or a nested list of expressions)
     gives ``msp tune``'s matrix report instead: ``{"plant", "rga", "pairing", "niederlinski",
-    "f", "lcm", "loops": [{"kp", "ti"}, ...], "ziegler_nichols"}`` (the BLT tuning of
-    decentralized PI loops, Luyben 1986).
+    "scheme", "ts", "f", "loops": [{"kp", "ti", ...}, ...], "decoupler", "ziegler_nichols",
+    "stability", "decoupler_stability", "lcm"}`` for ``controller`` ``"pi"`` (the BLT tuning
+    of decentralized PI loops, Luyben 1986; the default), ``"smith"`` or ``"decoupled"``,
+    at the period ``ts``.
 
     Examples
     --------
@@ -1132,9 +1244,9 @@ def tune(
     """
     matrix = _matrix(plant)
     if matrix is not None:
-        if controller is not None or params or delay is not None or uncertainty is not None or scenario:
-            raise ValueError("a matrix plant is tuned by BLT decentralized PI loops: no other options")
-        return _msp.tune_matrix(matrix)
+        if params or delay is not None or uncertainty is not None or set(scenario) - {"ts"}:
+            raise ValueError("a matrix plant's tuning takes controller and ts only")
+        return _msp.tune_matrix(matrix, controller, scenario.get("ts"))
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     kw = _scenario(scenario, controller=controller, params=params)
     return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)

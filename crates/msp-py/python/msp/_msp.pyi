@@ -6,7 +6,7 @@ from typing_extensions import Unpack, disjoint_base
 
 from msp import PidOptions
 
-__all__ = ["Controller", "Estimator", "PendingAnalysis", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_matrix", "tune_rules"]
+__all__ = ["Controller", "Estimator", "PendingAnalysis", "Pid", "Plant", "DESIGN_KEYWORDS", "SCENARIO_FIELDS", "SCENARIO_KEYWORDS", "TUNE_KEYWORDS", "__version__", "autotune", "compare", "controllers", "identify", "margins", "parse_plant", "run", "simulate", "step", "step_info", "sweep", "tradeoff", "tune", "tune_matrix", "tune_rules", "run_matrix"]
 __version__: str
 SCENARIO_FIELDS: List[str]
 SCENARIO_KEYWORDS: List[str]
@@ -71,7 +71,18 @@ def compare(
 ) -> List[Dict[str, Any]]: ...
 def tune(plant: Union[str, Plant], *, uncertainty: Any = None, **scenario: Any) -> Dict[str, Any]: ...
 def tune_rules(plant: Union[str, Plant], **scenario: Any) -> List[Dict[str, Any]]: ...
-def tune_matrix(plant: str) -> Dict[str, Any]: ...
+def tune_matrix(plant: str, controller: Optional[str] = None, ts: Optional[float] = None) -> Dict[str, Any]: ...
+def run_matrix(
+    plant: str,
+    controller: Optional[str] = None,
+    ts: Optional[float] = None,
+    duration: Optional[float] = None,
+    loop_setpoint: List[str] = ...,
+    loop_disturbance: List[str] = ...,
+    disturbance_plant: Optional[str] = None,
+    disturbance_step: List[str] = ...,
+    channel_dead_time: List[str] = ...,
+) -> Tuple[Dict[str, Any], Any, List[List[Any]]]: ...
 def tradeoff(plant: Union[str, Plant], controllers: List[str], **scenario: Any) -> Dict[str, Any]: ...
 def simulate(
     plant: Union[str, Plant], t: Any, r: Any, d: Any, d_out: Any, **scenario: Any

@@ -200,3 +200,26 @@ def plot_step(s: Any, ax: Any = None) -> Any:
     ax.legend(loc="best")
     ax.set_xlim(s.t[0], s.t[-1])
     return fig
+
+
+def plot_mimo(res: Any, axes: Any = None) -> Any:
+    """A multivariable run: a panel per output (its set point dashed), then a panel per input,
+    sharing the time axis (as ``msp run --plot`` draws it). Returns the axes."""
+    import matplotlib.pyplot as plt
+
+    n = len(res.y)
+    if axes is None:
+        _, axes = plt.subplots(2 * n, 1, sharex=True, figsize=(8, 2.2 * n * 2))
+    for i in range(n):
+        ax = axes[i]
+        ax.plot(res.t, res.r[i], "k--", lw=1, label=f"r{i + 1}")
+        ax.plot(res.t, res.y[i], lw=1.2, label=f"y{i + 1}")
+        ax.set_ylabel(f"r{i + 1}, y{i + 1}")
+        ax.legend(loc="best")
+        axu = axes[n + i]
+        axu.plot(res.t, res.u[i], lw=1.2, label=f"u{i + 1}")
+        axu.set_ylabel(f"input u{i + 1}")
+    axes[-1].set_xlabel("t (s)")
+    axes[0].set_title(f"{res.report['scheme']} (F = {res.report['f']:.4g}) on {res.report['plant']}",
+                      fontsize=9)
+    return axes

@@ -1,0 +1,382 @@
+//! A matrix plant (`--plant "[g11, g12; g21, g22]"`) in `run`, `tune`,
+//! `margins` and `compare`: the library's `MimoScenario`, `MimoReport` and
+//! `MimoOutput`, printed and written.
+
+use msp::poly::TransferMatrix;
+use msp::study::mimo::{report, MimoOutput, MimoReport};
+use msp::study::MimoScenario;
+
+use crate::cli::{CompareArgs, MarginsArgs, RunArgs, ScenarioArgs, TuneArgs};
+use crate::error::CliError;
+use crate::export;
+
+/// The single-loop flags given (a matrix plant refuses them by name).
+fn single_loop_flags(s: &ScenarioArgs) -> Vec<&'static str> {
+    let d = &s.design;
+    [
+        ("--scenario", s.scenario.is_some()),
+        ("--model", s.model.is_some()),
+        ("--inner-plant", s.inner_plant.is_some()),
+        ("--inner-model", s.inner_model.is_some()),
+        ("--lambda", d.lambda.is_some()),
+        ("--rule", d.rule.is_some()),
+        ("--target", d.target.is_some()),
+        ("--set", !d.set.is_empty()),
+        ("--setpoint", !s.setpoint.is_empty()),
+        ("--disturbance", !s.disturbance.is_empty()),
+        ("--noise", s.noise.is_some()),
+        ("--quantization", s.quantization.is_some()),
+        ("--umin", s.umin.is_some()),
+        ("--umax", s.umax.is_some()),
+        ("--actuator", s.actuator.is_some()),
+        ("--float32", s.float32),
+        ("--event", !s.events.is_empty()),
+        ("--setpoint-ramp", s.setpoint_ramp.is_some()),
+        ("--adapt", s.adapt),
+        ("--monitor", s.monitor),
+    ]
+    .into_iter()
+    .filter_map(|(name, given)| given.then_some(name))
+    .collect()
+}
+
+/// The library's scenario from the command line.
+fn scenario(
+    m: &TransferMatrix,
+    s: &ScenarioArgs,
+    controller: Option<&str>,
+) -> Result<MimoScenario, CliError> {
+    let refused = single_loop_flags(s);
+    if !refused.is_empty() {
+        return Err(CliError::Input(format!(
+            "a matrix plant does not take {} yet: its set points are --loop-setpoint LOOP:V@T, its loads --loop-disturbance LOOP:input|output:V@T, a disturbance through its own channels --disturbance-plant \"[d1; d2]\" with --disturbance-step V@T, a channel's dead-time change --channel-dead-time ROW,COL=SECONDS@T",
+            refused.join(", ")
+        )));
+    }
+    let n = m.size();
+    let mut setpoints = vec![Vec::new(); n];
+    for (l, step) in &s.loop_setpoint {
+        setpoints
+            .get_mut(*l)
+            .ok_or_else(|| {
+                CliError::Input(format!(
+                    "--loop-setpoint {}: the plant has {n} loops",
+                    l + 1
+                ))
+            })?
+            .push(*step);
+    }
+    let disturbance = match (&s.disturbance_plant, s.disturbance_step.is_empty()) {
+        (Some(channels), _) => Some(msp::sim::DisturbanceVector {
+            channels: channels.0.clone(),
+            steps: s.disturbance_step.clone(),
+        }),
+        (None, false) => {
+            return Err(CliError::Input(
+                "--disturbance-step needs --disturbance-plant \"[d1; d2]\" (the disturbance's channel to each output)".into(),
+            ))
+        }
+        (None, true) => None,
+    };
+    Ok(MimoScenario {
+        plant: m.clone(),
+        controller: controller.map(str::to_string),
+        ts: s.ts,
+        duration: s.duration,
+        setpoints,
+        events: msp::sim::MimoEvents {
+            loads: s.loop_disturbance.clone(),
+            disturbance,
+            dead_times: s.channel_dead_time.clone(),
+        },
+    })
+}
+
+/// The report's lines: the interaction measures, the design, the verdict.
+fn report_lines(r: &MimoReport, iae: Option<&[f64]>) -> Vec<String> {
+    let n = r.rga.len();
+    let mut out = vec![format!(
+        "plant       {} ({n}x{n}), ts = {} s",
+        r.plant,
+        export::fmt_sig(r.design.ts)
+    )];
+    for (i, row) in r.rga.iter().enumerate() {
+        let cells: Vec<String> = row.iter().map(|x| export::fmt_sig(*x)).collect();
+        let label = if i == 0 { "rga" } else { "" };
+        out.push(format!("{label:<11} [{}]", cells.join(", ")));
+    }
+    out.push(match &r.pairing {
+        Some(p) => {
+            let pairs: Vec<String> = p
+                .iter()
+                .enumerate()
+                .map(|(i, j)| format!("y{}-u{}", i + 1, j + 1))
+                .collect();
+            format!(
+                "pairing     {} (positive relative gains nearest 1)",
+                pairs.join(", ")
+            )
+        }
+        None => "pairing     none with every relative gain positive".into(),
+    });
+    out.push(format!(
+        "niederlinski {}{}",
+        export::fmt_sig(r.niederlinski),
+        if r.niederlinski < 0.0 {
+            " (negative: the diagonal loops with integral action are unstable for every tuning)"
+        } else {
+            ""
+        }
+    ));
+    let d = &r.design;
+    let summary = msp::study::MIMO_SCHEMES
+        .iter()
+        .find(|x| x.name == d.scheme)
+        .map_or("", |x| x.summary);
+    out.push(format!(
+        "controller  {}: {summary}; F = {}",
+        d.scheme,
+        export::fmt_sig(d.f)
+    ));
+    for (i, l) in d.loops.iter().enumerate() {
+        let p: Vec<String> = l
+            .iter()
+            .map(|(k, v)| format!("{k} = {}", export::fmt_sig(v)))
+            .collect();
+        let zn = r
+            .ziegler_nichols
+            .as_ref()
+            .and_then(|z| z.get(i))
+            .map_or(String::new(), |z| {
+                format!(
+                    "  (Ziegler-Nichols alone: kp = {}, ti = {})",
+                    export::fmt_sig(z.kp),
+                    export::fmt_sig(z.ti)
+                )
+            });
+        let e = iae
+            .and_then(|v| v.get(i))
+            .map_or(String::new(), |v| format!("; IAE {}", export::fmt_sig(*v)));
+        out.push(format!("  loop {}    {}{zn}{e}", i + 1, p.join(", ")));
+    }
+    for e in &d.decoupler {
+        out.push(format!("  decoupler {}", e.describe()));
+    }
+    out.push(format!(
+        "stability   {}: {}",
+        r.stability.summary(),
+        r.stability.reason
+    ));
+    if let Some(v) = &r.decoupler_stability {
+        out.push(format!("decoupler   {}: {}", v.summary(), v.reason));
+    }
+    out.push(format!(
+        "Lcm         {} dB (biggest log modulus of the sampled loop)",
+        export::fmt_sig(r.lcm)
+    ));
+    out
+}
+
+/// `msp tune --plant "[…]"`: the interaction measures and the design of
+/// `-c pi` (BLT, the default), `smith` or `decoupled`, with the verdict.
+pub(crate) fn tune(m: &TransferMatrix, a: &TuneArgs) -> Result<(), CliError> {
+    if a.inner_plant.is_some() || a.rules || a.uncertainty.is_some() {
+        return Err(CliError::Input(
+            "a matrix plant's tuning takes -c pi|smith|decoupled and --ts: drop --inner-plant, --rules and --uncertainty".into(),
+        ));
+    }
+    let r = report(m, a.controller.as_deref().unwrap_or("pi"), a.ts)?;
+    if a.json {
+        return export::print_json(&r);
+    }
+    for line in report_lines(&r, None) {
+        export::outln!("{line}")?;
+    }
+    Ok(())
+}
+
+/// `msp margins --plant "[…]"`: the same report (the sampled loop's
+/// verdict and biggest log modulus are its margins).
+pub(crate) fn margins(m: &TransferMatrix, a: &MarginsArgs) -> Result<(), CliError> {
+    if a.plot.is_some() || a.nyquist.is_some() || a.uncertainty.is_some() || a.continuous {
+        return Err(CliError::Input(
+            "a matrix plant's margins are the sampled loop's verdict and biggest log modulus: drop --plot, --nyquist, --uncertainty and --continuous".into(),
+        ));
+    }
+    let sc = scenario(m, &a.scenario, a.controller.as_deref())?;
+    let r = report(m, sc.controller.as_deref().unwrap_or("pi"), sc.ts)?;
+    if a.json {
+        return export::print_json(&r);
+    }
+    for line in report_lines(&r, None) {
+        export::outln!("{line}")?;
+    }
+    Ok(())
+}
+
+/// The CSV of runs: `t`, then per run and loop `r, y, u` (prefixed by
+/// the scheme's name when there are several runs).
+fn csv(outs: &[MimoOutput]) -> String {
+    let Some(first) = outs.first() else {
+        return String::new();
+    };
+    let n = first.run.y.len();
+    let mut text = String::from("t");
+    for o in outs {
+        let prefix = if outs.len() > 1 {
+            format!("{}.", o.report.design.scheme)
+        } else {
+            String::new()
+        };
+        for i in 1..=n {
+            text.push_str(&format!(",{prefix}r{i},{prefix}y{i},{prefix}u{i}"));
+        }
+    }
+    text.push('\n');
+    for (k, t) in first.run.t.iter().enumerate() {
+        text.push_str(&export::fmt_f(*t));
+        for o in outs {
+            let r = &o.run;
+            for i in 0..n {
+                for col in [&r.r, &r.y, &r.u] {
+                    let v = col
+                        .get(i)
+                        .and_then(|c| c.get(k))
+                        .copied()
+                        .unwrap_or(f64::NAN);
+                    text.push(',');
+                    text.push_str(&export::fmt_f(v));
+                }
+            }
+        }
+        text.push('\n');
+    }
+    text
+}
+
+fn interaction_lines(o: &MimoOutput) -> Vec<String> {
+    o.interaction
+        .iter()
+        .map(|x| {
+            let dev: Vec<String> = x.deviation.iter().map(|d| export::fmt_sig(*d)).collect();
+            format!(
+                "step        loop {} at {} s: largest deviation of each output {}",
+                x.step_loop + 1,
+                export::fmt_sig(x.at),
+                dev.join(", ")
+            )
+        })
+        .collect()
+}
+
+/// `msp run --plant "[…]"`: CSV columns `t, r1, y1, u1, r2, y2, u2, …`,
+/// the report the library's `MimoOutput`, the plot a panel per output and
+/// per input.
+pub(crate) fn run(m: &TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
+    if a.input.is_some() {
+        return Err(CliError::Input(
+            "a matrix plant's run takes no --input yet".into(),
+        ));
+    }
+    let sc = scenario(m, &a.scenario, a.controller.as_deref())?;
+    let mut files = super::plan(&a.files, &[])?;
+    let out = export::busy("simulating", a.quiet, || sc.run())?;
+    if let Some(p) = &a.files.report {
+        let text = serde_json::to_vec_pretty(&out).map_err(|e| CliError::Runtime(e.to_string()))?;
+        files.add(p, text);
+    }
+    if let Some(p) = &a.files.plot {
+        let svg = export::svg::mimo_svg(std::slice::from_ref(&out))
+            .map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        files.add(p, svg.into_bytes());
+    }
+    use std::io::IsTerminal;
+    let to_terminal = a.files.output.is_none() && std::io::stdout().is_terminal();
+    if !to_terminal {
+        let text = csv(std::slice::from_ref(&out));
+        files.add_or_print(a.files.output.as_ref(), text.into_bytes())?;
+    }
+    files.commit()?;
+    if !a.quiet || to_terminal {
+        export::noteln!(
+            "run         {} s, {} samples",
+            export::fmt_sig(out.duration),
+            out.run.t.len()
+        );
+        for line in report_lines(&out.report, Some(&out.iae)) {
+            export::noteln!("{line}");
+        }
+        for line in interaction_lines(&out) {
+            export::noteln!("{line}");
+        }
+    }
+    Ok(())
+}
+
+/// `msp compare --plant "[…]" -c pi,decoupled`: the schemes on the same
+/// scenario, a row per scheme.
+pub(crate) fn compare(m: &TransferMatrix, a: &CompareArgs) -> Result<(), CliError> {
+    if a.perturb.is_some() {
+        return Err(CliError::Input(
+            "a matrix plant's compare takes no --perturb yet: give the plant itself (a channel's dead time can change with --channel-dead-time)".into(),
+        ));
+    }
+    let mut files = super::plan(&a.files, &[])?;
+    let mut outs = Vec::new();
+    for c in &a.controllers {
+        let sc = scenario(m, &a.scenario, Some(c))?;
+        outs.push(export::busy("simulating", false, || sc.run())?);
+    }
+    if let Some(p) = &a.files.output {
+        files.add(p, csv(&outs).into_bytes());
+    }
+    if let Some(p) = &a.files.report {
+        let text =
+            serde_json::to_vec_pretty(&outs).map_err(|e| CliError::Runtime(e.to_string()))?;
+        files.add(p, text);
+    }
+    if let Some(p) = &a.files.plot {
+        let svg =
+            export::svg::mimo_svg(&outs).map_err(|e| CliError::Runtime(format!("plot: {e}")))?;
+        files.add(p, svg.into_bytes());
+    }
+    files.commit()?;
+    let n = m.size();
+    let mut head = format!(
+        "{:<10} {:>8} {:>9} {:>9}",
+        "scheme", "F", "Lcm dB", "stable"
+    );
+    for i in 1..=n {
+        head.push_str(&format!(" {:>10}", format!("IAE{i}")));
+    }
+    head.push_str(&format!(" {:>12}", "interaction"));
+    export::outln!("{head}")?;
+    for o in &outs {
+        let r = &o.report;
+        let mut row = format!(
+            "{:<10} {:>8} {:>9} {:>9}",
+            r.design.scheme,
+            export::fmt_sig(r.design.f),
+            export::fmt_sig(r.lcm),
+            r.stability.summary()
+        );
+        for v in &o.iae {
+            row.push_str(&format!(" {:>10}", export::fmt_sig(*v)));
+        }
+        // the largest deviation of an output whose own set point did not step
+        let worst = o
+            .interaction
+            .iter()
+            .flat_map(|x| {
+                x.deviation
+                    .iter()
+                    .enumerate()
+                    .filter(move |(i, _)| *i != x.step_loop)
+                    .map(|(_, d)| *d)
+            })
+            .fold(0.0f64, f64::max);
+        row.push_str(&format!(" {:>12}", export::fmt_sig(worst)));
+        export::outln!("{row}")?;
+    }
+    Ok(())
+}
