@@ -293,7 +293,123 @@ fn capacity(c: &mut Criterion) {
     g.finish();
 }
 
+/// The Wood–Berry column at 1 min: `(K, τ, θ)` of `g11, g12, g21, g22`.
+const WOOD_BERRY: [(f64, f64, f64); 4] = [
+    (12.8, 16.7, 1.0),
+    (-18.9, 21.0, 3.0),
+    (6.6, 10.9, 7.0),
+    (-19.4, 14.4, 3.0),
+];
+
+/// Channel `(K, τ, θ)` sampled at 1 (ZOH, `a = e^{−1/τ}`, `b = K(1 − a)`),
+/// its dead time in a ring of 8.
+struct Channel<T> {
+    a: T,
+    b: T,
+    x: T,
+    ring: [T; 8],
+    at: usize,
+    d: usize,
+}
+
+impl<T: Real> Channel<T> {
+    fn new((k, tau, theta): (f64, f64, f64)) -> Self {
+        let a = (-1.0 / tau).exp();
+        Channel {
+            a: T::of(a),
+            b: T::of(k * (1.0 - a)),
+            x: T::zero(),
+            ring: [T::zero(); 8],
+            at: 0,
+            d: theta as usize,
+        }
+    }
+    /// Holds `u[k]` over the period: `y[k + 1] = a·y[k] + b·u[k − θ]`.
+    #[inline(always)]
+    fn step(&mut self, u: T) -> T {
+        let late = self.ring[(self.at + 8 - self.d) % 8];
+        self.ring[self.at] = u;
+        self.at = (self.at + 1) % 8;
+        self.x = self.a * self.x + self.b * late;
+        self.x
+    }
+}
+
+/// Loop `i`'s Smith predictor on `gᵢᵢ` (λ = θᵢᵢ: `Kc = τ/(K·λ)`, `τI = τ`).
+fn wb_smith<T: Real>(i: usize) -> SmithPredictor<T, 1, [T; 8]> {
+    let (k, tau, theta) = WOOD_BERRY[i * 3];
+    let m: ProcessModel<T> = Fopdt::new(T::of(k), T::of(tau), T::of(theta))
+        .map(Into::into)
+        .expect("model");
+    let cfg = PidConfig::isa(T::of(tau / (k * theta)), T::of(tau), T::zero(), T::one());
+    SmithPredictor::from_model(cfg, &m, T::one()).expect("smith")
+}
+
+/// A 2×2 closed-loop sample (#51 item 8): the Wood–Berry column under the
+/// decoupled Smith predictors and under decentralized ones (`no_std`
+/// forms, arrays), beside one loop of its diagonal under one Smith
+/// predictor, each through its exactly sampled channels.
+fn mimo<T: Real>(c: &mut Criterion, ty: &str) {
+    use msp::mimo::{fopdt_element, Decentralized, Decoupled, InvertedDecoupler, MultiController};
+    let group = format!("update/{ty}/mimo");
+    let fopdt = |i: usize| {
+        let (k, t, l) = WOOD_BERRY[i];
+        Fopdt::new(T::of(k), T::of(t), T::of(l)).expect("model")
+    };
+    let el = |i: usize, j: usize| {
+        Some(
+            fopdt_element(&fopdt(i * 2 + j), &fopdt(i * 3), T::one(), [T::zero(); 8])
+                .expect("element"),
+        )
+    };
+    let decoupler =
+        InvertedDecoupler::new([[None, el(0, 1)], [el(1, 0), None]]).expect("decoupler");
+    let mut decoupled = Decoupled::new([wb_smith::<T>(0), wb_smith::<T>(1)], decoupler);
+    let mut decentralized = Decentralized::new([wb_smith::<T>(0), wb_smith::<T>(1)]);
+    let two = |c: &mut Criterion, name: &str, ctl: &mut dyn MultiController<T>| {
+        let mut g = c.benchmark_group(&group);
+        g.throughput(Throughput::Elements(1));
+        let mut plant: [Channel<T>; 4] = WOOD_BERRY.map(Channel::new);
+        let (mut y, mut u, mut k) = ([T::zero(); 2], [T::zero(); 2], 0u32);
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                k = k.wrapping_add(1);
+                let r = if (k >> 8) & 1 == 0 {
+                    T::one()
+                } else {
+                    T::zero()
+                };
+                ctl.update(&[black_box(r), T::zero()], &y, &mut u);
+                let [g11, g12, g21, g22] = &mut plant;
+                y = [
+                    g11.step(u[0]) + g12.step(u[1]),
+                    g21.step(u[0]) + g22.step(u[1]),
+                ];
+                u[0]
+            })
+        });
+        g.finish();
+    };
+    two(c, "2x2 decoupled smith (wood-berry)", &mut decoupled);
+    two(
+        c,
+        "2x2 decentralized smith (wood-berry)",
+        &mut decentralized,
+    );
+    let mut one = wb_smith::<T>(0);
+    let mut ch = Channel::<T>::new(WOOD_BERRY[0]);
+    closed_through(
+        c,
+        &group,
+        "1x1 smith (wood-berry's g11)",
+        |r, y| one.update(r, y),
+        move |u| ch.step(u),
+    );
+}
+
 fn all(c: &mut Criterion) {
+    mimo::<f64>(c, "f64");
+    mimo::<f32>(c, "f32");
     updates::<f64>(c, "f64");
     updates::<f32>(c, "f32");
     registry_updates::<f64>(c, "f64");

@@ -266,6 +266,20 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         self.apply(next);
     }
 
+    /// Pushes `x[n]` without reading (after [`Delay::peek`] read the
+    /// sample's output; a ramped delay change does not move).
+    #[inline]
+    pub fn push(&mut self, x: T) {
+        let head = self.head;
+        let buf = self.buf.as_mut();
+        let n = buf.len();
+        if let Some(slot) = buf.get_mut(head) {
+            *slot = x;
+            let h = head.wrapping_add(1);
+            self.head = if h >= n { 0 } else { h };
+        }
+    }
+
     /// Pushes `x[n]` and returns `x[n − d]`.
     #[inline]
     pub fn process(&mut self, x: T) -> T {

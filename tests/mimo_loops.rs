@@ -372,3 +372,92 @@ fn decentralized_over_an_array_and_a_vec_agree() {
     }
     assert_eq!(MultiController::<f64>::loops(&a), 2);
 }
+
+/// The firmware's decoupled compensator — `fopdt_element`'s closed form of
+/// each element over arrays, Smith predictors from `from_model` — is the
+/// host's (`msp::study::mimo::controller` of the design, whose elements
+/// are the ratios of the exact sampled channels): on the Wood–Berry column
+/// and on random first-order channels with fractions of a sample, the same
+/// inputs sample for sample (f64, to rounding).
+#[test]
+fn the_firmware_decoupler_is_the_hosts() {
+    use msp::mimo::{fopdt_element, Decoupled, InvertedDecoupler};
+    use msp::{Fopdt, ProcessModel, SmithPredictor};
+    type Sp = SmithPredictor<f64, 1, [f64; 64]>;
+    let mut rng = Rng(0x00f1_2e55_5eed_0001);
+    let wb = [
+        (12.8, 16.7, 1.0),
+        (-18.9, 21.0, 3.0),
+        (6.6, 10.9, 7.0),
+        (-19.4, 14.4, 3.0),
+    ];
+    for case in 0..6 {
+        let ts = if case == 0 { 1.0 } else { 0.5 };
+        let ch: Vec<(f64, f64, f64)> = if case == 0 {
+            wb.to_vec()
+        } else {
+            let th = [1.0 + 2.0 * rng.uni(), 1.0 + 2.0 * rng.uni()];
+            (0..4)
+                .map(|idx| {
+                    let (i, j) = (idx / 2, idx % 2);
+                    // diagonal: whole samples and a fraction below 0.4
+                    let l = if i == j {
+                        (th[i] / ts).round() * ts + 0.4 * ts * rng.uni()
+                    } else {
+                        th[i] + 2.0 * rng.uni()
+                    };
+                    let k = if i == j {
+                        1.0 + rng.uni()
+                    } else {
+                        rng.uni() - 0.5
+                    };
+                    (k, 2.0 + 8.0 * rng.uni(), l)
+                })
+                .collect()
+        };
+        let rows: Vec<Vec<TransferFunction>> = (0..2)
+            .map(|i| {
+                (0..2)
+                    .map(|j| {
+                        let (k, t, l) = ch[i * 2 + j];
+                        TransferFunction::new(&[k], &[t, 1.0], l).unwrap()
+                    })
+                    .collect()
+            })
+            .collect();
+        let m = TransferMatrix::new(rows).unwrap();
+        let d = design(&m, "decoupled", ts).unwrap();
+        let f = |idx: usize| Fopdt::new(ch[idx].0, ch[idx].1, ch[idx].2).unwrap();
+        let el = |i: usize, j: usize| {
+            Some(fopdt_element(&f(i * 2 + j), &f(i * 3), ts, [0.0; 64]).unwrap())
+        };
+        let dec = InvertedDecoupler::new([[None, el(0, 1)], [el(1, 0), None]]).unwrap();
+        let sp = |i: usize| -> Sp {
+            let p = &d.loops[i];
+            let cfg = PidConfig::isa(p.get("kp").unwrap(), p.get("ti").unwrap(), 0.0, ts);
+            SmithPredictor::from_model(cfg, &ProcessModel::from(f(i * 3)), ts).unwrap()
+        };
+        let mut fw = Decoupled::new([sp(0), sp(1)], dec);
+        let mut host = controller(&m, &d).unwrap();
+        let sps = vec![
+            vec![SetpointStep {
+                value: 1.0,
+                at: 0.0,
+            }],
+            vec![SetpointStep {
+                value: -0.5,
+                at: 20.0,
+            }],
+        ];
+        let a = simulate_mimo(&m, &mut fw, &sps, &Default::default(), ts, 80.0).unwrap();
+        let b = simulate_mimo(&m, &mut *host, &sps, &Default::default(), ts, 80.0).unwrap();
+        for i in 0..2 {
+            for (k, (x, y)) in a.u[i].iter().zip(&b.u[i]).enumerate() {
+                assert!(
+                    (x - y).abs() < 1e-9 * (1.0 + y.abs()),
+                    "{m}: u{i} at {k}: {x} vs {y}"
+                );
+            }
+        }
+    }
+}

@@ -16,7 +16,9 @@
 //! The decoupler is a loop of its own: where a `dᵢⱼ` passes its input
 //! through in the same sample, the inputs are the solution of
 //! `(I + B)·u = v − a`, `a` the elements' outputs for a zero input now and
-//! `B` their direct terms (the `n×n` system solved each sample). Its
+//! `B` their direct terms, constant: `(I + B)⁻¹` is found once, at
+//! construction, and each sample multiplies by it (nothing to solve where
+//! every element is delayed by a sample or more, as most are). Its
 //! internal stability — `det(I + D(z))` without zeros outside the unit
 //! circle, i.e. `det G` without them, since `I + D = diag(gᵢᵢ)⁻¹·G` — is a
 //! property of the plant, checked by the design as well.
@@ -38,25 +40,47 @@ use crate::real::Real;
 pub struct Element<T, const M: usize, S> {
     line: Delay<T, S>,
     block: Lti<T, M>,
+    /// The weight of the sample's own input in the line's output (`1 − d`
+    /// for a delay `d` below a sample, else 0), and in the element's (times
+    /// the block's direct term).
+    weight: T,
+    direct: T,
+    /// The line's output for a zero input now ([`Element::free`]'s).
+    pending: T,
 }
 
 impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
     /// The element from its block and line.
     pub fn new(block: Lti<T, M>, line: Delay<T, S>) -> Self {
-        Element { line, block }
+        let d = line.delay();
+        let weight = if d < T::one() {
+            T::one() - d
+        } else {
+            T::zero()
+        };
+        Element {
+            weight,
+            direct: block.feedthrough() * weight,
+            pending: T::zero(),
+            line,
+            block,
+        }
     }
 
-    /// The element's output if its input were `x` now (nothing advances).
+    /// The element's output for a zero input now (nothing advances but
+    /// the line's reading, kept for [`Element::step`]).
     #[inline(always)]
-    fn peek(&self, x: T) -> T {
-        self.block.output(self.line.peek(x))
+    fn free(&mut self) -> T {
+        self.pending = self.line.peek(T::zero());
+        self.block.output(self.pending)
     }
 
-    /// Advances with the sample's input `x`.
+    /// Advances with the sample's input `x` (after [`Element::free`]: the
+    /// line's output is its reading plus `x`'s weight).
     #[inline(always)]
     fn step(&mut self, x: T) {
-        let d = self.line.process(x);
-        self.block.step(d);
+        self.line.push(x);
+        self.block.step(self.pending + self.weight * x);
     }
 
     /// `d(e^{jθ})`: the block's response and the line's (as it
@@ -85,6 +109,7 @@ impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
     fn reset(&mut self) {
         self.line.reset();
         self.block.reset();
+        self.pending = T::zero();
     }
 }
 
@@ -93,6 +118,8 @@ impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
 #[derive(Debug, Clone)]
 pub struct InvertedDecoupler<T, const N: usize, const M: usize, S> {
     elements: [[Option<Element<T, M, S>>; N]; N],
+    /// `(I + B)⁻¹`, where some element has a direct term (`None`: `I`).
+    inverse: Option<[[T; N]; N]>,
     /// The last inputs (held when the sample's system is singular).
     last: [T; N],
     fault: bool,
@@ -102,7 +129,8 @@ impl<T: Real, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
     InvertedDecoupler<T, N, M, S>
 {
     /// The decoupler from its elements; an element on the diagonal is an
-    /// error (`uᵢ` is `vᵢ` there by construction).
+    /// error (`uᵢ` is `vᵢ` there by construction), and so is a singular
+    /// `I + B` (the elements' direct terms leave the inputs undetermined).
     pub fn new(elements: [[Option<Element<T, M, S>>; N]; N]) -> Result<Self, Error> {
         let diagonal = elements
             .iter()
@@ -113,8 +141,46 @@ impl<T: Real, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
                 "inverted decoupler: an element on the diagonal",
             ));
         }
+        let mut b = [[T::zero(); N]; N];
+        let mut coupled = false;
+        for (i, (row, el_row)) in b.iter_mut().zip(elements.iter()).enumerate() {
+            if let Some(x) = row.get_mut(i) {
+                *x = T::one();
+            }
+            for (x, el) in row.iter_mut().zip(el_row.iter()) {
+                if let Some(el) = el {
+                    *x = *x + el.direct;
+                    coupled |= el.direct != T::zero();
+                }
+            }
+        }
+        // (I + B)⁻¹, column by column
+        let inverse = if coupled {
+            let mut inv = [[T::zero(); N]; N];
+            for j in 0..N {
+                let mut e = [T::zero(); N];
+                if let Some(x) = e.get_mut(j) {
+                    *x = T::one();
+                }
+                let mut a = b;
+                if !solve(&mut a, &mut e) {
+                    return Err(Error::Numerical(
+                        "inverted decoupler: I + B is singular (the elements' direct terms leave the inputs undetermined)",
+                    ));
+                }
+                for (row, x) in inv.iter_mut().zip(e) {
+                    if let Some(y) = row.get_mut(j) {
+                        *y = x;
+                    }
+                }
+            }
+            Some(inv)
+        } else {
+            None
+        };
         Ok(InvertedDecoupler {
             elements,
+            inverse,
             last: [T::zero(); N],
             fault: false,
         })
@@ -122,35 +188,31 @@ impl<T: Real, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
 
     /// The inputs `u` for the loops' outputs `v` (one sample): the
     /// solution of `(I + B)·u = v − a` (see the module documentation).
-    /// A non-finite `v` or a singular system holds the last inputs and
-    /// sets [`InvertedDecoupler::fault`].
+    /// A non-finite `v` holds the last inputs and sets
+    /// [`InvertedDecoupler::fault`].
     #[inline]
     pub fn update(&mut self, v: &[T; N], u: &mut [T; N]) {
-        let mut a = [[T::zero(); N]; N];
-        let mut b = *v;
-        for (i, ((row, el_row), bi)) in a
-            .iter_mut()
-            .zip(self.elements.iter())
-            .zip(b.iter_mut())
-            .enumerate()
-        {
-            if let Some(x) = row.get_mut(i) {
-                *x = T::one();
+        let mut rhs = *v;
+        for (bi, el_row) in rhs.iter_mut().zip(self.elements.iter_mut()) {
+            for el in el_row.iter_mut().flatten() {
+                *bi = *bi - el.free();
             }
-            for (x, el) in row.iter_mut().zip(el_row.iter()) {
-                if let Some(el) = el {
-                    let free = el.peek(T::zero());
-                    *x = *x + (el.peek(T::one()) - free);
-                    *bi = *bi - free;
+        }
+        let solved = match &self.inverse {
+            None => rhs,
+            Some(inv) => {
+                let mut out = [T::zero(); N];
+                for (o, row) in out.iter_mut().zip(inv.iter()) {
+                    *o = row
+                        .iter()
+                        .zip(rhs.iter())
+                        .fold(T::zero(), |s, (m, x)| s + *m * *x);
                 }
+                out
             }
-        }
-        self.fault = !v.iter().all(|x| x.is_finite()) || !solve(&mut a, &mut b);
-        if self.fault {
-            *u = self.last;
-        } else {
-            *u = b;
-        }
+        };
+        self.fault = !solved.iter().all(|x| x.is_finite());
+        *u = if self.fault { self.last } else { solved };
         self.last = *u;
         for row in self.elements.iter_mut() {
             for (el, x) in row.iter_mut().zip(u.iter()) {
@@ -161,8 +223,8 @@ impl<T: Real, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
         }
     }
 
-    /// The last sample could not be solved (or `v` was not finite): its
-    /// inputs are the sample's before.
+    /// The last sample's `v` was not finite: its inputs are the sample's
+    /// before.
     pub fn fault(&self) -> bool {
         self.fault
     }
@@ -259,10 +321,15 @@ impl<T: Real, C: Controller<T>, const N: usize, const M: usize, S: AsRef<[T]> + 
         for (((c, v), r), y) in self.loops.iter_mut().zip(self.v.iter_mut()).zip(r).zip(y) {
             *v = c.update(*r, *y);
         }
-        let mut out = [T::zero(); N];
-        self.decoupler.update(&self.v, &mut out);
-        for (u, x) in u.iter_mut().zip(out) {
-            *u = x;
+        match <&mut [T; N]>::try_from(&mut *u) {
+            Ok(out) => self.decoupler.update(&self.v, out),
+            Err(_) => {
+                let mut out = [T::zero(); N];
+                self.decoupler.update(&self.v, &mut out);
+                for (u, x) in u.iter_mut().zip(out) {
+                    *u = x;
+                }
+            }
         }
     }
 
@@ -271,4 +338,66 @@ impl<T: Real, C: Controller<T>, const N: usize, const M: usize, S: AsRef<[T]> + 
         self.decoupler.reset();
         self.v = [T::zero(); N];
     }
+}
+
+/// The element `dᵢⱼ = gᵢⱼ(z)/gᵢᵢ(z)` of two first-order-plus-dead-time
+/// channels sampled at `ts`, for firmware (no allocation; its line over
+/// `storage`). A channel `K e^{−θs}/(τs + 1)` with `θ = (k + f)·ts` samples
+/// exactly (ZOH, the fraction `f` of a sample split over the period) to
+///
+/// `g(z) = z^{−k−1}·(b₀ + b₁z⁻¹)/(1 − a·z⁻¹)`,  `a = e^{−ts/τ}`,
+/// `b₀ = K(1 − a^{1−f})`, `b₁ = K(a^{1−f} − a)`,
+///
+/// so `dᵢⱼ = z^{−(kᵢⱼ−kᵢᵢ)}·(b₀ᵢⱼ + b₁ᵢⱼz⁻¹)(1 − aᵢᵢz⁻¹) / ((b₀ᵢᵢ + b₁ᵢᵢz⁻¹)(1 −
+/// aᵢⱼz⁻¹))`, the host design's ratio for these channels
+/// (`msp::analysis::mimo::decoupler_design`). Errors where it is not
+/// realizable: `kᵢⱼ < kᵢᵢ` (it would need an advance) or `|b₁ᵢᵢ/b₀ᵢᵢ| ≥ 1`
+/// (the zero of `gᵢᵢ(z)` outside the unit circle: a fraction of a sample
+/// above about one half).
+pub fn fopdt_element<T: Real, S: AsRef<[T]> + AsMut<[T]>>(
+    gij: &crate::model::Fopdt<T>,
+    gii: &crate::model::Fopdt<T>,
+    ts: T,
+    storage: S,
+) -> Result<Element<T, 2, S>, Error> {
+    let ts = crate::real::positive(ts, "ts")?;
+    // (k, a, b0, b1) of a channel
+    let sampled = |g: &crate::model::Fopdt<T>| -> Result<(T, T, T, T), Error> {
+        let d = crate::delay::samples(g.l, ts)?;
+        let (mut k, mut f) = (d.floor(), d - d.floor());
+        if f > T::one() - T::of(1e-9) {
+            (k, f) = (k + T::one(), T::zero());
+        }
+        let a = (-ts / g.t).exp();
+        let a1f = a.powf(T::one() - f);
+        Ok((k, a, g.k * (T::one() - a1f), g.k * (a1f - a)))
+    };
+    let (kij, aij, b0ij, b1ij) = sampled(gij)?;
+    let (kii, aii, b0ii, b1ii) = sampled(gii)?;
+    if kij < kii {
+        return Err(Error::Unsupported(
+            "decoupler: g_ij answers sooner than g_ii (θij < θii): the element would need an advance",
+        ));
+    }
+    let c = b1ii / b0ii;
+    if !(c.abs() < T::one()) {
+        return Err(Error::Unsupported(
+            "decoupler: g_ii(z) has its zero outside the unit circle (a dead time's fraction above about half a sample): its inverse is unstable",
+        ));
+    }
+    let num = [
+        b0ij / b0ii,
+        (b1ij - b0ij * aii) / b0ii,
+        -(b1ij * aii) / b0ii,
+    ];
+    let den = [T::one(), c - aij, -(c * aij)];
+    // whole samples of dead time in g_ii and g_ij: both end in 0, a common
+    // factor z (the first-order block then)
+    let block = if num[2] == T::zero() && den[2] == T::zero() {
+        Lti::from_discrete_tf(&num[..2], &den[..2])?
+    } else {
+        Lti::from_discrete_tf(&num, &den)?
+    };
+    let line = Delay::with_storage(storage, kij - kii)?;
+    Ok(Element::new(block, line))
 }

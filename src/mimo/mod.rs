@@ -15,7 +15,7 @@
 
 mod decoupler;
 
-pub use decoupler::{Decoupled, Element, InvertedDecoupler};
+pub use decoupler::{fopdt_element, Decoupled, Element, InvertedDecoupler};
 
 use core::marker::PhantomData;
 
