@@ -6,6 +6,8 @@ use std::io::Write;
 
 #[path = "src/loops.rs"]
 mod loops;
+#[path = "src/mimo.rs"]
+mod mimo;
 
 fn main() {
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
@@ -13,6 +15,7 @@ fn main() {
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=src/loops.rs");
+    println!("cargo:rerun-if-changed=src/mimo.rs");
     let (mut c, mut p) = loops::smith::<f64>();
     let smith = loops::run(&mut c, &mut p, |_| {});
     let (mut c, mut p) = loops::karan_dey::<f64>();
@@ -31,7 +34,25 @@ fn main() {
     );
     let (mut c, mut p) = loops::smith_adaptive::<f64>();
     let adaptive = loops::run(&mut c, &mut p, |_| {});
+    let (mut c, mut p) = mimo::decentralized::<f64>();
+    let decentralized = mimo::run(&mut c, &mut p);
+    let (mut c, mut p) = mimo::decoupled::<f64>();
+    let decoupled = mimo::run(&mut c, &mut p);
     let mut f = std::fs::File::create(out.join("reference.rs")).expect("reference.rs");
+    writeln!(
+        f,
+        "pub const DECENTRALIZED: [f64; {}] = {:?};",
+        decentralized.len(),
+        decentralized
+    )
+    .expect("write");
+    writeln!(
+        f,
+        "pub const DECOUPLED: [f64; {}] = {:?};",
+        decoupled.len(),
+        decoupled
+    )
+    .expect("write");
     writeln!(f, "pub const SMITH: [f64; {}] = {:?};", smith.len(), smith).expect("write");
     writeln!(f, "pub const KARAN_DEY: [f64; {}] = {:?};", kd.len(), kd).expect("write");
     writeln!(f, "pub const FSP: [f64; {}] = {:?};", fsp.len(), fsp).expect("write");

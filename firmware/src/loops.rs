@@ -217,8 +217,7 @@ pub fn run_operated<T: Real>(
 /// each: half to twice the model's 100 samples) in f32,
 /// no retuning; the loop's process does not drift, so the model it starts
 /// with stays (the estimator learns from the set-point steps and the load).
-pub type AdaptiveSmith<T> =
-    msp::adapt::Adaptive<T, SmithPredictor<T, 1, [T; CAP]>, (), 16, 112>;
+pub type AdaptiveSmith<T> = msp::adapt::Adaptive<T, SmithPredictor<T, 1, [T; CAP]>, (), 16, 112>;
 
 pub fn smith_adaptive<T: Real>() -> (AdaptiveSmith<T>, Plant<T>) {
     let (c, p) = smith::<T>();

@@ -11,6 +11,7 @@
 #![no_main]
 
 mod loops;
+mod mimo;
 
 mod reference {
     include!(concat!(env!("OUT_DIR"), "/reference.rs"));
@@ -193,6 +194,50 @@ fn fma_update(_c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y
 #[inline(never)]
 fn pid_update(c: &mut msp::SmithPredictor<f32, 1, [f32; loops::CAP]>, r: f32, y: f32) -> f32 {
     c.pid_mut().update(r, y)
+}
+
+/// A 2×2 update that does nothing, for the multivariable harness's overhead.
+#[inline(never)]
+fn mimo_empty(_c: &mut mimo::DecoupledSmith<f32>, r: &[f32; 2], _y: &[f32; 2], u: &mut [f32; 2]) {
+    // SAFETY: no instructions, no operands
+    unsafe { core::arch::asm!("", options(nomem, nostack, preserves_flags)) };
+    *u = *r;
+}
+
+/// One update of the decentralized Smith predictors (2×2, Wood–Berry).
+#[inline(never)]
+fn decentralized_update(
+    c: &mut mimo::DecentralizedSmith<f32>,
+    r: &[f32; 2],
+    y: &[f32; 2],
+    u: &mut [f32; 2],
+) {
+    use msp::mimo::MultiController;
+    c.update(r, y, u);
+}
+
+/// One update of the decoupled Smith predictors (2×2, Wood–Berry).
+#[inline(never)]
+fn decoupled_update(
+    c: &mut mimo::DecoupledSmith<f32>,
+    r: &[f32; 2],
+    y: &[f32; 2],
+    u: &mut [f32; 2],
+) {
+    use msp::mimo::MultiController;
+    c.update(r, y, u);
+}
+
+/// A 2×2 loop of [`mimo`] run with SysTick around each update: its RAM, its
+/// outputs at the checkpoints and the mean ticks per call.
+fn measured_mimo<C>(
+    (mut c, mut plant): (C, mimo::Plant<f32>),
+    update: impl FnMut(&mut C, &[f32; 2], &[f32; 2], &mut [f32; 2]),
+) -> (usize, [f32; mimo::CHECKS], f64) {
+    let ram = core::mem::size_of_val(&c);
+    let mut ticks = Ticks::default();
+    let y = mimo::run_mimo(&mut c, &mut plant, |b| ticks.tick(b), update);
+    (ram, y, ticks.mean(mimo::SAMPLES))
 }
 
 /// One Smith-predictor update, kept out of line so its size is its own symbol.
@@ -396,9 +441,33 @@ fn main() -> ! {
     ] {
         hprintln!("instructions: {} {:.1}", name, per(t));
     }
+    // the 2×2 loops (Wood–Berry), through their own harness's overhead
+    let (_, _, base2) = measured_mimo(mimo::decoupled::<f32>(), mimo_empty);
+    let (ram_dc, y_dc, t_dc) = measured_mimo(mimo::decentralized::<f32>(), decentralized_update);
+    let (ram_dd, y_dd, t_dd) = measured_mimo(mimo::decoupled::<f32>(), decoupled_update);
+    let per2 = |t: f64| (t - base2) * ipt + 3.0;
+    for (name, t) in [("decentralized_update", t_dc), ("decoupled_update", t_dd)] {
+        hprintln!("instructions: {} {:.1}", name, per2(t));
+    }
+    let mimo_ok = check(
+        "2x2 decentralized smith (wood-berry)",
+        &y_dc,
+        &reference::DECENTRALIZED,
+        1e-4,
+        per2(t_dc),
+        ram_dc,
+    ) & check(
+        "2x2 decoupled smith (wood-berry)",
+        &y_dd,
+        &reference::DECOUPLED,
+        1e-4,
+        per2(t_dd),
+        ram_dd,
+    );
     // the unstable plant amplifies f32 rounding (its own and the predictor's sum of
     // h = 100 products per sample): a tenth of a percent there
-    let ok = check("smith", &y_sp, &reference::SMITH, 1e-4, per(t_sp), ram_sp)
+    let ok = mimo_ok
+        & check("smith", &y_sp, &reference::SMITH, 1e-4, per(t_sp), ram_sp)
         & check(
             "karan-dey",
             &y_kd,
@@ -425,16 +494,15 @@ fn main() -> ! {
     // estimated in f32, by recursive least squares whose covariance spans
     // four decades (its rounding, ~1e-7 times that, reaches the estimates at
     // ~1e-3 and the output through the applied model)
-    let ok = ok
-        & check(
+    let ok =
+        ok & check(
             "smith adaptive (16 candidate dead times)",
             &y_ad,
             &reference::ADAPTIVE,
             1e-3,
             per(t_ad),
             ram_ad,
-        )
-        & check(
+        ) & check(
             "smith operated (manual, auto, dead time 100 -> 110 samples)",
             &y_op,
             &reference::OPERATED,
