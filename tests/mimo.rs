@@ -54,7 +54,7 @@ fn wood_berrys_rga_and_niederlinski_index() {
 fn luybens_blt_tuning_of_wood_berry() {
     let b = blt(&wood_berry(), None).unwrap();
     let r = |x: f64, d: i32| (x * 10f64.powi(d)).round() / 10f64.powi(d);
-    let zn_ti = b.ziegler_nichols[0].ti;
+    let zn_ti = b.alone[0].ti;
     assert!(b.f >= 8.285 / zn_ti && b.f < 8.295 / zn_ti, "{b:?}");
     assert!((b.f - 2.55).abs() < 0.006, "{b:?}");
     assert_eq!(
@@ -334,4 +334,38 @@ fn pairing_and_blt_on_random_plants() {
             assert!(peak <= 4.0 + 0.01, "{peak} {b:?}");
         }
     }
+}
+
+/// Per-loop SIMC settings with BLT's detuning (#51 item 3): each loop alone
+/// is `msp::tuning::simc` of its diagonal channel with `τc = θ`; the common
+/// factor brings the biggest log modulus to `2n` dB (or is 1 where the
+/// loops alone are already there), and the loops are those settings over
+/// `F` (`Kc/F`, `τI·F`).
+#[test]
+fn simc_loops_detuned_together() {
+    use msp::analysis::mimo::{detune, loops_alone, LoopRule};
+    use msp::{tuning, Fopdt, ProcessModel};
+    let m = wood_berry();
+    let alone = loops_alone(&m, LoopRule::Simc).unwrap();
+    for (i, (k, tau, theta)) in [(12.8, 16.7, 1.0), (-19.4, 14.4, 3.0)]
+        .into_iter()
+        .enumerate()
+    {
+        let g = tuning::simc(
+            &ProcessModel::from(Fopdt::new(k, tau, theta).unwrap()),
+            theta,
+        )
+        .unwrap();
+        assert!((alone[i].kp - g.kp).abs() < 1e-12 && (alone[i].ti - g.ti).abs() < 1e-12);
+    }
+    let b = detune(&m, alone.clone(), None).unwrap();
+    assert!(b.f > 1.0, "{}", b.f);
+    assert!((b.lcm - 4.0).abs() < 1e-6, "{}", b.lcm);
+    for (l, a) in b.loops.iter().zip(&alone) {
+        assert!((l.kp * b.f - a.kp).abs() < 1e-12 && (l.ti / b.f - a.ti).abs() < 1e-9);
+    }
+    // looser target: the loops alone already meet it, F = 1
+    let loose = detune(&m, alone.clone(), Some(40.0)).unwrap();
+    assert_eq!(loose.f, 1.0);
+    assert!(LoopRule::from_name("amigo").is_err());
 }

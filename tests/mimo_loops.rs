@@ -244,7 +244,7 @@ fn the_decoupled_loops_are_independent_on_realizable_plants() {
             })
             .collect();
         let m = TransferMatrix::new(rows).unwrap();
-        let d = design(&m, "decoupled", ts).unwrap();
+        let d = design(&m, "decoupled", None, ts).unwrap();
         for e in &d.decoupler {
             assert_eq!(e.realization, Realization::Exact, "{m}: {}", e.describe());
         }
@@ -314,7 +314,7 @@ fn an_unrealizable_decoupler_says_why_and_what_is_done() {
         vec![tf("0.3e^-5s/(6s+1)"), tf("1.5e^-2s/(3s+1)")],
     ])
     .unwrap();
-    let d = design(&early, "decoupled", ts).unwrap();
+    let d = design(&early, "decoupled", None, ts).unwrap();
     assert_eq!(
         d.decoupler[0].realization,
         Realization::WithoutAdvance { samples: 3 }
@@ -335,7 +335,7 @@ fn an_unrealizable_decoupler_says_why_and_what_is_done() {
         vec![tf("0.3e^-3s/(6s+1)"), tf("1.5e^-1s/(3s+1)")],
     ])
     .unwrap();
-    let d = design(&rhp, "decoupled", ts).unwrap();
+    let d = design(&rhp, "decoupled", None, ts).unwrap();
     match &d.decoupler[0].realization {
         Realization::Static { reason } => assert!(reason.contains("outside the unit circle")),
         r => panic!("{r:?}"),
@@ -349,7 +349,9 @@ fn an_unrealizable_decoupler_says_why_and_what_is_done() {
         vec![tf("2e^-1s/(3s+1)"), tf("1e^-1s/(s+1)")],
     ])
     .unwrap();
-    let e = design(&zero, "decoupled", ts).unwrap_err().to_string();
+    let e = design(&zero, "decoupled", None, ts)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("decoupler's own loop is unstable"), "{e}");
 }
 
@@ -426,7 +428,7 @@ fn the_firmware_decoupler_is_the_hosts() {
             })
             .collect();
         let m = TransferMatrix::new(rows).unwrap();
-        let d = design(&m, "decoupled", ts).unwrap();
+        let d = design(&m, "decoupled", None, ts).unwrap();
         let f = |idx: usize| Fopdt::new(ch[idx].0, ch[idx].1, ch[idx].2).unwrap();
         let el = |i: usize, j: usize| {
             Some(fopdt_element(&f(i * 2 + j), &f(i * 3), ts, [0.0; 64]).unwrap())

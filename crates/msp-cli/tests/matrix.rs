@@ -60,6 +60,23 @@ fn a_matrix_plant_is_tuned_by_blt_or_a_scheme() {
         2,
         "one of pi, smith, decoupled",
     );
+    // SIMC loops alone, then BLT's detuning
+    prints(
+        msp().args(["tune", "--plant", WB, "--rule", "simc"]),
+        &["(SIMC alone: kp = 0.65234, ti = 8)"],
+    );
+    let simc = json_out(&["tune", "--plant", WB, "--rule", "simc", "--json"]);
+    assert_eq!(simc["rule"], "simc");
+    assert!(
+        (simc["loops"][0]["kp"].as_f64().unwrap() * simc["f"].as_f64().unwrap() - 16.7 / 25.6)
+            .abs()
+            < 1e-9
+    );
+    fails(
+        msp().args(["tune", "--plant", WB, "--rule", "amigo"]),
+        2,
+        "rule zn (BLT) or simc",
+    );
 }
 
 /// `msp run` on a matrix plant: CSV columns `t, r1, y1, u1, r2, y2, u2`
@@ -109,6 +126,7 @@ fn a_matrix_plant_runs_as_the_library_does() {
     let lib = msp::study::MimoScenario {
         plant: m,
         controller: Some("smith".into()),
+        rule: None,
         ts: Some(0.1),
         duration: Some(120.0),
         setpoints: vec![

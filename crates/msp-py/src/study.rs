@@ -340,16 +340,18 @@ pub(crate) fn tune<'py>(
 /// the pairing, the Niederlinski index, the design of ``controller``
 /// (``pi``, ``smith``, ``decoupled``), the sampled loop's verdict and Lcm.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, ts=None))]
+#[pyo3(signature = (plant, controller=None, rule=None, ts=None))]
 pub(crate) fn tune_matrix<'py>(
     py: Python<'py>,
     plant: &str,
     controller: Option<String>,
+    rule: Option<String>,
     ts: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m: msp::poly::TransferMatrix = plant.parse().map_err(value_err)?;
+    let scheme = controller.as_deref().unwrap_or("pi");
     let r = py
-        .allow_threads(|| msp::study::mimo::report(&m, controller.as_deref().unwrap_or("pi"), ts))
+        .allow_threads(|| msp::study::mimo::report(&m, scheme, rule.as_deref(), ts))
         .map_err(value_err)?;
     Ok(pythonize::pythonize(py, &r)?.downcast_into::<PyDict>()?)
 }
@@ -357,12 +359,13 @@ pub(crate) fn tune_matrix<'py>(
 /// A matrix plant's run (``msp run --plant "[…]"``): the report (the JSON
 /// of ``--report``) and the columns ``t`` and per loop ``r``, ``y``, ``u``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new()))]
+#[pyo3(signature = (plant, controller=None, rule=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new()))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub(crate) fn run_matrix<'py>(
     py: Python<'py>,
     plant: &str,
     controller: Option<String>,
+    rule: Option<String>,
     ts: Option<f64>,
     duration: Option<f64>,
     loop_setpoint: Vec<String>,
@@ -401,6 +404,7 @@ pub(crate) fn run_matrix<'py>(
     let sc = msp::study::MimoScenario {
         plant: m,
         controller,
+        rule,
         ts,
         duration,
         setpoints,

@@ -479,6 +479,8 @@ def test_a_matrix_plant_gives_luybens_blt_tuning_and_the_clis_report() -> None:
     assert json.loads(out) == msp.tune(text)
     with pytest.raises(ValueError, match="square"):
         msp.tune([["1/(s+1)", "2/(s+1)"]])
+    s = msp.tune(WOOD_BERRY, rule="simc")
+    assert s["rule"] == "simc" and abs(s["alone"][0]["kp"] - 16.7 / 25.6) < 1e-12
     d = msp.tune(WOOD_BERRY, "decoupled", ts=1.0)
     assert [e["realization"]["as"] for e in d["decoupler"]] == ["exact", "exact"]
     assert d["stability"]["stable"] and d["decoupler_stability"]["stable"]

@@ -275,38 +275,100 @@ pub struct Blt {
     pub f: f64,
     /// The loops, in diagonal order.
     pub loops: Vec<PiLoop>,
-    /// Each loop's Ziegler–Nichols PI before detuning.
-    pub ziegler_nichols: Vec<PiLoop>,
+    /// Each loop's PI alone, before detuning (BLT's: Ziegler–Nichols).
+    pub alone: Vec<PiLoop>,
     /// The biggest log modulus reached (dB), `2n`.
     pub lcm: f64,
 }
 
-/// The BLT tuning of `m`'s diagonal loops (Luyben (1986)): each loop's
-/// ultimate gain and period on its own diagonal entry (a reverse-acting
-/// entry: a negative gain), its Ziegler–Nichols PI `Kc = Ku/2.2`,
-/// `τI = Pu/1.2`, and the factor `F ≥ 1` that brings the biggest log
-/// modulus to `lcm_db` (Luyben's `2n` dB: `None`), by bisection on `ln F`.
-pub fn blt(m: &TransferMatrix, lcm_db: Option<f64>) -> Result<Blt, Error> {
+/// How each diagonal loop's PI is set alone, before the common detuning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LoopRule {
+    /// Ziegler–Nichols from the loop's ultimate point: `Kc = Ku/2.2`,
+    /// `τI = Pu/1.2` (BLT, Luyben (1986)).
+    ZieglerNichols,
+    /// Skogestad's SIMC on the loop's first-order (or integrating) model
+    /// with `τc = θ`: `Kc = T/(K(τc + θ))`, `τI = min(T, 4(τc + θ))`
+    /// ([`crate::tuning::simc`]).
+    Simc,
+}
+
+impl LoopRule {
+    /// By name: `zn` (BLT's, the default) or `simc`.
+    pub fn from_name(name: &str) -> Result<Self, Error> {
+        match name {
+            "zn" | "blt" => Ok(LoopRule::ZieglerNichols),
+            "simc" => Ok(LoopRule::Simc),
+            _ => Err(Error::Unsupported(
+                "a matrix plant's PI loops are set by rule zn (BLT) or simc, then detuned together",
+            )),
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            LoopRule::ZieglerNichols => "zn",
+            LoopRule::Simc => "simc",
+        }
+    }
+}
+
+/// Each diagonal loop's PI alone by `rule` (a reverse-acting entry: a
+/// negative gain).
+pub fn loops_alone(m: &TransferMatrix, rule: LoopRule) -> Result<Vec<PiLoop>, Error> {
     let n = m.size();
-    let target = lcm_db.unwrap_or(2.0 * n as f64);
-    let mut zn = Vec::with_capacity(n);
+    let mut out = Vec::with_capacity(n);
     for i in 0..n {
         let g = m.get(i, i).ok_or(Error::OutOfRange("the matrix's size"))?;
-        let sign = g.lead_sign();
-        // (−G: the gain scaled by 1 − 2)
-        let positive = if sign < 0.0 {
-            g.perturbed(-2.0, 0.0, 0.0)?
-        } else {
-            g.clone()
-        };
-        let (ku, pu) = positive.ultimate().ok_or(Error::Unsupported(
-            "a diagonal entry has no ultimate point (its phase never reaches -180°): BLT needs one per loop",
-        ))?;
-        zn.push(PiLoop {
-            kp: sign * ku / 2.2,
-            ti: pu / 1.2,
+        out.push(match rule {
+            LoopRule::ZieglerNichols => {
+                let sign = g.lead_sign();
+                // (−G: the gain scaled by 1 − 2)
+                let positive = if sign < 0.0 {
+                    g.perturbed(-2.0, 0.0, 0.0)?
+                } else {
+                    g.clone()
+                };
+                let (ku, pu) = positive.ultimate().ok_or(Error::Unsupported(
+                    "a diagonal entry has no ultimate point (its phase never reaches -180°): BLT needs one per loop",
+                ))?;
+                PiLoop {
+                    kp: sign * ku / 2.2,
+                    ti: pu / 1.2,
+                }
+            }
+            LoopRule::Simc => {
+                let model = g.reduce(false)?;
+                let theta = model.delay();
+                if !(theta > 0.0) {
+                    return Err(Error::Unsupported(
+                        "SIMC's τc = θ needs a dead time in every diagonal channel",
+                    ));
+                }
+                let p = crate::tuning::simc(&model, theta)?;
+                PiLoop { kp: p.kp, ti: p.ti }
+            }
         });
     }
+    Ok(out)
+}
+
+/// The BLT tuning of `m`'s diagonal loops (Luyben (1986)): each loop's
+/// Ziegler–Nichols PI alone ([`loops_alone`]) detuned together
+/// ([`detune`]) to `lcm_db` (Luyben's `2n` dB: `None`).
+pub fn blt(m: &TransferMatrix, lcm_db: Option<f64>) -> Result<Blt, Error> {
+    detune(m, loops_alone(m, LoopRule::ZieglerNichols)?, lcm_db)
+}
+
+/// Loops `alone` detuned by the factor `F ≥ 1` (`Kc/F`, `τI·F`) that brings
+/// the biggest log modulus to `lcm_db` (`2n` dB: `None`), by bisection on
+/// `ln F` (Luyben (1986)'s procedure, from any starting loops).
+pub fn detune(m: &TransferMatrix, alone: Vec<PiLoop>, lcm_db: Option<f64>) -> Result<Blt, Error> {
+    let n = m.size();
+    #[allow(clippy::cast_precision_loss)]
+    let target = lcm_db.unwrap_or(2.0 * n as f64);
+    let zn = alone;
     let detuned = |f: f64| -> Vec<PiLoop> {
         zn.iter()
             .map(|l| PiLoop {
@@ -321,7 +383,7 @@ pub fn blt(m: &TransferMatrix, lcm_db: Option<f64>) -> Result<Blt, Error> {
             f: 1.0,
             loops: detuned(1.0),
             lcm: lcm_of(1.0),
-            ziegler_nichols: zn,
+            alone: zn,
         });
     }
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
@@ -347,7 +409,7 @@ pub fn blt(m: &TransferMatrix, lcm_db: Option<f64>) -> Result<Blt, Error> {
         f,
         loops: detuned(f),
         lcm: lcm_of(f),
-        ziegler_nichols: zn,
+        alone: zn,
     })
 }
 
@@ -391,6 +453,6 @@ pub fn tuning(m: &TransferMatrix) -> Result<MimoTuning, Error> {
         f: b.f,
         lcm: b.lcm,
         loops: b.loops,
-        ziegler_nichols: b.ziegler_nichols,
+        ziegler_nichols: b.alone,
     })
 }

@@ -8,7 +8,8 @@ use std::vec::Vec;
 
 use super::RunError;
 use crate::analysis::mimo::{
-    blt, decoupler_design, decoupler_verdict, Decoupling, ElementDesign, Realization, SampledLoop,
+    decoupler_design, decoupler_verdict, detune, loops_alone, Decoupling, ElementDesign, LoopRule,
+    Realization, SampledLoop,
 };
 use crate::analysis::Stability;
 use crate::delay::Delay;
@@ -31,7 +32,7 @@ pub struct MimoScheme {
 pub static MIMO_SCHEMES: &[MimoScheme] = &[
     MimoScheme {
         name: "pi",
-        summary: "decentralized PI loops on the diagonal, tuned by BLT (Luyben 1986)",
+        summary: "decentralized PI loops on the diagonal, each set alone (Ziegler-Nichols, or --rule simc) and detuned together to a biggest log modulus of 2n dB (BLT, Luyben 1986)",
     },
     MimoScheme {
         name: "smith",
@@ -67,6 +68,8 @@ pub struct MimoDesign {
     pub scheme: &'static str,
     /// The sample period the design is for (s).
     pub ts: f64,
+    /// The `pi` loops' rule alone (`zn`: BLT's; `simc`).
+    pub rule: Option<&'static str>,
     /// The detuning factor (`pi`: BLT's `Kc/F`, `τI·F`; `smith`: each
     /// loop's `λ` times `F`; `decoupled`: 1, the loops being independent).
     pub f: f64,
@@ -74,6 +77,9 @@ pub struct MimoDesign {
     pub loops: Vec<Params>,
     /// The decoupler's elements (`decoupled`; empty otherwise).
     pub decoupler: Vec<ElementDesign>,
+    /// The `pi` loops alone, before the detuning.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub alone: Option<Vec<crate::analysis::mimo::PiLoop>>,
 }
 
 fn diagonal(plant: &TransferMatrix) -> Result<Vec<&crate::poly::TransferFunction>, RunError> {
@@ -92,21 +98,37 @@ fn smith_loop(g: &crate::poly::TransferFunction, lambda: Option<f64>) -> Result<
     Ok(registry::find("smith")?.tune_with(g, lambda, &[])?)
 }
 
-/// Designs `scheme` for `plant` sampled at `ts`.
-pub fn design(plant: &TransferMatrix, scheme: &str, ts: f64) -> Result<MimoDesign, RunError> {
+/// Designs `scheme` for `plant` sampled at `ts`; `rule` sets the `pi`
+/// loops alone before their detuning (`zn`, BLT's, by default; `simc`).
+pub fn design(
+    plant: &TransferMatrix,
+    scheme: &str,
+    rule: Option<&str>,
+    ts: f64,
+) -> Result<MimoDesign, RunError> {
     let s = find(scheme)?;
+    if rule.is_some() && s.name != "pi" {
+        return Err(RunError::Limit(std::format!(
+            "a rule sets the pi loops of a matrix plant; the {} scheme tunes its loops by λ",
+            s.name
+        )));
+    }
     let n = plant.size();
     let diag = diagonal(plant)?;
     let base = MimoDesign {
         scheme: s.name,
         ts,
         f: 1.0,
+        rule: None,
         loops: Vec::new(),
         decoupler: Vec::new(),
+        alone: None,
     };
     match s.name {
         "pi" => {
-            let b = blt(plant, None).map_err(RunError::Invalid)?;
+            let rule = LoopRule::from_name(rule.unwrap_or("zn")).map_err(RunError::Invalid)?;
+            let alone = loops_alone(plant, rule).map_err(RunError::Invalid)?;
+            let b = detune(plant, alone, None).map_err(RunError::Invalid)?;
             let pi = registry::find("pi")?;
             let loops = b
                 .loops
@@ -123,7 +145,9 @@ pub fn design(plant: &TransferMatrix, scheme: &str, ts: f64) -> Result<MimoDesig
                 .collect::<Result<_, RunError>>()?;
             Ok(MimoDesign {
                 f: b.f,
+                rule: Some(rule.name()),
                 loops,
+                alone: Some(b.alone),
                 ..base
             })
         }

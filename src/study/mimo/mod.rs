@@ -56,8 +56,8 @@ pub struct MimoReport {
     /// The scheme's design.
     #[cfg_attr(feature = "serde", serde(flatten))]
     pub design: MimoDesign,
-    /// The BLT tuning's Ziegler–Nichols loops before detuning (`pi`).
-    pub ziegler_nichols: Option<Vec<crate::analysis::mimo::PiLoop>>,
+    /// The PI loops alone, before the detuning (`pi`: by `rule`).
+    pub alone: Option<Vec<crate::analysis::mimo::PiLoop>>,
     /// The sampled closed loop's stability verdict (a run adds its
     /// cross-check).
     pub stability: Stability,
@@ -80,19 +80,20 @@ pub fn period(plant: &TransferMatrix) -> f64 {
 pub fn report(
     plant: &TransferMatrix,
     scheme: &str,
+    rule: Option<&str>,
     ts: Option<f64>,
 ) -> Result<MimoReport, RunError> {
     let ts = ts.unwrap_or_else(|| period(plant));
     crate::real::positive(ts, "ts").map_err(RunError::Invalid)?;
     let t: MimoTuning = tuning(plant).map_err(RunError::Invalid)?;
-    let design = design(plant, scheme, ts)?;
+    let design = design(plant, scheme, rule, ts)?;
     let (stability, decoupler_stability, lcm) = analyse(plant, &design)?;
     Ok(MimoReport {
         plant: t.plant,
         rga: t.rga,
         pairing: t.pairing,
         niederlinski: t.niederlinski,
-        ziegler_nichols: (design.scheme == "pi").then_some(t.ziegler_nichols),
+        alone: design.alone.clone(),
         design,
         stability,
         decoupler_stability,
@@ -109,6 +110,9 @@ pub struct MimoScenario {
     pub plant: TransferMatrix,
     /// The scheme's name ([`MIMO_SCHEMES`]; `pi` when `None`).
     pub controller: Option<std::string::String>,
+    /// The `pi` loops' rule before the detuning (`zn`, BLT's, when `None`;
+    /// `simc`).
+    pub rule: Option<std::string::String>,
     /// The sample period (s; [`period`] when `None`).
     pub ts: Option<f64>,
     /// The run's duration (s; enough for the slowest loop to settle after
@@ -175,7 +179,12 @@ impl MimoScenario {
             } else {
                 self.setpoints.clone()
             };
-        let mut out = report(plant, self.controller.as_deref().unwrap_or("pi"), Some(ts))?;
+        let mut out = report(
+            plant,
+            self.controller.as_deref().unwrap_or("pi"),
+            self.rule.as_deref(),
+            Some(ts),
+        )?;
         let mut c = controller(plant, &out.design)?;
         let run = simulate_mimo(plant, &mut *c, &setpoints, &self.events, ts, duration)
             .map_err(RunError::Invalid)?;

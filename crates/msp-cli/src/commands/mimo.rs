@@ -19,7 +19,6 @@ fn single_loop_flags(s: &ScenarioArgs) -> Vec<&'static str> {
         ("--inner-plant", s.inner_plant.is_some()),
         ("--inner-model", s.inner_model.is_some()),
         ("--lambda", d.lambda.is_some()),
-        ("--rule", d.rule.is_some()),
         ("--target", d.target.is_some()),
         ("--set", !d.set.is_empty()),
         ("--setpoint", !s.setpoint.is_empty()),
@@ -81,6 +80,7 @@ fn scenario(
     Ok(MimoScenario {
         plant: m.clone(),
         controller: controller.map(str::to_string),
+        rule: s.design.rule.clone(),
         ts: s.ts,
         duration: s.duration,
         setpoints,
@@ -143,13 +143,17 @@ fn report_lines(r: &MimoReport, iae: Option<&[f64]>) -> Vec<String> {
             .iter()
             .map(|(k, v)| format!("{k} = {}", export::fmt_sig(v)))
             .collect();
+        let rule = match d.rule {
+            Some("simc") => "SIMC",
+            _ => "Ziegler-Nichols",
+        };
         let zn = r
-            .ziegler_nichols
+            .alone
             .as_ref()
             .and_then(|z| z.get(i))
             .map_or(String::new(), |z| {
                 format!(
-                    "  (Ziegler-Nichols alone: kp = {}, ti = {})",
+                    "  ({rule} alone: kp = {}, ti = {})",
                     export::fmt_sig(z.kp),
                     export::fmt_sig(z.ti)
                 )
@@ -185,7 +189,12 @@ pub(crate) fn tune(m: &TransferMatrix, a: &TuneArgs) -> Result<(), CliError> {
             "a matrix plant's tuning takes -c pi|smith|decoupled and --ts: drop --inner-plant, --rules and --uncertainty".into(),
         ));
     }
-    let r = report(m, a.controller.as_deref().unwrap_or("pi"), a.ts)?;
+    let r = report(
+        m,
+        a.controller.as_deref().unwrap_or("pi"),
+        a.design.rule.as_deref(),
+        a.ts,
+    )?;
     if a.json {
         return export::print_json(&r);
     }
@@ -204,7 +213,12 @@ pub(crate) fn margins(m: &TransferMatrix, a: &MarginsArgs) -> Result<(), CliErro
         ));
     }
     let sc = scenario(m, &a.scenario, a.controller.as_deref())?;
-    let r = report(m, sc.controller.as_deref().unwrap_or("pi"), sc.ts)?;
+    let r = report(
+        m,
+        sc.controller.as_deref().unwrap_or("pi"),
+        sc.rule.as_deref(),
+        sc.ts,
+    )?;
     if a.json {
         return export::print_json(&r);
     }

@@ -79,6 +79,7 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
 
 #: The keywords of a matrix plant's run (the CLI's flags of the same names).
 MATRIX_KEYWORDS = (
+    "rule",
     "ts",
     "duration",
     "loop_setpoint",
@@ -101,7 +102,7 @@ class MimoResult:
         Shape ``(n, samples)``: each loop's set point, output and input.
     report : dict
         ``{"plant", "rga", "pairing", "niederlinski", "scheme", "ts", "f", "loops",
-        "decoupler", "ziegler_nichols", "stability", "decoupler_stability", "lcm", "duration",
+        "decoupler", "rule", "alone", "stability", "decoupler_stability", "lcm", "duration",
         "setpoints", "loads", "iae", "interaction"}``.
     iae : list of float
         Each loop's IAE.
@@ -155,7 +156,7 @@ def _run_matrix(matrix: str, controller: Optional[str], params: Any, delay: Any,
     if dp is not None and not isinstance(dp, str):
         dp = "[" + "; ".join(str(e) for e in dp) + "]"
     return MimoResult(_msp.run_matrix(
-        matrix, controller, scenario.get("ts"), scenario.get("duration"),
+        matrix, controller, scenario.get("rule"), scenario.get("ts"), scenario.get("duration"),
         _loop_list(scenario.get("loop_setpoint")), _loop_list(scenario.get("loop_disturbance")),
         dp, _loop_list(scenario.get("disturbance_step")),
         _loop_list(scenario.get("channel_dead_time"))))
@@ -1231,7 +1232,7 @@ def tune(
 
     A multivariable plant (MATLAB's ``"[g11, g12; g21, g22]"``, or a nested list of expressions)
     gives ``msp tune``'s matrix report instead: ``{"plant", "rga", "pairing", "niederlinski",
-    "scheme", "ts", "f", "loops": [{"kp", "ti", ...}, ...], "decoupler", "ziegler_nichols",
+    "scheme", "ts", "rule", "f", "loops": [{"kp", "ti", ...}, ...], "decoupler", "alone",
     "stability", "decoupler_stability", "lcm"}`` for ``controller`` ``"pi"`` (the BLT tuning
     of decentralized PI loops, Luyben 1986; the default), ``"smith"`` or ``"decoupled"``,
     at the period ``ts``.
@@ -1244,9 +1245,9 @@ def tune(
     """
     matrix = _matrix(plant)
     if matrix is not None:
-        if params or delay is not None or uncertainty is not None or set(scenario) - {"ts"}:
-            raise ValueError("a matrix plant's tuning takes controller and ts only")
-        return _msp.tune_matrix(matrix, controller, scenario.get("ts"))
+        if params or delay is not None or uncertainty is not None or set(scenario) - {"ts", "rule"}:
+            raise ValueError("a matrix plant's tuning takes controller, rule and ts only")
+        return _msp.tune_matrix(matrix, controller, scenario.get("rule"), scenario.get("ts"))
     unc: Any = dict(uncertainty) if isinstance(uncertainty, Mapping) else uncertainty
     kw = _scenario(scenario, controller=controller, params=params)
     return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)
