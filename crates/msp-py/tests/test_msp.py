@@ -479,6 +479,12 @@ def test_a_matrix_plant_gives_luybens_blt_tuning_and_the_clis_report() -> None:
     assert json.loads(out) == msp.tune(text)
     with pytest.raises(ValueError, match="square"):
         msp.tune([["1/(s+1)", "2/(s+1)"]])
+    # python-control transfer functions with their delays, exactly
+    import control
+
+    pc = [[(control.tf([12.8], [16.7, 1]), 1.0), (control.tf([-18.9], [21, 1]), 3.0)],
+          [(control.tf([6.6], [10.9, 1]), 7.0), (control.tf([-19.4], [14.4, 1]), 3.0)]]
+    assert msp.tune(pc)["loops"] == msp.tune(WOOD_BERRY)["loops"]
     s = msp.tune(WOOD_BERRY, rule="simc")
     assert s["rule"] == "simc" and abs(s["alone"][0]["kp"] - 16.7 / 25.6) < 1e-12
     d = msp.tune(WOOD_BERRY, "decoupled", ts=1.0)

@@ -1253,14 +1253,42 @@ def tune(
     return _msp.tune(_plant(plant, delay), uncertainty=unc, **kw)
 
 
+def _entry(e: Any) -> str:
+    """A matrix entry as the plant grammar writes it: an expression as given, a number, or an
+    :class:`Plant`, a python-control transfer function or a ``(tf, delay)`` pair with every
+    coefficient written exactly (Python's shortest round-trip ``repr``)."""
+    if isinstance(e, str):
+        return e
+    if isinstance(e, (int, float)) and not isinstance(e, bool):
+        return repr(float(e))
+    p = _plant(e)
+    if isinstance(p, str):
+        return p
+
+    def poly(c: Sequence[float]) -> str:
+        n = len(c) - 1
+        return " + ".join(f"({float(x)!r})*s^{n - i}" for i, x in enumerate(c))
+
+    text = f"({poly(p.num)})/({poly(p.den)})"
+    return f"{text}*e^(-({float(p.delay)!r})*s)" if p.delay > 0 else text
+
+
 def _matrix(plant: Any) -> Optional[str]:
     """A multivariable plant as MATLAB's matrix string: ``"[g11, g12; g21, g22]"`` as given,
-    or a nested list of expressions (``0`` for a channel without coupling); ``None`` else."""
+    or a nested list of entries (expressions, ``0`` for a channel without coupling,
+    :class:`Plant`, python-control transfer functions, ``(tf, delay)`` pairs); ``None`` else."""
     if isinstance(plant, str):
         return plant if plant.lstrip().startswith("[") else None
-    if isinstance(plant, (list, tuple)) and plant and all(isinstance(r, (list, tuple)) for r in plant):
-        return "[" + "; ".join(", ".join(str(e) for e in row) for row in plant) + "]"
+    if (isinstance(plant, (list, tuple)) and plant
+            and all(isinstance(r, (list, tuple)) and not _is_pair(r) for r in plant)):
+        return "[" + "; ".join(", ".join(_entry(e) for e in row) for row in plant) + "]"
     return None
+
+
+def _is_pair(r: Any) -> bool:
+    """A ``(tf, delay)`` pair rather than a matrix row."""
+    return (isinstance(r, tuple) and len(r) == 2 and isinstance(r[1], (int, float))
+            and hasattr(r[0], "num"))
 
 
 def tune_rules(
