@@ -100,6 +100,12 @@ typedef struct msp_estimator msp_estimator;
 // An identifier built by `msp_estimator_init_f64` (opaque).
 typedef struct msp_estimator_f64 msp_estimator_f64;
 
+// A 2×2 controller built by `msp_mimo2_init` (opaque).
+typedef struct msp_mimo2 msp_mimo2;
+
+// A 2×2 controller built by `msp_mimo2_init_f64` (opaque).
+typedef struct msp_mimo2_f64 msp_mimo2_f64;
+
 // A relay experiment built by [`msp_relay_init`] (opaque).
 typedef struct msp_relay msp_relay;
 
@@ -536,6 +542,40 @@ typedef struct {
 
 // In `double`, a host's type.
 typedef msp_pid_config_double msp_pid_config_f64;
+
+// A 2×2 plant's controller: the channels `g[0..4]` = `g11, g12, g21,
+// g22` (first order plus dead time, `MSP_FOPDT`; `g_ij` from input `j`
+// to output `i`), each loop's PI `pid[i]` inside its Smith predictor on
+// `g_ii`, sampled every `ts` seconds; `decoupled` nonzero puts the
+// inverted decoupler `d_ij = g_ij/g_ii` (the exact ratio of the sampled
+// channels) between the predictors and the plant, which needs each
+// `g_ij` to answer no sooner than `g_ii` (else `MSP_UNSUPPORTED`).
+typedef struct {
+  float ts;
+  msp_model_float g[4];
+  msp_pid_params_float pid[2];
+  uint32_t decoupled;
+} msp_mimo2_config_of_f32;
+
+// In `float`, the device's type.
+typedef msp_mimo2_config_of_f32 msp_mimo2_config;
+
+// A 2×2 plant's controller: the channels `g[0..4]` = `g11, g12, g21,
+// g22` (first order plus dead time, `MSP_FOPDT`; `g_ij` from input `j`
+// to output `i`), each loop's PI `pid[i]` inside its Smith predictor on
+// `g_ii`, sampled every `ts` seconds; `decoupled` nonzero puts the
+// inverted decoupler `d_ij = g_ij/g_ii` (the exact ratio of the sampled
+// channels) between the predictors and the plant, which needs each
+// `g_ij` to answer no sooner than `g_ii` (else `MSP_UNSUPPORTED`).
+typedef struct {
+  double ts;
+  msp_model_double g[4];
+  msp_pid_params_double pid[2];
+  uint32_t decoupled;
+} msp_mimo2_config_of_f64;
+
+// In `double`, a host's type.
+typedef msp_mimo2_config_of_f64 msp_mimo2_config_f64;
 
 // Settings of a relay experiment (Kaya (2003) Fig. 4, Sec. 3.1):
 // amplitude `h` (negative for a reverse-acting process: the identified
@@ -1180,6 +1220,76 @@ msp_status msp_retune(msp_controller *ctrl, uint32_t gain, float value);
 // # Safety
 // As [`msp_retune`].
 msp_status msp_retune_f64(msp_controller_f64 *ctrl, uint32_t gain, double value);
+
+// Fills `*config` for the 2×2 plant `g` (`g11, g12, g21, g22`, each
+// `MSP_FOPDT`) at the period `ts`: each loop's PI inside its Smith
+// predictor by Kaya (2003), `kp = τ/(K·λ)`, `ti = τ`, with `λ = θ` of its
+// channel when `decoupled` (the loops do not see each other) and
+// `λ = 2θ` when not (the coupling is the loops' disturbance: `msp tune
+// --plant "[…]" -c smith` detunes them on the host to a biggest log
+// modulus of 4 dB, whose `loops` can be copied into `pid`).
+//
+// # Safety
+// `g` is null or points to four models; `config` is null or writable.
+msp_status msp_tune_mimo2(const msp_model *g,
+                          float ts,
+                          uint32_t decoupled,
+                          msp_mimo2_config *config);
+
+// [`msp_tune_mimo2`] in double precision.
+//
+// # Safety
+// As [`msp_tune_mimo2`].
+msp_status msp_tune_mimo2_f64(const msp_model_f64 *g,
+                              double ts,
+                              uint32_t decoupled,
+                              msp_mimo2_config_f64 *config);
+
+// The bytes a 2×2 controller needs (its delay lines included); 0 on an
+// error, with the reason in `*status` (`status` may be null).
+//
+// # Safety
+// `config` and `status` are null or valid pointers.
+size_t msp_mimo2_size(const msp_mimo2_config *config, msp_status *status);
+
+// [`msp_mimo2_size`] in double precision.
+//
+// # Safety
+// As [`msp_mimo2_size`].
+size_t msp_mimo2_size_f64(const msp_mimo2_config_f64 *config, msp_status *status);
+
+// Builds a 2×2 controller in `buf` (`len` bytes, any alignment); `*ctrl`
+// is its handle.
+//
+// # Safety
+// `buf` is null or points to `len` writable bytes that stay in place
+// while the controller is used; `config` and `ctrl` are null or valid.
+msp_status msp_mimo2_init(void *buf, size_t len, const msp_mimo2_config *config, msp_mimo2 **ctrl);
+
+// [`msp_mimo2_init`] in double precision.
+//
+// # Safety
+// As [`msp_mimo2_init`].
+msp_status msp_mimo2_init_f64(void *buf,
+                              size_t len,
+                              const msp_mimo2_config_f64 *config,
+                              msp_mimo2_f64 **ctrl);
+
+// One sample: the set points `r[2]` and measurements `y[2]` in, the
+// plant's inputs `u[2]` out. A handle that is not a 2×2 one of this
+// precision gives `MSP_BAD_HANDLE` (`MSP_NULL_POINTER` for null) and
+// leaves `u` alone.
+//
+// # Safety
+// `ctrl` is null or from `msp_mimo2_init`; `r`, `y` are null or point
+// to two readable values, `u` to two writable ones.
+msp_status msp_mimo2_update(msp_mimo2 *ctrl, const float *r, const float *y, float *u);
+
+// [`msp_mimo2_update`] in double precision.
+//
+// # Safety
+// As [`msp_mimo2_update`].
+msp_status msp_mimo2_update_f64(msp_mimo2_f64 *ctrl, const double *r, const double *y, double *u);
 
 // Tunes a Smith predictor for the FOPDT model `k e^{−θs}/(τs + 1)`: Kaya's
 // IMC PI `kp = τ/(kλ)`, `ti = τ` (Kaya (2003) Eqs. 20–21), with the

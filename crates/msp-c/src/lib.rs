@@ -84,6 +84,7 @@ macro_rules! c_config {
 mod adapt;
 mod api;
 mod handle;
+mod mimo;
 mod relay;
 
 use core::ffi::c_char;
@@ -91,6 +92,7 @@ use core::ffi::c_char;
 pub use adapt::*;
 pub use api::*;
 pub use handle::*;
+pub use mimo::*;
 pub use relay::*;
 
 c_enum! {

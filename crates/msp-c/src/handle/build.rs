@@ -43,7 +43,7 @@ pub(super) fn takes(m: &msp_model_of<impl Real>, kinds: &[msp_model_kind]) -> Re
 }
 
 /// The model's dead time in samples (checked) at the period `ts`.
-pub(super) fn dead_time<T: Real>(
+pub(crate) fn dead_time<T: Real>(
     m: &msp_model_of<T>,
     ts: T,
 ) -> Result<(ProcessModel<T>, T), Error> {
@@ -65,7 +65,7 @@ pub(super) fn positive<T: Real>(v: T, name: &'static str) -> Result<T, Error> {
 }
 
 /// Whole samples of a delay of `d` samples, when it fits in 2³¹.
-pub(super) fn whole<T: Real>(d: T) -> Option<usize> {
+pub(crate) fn whole<T: Real>(d: T) -> Option<usize> {
     let c = d.ceil().to_f64()?;
     if c.is_finite() && (0.0..2_147_483_648.0).contains(&c) {
         // in range: checked just above
