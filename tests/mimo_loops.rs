@@ -463,3 +463,59 @@ fn the_firmware_decoupler_is_the_hosts() {
         }
     }
 }
+
+/// Each loop's events of a multivariable run are the single loop's
+/// measures: under the decoupler, loop 1's set-point step on Wood–Berry has
+/// the step information and IAE of the single-loop run of its Smith
+/// predictor on `g11` (the same samples, the same measure).
+#[test]
+fn a_loops_events_are_the_single_loops() {
+    use msp::study::{Event, MimoScenario, Scenario};
+    let m = TransferMatrix::new(vec![
+        vec![tf("12.8e^-1s/(16.7s+1)"), tf("-18.9e^-3s/(21s+1)")],
+        vec![tf("6.6e^-7s/(10.9s+1)"), tf("-19.4e^-3s/(14.4s+1)")],
+    ])
+    .unwrap();
+    let step = SetpointStep {
+        value: 1.0,
+        at: 0.0,
+    };
+    let out = MimoScenario {
+        plant: m.clone(),
+        controller: Some("decoupled".into()),
+        rule: None,
+        ts: Some(0.5),
+        duration: Some(100.0),
+        setpoints: vec![vec![step], vec![]],
+        events: Default::default(),
+    }
+    .run()
+    .unwrap();
+    let single = Scenario {
+        plant: Some(m.get(0, 0).unwrap().clone()),
+        controller: Some("smith".into()),
+        set: out.report.design.loops[0]
+            .iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+        ts: Some(0.5),
+        duration: Some(100.0),
+        setpoint: vec![step],
+        ..Default::default()
+    }
+    .run()
+    .unwrap();
+    let (Event::Setpoint(a), Some(Event::Setpoint(b))) = (&out.events[0][0], single.events.first())
+    else {
+        panic!("{:?}", out.events)
+    };
+    for (x, y) in [
+        (a.iae, b.iae),
+        (a.step.rise_time, b.step.rise_time),
+        (a.step.settling_time, b.step.settling_time),
+        (a.step.overshoot, b.step.overshoot),
+    ] {
+        assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "{x} vs {y}");
+    }
+    assert!(out.events[1].is_empty());
+}

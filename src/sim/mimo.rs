@@ -136,9 +136,11 @@ pub fn simulate_mimo(
     }
     crate::real::positive(ts, "ts")?;
     crate::real::positive(duration, "duration")?;
+    // the instants 0, ts, …, duration, as a single loop's run has them
     let steps = num_traits::ToPrimitive::to_usize(&(duration / ts).round())
-        .filter(|s| *s <= MAX_SAMPLES)
-        .ok_or(Error::OutOfRange("duration/ts"))?;
+        .filter(|s| *s < MAX_SAMPLES)
+        .ok_or(Error::OutOfRange("duration/ts"))?
+        .saturating_add(1);
     if events.loads.iter().any(|l| l.loop_index >= n) {
         return Err(Error::OutOfRange(
             "a load on a loop the plant does not have",

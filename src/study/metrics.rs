@@ -325,6 +325,18 @@ pub fn events(
     disturbances: &[Disturbance],
     ts: f64,
 ) -> Vec<Event> {
+    events_within(res, setpoint, disturbances, &[], ts)
+}
+
+/// [`events`] whose segments also end at the instants `boundaries` (the
+/// other loops' events of a multivariable run, which disturb this one).
+pub fn events_within(
+    res: &Columns<'_>,
+    setpoint: &[SetpointStep],
+    disturbances: &[Disturbance],
+    boundaries: &[f64],
+    ts: f64,
+) -> Vec<Event> {
     let stride = res.substeps.max(1);
     // the controller's samples: the columns themselves without sub-steps
     fn every(v: &[f64], stride: usize) -> Cow<'_, [f64]> {
@@ -345,6 +357,7 @@ pub fn events(
         .iter()
         .map(|s| s.at)
         .chain(disturbances.iter().map(|d| d.at))
+        .chain(boundaries.iter().copied())
         .collect();
     starts.sort_by(f64::total_cmp);
     // the next start after `at`, by bisection: linear in the events overall

@@ -496,7 +496,7 @@ def test_a_matrix_plant_runs_as_the_cli_does(tmp_path: pathlib.Path) -> None:
     kw = dict(ts=1.0, duration=200.0, loop_setpoint=["1:1@0", "2:1@100"],
               loop_disturbance="1:input:0.05@150")
     res = msp.run(WOOD_BERRY, "decoupled", **kw)
-    assert res.y.shape == (2, 200) and res.t.shape == (200,)
+    assert res.y.shape == (2, 201) and res.t.shape == (201,)  # 0, 1, …, 200 min
     # decoupled: the step of loop 1 leaves output 2 where it was (to rounding)
     first = res.interaction[0]
     assert first["step_loop"] == 0 and first["deviation"][1] < 1e-9

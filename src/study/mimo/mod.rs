@@ -32,7 +32,8 @@ pub struct Interaction {
     /// When (s).
     pub at: f64,
     /// The largest deviation of each output from its value at the step, up
-    /// to the next set-point change (the stepping loop's own included).
+    /// to the next set-point change or load (the stepping loop's own
+    /// included).
     pub deviation: Vec<f64>,
 }
 
@@ -142,6 +143,11 @@ pub struct MimoOutput {
     pub iae: Vec<f64>,
     /// Each set-point step's interaction.
     pub interaction: Vec<Interaction>,
+    /// Each loop's events, as a single loop's run reports them (step
+    /// information of each of its set-point steps, the rejection of each of
+    /// its loads), each over its segment up to the next set-point step or
+    /// load of any loop.
+    pub events: Vec<Vec<super::metrics::Event>>,
     /// The samples.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub run: MimoRun,
@@ -198,8 +204,14 @@ impl MimoScenario {
             }
             None => cross_check(out.stability, &run, duration),
         };
-        // each step's interaction, up to the next set-point change of any loop
-        let mut times: Vec<f64> = setpoints.iter().flatten().map(|s| s.at).collect();
+        // each step's interaction, up to the next set-point change or load
+        // of any loop
+        let mut times: Vec<f64> = setpoints
+            .iter()
+            .flatten()
+            .map(|s| s.at)
+            .chain(self.events.loads.iter().map(|l| l.at))
+            .collect();
         times.sort_by(f64::total_cmp);
         let interaction = setpoints
             .iter()
@@ -214,7 +226,11 @@ impl MimoScenario {
                 }
             })
             .collect();
+        let events = (0..n)
+            .map(|i| loop_events(&run, i, &setpoints, &self.events.loads, ts))
+            .collect();
         Ok(MimoOutput {
+            events,
             iae: (0..n).map(|i| run.iae(i)).collect(),
             report: out,
             duration,
@@ -224,6 +240,49 @@ impl MimoScenario {
             run,
         })
     }
+}
+
+/// Loop `i`'s events: its set-point steps and its loads, by the single
+/// loop's measures ([`super::metrics::events`]).
+fn loop_events(
+    run: &MimoRun,
+    i: usize,
+    setpoints: &[Vec<SetpointStep>],
+    loads: &[LoopLoad],
+    ts: f64,
+) -> Vec<super::metrics::Event> {
+    let (Some(r), Some(y), Some(u)) = (run.r.get(i), run.y.get(i), run.u.get(i)) else {
+        return Vec::new();
+    };
+    let cols = super::metrics::Columns {
+        t: &run.t,
+        r,
+        y,
+        u,
+        substeps: 1,
+        diverged_at: None,
+    };
+    let disturbances: Vec<crate::sim::Disturbance> = loads
+        .iter()
+        .filter(|l| l.loop_index == i)
+        .map(|l| crate::sim::Disturbance {
+            location: l.location,
+            shape: crate::sim::Shape::Step,
+            value: l.value,
+            at: l.at,
+            freq: 0.0,
+        })
+        .collect();
+    let own = setpoints.get(i).map_or(&[][..], Vec::as_slice);
+    // the other loops' set-point steps and loads end this loop's segments
+    let others: Vec<f64> = setpoints
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| *j != i)
+        .flat_map(|(_, s)| s.iter().map(|s| s.at))
+        .chain(loads.iter().filter(|l| l.loop_index != i).map(|l| l.at))
+        .collect();
+    super::metrics::events_within(&cols, own, &disturbances, &others, ts)
 }
 
 /// The verdict with the run's cross-check: every output and input settles

@@ -320,6 +320,12 @@ pub(crate) fn run(m: &TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
         for line in report_lines(&out.report, Some(&out.iae)) {
             export::noteln!("{line}");
         }
+        for (i, events) in out.events.iter().enumerate() {
+            export::noteln!("events      loop {}", i + 1);
+            for e in events {
+                export::noteln!("{}", export::text::event_line(e).trim_end());
+            }
+        }
         for line in interaction_lines(&out) {
             export::noteln!("{line}");
         }

@@ -471,7 +471,7 @@ pub(crate) fn autotune_text(
 
 /// One event of a run: a set-point step's step information, a disturbance's
 /// rejection figures.
-fn event_line(e: &msp::study::Event) -> String {
+pub(crate) fn event_line(e: &msp::study::Event) -> String {
     match e {
         msp::study::Event::Setpoint(s) => format!(
             "  r -> {} at {} s: rise {} s, settling {} s, overshoot {} %, IAE {}\n",
