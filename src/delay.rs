@@ -206,6 +206,19 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         self.buf.as_mut().iter_mut().for_each(|x| *x = *x + dv);
     }
 
+    /// Adds `dx` to the newest sample (the last pushed): the line then
+    /// outputs what it would have, had that input been larger by `dx`.
+    pub fn amend_newest(&mut self, dx: T) {
+        let n = self.capacity();
+        if n == 0 {
+            return;
+        }
+        let at = if self.head == 0 { n - 1 } else { self.head - 1 };
+        if let Some(x) = self.buf.as_mut().get_mut(at) {
+            *x = *x + dx;
+        }
+    }
+
     /// Fills the history with zeros.
     pub fn reset(&mut self) {
         self.fill(T::zero());

@@ -519,3 +519,146 @@ fn a_loops_events_are_the_single_loops() {
     }
     assert!(out.events[1].is_empty());
 }
+
+/// An operator's manual and auto per loop: on a diagonal plant, loop 2 in
+/// manual at 0.3 from 20 s and back to automatic at 35 s is, sample for
+/// sample, the single loop's run with `20:manual=0.3` and `35:auto`
+/// (bumpless, its PI tracking the held value); under the decoupled
+/// predictors on Wood–Berry, the return to automatic moves the input by a
+/// small step, not a jump.
+#[test]
+fn manual_and_auto_per_loop() {
+    use msp::mimo::Decentralized;
+    use msp::sim::{LoopMode, MimoEvents};
+    use msp::{Pid, PidConfig};
+    let ts = 0.1;
+    let g2 = tf("-1.5e^-2s/(6s+1)");
+    let zero = TransferFunction::new(&[0.0], &[1.0], 0.0).unwrap();
+    let diag = TransferMatrix::new(vec![
+        vec![tf("2e^-1.05s/(4s+1)"), zero.clone()],
+        vec![zero, g2.clone()],
+    ])
+    .unwrap();
+    let modes = vec![
+        LoopMode {
+            loop_index: 1,
+            at: 20.0,
+            manual: Some(0.3),
+        },
+        LoopMode {
+            loop_index: 1,
+            at: 35.0,
+            manual: None,
+        },
+    ];
+    let events = MimoEvents {
+        modes: modes.clone(),
+        ..Default::default()
+    };
+    let sps = vec![
+        vec![SetpointStep {
+            value: 1.0,
+            at: 1.0,
+        }],
+        vec![SetpointStep {
+            value: -0.5,
+            at: 3.0,
+        }],
+    ];
+    let pids = vec![
+        Pid::new(PidConfig::isa(0.8, 4.0, 0.0, ts)).unwrap(),
+        Pid::new(PidConfig::isa(-0.9, 6.0, 0.0, ts)).unwrap(),
+    ];
+    let run = simulate_mimo(
+        &diag,
+        &mut Decentralized::new(pids),
+        &sps,
+        &events,
+        ts,
+        60.0,
+    )
+    .unwrap();
+    let single = msp::study::Scenario {
+        plant: Some(g2),
+        controller: Some("pi".into()),
+        set: [("kp".to_string(), -0.9), ("ti".to_string(), 6.0)]
+            .into_iter()
+            .collect(),
+        ts: Some(ts),
+        duration: Some(60.0),
+        setpoint: sps[1].clone(),
+        events: vec!["20:manual=0.3".parse().unwrap(), "35:auto".parse().unwrap()],
+        ..Default::default()
+    }
+    .run()
+    .unwrap()
+    .result;
+    let held = (200..350).all(|k| run.u[1][k] == 0.3);
+    assert!(held, "{:?}", &run.u[1][195..205]);
+    for k in 0..run.t.len().min(single.y.len()) {
+        assert!(
+            (run.y[1][k] - single.y[k]).abs() < 1e-12,
+            "y2 at {k}: {} vs {}",
+            run.y[1][k],
+            single.y[k]
+        );
+        assert!(
+            (run.u[1][k] - single.u[k]).abs() < 1e-12,
+            "u2 at {k}: {} vs {}",
+            run.u[1][k],
+            single.u[k]
+        );
+    }
+    // the decoupled predictors: loop 2 held at its own output, then back
+    let m = TransferMatrix::new(vec![
+        vec![tf("12.8e^-1s/(16.7s+1)"), tf("-18.9e^-3s/(21s+1)")],
+        vec![tf("6.6e^-7s/(10.9s+1)"), tf("-19.4e^-3s/(14.4s+1)")],
+    ])
+    .unwrap();
+    let d = design(&m, "decoupled", None, 1.0).unwrap();
+    let mut c = controller(&m, &d).unwrap();
+    let sps = vec![
+        vec![SetpointStep {
+            value: 1.0,
+            at: 0.0,
+        }],
+        vec![SetpointStep {
+            value: 1.0,
+            at: 0.0,
+        }],
+    ];
+    let free = simulate_mimo(&m, &mut *c, &sps, &Default::default(), 1.0, 150.0).unwrap();
+    let held_at = free.u[1][60];
+    let events = MimoEvents {
+        modes: vec![
+            LoopMode {
+                loop_index: 1,
+                at: 60.0,
+                manual: Some(held_at),
+            },
+            LoopMode {
+                loop_index: 1,
+                at: 90.0,
+                manual: None,
+            },
+        ],
+        // a load while loop 2 is held: its output drifts, its controller waits
+        loads: vec![msp::sim::LoopLoad {
+            loop_index: 1,
+            location: msp::sim::Location::Output,
+            value: 0.1,
+            at: 65.0,
+        }],
+        ..Default::default()
+    };
+    let mut c = controller(&m, &d).unwrap();
+    let run = simulate_mimo(&m, &mut *c, &sps, &events, 1.0, 150.0).unwrap();
+    assert!((60..90).all(|k| run.u[1][k] == held_at));
+    let jump = (run.u[1][90] - held_at).abs();
+    assert!(
+        jump < 0.05 * held_at.abs().max(0.01),
+        "{jump} from {held_at}"
+    );
+    // and the loop comes back to its set point
+    assert!((run.y[1][149] - 1.0).abs() < 0.01, "{}", run.y[1][149]);
+}

@@ -31,6 +31,7 @@ use crate::controller::Controller;
 use crate::delay::Delay;
 use crate::error::Error;
 use crate::lti::Lti;
+use crate::operate::{Operate, Tracking};
 use crate::real::Real;
 
 /// One decoupling element `dᵢⱼ`: a delay line (`θᵢⱼ − θᵢᵢ` in samples,
@@ -110,6 +111,12 @@ impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
         self.line.reset();
         self.block.reset();
         self.pending = T::zero();
+    }
+
+    /// The last step's input was `x + dx`, not `x`.
+    fn amend(&mut self, dx: T) {
+        self.line.amend_newest(dx);
+        self.block.amend_input(self.weight * dx);
     }
 }
 
@@ -229,6 +236,29 @@ impl<T: Real, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
         self.fault
     }
 
+    /// Input `j` of the last update was `u` (not what was computed): the
+    /// elements that read it are amended, and the loops' outputs that give
+    /// the inputs as they are, `v + (I + B)·Δu`, are returned by the change
+    /// of each (`Δv`).
+    pub fn applied(&mut self, j: usize, u: T) -> [T; N] {
+        let mut dv = [T::zero(); N];
+        let Some(last) = self.last.get_mut(j) else {
+            return dv;
+        };
+        let du = u - *last;
+        *last = u;
+        if let Some(x) = dv.get_mut(j) {
+            *x = du;
+        }
+        for (row, d) in self.elements.iter_mut().zip(dv.iter_mut()) {
+            if let Some(Some(el)) = row.get_mut(j) {
+                el.amend(du);
+                *d = *d + el.direct * du;
+            }
+        }
+        dv
+    }
+
     /// Element `(i, j)`.
     pub fn element(&self, i: usize, j: usize) -> Option<&Element<T, M, S>> {
         self.elements.get(i)?.get(j)?.as_ref()
@@ -309,9 +339,19 @@ impl<T: Real, C: Controller<T>, const N: usize, const M: usize, S: AsRef<[T]> + 
     }
 }
 
-impl<T: Real, C: Controller<T>, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
+impl<T: Real, C: Operate<T>, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
     MultiController<T> for Decoupled<T, C, N, M, S>
 {
+    fn applied(&mut self, loop_index: usize, u: T) {
+        let dv = self.decoupler.applied(loop_index, u);
+        for ((c, v), d) in self.loops.iter_mut().zip(self.v.iter_mut()).zip(dv) {
+            if d != T::zero() {
+                *v = *v + d;
+                c.apply(*v, Tracking::Full);
+            }
+        }
+    }
+
     fn loops(&self) -> usize {
         N
     }

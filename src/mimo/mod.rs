@@ -20,6 +20,7 @@ pub use decoupler::{fopdt_element, Decoupled, Element, InvertedDecoupler};
 use core::marker::PhantomData;
 
 use crate::controller::Controller;
+use crate::operate::{Operate, Tracking};
 use crate::real::Real;
 
 /// A controller of `n` loops: set points `r`, measurements `y` in, the
@@ -32,6 +33,11 @@ pub trait MultiController<T: Real> {
     /// [`MultiController::loops`] are read as far as they go (the loops
     /// beyond them keep their inputs).
     fn update(&mut self, setpoints: &[T], measurements: &[T], inputs: &mut [T]);
+    /// Input `loop_index` of the last update was `u` where the plant
+    /// received it (the loop in manual, an actuator that limited it): the
+    /// controller is amended as if it had computed that (its loops track
+    /// it, `Tracking::Full`), so that its return to automatic is bumpless.
+    fn applied(&mut self, loop_index: usize, u: T);
     /// Every state to zero, the loop at rest before the next sample (as
     /// [`Controller::reset_to_rest`] of each single-loop part).
     fn reset_to_rest(&mut self);
@@ -65,9 +71,15 @@ impl<C, L: AsRef<[C]> + AsMut<[C]>> Decentralized<C, L> {
     }
 }
 
-impl<T: Real, C: Controller<T>, L: AsRef<[C]> + AsMut<[C]>> MultiController<T>
+impl<T: Real, C: Operate<T>, L: AsRef<[C]> + AsMut<[C]>> MultiController<T>
     for Decentralized<C, L>
 {
+    fn applied(&mut self, loop_index: usize, u: T) {
+        if let Some(c) = self.loops.as_mut().get_mut(loop_index) {
+            c.apply(u, Tracking::Full);
+        }
+    }
+
     fn loops(&self) -> usize {
         self.loops.as_ref().len()
     }

@@ -108,6 +108,21 @@ pub struct ChannelDeadTime {
     pub at: f64,
 }
 
+/// An operator's switch of one loop: to manual with the plant's input held
+/// at a value, or back to automatic (bumpless: the loop's controller
+/// tracked the held value).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct LoopMode {
+    /// The loop (0-based).
+    #[cfg_attr(feature = "serde", serde(rename = "loop"))]
+    pub loop_index: usize,
+    /// When (s).
+    pub at: f64,
+    /// Manual with this input, or automatic (`None`).
+    pub manual: Option<f64>,
+}
+
 /// What happens to a multivariable loop besides its set points.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MimoEvents {
@@ -117,6 +132,8 @@ pub struct MimoEvents {
     pub disturbance: Option<DisturbanceVector>,
     /// Changes of a channel's dead time.
     pub dead_times: Vec<ChannelDeadTime>,
+    /// Loops switched to manual and back.
+    pub modes: Vec<LoopMode>,
 }
 
 /// Runs `controller` (loop `i` closes output `i` through input `i`) on
@@ -141,6 +158,18 @@ pub fn simulate_mimo(
         .filter(|s| *s < MAX_SAMPLES)
         .ok_or(Error::OutOfRange("duration/ts"))?
         .saturating_add(1);
+    if events.modes.iter().any(|m| m.loop_index >= n) {
+        return Err(Error::OutOfRange(
+            "a mode switch of a loop the plant does not have",
+        ));
+    }
+    if events
+        .modes
+        .iter()
+        .any(|m| m.manual.is_some_and(|v| !v.is_finite()))
+    {
+        return Err(Error::NonFinite("manual"));
+    }
     if events.loads.iter().any(|l| l.loop_index >= n) {
         return Err(Error::OutOfRange(
             "a load on a loop the plant does not have",
@@ -220,6 +249,10 @@ pub fn simulate_mimo(
     let mut pending: Vec<ChannelDeadTime> = events.dead_times.clone();
     pending.sort_by(|a, b| a.at.total_cmp(&b.at));
     let mut pending = pending.into_iter().peekable();
+    let mut modes: Vec<LoopMode> = events.modes.clone();
+    modes.sort_by(|a, b| a.at.total_cmp(&b.at));
+    let mut modes = modes.into_iter().peekable();
+    let mut manual: Vec<Option<f64>> = std::vec![None; n];
     let (mut r, mut y, mut u) = (std::vec![0.0; n], std::vec![0.0; n], std::vec![0.0; n]);
     for k in 0..steps {
         let t = k as f64 * ts;
@@ -240,7 +273,20 @@ pub fn simulate_mimo(
                 + load(i, Location::Output, t);
             *ri = setpoints.get(i).map_or(0.0, |s| setpoint_at(s, t));
         }
+        while let Some(m) = modes.next_if(|m| t >= m.at - 1e-9 * ts) {
+            if let Some(x) = manual.get_mut(m.loop_index) {
+                *x = m.manual;
+            }
+        }
         controller.update(&r, &y, &mut u);
+        // a loop in manual: the plant receives the held value, which the
+        // controller then tracks
+        for (i, (ui, held)) in u.iter_mut().zip(&manual).enumerate() {
+            if let Some(v) = held {
+                *ui = *v;
+                controller.applied(i, *v);
+            }
+        }
         for (((col_r, col_y), col_u), ((ri, yi), ui)) in run
             .r
             .iter_mut()

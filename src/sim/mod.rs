@@ -39,7 +39,9 @@ pub use defaults::{
     choose_duration, choose_ts, choose_ts_as, describe_ts, kind_of, F32_POLE_DISTANCE,
     MAX_CHOSEN_SAMPLES,
 };
-pub use mimo::{simulate_mimo, ChannelDeadTime, DisturbanceVector, LoopLoad, MimoEvents, MimoRun};
+pub use mimo::{
+    simulate_mimo, ChannelDeadTime, DisturbanceVector, LoopLoad, LoopMode, MimoEvents, MimoRun,
+};
 pub use plant::{open_loop, PlantStepper};
 pub use result::SimResult;
 pub(crate) use schedule::first_sample_at;

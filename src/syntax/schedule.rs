@@ -7,7 +7,7 @@ use std::string::{String, ToString};
 
 use crate::operate::Gain;
 use crate::sim::{
-    Action, ChannelDeadTime, Disturbance, Location, LoopLoad, Operation, PlantParameter,
+    Action, ChannelDeadTime, Disturbance, Location, LoopLoad, LoopMode, Operation, PlantParameter,
     SetpointStep, Shape,
 };
 use crate::study::Perturbation;
@@ -508,6 +508,36 @@ impl core::str::FromStr for ChannelDeadTime {
             col: loop_number(c)?,
             dead_time,
             at,
+        })
+    }
+}
+
+impl core::str::FromStr for LoopMode {
+    type Err = String;
+    /// `LOOP:TIME:manual=VALUE` or `LOOP:TIME:auto` (1-based: `2:50:manual=0.3`).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let form = || {
+            std::format!(
+                "a loop's mode switch is LOOP:TIME:manual=VALUE or LOOP:TIME:auto (2:50:manual=0.3), got '{s}'"
+            )
+        };
+        let mut parts = s.splitn(3, ':');
+        let (Some(l), Some(at), Some(mode)) = (parts.next(), parts.next(), parts.next()) else {
+            return Err(form());
+        };
+        let at = parse_number(at, "time")?;
+        if at < 0.0 {
+            return Err(std::format!("{}: the time must not be negative", form()));
+        }
+        let manual = match mode.trim().split_once('=') {
+            Some(("manual", v)) => Some(parse_number(v, "manual")?),
+            None if mode.trim() == "auto" => None,
+            _ => return Err(form()),
+        };
+        Ok(LoopMode {
+            loop_index: loop_number(l)?,
+            at,
+            manual,
         })
     }
 }

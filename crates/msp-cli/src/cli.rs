@@ -110,6 +110,10 @@ pub(crate) struct ScenarioArgs {
     /// the fraction of a sample kept).
     #[arg(long, value_name = "R,C=S@T", value_parser = str::parse::<msp::sim::ChannelDeadTime>)]
     pub(crate) channel_dead_time: Vec<msp::sim::ChannelDeadTime>,
+    /// A matrix plant's loop switched by the operator, LOOP:TIME:manual=VALUE (the plant's input
+    /// held; the loop's controller tracks it) or LOOP:TIME:auto (bumpless; repeatable).
+    #[arg(long, value_name = "L:T:MODE", value_parser = str::parse::<msp::sim::LoopMode>, allow_hyphen_values = true)]
+    pub(crate) loop_event: Vec<msp::sim::LoopMode>,
     /// Disturbance input|output|inner[:step|ramp|sine]:VALUE[@TIME][~FREQ_HZ] (repeatable);
     /// for a cascade process d2 = input, d1 = output, d0 = inner (at the secondary output).
     #[arg(long, value_name = "LOC:V@T", value_parser = str::parse::<Disturbance>, allow_hyphen_values = true)]

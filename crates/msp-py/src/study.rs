@@ -359,7 +359,7 @@ pub(crate) fn tune_matrix<'py>(
 /// A matrix plant's run (``msp run --plant "[…]"``): the report (the JSON
 /// of ``--report``) and the columns ``t`` and per loop ``r``, ``y``, ``u``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, rule=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new()))]
+#[pyo3(signature = (plant, controller=None, rule=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new(), loop_event=Vec::new()))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub(crate) fn run_matrix<'py>(
     py: Python<'py>,
@@ -373,6 +373,7 @@ pub(crate) fn run_matrix<'py>(
     disturbance_plant: Option<String>,
     disturbance_step: Vec<String>,
     channel_dead_time: Vec<String>,
+    loop_event: Vec<String>,
 ) -> PyResult<(
     Bound<'py, PyDict>,
     Bound<'py, numpy::PyArray1<f64>>,
@@ -415,6 +416,10 @@ pub(crate) fn run_matrix<'py>(
                 .collect::<PyResult<_>>()?,
             disturbance,
             dead_times: channel_dead_time
+                .iter()
+                .map(|s| s.parse().map_err(value_err))
+                .collect::<PyResult<_>>()?,
+            modes: loop_event
                 .iter()
                 .map(|s| s.parse().map_err(value_err))
                 .collect::<PyResult<_>>()?,

@@ -518,6 +518,11 @@ def test_a_matrix_plant_runs_as_the_cli_does(tmp_path: pathlib.Path) -> None:
     np.testing.assert_array_equal(dec.y, res.y)
     with pytest.raises(ValueError, match="does not take noise"):
         msp.run(WOOD_BERRY, noise=0.1)
+    held = msp.run(WOOD_BERRY, "decoupled", ts=1.0, duration=200.0, loop_setpoint=["1:1@0"],
+                   loop_event=["1:50:manual=0.2", "1:120:auto"])
+    assert (held.u[0][50:120] == 0.2).all()
+    with pytest.raises(ValueError, match="LOOP:TIME:manual=VALUE"):
+        msp.run(WOOD_BERRY, loop_event="1:50:hand")
 
 
 def test_step_info_of_data_is_python_controls_and_the_clis(tmp_path: pathlib.Path) -> None:

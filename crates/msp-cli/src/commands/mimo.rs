@@ -48,7 +48,7 @@ fn scenario(
     let refused = single_loop_flags(s);
     if !refused.is_empty() {
         return Err(CliError::Input(format!(
-            "a matrix plant does not take {} yet: its set points are --loop-setpoint LOOP:V@T, its loads --loop-disturbance LOOP:input|output:V@T, a disturbance through its own channels --disturbance-plant \"[d1; d2]\" with --disturbance-step V@T, a channel's dead-time change --channel-dead-time ROW,COL=SECONDS@T",
+            "a matrix plant does not take {} yet: its set points are --loop-setpoint LOOP:V@T, its loads --loop-disturbance LOOP:input|output:V@T, a disturbance through its own channels --disturbance-plant \"[d1; d2]\" with --disturbance-step V@T, a channel's dead-time change --channel-dead-time ROW,COL=SECONDS@T, an operator's --loop-event LOOP:T:manual=V|auto",
             refused.join(", ")
         )));
     }
@@ -88,6 +88,7 @@ fn scenario(
             loads: s.loop_disturbance.clone(),
             disturbance,
             dead_times: s.channel_dead_time.clone(),
+            modes: s.loop_event.clone(),
         },
     })
 }

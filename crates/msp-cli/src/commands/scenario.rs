@@ -90,6 +90,11 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
             !a.channel_dead_time.is_empty(),
             "--event T:plant-dead-time=S",
         ),
+        (
+            "--loop-event",
+            !a.loop_event.is_empty(),
+            "--event T:manual=V",
+        ),
     ];
     if let Some((flag, _, single)) = matrix_only.iter().find(|(_, given, _)| *given) {
         return Err(CliError::Input(format!(

@@ -75,6 +75,7 @@ class RunOptions(DesignOptions, TuneOptions, TypedDict, total=False):
     disturbance_plant: Union[str, Sequence[Any]]
     disturbance_step: Union[str, Sequence[str]]
     channel_dead_time: Union[str, Sequence[str]]
+    loop_event: Union[str, Sequence[str]]
 
 
 #: The keywords of a matrix plant's run (the CLI's flags of the same names).
@@ -87,6 +88,7 @@ MATRIX_KEYWORDS = (
     "disturbance_plant",
     "disturbance_step",
     "channel_dead_time",
+    "loop_event",
 )
 
 
@@ -159,7 +161,7 @@ def _run_matrix(matrix: str, controller: Optional[str], params: Any, delay: Any,
         matrix, controller, scenario.get("rule"), scenario.get("ts"), scenario.get("duration"),
         _loop_list(scenario.get("loop_setpoint")), _loop_list(scenario.get("loop_disturbance")),
         dp, _loop_list(scenario.get("disturbance_step")),
-        _loop_list(scenario.get("channel_dead_time"))))
+        _loop_list(scenario.get("channel_dead_time")), _loop_list(scenario.get("loop_event"))))
 
 
 class PidOptions(TypedDict, total=False):
@@ -557,8 +559,8 @@ def run(
     decoupler with a Smith predictor in each loop) and returns a :class:`MimoResult`; its
     keywords are the CLI's flags (:data:`MATRIX_KEYWORDS`): ``ts``, ``duration``,
     ``loop_setpoint=["1:1@0", "2:1@50"]``, ``loop_disturbance=["1:input:0.1@80"]``,
-    ``disturbance_plant="[d1; d2]"`` (or a list) with ``disturbance_step=["0.1@20"]``, and
-    ``channel_dead_time=["1,2=5@100"]``.
+    ``disturbance_plant="[d1; d2]"`` (or a list) with ``disturbance_step=["0.1@20"]``,
+    ``channel_dead_time=["1,2=5@100"]`` and ``loop_event=["2:50:manual=0.3", "2:80:auto"]``.
 
     Returns
     -------

@@ -83,6 +83,7 @@ def run_matrix(
     disturbance_plant: Optional[str] = None,
     disturbance_step: List[str] = ...,
     channel_dead_time: List[str] = ...,
+    loop_event: List[str] = ...,
 ) -> Tuple[Dict[str, Any], Any, List[List[Any]]]: ...
 def tradeoff(plant: Union[str, Plant], controllers: List[str], **scenario: Any) -> Dict[str, Any]: ...
 def simulate(
