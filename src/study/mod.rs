@@ -45,7 +45,8 @@ pub use metrics::{
     Event, Metrics, SetpointEvent,
 };
 pub use mimo::{
-    Interaction, MimoDesign, MimoOutput, MimoReport, MimoScenario, MimoScheme, MIMO_SCHEMES,
+    Interaction, MimoDesign, MimoOutput, MimoReport, MimoScenario, MimoScenarioFile, MimoScheme,
+    MIMO_SCHEMES,
 };
 pub use output::RunOutput;
 pub use report::{

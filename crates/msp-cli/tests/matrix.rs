@@ -253,3 +253,72 @@ fn compare_and_margins_take_a_matrix_plant() {
         "one channel per output",
     );
 }
+
+/// A matrix plant's scenario file (TOML or JSON, the flags' names and text
+/// forms) runs as its flags do, the flags adding to it; an unknown field
+/// and a loop the plant lacks are refused by name.
+#[test]
+fn a_matrix_scenario_file_is_its_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("wb.toml");
+    std::fs::write(
+        &file,
+        format!(
+            "plant = \"{WB}\"\ncontroller = \"decoupled\"\nts = 1.0\nduration = 200.0\nloop_setpoint = [\"1:1@0\"]\nloop_event = [\"2:50:manual=0.1\", \"2:90:auto\"]\n"
+        ),
+    )
+    .unwrap();
+    let json = dir.path().join("wb.json");
+    std::fs::write(
+        &json,
+        serde_json::json!({
+            "plant": WB, "controller": "decoupled", "ts": 1.0, "duration": 200.0,
+            "loop_setpoint": ["1:1@0"], "loop_event": ["2:50:manual=0.1", "2:90:auto"],
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let csv = |args: &[&str]| stdout_of(msp().args(args).args(["-q", "-o", "-"]));
+    let flags = csv(&[
+        "run",
+        "--plant",
+        WB,
+        "-c",
+        "decoupled",
+        "--ts",
+        "1",
+        "--duration",
+        "200",
+        "--loop-setpoint",
+        "1:1@0",
+        "--loop-setpoint",
+        "2:1@100",
+        "--loop-event",
+        "2:50:manual=0.1",
+        "--loop-event",
+        "2:90:auto",
+    ]);
+    for f in [&file, &json] {
+        let path = f.to_str().unwrap();
+        assert_eq!(
+            csv(&["run", "--scenario", path, "--loop-setpoint", "2:1@100"]),
+            flags
+        );
+    }
+    std::fs::write(&file, format!("plant = \"{WB}\"\nnoise = 0.1\n")).unwrap();
+    fails(
+        msp().args(["run", "--scenario", file.to_str().unwrap()]),
+        2,
+        "unknown field `noise`",
+    );
+    std::fs::write(
+        &file,
+        format!("plant = \"{WB}\"\nloop_setpoint = [\"3:1\"]\n"),
+    )
+    .unwrap();
+    fails(
+        msp().args(["run", "--scenario", file.to_str().unwrap()]),
+        2,
+        "the plant has 2 loops",
+    );
+}

@@ -298,3 +298,89 @@ fn prefix_settles(run: &MimoRun, k: usize) -> bool {
         .chain(&run.u)
         .all(|s| super::metrics::settles(s.get(..k).unwrap_or(s)))
 }
+
+/// A matrix plant's scenario file (TOML or JSON): the CLI's flags by name,
+/// each in its text form (`plant = "[g11, g12; g21, g22]"`,
+/// `loop_setpoint = ["1:1@0", "2:1@50"]`, `loop_disturbance`,
+/// `disturbance_plant`, `disturbance_step`, `channel_dead_time`,
+/// `loop_event`), read into a [`MimoScenario`] by `TryFrom`.
+#[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields, default))]
+pub struct MimoScenarioFile {
+    /// The plant, `[g11, g12; g21, g22]`.
+    pub plant: std::string::String,
+    /// The scheme (`pi`, `smith`, `decoupled`).
+    pub controller: Option<std::string::String>,
+    /// The `pi` loops' rule (`zn`, `simc`).
+    pub rule: Option<std::string::String>,
+    /// The sample period (s).
+    pub ts: Option<f64>,
+    /// The run's duration (s).
+    pub duration: Option<f64>,
+    /// `LOOP:VALUE@TIME` each.
+    pub loop_setpoint: Vec<std::string::String>,
+    /// `LOOP:input|output:VALUE@TIME` each.
+    pub loop_disturbance: Vec<std::string::String>,
+    /// `[d1; d2]`.
+    pub disturbance_plant: Option<std::string::String>,
+    /// `VALUE@TIME` each.
+    pub disturbance_step: Vec<std::string::String>,
+    /// `ROW,COL=SECONDS@TIME` each.
+    pub channel_dead_time: Vec<std::string::String>,
+    /// `LOOP:TIME:manual=VALUE` or `LOOP:TIME:auto` each.
+    pub loop_event: Vec<std::string::String>,
+}
+
+impl TryFrom<MimoScenarioFile> for MimoScenario {
+    type Error = std::string::String;
+    /// Each text form parsed as the CLI's flag of the same name parses it;
+    /// an error names the field and the entry.
+    fn try_from(f: MimoScenarioFile) -> Result<Self, Self::Error> {
+        use std::string::ToString;
+        let plant: TransferMatrix = f.plant.parse().map_err(|e| std::format!("plant: {e}"))?;
+        let n = plant.size();
+        let mut setpoints = std::vec![Vec::new(); n];
+        for s in &f.loop_setpoint {
+            let (l, step) = crate::syntax::parse_loop_setpoint(s)
+                .map_err(|e| std::format!("loop_setpoint {s:?}: {e}"))?;
+            setpoints
+                .get_mut(l)
+                .ok_or_else(|| std::format!("loop_setpoint {s:?}: the plant has {n} loops"))?
+                .push(step);
+        }
+        fn all<X: core::str::FromStr<Err = std::string::String>>(
+            field: &str,
+            v: &[std::string::String],
+        ) -> Result<Vec<X>, std::string::String> {
+            v.iter()
+                .map(|s| s.parse().map_err(|e| std::format!("{field} {s:?}: {e}")))
+                .collect()
+        }
+        let disturbance = match (&f.disturbance_plant, f.disturbance_step.is_empty()) {
+            (Some(d), _) => Some(crate::sim::DisturbanceVector {
+                channels: crate::syntax::parse_column(d)
+                    .map_err(|e| std::format!("disturbance_plant: {e}"))?,
+                steps: all("disturbance_step", &f.disturbance_step)?,
+            }),
+            (None, false) => {
+                return Err("disturbance_step needs disturbance_plant (the disturbance's channel to each output)".to_string())
+            }
+            (None, true) => None,
+        };
+        Ok(MimoScenario {
+            plant,
+            controller: f.controller,
+            rule: f.rule,
+            ts: f.ts,
+            duration: f.duration,
+            setpoints,
+            events: MimoEvents {
+                loads: all("loop_disturbance", &f.loop_disturbance)?,
+                disturbance,
+                dead_times: all("channel_dead_time", &f.channel_dead_time)?,
+                modes: all("loop_event", &f.loop_event)?,
+            },
+        })
+    }
+}

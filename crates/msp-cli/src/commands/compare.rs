@@ -1,13 +1,13 @@
 //! `msp compare`.
 
 use super::scenario::scenario_from;
-use crate::cli::{CompareArgs, PlantArg};
+use crate::cli::CompareArgs;
 use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn compare(a: &CompareArgs) -> Result<(), CliError> {
-    if let Some(PlantArg::Matrix(m)) = &a.scenario.plant {
-        return super::mimo::compare(m, a);
+    if let Some(m) = super::mimo::matrix_of(&a.scenario)? {
+        return super::mimo::compare(&m, a);
     }
     let sc = scenario_from(&a.scenario)?;
     let mut files = super::plan(&a.files, &[("--scenario", a.scenario.scenario.as_ref())])?;

@@ -1,13 +1,13 @@
 //! `msp margins`.
 
 use super::scenario::scenario_from;
-use crate::cli::{MarginsArgs, PlantArg};
+use crate::cli::MarginsArgs;
 use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn margins(a: &MarginsArgs) -> Result<(), CliError> {
-    if let Some(PlantArg::Matrix(m)) = &a.scenario.plant {
-        return super::mimo::margins(m, a);
+    if let Some(m) = super::mimo::matrix_of(&a.scenario)? {
+        return super::mimo::margins(&m, a);
     }
     let mut files = export::Outputs::plan_reading(
         &[

@@ -10,11 +10,56 @@ use crate::cli::{CompareArgs, MarginsArgs, RunArgs, ScenarioArgs, TuneArgs};
 use crate::error::CliError;
 use crate::export;
 
+/// A scenario file's matrix scenario (`plant = "[…]"`; `None`: a single
+/// loop's file, read by the single-loop path).
+fn from_file(path: &std::path::Path) -> Result<Option<MimoScenario>, CliError> {
+    let name = format!("scenario file {}", path.display());
+    let text = crate::input::open(path, &name, crate::input::SCENARIO_CAP)?.text()?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let fail = |e: String| CliError::Input(format!("{name}: {e}"));
+    let file: msp::study::MimoScenarioFile = if json {
+        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| fail(e.to_string()))?;
+        if !v["plant"]
+            .as_str()
+            .is_some_and(|p| p.trim_start().starts_with('['))
+        {
+            return Ok(None);
+        }
+        serde_json::from_value(v).map_err(|e| fail(e.to_string()))?
+    } else {
+        let v: toml::Value = toml::from_str(text).map_err(|e| fail(e.to_string()))?;
+        if !v
+            .get("plant")
+            .and_then(toml::Value::as_str)
+            .is_some_and(|p| p.trim_start().starts_with('['))
+        {
+            return Ok(None);
+        }
+        v.try_into()
+            .map_err(|e: toml::de::Error| fail(e.to_string()))?
+    };
+    MimoScenario::try_from(file).map(Some).map_err(fail)
+}
+
+/// The matrix plant of the command line: `--plant "[…]"`, or a scenario
+/// file's (`None`: a single loop).
+pub(crate) fn matrix_of(s: &ScenarioArgs) -> Result<Option<TransferMatrix>, CliError> {
+    if let Some(crate::cli::PlantArg::Matrix(m)) = &s.plant {
+        return Ok(Some(m.clone()));
+    }
+    match (&s.plant, &s.scenario) {
+        (None, Some(path)) => Ok(from_file(path)?.map(|sc| sc.plant)),
+        _ => Ok(None),
+    }
+}
+
 /// The single-loop flags given (a matrix plant refuses them by name).
 fn single_loop_flags(s: &ScenarioArgs) -> Vec<&'static str> {
     let d = &s.design;
     [
-        ("--scenario", s.scenario.is_some()),
         ("--model", s.model.is_some()),
         ("--inner-plant", s.inner_plant.is_some()),
         ("--inner-model", s.inner_model.is_some()),
@@ -52,8 +97,29 @@ fn scenario(
             refused.join(", ")
         )));
     }
+    // the file's scenario, then the flags: a value given replaces the
+    // file's, a list given adds to it
+    let mut sc = match &s.scenario {
+        Some(path) => from_file(path)?.ok_or_else(|| {
+            CliError::Input(format!(
+                "scenario file {}: its plant is a single loop's, and --plant a matrix",
+                path.display()
+            ))
+        })?,
+        None => MimoScenario {
+            plant: m.clone(),
+            controller: None,
+            rule: None,
+            ts: None,
+            duration: None,
+            setpoints: Vec::new(),
+            events: msp::sim::MimoEvents::default(),
+        },
+    };
     let n = m.size();
-    let mut setpoints = vec![Vec::new(); n];
+    sc.plant = m.clone();
+    sc.setpoints.resize(n, Vec::new());
+    let mut setpoints = std::mem::take(&mut sc.setpoints);
     for (l, step) in &s.loop_setpoint {
         setpoints
             .get_mut(*l)
@@ -65,32 +131,37 @@ fn scenario(
             })?
             .push(*step);
     }
-    let disturbance = match (&s.disturbance_plant, s.disturbance_step.is_empty()) {
-        (Some(channels), _) => Some(msp::sim::DisturbanceVector {
-            channels: channels.0.clone(),
-            steps: s.disturbance_step.clone(),
-        }),
-        (None, false) => {
-            return Err(CliError::Input(
-                "--disturbance-step needs --disturbance-plant \"[d1; d2]\" (the disturbance's channel to each output)".into(),
-            ))
+    let ev = &mut sc.events;
+    match (&s.disturbance_plant, s.disturbance_step.is_empty()) {
+        (Some(channels), _) => {
+            ev.disturbance = Some(msp::sim::DisturbanceVector {
+                channels: channels.0.clone(),
+                steps: s.disturbance_step.clone(),
+            });
         }
-        (None, true) => None,
-    };
-    Ok(MimoScenario {
-        plant: m.clone(),
-        controller: controller.map(str::to_string),
-        rule: s.design.rule.clone(),
-        ts: s.ts,
-        duration: s.duration,
-        setpoints,
-        events: msp::sim::MimoEvents {
-            loads: s.loop_disturbance.clone(),
-            disturbance,
-            dead_times: s.channel_dead_time.clone(),
-            modes: s.loop_event.clone(),
+        (None, false) => match &mut ev.disturbance {
+            Some(d) => d.steps.extend(s.disturbance_step.iter().copied()),
+            None => {
+                return Err(CliError::Input(
+                    "--disturbance-step needs --disturbance-plant \"[d1; d2]\" (the disturbance's channel to each output)".into(),
+                ))
+            }
         },
-    })
+        (None, true) => {}
+    }
+    ev.loads.extend(s.loop_disturbance.iter().copied());
+    ev.dead_times.extend(s.channel_dead_time.iter().copied());
+    ev.modes.extend(s.loop_event.iter().copied());
+    sc.setpoints = setpoints;
+    if controller.is_some() {
+        sc.controller = controller.map(str::to_string);
+    }
+    if s.design.rule.is_some() {
+        sc.rule.clone_from(&s.design.rule);
+    }
+    sc.ts = s.ts.or(sc.ts);
+    sc.duration = s.duration.or(sc.duration);
+    Ok(sc)
 }
 
 /// The report's lines: the interaction measures, the design, the verdict.
@@ -294,7 +365,7 @@ pub(crate) fn run(m: &TransferMatrix, a: &RunArgs) -> Result<(), CliError> {
         ));
     }
     let sc = scenario(m, &a.scenario, a.controller.as_deref())?;
-    let mut files = super::plan(&a.files, &[])?;
+    let mut files = super::plan(&a.files, &[("--scenario", a.scenario.scenario.as_ref())])?;
     let out = export::busy("simulating", a.quiet, || sc.run())?;
     if let Some(p) = &a.files.report {
         let text = serde_json::to_vec_pretty(&out).map_err(|e| CliError::Runtime(e.to_string()))?;
@@ -342,7 +413,7 @@ pub(crate) fn compare(m: &TransferMatrix, a: &CompareArgs) -> Result<(), CliErro
             "a matrix plant's compare takes no --perturb yet: give the plant itself (a channel's dead time can change with --channel-dead-time)".into(),
         ));
     }
-    let mut files = super::plan(&a.files, &[])?;
+    let mut files = super::plan(&a.files, &[("--scenario", a.scenario.scenario.as_ref())])?;
     let mut outs = Vec::new();
     for c in &a.controllers {
         let sc = scenario(m, &a.scenario, Some(c))?;

@@ -1,13 +1,13 @@
 //! `msp run`.
 
 use super::scenario::scenario_from;
-use crate::cli::{PlantArg, RunArgs};
+use crate::cli::RunArgs;
 use crate::error::CliError;
 use crate::export;
 
 pub(crate) fn run(a: &RunArgs) -> Result<(), CliError> {
-    if let Some(PlantArg::Matrix(m)) = &a.scenario.plant {
-        return super::mimo::run(m, a);
+    if let Some(m) = super::mimo::matrix_of(&a.scenario)? {
+        return super::mimo::run(&m, a);
     }
     let mut sc = scenario_from(&a.scenario)?;
     if a.controller.is_some() {
