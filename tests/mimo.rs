@@ -369,3 +369,31 @@ fn simc_loops_detuned_together() {
     assert_eq!(loose.f, 1.0);
     assert!(LoopRule::from_name("amigo").is_err());
 }
+
+/// The RGA over frequency: at each point the rows and columns of `Λ(jω)`
+/// sum to 1 (complex), its magnitudes are those of `rga_at`, and at the
+/// lowest frequency it is the steady-state RGA to within 1 %.
+#[test]
+fn the_rga_over_frequency() {
+    use msp::analysis::mimo::rga_over;
+    let m = wood_berry();
+    let pts = rga_over(&m, 12).unwrap();
+    assert_eq!(pts.len(), 12);
+    let ss = rga(&m).unwrap();
+    assert!((pts[0].magnitude[0][0] - ss[0]).abs() < 0.01 * ss[0]);
+    for p in &pts {
+        let l = rga_at(&m, p.w).unwrap();
+        for i in 0..2 {
+            let row = l[2 * i] + l[2 * i + 1];
+            let col = l[i] + l[2 + i];
+            assert!(
+                (row - Complex::real(1.0)).abs() < 1e-12
+                    && (col - Complex::real(1.0)).abs() < 1e-12
+            );
+            for j in 0..2 {
+                assert!((p.magnitude[i][j] - l[2 * i + j].abs()).abs() < 1e-15);
+            }
+        }
+    }
+    assert!(pts.windows(2).all(|w| w[1].w > w[0].w));
+}

@@ -144,6 +144,41 @@ pub fn rga_at(m: &TransferMatrix, w: f64) -> Result<Vec<C64>, Error> {
     rga_of(&m.response(w), m.size())
 }
 
+/// The RGA at one frequency: `|λᵢⱼ(jω)|` by rows.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct RgaPoint {
+    /// The frequency (rad/s).
+    pub w: f64,
+    /// `|λᵢⱼ(jω)|`, by rows.
+    pub magnitude: Vec<Vec<f64>>,
+}
+
+/// The frequency-dependent RGA of `m` (Bristol (1966) at `jω`; how the
+/// interaction moves from steady state toward the loops' bandwidth): its
+/// magnitudes at `points` frequencies, logarithmically from a tenth of the
+/// slowest time scale's frequency to the fastest's.
+pub fn rga_over(m: &TransferMatrix, points: usize) -> Result<Vec<RgaPoint>, Error> {
+    let n = m.size();
+    let (slow, fast) = m.scales();
+    let (lo, hi) = ((0.1 / slow).ln(), (1.0 / fast).ln().max((0.1 / slow).ln()));
+    let points = points.max(2);
+    (0..points)
+        .map(|k| {
+            #[allow(clippy::cast_precision_loss)]
+            let w = (lo + (hi - lo) * k as f64 / (points - 1) as f64).exp();
+            let l = rga_at(m, w)?;
+            Ok(RgaPoint {
+                w,
+                magnitude: l
+                    .chunks(n)
+                    .map(|r| r.iter().map(|c| c.abs()).collect())
+                    .collect(),
+            })
+        })
+        .collect()
+}
+
 /// The pairing the steady-state RGA `lambda` (row-major, `n×n`) suggests:
 /// `pairing[i]` is the input of output `i`, the permutation whose relative
 /// gains are all positive with the least `Σ|λ − 1|` (Bristol's rule: pair

@@ -52,6 +52,9 @@ pub struct MimoReport {
     /// The input each output is best paired with (`None`: no pairing has
     /// every relative gain positive).
     pub pairing: Option<Vec<usize>>,
+    /// The RGA's magnitudes over frequency (12 points, a tenth of the
+    /// slowest time scale's frequency to the fastest's).
+    pub rga_over_frequency: Vec<crate::analysis::mimo::RgaPoint>,
     /// `det G(0)/Π gᵢᵢ(0)` (Niederlinski (1971)).
     pub niederlinski: f64,
     /// The scheme's design.
@@ -93,6 +96,8 @@ pub fn report(
         plant: t.plant,
         rga: t.rga,
         pairing: t.pairing,
+        rga_over_frequency: crate::analysis::mimo::rga_over(plant, 12)
+            .map_err(RunError::Invalid)?,
         niederlinski: t.niederlinski,
         alone: design.alone.clone(),
         design,

@@ -177,6 +177,27 @@ fn report_lines(r: &MimoReport, iae: Option<&[f64]>) -> Vec<String> {
         let label = if i == 0 { "rga" } else { "" };
         out.push(format!("{label:<11} [{}]", cells.join(", ")));
     }
+    let l11: Vec<(f64, f64)> = r
+        .rga_over_frequency
+        .iter()
+        .filter_map(|p| p.magnitude.first()?.first().map(|m| (p.w, *m)))
+        .collect();
+    if let (Some(first), Some(last)) = (l11.first(), l11.last()) {
+        let least =
+            l11.iter().copied().fold(
+                (f64::NAN, f64::INFINITY),
+                |a, b| if b.1 < a.1 { b } else { a },
+            );
+        out.push(format!(
+            "rga(jω)     |λ11| {} at {} rad/s … {} at {} rad/s, least {} at {} rad/s",
+            export::fmt_sig(first.1),
+            export::fmt_sig(first.0),
+            export::fmt_sig(last.1),
+            export::fmt_sig(last.0),
+            export::fmt_sig(least.1),
+            export::fmt_sig(least.0)
+        ));
+    }
     out.push(match &r.pairing {
         Some(p) => {
             let pairs: Vec<String> = p
