@@ -305,14 +305,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
             }
             self.peek(x)
         };
-        let head = self.head;
-        let buf = self.buf.as_mut();
-        let n = buf.len();
-        if let Some(slot) = buf.get_mut(head) {
-            *slot = x;
-            let h = head.wrapping_add(1);
-            self.head = if h >= n { 0 } else { h };
-        }
+        self.push(x);
         y
     }
 

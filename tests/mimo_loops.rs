@@ -276,12 +276,9 @@ fn the_decoupled_loops_are_independent_on_realizable_plants() {
                     .iter()
                     .map(|(k, v)| (k.to_string(), v))
                     .collect(),
+                setpoint: sps[step].clone(),
                 ts: Some(ts),
                 duration: Some(duration),
-                setpoint: vec![SetpointStep {
-                    value: 1.0,
-                    at: 0.0,
-                }],
                 ..Default::default()
             }
             .run()

@@ -58,16 +58,21 @@ static const float K[4] = {12.8f, -18.9f, 6.6f, -19.4f};
 static const float TAU[4] = {16.7f, 21.0f, 10.9f, 14.4f};
 static const int THETA[4] = {1, 3, 7, 3};
 
-/* runs the column under `decoupled` (1) or not (0): loop 1 steps to 1 at 0,
- * loop 2 to 1 at 150; returns the largest |y2| before 150 and y1, y2 at the end */
-static int run(unsigned decoupled, float *cross, float *y1_end, float *y2_end) {
-    msp_model g[4];
+/* the column's channels as models */
+static void wood_berry(msp_model g[4]) {
     for (int i = 0; i < 4; i++) {
         g[i].kind = MSP_FOPDT;
         g[i].k = K[i];
         g[i].tau = TAU[i];
         g[i].theta = (float)THETA[i];
     }
+}
+
+/* runs the column under `decoupled` (1) or not (0): loop 1 steps to 1 at 0,
+ * loop 2 to 1 at 150; returns the largest |y2| before 150 and y1, y2 at the end */
+static int run(unsigned decoupled, float *cross, float *y1_end, float *y2_end) {
+    msp_model g[4];
+    wood_berry(g);
     msp_mimo2_config cfg;
     msp_status s = msp_tune_mimo2(g, 1.0f, decoupled, &cfg);
     if (s != MSP_OK) {
@@ -119,12 +124,7 @@ int main(void) {
     msp_status s;
     msp_mimo2_config cfg;
     msp_model g[4];
-    for (int i = 0; i < 4; i++) {
-        g[i].kind = MSP_FOPDT;
-        g[i].k = K[i];
-        g[i].tau = TAU[i];
-        g[i].theta = (float)THETA[i];
-    }
+    wood_berry(g);
     CHECK(!(msp_tune_mimo2(NULL, 1.0f, 1, &cfg) != MSP_NULL_POINTER), "msp_tune_mimo2(NULL, 1.0f, 1, &cfg) != MSP_NULL_POINTER");
     CHECK(!(msp_mimo2_size(NULL, &s) != 0 || s != MSP_NULL_POINTER), "msp_mimo2_size(NULL, &s) != 0 || s != MSP_NULL_POINTER");
     /* g12 answering sooner than g11 cannot be decoupled */

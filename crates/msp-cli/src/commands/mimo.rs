@@ -282,13 +282,25 @@ pub(crate) fn tune(m: &TransferMatrix, a: &TuneArgs) -> Result<(), CliError> {
             "a matrix plant's tuning takes -c pi|smith|decoupled and --ts: drop --inner-plant, --rules and --uncertainty".into(),
         ));
     }
-    let r = report(
+    print_report(
         m,
-        a.controller.as_deref().unwrap_or("pi"),
+        a.controller.as_deref(),
         a.design.rule.as_deref(),
         a.ts,
-    )?;
-    if a.json {
+        a.json,
+    )
+}
+
+/// The report of `scheme` (`pi` when `None`) on `m`, as JSON or text.
+fn print_report(
+    m: &TransferMatrix,
+    scheme: Option<&str>,
+    rule: Option<&str>,
+    ts: Option<f64>,
+    json: bool,
+) -> Result<(), CliError> {
+    let r = report(m, scheme.unwrap_or("pi"), rule, ts)?;
+    if json {
         return export::print_json(&r);
     }
     for line in report_lines(&r, None) {
@@ -306,19 +318,13 @@ pub(crate) fn margins(m: &TransferMatrix, a: &MarginsArgs) -> Result<(), CliErro
         ));
     }
     let sc = scenario(m, &a.scenario, a.controller.as_deref())?;
-    let r = report(
+    print_report(
         m,
-        sc.controller.as_deref().unwrap_or("pi"),
+        sc.controller.as_deref(),
         sc.rule.as_deref(),
         sc.ts,
-    )?;
-    if a.json {
-        return export::print_json(&r);
-    }
-    for line in report_lines(&r, None) {
-        export::outln!("{line}")?;
-    }
-    Ok(())
+        a.json,
+    )
 }
 
 /// The CSV of runs: `t`, then per run and loop `r, y, u` (prefixed by

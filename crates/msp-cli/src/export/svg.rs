@@ -20,6 +20,22 @@ const PALETTE: [plotters::style::RGBColor; 10] = [
 
 /// A time series as plot points: at most ~2000 of them (the picture is the
 /// same, the file small), always ending at the last sample.
+/// The span of the finite values of `vs`, padded by 8 % (−1…1 for none).
+fn range(vs: &[&Vec<f64>]) -> (f64, f64) {
+    let (lo, hi) = vs
+        .iter()
+        .flat_map(|v| v.iter())
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(*x), b.max(*x))
+        });
+    if !lo.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.08).max(1e-9);
+    (lo - pad, hi + pad)
+}
+
 fn points(t: &[f64], v: &[f64]) -> Vec<(f64, f64)> {
     let stride = (t.len() / 2000).max(1);
     t.iter()
@@ -281,20 +297,6 @@ pub(crate) fn plot_svg(runs: &[&RunOutput]) -> Result<String, Box<dyn std::error
     };
     let color = |i: usize| PALETTE.get(i % PALETTE.len()).copied().unwrap_or(BLUE);
     let t_end = first.result.t.last().copied().unwrap_or(1.0).max(1e-9);
-    let range = |vs: &[&Vec<f64>]| {
-        let (lo, hi) = vs
-            .iter()
-            .flat_map(|v| v.iter())
-            .filter(|x| x.is_finite())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                (a.min(*x), b.max(*x))
-            });
-        if !lo.is_finite() {
-            return (-1.0, 1.0);
-        }
-        let pad = ((hi - lo) * 0.08).max(1e-9);
-        (lo - pad, hi + pad)
-    };
     let pts = |t: &Vec<f64>, v: &Vec<f64>| points(t, v);
     // each run's color and label: `one` (in `one_color`) for a single run,
     // the signal's name with the controller's for several

@@ -1,7 +1,7 @@
 //! A multivariable run's figure: a panel per output (its set point dashed,
 //! each scheme's output), then a panel per input.
 
-use super::{fmt_sig, legend, legend_spot, mark, points, Fine, PALETTE};
+use super::{fmt_sig, legend, legend_spot, mark, points, range, Fine, PALETTE};
 
 /// The figure of `outs` (one scheme or several on the same scenario).
 pub(crate) fn mimo_svg(
@@ -15,20 +15,6 @@ pub(crate) fn mimo_svg(
     let t = &first.run.t;
     let t_end = t.last().copied().unwrap_or(1.0).max(1e-9);
     let color = |i: usize| PALETTE.get(i % PALETTE.len()).copied().unwrap_or(BLUE);
-    let range = |vs: &[&Vec<f64>]| {
-        let (lo, hi) = vs
-            .iter()
-            .flat_map(|v| v.iter())
-            .filter(|x| x.is_finite())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                (a.min(*x), b.max(*x))
-            });
-        if !lo.is_finite() {
-            return (-1.0, 1.0);
-        }
-        let pad = ((hi - lo) * 0.08).max(1e-9);
-        (lo - pad, hi + pad)
-    };
     let panel = 190u32;
     let height = 44 + panel * 2 * u32::try_from(n).unwrap_or(1);
     let mut svg = String::new();
