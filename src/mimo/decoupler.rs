@@ -342,12 +342,12 @@ impl<T: Real, C: Controller<T>, const N: usize, const M: usize, S: AsRef<[T]> + 
 impl<T: Real, C: Operate<T>, const N: usize, const M: usize, S: AsRef<[T]> + AsMut<[T]>>
     MultiController<T> for Decoupled<T, C, N, M, S>
 {
-    fn applied(&mut self, loop_index: usize, u: T) {
+    fn applied(&mut self, loop_index: usize, u: T, how: Tracking) {
         let dv = self.decoupler.applied(loop_index, u);
         for ((c, v), d) in self.loops.iter_mut().zip(self.v.iter_mut()).zip(dv) {
             if d != T::zero() {
                 *v = *v + d;
-                c.apply(*v, Tracking::Full);
+                c.apply(*v, how);
             }
         }
     }

@@ -34,10 +34,11 @@ pub trait MultiController<T: Real> {
     /// beyond them keep their inputs).
     fn update(&mut self, setpoints: &[T], measurements: &[T], inputs: &mut [T]);
     /// Input `loop_index` of the last update was `u` where the plant
-    /// received it (the loop in manual, an actuator that limited it): the
-    /// controller is amended as if it had computed that (its loops track
-    /// it, `Tracking::Full`), so that its return to automatic is bumpless.
-    fn applied(&mut self, loop_index: usize, u: T);
+    /// received it (the loop in manual: `Tracking::Full`, the loop's
+    /// output follows it and its return to automatic is bumpless; an
+    /// actuator that limited it: `Tracking::Reset`, external reset feedback,
+    /// no windup): the controller is amended as if it had computed that.
+    fn applied(&mut self, loop_index: usize, u: T, how: Tracking);
     /// Every state to zero, the loop at rest before the next sample (as
     /// [`Controller::reset_to_rest`] of each single-loop part).
     fn reset_to_rest(&mut self);
@@ -74,9 +75,9 @@ impl<C, L: AsRef<[C]> + AsMut<[C]>> Decentralized<C, L> {
 impl<T: Real, C: Operate<T>, L: AsRef<[C]> + AsMut<[C]>> MultiController<T>
     for Decentralized<C, L>
 {
-    fn applied(&mut self, loop_index: usize, u: T) {
+    fn applied(&mut self, loop_index: usize, u: T, how: Tracking) {
         if let Some(c) = self.loops.as_mut().get_mut(loop_index) {
-            c.apply(u, Tracking::Full);
+            c.apply(u, how);
         }
     }
 

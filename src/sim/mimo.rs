@@ -134,6 +134,14 @@ pub struct MimoEvents {
     pub dead_times: Vec<ChannelDeadTime>,
     /// Loops switched to manual and back.
     pub modes: Vec<LoopMode>,
+    /// White measurement noise on every output (its standard deviation;
+    /// the controller sees it, the recorded `y` does not), from `seed`.
+    pub noise: f64,
+    /// The noise generator's seed.
+    pub seed: u64,
+    /// Every input limited to `(min, max)` where the plant receives it (the
+    /// loops take the limited value as external reset feedback: no windup).
+    pub actuator: Option<(f64, f64)>,
 }
 
 /// Runs `controller` (loop `i` closes output `i` through input `i`) on
@@ -158,6 +166,12 @@ pub fn simulate_mimo(
         .filter(|s| *s < MAX_SAMPLES)
         .ok_or(Error::OutOfRange("duration/ts"))?
         .saturating_add(1);
+    crate::real::non_negative(events.noise, "noise")?;
+    if let Some((lo, hi)) = events.actuator {
+        if !(lo <= hi) {
+            return Err(Error::InvalidLimits("actuator"));
+        }
+    }
     if events.modes.iter().any(|m| m.loop_index >= n) {
         return Err(Error::OutOfRange(
             "a mode switch of a loop the plant does not have",
@@ -253,6 +267,8 @@ pub fn simulate_mimo(
     modes.sort_by(|a, b| a.at.total_cmp(&b.at));
     let mut modes = modes.into_iter().peekable();
     let mut manual: Vec<Option<f64>> = std::vec![None; n];
+    let mut noise = super::Noise::new(events.seed);
+    let mut measured = std::vec![0.0; n];
     let (mut r, mut y, mut u) = (std::vec![0.0; n], std::vec![0.0; n], std::vec![0.0; n]);
     for k in 0..steps {
         let t = k as f64 * ts;
@@ -278,13 +294,28 @@ pub fn simulate_mimo(
                 *x = m.manual;
             }
         }
-        controller.update(&r, &y, &mut u);
-        // a loop in manual: the plant receives the held value, which the
-        // controller then tracks
+        for (m, yi) in measured.iter_mut().zip(&y) {
+            *m = if events.noise > 0.0 {
+                yi + events.noise * noise.gaussian()
+            } else {
+                *yi
+            };
+        }
+        controller.update(&r, &measured, &mut u);
+        // a loop in manual: the plant receives the held value; an actuator
+        // limits what it receives; the controller then tracks it
         for (i, (ui, held)) in u.iter_mut().zip(&manual).enumerate() {
-            if let Some(v) = held {
-                *ui = *v;
-                controller.applied(i, *v);
+            let given = held.unwrap_or(*ui);
+            let applied = match events.actuator {
+                Some((lo, hi)) => given.max(lo).min(hi),
+                None => given,
+            };
+            if held.is_some() {
+                *ui = applied;
+                controller.applied(i, applied, crate::operate::Tracking::Full);
+            } else if applied != *ui {
+                *ui = applied;
+                controller.applied(i, applied, crate::operate::Tracking::Reset);
             }
         }
         for (((col_r, col_y), col_u), ((ri, yi), ui)) in run

@@ -175,9 +175,9 @@ fn a_matrix_plant_runs_as_the_library_does() {
         "the plant has 2 loops",
     );
     fails(
-        msp().args(["run", "--plant", WB, "--noise", "0.1", "--setpoint", "1"]),
+        msp().args(["run", "--plant", WB, "--umin", "0", "--setpoint", "1"]),
         2,
-        "does not take --setpoint, --noise",
+        "does not take --setpoint, --umin",
     );
     fails(
         msp().args([
@@ -305,11 +305,11 @@ fn a_matrix_scenario_file_is_its_flags() {
             flags
         );
     }
-    std::fs::write(&file, format!("plant = \"{WB}\"\nnoise = 0.1\n")).unwrap();
+    std::fs::write(&file, format!("plant = \"{WB}\"\numin = 0.1\n")).unwrap();
     fails(
         msp().args(["run", "--scenario", file.to_str().unwrap()]),
         2,
-        "unknown field `noise`",
+        "unknown field `umin`",
     );
     std::fs::write(
         &file,

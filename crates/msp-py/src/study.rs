@@ -359,7 +359,7 @@ pub(crate) fn tune_matrix<'py>(
 /// A matrix plant's run (``msp run --plant "[…]"``): the report (the JSON
 /// of ``--report``) and the columns ``t`` and per loop ``r``, ``y``, ``u``.
 #[pyfunction]
-#[pyo3(signature = (plant, controller=None, rule=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new(), loop_event=Vec::new()))]
+#[pyo3(signature = (plant, controller=None, rule=None, ts=None, duration=None, loop_setpoint=Vec::new(), loop_disturbance=Vec::new(), disturbance_plant=None, disturbance_step=Vec::new(), channel_dead_time=Vec::new(), loop_event=Vec::new(), noise=0.0, seed=0, actuator=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub(crate) fn run_matrix<'py>(
     py: Python<'py>,
@@ -374,6 +374,9 @@ pub(crate) fn run_matrix<'py>(
     disturbance_step: Vec<String>,
     channel_dead_time: Vec<String>,
     loop_event: Vec<String>,
+    noise: f64,
+    seed: u64,
+    actuator: Option<(f64, f64)>,
 ) -> PyResult<(
     Bound<'py, PyDict>,
     Bound<'py, numpy::PyArray1<f64>>,
@@ -423,6 +426,9 @@ pub(crate) fn run_matrix<'py>(
                 .iter()
                 .map(|s| s.parse().map_err(value_err))
                 .collect::<PyResult<_>>()?,
+            noise,
+            seed,
+            actuator,
         },
     };
     let mut out = py.allow_threads(|| sc.run()).map_err(value_err)?;

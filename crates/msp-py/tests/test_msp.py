@@ -516,8 +516,10 @@ def test_a_matrix_plant_runs_as_the_cli_does(tmp_path: pathlib.Path) -> None:
     pi, dec = msp.compare(WOOD_BERRY, ["pi", "decoupled"], **kw)
     assert pi.report["scheme"] == "pi" and pi.interaction[0]["deviation"][1] > 0.3
     np.testing.assert_array_equal(dec.y, res.y)
-    with pytest.raises(ValueError, match="does not take noise"):
-        msp.run(WOOD_BERRY, noise=0.1)
+    with pytest.raises(ValueError, match="does not take umin"):
+        msp.run(WOOD_BERRY, umin=0.0)
+    noisy = msp.run(WOOD_BERRY, ts=1.0, duration=100.0, noise=0.01, seed=3, actuator=(-0.1, 0.1))
+    assert noisy.u.max() <= 0.1 and noisy.u.min() >= -0.1
     held = msp.run(WOOD_BERRY, "decoupled", ts=1.0, duration=200.0, loop_setpoint=["1:1@0"],
                    loop_event=["1:50:manual=0.2", "1:120:auto"])
     assert (held.u[0][50:120] == 0.2).all()

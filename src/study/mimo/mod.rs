@@ -335,6 +335,12 @@ pub struct MimoScenarioFile {
     pub channel_dead_time: Vec<std::string::String>,
     /// `LOOP:TIME:manual=VALUE` or `LOOP:TIME:auto` each.
     pub loop_event: Vec<std::string::String>,
+    /// The measurement noise's standard deviation (every output).
+    pub noise: Option<f64>,
+    /// The noise's seed.
+    pub seed: Option<u64>,
+    /// `MIN..MAX`, every input.
+    pub actuator: Option<std::string::String>,
 }
 
 impl TryFrom<MimoScenarioFile> for MimoScenario {
@@ -385,6 +391,14 @@ impl TryFrom<MimoScenarioFile> for MimoScenario {
                 disturbance,
                 dead_times: all("channel_dead_time", &f.channel_dead_time)?,
                 modes: all("loop_event", &f.loop_event)?,
+                noise: f.noise.unwrap_or(0.0),
+                seed: f.seed.unwrap_or(0),
+                actuator: f
+                    .actuator
+                    .as_deref()
+                    .map(crate::syntax::parse_actuator)
+                    .transpose()
+                    .map_err(|e| std::format!("actuator: {e}"))?,
             },
         })
     }

@@ -68,11 +68,9 @@ fn single_loop_flags(s: &ScenarioArgs) -> Vec<&'static str> {
         ("--set", !d.set.is_empty()),
         ("--setpoint", !s.setpoint.is_empty()),
         ("--disturbance", !s.disturbance.is_empty()),
-        ("--noise", s.noise.is_some()),
         ("--quantization", s.quantization.is_some()),
         ("--umin", s.umin.is_some()),
         ("--umax", s.umax.is_some()),
-        ("--actuator", s.actuator.is_some()),
         ("--float32", s.float32),
         ("--event", !s.events.is_empty()),
         ("--setpoint-ramp", s.setpoint_ramp.is_some()),
@@ -152,6 +150,15 @@ fn scenario(
     ev.loads.extend(s.loop_disturbance.iter().copied());
     ev.dead_times.extend(s.channel_dead_time.iter().copied());
     ev.modes.extend(s.loop_event.iter().copied());
+    if let Some(v) = s.noise {
+        ev.noise = v;
+    }
+    if let Some(v) = s.seed {
+        ev.seed = v;
+    }
+    if s.actuator.is_some() {
+        ev.actuator = s.actuator;
+    }
     sc.setpoints = setpoints;
     if controller.is_some() {
         sc.controller = controller.map(str::to_string);

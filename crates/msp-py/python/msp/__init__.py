@@ -89,6 +89,9 @@ MATRIX_KEYWORDS = (
     "disturbance_step",
     "channel_dead_time",
     "loop_event",
+    "noise",
+    "seed",
+    "actuator",
 )
 
 
@@ -161,7 +164,9 @@ def _run_matrix(matrix: str, controller: Optional[str], params: Any, delay: Any,
         matrix, controller, scenario.get("rule"), scenario.get("ts"), scenario.get("duration"),
         _loop_list(scenario.get("loop_setpoint")), _loop_list(scenario.get("loop_disturbance")),
         dp, _loop_list(scenario.get("disturbance_step")),
-        _loop_list(scenario.get("channel_dead_time")), _loop_list(scenario.get("loop_event"))))
+        _loop_list(scenario.get("channel_dead_time")), _loop_list(scenario.get("loop_event")),
+        float(scenario.get("noise") or 0.0), int(scenario.get("seed") or 0),
+        None if scenario.get("actuator") is None else tuple(scenario["actuator"])))
 
 
 class PidOptions(TypedDict, total=False):
@@ -560,7 +565,8 @@ def run(
     keywords are the CLI's flags (:data:`MATRIX_KEYWORDS`): ``ts``, ``duration``,
     ``loop_setpoint=["1:1@0", "2:1@50"]``, ``loop_disturbance=["1:input:0.1@80"]``,
     ``disturbance_plant="[d1; d2]"`` (or a list) with ``disturbance_step=["0.1@20"]``,
-    ``channel_dead_time=["1,2=5@100"]`` and ``loop_event=["2:50:manual=0.3", "2:80:auto"]``.
+    ``channel_dead_time=["1,2=5@100"]``, ``loop_event=["2:50:manual=0.3", "2:80:auto"]``,
+    ``noise`` with ``seed`` (every output) and ``actuator=(min, max)`` (every input).
 
     Returns
     -------

@@ -84,6 +84,9 @@ def run_matrix(
     disturbance_step: List[str] = ...,
     channel_dead_time: List[str] = ...,
     loop_event: List[str] = ...,
+    noise: float = 0.0,
+    seed: int = 0,
+    actuator: Optional[Tuple[float, float]] = None,
 ) -> Tuple[Dict[str, Any], Any, List[List[Any]]]: ...
 def tradeoff(plant: Union[str, Plant], controllers: List[str], **scenario: Any) -> Dict[str, Any]: ...
 def simulate(
