@@ -322,3 +322,28 @@ fn a_matrix_scenario_file_is_its_flags() {
         "the plant has 2 loops",
     );
 }
+
+/// Plants at the edges: an integrating channel has no steady-state RGA (the
+/// report says so and gives the RGA over frequency) but every scheme runs;
+/// a dead time of more samples than a run holds is refused with the
+/// channel and the remedy; a static diagonal names what it lacks.
+#[test]
+fn matrix_plants_at_the_edges() {
+    const LEVEL: &str = "[e^-s/s, 0.2e^-2s/s; 0.1e^-2s/(s+1), e^-s/(2s+1)]";
+    for c in ["pi", "smith", "decoupled"] {
+        let j = json_out(&["tune", "--plant", LEVEL, "-c", c, "--json"]);
+        assert!(j["rga"].is_null() && j["niederlinski"].is_null(), "{j}");
+        assert_eq!(j["rga_over_frequency"].as_array().unwrap().len(), 12);
+        assert_eq!(j["stability"]["stable"], true, "{c}: {j}");
+    }
+    fails(
+        msp().args(["run", "--plant", "[e^-1000000s/(s+1), 0; 0, e^-s/(s+1)]"]),
+        2,
+        "g11's dead time is 1.000e9 samples",
+    );
+    fails(
+        msp().args(["tune", "--plant", "[1, 0; 0, 1]", "-c", "smith"]),
+        2,
+        "a plant without dynamics",
+    );
+}

@@ -95,7 +95,13 @@ fn diagonal(plant: &TransferMatrix) -> Result<Vec<&crate::poly::TransferFunction
 /// Loop `i`'s single-loop scheme and its parameters for `λ` (`None`: the
 /// scheme's own choice).
 fn smith_loop(g: &crate::poly::TransferFunction, lambda: Option<f64>) -> Result<Params, RunError> {
-    Ok(registry::find("smith")?.tune_with(g, lambda, &[])?)
+    registry::find("smith")?
+        .tune_with(g, lambda, &[])
+        .map_err(|e| {
+            RunError::Limit(std::format!(
+                "a diagonal channel's Smith predictor ({g}): {e}"
+            ))
+        })
 }
 
 /// Designs `scheme` for `plant` sampled at `ts`; `rule` sets the `pi`

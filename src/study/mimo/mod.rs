@@ -15,7 +15,6 @@ pub use build::{
 use std::vec::Vec;
 
 use super::RunError;
-use crate::analysis::mimo::{tuning, MimoTuning};
 use crate::analysis::Stability;
 use crate::poly::TransferMatrix;
 use crate::sim::{
@@ -47,16 +46,19 @@ pub struct Interaction {
 pub struct MimoReport {
     /// The plant, as written back (`[g11, g12; g21, g22]`).
     pub plant: std::string::String,
-    /// The relative gain array at steady state, by rows (Bristol (1966)).
-    pub rga: Vec<Vec<f64>>,
+    /// The relative gain array at steady state, by rows (Bristol (1966));
+    /// `None` for a plant without one (an integrating channel: see
+    /// `rga_over_frequency`).
+    pub rga: Option<Vec<Vec<f64>>>,
     /// The input each output is best paired with (`None`: no pairing has
-    /// every relative gain positive).
+    /// every relative gain positive, or no steady-state RGA).
     pub pairing: Option<Vec<usize>>,
     /// The RGA's magnitudes over frequency (12 points, a tenth of the
     /// slowest time scale's frequency to the fastest's).
     pub rga_over_frequency: Vec<crate::analysis::mimo::RgaPoint>,
-    /// `det G(0)/Π gᵢᵢ(0)` (Niederlinski (1971)).
-    pub niederlinski: f64,
+    /// `det G(0)/Π gᵢᵢ(0)` (Niederlinski (1971); `None` without steady-state
+    /// gains).
+    pub niederlinski: Option<f64>,
     /// The scheme's design.
     #[cfg_attr(feature = "serde", serde(flatten))]
     pub design: MimoDesign,
@@ -89,22 +91,54 @@ pub fn report(
 ) -> Result<MimoReport, RunError> {
     let ts = ts.unwrap_or_else(|| period(plant));
     crate::real::positive(ts, "ts").map_err(RunError::Invalid)?;
-    let t: MimoTuning = tuning(plant).map_err(RunError::Invalid)?;
+    within_samples(plant, ts)?;
+    let n = plant.size();
+    // the steady-state measures where the plant has steady-state gains
+    let rga = crate::analysis::mimo::rga(plant).ok();
     let design = design(plant, scheme, rule, ts)?;
     let (stability, decoupler_stability, lcm) = analyse(plant, &design)?;
     Ok(MimoReport {
-        plant: t.plant,
-        rga: t.rga,
-        pairing: t.pairing,
+        plant: std::string::ToString::to_string(plant),
+        pairing: rga
+            .as_ref()
+            .and_then(|l| crate::analysis::mimo::pairing(l, n)),
+        rga: rga.map(|l| l.chunks(n).map(<[f64]>::to_vec).collect()),
         rga_over_frequency: crate::analysis::mimo::rga_over(plant, 12)
             .map_err(RunError::Invalid)?,
-        niederlinski: t.niederlinski,
+        niederlinski: crate::analysis::mimo::niederlinski(plant).ok(),
         alone: design.alone.clone(),
         design,
         stability,
         decoupler_stability,
         lcm,
     })
+}
+
+/// The most samples of dead time a channel may have at the period (its
+/// line, the predictor's and the verdict's frequency grid grow with it).
+pub const MAX_DELAY_SAMPLES: f64 = 1e6;
+
+/// Every channel's dead time within [`MAX_DELAY_SAMPLES`] at `ts`, or an
+/// error that names the channel and what to do.
+fn within_samples(plant: &TransferMatrix, ts: f64) -> Result<(), RunError> {
+    let n = plant.size();
+    for i in 0..n {
+        for j in 0..n {
+            let d = plant
+                .get(i, j)
+                .and_then(|g| g.delay_samples(ts).ok())
+                .unwrap_or(f64::INFINITY);
+            if !(d <= MAX_DELAY_SAMPLES) {
+                return Err(RunError::Limit(std::format!(
+                    "g{}{}'s dead time is {:.3e} samples at ts = {ts} s, beyond the {MAX_DELAY_SAMPLES:.0e} a matrix plant's run holds: give a longer --ts",
+                    i + 1,
+                    j + 1,
+                    d
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A multivariable scenario: the plant, the scheme, the set points per

@@ -173,16 +173,22 @@ fn scenario(
 
 /// The report's lines: the interaction measures, the design, the verdict.
 fn report_lines(r: &MimoReport, iae: Option<&[f64]>) -> Vec<String> {
-    let n = r.rga.len();
+    let n = r.design.loops.len();
     let mut out = vec![format!(
         "plant       {} ({n}x{n}), ts = {} s",
         r.plant,
         export::fmt_sig(r.design.ts)
     )];
-    for (i, row) in r.rga.iter().enumerate() {
-        let cells: Vec<String> = row.iter().map(|x| export::fmt_sig(*x)).collect();
-        let label = if i == 0 { "rga" } else { "" };
-        out.push(format!("{label:<11} [{}]", cells.join(", ")));
+    match &r.rga {
+        Some(rga) => {
+            for (i, row) in rga.iter().enumerate() {
+                let cells: Vec<String> = row.iter().map(|x| export::fmt_sig(*x)).collect();
+                let label = if i == 0 { "rga" } else { "" };
+                out.push(format!("{label:<11} [{}]", cells.join(", ")));
+            }
+        }
+        None => out
+            .push("rga         none at steady state (an integrating channel): see rga(jω)".into()),
     }
     let l11: Vec<(f64, f64)> = r
         .rga_over_frequency
@@ -219,15 +225,17 @@ fn report_lines(r: &MimoReport, iae: Option<&[f64]>) -> Vec<String> {
         }
         None => "pairing     none with every relative gain positive".into(),
     });
-    out.push(format!(
-        "niederlinski {}{}",
-        export::fmt_sig(r.niederlinski),
-        if r.niederlinski < 0.0 {
-            " (negative: the diagonal loops with integral action are unstable for every tuning)"
-        } else {
-            ""
-        }
-    ));
+    if let Some(ni) = r.niederlinski {
+        out.push(format!(
+            "niederlinski {}{}",
+            export::fmt_sig(ni),
+            if ni < 0.0 {
+                " (negative: the diagonal loops with integral action are unstable for every tuning)"
+            } else {
+                ""
+            }
+        ));
+    }
     let d = &r.design;
     let summary = msp::study::MIMO_SCHEMES
         .iter()
