@@ -60,6 +60,10 @@ fn a_matrix_plant_is_tuned_by_blt_or_a_scheme() {
         2,
         "one of pi, smith, decoupled",
     );
+    prints(
+        msp().arg("list"),
+        &["controllers of a matrix plant", "  decoupled", "  smith "],
+    );
     // SIMC loops alone, then BLT's detuning
     prints(
         msp().args(["tune", "--plant", WB, "--rule", "simc"]),

@@ -21,6 +21,10 @@ pub(crate) fn list() -> Result<(), CliError> {
             s.source
         )?;
     }
+    export::outln!("controllers of a matrix plant (--plant \"[g11, g12; g21, g22]\"; --rule zn or simc for pi):")?;
+    for s in msp::study::MIMO_SCHEMES {
+        export::outln!("  {:<22}  {}", s.name, s.summary)?;
+    }
     export::outln!("tuning rules for `pid`/`pi` (--rule): imc (IMC-PID, Bag (2022) Eqs. 3.25-3.27), simc (Skogestad (2003)), amigo (Astrom & Hagglund (2004), with set-point weight b), and from Ku, Tu:")?;
     for r in msp::tuning::PI_RULES.iter().chain(msp::tuning::PID_RULES) {
         export::outln!(
