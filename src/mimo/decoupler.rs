@@ -400,25 +400,9 @@ pub fn fopdt_element<T: Real, S: AsRef<[T]> + AsMut<[T]>>(
     ts: T,
     storage: S,
 ) -> Result<Element<T, 2, S>, Error> {
-    let ts = crate::real::positive(ts, "ts")?;
-    // (k, a, b0, b1) of a channel
-    let sampled = |g: &crate::model::Fopdt<T>| -> Result<(T, T, T, T), Error> {
-        let d = crate::delay::samples(g.l, ts)?;
-        let (mut k, mut f) = (d.floor(), d - d.floor());
-        if f > T::one() - T::of(1e-9) {
-            (k, f) = (k + T::one(), T::zero());
-        }
-        let a = (-ts / g.t).exp();
-        let a1f = a.powf(T::one() - f);
-        Ok((k, a, g.k * (T::one() - a1f), g.k * (a1f - a)))
-    };
-    let (kij, aij, b0ij, b1ij) = sampled(gij)?;
-    let (kii, aii, b0ii, b1ii) = sampled(gii)?;
-    if kij < kii {
-        return Err(Error::Unsupported(
-            "decoupler: g_ij answers sooner than g_ii (θij < θii): the element would need an advance",
-        ));
-    }
+    let (kij, aij, b0ij, b1ij) = sampled_fopdt(gij, ts)?;
+    let (kii, aii, b0ii, b1ii) = sampled_fopdt(gii, ts)?;
+    let delay = advance_free(kij, kii)?;
     let c = b1ii / b0ii;
     if !(c.abs() < T::one()) {
         return Err(Error::Unsupported(
@@ -438,6 +422,42 @@ pub fn fopdt_element<T: Real, S: AsRef<[T]> + AsMut<[T]>>(
     } else {
         Lti::from_discrete_tf(&num, &den)?
     };
-    let line = Delay::with_storage(storage, kij - kii)?;
+    let line = Delay::with_storage(storage, delay)?;
     Ok(Element::new(block, line))
+}
+
+/// A channel `K e^{−θs}/(τs + 1)` sampled at `ts`: `(k, a, b₀, b₁)` of
+/// [`fopdt_element`]'s `g(z)`, the fraction of a sample within 1e-9 of a
+/// whole one taken as whole.
+fn sampled_fopdt<T: Real>(g: &crate::model::Fopdt<T>, ts: T) -> Result<(T, T, T, T), Error> {
+    let ts = crate::real::positive(ts, "ts")?;
+    let d = crate::delay::samples(g.l, ts)?;
+    let (mut k, mut f) = (d.floor(), d - d.floor());
+    if f > T::one() - T::of(1e-9) {
+        (k, f) = (k + T::one(), T::zero());
+    }
+    let a = (-ts / g.t).exp();
+    let a1f = a.powf(T::one() - f);
+    Ok((k, a, g.k * (T::one() - a1f), g.k * (a1f - a)))
+}
+
+/// `kᵢⱼ − kᵢᵢ`, or the error of an element that would need an advance.
+fn advance_free<T: Real>(kij: T, kii: T) -> Result<T, Error> {
+    if kij < kii {
+        return Err(Error::Unsupported(
+            "decoupler: g_ij answers sooner than g_ii (θij < θii): the element would need an advance",
+        ));
+    }
+    Ok(kij - kii)
+}
+
+/// The whole samples of [`fopdt_element`]'s delay line for these channels
+/// (the room its `storage` needs), with its errors.
+pub fn fopdt_element_samples<T: Real>(
+    gij: &crate::model::Fopdt<T>,
+    gii: &crate::model::Fopdt<T>,
+    ts: T,
+) -> Result<usize, Error> {
+    let d = advance_free(sampled_fopdt(gij, ts)?.0, sampled_fopdt(gii, ts)?.0)?;
+    d.to_usize().ok_or(Error::DelayTooLong("delay"))
 }

@@ -15,7 +15,7 @@
 
 mod decoupler;
 
-pub use decoupler::{fopdt_element, Decoupled, Element, InvertedDecoupler};
+pub use decoupler::{fopdt_element, fopdt_element_samples, Decoupled, Element, InvertedDecoupler};
 
 use core::marker::PhantomData;
 

@@ -15,7 +15,10 @@
 
 use core::mem::{align_of, size_of};
 
-use msp_core::mimo::{fopdt_element, Decentralized, Decoupled, InvertedDecoupler, MultiController};
+use msp_core::mimo::{
+    fopdt_element, fopdt_element_samples, Decentralized, Decoupled, InvertedDecoupler,
+    MultiController,
+};
 use msp_core::{Delay, Error, Fopdt, Real, SmithPredictor};
 
 use crate::handle::{
@@ -113,18 +116,11 @@ fn lines<T: Real>(c: &msp_mimo2_config_of<T>) -> Result<[usize; 4], Error> {
     };
     let d = |g: &Fopdt<T>| msp_core::delay::samples(g.l, c.ts);
     let (d11, d22) = (d(&g11)?, d(&g22)?);
-    let difference = |dij: T, dii: T| {
-        let e = dij.floor() - dii.floor();
-        if e < T::zero() {
-            Err(Error::Unsupported(
-                "decoupler: g_ij answers sooner than g_ii (θij < θii): the element would need an advance",
-            ))
-        } else {
-            whole(e)
-        }
-    };
     let (e12, e21) = if c.decoupled != 0 {
-        (difference(d(&g12)?, d11)?, difference(d(&g21)?, d22)?)
+        (
+            fopdt_element_samples(&g12, &g11, c.ts)?,
+            fopdt_element_samples(&g21, &g22, c.ts)?,
+        )
     } else {
         (0, 0)
     };

@@ -316,15 +316,19 @@ pub struct Blt {
     pub lcm: f64,
 }
 
-/// How each diagonal loop's PI is set alone, before the common detuning.
+/// How each diagonal loop's PI is set alone, before the common detuning
+/// (serialized by its name, `zn` or `simc`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub enum LoopRule {
     /// Ziegler–Nichols from the loop's ultimate point: `Kc = Ku/2.2`,
     /// `τI = Pu/1.2` (BLT, Luyben (1986)).
+    #[cfg_attr(feature = "serde", serde(rename = "zn"))]
     ZieglerNichols,
     /// Skogestad's SIMC on the loop's first-order (or integrating) model
     /// with `τc = θ`: `Kc = T/(K(τc + θ))`, `τI = min(T, 4(τc + θ))`
     /// ([`crate::tuning::simc`]).
+    #[cfg_attr(feature = "serde", serde(rename = "simc"))]
     Simc,
 }
 
@@ -445,49 +449,5 @@ pub fn detune(m: &TransferMatrix, alone: Vec<PiLoop>, lcm_db: Option<f64>) -> Re
         loops: detuned(f),
         lcm: lcm_of(f),
         alone: zn,
-    })
-}
-
-/// What `msp tune` reports for a multivariable plant (the CLI's text and
-/// JSON, Python's dict): the steady-state RGA and the pairing it suggests,
-/// the Niederlinski index of the diagonal pairing, and the BLT tuning of
-/// decentralized PI loops on the diagonal.
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct MimoTuning {
-    /// The plant, as written back (`[g11, g12; g21, g22]`).
-    pub plant: std::string::String,
-    /// The relative gain array at steady state, by rows.
-    pub rga: Vec<Vec<f64>>,
-    /// The input each output is best paired with (Bristol's rule; `None`
-    /// when no pairing has every relative gain positive).
-    pub pairing: Option<Vec<usize>>,
-    /// `det G(0)/Π gᵢᵢ(0)`: negative, the diagonal loops with integral
-    /// action are unstable for every tuning.
-    pub niederlinski: f64,
-    /// The BLT detuning factor.
-    pub f: f64,
-    /// The biggest log modulus the loops reach (dB).
-    pub lcm: f64,
-    /// The diagonal loops (`kp`, `ti`).
-    pub loops: Vec<PiLoop>,
-    /// Each loop's Ziegler–Nichols PI alone, before detuning.
-    pub ziegler_nichols: Vec<PiLoop>,
-}
-
-/// [`MimoTuning`] of `m` (the BLT for Luyben's `2n` dB).
-pub fn tuning(m: &TransferMatrix) -> Result<MimoTuning, Error> {
-    let n = m.size();
-    let l = rga(m)?;
-    let b = blt(m, None)?;
-    Ok(MimoTuning {
-        plant: std::string::ToString::to_string(m),
-        rga: l.chunks(n).map(<[f64]>::to_vec).collect(),
-        pairing: pairing(&l, n),
-        niederlinski: niederlinski(m)?,
-        f: b.f,
-        lcm: b.lcm,
-        loops: b.loops,
-        ziegler_nichols: b.alone,
     })
 }

@@ -19,11 +19,24 @@ use crate::mimo::{Decentralized, Decoupled, Element, InvertedDecoupler, MultiCon
 use crate::poly::TransferMatrix;
 use crate::registry::{self, Build, DynController, Params};
 
+/// What a multivariable scheme builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MimoKind {
+    /// Decentralized PI loops.
+    Pi,
+    /// Decentralized Smith predictors.
+    Smith,
+    /// Smith predictors behind the inverted decoupler.
+    Decoupled,
+}
+
 /// A multivariable scheme.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MimoScheme {
     /// Its name (`-c` on the command line, `controller=` in Python).
     pub name: &'static str,
+    /// What it builds.
+    pub kind: MimoKind,
     /// One line for listings and `--help`.
     pub summary: &'static str,
 }
@@ -32,14 +45,17 @@ pub struct MimoScheme {
 pub static MIMO_SCHEMES: &[MimoScheme] = &[
     MimoScheme {
         name: "pi",
+        kind: MimoKind::Pi,
         summary: "decentralized PI loops on the diagonal, each set alone (Ziegler-Nichols, or --rule simc) and detuned together to a biggest log modulus of 2n dB (BLT, Luyben 1986)",
     },
     MimoScheme {
         name: "smith",
+        kind: MimoKind::Smith,
         summary: "a Smith predictor on each diagonal channel (decentralized), detuned together to a biggest log modulus of 2n dB",
     },
     MimoScheme {
         name: "decoupled",
+        kind: MimoKind::Decoupled,
         summary: "an inverted decoupler (Wade 1997) with a Smith predictor in each decoupled loop (Garrido et al. 2016)",
     },
 ];
@@ -66,10 +82,13 @@ pub fn find(name: &str) -> Result<&'static MimoScheme, RunError> {
 pub struct MimoDesign {
     /// The scheme's name.
     pub scheme: &'static str,
+    /// What it builds.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub kind: MimoKind,
     /// The sample period the design is for (s).
     pub ts: f64,
     /// The `pi` loops' rule alone (`zn`: BLT's; `simc`).
-    pub rule: Option<&'static str>,
+    pub rule: Option<LoopRule>,
     /// The detuning factor (`pi`: BLT's `Kc/F`, `τI·F`; `smith`: each
     /// loop's `λ` times `F`; `decoupled`: 1, the loops being independent).
     pub f: f64,
@@ -113,7 +132,7 @@ pub fn design(
     ts: f64,
 ) -> Result<MimoDesign, RunError> {
     let s = find(scheme)?;
-    if rule.is_some() && s.name != "pi" {
+    if rule.is_some() && s.kind != MimoKind::Pi {
         return Err(RunError::Limit(std::format!(
             "a rule sets the pi loops of a matrix plant; the {} scheme tunes its loops by λ",
             s.name
@@ -123,6 +142,7 @@ pub fn design(
     let diag = diagonal(plant)?;
     let base = MimoDesign {
         scheme: s.name,
+        kind: s.kind,
         ts,
         f: 1.0,
         rule: None,
@@ -130,8 +150,8 @@ pub fn design(
         decoupler: Vec::new(),
         alone: None,
     };
-    match s.name {
-        "pi" => {
+    match s.kind {
+        MimoKind::Pi => {
             let rule = LoopRule::from_name(rule.unwrap_or("zn")).map_err(RunError::Invalid)?;
             let alone = loops_alone(plant, rule).map_err(RunError::Invalid)?;
             let b = detune(plant, alone, None).map_err(RunError::Invalid)?;
@@ -151,13 +171,13 @@ pub fn design(
                 .collect::<Result<_, RunError>>()?;
             Ok(MimoDesign {
                 f: b.f,
-                rule: Some(rule.name()),
+                rule: Some(rule),
                 loops,
                 alone: Some(b.alone),
                 ..base
             })
         }
-        "smith" => {
+        MimoKind::Smith => {
             let own: Vec<f64> = diag
                 .iter()
                 .map(|g| smith_loop(g, None).map(|p| p.lambda().unwrap_or(g.delay.max(ts))))
@@ -213,7 +233,7 @@ pub fn design(
             }
             at(hi.exp())
         }
-        _ => {
+        MimoKind::Decoupled => {
             let loops = diag
                 .iter()
                 .map(|g| smith_loop(g, None))
@@ -240,7 +260,11 @@ pub fn design(
 
 /// Each loop's controller of design `d` (the registry's `pi` or `smith`).
 pub fn loops_of(plant: &TransferMatrix, d: &MimoDesign) -> Result<Vec<DynController>, RunError> {
-    let name = if d.scheme == "pi" { "pi" } else { "smith" };
+    let name = if d.kind == MimoKind::Pi {
+        "pi"
+    } else {
+        "smith"
+    };
     let scheme = registry::find(name)?;
     diagonal(plant)?
         .iter()
@@ -323,7 +347,7 @@ macro_rules! with_size {
 
 /// The decoupler of design `d` as the analysis reads it (`None` without one).
 pub fn decoupling_of(n: usize, d: &MimoDesign) -> Result<Option<Box<dyn Decoupling>>, RunError> {
-    if d.scheme != "decoupled" {
+    if d.kind != MimoKind::Decoupled {
         return Ok(None);
     }
     with_size!(n, N => decoupler::<N>(&d.decoupler).map(|x| Some(Box::new(x) as Box<dyn Decoupling>)))
@@ -336,7 +360,7 @@ pub fn controller(
     d: &MimoDesign,
 ) -> Result<Box<dyn MultiController<f64> + Send>, RunError> {
     let loops = loops_of(plant, d)?;
-    if d.scheme != "decoupled" {
+    if d.kind != MimoKind::Decoupled {
         return Ok(Box::new(Decentralized::new(loops)));
     }
     let n = plant.size();

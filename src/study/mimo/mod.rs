@@ -8,7 +8,7 @@
 mod build;
 
 pub use build::{
-    analyse, controller, decoupling_of, design, find, loops_of, MimoDesign, MimoScheme,
+    analyse, controller, decoupling_of, design, find, loops_of, MimoDesign, MimoKind, MimoScheme,
     MIMO_SCHEMES,
 };
 

@@ -116,6 +116,13 @@ fn scenario(
     };
     let n = m.size();
     sc.plant = m.clone();
+    // a file's set point for a loop the plant given by --plant lacks is an
+    // error, not a step dropped
+    if sc.setpoints.iter().skip(n).any(|s| !s.is_empty()) {
+        return Err(CliError::Input(format!(
+            "the scenario file sets a loop beyond the {n} of --plant"
+        )));
+    }
     sc.setpoints.resize(n, Vec::new());
     let mut setpoints = std::mem::take(&mut sc.setpoints);
     for (l, step) in &s.loop_setpoint {
@@ -252,7 +259,7 @@ fn report_lines(r: &MimoReport, iae: Option<&[f64]>) -> Vec<String> {
             .map(|(k, v)| format!("{k} = {}", export::fmt_sig(v)))
             .collect();
         let rule = match d.rule {
-            Some("simc") => "SIMC",
+            Some(msp::analysis::mimo::LoopRule::Simc) => "SIMC",
             _ => "Ziegler-Nichols",
         };
         let zn = r
