@@ -23,6 +23,22 @@ fn tf(s: &str) -> TransferFunction {
     s.parse().unwrap()
 }
 
+/// Wood & Berry (1973), time in minutes.
+fn wood_berry() -> TransferMatrix {
+    TransferMatrix::new(vec![
+        vec![tf("12.8e^-1s/(16.7s+1)"), tf("-18.9e^-3s/(21s+1)")],
+        vec![tf("6.6e^-7s/(10.9s+1)"), tf("-19.4e^-3s/(14.4s+1)")],
+    ])
+    .unwrap()
+}
+
+/// One set-point step per loop: `(value, at)` each.
+fn steps(each: &[(f64, f64)]) -> Vec<Vec<SetpointStep>> {
+    each.iter()
+        .map(|&(value, at)| vec![SetpointStep { value, at }])
+        .collect()
+}
+
 struct Rng(u64);
 impl Rng {
     fn uni(&mut self) -> f64 {
@@ -438,16 +454,7 @@ fn the_firmware_decoupler_is_the_hosts() {
         };
         let mut fw = Decoupled::new([sp(0), sp(1)], dec);
         let mut host = controller(&m, &d).unwrap();
-        let sps = vec![
-            vec![SetpointStep {
-                value: 1.0,
-                at: 0.0,
-            }],
-            vec![SetpointStep {
-                value: -0.5,
-                at: 20.0,
-            }],
-        ];
+        let sps = steps(&[(1.0, 0.0), (-0.5, 20.0)]);
         let a = simulate_mimo(&m, &mut fw, &sps, &Default::default(), ts, 80.0).unwrap();
         let b = simulate_mimo(&m, &mut *host, &sps, &Default::default(), ts, 80.0).unwrap();
         for i in 0..2 {
@@ -468,11 +475,7 @@ fn the_firmware_decoupler_is_the_hosts() {
 #[test]
 fn a_loops_events_are_the_single_loops() {
     use msp::study::{Event, MimoScenario, Scenario};
-    let m = TransferMatrix::new(vec![
-        vec![tf("12.8e^-1s/(16.7s+1)"), tf("-18.9e^-3s/(21s+1)")],
-        vec![tf("6.6e^-7s/(10.9s+1)"), tf("-19.4e^-3s/(14.4s+1)")],
-    ])
-    .unwrap();
+    let m = wood_berry();
     let step = SetpointStep {
         value: 1.0,
         at: 0.0,
@@ -549,16 +552,7 @@ fn diagonal_runs_are_single_loops(
                 vec![zero.clone(), g[1].clone()],
             ])
             .unwrap();
-            let sps = vec![
-                vec![SetpointStep {
-                    value: 1.0,
-                    at: 1.0,
-                }],
-                vec![SetpointStep {
-                    value: -0.5,
-                    at: 3.0,
-                }],
-            ];
+            let sps = steps(&[(1.0, 1.0), (-0.5, 3.0)]);
             let pids: Vec<Pid<f64>> = gains
                 .iter()
                 .map(|(kp, ti)| Pid::new(PidConfig::isa(*kp, *ti, 0.0, ts)).unwrap())
@@ -605,6 +599,14 @@ fn diagonal_runs_are_single_loops(
     }
 }
 
+/// On diagonal plants, each loop of the decentralized closed loop is the
+/// single loop's run of its channel with the same PI (the study's `pi`
+/// with `kp`, `ti` set), sample for sample.
+#[test]
+fn diagonal_loops_are_single_loops() {
+    diagonal_runs_are_single_loops(&Default::default(), &|_, sc| sc);
+}
+
 /// An operator's manual and auto per loop: on diagonal plants, loop 2 in
 /// manual at 0.3 from 20 s and back to automatic at 35 s is, sample for
 /// sample, the single loop's run with `20:manual=0.3` and `35:auto`
@@ -636,23 +638,10 @@ fn manual_and_auto_per_loop() {
         sc
     });
     // the decoupled predictors: loop 2 held at its own output, then back
-    let m = TransferMatrix::new(vec![
-        vec![tf("12.8e^-1s/(16.7s+1)"), tf("-18.9e^-3s/(21s+1)")],
-        vec![tf("6.6e^-7s/(10.9s+1)"), tf("-19.4e^-3s/(14.4s+1)")],
-    ])
-    .unwrap();
+    let m = wood_berry();
     let d = design(&m, "decoupled", None, 1.0).unwrap();
     let mut c = controller(&m, &d).unwrap();
-    let sps = vec![
-        vec![SetpointStep {
-            value: 1.0,
-            at: 0.0,
-        }],
-        vec![SetpointStep {
-            value: 1.0,
-            at: 0.0,
-        }],
-    ];
+    let sps = steps(&[(1.0, 0.0), (1.0, 0.0)]);
     let free = simulate_mimo(&m, &mut *c, &sps, &Default::default(), 1.0, 150.0).unwrap();
     let held_at = free.u[1][60];
     let events = MimoEvents {
@@ -715,16 +704,7 @@ fn actuator_limits_and_noise() {
         vec![zero, tf("1.5e^-2s/(6s+1)")],
     ])
     .unwrap();
-    let sps = vec![
-        vec![SetpointStep {
-            value: 1.0,
-            at: 1.0,
-        }],
-        vec![SetpointStep {
-            value: 0.5,
-            at: 3.0,
-        }],
-    ];
+    let sps = steps(&[(1.0, 1.0), (0.5, 3.0)]);
     let gains = [(0.8, 4.0), (0.9, 6.0)];
     let pids = || -> Vec<Pid<f64>> {
         gains
