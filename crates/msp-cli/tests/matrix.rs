@@ -183,6 +183,12 @@ fn a_matrix_plant_runs_as_the_library_does() {
         2,
         "does not take --setpoint, --umin",
     );
+    // no flag is dropped silently
+    fails(
+        msp().args(["run", "--plant", WB, "--substeps", "4", "--reset-feedback"]),
+        2,
+        "does not take --substeps, --reset-feedback",
+    );
     fails(
         msp().args([
             "run",

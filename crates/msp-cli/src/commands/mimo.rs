@@ -76,6 +76,17 @@ fn single_loop_flags(s: &ScenarioArgs) -> Vec<&'static str> {
         ("--setpoint-ramp", s.setpoint_ramp.is_some()),
         ("--adapt", s.adapt),
         ("--monitor", s.monitor),
+        ("--substeps", s.substeps.is_some()),
+        ("--max-memory", s.max_memory.is_some()),
+        // a matrix plant's actuator always feeds the limited value back
+        ("--reset-feedback", s.reset_feedback),
+        ("--adapt-delay", s.adapt_delay.is_some()),
+        ("--adapt-forgetting", s.adapt_forgetting.is_some()),
+        ("--adapt-prefilter", s.adapt_prefilter.is_some()),
+        ("--adapt-excitation", s.adapt_excitation.is_some()),
+        ("--adapt-dead-zone", s.adapt_dead_zone.is_some()),
+        ("--adapt-bound", s.adapt_bound.is_some()),
+        ("--alarm", s.alarm.is_some()),
     ]
     .into_iter()
     .filter_map(|(name, given)| given.then_some(name))
@@ -334,9 +345,14 @@ fn print_report(
 /// `msp margins --plant "[…]"`: the same report (the sampled loop's
 /// verdict and biggest log modulus are its margins).
 pub(crate) fn margins(m: &TransferMatrix, a: &MarginsArgs) -> Result<(), CliError> {
-    if a.plot.is_some() || a.nyquist.is_some() || a.uncertainty.is_some() || a.continuous {
+    if a.plot.is_some()
+        || a.nyquist.is_some()
+        || a.uncertainty.is_some()
+        || a.continuous
+        || a.discrete
+    {
         return Err(CliError::Input(
-            "a matrix plant's margins are the sampled loop's verdict and biggest log modulus: drop --plot, --nyquist, --uncertainty and --continuous".into(),
+            "a matrix plant's margins are the sampled loop's verdict and biggest log modulus: drop --plot, --nyquist, --uncertainty, --continuous and --discrete".into(),
         ));
     }
     let sc = scenario(m, &a.scenario, a.controller.as_deref())?;
