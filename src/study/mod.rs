@@ -52,6 +52,7 @@ pub use output::RunOutput;
 pub use report::{
     AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,
 };
+pub(crate) use robustness::Advice;
 pub use robustness::Robustness;
 pub(crate) use run::Plants;
 pub use target::{Figure, Target, TargetReport};

@@ -219,9 +219,13 @@ impl RunOutput {
                 return;
             }
         };
-        let (stability, robust) =
-            self.scenario
-                .loop_analysis(&tuned, &self.plant, &self.model, self.inner.as_ref());
+        let (stability, robust) = self.scenario.loop_analysis(
+            &tuned,
+            &self.plant,
+            &self.model,
+            self.inner.as_ref(),
+            super::Advice::Priced,
+        );
         self.apply_analysis(stability, robust, settled);
     }
 

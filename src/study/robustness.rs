@@ -29,6 +29,16 @@ fn round3(v: f64) -> f64 {
 /// loop's response has no narrow resonance between two of its points.
 const SCREEN: usize = 300;
 
+/// How a robustness warning's advice is given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Advice {
+    /// The better tuning named with its price: the overshoot, settling
+    /// time and load IAE now and then (four runs).
+    Priced,
+    /// The better tuning named only.
+    Named,
+}
+
 /// The memory the runs that price a piece of advice may take.
 const PRICE_MEMORY: u64 = 32 << 20;
 
@@ -99,6 +109,17 @@ impl Scenario {
         let step = sc
             .run_tuned(tuned, plant.clone(), model.clone(), None)
             .ok()?;
+        let step_settled = step.has_settled();
+        let (overshoot, settling) = (
+            step.metrics.step.overshoot,
+            if step_settled {
+                step.metrics.step.settling_time
+            } else {
+                step.duration
+            },
+        );
+        // each run's buffers for the next: it writes into memory already mapped
+        super::recycle(step.result);
         sc.setpoint = std::vec![crate::sim::SetpointStep {
             value: 0.0,
             at: 0.0
@@ -107,18 +128,15 @@ impl Scenario {
         let load = sc
             .run_tuned(tuned, plant.clone(), model.clone(), None)
             .ok()?;
-        let step_settled = step.has_settled();
-        Some(Price {
-            overshoot: step.metrics.step.overshoot,
-            settling: if step_settled {
-                step.metrics.step.settling_time
-            } else {
-                step.duration
-            },
+        let price = Price {
+            overshoot,
+            settling,
             load_iae: load.metrics.indices.iae,
             step_settled,
             load_settled: load.has_settled(),
-        })
+        };
+        super::recycle(load.result);
+        Some(price)
     }
 
     /// The margins of a tuned controller on `plant` (sampled view) on a
@@ -157,6 +175,17 @@ impl Scenario {
         tuned: &Tuned,
         plant: &TransferFunction,
         model: &TransferFunction,
+    ) -> Option<Robustness> {
+        self.robustness_advising(tuned, plant, model, Advice::Priced)
+    }
+
+    /// [`Scenario::robustness`] with the advice priced or only named.
+    pub(crate) fn robustness_advising(
+        &self,
+        tuned: &Tuned,
+        plant: &TransferFunction,
+        model: &TransferFunction,
+        advice: Advice,
     ) -> Option<Robustness> {
         // candidates are screened on a coarser grid than the loop's own margins
         let margins_of = |t: &Tuned| self.margins_of_tuned(t, plant, model, SCREEN);
@@ -209,7 +238,8 @@ impl Scenario {
                     })
                     .min_by(|a, b| a.1.total_cmp(&b.1))
             };
-            let now = self.price(tuned, plant, model);
+            let priced = advice == Advice::Priced;
+            let now = priced.then(|| self.price(tuned, plant, model)).flatten();
             let cost = |other: Option<Price>| match (now, other) {
                 (Some(a), Some(b)) => a.to(&b),
                 _ => String::new(),
@@ -221,6 +251,7 @@ impl Scenario {
                     let price = sc
                         .tune_for(model, None)
                         .ok()
+                        .filter(|_| priced)
                         .and_then(|t| sc.price(&t, plant, model));
                     std::format!(
                         "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time{}",
@@ -237,6 +268,7 @@ impl Scenario {
                     let price = sc
                         .tune_for(model, None)
                         .ok()
+                        .filter(|_| priced)
                         .and_then(|t| sc.price(&t, plant, model));
                     std::format!(
                         "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time{}",

@@ -16,7 +16,16 @@ impl Scenario {
     /// Tunes, builds and simulates; the output carries the tuned loop's
     /// robustness ([`Scenario::robustness`]).
     pub fn run(&self) -> Result<RunOutput, RunError> {
-        self.run_deferring(true, true)
+        self.run_deferring(true, Some(Advice::Priced))
+    }
+
+    /// [`Scenario::run`] whose robustness warning names the better tuning
+    /// without pricing it (the price's four runs of the time-domain cost
+    /// left out): the same tuning, signals, metrics, verdict and margins,
+    /// for an interactive front end while a slider moves (the browser
+    /// tuner prices it when the slider is let go).
+    pub fn run_unpriced(&self) -> Result<RunOutput, RunError> {
+        self.run_deferring(true, Some(Advice::Named))
     }
 
     /// [`Scenario::run`] without the loop's analysis: the simulation, its
@@ -25,7 +34,7 @@ impl Scenario {
     /// `None`) — for a caller that reads them later, or never
     /// ([`RunOutput::analyse`] adds them, as `run` would have).
     pub fn run_unanalysed(&self) -> Result<RunOutput, RunError> {
-        self.run_deferring(true, false)
+        self.run_deferring(true, None)
     }
 
     /// [`Scenario::run_unanalysed`] that also leaves the metrics and the
@@ -34,20 +43,21 @@ impl Scenario {
     /// figures NaN and `events` empty until measured. What Python's
     /// `msp.run` computes before it returns.
     pub fn run_unmeasured(&self) -> Result<RunOutput, RunError> {
-        self.run_deferring(false, false)
+        self.run_deferring(false, None)
     }
 
     pub(super) fn run_deferring(
         &self,
         measure: bool,
-        analyse: bool,
+        analyse: Option<Advice>,
     ) -> Result<RunOutput, RunError> {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
         // the analysis before the simulation: its own runs (the advice's
         // priced alternatives) do not need memory beside the recorded columns
-        let analysis = analyse.then(|| self.loop_analysis(&tuned, &plant, &model, inner.as_ref()));
+        let analysis =
+            analyse.map(|a| self.loop_analysis(&tuned, &plant, &model, inner.as_ref(), a));
         let mut out =
             if self.setpoint.is_empty() && self.disturbance.is_empty() && self.duration.is_none() {
                 self.run_default_protocol(&tuned, &plant, &model, &inner)?
@@ -89,6 +99,7 @@ impl Scenario {
         plant: &TransferFunction,
         model: &TransferFunction,
         inner: Option<&(TransferFunction, TransferFunction)>,
+        advice: Advice,
     ) -> (crate::analysis::Stability, Option<Robustness>) {
         let stability = super::tuned_stability(self, tuned, plant, model, inner);
         let robust = match (inner, stability.stable) {
@@ -97,7 +108,7 @@ impl Scenario {
                 margins: crate::analysis::Margins::unstable(),
                 warnings: Vec::new(),
             }),
-            (None, _) => self.robustness(tuned, plant, model),
+            (None, _) => self.robustness_advising(tuned, plant, model, advice),
             (Some(_), _) => None,
         };
         (stability, robust)
@@ -122,7 +133,8 @@ impl Scenario {
         let (plant, model) = self.plant_and_model()?;
         let inner = self.inner_process()?;
         let tuned = self.tune_for(&model, inner.as_ref().map(|(_, m)| m))?;
-        let (stability, robust) = self.loop_analysis(&tuned, &plant, &model, inner.as_ref());
+        let (stability, robust) =
+            self.loop_analysis(&tuned, &plant, &model, inner.as_ref(), Advice::Priced);
         Ok((plant, model, inner, tuned, robust, stability))
     }
 
@@ -189,7 +201,10 @@ impl Scenario {
                     metrics::Event::Setpoint(_) => None,
                 })
                 .unwrap_or(f64::NAN);
-            if probe.result.diverged_at.is_some() {
+            let diverged = probe.result.diverged_at.is_some();
+            // its buffers for the next run: memory already mapped
+            super::recycle(probe.result);
+            if diverged {
                 return Ok(first);
             }
             if recovery.is_finite() && recovery < 0.8 * span {
@@ -204,6 +219,7 @@ impl Scenario {
         let Ok(mut out) = run(&sc) else {
             return Ok(first);
         };
+        super::recycle(first.result);
         out.duration_chosen = true;
         out.default_scenario = true;
         Ok(out)
