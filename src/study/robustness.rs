@@ -35,8 +35,8 @@ pub(crate) enum Advice {
     /// The better tuning named with its price: the overshoot, settling
     /// time and load IAE now and then (four runs).
     Priced,
-    /// The better tuning named only.
-    Named,
+    /// What is wrong said, no better tuning searched for (a draft).
+    Omitted,
 }
 
 /// The memory the runs that price a piece of advice may take.
@@ -179,7 +179,7 @@ impl Scenario {
         self.robustness_advising(tuned, plant, model, Advice::Priced)
     }
 
-    /// [`Scenario::robustness`] with the advice priced or only named.
+    /// [`Scenario::robustness`] with its advice, or without (a draft).
     pub(crate) fn robustness_advising(
         &self,
         tuned: &Tuned,
@@ -208,8 +208,9 @@ impl Scenario {
                     crate::poly::fmt_num((100.0 * margins.dm / theta).round())
                 ));
             }
-            // parameters the user set are the user's choice: no advice on them
-            let advise = self.set.is_empty();
+            // parameters the user set are the user's choice: no advice on
+            // them; a draft says what is wrong and leaves the search for later
+            let advise = self.set.is_empty() && advice == Advice::Priced;
             let better = tuned.params.lambda().filter(|_| advise).and_then(|l| {
                 [1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0]
                     .into_iter()
@@ -238,8 +239,7 @@ impl Scenario {
                     })
                     .min_by(|a, b| a.1.total_cmp(&b.1))
             };
-            let priced = advice == Advice::Priced;
-            let now = priced.then(|| self.price(tuned, plant, model)).flatten();
+            let now = advise.then(|| self.price(tuned, plant, model)).flatten();
             let cost = |other: Option<Price>| match (now, other) {
                 (Some(a), Some(b)) => a.to(&b),
                 _ => String::new(),
@@ -251,7 +251,6 @@ impl Scenario {
                     let price = sc
                         .tune_for(model, None)
                         .ok()
-                        .filter(|_| priced)
                         .and_then(|t| sc.price(&t, plant, model));
                     std::format!(
                         "; --lambda {} (Python: lambda_=) gives Ms = {} with a delay margin of at least 20 % of the dead time{}",
@@ -268,7 +267,6 @@ impl Scenario {
                     let price = sc
                         .tune_for(model, None)
                         .ok()
-                        .filter(|_| priced)
                         .and_then(|t| sc.price(&t, plant, model));
                     std::format!(
                         "; no λ of this tuning rule does better, --controller {name} (default tuning) gives Ms = {} with a delay margin of at least 20 % of the dead time{}",

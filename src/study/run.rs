@@ -19,13 +19,14 @@ impl Scenario {
         self.run_deferring(true, Some(Advice::Priced))
     }
 
-    /// [`Scenario::run`] whose robustness warning names the better tuning
-    /// without pricing it (the price's four runs of the time-domain cost
-    /// left out): the same tuning, signals, metrics, verdict and margins,
-    /// for an interactive front end while a slider moves (the browser
-    /// tuner prices it when the slider is let go).
-    pub fn run_unpriced(&self) -> Result<RunOutput, RunError> {
-        self.run_deferring(true, Some(Advice::Named))
+    /// [`Scenario::run`] as a draft: the same tuning, signals, metrics,
+    /// verdict and margins, and a robustness warning that says what is
+    /// wrong without the search for a better tuning and its price (the
+    /// retunings and the four runs behind `--lambda … gives …, at a price`):
+    /// for an interactive front end while a slider moves (the browser tuner
+    /// runs [`Scenario::run`] when the slider is let go).
+    pub fn run_draft(&self) -> Result<RunOutput, RunError> {
+        self.run_deferring(true, Some(Advice::Omitted))
     }
 
     /// [`Scenario::run`] without the loop's analysis: the simulation, its
