@@ -792,3 +792,84 @@ fn smith_detuning_reaches_2n_db_on_a_family() {
         }
     }
 }
+
+/// A channel's dead time changing in a run: the report's verdict is the
+/// loop's as built, said so, and cross-checked up to the change; after it,
+/// the run follows the verdict of the changed plant (`SampledLoop` on the
+/// matrix with the new dead time): it settles where that loop is stable
+/// and its error grows where it is not. Wood–Berry under BLT's PI loops,
+/// `g₁₁`'s dead time from 1 to each of a range.
+#[test]
+fn after_a_channels_dead_time_change_the_run_follows_the_changed_loops_verdict() {
+    use msp::sim::{ChannelDeadTime, MimoEvents};
+    use msp::study::MimoScenario;
+    let m = wood_berry();
+    let ts = 0.5;
+    let (at, duration) = (100.0, 3000.0);
+    let (mut stable, mut unstable) = (0, 0);
+    for new in [1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0] {
+        let out = MimoScenario {
+            plant: m.clone(),
+            controller: Some("pi".into()),
+            rule: None,
+            ts: Some(ts),
+            duration: Some(duration),
+            setpoints: steps(&[(1.0, 0.0), (0.0, 0.0)]),
+            events: MimoEvents {
+                dead_times: vec![ChannelDeadTime {
+                    row: 0,
+                    col: 0,
+                    dead_time: new,
+                    at,
+                }],
+                ..Default::default()
+            },
+        }
+        .run()
+        .unwrap();
+        let st = &out.report.stability;
+        assert_eq!(st.as_built_until, Some(at));
+        assert_eq!(st.stable, Some(true), "BLT's loop as built");
+        assert!(st.reason.contains("the loop as built"), "{}", st.reason);
+        // the changed loop's verdict, independently of the run
+        let pis: Vec<(f64, f64)> = out
+            .report
+            .design
+            .loops
+            .iter()
+            .map(|p| (p.get("kp").unwrap(), p.get("ti").unwrap()))
+            .collect();
+        let g11 = TransferFunction::new(&[12.8], &[16.7, 1.0], new).unwrap();
+        let changed = TransferMatrix::new(vec![
+            vec![g11, m.get(0, 1).unwrap().clone()],
+            vec![m.get(1, 0).unwrap().clone(), m.get(1, 1).unwrap().clone()],
+        ])
+        .unwrap();
+        let verdict = verdict(&changed, &pis, ts).expect("a verdict");
+        // the error of loop 1 over the last two tenths of the run and the two before
+        let n = out.run.t.len();
+        let worst = |from: usize, to: usize| {
+            (from..to)
+                .map(|k| (out.run.r[0][k] - out.run.y[0][k]).abs())
+                .fold(0.0, f64::max)
+        };
+        let (late, before) = (worst(n * 8 / 10, n), worst(n * 6 / 10, n * 8 / 10));
+        if verdict {
+            stable += 1;
+            assert!(
+                late < 1e-3,
+                "dead time {new}: stable, but the error is {late} late in the run"
+            );
+        } else {
+            unstable += 1;
+            assert!(
+                late > 1.5 * before || !late.is_finite(),
+                "dead time {new}: unstable, but the error goes {before} → {late}"
+            );
+        }
+    }
+    assert!(
+        stable > 0 && unstable > 0,
+        "{stable} stable, {unstable} unstable"
+    );
+}
