@@ -114,6 +114,7 @@ async function ready(page) {
   const err = await page.textContent('#plant-error');
   assert.ok(/at column 13/.test(err) && err.includes('\n            ^'), err);
   assert.strictEqual(await page.getAttribute('#plant', 'aria-invalid'), 'true');
+  assert.deepStrictEqual(Object.values(await shown(page)), IDS.map(() => ''), 'no number for a failed design');
   const cliErr = (() => {
     try {
       execFileSync(mspBin, ['run', '--plant', '0.2/s*e^-7.4'], { stdio: 'pipe' });

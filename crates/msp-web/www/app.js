@@ -82,6 +82,12 @@ function fail(e) {
   }
   $('status').textContent = e.message;
   $('status').className = 'bad';
+  // no number stands for a design that failed
+  state.last = null;
+  for (const k of ['kp', 'ti', 'td', 'lambda', 'ms', 'pm', 'gm', 'dm']) $(k).textContent = '';
+  $('other-params').textContent = '';
+  $('warnings').innerHTML = '';
+  $('command').value = '';
 }
 
 /** The plant read: the controller list for its kind. */
@@ -150,7 +156,6 @@ function update(draft = false) {
   history.replaceState(null, '', '?' + new URLSearchParams(p).toString());
   if (!d.ok) {
     fail(d);
-    state.last = null;
     return;
   }
   state.last = d;
