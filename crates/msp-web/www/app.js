@@ -9,9 +9,30 @@ const NUMBER_FIELDS = ['ts', 'duration', 'noise', 'seed', 'umin', 'umax'];
 const LIST_FIELDS = ['setpoint', 'disturbance', 'event'];
 const PAGE_KEYS = ['plant', 'controller', 'lambda', 'target', ...NUMBER_FIELDS, ...LIST_FIELDS];
 // the robustness slider's range of the sensitivity peak (one-parameter
-// schemes) and of the phase margin (PI/PID, with the crossover)
+// schemes, before their trade-off curve is known) and of the phase margin
+// (PI/PID, with the crossover)
 const MS_RANGE = [2.6, 1.2];
 const PM_RANGE = [30, 80];
+
+/** The trade-off curve's stable points, λ increasing, and its range of Ms. */
+function curve() {
+  const pts = state.tradeoff ? state.tradeoff.points.filter((p) => p.stable && Number.isFinite(p.ms)) : [];
+  if (pts.length < 2) return null;
+  const ms = pts.map((p) => p.ms);
+  return { pts, hi: Math.max(...ms), lo: Math.min(...ms) };
+}
+
+/** The λ at which the curve reaches `ms` (log-λ interpolation, the first crossing from the fast end). */
+function lambdaAt(c, ms) {
+  for (let i = 1; i < c.pts.length; i++) {
+    const a = c.pts[i - 1], b = c.pts[i];
+    if ((a.ms - ms) * (b.ms - ms) <= 0 && a.ms !== b.ms) {
+      const t = (ms - a.ms) / (b.ms - a.ms);
+      return a.lambda * Math.pow(b.lambda / a.lambda, t);
+    }
+  }
+  return ms >= c.hi ? c.pts.reduce((x, p) => (p.ms > x.ms ? p : x)).lambda : c.pts.reduce((x, p) => (p.ms < x.ms ? p : x)).lambda;
+}
 
 const state = {
   info: null, // the plant's kind and schemes
@@ -138,6 +159,7 @@ function rebase() {
       ? `Trade-off of ${tr.points[0] ? tr.points[0].scheme : ''}: λ from ⅛ to 8 times the scheme's own, the current design marked`
       : `Trade-off: ${tr.message}`;
     drawTradeoff();
+    if (state.last) syncSliders(state.last);
     document.body.dataset.state = 'ready';
   }, 0);
 }
@@ -206,7 +228,9 @@ function syncSliders(d) {
     if (Number.isFinite(rob.pm)) $('robustness').value = (rob.pm - PM_RANGE[0]) / (PM_RANGE[1] - PM_RANGE[0]);
   } else {
     if (params.lambda > 0 && b.lambda > 0) $('speed').value = Math.log2(params.lambda / b.lambda);
-    if (Number.isFinite(rob.ms)) $('robustness').value = (MS_RANGE[0] - rob.ms) / (MS_RANGE[0] - MS_RANGE[1]);
+    const c = curve();
+    const [hi, lo] = c && c.hi > c.lo ? [c.hi, c.lo] : MS_RANGE;
+    if (Number.isFinite(rob.ms)) $('robustness').value = (hi - rob.ms) / (hi - lo);
   }
   $('speed-value').textContent = params.lambda ? `λ = ${sig(params.lambda, 3)} s` : rob.wcp ? `ωc = ${sig(rob.wcp, 3)} rad/s` : '';
   $('robustness-value').textContent = Number.isFinite(rob.ms) ? `Ms = ${sig(rob.ms, 3)}, pm = ${sig(rob.pm, 3)}°` : '';
@@ -225,6 +249,12 @@ function fromSliders(which) {
     state.target = `wc=${wc},pm=${pm}`;
   } else if (which === 'speed' && b.lambda > 0) {
     state.lambda = sig(b.lambda * Math.pow(2, v));
+    state.target = null;
+  } else if (curve() && curve().hi > curve().lo) {
+    // along the trade-off curve: the λ whose Ms the slider asks for (a
+    // design as cheap as λ's; the curve's own range, always reachable)
+    const c = curve();
+    state.lambda = sig(lambdaAt(c, c.hi - r * (c.hi - c.lo)));
     state.target = null;
   } else {
     state.lambda = null;
