@@ -39,6 +39,9 @@ pub(crate) enum Cmd {
     Tradeoff(Box<TradeoffArgs>),
     /// List the controllers and the tuning rules.
     List,
+    /// Serve a folder over HTTP on the loopback address: the browser tuner that
+    /// `bash scripts/web DIR` builds (a static file server, GET only).
+    Serve(Box<ServeArgs>),
 }
 
 /// How the controller is tuned (shared by every command that tunes one).
@@ -470,6 +473,19 @@ pub(crate) struct TradeoffArgs {
     pub(crate) quiet: bool,
 }
 
+#[derive(Debug, Args)]
+pub(crate) struct ServeArgs {
+    /// The folder to serve (its index.html at /).
+    pub(crate) dir: PathBuf,
+    /// The port (0: one the system picks; the address is printed).
+    #[arg(long, default_value_t = 8000)]
+    pub(crate) port: u16,
+    /// The address to listen on: the loopback address unless another is named.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub(crate) bind: std::net::IpAddr,
+}
+
+/// Arguments of `msp stepinfo`.
 #[derive(Debug, Args)]
 pub(crate) struct StepinfoArgs {
     /// CSV with a time and an output column: a step response, the step at the first sample.

@@ -33,6 +33,7 @@ fn main() -> ExitCode {
         Cmd::Stepinfo(a) => c::identify::stepinfo(a),
         Cmd::Tradeoff(a) => c::tradeoff::tradeoff(a),
         Cmd::List => c::list::list(),
+        Cmd::Serve(a) => c::serve::serve(a),
     };
     match res {
         Ok(()) => ExitCode::SUCCESS,

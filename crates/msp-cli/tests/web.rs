@@ -280,3 +280,128 @@ fn the_plant_call_lists_the_schemes_of_its_kind() {
         }
     }
 }
+
+/// `msp serve DIR --port 0`: the address it prints, and the answer to one
+/// raw HTTP request (status line, headers, body).
+mod serve {
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::net::TcpStream;
+    use std::process::{Child, Command, Stdio};
+
+    pub struct Server {
+        child: Child,
+        pub addr: String,
+    }
+
+    impl Drop for Server {
+        fn drop(&mut self) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+
+    pub fn start(dir: &std::path::Path) -> Server {
+        let mut child = Command::new(assert_cmd::cargo::cargo_bin("msp"))
+            .arg("serve")
+            .arg(dir)
+            .args(["--port", "0"])
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let addr = line
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+            .unwrap_or_else(|| panic!("no address in {line:?}"))
+            .to_string();
+        assert!(addr.starts_with("127.0.0.1:"), "{addr}");
+        Server { child, addr }
+    }
+
+    pub fn get(addr: &str, request: &str) -> (String, String, Vec<u8>) {
+        let mut s = TcpStream::connect(addr).unwrap();
+        s.write_all(request.as_bytes()).unwrap();
+        let mut all = Vec::new();
+        s.read_to_end(&mut all).unwrap();
+        let split = all.windows(4).position(|w| w == b"\r\n\r\n").unwrap();
+        let head = String::from_utf8(all[..split].to_vec()).unwrap();
+        let status = head.lines().next().unwrap().to_string();
+        (status, head, all[split + 4..].to_vec())
+    }
+}
+
+#[test]
+fn msp_serve_serves_the_folder_and_nothing_outside_it() {
+    let outer = tempfile::tempdir().unwrap();
+    let dir = outer.path().join("site");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    std::fs::write(dir.join("index.html"), "<!doctype html><p>tuner</p>").unwrap();
+    std::fs::write(dir.join("app.js"), "export {};").unwrap();
+    std::fs::write(dir.join("m.wasm"), b"\0asm\x01\0\0\0").unwrap();
+    std::fs::write(dir.join("sub/a b.css"), "p{}").unwrap();
+    std::fs::write(outer.path().join("secret.txt"), "not for the page").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(outer.path().join("secret.txt"), dir.join("link.txt")).unwrap();
+    let srv = serve::start(&dir);
+    let get = |path: &str| {
+        serve::get(
+            &srv.addr,
+            &format!("GET {path} HTTP/1.1\r\nHost: x\r\n\r\n"),
+        )
+    };
+    let (status, head, body) = get("/");
+    assert_eq!(status, "HTTP/1.1 200 OK");
+    assert!(head.contains("Content-Type: text/html"), "{head}");
+    assert_eq!(body, b"<!doctype html><p>tuner</p>");
+    for (path, kind) in [
+        ("/app.js?x=1", "text/javascript"),
+        ("/m.wasm", "application/wasm"),
+        ("/sub/a%20b.css", "text/css"),
+    ] {
+        let (status, head, _) = get(path);
+        assert_eq!(status, "HTTP/1.1 200 OK", "{path}");
+        assert!(
+            head.contains(&format!("Content-Type: {kind}")),
+            "{path}: {head}"
+        );
+    }
+    for path in [
+        "/../secret.txt",
+        "/%2e%2e/secret.txt",
+        "/sub/../../secret.txt",
+        "/link.txt",
+        "/nope.js",
+        "/%zz",
+    ] {
+        let (status, _, body) = get(path);
+        assert!(
+            status.contains("404") || status.contains("400"),
+            "{path}: {status}"
+        );
+        assert!(!String::from_utf8_lossy(&body).contains("not for the page"));
+    }
+    let (status, _, _) = serve::get(&srv.addr, "POST / HTTP/1.1\r\nContent-Length: 0\r\n\r\n");
+    assert!(status.contains("405"), "{status}");
+    let (status, head, body) = serve::get(&srv.addr, "HEAD /app.js HTTP/1.1\r\n\r\n");
+    assert!(
+        status.contains("200") && head.contains("Content-Length: 10"),
+        "{head}"
+    );
+    assert!(body.is_empty());
+}
+
+#[test]
+fn msp_serve_names_a_folder_it_cannot_serve() {
+    let dir = tempfile::tempdir().unwrap();
+    let cli = common::stderr_of(["serve", dir.path().to_str().unwrap()], 2);
+    assert!(
+        cli.contains("has no index.html") && cli.contains("scripts/web"),
+        "{cli}"
+    );
+    let cli = common::stderr_of(["serve", "/no/such/folder"], 2);
+    assert!(cli.contains("/no/such/folder"), "{cli}");
+}

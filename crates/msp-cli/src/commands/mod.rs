@@ -9,6 +9,7 @@ pub(crate) mod margins;
 pub(crate) mod mimo;
 pub(crate) mod run;
 pub(crate) mod scenario;
+pub(crate) mod serve;
 pub(crate) mod step;
 pub(crate) mod sweep;
 pub(crate) mod tradeoff;
