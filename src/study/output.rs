@@ -203,17 +203,24 @@ impl RunOutput {
         }
     }
 
+    /// The tuned controller this run ran (its scheme, parameters and how
+    /// `λ` was found): built again with [`Scenario::build_tuned`] it is the
+    /// run's controller, without tuning it again.
+    pub fn tuned(&self) -> Result<Tuned, RegistryError> {
+        Ok(Tuned {
+            scheme: registry::find(self.controller)?,
+            params: self.params.clone(),
+            lambda_chosen: self.lambda_chosen,
+            target: self.target.clone(),
+        })
+    }
+
     /// [`RunOutput::analyse`] with `settled` (the loop as built came to
     /// rest and did not diverge: [`RunOutput::settled_as_built`]; `None`: no
     /// simulation to compare) given: the signals are not read.
     pub fn analyse_settled(&mut self, settled: Option<bool>) {
-        let tuned = match registry::find(self.controller) {
-            Ok(scheme) => Tuned {
-                scheme,
-                params: self.params.clone(),
-                lambda_chosen: self.lambda_chosen,
-                target: self.target.clone(),
-            },
+        let tuned = match self.tuned() {
+            Ok(t) => t,
             Err(e) => {
                 self.stability = crate::analysis::Stability::unknown(e.to_string());
                 return;

@@ -15,5 +15,6 @@ pub use matrix::{parse_column, parse_matrix};
 pub use schedule::{exact_pair, text_or_struct};
 #[cfg(feature = "std")]
 pub use schedule::{
-    parse_actuator, parse_bytes, parse_dead_times, parse_loop_setpoint, parse_number, parse_setting,
+    parse_actuator, parse_assignment, parse_bytes, parse_dead_times, parse_loop_setpoint,
+    parse_number, parse_setting,
 };

@@ -36,6 +36,15 @@ pub fn parse_setting(s: &str, what: &str) -> Result<f64, String> {
     }
 }
 
+/// `KEY=VALUE` of `--set` (a parameter or design value by its report
+/// name): the key trimmed, the value as [`parse_setting`] reads it.
+pub fn parse_assignment(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
+    Ok((k.trim().to_string(), parse_setting(v, k.trim())?))
+}
+
 /// A relative change: `+10%` or `0.1` (the same); the error names `what`.
 fn parse_fraction(s: &str, what: &str) -> Result<f64, String> {
     let s = s.trim();

@@ -60,7 +60,7 @@ pub(crate) struct DesignArgs {
     pub(crate) target: Option<msp::study::Target>,
     /// Override a tuned parameter or design value by its report name, e.g. --set kp=0.05;
     /// SCHEME.KEY=VALUE applies to one scheme only (for compare).
-    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_kv)]
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = msp::syntax::parse_assignment)]
     pub(crate) set: Vec<(String, f64)>,
 }
 
@@ -556,16 +556,6 @@ pub(crate) struct TuneArgs {
     /// Print JSON.
     #[arg(long)]
     pub(crate) json: bool,
-}
-
-pub(crate) fn parse_kv(s: &str) -> Result<(String, f64), String> {
-    let (k, v) = s
-        .split_once('=')
-        .ok_or_else(|| format!("expected KEY=VALUE, got '{s}'"))?;
-    Ok((
-        k.trim().to_string(),
-        msp::syntax::parse_setting(v, k.trim())?,
-    ))
 }
 
 #[cfg(test)]

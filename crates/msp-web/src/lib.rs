@@ -165,23 +165,27 @@ pub struct Response {
 /// Points of the drawn frequency response.
 pub const FREQUENCIES: usize = 800;
 
-/// The tuned loop's response: the same controller, process view and
+/// The tuned loop's response: the run's own controller built again (not
+/// tuned again: a target's `λ` is solved once), the same process view and
 /// evaluation as `msp margins` ([`msp::analysis::loop_response`]), on
 /// [`FREQUENCIES`] points.
-fn response_of(sc: &Scenario) -> Result<Response, Problem> {
-    let (plant, model) = sc.plant_and_model().map_err(run_problem)?;
-    let tuned = sc.tune_for(&model, None).map_err(run_problem)?;
-    let built = sc.build_tuned(&tuned, &model, None).map_err(run_problem)?;
-    let w = msp::analysis::grid(&plant, built.ts, FREQUENCIES);
+fn response_of(sc: &Scenario, out: &msp::study::RunOutput) -> Result<Response, Problem> {
+    let tuned = out
+        .tuned()
+        .map_err(|e| Problem::new("controller", e.to_string()))?;
+    let built = sc
+        .build_tuned(&tuned, &out.model, None)
+        .map_err(run_problem)?;
+    let w = msp::analysis::grid(&out.plant, built.ts, FREQUENCIES);
     let l = msp::analysis::loop_response(
         built.controller.as_ref(),
-        &plant,
+        &out.plant,
         built.ts,
         msp::analysis::View::Sampled,
         &w,
     )
     .map_err(|e| Problem::new("controller", e.to_string()))?;
-    let phase = l.phase_unwrapped(plant.delay);
+    let phase = l.phase_unwrapped(out.plant.delay);
     Ok(Response {
         magnitude_db: l.l.iter().map(|c| 20.0 * c.abs().log10()).collect(),
         re: l.l.iter().map(|c| c.re).collect(),
@@ -220,7 +224,7 @@ fn scenario_of(request: &str) -> Result<(Vec<(String, String)>, Scenario), Probl
 pub fn design_of(request: &str, advised: bool) -> Result<Designed, Problem> {
     let (pairs, sc) = scenario_of(request)?;
     let out = if advised { sc.run() } else { sc.run_draft() }.map_err(run_problem)?;
-    let response = response_of(&sc)?;
+    let response = response_of(&sc, &out)?;
     let signals = drawn(&out.result);
     let report = out.report();
     msp::study::recycle(out.result);
@@ -296,10 +300,4 @@ pub fn csv(request: &str) -> String {
         Ok(text) => text,
         Err(p) => answer::<()>(Err(p)),
     }
-}
-
-/// The keys a request takes ([`query::KEYS`]), as JSON.
-#[wasm_bindgen]
-pub fn keys() -> String {
-    serde_json::to_string(query::KEYS).unwrap_or_default()
 }

@@ -104,11 +104,8 @@ pub fn scenario(pairs: &[(String, String)]) -> Result<Scenario, Problem> {
             "target" => sc.target = Some(value.parse().map_err(fail)?),
             "rule" => sc.rule = Some(value.trim().to_string()),
             "set" => {
-                let (name, v) = value
-                    .split_once('=')
-                    .ok_or_else(|| fail(format!("--set is KEY=VALUE, got '{value}'")))?;
-                let v = msp::syntax::parse_setting(v, name.trim()).map_err(fail)?;
-                sc.set.insert(name.trim().to_string(), v);
+                let (name, v) = msp::syntax::parse_assignment(value).map_err(fail)?;
+                sc.set.insert(name, v);
             }
             "ts" => sc.ts = Some(number()?),
             "duration" => sc.duration = Some(number()?),

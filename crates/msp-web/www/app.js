@@ -7,7 +7,9 @@ import { panel, standalone } from './plot.js';
 const $ = (id) => document.getElementById(id);
 const NUMBER_FIELDS = ['ts', 'duration', 'noise', 'seed', 'umin', 'umax'];
 const LIST_FIELDS = ['setpoint', 'disturbance', 'event'];
-const PAGE_KEYS = ['plant', 'controller', 'lambda', 'target', ...NUMBER_FIELDS, ...LIST_FIELDS];
+// the ids of the shown numbers: the report's controller.params and robustness
+const PARAM_IDS = ['kp', 'ti', 'td', 'lambda'];
+const MARGIN_IDS = ['ms', 'pm', 'gm', 'dm'];
 // the robustness slider's range of the sensitivity peak (one-parameter
 // schemes, before their trade-off curve is known) and of the phase margin
 // (PI/PID, with the crossover)
@@ -105,7 +107,7 @@ function fail(e) {
   $('status').className = 'bad';
   // no number stands for a design that failed
   state.last = null;
-  for (const k of ['kp', 'ti', 'td', 'lambda', 'ms', 'pm', 'gm', 'dm']) $(k).textContent = '';
+  for (const k of [...PARAM_IDS, ...MARGIN_IDS]) $(k).textContent = '';
   $('other-params').textContent = '';
   $('warnings').innerHTML = '';
   $('command').value = '';
@@ -196,9 +198,9 @@ function update(draft = false) {
 function showNumbers(d) {
   const params = d.report.controller.params;
   const rob = d.report.robustness || {};
-  for (const k of ['kp', 'ti', 'td', 'lambda']) $(k).textContent = plain(params[k]);
-  for (const k of ['ms', 'pm', 'gm', 'dm']) $(k).textContent = plain(rob[k]);
-  const others = Object.entries(params).filter(([k]) => !['kp', 'ti', 'td', 'lambda'].includes(k));
+  for (const k of PARAM_IDS) $(k).textContent = plain(params[k]);
+  for (const k of MARGIN_IDS) $(k).textContent = plain(rob[k]);
+  const others = Object.entries(params).filter(([k]) => !PARAM_IDS.includes(k));
   $('other-params').textContent = others.length
     ? `${d.report.controller.name}: ` + others.map(([k, v]) => `${k} = ${sig(v, 6)}`).join(', ')
     : d.report.controller.name;
@@ -450,7 +452,6 @@ window.msp = {
   engine: () => state.engine,
   designs: () => state.designs,
   csv: () => engineCsv(JSON.stringify(pairs())),
-  keys: PAGE_KEYS,
 };
 
 main().catch((e) => {
