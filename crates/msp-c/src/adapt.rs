@@ -20,8 +20,8 @@ use crate::handle::{
     msp_fsp_config_of, msp_karan_dey_config_of, msp_model_kind, msp_model_of, msp_pid_params_of,
     msp_smith_config_of, pid_config, read, smith_samples, Arena, Buf, Fsp, Precision,
 };
+use crate::msp_status;
 use crate::relay::{karan_dey_ipdt, tuned};
-use crate::{msp_status, report};
 
 /// Candidate dead times of the device's estimator.
 pub const MSP_ADAPT_CANDIDATES: usize = 16;

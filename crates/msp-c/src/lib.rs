@@ -191,6 +191,29 @@ fn report(out: *mut msp_status, status: msp_status) -> msp_status {
     status
 }
 
+/// An `msp_*_size` answer: the bytes `size` gives for the configuration
+/// read (`None`: a null pointer), or 0 with the reason through `status`.
+fn reported_size<C>(
+    config: Option<C>,
+    status: *mut msp_status,
+    size: impl FnOnce(&C) -> Result<usize, msp_core::Error>,
+) -> usize {
+    let Some(c) = config else {
+        report(status, msp_status::MSP_NULL_POINTER);
+        return 0;
+    };
+    match size(&c) {
+        Ok(n) => {
+            report(status, msp_status::MSP_OK);
+            n
+        }
+        Err(e) => {
+            report(status, e.into());
+            0
+        }
+    }
+}
+
 /// A panic cannot happen: every operation of the library is checked (the
 /// lints deny `unwrap`, `expect`, `panic!` and unchecked indexing), and the
 /// release build for a device is checked to contain no panic symbol. Should

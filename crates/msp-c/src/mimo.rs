@@ -25,7 +25,7 @@ use crate::handle::{
     dead_time, msp_model_kind, msp_model_of, msp_pid_params_of, pid_config, read, Arena, Buf,
     Precision,
 };
-use crate::{msp_status, report};
+use crate::msp_status;
 
 c_config! {
     /// A 2×2 plant's controller: the channels `g[0..4]` = `g11, g12, g21,
@@ -272,20 +272,7 @@ twins! {
         status: *mut msp_status,
     ) -> usize {
         // SAFETY: forwarded
-        let Some(c) = (unsafe { read(config) }) else {
-            report(status, msp_status::MSP_NULL_POINTER);
-            return 0;
-        };
-        match size_of_config(&c) {
-            Ok(n) => {
-                report(status, msp_status::MSP_OK);
-                n
-            }
-            Err(e) => {
-                report(status, e.into());
-                0
-            }
-        }
+        crate::reported_size(unsafe { read(config) }, status, size_of_config)
     }
 
     /// Builds a 2×2 controller in `buf` (`len` bytes, any alignment); `*ctrl`

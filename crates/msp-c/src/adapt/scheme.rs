@@ -363,20 +363,7 @@ pub(super) unsafe fn size_of_config<T: Precision, S: Scheme<T>>(
     status: *mut msp_status,
 ) -> usize {
     // SAFETY: forwarded
-    let Some(c) = (unsafe { read(config) }) else {
-        report(status, msp_status::MSP_NULL_POINTER);
-        return 0;
-    };
-    match adaptive_size(&c) {
-        Ok(n) => {
-            report(status, msp_status::MSP_OK);
-            n
-        }
-        Err(e) => {
-            report(status, e.into());
-            0
-        }
-    }
+    crate::reported_size(unsafe { read(config) }, status, adaptive_size)
 }
 
 pub(super) fn adaptive_size<T: Precision, S: Scheme<T>>(c: &S) -> Result<usize, Error> {
