@@ -136,6 +136,21 @@ pub(crate) fn at_most<T: Real>(x: T, hi: T) -> T {
     }
 }
 
+/// `x`, or 0 where it is subnormal (`|x|` below the smallest normal
+/// number): a state that decays geometrically without input (a filter at
+/// rest, a discounted sum of zero errors) would otherwise reach the
+/// subnormal range, where each operation on a host costs a hundred times a
+/// normal one (measured: an adaptive loop at rest went from 19 to 65 ns a
+/// sample). One comparison and a select.
+#[inline(always)]
+pub(crate) fn normal<T: Real>(x: T) -> T {
+    if x.abs() >= T::min_positive_value() {
+        x
+    } else {
+        T::zero()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::Real;

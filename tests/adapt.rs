@@ -900,7 +900,8 @@ fn kaya(k: f64, tau: f64, _theta: f64) -> Option<[f64; 3]> {
 /// A change that makes the loop oscillate is undone: the primary's gains
 /// for the new model (the process gain rose 30 %) are made to give an
 /// integral action of 1.3 per sample, and the growing oscillation that
-/// follows restores the last good model and its tuning; the loop settles
+/// follows restores the last good model (the commissioned one, or one
+/// applied before that the loop bore) and its tuning; the loop settles
 /// again. The same change with the rule's own gains stays.
 #[test]
 fn an_oscillating_change_restores_the_last_good_model() {
@@ -925,9 +926,18 @@ fn an_oscillating_change_restores_the_last_good_model() {
     let applied = kinds
         .get(..restored)
         .and_then(|k| k.iter().rposition(|k| *k == Applied));
-    assert!(applied.is_some(), "{kinds:?}");
-    let restored = run.log[restored];
-    assert_eq!((restored.k, restored.tau, restored.theta), (1.0, 4.0, 1.0));
+    let Some(applied) = applied else {
+        panic!("{kinds:?}")
+    };
+    // back to the commissioned model, or to one applied before the
+    // change that oscillated (which the loop bore for its watch: validated)
+    let back = run.log[restored];
+    let back = (back.k, back.tau, back.theta);
+    let earlier = run.log[..applied]
+        .iter()
+        .filter(|c| c.kind == Applied)
+        .any(|c| (c.k, c.tau, c.theta) == back);
+    assert!(back == (1.0, 4.0, 1.0) || earlier, "{:?}", run.log);
     let ok = smith_run(adapt_config(), kaya, drift, 0.0);
     assert!(!ok.kinds().contains(&Restored), "{:?}", ok.kinds());
     // both settled at the end of the last half period

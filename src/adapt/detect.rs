@@ -7,15 +7,17 @@ use super::*;
 /// One sample of the change detector ([`Estimator::detect_begin`]): what
 /// each candidate's step reads, and the dead time it found.
 #[derive(Debug, Clone, Copy)]
-struct Scan<T> {
+pub(super) struct Scan<T> {
     /// The snapshot's coefficients (`a` = 0 for an integrating model).
     coef: [T; 3],
     target: T,
     /// The chosen dead time's squared error now and over the last response.
     e2: T,
     recent_chosen: T,
-    /// The noise's variance, and its share of a recent error.
+    /// The noise's variance and its reciprocal ([`inverse`]), and its
+    /// share of a recent error.
     scale: T,
+    inv_scale: T,
     floor: T,
     /// The recent errors' discount per excited sample.
     short: T,
@@ -31,7 +33,7 @@ impl<T: Real> Scan<T> {
     /// Candidate `i`'s simulation at its dead time (`u0 = Δu[k−d]`,
     /// `u1 = Δu[k−d−1]`), its recent error and its cumulative sum.
     #[inline(always)]
-    fn step(&mut self, i: usize, c: &mut Candidate<T>, u0: T, u1: T) {
+    pub(super) fn step(&mut self, i: usize, c: &mut Candidate<T>, u0: T, u1: T) {
         let [a, b0, b1] = self.coef;
         let pred = a * c.scan + b0 * u0 + b1 * u1;
         let e = self.target - pred;
@@ -43,7 +45,7 @@ impl<T: Real> Scan<T> {
         };
         let mut sum = c.cusum;
         if self.excited && i.abs_diff(self.chosen) >= 2 {
-            sum = page(sum, self.e2 - e2, self.scale);
+            sum = page(sum, self.e2 - e2, self.inv_scale);
             // significant, and of the chosen one's recent error above the
             // noise most explained: a model wrong in its gain or lag is
             // beaten by some other dead time now and then, not by this much
@@ -62,7 +64,8 @@ impl<T: Real> Scan<T> {
 }
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
-    /// The change detector: the chosen candidate's coefficients as they
+    /// The change detector on an excited sample (at rest only the chosen
+    /// dead time's simulation runs: `rest.rs`): the chosen candidate's coefficients as they
     /// were a response or two ago (from before a change: a snapshot per
     /// `window` excited samples, the older of two used) simulated at every
     /// candidate dead time (`Δŷ_d[k+1] = â·Δŷ_d[k] + b̂0·Δu[k−d] +
@@ -90,8 +93,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// costs cleared (their evidence is from before the change), the
     /// choice left to the bank's comparison as before; the detector rests
     /// for four responses.
-    pub(super) fn detect(&mut self, target: T, excited: bool, e_ref: T) {
-        let Some(mut scan) = self.detect_begin(target, excited) else {
+    pub(super) fn detect(&mut self, target: T, e_ref: T) {
+        let Some(mut scan) = self.detect_begin(target, true) else {
             return;
         };
         // consecutive dead times share an input, as in the bank
@@ -102,13 +105,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             scan.step(i, c, u0, u1);
         }
         // the model in use with other gains and lags
-        self.test_hypotheses(target, e_ref, excited, scan.scale);
+        self.test_hypotheses(target, e_ref, scan.scale);
         self.detect_end(scan);
     }
 
     /// The detector before its pass over the candidates ([`Scan::step`]):
     /// the chosen dead time's error, the noise.
-    fn detect_begin(&mut self, target: T, excited: bool) -> Option<Scan<T>> {
+    pub(super) fn detect_begin(&mut self, target: T, excited: bool) -> Option<Scan<T>> {
         let cfg = self.cfg;
         let chosen = self.chosen;
         let c = self.bank.get(chosen)?;
@@ -123,7 +126,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cfg.integrating,
             );
         let e2 = e_chosen * e_chosen;
-        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        let short = self.short;
         let recent_chosen = if excited {
             short * c.recent + e2
         } else {
@@ -136,7 +139,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let de = e_chosen - self.last_e;
         self.last_e = e_chosen;
         let med = self.noise.push(de.abs());
-        let scale = med * med / T::of(2.0 * 0.6745 * 0.6745);
+        let scale = med * med * T::of(1.0 / (2.0 * 0.6745 * 0.6745));
         if excited {
             self.recent_weight = short * self.recent_weight + T::one();
         }
@@ -146,6 +149,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             e2,
             recent_chosen,
             scale,
+            inv_scale: inverse(scale),
             // the noise's share of a recent error
             floor: self.recent_weight * scale,
             short,
@@ -184,6 +188,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.challenger_for = 0;
             self.pause = self.window.saturating_mul(4);
             self.restarts = self.restarts.saturating_add(1);
+            self.model = self.model_of();
         } else if excited {
             // a snapshot per response's worth of excited samples: the
             // detector's model is from between one and two of them ago
@@ -211,15 +216,27 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 }
 
 /// Page's cumulative sum `max(0, S + gain/σ̂²)` for a sample's evidence
-/// `gain` (a squared error less another) and the noise's variance `scale`
-/// (infinite evidence for a gain without noise).
+/// `gain` (a squared error less another) and the reciprocal `inv` of the
+/// noise's variance ([`inverse`]: infinite without noise, where a gain is
+/// infinite evidence).
 #[inline(always)]
-pub(super) fn page<T: Real>(sum: T, gain: T, scale: T) -> T {
-    if scale > T::zero() {
-        at_least(sum + gain / scale, T::zero())
+pub(super) fn page<T: Real>(sum: T, gain: T, inv: T) -> T {
+    if inv.is_finite() {
+        at_least(sum + gain * inv, T::zero())
     } else if gain > T::zero() {
         T::infinity()
     } else {
         T::zero()
+    }
+}
+
+/// `1/x` for a variance `x > 0`, infinite for 0 (once a sample: the sums
+/// multiply by it).
+#[inline(always)]
+pub(super) fn inverse<T: Real>(x: T) -> T {
+    if x > T::zero() {
+        T::one() / x
+    } else {
+        T::infinity()
     }
 }

@@ -59,6 +59,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             a_range: (T::of(1e-6), T::one() - T::of(1e-9)),
             sign: T::zero(),
             window: cfg.d_min.saturating_add(n),
+            short: memory(cfg.d_min.saturating_add(n)),
             reference: None,
             noise: Median::new(),
             snap: [[a0, T::zero(), T::zero()]; 2],
@@ -73,6 +74,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             onsets: 0,
             pending: None,
             current: None,
+            resting: false,
+            rest: (T::one(), T::zero()),
             hyp: [Hypothesis {
                 coef: [a0, T::zero(), T::zero()],
                 yhat: T::zero(),
@@ -83,6 +86,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             proposal_for: 0,
             explaining: None,
             energy: T::zero(),
+            fits: false,
+            turn: 0,
         })
     }
 
@@ -97,6 +102,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// rather than for having started from nothing).
     pub fn start_from(&mut self, k: T, tau: T, theta: T) -> Result<(), Error> {
         let (d, coef) = self.coefficients(k, tau, theta)?;
+        self.wake();
         let i = d
             .checked_sub(self.cfg.d_min)
             .filter(|i| *i < self.n)
@@ -118,6 +124,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 .unwrap_or(0)
                 .min(1 << 20);
             self.window = self.cfg.d_min.saturating_add(self.n).saturating_add(settle);
+            self.short = memory(self.window);
         }
         p[1][1] = T::one();
         p[2][2] = T::one();
@@ -202,9 +209,19 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// a reference, or before it was compared over a whole response's
     /// excited samples): see [`Mismatch`].
     pub fn mismatch(&self) -> Option<Mismatch<T>> {
+        self.costs_since().map(Costs::mismatch)
+    }
+
+    /// The costs [`Estimator::mismatch`] is computed from.
+    pub(crate) fn costs_since(&self) -> Option<Costs<T>> {
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         self.model?;
-        Some(compare(r.cost, r.energy, r.rival, r.weight))
+        Some(Costs {
+            cost: r.cost,
+            energy: r.energy,
+            best: r.rival,
+            weight: r.weight,
+        })
     }
 
     /// [`Estimator::mismatch`] over the last response's excited samples
@@ -217,6 +234,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// response or two, where the costs' long memory takes many. The
     /// model-error alarm reads it.
     pub fn recent_mismatch(&self) -> Option<Mismatch<T>> {
+        self.recent_costs().map(Costs::mismatch)
+    }
+
+    /// The costs [`Estimator::recent_mismatch`] is computed from.
+    pub(crate) fn recent_costs(&self) -> Option<Costs<T>> {
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         self.model?;
         let [cost, energy, rival, weight] = r.recent;
@@ -228,7 +250,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             .explaining
             .and_then(|i| self.hyp.get(i))
             .map_or(best, |h| at_most(best, h.recent));
-        Some(compare(cost, energy, best, weight))
+        Some(Costs {
+            cost,
+            energy,
+            best,
+            weight,
+        })
     }
 
     /// One controller sample: `y` measured now and `u` the input the plant
@@ -310,6 +337,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// order as one call: spread, a controller sample carries at most half
     /// of the bank's updates (the Cortex-M4F's longest call, #48 item 7).
     fn advance(&mut self) -> bool {
+        // (most calls have no pass under way: no move of one out and in)
+        if self.pending.is_none() {
+            return false;
+        }
         let Some(mut p) = self.pending.take() else {
             return false;
         };
@@ -417,7 +448,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// Each candidate's discounted squared prediction error, from the
     /// shortest dead time `d_min` on: the curve the choice minimises.
     pub fn costs(&self) -> impl Iterator<Item = T> + '_ {
-        self.bank.iter().take(self.n).map(|c| c.cost)
+        let (g, sum) = if self.resting {
+            self.rest
+        } else {
+            (T::one(), T::zero())
+        };
+        self.bank.iter().take(self.n).map(move |c| g * c.cost + sum)
     }
 
     /// The chosen dead time is the first or the last candidate: the process's
@@ -441,6 +477,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             })
         })
     }
+}
+
+/// The discount `1 − 1/window` of a memory of `window` samples.
+fn memory<T: Real>(window: usize) -> T {
+    T::one() - T::one() / T::of(window.max(1) as f64)
 }
 
 /// `(K, τ, f)` of the coefficients `[a, b0, b1]` at the period `ts` (`None`:

@@ -32,12 +32,16 @@ impl<T: Real> Median<T> {
     pub(crate) fn push(&mut self, m: T) -> T {
         self.value = if self.value > T::zero() {
             let step = T::of(0.01);
-            self.value
-                * if m > self.value {
-                    T::one() + step
-                } else {
-                    T::one() - step
-                }
+            // (a median that decays to nothing restarts from the next value
+            // rather than pass through the subnormal numbers)
+            crate::real::normal(
+                self.value
+                    * if m > self.value {
+                        T::one() + step
+                    } else {
+                        T::one() - step
+                    },
+            )
         } else {
             m
         };

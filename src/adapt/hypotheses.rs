@@ -5,12 +5,13 @@
 //! soon as a dead time's), and one that explains the last response with
 //! the evidence is proposed to the supervisor ([`Estimator::proposal`]).
 
-use super::detect::page;
+use super::detect::{inverse, page};
 use super::estimator::model_from;
 use super::*;
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
-    /// One sample of every hypothesis (after the model in use's own, whose
+    /// One excited sample of every hypothesis (at rest they wait:
+    /// `rest.rs`; after the model in use's own, whose
     /// error is `e_ref`): its simulation at the model in use's dead time
     /// (`Δŷ_h[k+1] = â_h·Δŷ_h[k] + b̂0_h·Δu[k−d] + b̂1_h·Δu[k−d−1]`), its
     /// squared error over the last response, and Page's sum of the
@@ -37,7 +38,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// noise's, and the hypothesis explains at least half of it: in data
     /// that do not, a model of a smaller response is nearer to them than
     /// the right one).
-    pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, excited: bool, scale: T) {
+    pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, scale: T) {
         let tested = self.hypotheses().len();
         let cfg = self.cfg;
         let Some(r) = self.reference.as_ref() else {
@@ -45,15 +46,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         let (u0, u1) = self.hist.pair(r.d);
         let hyp = self.hyp.get_mut(..tested).unwrap_or_default();
-        if !excited {
-            // the simulations go on; nothing is compared
-            for h in hyp.iter_mut() {
-                h.yhat = predict(h.coef, h.yhat, (u0, u1), cfg.integrating);
-            }
-            return;
-        }
         let [ref_recent, _, rival, weight] = r.recent;
-        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        let short = self.short;
         self.energy = short * self.energy + target * target;
         // per excited sample over the last response
         let per_sample = if weight > T::zero() {
@@ -67,7 +61,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // noise's, and what no model explains, such as a load's response;
         // against the noise alone, noise-free data make any difference
         // decisive)
-        let unit = at_least(scale, ref_recent * per_sample);
+        let unit = inverse(at_least(scale, ref_recent * per_sample));
         let mut lowest: Option<usize> = None;
         let mut least = T::infinity();
         for (i, h) in hyp.iter_mut().enumerate() {
@@ -89,15 +83,21 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 lowest = Some(i);
             }
         }
+        // as mean squared errors per excited sample over the last response
+        // less the noise's: the target's energy and the model in use's error
+        let energy = if self.recent_weight > T::zero() {
+            self.energy / self.recent_weight - scale
+        } else {
+            -scale
+        };
+        let missed = ref_recent * per_sample - scale;
+        let material = T::of(MATERIAL * MATERIAL) * (energy + scale);
+        // the model in use fits (over a whole response): the bank may learn
+        // in turn ([`TURNS`])
+        self.fits = r.seen >= self.window && missed < material;
         // the tests, on the hypothesis that explains the most
         let h = lowest.and_then(|i| self.hyp.get(i));
         let (explains, ok) = h.map_or((false, false), |h| {
-            let energy = if self.recent_weight > T::zero() {
-                self.energy / self.recent_weight - scale
-            } else {
-                -scale
-            };
-            let missed = ref_recent * per_sample - scale;
             let mean = h.recent * per_sample;
             // (the other dead times last: the test is rarely passed so far)
             let explains = mean - scale <= T::of(EXPLAINED) * missed
@@ -105,7 +105,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 && mean < self.nearest();
             let ok = explains
                 && h.cusum >= cfg.switch_evidence
-                && missed >= T::of(MATERIAL * MATERIAL) * (energy + scale)
+                && missed >= material
                 && energy >= scale
                 && mean - scale <= energy / T::of(2.0);
             (explains, ok)
@@ -200,7 +200,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         let h = self.hyp.get(self.proposal?)?;
         let [cost, energy, rival, weight] = r.recent;
-        Some((compare(cost, energy, h.recent, weight), rival <= h.recent))
+        let costs = Costs {
+            cost,
+            energy,
+            best: h.recent,
+            weight,
+        };
+        Some((costs.mismatch(), rival <= h.recent))
     }
 
     /// The hypotheses the detector simulates: the gains and the lags (an

@@ -70,6 +70,7 @@ mod history;
 mod hypotheses;
 mod onset;
 mod pass;
+mod rest;
 use pass::{Pass, PARTS};
 mod supervisor;
 #[cfg(test)]
@@ -169,15 +170,55 @@ struct Reference<T> {
 /// The comparison of the model in use (cost `cost`, its prediction's
 /// energy `energy`) with the best other (`best`) over costs of weight
 /// `weight` (see [`Mismatch`]).
-fn compare<T: Real>(cost: T, energy: T, best: T, weight: T) -> Mismatch<T> {
-    let excess = cost - best;
-    Mismatch {
-        error: if energy > T::zero() {
-            (at_least(excess, T::zero()) / energy).sqrt()
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Costs<T> {
+    cost: T,
+    energy: T,
+    best: T,
+    weight: T,
+}
+
+impl<T: Real> Costs<T> {
+    /// The [`Mismatch`] these costs give.
+    pub(crate) fn mismatch(self) -> Mismatch<T> {
+        let Costs {
+            cost,
+            energy,
+            best,
+            weight,
+        } = self;
+        Mismatch {
+            error: if energy > T::zero() {
+                (at_least(cost - best, T::zero()) / energy).sqrt()
+            } else {
+                T::zero()
+            },
+            evidence: evidence(best, cost, weight),
+        }
+    }
+
+    /// The [`Mismatch`]'s error is at least `x` (≥ 0), without its square
+    /// root and division (the alarm asks every estimator sample):
+    /// `max(cost − best, 0) ≥ x²·energy`.
+    pub(crate) fn error_reaches(self, x: T) -> bool {
+        if self.energy > T::zero() {
+            at_least(self.cost - self.best, T::zero()) >= x * x * self.energy
         } else {
-            T::zero()
-        },
-        evidence: evidence(best, cost, weight),
+            x <= T::zero()
+        }
+    }
+
+    /// The [`Mismatch`]'s evidence is at least `x`, without its division:
+    /// `(cost − best)·W ≥ x·best` (see [`Estimate::evidence`]).
+    pub(crate) fn evidence_reaches(self, x: T) -> bool {
+        let Costs {
+            cost, best, weight, ..
+        } = self;
+        if weight > T::zero() && best / weight > T::zero() {
+            (cost - best) * weight >= x * best
+        } else {
+            cost > best || x <= T::zero()
+        }
     }
 }
 
@@ -257,6 +298,9 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// longest candidate dead time, and with a prior model four of its
     /// time constants more (the response to a move lasts that long).
     window: usize,
+    /// The recent comparisons' memory per excited sample, `1 − 1/window`
+    /// (the change detector's and the alarm's).
+    short: T,
     /// The current block of controller samples: the sums of `y` and `u`,
     /// their count, and whether every one was the process's own response.
     block: (T, T, usize, bool),
@@ -272,6 +316,11 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     pending: Option<Pass<T>>,
     /// The estimate as of the last pass's end ([`Estimator::estimate`]).
     current: Option<Estimate<T>>,
+    /// At rest (see `rest.rs`): only the chosen candidate's simulation
+    /// runs, and every candidate's cost is `g·V + s` with the shared
+    /// discount and sum `rest = (g, s)`, applied when the input moves.
+    resting: bool,
+    rest: (T, T),
     /// The model in use with other gains and lags, at its dead time
     /// ([`HYPOTHESES`]; see `hypotheses.rs`): what the model-error alarm
     /// compares the model in use with besides the other dead times, and
@@ -284,6 +333,10 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// The hypothesis that explains most of the model in use's recent
     /// error, as of the last excited sample (the model-error alarm's).
     explaining: Option<usize>,
+    /// The model in use fits the last response (see [`TURNS`]), and the
+    /// excited samples so far, whose count takes the candidates in turn.
+    fits: bool,
+    turn: usize,
     /// The target's energy over the last response (as `recent_weight`):
     /// what a [`MATERIAL`] error is measured against.
     energy: T,
@@ -316,6 +369,24 @@ pub const LAGS: [f64; 4] = [0.5, 2.0 / 3.0, 4.0 / 3.0, 2.0];
 
 /// The change detector's gain and lag hypotheses.
 pub const HYPOTHESES: usize = GAINS.len() + LAGS.len();
+
+/// While the model in use fits the last response (its error within
+/// [`MATERIAL`] of the response), a candidate other than the chosen dead
+/// time and its two neighbours learns on every `TURNS`th excited sample, in
+/// turn; otherwise every candidate learns on every one. Each candidate's
+/// equations hold sample by sample, so one updated on a fraction of them
+/// converges to the same coefficients (its forgetting's memory longer in
+/// time). The far candidates matter when the process has changed much,
+/// and then the model in use no longer fits and all learn alike: their
+/// costs compare models fitted alike (measured: with the far candidates
+/// learning in turn throughout, an integrating loop's growing oscillation
+/// after its dead time rose 60 % let the oscillation's alias, a dead time
+/// one period shorter and learnt more often, win the emergency). While it
+/// fits, the chosen dead time and its neighbours, which a drift reaches
+/// first, learn on every sample. A pass's RLS steps fall from `N` to about
+/// `3 + N/TURNS` in normal operation, most of the estimator's arithmetic
+/// (#48 item 7: host cost).
+pub const TURNS: usize = 4;
 
 /// A load's onset: at rest, the chosen model's prediction error exceeds
 /// this many times the measured noise (see [`Estimator::onsets`]).

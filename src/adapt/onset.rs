@@ -51,6 +51,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // (1997) Sec. 11.3): a single noisy difference taken as the state
         // would persist in every simulation for the lag's time, and the
         // noise-free response is taken exactly
+        // every simulation takes its state from here
+        self.wake();
         let (n, seen) = self.settled;
         let counted = seen >= 2;
         let n = if counted { n.saturating_add(1) } else { n };

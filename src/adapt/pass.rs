@@ -10,14 +10,13 @@ use super::*;
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Pass<T> {
     target: T,
-    excited: bool,
-    /// The recent comparison's memory (the change detector's).
-    short: T,
     /// The dead zone, squared.
     zone2: T,
     chosen: usize,
     /// The chosen candidate's error, the lowest cost so far and whose.
     chosen_e: T,
+    /// The chosen candidate learnt (its model is to be refreshed).
+    chosen_learnt: bool,
     best: usize,
     lowest: T,
     /// The next candidate to update.
@@ -52,8 +51,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if self.onset(target) {
             return None;
         }
-        // the recent comparison's memory: the change detector's
-        let short = T::one() - T::one() / T::of(self.window.max(1) as f64);
+        if !excited {
+            self.rest_step(target);
+            return None;
+        }
+        self.wake();
         let chosen = self.chosen;
         // the dead zone, squared: the given one, or the measured noise's
         // multiple (`|e| ≤ zone` as `e² ≤ zone²`: no square root)
@@ -66,11 +68,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         Some(Pass {
             target,
-            excited,
-            short,
             zone2,
             chosen,
             chosen_e: T::zero(),
+            chosen_learnt: false,
             best: 0,
             lowest: T::infinity(),
             next: 0,
@@ -81,14 +82,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 
     /// The RLS step of candidates `pass.next .. to`, in two sweeps: every
     /// candidate's prediction, cost and gradient (the same few operations
-    /// for each, no branch), then the RLS step of those that learn (an
-    /// excited sample, an error beyond the dead zone). The first sweep keeps
-    /// each candidate's error and regressor `Δŷ[k]` for the second.
+    /// for each, no branch), then the RLS step of those that learn (an error
+    /// beyond the dead zone; while the model in use fits, the far ones in
+    /// turn: [`TURNS`]). The first sweep
+    /// keeps each candidate's error and regressor `Δŷ[k]` for the second.
     pub(super) fn learn_bank(&mut self, pass: &mut Pass<T>, to: usize) {
         let cfg = self.cfg;
         let Pass {
             target,
-            excited,
             zone2,
             chosen,
             ..
@@ -141,18 +142,19 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         pass.best = best;
         pass.lowest = lowest;
         pass.next = to;
-        if !excited {
-            return;
-        }
         let step = Step {
             inv_lam: T::one() / cfg.forgetting,
             a_range: self.a_range,
             sign: self.sign,
             cfg,
         };
-        for ((c, (&f1, &f2)), &(e, f0)) in bank.iter_mut().zip(pairs).zip(&errors) {
-            if e * e > zone2 {
+        let (fits, turn) = (self.fits, self.turn);
+        let learns = |i: usize| !fits || i.abs_diff(chosen) <= 1 || (i + turn) % TURNS == 0;
+        let learning = bank.iter_mut().zip(pairs).zip(&errors).enumerate();
+        for (j, ((c, (&f1, &f2)), &(e, f0))) in learning {
+            if e * e > zone2 && learns(from + j) {
                 step.rls(c, e, [f0, f1, f2]);
+                pass.chosen_learnt |= from + j == chosen;
             }
         }
     }
@@ -160,49 +162,61 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The pass's third part: the model in use's prediction, the chosen
     /// candidate against it, the costs' weight, the change detector.
     pub(super) fn learn_compare(&mut self, pass: &Pass<T>) {
-        let cfg = self.cfg;
         let Pass {
-            target,
-            excited,
-            short,
-            chosen_e,
-            ..
+            target, chosen_e, ..
         } = *pass;
-        // the model in use on the same sample (here, where the rest of the
-        // comparison is: between the parts of a pass it stays whole)
-        let mut e_ref = T::zero();
-        if let Some(r) = self.reference.as_mut() {
-            let pred = predict(r.theta, r.yhat, self.hist.pair(r.d), cfg.integrating);
-            let e = target - pred;
-            e_ref = e;
-            r.cost = cfg.cost_memory * r.cost + e * e;
-            r.energy = cfg.cost_memory * r.energy + pred * pred;
-            r.yhat = pred;
-            r.rival = cfg.cost_memory * r.rival + chosen_e * chosen_e;
-            r.weight = cfg.cost_memory * r.weight + T::one();
-            if excited {
-                let [c, en, rival, w] = r.recent;
-                r.recent = [
-                    short * c + e * e,
-                    short * en + pred * pred,
-                    short * rival + chosen_e * chosen_e,
-                    short * w + T::one(),
-                ];
-                r.seen = r.seen.saturating_add(1);
-            }
+        let e_ref = self.compare_reference(target, true, chosen_e);
+        self.weight = self.cfg.cost_memory * self.weight + T::one();
+        self.detect(target, e_ref);
+    }
+
+    /// The model in use on the sample whose target is `target` (here, where
+    /// the rest of the comparison is: between the parts of a pass it stays
+    /// whole): its cost and its prediction's energy, the chosen candidate's
+    /// cost (its error `chosen_e`) over the same samples, and over the last
+    /// response's when `excited`. Returns the model in use's error.
+    pub(super) fn compare_reference(&mut self, target: T, excited: bool, chosen_e: T) -> T {
+        let cfg = self.cfg;
+        let short = self.short;
+        let hist = &self.hist;
+        let Some(r) = self.reference.as_mut() else {
+            return T::zero();
+        };
+        // (what decays without input kept a normal number: this runs at rest)
+        let normal = crate::real::normal;
+        let pred = normal(predict(r.theta, r.yhat, hist.pair(r.d), cfg.integrating));
+        let e = target - pred;
+        let m = cfg.cost_memory;
+        r.cost = normal(m * r.cost + e * e);
+        r.energy = normal(m * r.energy + pred * pred);
+        r.yhat = pred;
+        r.rival = normal(m * r.rival + chosen_e * chosen_e);
+        r.weight = m * r.weight + T::one();
+        if excited {
+            // (the recent comparison's memory is the change detector's)
+            let [c, en, rival, w] = r.recent;
+            r.recent = [
+                short * c + e * e,
+                short * en + pred * pred,
+                short * rival + chosen_e * chosen_e,
+                short * w + T::one(),
+            ];
+            r.seen = r.seen.saturating_add(1);
         }
-        self.weight = cfg.cost_memory * self.weight + T::one();
-        self.detect(target, excited, e_ref);
+        e
     }
 
     /// The pass's end: the choice of dead time and the model it gives.
     pub(super) fn learn_choose(&mut self, pass: &Pass<T>) {
         let before = self.chosen;
+        self.turn = self.turn.wrapping_add(1);
         self.decide(pass.best);
         if self.chosen != before {
             self.rebase();
         }
-        if pass.excited || self.chosen != before {
+        // (its logarithms are a good part of a pass: only for new
+        // coefficients)
+        if pass.chosen_learnt || self.chosen != before {
             self.model = self.model_of();
         }
         self.current = self.estimate_now();
@@ -250,17 +264,16 @@ impl<T: Real> Step<T> {
         let n11 = (p11 - g1 * q1) * inv_lam;
         let n12 = (p12 - g1 * q2) * inv_lam;
         let n22 = (p22 - g2 * q2) * inv_lam;
-        // the trace bounded: no "bursting" when nothing moves (a
-        // factor 1 below the bound: exact; a select, not a branch)
+        // the trace bounded: no "bursting" when nothing moves (rare: a
+        // branch, so that its division is not paid on every step)
         let trace = n00 + n11 + n22;
-        let k = if trace > cfg.max_trace {
-            cfg.max_trace / trace
-        } else {
-            T::one()
-        };
-        let (n00, n01, n02) = (n00 * k, n01 * k, n02 * k);
-        let (n11, n12, n22) = (n11 * k, n12 * k, n22 * k);
-        c.p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
+        let mut p = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]];
+        if trace > cfg.max_trace {
+            let k = cfg.max_trace / trace;
+            p = p.map(|row| row.map(|x| x * k));
+        }
+        c.p = p;
+        let [[_, n01, n02], [_, n11, n12], [_, _, n22]] = p;
         if sign != T::zero() {
             // projection: with the gain's sign known, both input
             // coefficients carry it (a fraction `f` in [0, 1]); a
@@ -270,24 +283,22 @@ impl<T: Real> Step<T> {
             // Sin (1984) Sec. 3.7): b0 along P's second column, b1
             // along its third. The second can carry b0 back across
             // zero, and a coefficient without a direction stays: what
-            // is left of the wrong sign is cut to zero.
-            let [t0, t1, t2] = next;
-            // (as selects, not branches: which coefficient is of the
-            // wrong sign changes from sample to sample, unpredictably)
-            let cut1 = sign * t1 < T::zero() && n11 > T::zero();
-            let along = if cut1 { t1 / n11 } else { T::zero() };
-            let (t0, t1, t2) = (
-                t0 - n01 * along,
-                if cut1 { T::zero() } else { t1 },
-                t2 - n12 * along,
-            );
-            let cut2 = sign * t2 < T::zero() && n22 > T::zero();
-            let along = if cut2 { t2 / n22 } else { T::zero() };
-            let (t0, t1, t2) = (
-                t0 - n02 * along,
-                t1 - n12 * along,
-                if cut2 { T::zero() } else { t2 },
-            );
+            // is left of the wrong sign is cut to zero. (Branches: a
+            // converged model rarely needs them, and their divisions are
+            // a good part of a step.)
+            let [mut t0, mut t1, mut t2] = next;
+            if sign * t1 < T::zero() && n11 > T::zero() {
+                let along = t1 / n11;
+                t0 = t0 - n01 * along;
+                t1 = T::zero();
+                t2 = t2 - n12 * along;
+            }
+            if sign * t2 < T::zero() && n22 > T::zero() {
+                let along = t2 / n22;
+                t0 = t0 - n02 * along;
+                t1 = t1 - n12 * along;
+                t2 = T::zero();
+            }
             let t1 = if sign * t1 < T::zero() { T::zero() } else { t1 };
             let t2 = if sign * t2 < T::zero() { T::zero() } else { t2 };
             next = [t0, t1, t2];

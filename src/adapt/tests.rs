@@ -346,7 +346,7 @@ fn lcg(seed: &mut u64) -> u64 {
 }
 
 /// A value of the stream uniform on [0, 1) (its top 53 bits).
-fn uniform(seed: &mut u64) -> f64 {
+pub(super) fn uniform(seed: &mut u64) -> f64 {
     (lcg(seed) >> 11) as f64 / (1u64 << 53) as f64
 }
 

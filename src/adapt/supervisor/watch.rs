@@ -186,7 +186,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // last response (a change shows within a response or two, when
         // the data are clear enough for the evidence over so few samples)
         // and since the model was set (slower, surer under noise)
-        let (Some(fast), Some(slow)) = (self.est.recent_mismatch(), self.est.mismatch()) else {
+        // (as costs: the tests without a square root or a division)
+        let (Some(fast), Some(slow)) = (self.est.recent_costs(), self.est.costs_since()) else {
             return;
         };
         let (alarm, evidence) = (self.cfg.alarm, self.cfg.min_evidence);
@@ -208,11 +209,12 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
                 alarm,
             )
         });
-        let raise = |m: &crate::adapt::Mismatch<T>, distinct: bool| {
-            distinct && m.error >= alarm && m.evidence >= evidence
+        let raise = |m: &crate::adapt::Costs<T>, distinct: bool| {
+            distinct && m.error_reaches(alarm) && m.evidence_reaches(evidence)
         };
         let (against, hold) = if self.alarm {
-            let quiet = slow.error < alarm / T::of(2.0) && fast.error < alarm / T::of(2.0);
+            let half = alarm / T::of(2.0);
+            let quiet = !slow.error_reaches(half) && !fast.error_reaches(half);
             (quiet, self.cfg.settle)
         } else if raise(&fast, estimated || self.est.explains()) {
             // held for a quarter of a response's excited samples (the
