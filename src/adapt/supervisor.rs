@@ -500,7 +500,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !self.cfg.apply || self.blocks < self.rest_until || self.shadow.is_some() {
             return;
         }
-        if self.edge() || self.propose() {
+        // an estimate at an edge is warned of and never applied, but it
+        // does not keep a hypothesis that explains the data from being
+        // proposed (measured: a loop that only loads move, whose bank
+        // learnt a load-biased lag beyond the bounds, kept the right gain
+        // hypothesis waiting for the rest of the run)
+        let edge = self.edge();
+        if self.propose() || edge {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held
