@@ -59,6 +59,14 @@
 //! prediction error is within the dead zone of the noise, or when the
 //! caller says the sample is not the process's own response (saturated,
 //! manual, tracking, a fault).
+//!
+//! Where nothing moves, little runs: while the input is still for a
+//! response's time the bank rests (only the chosen candidate's simulation,
+//! the comparison with the model in use and the noise's measure; every
+//! candidate pays the chosen one's error through one shared discount and
+//! sum, see [`Estimator::is_resting`]), and while the model in use fits
+//! the last response the candidates away from the chosen dead time learn in
+//! turn ([`TURNS`]).
 
 use crate::real::{at_least, at_most};
 use crate::{error::Error, real::Real};
