@@ -64,8 +64,8 @@ impl<T: Real> Scan<T> {
 }
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
-    /// The change detector on an excited sample (at rest only the chosen
-    /// dead time's simulation runs: `rest.rs`): the chosen candidate's coefficients as they
+    /// The change detector (at rest only the chosen dead time's simulation
+    /// runs: `rest.rs`): the chosen candidate's coefficients as they
     /// were a response or two ago (from before a change: a snapshot per
     /// `window` excited samples, the older of two used) simulated at every
     /// candidate dead time (`Δŷ_d[k+1] = â·Δŷ_d[k] + b̂0·Δu[k−d] +
@@ -93,8 +93,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// costs cleared (their evidence is from before the change), the
     /// choice left to the bank's comparison as before; the detector rests
     /// for four responses.
-    pub(super) fn detect(&mut self, target: T, e_ref: T) {
-        let Some(mut scan) = self.detect_begin(target, true) else {
+    pub(super) fn detect(&mut self, target: T, excited: bool, e_ref: T) {
+        let Some(mut scan) = self.detect_begin(target, excited) else {
             return;
         };
         // consecutive dead times share an input, as in the bank
@@ -105,7 +105,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             scan.step(i, c, u0, u1);
         }
         // the model in use with other gains and lags
-        self.test_hypotheses(target, e_ref, scan.scale);
+        self.test_hypotheses(target, e_ref, excited, scan.scale);
         self.detect_end(scan);
     }
 
@@ -188,7 +188,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.challenger_for = 0;
             self.pause = self.window.saturating_mul(4);
             self.restarts = self.restarts.saturating_add(1);
-            self.model = self.model_of();
+            self.refresh_model();
         } else if excited {
             // a snapshot per response's worth of excited samples: the
             // detector's model is from between one and two of them ago

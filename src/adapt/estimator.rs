@@ -59,6 +59,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             a_range: (T::of(1e-6), T::one() - T::of(1e-9)),
             sign: T::zero(),
             window: cfg.d_min.saturating_add(n),
+            rest_after: usize::MAX,
             short: memory(cfg.d_min.saturating_add(n)),
             reference: None,
             noise: Median::new(),
@@ -136,7 +137,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.chosen = i;
         self.challenger_for = 0;
         self.rebase();
-        self.model = self.model_of();
+        self.refresh_model();
         self.current = self.estimate_now();
         self.set_reference(k, tau, theta)
     }
@@ -436,6 +437,33 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             d,
             evidence: self.evidence(c.cost, second),
         })
+    }
+
+    /// The chosen candidate's model anew ([`Estimator::model_of`]), and the
+    /// samples without a move after which the estimator rests: the window,
+    /// or the longest dead time and four of the model's time constants
+    /// where that is longer (a process whose lag grew, or one learnt
+    /// without a prior model, responds for longer than the window); without
+    /// a prior model it never rests.
+    pub(super) fn refresh_model(&mut self) {
+        self.model = self.model_of();
+        let period = self.cfg.period();
+        // without a prior model (its gain's sign unknown) no response's
+        // time is known: it never rests (the cold estimates' lags are no
+        // measure, and a move the gate did not see, as the first one from
+        // rest, may still be answered)
+        let prior = self.sign != T::zero();
+        let Some((_, tau, _)) = self.model.filter(|_| prior) else {
+            self.rest_after = usize::MAX;
+            return;
+        };
+        let settle = Some(T::of(4.0) * tau / period)
+            .filter(|s| s.is_finite())
+            .and_then(|s| num_traits::ToPrimitive::to_usize(&s.ceil()))
+            .unwrap_or(0)
+            .min(1 << 20);
+        let longest = self.cfg.d_min.saturating_add(self.n);
+        self.rest_after = self.window.max(longest.saturating_add(settle));
     }
 
     /// `(K, τ, f)` of the chosen candidate's coefficients (`None`: `b0 + b1`

@@ -10,8 +10,8 @@ use super::estimator::model_from;
 use super::*;
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
-    /// One excited sample of every hypothesis (at rest they wait:
-    /// `rest.rs`; after the model in use's own, whose
+    /// One sample of every hypothesis (at rest they wait: `rest.rs`;
+    /// after the model in use's own, whose
     /// error is `e_ref`): its simulation at the model in use's dead time
     /// (`Δŷ_h[k+1] = â_h·Δŷ_h[k] + b̂0_h·Δu[k−d] + b̂1_h·Δu[k−d−1]`), its
     /// squared error over the last response, and Page's sum of the
@@ -38,7 +38,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// noise's, and the hypothesis explains at least half of it: in data
     /// that do not, a model of a smaller response is nearer to them than
     /// the right one).
-    pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, scale: T) {
+    pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, excited: bool, scale: T) {
         let tested = self.hypotheses().len();
         let cfg = self.cfg;
         let Some(r) = self.reference.as_ref() else {
@@ -46,6 +46,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         let (u0, u1) = self.hist.pair(r.d);
         let hyp = self.hyp.get_mut(..tested).unwrap_or_default();
+        if !excited {
+            // the simulations go on; nothing is compared
+            for h in hyp.iter_mut() {
+                h.yhat = predict(h.coef, h.yhat, (u0, u1), cfg.integrating);
+            }
+            return;
+        }
         let [ref_recent, _, rival, weight] = r.recent;
         let short = self.short;
         self.energy = short * self.energy + target * target;

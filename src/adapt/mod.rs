@@ -306,6 +306,10 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// longest candidate dead time, and with a prior model four of its
     /// time constants more (the response to a move lasts that long).
     window: usize,
+    /// Samples without an input move after which the estimator rests: the
+    /// window, or the longest dead time and four of the chosen model's
+    /// time constants where that is longer (see `rest.rs`).
+    rest_after: usize,
     /// The recent comparisons' memory per excited sample, `1 − 1/window`
     /// (the change detector's and the alarm's).
     short: T,

@@ -10,6 +10,7 @@ use super::*;
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Pass<T> {
     target: T,
+    excited: bool,
     /// The dead zone, squared.
     zone2: T,
     chosen: usize,
@@ -51,7 +52,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if self.onset(target) {
             return None;
         }
-        if !excited {
+        // at rest: no move within the response's time (by the chosen
+        // model's lag too: without a prior model, or with a lag grown
+        // longer than its, the response outlasts the excitation's window)
+        if self.hist.quiet > self.rest_after {
             self.rest_step(target);
             return None;
         }
@@ -68,6 +72,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         Some(Pass {
             target,
+            excited,
             zone2,
             chosen,
             chosen_e: T::zero(),
@@ -90,6 +95,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let cfg = self.cfg;
         let Pass {
             target,
+            excited,
             zone2,
             chosen,
             ..
@@ -142,6 +148,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         pass.best = best;
         pass.lowest = lowest;
         pass.next = to;
+        if !excited {
+            return;
+        }
         let step = Step {
             inv_lam: T::one() / cfg.forgetting,
             a_range: self.a_range,
@@ -163,11 +172,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// candidate against it, the costs' weight, the change detector.
     pub(super) fn learn_compare(&mut self, pass: &Pass<T>) {
         let Pass {
-            target, chosen_e, ..
+            target,
+            excited,
+            chosen_e,
+            ..
         } = *pass;
-        let e_ref = self.compare_reference(target, true, chosen_e);
+        let e_ref = self.compare_reference(target, excited, chosen_e);
         self.weight = self.cfg.cost_memory * self.weight + T::one();
-        self.detect(target, e_ref);
+        self.detect(target, excited, e_ref);
     }
 
     /// The model in use on the sample whose target is `target` (here, where
@@ -217,7 +229,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // (its logarithms are a good part of a pass: only for new
         // coefficients)
         if pass.chosen_learnt || self.chosen != before {
-            self.model = self.model_of();
+            self.refresh_model();
         }
         self.current = self.estimate_now();
     }

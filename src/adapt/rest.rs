@@ -1,5 +1,9 @@
 //! An [`Estimator`] at rest: the input has not moved by the excitation
-//! gate's amount for a response's time, so no sample teaches anything
+//! gate's amount for a response's time (the excitation's window, or the
+//! longest dead time and four of the chosen model's time constants where
+//! that is longer: `Estimator::refresh_model`; only with a prior model,
+//! [`Estimator::start_from`], as the adaptive controller's), so no sample
+//! teaches anything
 //! about the process (Ljung (1999) Sec. 13.4: closed-loop data that only
 //! the noise excites identify the controller as much as the process).
 //! Only what the rest of the time reads runs: the chosen candidate's

@@ -1217,9 +1217,11 @@ def test_estimator_decimates_and_finds_load_onsets():
         blocks += est.update(y + d_out, u)
         late, line[j % d] = line[j % d], u + d_in
         y = a * y + k * (1 - a) * late
-    # a block's learning ends three samples after the block (spread over
-    # four calls): the last block's is still under way when the run ends
-    assert blocks == 5999
+    # a block's learning ends three samples after the block where it learns
+    # (spread over four calls), in the block's own call at rest (nothing
+    # but the chosen model runs): the run ends at rest, 20 000 samples after
+    # the last load, so the last block's is done too
+    assert blocks == 6000
     assert est.onsets == 2
     e = est.estimate
     assert abs(e["k"] / k - 1) < 0.02 and abs(e["tau"] / tau - 1) < 0.02, e
