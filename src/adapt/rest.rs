@@ -3,9 +3,9 @@
 //! longest dead time and four of the chosen model's time constants where
 //! that is longer: `Estimator::refresh_model`; only with a prior model,
 //! [`Estimator::start_from`], as the adaptive controller's), so no sample
-//! teaches anything
-//! about the process (Ljung (1999) Sec. 13.4: closed-loop data that only
-//! the noise excites identify the controller as much as the process).
+//! teaches anything about the process (Ljung (1999) Sec. 13.4: closed-loop
+//! data that only the noise excites identify the controller as much as the
+//! process).
 //! Only what the rest of the time reads runs: the chosen candidate's
 //! simulation (the onset test's and the dead zone's), the model in use's
 //! comparison and the noise's measure; the other candidates and the
@@ -13,8 +13,8 @@
 //! moves again ([`Estimator::wake`]).
 //!
 //! At rest every candidate predicts the same output to within the input's
-//! jitter through its gain (the response to the last move has passed:
-//! [`Estimator::window`] is the longest dead time and four lags), so every
+//! jitter through its gain (the response to the last move has passed: the
+//! rest begins a longest dead time and four lags after it), so every
 //! candidate's error is the chosen one's and its cost follows
 //! `V ← μ·V + e²` with the same `e`: `V_i` after `R` samples at rest is
 //! `μ^R·V_i + Σ_j μ^{R−1−j}·e_j²`, one discount and one sum for the whole
