@@ -91,32 +91,16 @@ fn closed<T: Real>(c: &mut Criterion, group: &str, name: &str, step: impl FnMut(
     });
 }
 
-/// [`closed`] through the plant `plant(u) -> y` (the next measurement).
+/// [`closed`] through the plant `plant(u) -> y` (the next measurement), a
+/// sample an iteration.
 fn closed_through<T: Real>(
     c: &mut Criterion,
     group: &str,
     name: &str,
-    mut step: impl FnMut(T, T) -> T,
-    mut plant: impl FnMut(T) -> T,
+    step: impl FnMut(T, T) -> T,
+    plant: impl FnMut(T) -> T,
 ) {
-    let mut g = c.benchmark_group(group);
-    g.throughput(Throughput::Elements(1));
-    let mut y = T::zero();
-    let mut k = 0u32;
-    g.bench_function(name, |b| {
-        b.iter(|| {
-            k = k.wrapping_add(1);
-            let r = if (k >> 12) & 1 == 0 {
-                T::one()
-            } else {
-                T::of(2.0)
-            };
-            let u = step(black_box(r), y);
-            y = plant(u);
-            u
-        })
-    });
-    g.finish();
+    timed(c, group, name, 1, step, plant);
 }
 
 /// The samples of one cycle of the adaptive loop's set point: 4096 at 1,
@@ -132,21 +116,41 @@ fn cycles<T: Real>(
     c: &mut Criterion,
     group: &str,
     name: &str,
+    step: impl FnMut(T, T) -> T,
+    plant: impl FnMut(T) -> T,
+) {
+    timed(c, group, name, CYCLE, step, plant);
+}
+
+/// Times `samples` samples an iteration of `step` in the loop through
+/// `plant`, the set point switching between 1 and 2 every 4096 samples
+/// (criterion's throughput: the samples).
+fn timed<T: Real>(
+    c: &mut Criterion,
+    group: &str,
+    name: &str,
+    samples: u32,
     mut step: impl FnMut(T, T) -> T,
     mut plant: impl FnMut(T) -> T,
 ) {
     let mut g = c.benchmark_group(group);
-    g.throughput(Throughput::Elements(u64::from(CYCLE)));
+    g.throughput(Throughput::Elements(u64::from(samples)));
     let mut y = T::zero();
+    let mut k = 0u32;
     g.bench_function(name, |b| {
         b.iter(|| {
-            let mut last = T::zero();
-            for k in 0..CYCLE {
-                let r = if k < CYCLE / 2 { T::one() } else { T::of(2.0) };
-                last = step(black_box(r), y);
-                y = plant(last);
+            let mut u = T::zero();
+            for _ in 0..samples {
+                let r = if (k >> 12) & 1 == 0 {
+                    T::one()
+                } else {
+                    T::of(2.0)
+                };
+                k = k.wrapping_add(1);
+                u = step(black_box(r), y);
+                y = plant(u);
             }
-            last
+            u
         })
     });
     g.finish();
