@@ -78,7 +78,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     }
 
     /// The loop is going unstable: a clear estimate (its dead time chosen
-    /// with the evidence of `min_evidence`, predicting the recent data
+    /// with the evidence of `min_evidence` and not at the end of the
+    /// range, predicting the recent data
     /// better than the model in use with as much, within the bounds) is
     /// applied at once; without one the primary's gain is halved (a
     /// dead-time loop detuned is stable for a larger model error: its
@@ -91,6 +92,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             .estimate()
             .and_then(|m| self.plausible(m))
             .filter(|m| m.evidence >= self.cfg.min_evidence)
+            // (an estimate at the end of the dead-time range is not clear:
+            // the process may lie beyond it; measured, one at the range's
+            // end applied in an emergency left the loop diverging)
+            .filter(|_| !self.est.at_edge())
             .filter(|_| self.beats_model())
             .map(|m| Model {
                 k: m.k,
