@@ -169,6 +169,35 @@ fn a_lag_halving_is_learnt() {
     learns("lag ×0.5");
 }
 
+/// Item 2 under heavy noise: at the coarse period with 5 % noise, the
+/// estimate of a converged bank wanders from sample to sample more than a
+/// change that counts, and the supervisor must still see it settle (the
+/// means of its blocks agree, [`msp::adapt::SPREAD`]). Of every change
+/// with the set point moving (seed 1: 36 cases), at least five in six end
+/// within 10 % of the true model's loop (the bank's table, three seeds:
+/// 93 of 108; with the blocks' spread held to one `min_change`, 71), and
+/// none diverges.
+#[test]
+fn most_changes_are_learnt_at_the_coarse_period_under_5_percent_noise() {
+    let mut n = 0;
+    let mut within = Vec::new();
+    for (family, _, excitation) in msp::study::bank::families() {
+        if family.starts_with("no change") || excitation != msp::study::bank::Excitation::Setpoint {
+            continue;
+        }
+        for case in bank_cases(&family, Period::Coarse, &[(0.05, None)]) {
+            let r = case.run().unwrap();
+            assert!(r.iae_adaptive.is_finite(), "{r:?}");
+            n += 1;
+            if r.iae_adaptive <= 1.1 * r.iae_true {
+                within.push(r);
+            }
+        }
+    }
+    assert_eq!(n, 36);
+    assert!(6 * within.len() >= 5 * n, "{} of {n}", within.len());
+}
+
 /// Integrating processes whose dead time grows by 40 % (0.15 e^{−5s}/s to
 /// 7 s, 0.05 e^{−6s}/s to 8.4 s), at 20 and at 120 samples of dead time:
 /// the fixed model's loop diverges after the next set-point move; the

@@ -48,7 +48,16 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 recent: T::zero(),
             }; N],
             n,
-            hist: History::new(cfg.prefilter, cfg.min_excitation, cfg.excitation_ratio),
+            hist: History::new(
+                cfg.prefilter,
+                cfg.min_excitation,
+                cfg.excitation_ratio,
+                // the drift's time: the window (the longest dead time), so a
+                // move's response is counted whole and a ramp's steady part
+                // not (measured on the bank: twice as long let ramps at the
+                // coarse period teach a load-biased gain; see `History`)
+                T::one() / T::of(cfg.d_min.saturating_add(n).max(1) as f64),
+            ),
             last_y: T::zero(),
             last_dy: T::zero(),
             samples: 0,
@@ -89,6 +98,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             energy: T::zero(),
             fits: false,
             turn: 0,
+            learnt: 0,
         })
     }
 
@@ -197,6 +207,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         });
         self.reset_hypotheses(theta);
         Ok(())
+    }
+
+    /// The estimator samples the chosen candidate has learnt from so far
+    /// (its RLS steps; wrapping at `u32::MAX`): the supervisor counts the
+    /// samples behind an estimate that held still.
+    pub fn learnt(&self) -> u32 {
+        self.learnt
     }
 
     /// The estimator samples of a response: the longest candidate dead

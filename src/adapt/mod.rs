@@ -55,7 +55,10 @@
 //! the input has not moved clearly more than its own jitter within the
 //! response's time (the excitation gate: in closed loop the noise moves the
 //! input too, and data in which only the noise does identify the
-//! controller as much as the process, Ljung (1999) Sec. 13.4), when the
+//! controller as much as the process, Ljung (1999) Sec. 13.4; the bank's
+//! own steps also wait for the input to depart from its drift: the
+//! controller's steady answer to a ramp load, which the models would
+//! explain with a gain pulled towards zero, teaches it nothing), when the
 //! prediction error is within the dead zone of the noise, or when the
 //! caller says the sample is not the process's own response (saturated,
 //! manual, tracking, a fault).
@@ -349,6 +352,8 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// excited samples so far, whose count takes the candidates in turn.
     fits: bool,
     turn: usize,
+    /// The samples the chosen candidate learnt from so far (wrapping).
+    learnt: u32,
     /// The target's energy over the last response (as `recent_weight`):
     /// what a [`MATERIAL`] error is measured against.
     energy: T,
@@ -426,3 +431,16 @@ pub const MATERIAL: f64 = 0.1;
 /// this factor of the model's (a plausible range: a process whose lag
 /// changed more than that is a different process).
 pub const SPAN: f64 = 20.0;
+
+/// How far a settle block's estimates may spread, lowest to highest, in
+/// units of `min_change` ([`AdaptiveConfig::min_change`]), for the block
+/// to count as still; two still blocks in a row must then have means
+/// within half of `min_change`. The means' agreement is the convergence
+/// test: a block's spread under measurement noise is its samples', wider
+/// than its mean's by the square root of the samples it averages. Measured
+/// on the bank (`docs/adapt-bank.md`): a spread of one `min_change` held
+/// 37 of 108 changes at the coarse period under 5 % noise more than 10 %
+/// from the true model's loop, most of them held back (a converged
+/// estimate whose samples wander by more); four leaves 15, and the
+/// families where nothing changes apply nothing either way.
+pub const SPREAD: f64 = 4.0;

@@ -11,6 +11,8 @@ use super::*;
 pub(super) struct Pass<T> {
     target: T,
     excited: bool,
+    /// The bank learns (the input departed from its drift).
+    informative: bool,
     /// The dead zone, squared.
     zone2: T,
     chosen: usize,
@@ -42,6 +44,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // the input moved by the gate's amount within the history the
         // candidates read (`Δu[k] … Δu[k−d_max−1]`)
         let excited = self.hist.quiet <= self.window;
+        // and departed from its drift (a ramp load's steady answer does
+        // not teach the bank: `History::steady`)
+        let informative = self.hist.steady <= self.window;
         // integrating: `Δy[k+1] − Δy[k] = b0·Δu[k−d] + b1·Δu[k−d−1]` (a = 1
         // taken to the left: the regressors are inputs only)
         let target = if cfg.integrating {
@@ -73,6 +78,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         Some(Pass {
             target,
             excited,
+            informative,
             zone2,
             chosen,
             chosen_e: T::zero(),
@@ -95,7 +101,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let cfg = self.cfg;
         let Pass {
             target,
-            excited,
+            informative,
             zone2,
             chosen,
             ..
@@ -148,7 +154,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         pass.best = best;
         pass.lowest = lowest;
         pass.next = to;
-        if !excited {
+        if !informative {
             return;
         }
         let step = Step {
@@ -231,6 +237,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if pass.chosen_learnt || self.chosen != before {
             self.refresh_model();
         }
+        self.learnt = self.learnt.wrapping_add(u32::from(pass.chosen_learnt));
         self.current = self.estimate_now();
     }
 }

@@ -7,8 +7,9 @@
 //!
 //! - the estimate has settled: taken in blocks of `settle` samples, it held
 //!   still in two blocks in a row (in each, one whole dead time and the gain
-//!   and the time constant within `min_change` of their mean from lowest
-//!   to highest) whose means agree within half of `min_change` (half a
+//!   and the time constant within [`SPREAD`] times `min_change` of their
+//!   mean from lowest to highest) whose means agree within half of
+//!   `min_change` (half a
 //!   sample for the dead time) — the later block's mean is applied; every
 //!   sample's estimate counts only with its gain of the known sign, and
 //!   its dead time only where chosen without ambiguity (its evidence over
@@ -39,7 +40,7 @@
 //! kind — adapt only on information, keep a fall-back — is Åström &
 //! Wittenmark (1995) Sec. 11.2.
 
-use super::{Estimate, Estimator};
+use super::{Estimate, Estimator, SPREAD};
 use crate::operate::{Gain, Operate, Tracking};
 use crate::real::{at_least, at_most};
 use crate::{
@@ -511,17 +512,17 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
         // the estimate in blocks of `settle` samples: a block in which it held
         // still (one whole dead time throughout, the gain and the time
-        // constant within `min_change` from lowest to highest, every sample
+        // constant within SPREAD·min_change from lowest to highest, every sample
         // plausible) gives its mean; two such blocks in a row whose means
         // agree within half of `min_change` settle the estimate
         let e = self.est.estimate().and_then(|m| self.plausible(m));
-        self.block.add(e);
+        self.block.add(e, self.est.learnt());
         if self.block.count < self.cfg.settle {
             return;
         }
         let block = core::mem::take(&mut self.block);
         let tol = self.cfg.min_change;
-        let now = block.still(tol);
+        let now = block.still(tol * T::of(SPREAD), self.est.window());
         let prev = core::mem::replace(&mut self.settled, now);
         let Some((d, m)) = now else {
             return;

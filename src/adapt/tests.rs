@@ -313,7 +313,7 @@ fn the_running_median_rests_at_the_median() {
 /// `j`, as the ring wraps, and nothing beyond its `H` entries.
 #[test]
 fn history_reads_the_inputs_newest_first() {
-    let mut h = History::<f64, 5>::new(0.0, 0.0, 0.0);
+    let mut h = History::<f64, 5>::new(0.0, 0.0, 0.0, 0.0);
     let mut all = Vec::new();
     for k in 0..13 {
         // u = k²: Δu = 2k − 1 (and 0 for the first)
@@ -333,6 +333,78 @@ fn history_reads_the_inputs_newest_first() {
             let want: Vec<f64> = newest_first.iter().skip(j).copied().collect();
             assert_eq!(run, want, "after {} inputs, from {j}", k + 1);
         }
+    }
+}
+
+/// The median of five by its selection network against a sort: every
+/// five-tuple of 0 … 4 (every order, every tie), and draws from four values.
+#[test]
+fn median_of_five_is_the_sorts_middle() {
+    let mut seed = 7u64;
+    let mut cases: Vec<[f64; 5]> = Vec::new();
+    for k in 0..5usize.pow(5) {
+        let v: Vec<f64> = (0..5).map(|i| ((k / 5usize.pow(i)) % 5) as f64).collect();
+        cases.push([v[0], v[1], v[2], v[3], v[4]]);
+    }
+    for _ in 0..1000 {
+        let mut v = [0.0; 5];
+        for x in &mut v {
+            *x = [-1.0, 0.0, 0.5, 2.0][(lcg(&mut seed) >> 33) as usize % 4];
+        }
+        cases.push(v);
+    }
+    for v in cases {
+        let mut sorted = v;
+        sorted.sort_by(f64::total_cmp);
+        assert_eq!(super::history::median5(v), sorted[2], "{v:?}");
+    }
+}
+
+/// The bank's gate counts a step of the input and a ramp's start and end,
+/// not the ramp's steady part: `Δu`'s departure from its drift (a mean of
+/// step `β` of the median of five `Δu`) must reach the gate
+/// (`History::steady`); the plain gate (`History::quiet`) counts the
+/// ramp's every sample. (Gate 0.01, no jitter ratio, `β = 0.1`.)
+#[test]
+fn a_ramps_steady_part_is_no_move() {
+    let gates = |u: &dyn Fn(usize) -> f64| {
+        let mut h = History::<f64, 8>::new(0.0, 0.01, 0.0, 0.1);
+        (0..400)
+            .map(|k| {
+                h.push(u(k));
+                (h.quiet, h.steady)
+            })
+            .unzip::<_, _, Vec<_>, Vec<_>>()
+    };
+    // a ramp of 0.05 a sample from sample 100 to 300
+    let ramp = |k: usize| 0.05 * (k.clamp(100, 300) - 100) as f64;
+    let (plain, q) = gates(&ramp);
+    // its start is a move (its first Δu, at 101): Δu departs from a drift
+    // of 0 by 0.05 until the median of five Δu is the ramp's (at 103),
+    // then by (1 − β)^j·0.05, above 0.01 for j ≤ 15 samples
+    assert_eq!(q[101], 0);
+    assert_eq!(q[103 + 15], 0);
+    // 0.05·0.9^16 < 0.01: quiet from there to the ramp's end
+    assert_eq!(q[103 + 16], 1);
+    assert_eq!(q[300], 300 - 118);
+    // its end moves Δu by −0.05 from a drift of about 0.05
+    assert_eq!(q[301], 0);
+    assert!(q[399] > 50);
+    // to the plain gate the whole ramp is moves
+    assert!((101..=300).all(|k| plain[k] == 0));
+    // a step is a move to both, and so are both parts of one split over
+    // two samples, with no echo after them (the drift is the median's,
+    // which the pulses do not reach)
+    let step = |k: usize| if k >= 200 { 1.0 } else { 0.0 };
+    let split = |k: usize| [0.0, 0.3, 1.0][k.clamp(199, 201) - 199];
+    let (plain, q) = gates(&step);
+    // (no move before it: the count is "never")
+    for q in [plain, q] {
+        assert_eq!((q[199], q[200], q[201], q[399]), (usize::MAX, 0, 1, 199));
+    }
+    let (plain, q) = gates(&split);
+    for q in [plain, q] {
+        assert_eq!((q[199], q[200], q[201], q[399]), (usize::MAX, 0, 0, 198));
     }
 }
 

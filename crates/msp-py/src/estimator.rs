@@ -102,6 +102,14 @@ impl Estimator {
         self.inner.onsets()
     }
 
+    /// The samples the chosen candidate has learnt from so far (its RLS
+    /// steps; the adaptive controller applies no estimate of a block with
+    /// fewer than a response's).
+    #[getter]
+    fn learnt(&self) -> u32 {
+        self.inner.learnt()
+    }
+
     /// The model now, a dict with ``k``, ``tau`` (``inf``: integrating),
     /// ``theta`` (s), ``d`` (whole samples) and ``evidence`` (the next
     /// candidate's cost less the chosen one's in units of the chosen one's

@@ -1208,7 +1208,10 @@ def test_estimator_decimates_and_finds_load_onsets():
     kp, ki = 0.4 / k, 0.4 / k * ts / tau
     y, integral, line = 0.0, 0.0, [0.0] * d
     blocks = 0
+    learnt = {}
     for j in range(60000):
+        if j % 10000 == 0:
+            learnt[j] = est.learnt
         d_out = 0.3 if j >= 20000 else 0.0
         d_in = 0.2 if j >= 40000 else 0.0
         e = 1.0 - (y + d_out)
@@ -1223,6 +1226,10 @@ def test_estimator_decimates_and_finds_load_onsets():
     # the last load, so the last block's is done too
     assert blocks == 6000
     assert est.onsets == 2
+    # it learns from the controller's answer to each load, and nothing at
+    # rest (the last 10 000 samples)
+    assert learnt[30000] > learnt[20000] and learnt[50000] > learnt[40000], learnt
+    assert est.learnt == learnt[50000], (est.learnt, learnt)
     e = est.estimate
     assert abs(e["k"] / k - 1) < 0.02 and abs(e["tau"] / tau - 1) < 0.02, e
     assert abs(e["theta"] - d * ts) < 0.5, e

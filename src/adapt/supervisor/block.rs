@@ -14,11 +14,15 @@ pub(super) struct Block<T> {
     sum: Model<T>,
     lo: Model<T>,
     hi: Model<T>,
+    /// The estimator's learnt samples ([`crate::adapt::Estimator::learnt`])
+    /// at the block's first sample and at its last.
+    learnt: Option<(u32, u32)>,
 }
 
 impl<T: Real> Block<T> {
-    pub(super) fn add(&mut self, e: Option<Estimate<T>>) {
+    pub(super) fn add(&mut self, e: Option<Estimate<T>>, learnt: u32) {
         self.count = self.count.saturating_add(1);
+        self.learnt = Some((self.learnt.map_or(learnt, |(first, _)| first), learnt));
         let Some(e) = e else {
             self.missing = self.missing.saturating_add(1);
             return;
@@ -49,10 +53,18 @@ impl<T: Real> Block<T> {
 
     /// The block's dead time and mean model when the estimate held still in
     /// it: every sample plausible, one dead time, the gain and the time
-    /// constant within `tol` of their mean from lowest to highest.
-    pub(super) fn still(&self, tol: T) -> Option<(usize, Model<T>)> {
+    /// constant within `tol` of their mean from lowest to highest, and the
+    /// estimator learnt from `min_learnt` samples in it at least (an
+    /// estimate that nothing moved is still without having settled on
+    /// anything: measured, a loop oscillating beyond what the excitation
+    /// gate takes as moves froze the estimate of its onset, k 0.50 for 1,
+    /// and two blocks of it were applied).
+    pub(super) fn still(&self, tol: T, min_learnt: usize) -> Option<(usize, Model<T>)> {
         let d = self.d?;
-        if self.missing > 0 || !self.one_d || self.count == 0 {
+        let learnt = self
+            .learnt
+            .map_or(0, |(first, last)| last.wrapping_sub(first));
+        if self.missing > 0 || !self.one_d || self.count == 0 || (learnt as usize) < min_learnt {
             return None;
         }
         let n = T::of(f64::from(self.count));
