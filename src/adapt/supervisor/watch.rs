@@ -35,12 +35,16 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             // one's peak (decaying slower than the quarter amplitude per
             // cycle a loop is tuned for: Ziegler & Nichols (1942)); a long
             // one (the loop settled, a set-point step) or one dying out (a
-            // transient the change met) starts the count again; one at
-            // least as large as the one before is growing
+            // transient the change met) starts the count again; one
+            // larger than the one before is growing (one as large is not:
+            // a 10-bit converter's quantized peaks repeat, and a stable
+            // loop's slow ring, lag doubled with loads only, set off the
+            // emergency path as a limit cycle: a model applied, then the
+            // primary detuned twice)
             if self.side != 0 {
                 let counts = self.peak > self.band() && self.half <= self.max_half();
                 let sustained = counts && self.peak >= self.last_peak / T::of(2.0);
-                let growing = counts && self.last_peak > T::zero() && self.peak >= self.last_peak;
+                let growing = counts && self.last_peak > T::zero() && self.peak > self.last_peak;
                 self.crossed = if sustained { self.crossed + 1 } else { 0 };
                 self.growing = if growing { self.growing + 1 } else { 0 };
                 self.last_peak = self.peak;
