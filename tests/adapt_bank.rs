@@ -54,6 +54,11 @@ fn run(
     .unwrap()
 }
 
+/// The kinds of the changes a run's adaptation logged, in order.
+fn kinds(out: &RunOutput) -> Vec<msp::adapt::ChangeKind> {
+    out.report().adaptation.iter().map(|c| c.kind).collect()
+}
+
 /// The bank's cases of `family` (seed 1) under `conditions` at `period`.
 fn bank_cases(
     family: &str,
@@ -244,12 +249,7 @@ fn integrating_loops_going_unstable_are_caught() {
             );
             assert!(ended(&adaptive) >= 1499.0, "{case}: {}", ended(&adaptive));
             assert!(worst(&adaptive) < 0.1, "{case}: {}", worst(&adaptive));
-            let kinds: Vec<_> = adaptive
-                .report()
-                .adaptation
-                .iter()
-                .map(|c| c.kind)
-                .collect();
+            let kinds = kinds(&adaptive);
             assert!(
                 kinds.contains(&msp::adapt::ChangeKind::Emergency),
                 "{case}: {kinds:?}"
@@ -416,14 +416,7 @@ fn a_quantized_ring_is_no_emergency() {
     for case in cases {
         let r = case.run().unwrap();
         assert!(r.iae_adaptive <= 1.05 * r.iae_fixed, "{r:?}");
-        let kinds: Vec<_> = case
-            .adaptive()
-            .unwrap()
-            .report()
-            .adaptation
-            .iter()
-            .map(|c| c.kind)
-            .collect();
+        let kinds = kinds(&case.adaptive().unwrap());
         assert!(
             !kinds.contains(&ChangeKind::Emergency) && !kinds.contains(&ChangeKind::Detuned),
             "{:?}: {kinds:?}",
