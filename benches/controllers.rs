@@ -104,23 +104,13 @@ fn closed_through<T: Real>(
 }
 
 /// The samples of one cycle of the adaptive loop's set point: 4096 at 1,
-/// 4096 at 2 (the estimator learns after each switch and rests between).
-const CYCLE: u32 = 8192;
-
-/// [`closed_through`] a whole set-point cycle per iteration: every
+/// 4096 at 2 (the estimator learns after each switch and rests between),
+/// which [`timed`] takes whole per iteration for the adaptive loop: every
 /// iteration the same mix of learning and rest, so that the time per sample
-/// (the cycle's over [`CYCLE`]; criterion's throughput) does not depend on
+/// (the cycle's over `CYCLE`; criterion's throughput) does not depend on
 /// where criterion's batches fall in the cycle (per-sample iterations gave
 /// 29 to 40 ns from run to run for one loop that runs at 28 ns a sample).
-fn cycles<T: Real>(
-    c: &mut Criterion,
-    group: &str,
-    name: &str,
-    step: impl FnMut(T, T) -> T,
-    plant: impl FnMut(T) -> T,
-) {
-    timed(c, group, name, CYCLE, step, plant);
-}
+const CYCLE: u32 = 8192;
 
 /// Times `samples` samples an iteration of `step` in the loop through
 /// `plant`, the set point switching between 1 and 2 every 4096 samples
@@ -177,7 +167,7 @@ fn updates<T: Real>(c: &mut Criterion, ty: &str) {
 /// differences) in the loop it was built for: the MathWorks process
 /// itself, its dead time in a ring, the set point switching every 4096
 /// samples (it learns for about a thousand after each switch and rests
-/// for the rest, as in a plant), timed a whole cycle at a time ([`cycles`]).
+/// for the rest, as in a plant), timed a whole cycle at a time ([`CYCLE`]).
 fn adaptive<T: Real>(c: &mut Criterion, group: &str) {
     let ts = T::of(0.939);
     let mut est = msp::adapt::EstimatorConfig::new(ts, 5);
@@ -189,20 +179,22 @@ fn adaptive<T: Real>(c: &mut Criterion, group: &str) {
         (),
     )
     .expect("adaptive");
-    cycles(
+    timed(
         c,
         group,
         "adaptive smith (16 candidates), a set-point cycle",
+        CYCLE,
         |r, y| ad.update(r, y),
         mathworks::<T>(),
     );
     // the same predictor without the estimator, through the same process:
     // what the adaptation costs on top
     let mut sp = smith::<T, 128>(100.0);
-    cycles(
+    timed(
         c,
         group,
         "smith (the adaptive one's loop), a set-point cycle",
+        CYCLE,
         |r, y| sp.update(r, y),
         mathworks::<T>(),
     );

@@ -58,7 +58,9 @@ impl<T: Real> Block<T> {
     /// estimate that nothing moved is still without having settled on
     /// anything: measured, a loop oscillating beyond what the excitation
     /// gate takes as moves froze the estimate of its onset, k 0.50 for 1,
-    /// and two blocks of it were applied).
+    /// and two blocks of it were applied; the bank's ramp loads, where the
+    /// bank learns only at a ramp's start and end, applied a gain likewise:
+    /// `tests/adapt_bank.rs` fails without it).
     pub(super) fn still(&self, tol: T, min_learnt: usize) -> Option<(usize, Model<T>)> {
         let d = self.d?;
         let learnt = self
