@@ -34,10 +34,15 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// squared errors per excited sample over the last response less the
     /// noise's: the model in use's error is [`MATERIAL`] (at least that
     /// fraction squared of the target's energy) and the data identify the
-    /// process (the target's energy above the noise is at least the
-    /// noise's, and the hypothesis explains at least half of it: in data
-    /// that do not, a model of a smaller response is nearer to them than
-    /// the right one).
+    /// process (the hypothesis explains at least half of the target's
+    /// energy above the noise: in data that do not, a model of a smaller
+    /// response is nearer to them than the right one). The target's energy
+    /// need not be above the noise's per sample: at ten samples of dead
+    /// time a load's response is below the noise in every difference and
+    /// shows only in Page's sum over the responses (measured on the bank:
+    /// with that test, a halved gain that only loads showed under 0.5 %
+    /// noise at the coarse period was never proposed; without it no
+    /// unchanged process had a model applied).
     pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, excited: bool, scale: T) {
         let tested = self.hypotheses().len();
         let cfg = self.cfg;
@@ -113,7 +118,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let ok = explains
                 && h.cusum >= cfg.switch_evidence
                 && missed >= material
-                && energy >= scale
                 && mean - scale <= energy / T::of(2.0);
             (explains, ok)
         });
