@@ -472,14 +472,20 @@ int main(void) {
         EXPECT(msp_adaptive_read(NULL, &st_) == MSP_NULL_POINTER);
         EXPECT(msp_adaptive_init(abuf, need, &ac, &ad) == MSP_OK);
         EXPECT(msp_adaptive_read(ad, NULL) == MSP_NULL_POINTER);
+        /* nothing learnt before any data */
+        EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK && st_.learnt == 0 && st_.onsets == 0
+               && st_.restarts == 0 && st_.changes == 0);
         /* a controller handle is not an adaptive one */
         EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
         lag_doubles(ad, 9000);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
         EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
-               && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);
-        printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes\n",
-               (double)st_.k, (double)st_.tau, (double)st_.theta, (unsigned)st_.changes);
+               && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen
+               && st_.learnt > 0);
+        printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes, "
+               "%u samples learnt from, %u load onsets, %u restarts\n",
+               (double)st_.k, (double)st_.tau, (double)st_.theta, (unsigned)st_.changes,
+               (unsigned)st_.learnt, (unsigned)st_.onsets, (unsigned)st_.restarts);
 
         EXPECT(msp_estimator_default_config(0.0f, 4, &ec) == MSP_NOT_POSITIVE);
         EXPECT(msp_estimator_default_config(0.1f, 4, &ec) == MSP_OK);

@@ -50,7 +50,8 @@ pub use mimo::{
 };
 pub use output::RunOutput;
 pub use report::{
-    AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,
+    AdaptationReport, ControllerReport, EstimatorReport, ProcessReport, Report, RuleRow,
+    TuneReport, TuningReport,
 };
 pub(crate) use robustness::Advice;
 pub use robustness::Robustness;

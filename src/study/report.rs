@@ -151,6 +151,24 @@ pub struct AdaptationReport {
     pub mismatch: Option<f64>,
 }
 
+/// The adaptation's estimator at the end of a run (`--adapt` or
+/// `--monitor`; the CSV's last `learnt`, `onsets` and `restarts`): what it
+/// learnt from, and why it may have applied nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct EstimatorReport {
+    /// Estimator samples its chosen dead time learnt from
+    /// ([`crate::adapt::Estimator::learnt`]; 0: nothing moved the loop
+    /// enough to identify the process).
+    pub learnt: u64,
+    /// Load onsets it found and did not learn from
+    /// ([`crate::adapt::Estimator::onsets`]).
+    pub onsets: u64,
+    /// Restarts of its candidates by the dead-time change detector
+    /// ([`crate::adapt::Estimator::restarts`]).
+    pub restarts: u64,
+}
+
 /// What a run did and how it performed.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -191,6 +209,9 @@ pub struct Report {
     /// Every change of the model an adaptive run made (empty without
     /// adaptation).
     pub adaptation: Vec<AdaptationReport>,
+    /// The adaptation's estimator at the end of the run (absent without
+    /// adaptation).
+    pub estimator: Option<EstimatorReport>,
     /// The designed quantities a paper prints beside the parameters (see
     /// [`TuneReport::design`]).
     #[cfg_attr(
@@ -239,6 +260,7 @@ impl RunOutput {
             events: self.events.clone(),
             operator_events: self.operator_events(),
             adaptation: self.adaptation(),
+            estimator: self.estimator(),
             design: self.design.clone(),
             robustness: self.robustness,
             stable: self.stable(),
@@ -276,6 +298,20 @@ impl RunOutput {
     /// which `adapt_changes` grew, with the model in use from then on.
     pub fn adaptation(&self) -> Vec<AdaptationReport> {
         adaptation_log(&self.result)
+    }
+
+    /// The adaptation's estimator at the end of the run, read from the
+    /// recorded signals (`None` without adaptation).
+    pub fn estimator(&self) -> Option<EstimatorReport> {
+        let last = |name: &str| {
+            let (_, v) = self.result.signals.iter().find(|(n, _)| n == name)?;
+            num_traits::ToPrimitive::to_u64(v.last()?)
+        };
+        Some(EstimatorReport {
+            learnt: last("learnt")?,
+            onsets: last("onsets")?,
+            restarts: last("restarts")?,
+        })
     }
 
     /// The loop's verdict: the characteristic equation's, or where that is

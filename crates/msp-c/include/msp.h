@@ -492,7 +492,10 @@ typedef msp_adaptive_fsp_config_of_f64 msp_adaptive_fsp_config_f64;
 // What an adaptive controller knows: the estimate, the model in use
 // (`k`, `tau`, `theta`), its error against the process `mismatch`
 // (0.3: 30 %; NaN before it means anything), the alarm, whether
-// adaptation is frozen, and how many changes were logged.
+// adaptation is frozen, how many changes were logged, and the
+// estimator's counts: load onsets, restarts of its change detector,
+// and samples its chosen dead time learnt from (`learnt` 0: nothing
+// has moved the loop enough to identify the process).
 typedef struct {
   msp_estimate_of_f32 estimate;
   float k;
@@ -502,6 +505,9 @@ typedef struct {
   uint32_t alarm;
   uint32_t frozen;
   uint32_t changes;
+  uint32_t onsets;
+  uint32_t restarts;
+  uint32_t learnt;
 } msp_adaptive_state_of_f32;
 
 // In `float`, the device's type.
@@ -510,7 +516,10 @@ typedef msp_adaptive_state_of_f32 msp_adaptive_state;
 // What an adaptive controller knows: the estimate, the model in use
 // (`k`, `tau`, `theta`), its error against the process `mismatch`
 // (0.3: 30 %; NaN before it means anything), the alarm, whether
-// adaptation is frozen, and how many changes were logged.
+// adaptation is frozen, how many changes were logged, and the
+// estimator's counts: load onsets, restarts of its change detector,
+// and samples its chosen dead time learnt from (`learnt` 0: nothing
+// has moved the loop enough to identify the process).
 typedef struct {
   msp_estimate_of_f64 estimate;
   double k;
@@ -520,6 +529,9 @@ typedef struct {
   uint32_t alarm;
   uint32_t frozen;
   uint32_t changes;
+  uint32_t onsets;
+  uint32_t restarts;
+  uint32_t learnt;
 } msp_adaptive_state_of_f64;
 
 // In `double`, a host's type.

@@ -152,7 +152,10 @@ c_config! {
     /// What an adaptive controller knows: the estimate, the model in use
     /// (`k`, `tau`, `theta`), its error against the process `mismatch`
     /// (0.3: 30 %; NaN before it means anything), the alarm, whether
-    /// adaptation is frozen, and how many changes were logged.
+    /// adaptation is frozen, how many changes were logged, and the
+    /// estimator's counts: load onsets, restarts of its change detector,
+    /// and samples its chosen dead time learnt from (`learnt` 0: nothing
+    /// has moved the loop enough to identify the process).
     msp_adaptive_state_of: msp_adaptive_state, msp_adaptive_state_f64 {
         estimate: msp_estimate_of<T>,
         k: T,
@@ -162,6 +165,9 @@ c_config! {
         alarm: u32,
         frozen: u32,
         changes: u32,
+        onsets: u32,
+        restarts: u32,
+        learnt: u32,
     }
 }
 

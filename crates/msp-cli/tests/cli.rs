@@ -1926,9 +1926,10 @@ fn the_time_plot_marks_what_was_scheduled() {
 
 /// `msp run --monitor`: the process's gain rises 30 % and the summary says
 /// ALARM with the model error, the report logs it (kind "alarm", its
-/// mismatch), the CSV has the `mismatch` and `model_alarm` columns and
-/// the estimate's `evidence` (the dead time unchanged and identified: past
-/// what a switch of dead time needs, 20), the model in use stays; the estimator's options without --adapt or --monitor
+/// mismatch), the CSV has the `mismatch` and `model_alarm` columns, the
+/// estimate's `evidence` (the dead time unchanged and identified: past
+/// what a switch of dead time needs, 20) and the estimator's counts
+/// (`learnt`, `onsets`, `restarts`), the model in use stays; the estimator's options without --adapt or --monitor
 /// are refused by name; a bad forgetting factor is refused.
 #[test]
 fn monitor_raises_the_alarm_in_summary_report_and_csv() {
@@ -1951,6 +1952,17 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
         evidence >= 20.0 && (theta - 1.0).abs() < 0.1,
         "{evidence} {theta}"
     );
+    // the estimator's counts: it learnt from the set point's moves, whole
+    // samples counted
+    let learnt: u64 = last("learnt").parse().unwrap();
+    assert!(learnt > 100, "{learnt}");
+    // the same in the report and the summary
+    assert_eq!(r["estimator"]["learnt"].as_u64(), Some(learnt));
+    assert!(
+        text.contains(&format!("estimator   learnt from {learnt} samples")),
+        "{text}"
+    );
+    assert!(last("onsets").parse::<u64>().is_ok() && last("restarts").parse::<u64>().is_ok());
     rejects(
         words("run --plant e^-1s/(4s+1) -c smith --alarm 0.2"),
         "add --adapt or --monitor",

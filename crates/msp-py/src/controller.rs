@@ -231,9 +231,11 @@ impl Controller {
     /// for its dead time over the candidates that cannot be the same
     /// (small: ambiguous; as :class:`Estimator`'s), the model in
     /// use, ``k_model``, ``tau_model``, ``theta_model``, its error against
-    /// the process ``mismatch`` (0.3: 30 %; NaN before it means anything)
-    /// and the model-error alarm ``alarm`` (bool); ``None`` for one that
-    /// does not adapt.
+    /// the process ``mismatch`` (0.3: 30 %; NaN before it means anything),
+    /// the model-error alarm ``alarm`` (bool) and the estimator's counts
+    /// ``onsets``, ``restarts`` and ``learnt`` (as :class:`Estimator`'s:
+    /// ``learnt`` 0, nothing has moved the loop enough to identify the
+    /// process); ``None`` for one that does not adapt.
     #[getter]
     fn estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let c = &**self.inner.inner();
@@ -254,6 +256,10 @@ impl Controller {
             d.set_item(key, c.signal_by_name(name).unwrap_or(f64::NAN))?;
         }
         d.set_item("alarm", c.signal_by_name("model_alarm") == Some(1.0))?;
+        for name in ["onsets", "restarts", "learnt"] {
+            let n = c.signal_by_name(name).unwrap_or(0.0);
+            d.set_item(name, n as u64)?;
+        }
         Ok(Some(d))
     }
     /// The changes an adaptive controller logged (the last 16), oldest

@@ -1267,6 +1267,10 @@ def test_adapt_follows_a_process_lag_that_doubled():
     log = adaptive.report()["adaptation"]
     assert log and log[-1]["kind"] == "applied" and log[-1]["tau"] == adaptive.signals["tau_model"][-1]
     assert fixed.report()["adaptation"] == []
+    # the estimator's counts: the report's as the signals' last row (the CLI's JSON alike)
+    est = adaptive.report()["estimator"]
+    assert est["learnt"] == adaptive.signals["learnt"][-1] > 0 and fixed.report()["estimator"] is None
+    assert set(est) == {"learnt", "onsets", "restarts"}
     with pytest.raises(ValueError, match="unknown option 'speed'"):
         msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)
     with pytest.raises(ValueError, match="dead zone"):
@@ -1438,9 +1442,13 @@ def test_adaptive_controller_per_sample():
 
     c = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
     assert c.estimate["tau_model"] == 4.0
+    # the estimator's counts, as msp.Estimator's: nothing learnt before any data
+    assert (c.estimate["learnt"], c.estimate["onsets"], c.estimate["restarts"]) == (0, 0, 0)
     loop(c)
     e = c.estimate
     assert abs(e["tau_model"] - 8.0) < 0.8 and abs(e["k_model"] - 1.0) < 0.05, e
+    # learnt from most of the 6000 samples (the set point moves every 300)
+    assert 1000 < e["learnt"] <= 6000 and isinstance(e["learnt"], int), e
     # the dead time identified: its evidence past what a switch of dead time needs (20)
     assert e["evidence"] >= 20.0, e
     # the log: every change applied, the last one the model in use, in time order
@@ -1455,6 +1463,7 @@ def test_adaptive_controller_per_sample():
     loop(frozen)
     # frozen: the estimate stays the model it started from, nothing learnt or applied
     assert frozen.estimate["tau_model"] == 4.0 and abs(frozen.estimate["tau"] - 4.0) < 1e-9
+    assert frozen.estimate["learnt"] == 0, frozen.estimate
     plain = msp.SmithPredictor("e^-1s/(4s+1)", 0.1)
     assert plain.estimate is None and plain.log == [] and frozen.log == []
     with pytest.raises(ValueError, match="does not adapt"):

@@ -12,8 +12,12 @@ use super::*;
 /// one did (`adapt_kind`: 0 none, 1 applied, 2 restored, 3 refused, 4 alarm,
 /// 5 cleared, 6 emergency, 7 detuned, 8 edge, [`ChangeKind::code`]), the model's error against the process
 /// (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it means
-/// anything) and the alarm (`model_alarm`: 0 or 1).
-pub const SIGNALS: [&str; 11] = [
+/// anything), the alarm (`model_alarm`: 0 or 1), and the estimator's counts
+/// so far: load onsets (`onsets`, [`Estimator::onsets`]), restarts of the
+/// change detector (`restarts`, [`Estimator::restarts`]) and samples the
+/// chosen dead time learnt from (`learnt`, [`Estimator::learnt`]: none, and
+/// nothing moved the loop enough to identify the process).
+pub const SIGNALS: [&str; 14] = [
     "k_hat",
     "tau_hat",
     "theta_hat",
@@ -25,6 +29,9 @@ pub const SIGNALS: [&str; 11] = [
     "adapt_kind",
     "mismatch",
     "model_alarm",
+    "onsets",
+    "restarts",
+    "learnt",
 ];
 
 impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
@@ -83,7 +90,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 
     /// The values of [`SIGNALS`], in their order: the estimate (NaN before
     /// it means anything), the model in use, the log's count and last
-    /// kind, the mismatch and the alarm.
+    /// kind, the mismatch, the alarm and the estimator's counts.
     fn own_signals(&self) -> [T; SIGNALS.len()] {
         let e = self.est.estimate();
         let m = self.model;
@@ -100,6 +107,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
             self.est.mismatch().map_or(nan, |m| m.error),
             if self.alarm { T::one() } else { T::zero() },
+            T::of(f64::from(self.est.onsets())),
+            T::of(f64::from(self.est.restarts())),
+            T::of(f64::from(self.est.learnt())),
         ]
     }
 }

@@ -35,6 +35,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N,
             alarm: u32::from(self.alarm()),
             frozen: u32::from(self.is_frozen()),
             changes: u32::try_from(self.changes()).unwrap_or(u32::MAX),
+            onsets: self.estimator().onsets(),
+            restarts: self.estimator().restarts(),
+            learnt: self.estimator().learnt(),
         }
     }
 

@@ -157,6 +157,18 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             fmt_sig(c.theta)
         ));
     }
+    if let Some(e) = out.estimator() {
+        // what the estimator learnt from: why nothing may have been applied
+        let still = if e.learnt == 0 {
+            " (nothing moved the loop enough to identify the process)"
+        } else {
+            ""
+        };
+        s.push_str(&format!(
+            "\nestimator   learnt from {} samples{still}, {} load onsets, {} restarts",
+            e.learnt, e.onsets, e.restarts
+        ));
+    }
     for w in warnings {
         s.push_str(&format!("\nwarning: {w}"));
     }
