@@ -90,7 +90,10 @@ pub trait Operate<T: Real>: Controller<T> {
 
     /// The model's delay-free part becomes `K/(τs + 1)` (`tau` infinite:
     /// the integrating `K/s`), ZOH-discretized at the scheme's period, its
-    /// output continuing from the old model's (no jump in the prediction);
+    /// output continuing from the old model's times the ratio of the gains,
+    /// and its dead-time line's stored outputs alike (the Smith predictor:
+    /// for a change of gain, the new model's response to the past inputs,
+    /// so the predictor's correction `y_m − y_m[k − d]` does not jump);
     /// the dead time is [`Operate::set_dead_time`]'s. [`Error::Unsupported`]
     /// for a scheme whose other blocks are designed from the model (rebuild
     /// it) or that has none.

@@ -83,3 +83,43 @@ fn identity_is_not_trivially_true() {
     }
     assert!(sp.model_error().abs() > 1e-3 || ys.iter().any(|y| *y > 1.01));
 }
+
+/// A new model's gain at run time (`Operate::set_model`, what the
+/// adaptation applies) does not bump a settled loop: the prediction and its
+/// delayed copy both become the new model's response to the past inputs
+/// (the old outputs times the ratio of the gains), so their difference —
+/// the predictor's correction — stays zero while the input holds still. A
+/// loop at rest under an input load (u ≠ 0) whose model's gain is halved
+/// keeps its input to rounding for three dead times. (Kept from the old
+/// model's output alone, the prediction would fall to the new model's level
+/// over the lag while its delayed copy waits a dead time: the input moved
+/// by 0.13, 40 % of its value.)
+#[test]
+fn a_new_gain_does_not_bump_a_settled_loop() {
+    use msp::Operate;
+    let (k, tau, d, ts) = (5.6, 40.2, 94usize, 1.0);
+    let plant: Lti<f64, 4> = Lti::from_tf(&[k], &[tau, 1.0], ts, msp::Discretization::Zoh).unwrap();
+    let pid = PidConfig::isa(0.0764, 40.2, 0.0, ts);
+    for gain in [k / 2.0, 2.0 * k] {
+        let mut sp: SmithPredictor<f64, 4, Vec<f64>> =
+            SmithPredictor::new(pid, plant, Delay::new_in(d as f64).unwrap()).unwrap();
+        let mut p = plant;
+        let mut line: Delay<f64, Vec<f64>> = Delay::new_in(d as f64).unwrap();
+        let mut u = 0.0;
+        // the set point 1 and an input load of 0.5, settled
+        for _ in 0..4000 {
+            u = sp.update(1.0, p.free_output());
+            p.step(line.process(u) + 0.5);
+        }
+        let settled = u;
+        assert!((settled + 0.5 - 1.0 / k).abs() < 1e-9, "{settled}");
+        sp.set_model(gain, tau).unwrap();
+        let mut worst: f64 = 0.0;
+        for _ in 0..3 * d {
+            u = sp.update(1.0, p.free_output());
+            p.step(line.process(u) + 0.5);
+            worst = worst.max((u - settled).abs());
+        }
+        assert!(worst < 1e-9, "gain {gain}: the input moved by {worst}");
+    }
+}

@@ -119,6 +119,24 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
         Ok(())
     }
 
+    /// The model's outputs, its state's and its line's, times `g`: what
+    /// they would be had the model's gain always been `g` times its own —
+    /// for a new model that differs from the old by its gain, its exact
+    /// response to the past inputs, so that `y_m[k] − y_m[k − d]` (the
+    /// Smith predictor's correction) does not jump where the old model had
+    /// settled. Call it after [`Self::set_model`] with the ratio of the new
+    /// model's gain to the old one's.
+    pub fn rescale(&mut self, g: T) {
+        let x = self.model.state().map(|x| x * g);
+        self.model.set_state(&x);
+        self.line.scale(g);
+    }
+
+    /// The delay-free model.
+    pub fn block(&self) -> &Lti<T, N> {
+        &self.model
+    }
+
     /// `y_m[k]` of the last sample.
     pub fn prediction(&self) -> T {
         self.ym

@@ -168,8 +168,39 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::operate::Operat
             crate::model::Fopdt::new(gain, tau, T::zero())?.into()
         };
         let (block, _) = model.discretize::<N>(self.pid.config().ts)?;
-        self.model.set_model(block)
+        let g = gain_ratio(self.model.block(), &block);
+        self.model.set_model(block)?;
+        // the prediction and its delayed copy become the new model's
+        // response to the past inputs where the models differ by their gain
+        // (exact then): a predictor whose old model had settled keeps its
+        // correction `y_m − y_m[k − d]`; kept from the old model's outputs
+        // alone, the prediction would move to the new model's level over
+        // the lag while its delayed copy waits a dead time, and the
+        // controller would answer the difference (measured: a gain halved
+        // at the end of a load's response, 0.8e^{-10s}/(4s + 1), kicked the
+        // input by 1.5 and the output 31 % above its set point)
+        if let Some(g) = g {
+            self.model.rescale(g);
+        }
+        Ok(())
     }
+}
+
+/// The ratio of `new`'s gain to `old`'s: their DC gains, or for
+/// integrating blocks their first Markov parameters `C·Γ` (a velocity
+/// gain times the period); `None` where it is not a finite positive number.
+fn gain_ratio<T: Real, const N: usize>(old: &Lti<T, N>, new: &Lti<T, N>) -> Option<T> {
+    let markov = |b: &Lti<T, N>| {
+        b.output_vector()
+            .iter()
+            .zip(b.input_vector())
+            .fold(T::zero(), |s, (c, g)| s + *c * g)
+    };
+    let g = match (old.dc_gain(), new.dc_gain()) {
+        (Ok(a), Ok(b)) => b / a,
+        _ => markov(new) / markov(old),
+    };
+    (g.is_finite() && g > T::zero()).then_some(g)
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> CascadeControl<T>
