@@ -303,10 +303,8 @@ impl RunOutput {
     /// The adaptation's estimator at the end of the run, read from the
     /// recorded signals (`None` without adaptation).
     pub fn estimator(&self) -> Option<EstimatorReport> {
-        let last = |name: &str| {
-            let (_, v) = self.result.signals.iter().find(|(n, _)| n == name)?;
-            num_traits::ToPrimitive::to_u64(v.last()?)
-        };
+        let last =
+            |name: &str| num_traits::ToPrimitive::to_u64(column(&self.result, name)?.last()?);
         Some(EstimatorReport {
             learnt: last("learnt")?,
             onsets: last("onsets")?,
@@ -517,17 +515,21 @@ impl Scenario {
     }
 }
 
+/// The recorded signal `name` of a run (an adaptive controller's, see
+/// [`crate::adapt::SIGNALS`]).
+fn column<'a>(result: &'a crate::sim::SimResult, name: &str) -> Option<&'a [f64]> {
+    result
+        .signals
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v.as_slice())
+}
+
 /// The adaptation's log of a run, read from its recorded signals: each
 /// sample at which `adapt_changes` grew, with the model in use from then
 /// on (the report's `adaptation`).
 pub(crate) fn adaptation_log(result: &crate::sim::SimResult) -> Vec<AdaptationReport> {
-    let col = |name: &str| {
-        result
-            .signals
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-    };
+    let col = |name: &str| column(result, name);
     let (Some(count), Some(kind), Some(k), Some(tau), Some(theta)) = (
         col("adapt_changes"),
         col("adapt_kind"),

@@ -1962,6 +1962,30 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
         text.contains(&format!("estimator   learnt from {learnt} samples")),
         "{text}"
     );
+    // a run too short for the estimator to learn from says so, as its report
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("short.json");
+    let out = msp()
+        .args(words(
+            "run --plant e^-1s/(4s+1) -c smith --ts 0.1 --duration 100 --adapt",
+        ))
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let short: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(short["estimator"]["learnt"].as_u64(), Some(0));
+    // (the CSV on standard output, the summary on standard error)
+    let summary = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        summary.contains(
+            "learnt from 0 samples (nothing moved the loop enough to identify the process)"
+        ),
+        "{summary}"
+    );
     assert!(last("onsets").parse::<u64>().is_ok() && last("restarts").parse::<u64>().is_ok());
     rejects(
         words("run --plant e^-1s/(4s+1) -c smith --alarm 0.2"),
