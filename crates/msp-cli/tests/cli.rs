@@ -1964,22 +1964,13 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     );
     // a run too short for the estimator to learn from says so, as its report
     let dir = tempfile::tempdir().unwrap();
-    let report = dir.path().join("short.json");
-    let out = msp()
-        .args(words(
-            "run --plant e^-1s/(4s+1) -c smith --ts 0.1 --duration 100 --adapt",
-        ))
-        .arg("--report")
-        .arg(&report)
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let short: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let args: Vec<String> =
+        words("run --plant e^-1s/(4s+1) -c smith --ts 0.1 --duration 100 --adapt")
+            .map(String::from)
+            .collect();
+    let (summary, short) =
+        reported_run(&args, &dir.path().join("s.csv"), &dir.path().join("s.json"));
     assert_eq!(short["estimator"]["learnt"].as_u64(), Some(0));
-    // (the CSV on standard output, the summary on standard error)
-    let summary = String::from_utf8_lossy(&out.stderr);
     assert!(
         summary.contains(
             "learnt from 0 samples (nothing moved the loop enough to identify the process)"
@@ -2039,6 +2030,28 @@ fn an_estimate_past_the_bound_is_warned_of_not_applied() {
     );
 }
 
+/// `msp` with `args`, the CSV to `csv` and the report to `report`: its
+/// summary (standard error, where it goes when the CSV goes to a file) and
+/// the report.
+fn reported_run(
+    args: &[String],
+    csv: &std::path::Path,
+    report: &std::path::Path,
+) -> (String, serde_json::Value) {
+    let out = msp()
+        .args(args)
+        .arg("-o")
+        .arg(csv)
+        .arg("--report")
+        .arg(report)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let r = serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap();
+    (String::from_utf8(out.stderr).unwrap(), r)
+}
+
 /// `msp run` of the Smith predictor on `e^{−1s}/(4s+1)` at 0.1 s for 600 s,
 /// the set point alternating every 30 s, with the flags `extra`: its
 /// summary (standard error), its report, and the CSV's last row by column.
@@ -2054,20 +2067,7 @@ fn square_wave_run(extra: &str) -> (String, serde_json::Value, impl Fn(&str) -> 
         args.push("--setpoint".into());
         args.push(format!("{}@{}", i % 2, 30 * i));
     }
-    // the summary goes to standard error when the CSV goes to a file
-    let out = msp()
-        .args(&args)
-        .arg("-o")
-        .arg(&csv)
-        .arg("--report")
-        .arg(&report)
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let text = String::from_utf8(out.stderr).unwrap();
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let (text, r) = reported_run(&args, &csv, &report);
     let data = std::fs::read_to_string(&csv).unwrap();
     let header: Vec<String> = data
         .lines()
