@@ -186,20 +186,13 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> crate::operate::Operat
     }
 }
 
-/// The ratio of `new`'s gain to `old`'s: their DC gains, or for
-/// integrating blocks their first Markov parameters `C·Γ` (a velocity
-/// gain times the period); `None` where it is not a finite positive number.
+/// The ratio of `new`'s DC gain to `old`'s; `None` where it is not a finite
+/// positive number, and for integrating blocks: under a steady load an
+/// integrating model's prediction ramps and its correction
+/// `y_m − y_m[k − d] = K·u·θ` never settles, so rescaling it would step it
+/// (kept continuous, it moves to the new gain's over one dead time).
 fn gain_ratio<T: Real, const N: usize>(old: &Lti<T, N>, new: &Lti<T, N>) -> Option<T> {
-    let markov = |b: &Lti<T, N>| {
-        b.output_vector()
-            .iter()
-            .zip(b.input_vector())
-            .fold(T::zero(), |s, (c, g)| s + *c * g)
-    };
-    let g = match (old.dc_gain(), new.dc_gain()) {
-        (Ok(a), Ok(b)) => b / a,
-        _ => markov(new) / markov(old),
-    };
+    let g = new.dc_gain().ok()? / old.dc_gain().ok()?;
     (g.is_finite() && g > T::zero()).then_some(g)
 }
 
