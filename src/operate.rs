@@ -93,7 +93,8 @@ pub trait Operate<T: Real>: Controller<T> {
     /// output continuing from the old model's times the ratio of the gains,
     /// and its dead-time line's stored outputs alike (the Smith predictor:
     /// for a change of gain, the new model's response to the past inputs,
-    /// so the predictor's correction `y_m − y_m[k − d]` does not jump);
+    /// so the predictor's correction `y_m − y_m[k − d]` does not jump; an
+    /// integrating model's output only continues, unscaled);
     /// the dead time is [`Operate::set_dead_time`]'s. [`Error::Unsupported`]
     /// for a scheme whose other blocks are designed from the model (rebuild
     /// it) or that has none.
