@@ -29,6 +29,11 @@ pub struct DelayedModel<T, const N: usize, S> {
     error: T,
     model: Lti<T, N>,
     line: Delay<T, S>,
+    /// The line holds `y_m / scale` (and `unscale = 1/scale`): a new gain
+    /// rescales its whole history in O(1) ([`Self::rescale`]), so that the
+    /// call that applies it costs the same whatever the dead time's samples.
+    scale: T,
+    unscale: T,
 }
 
 impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> {
@@ -44,6 +49,8 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
             ym: T::zero(),
             ym_delayed: T::zero(),
             error: T::zero(),
+            scale: T::one(),
+            unscale: T::one(),
         })
     }
 
@@ -85,7 +92,7 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
     #[inline(always)]
     fn read(&mut self) -> (T, T) {
         let ym = self.model.free_output();
-        let ym_d = self.line.process(ym);
+        let ym_d = self.line.process(ym * self.unscale) * self.scale;
         self.ym = ym;
         self.ym_delayed = ym_d;
         (ym, ym_d)
@@ -125,11 +132,20 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
     /// response to the past inputs, so that `y_m[k] − y_m[k − d]` (the
     /// Smith predictor's correction) does not jump where the old model had
     /// settled. Call it after [`Self::set_model`] with the ratio of the new
-    /// model's gain to the old one's.
+    /// model's gain to the old one's. O(the model's order): the line's
+    /// history is read through a scale, not rewritten. A `g` that is not a
+    /// finite positive number, or that would take the scale out of the
+    /// finite positive numbers, changes nothing.
     pub fn rescale(&mut self, g: T) {
+        let scale = self.scale * g;
+        let unscale = T::one() / scale;
+        if !(g > T::zero() && scale.is_finite() && scale > T::zero() && unscale.is_finite()) {
+            return;
+        }
         let x = self.model.state().map(|x| x * g);
         self.model.set_state(&x);
-        self.line.scale(g);
+        self.scale = scale;
+        self.unscale = unscale;
     }
 
     /// The delay-free model.
@@ -189,6 +205,8 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
     pub fn reset(&mut self) {
         self.model.reset();
         self.line.reset();
+        self.scale = T::one();
+        self.unscale = T::one();
         self.ym = T::zero();
         self.ym_delayed = T::zero();
         self.error = T::zero();
@@ -233,6 +251,49 @@ mod tests {
         m.reset();
         assert_eq!(m.signals(), [0.0; 3]);
         assert_eq!(m.predict(1.0), (0.0, 1.0));
+        Ok(())
+    }
+
+    /// After `set_model(g·G)` and `rescale(g)` the model and its line are
+    /// those of a model that was always `g·G` (the same inputs, from the
+    /// start): its prediction and its delayed copy from then on, to
+    /// rounding, whatever the line's length; twice (the scales compound)
+    /// and after a reset.
+    #[test]
+    fn a_rescaled_model_is_the_model_that_always_had_that_gain() -> Result<(), Error> {
+        let ts = 0.1_f64;
+        let lag = |k: f64| Lti::<f64, 2>::from_tf(&[k], &[2.0, 1.0], ts, Discretization::Zoh);
+        let input = |k: usize| (0.3 * k as f64).sin() + if k > 40 { 1.0 } else { 0.0 };
+        let mut m = DelayedModel::new(lag(1.0)?, DelayLine::<f64, 64>::new(37.5)?)?;
+        let mut gains = [(0.5, 0.5), (4.0, 2.0)].into_iter();
+        let mut truth = DelayedModel::new(lag(1.0)?, DelayLine::<f64, 64>::new(37.5)?)?;
+        for k in 0..300 {
+            if k % 100 == 99 {
+                if let Some((g, total)) = gains.next() {
+                    m.set_model(lag(total)?)?;
+                    m.rescale(g);
+                    truth = DelayedModel::new(lag(total)?, DelayLine::<f64, 64>::new(37.5)?)?;
+                    for j in 0..k {
+                        truth.predict(0.0);
+                        truth.advance(input(j));
+                    }
+                }
+            }
+            let (a, b) = (m.predict(0.0), truth.predict(0.0));
+            assert!(
+                (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12,
+                "{k}: {a:?} {b:?}"
+            );
+            m.advance(input(k));
+            truth.advance(input(k));
+        }
+        m.reset();
+        assert_eq!(m.predict(1.0), (0.0, 1.0));
+        m.advance(1.0);
+        let mut fresh = DelayedModel::new(lag(2.0)?, DelayLine::<f64, 64>::new(37.5)?)?;
+        fresh.predict(1.0);
+        fresh.advance(1.0);
+        assert_eq!(m.predict(1.0), fresh.predict(1.0));
         Ok(())
     }
 
