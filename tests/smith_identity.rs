@@ -123,3 +123,47 @@ fn a_new_gain_does_not_bump_a_settled_loop() {
         assert!(worst < 1e-9, "gain {gain}: the input moved by {worst}");
     }
 }
+
+/// An integrating model's gain applied under a steady input load `l`: the
+/// loop has settled with `u = −l` and the model's prediction ramping, its
+/// correction `y_m[k] − y_m[k − d] = K·u·θ`. The new gain `g·K` makes it
+/// `g·K·u·θ`; rescaled at once, the feedback would step by
+/// `(g − 1)·K·u·θ` and the input by `Kp` times that in one sample. Kept
+/// continuous (the new model's prediction goes on from the old one's, its
+/// delayed copy reaching the new slope over one dead time), no sample's
+/// move of the input is a tenth of that kick.
+#[test]
+fn an_integrating_models_new_gain_is_taken_over_a_dead_time() {
+    use msp::Operate;
+    let (k, d, ts, load) = (0.15, 20usize, 0.25, 0.5);
+    let theta = d as f64 * ts;
+    let plant: Lti<f64, 4> = Lti::from_tf(&[k], &[1.0, 0.0], ts, msp::Discretization::Zoh).unwrap();
+    let (kp, ti) = (1.0 / (k * 5.0), 20.0);
+    let pid = PidConfig::isa(kp, ti, 0.0, ts);
+    for g in [0.5, 2.0] {
+        let mut sp: SmithPredictor<f64, 4, Vec<f64>> =
+            SmithPredictor::new(pid, plant, Delay::new_in(d as f64).unwrap()).unwrap();
+        let mut p = plant;
+        let mut line: Delay<f64, Vec<f64>> = Delay::new_in(d as f64).unwrap();
+        let mut u = 0.0;
+        for _ in 0..8000 {
+            u = sp.update(1.0, p.free_output());
+            p.step(line.process(u) + load);
+        }
+        let settled = u;
+        assert!((settled + load).abs() < 1e-9, "{settled}");
+        sp.set_model(g * k, f64::INFINITY).unwrap();
+        let kick = kp * (g - 1.0).abs() * k * load * theta;
+        let mut worst: f64 = 0.0;
+        for _ in 0..3 * d {
+            let next = sp.update(1.0, p.free_output());
+            p.step(line.process(next) + load);
+            worst = worst.max((next - u).abs());
+            u = next;
+        }
+        assert!(
+            worst < 0.1 * kick,
+            "gain ×{g}: the input moved by {worst} in a sample (kick {kick})"
+        );
+    }
+}
