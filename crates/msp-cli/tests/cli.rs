@@ -2092,8 +2092,8 @@ fn square_wave_run(extra: &str) -> (String, serde_json::Value, impl Fn(&str) -> 
 
 /// The integrating loop whose dead time grows 5 → 7 s: with the
 /// fixed model it diverges (the run says the loop is unstable); with
-/// `--adapt` the summary names the emergency path and the estimate it
-/// applied, and the report ends stable.
+/// `--adapt` the summary names the emergency path, the primary detuned
+/// first and then the estimate it applied, and the report ends stable.
 #[test]
 fn the_emergency_path_is_said_in_the_summary() {
     let args = "run --plant 0.15e^-5s/s -c smith --ts 0.25 --duration 1500 --setpoint 1@0 --setpoint 0@1230 --event 1200:plant-dead-time=7 -o /dev/null";
@@ -2111,7 +2111,9 @@ fn the_emergency_path_is_said_in_the_summary() {
     let line = text
         .lines()
         .find(|l| {
-            l.contains("EMERGENCY: the loop was going unstable; the clear estimate applied at once")
+            l.contains(
+                "EMERGENCY: the loop still going unstable once detuned; the clear estimate applied",
+            )
         })
         .unwrap_or_else(|| panic!("{text}"));
     // the dead time applied: the process's 7 s
@@ -2126,4 +2128,9 @@ fn the_emergency_path_is_said_in_the_summary() {
         .unwrap();
     assert!((theta - 7.0).abs() < 0.05, "{line}");
     assert!(!text.contains("the output diverged at"), "{text}");
+    // detuned first: the halved gain's line comes before the estimate's
+    let detuned = text
+        .find("EMERGENCY: the loop was going unstable; the primary's gain halved")
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(detuned < text.find(line).unwrap_or(0), "{text}");
 }

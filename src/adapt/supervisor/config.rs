@@ -46,9 +46,10 @@ pub struct AdaptiveConfig<T> {
     pub bound: T,
     /// Half-cycles of a growing oscillation of the control error (each
     /// reaching the band, each peak at least the one before) that set off
-    /// the emergency path (default 4: two periods): a clear estimate is
-    /// applied at once ([`crate::adapt::ChangeKind::Emergency`]), or the primary's gain
-    /// is halved ([`crate::adapt::ChangeKind::Detuned`]).
+    /// the emergency path (default 4: two periods): the primary's gain is
+    /// halved ([`crate::adapt::ChangeKind::Detuned`]); when the oscillation
+    /// goes on, a clear estimate is applied
+    /// ([`crate::adapt::ChangeKind::Emergency`]), or the gain halved again.
     pub emergency: u32,
     /// The evidence by which the estimate must predict the data since the
     /// model in use was set better than it before it is applied

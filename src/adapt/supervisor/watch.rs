@@ -81,19 +81,27 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             .saturating_add(4 * u64::from(self.cfg.min_interval));
     }
 
-    /// The loop is going unstable: a clear estimate (its dead time chosen
-    /// with the evidence of `min_evidence` and not at the end of the
-    /// range, predicting the recent data
-    /// better than the model in use with as much, within the bounds) is
-    /// applied at once; without one the primary's gain is halved (a
+    /// The loop is going unstable: first the primary's gain is halved (a
     /// dead-time loop detuned is stable for a larger model error: its
     /// robustness bound `|ΔG/G| < |1 + C G₀|/|C G₀|` grows as the gain
-    /// falls, Bag (2022) Eqs. 4.52–4.58 for the integrating case); each
-    /// logged.
+    /// falls, Bag (2022) Eqs. 4.52–4.58 for the integrating case); if the
+    /// oscillation goes on, a clear estimate (its dead time chosen with
+    /// the evidence of `min_evidence` and not at the end of the range,
+    /// predicting the recent data better than the model in use with as
+    /// much, within the bounds) is applied, else the gain is halved again;
+    /// each logged. Detuning comes first because it is safe whatever the
+    /// process, and an estimate is not, at the start of an oscillation:
+    /// data of a growing oscillation excite its frequency alone, which any
+    /// model with the same response there fits (measured: an integrating
+    /// process's dead time ×1.6 under 5 % noise, an estimate with half the
+    /// dead time, fitted over a few samples, applied at once and the output
+    /// 120 times the step away before the loop recovered; detuned first,
+    /// the estimator had the process's dead time a period later).
     pub(super) fn emergency(&mut self) {
         let clear = self
             .est
             .estimate()
+            .filter(|_| self.detune < T::one())
             .and_then(|m| self.plausible(m))
             .filter(|m| m.evidence >= self.cfg.min_evidence)
             // (an estimate at the end of the dead-time range is not clear:

@@ -136,10 +136,10 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             }
             msp::adapt::ChangeKind::Cleared => "alarm cleared: the model matches;",
             msp::adapt::ChangeKind::Emergency => {
-                "EMERGENCY: the loop was going unstable; the clear estimate applied at once:"
+                "EMERGENCY: the loop still going unstable once detuned; the clear estimate applied:"
             }
             msp::adapt::ChangeKind::Detuned => {
-                "EMERGENCY: the loop was going unstable with no clear estimate; the primary's gain halved, model"
+                "EMERGENCY: the loop was going unstable; the primary's gain halved (first, and while no estimate is clear), model"
             }
             msp::adapt::ChangeKind::Edge => {
                 "WARNING: not applied, the estimate is at the end of the dead-time range or beyond the gain's or lag's bound (--adapt-delay):"
