@@ -82,6 +82,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             skip: 0,
             settled: (0, 0),
             onsets: 0,
+            onset_error: T::zero(),
             pending: None,
             current: None,
             resting: false,

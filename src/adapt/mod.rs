@@ -327,6 +327,9 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     settled: (u32, u32),
     /// Load onsets found.
     onsets: u32,
+    /// The chosen candidate's error magnitude at the last of an onset's
+    /// samples (a new load among them starts them again).
+    onset_error: T,
     /// A block's learning under way (see `Estimator::advance`).
     pending: Option<Pass<T>>,
     /// The estimate as of the last pass's end ([`Estimator::estimate`]).

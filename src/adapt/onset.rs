@@ -22,26 +22,32 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// one of an onset's (not learnt from).
     pub(super) fn onset(&mut self, target: T) -> bool {
         let cfg = self.cfg;
+        let Some(c) = self.bank.get(self.chosen) else {
+            return false;
+        };
+        let d = cfg.d_min + self.chosen;
+        let e = target - predict(c.theta, c.yhat, self.hist.pair(d), cfg.integrating);
+        let floor = T::epsilon().sqrt() * (T::one() + self.last_y.abs());
+        let threshold = at_least(T::of(ONSET) * self.noise_level(), floor);
         if self.skip == 0 {
-            let Some(c) = self.bank.get(self.chosen) else {
-                return false;
-            };
-            let d = cfg.d_min + self.chosen;
-            let e = target - predict(c.theta, c.yhat, self.hist.pair(d), cfg.integrating);
-            let floor = T::epsilon().sqrt() * (T::one() + self.last_y.abs());
             // at rest (no input move within twice the response's time), and
             // the noise measured over as long (the change detector's)
             let rest = self.window.saturating_mul(2);
             let measured = usize::try_from(self.samples).map_or(true, |n| n > rest);
-            let threshold = at_least(T::of(ONSET) * self.noise_level(), floor);
             if self.hist.quiet <= rest || !measured || e.abs() <= threshold {
                 return false;
             }
-            // the controller's answer to it reaches the output a dead time on
-            self.skip = ONSET_SAMPLES.min(d).max(1);
-            self.onsets = self.onsets.saturating_add(1);
-            self.settled = (0, 0);
+            self.start_onset(d);
+        } else if e.abs() > threshold && e.abs() > T::of(ONSET) * self.onset_error {
+            // a load among an onset's samples (an error [`ONSET`] times the
+            // last sample's): its samples start again, so that its step is
+            // not taken as the state (measured: noise-free, a wrong model's
+            // onsets follow each other at rest, and an output load's pulse
+            // falling on the last of one's samples became every model's
+            // state, an error decaying over the lag that hid the gain's)
+            self.start_onset(d);
         }
+        self.onset_error = e.abs();
         // the onset's first two samples are not state: an output load's
         // step is a pulse there (split over two when it falls inside a
         // block of means); from the third each simulation is corrected
@@ -89,6 +95,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             ));
         }
         true
+    }
+
+    /// An onset's samples start: `d` the chosen dead time's samples.
+    fn start_onset(&mut self, d: usize) {
+        // the controller's answer to it reaches the output a dead time on
+        self.skip = ONSET_SAMPLES.min(d).max(1);
+        self.onsets = self.onsets.saturating_add(1);
+        self.settled = (0, 0);
     }
 
     /// Load onsets found so far: at rest (no input move within twice a
