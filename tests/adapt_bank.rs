@@ -440,6 +440,40 @@ fn a_lag_only_loads_show_is_learnt_without_noise() {
     }
 }
 
+/// Item 2 where only loads move the loop, under 5 % noise at msp's chosen
+/// period: the gain halved or the lag doubled on the stable processes of
+/// the bank, where the fixed model is 20 % worse than the true one, is
+/// learnt — within 10 % of the true model's IAE and 20 % better than the
+/// fixed one. A load's response there is below the noise in every
+/// difference: the hypothesis is proposed on Page's sum over the
+/// responses, without asking the model in use's mean error over one to be
+/// material above the noise (a mean that is as often below the noise as
+/// not: asked, the halved gain and the doubled lag of
+/// 2.3 e^{−8s}/(15s + 1) and the doubled lag of 1.6 e^{−6s}/(10s + 1) were
+/// held for the whole run, Page's sum past 100).
+#[test]
+fn a_change_only_loads_show_is_learnt_under_5_percent_noise() {
+    let mut n = 0;
+    for family in ["gain ×0.5, loads", "lag ×2, loads"] {
+        for case in bank_cases(family, Period::Chosen, &[(0.05, None)]) {
+            let r = case.run().unwrap();
+            if case.plant.tau.is_none() || r.iae_fixed < 1.2 * r.iae_true {
+                continue;
+            }
+            n += 1;
+            assert!(
+                r.iae_adaptive <= 1.1 * r.iae_true && r.iae_adaptive <= 0.8 * r.iae_fixed,
+                "{family} {:?}: adaptive {} true {} fixed {}",
+                case.plant,
+                r.iae_adaptive,
+                r.iae_true,
+                r.iae_fixed
+            );
+        }
+    }
+    assert_eq!(n, 5);
+}
+
 /// Item 3 under noise: the integrating processes' dead time ×1.6 at the
 /// chosen period under 5 % noise, three seeds: the fixed loop diverges, the
 /// adaptive one never does. The emergency path detunes first and applies

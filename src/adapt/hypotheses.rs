@@ -30,24 +30,29 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// explains more than the bank's chosen model (which a change has not
     /// reached yet: one that has is the estimate) and every other dead time
     /// (a drifting dead time is not a gain); it is proposed when besides
-    /// its sum reached [`EstimatorConfig::switch_evidence`] and, as mean
-    /// squared errors per excited sample over the last response less the
-    /// noise's: the model in use's error is [`MATERIAL`] (at least that
-    /// fraction squared of the target's energy) and the data identify the
-    /// process (the hypothesis explains at least half of the target's
-    /// energy above the noise: in data that do not, a model of a smaller
-    /// response is nearer to them than the right one), and no hypothesis
-    /// has more evidence (a lag doubled and a gain halved look alike in a
-    /// few load responses' differences: the one with the least recent
-    /// error need not be the one the responses so far point to). The
-    /// target's energy need not be above the noise's per sample: at ten
-    /// samples of dead time a load's response is below the noise in every
-    /// difference and shows only in Page's sum over the responses
-    /// (measured on the bank: with that test, a halved gain that only loads
-    /// showed under 0.5 % noise at the coarse period was never proposed;
-    /// without it no unchanged process had a model applied, and over six
-    /// seeds one doubled lag was taken for a halved gain until the most
-    /// evidence was asked for).
+    /// its sum reached [`EstimatorConfig::switch_evidence`] and the data
+    /// identify the process (as mean squared errors per excited sample
+    /// over the last response less the noise's, the hypothesis explains at
+    /// least half of the target's energy above the noise: in data that do
+    /// not, a model of a smaller response is nearer to them than the right
+    /// one), and no hypothesis has more evidence (a lag doubled and a gain
+    /// halved look alike in a few load responses' differences: the one
+    /// with the least recent error need not be the one the responses so
+    /// far point to). Neither the target's energy nor the model in use's
+    /// error need be above the noise's per sample (nor the latter
+    /// [`MATERIAL`]): at ten samples of dead time, or under 5 % noise at a
+    /// fine one, a load's response is below the noise in every difference
+    /// and shows only in Page's sum over the responses, and a mean over one
+    /// response less the noise's is as often negative as not; the change
+    /// is material by construction (each hypothesis moves the gain or the
+    /// lag by 30 % at least). Measured on the bank: with the energy's test
+    /// a halved gain that only loads showed under 0.5 % noise at the coarse
+    /// period was never proposed; with the material error's, a doubled lag
+    /// with Page's sum past 100 was held for the whole run (lag ×2 with
+    /// loads within 10 % of the true model at the chosen period 74 of 90
+    /// cases over six seeds, 87 without it); without either no unchanged
+    /// process had a model applied, and over six seeds one doubled lag was
+    /// taken for a halved gain until the most evidence was asked for.
     pub(super) fn test_hypotheses(&mut self, target: T, e_ref: T, excited: bool, scale: T) {
         let tested = self.hypotheses().len();
         let cfg = self.cfg;
@@ -128,7 +133,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             let ok = explains
                 && most
                 && h.cusum >= cfg.switch_evidence
-                && missed >= material
                 && mean - scale <= energy / T::of(2.0);
             (explains, ok)
         });
@@ -188,7 +192,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 
     /// The hypothesis that explains the recent data (the change
-    /// detector's test: evidence, a [`MATERIAL`] error of the model in use
+    /// detector's test: evidence, the model in use's error above the noise
     /// that it leaves at most [`EXPLAINED`] of, data that identify the
     /// process) as a model, once it has for a
     /// response's excited samples in a row: the model in use with its gain

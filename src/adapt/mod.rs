@@ -422,12 +422,13 @@ pub const ONSET_SAMPLES: usize = 4;
 /// [`Estimator::restarts`]).
 pub const EXPLAINED: f64 = 0.25;
 
-/// A gain or lag hypothesis is proposed ([`Estimator::proposal`]) only
-/// when the chosen simulation's squared error over the last response,
-/// less the noise's share, is at least this fraction squared of the
-/// target's energy over it: a model error of 10 % of the response, not
-/// the block means' departure from the model (a percent or two) that
-/// noise-free data make significant.
+/// The model in use fits the last response (the far candidates learn in
+/// turn, [`TURNS`]) while the chosen simulation's squared error over it,
+/// less the noise's share, is below this fraction squared of the target's
+/// energy over it: a model error of 10 % of the response, not the block
+/// means' departure from the model (a percent or two) that noise-free data
+/// make significant. (A hypothesis's proposal is not held to it: see
+/// `Estimator::test_hypotheses`.)
 pub const MATERIAL: f64 = 0.1;
 
 /// With a prior model, the time constants an estimate may take lie within
