@@ -1039,3 +1039,46 @@ fn manual_and_saturated_samples_teach_nothing() {
     let moved = model(&auto.estimate().unwrap());
     assert!((moved.0 - 1.3).abs() < (before.0 - 1.3).abs(), "{moved:?}");
 }
+
+/// The emergency path's first step is the detuning where the rule gives
+/// the primary's gains (safe whatever the process); a scheme whose rule
+/// gives none cannot be detuned, and takes a clear estimate at once. The
+/// process gain goes from 1 to 3.5 at 300 s (the loop built for 1 grows
+/// an oscillation): with Kaya's rule the log's first emergency entry is
+/// `detuned`, and the loop ends settled with the process's gain; without
+/// a rule it is `emergency` (the estimate) and no `detuned` follows (here
+/// the estimate, fitted at the oscillation's start, is then undone by the
+/// watch: the reason the path detunes first where it can).
+#[test]
+fn the_emergency_path_detunes_first_where_it_can() {
+    let k = |i: usize| if i < 3000 { 1.0 } else { 3.5 };
+    for with_rule in [true, false] {
+        let run = if with_rule {
+            smith_run(adapt_config(), kaya, k, 0.0)
+        } else {
+            smith_run(adapt_config(), |_: f64, _: f64, _: f64| None, k, 0.0)
+        };
+        let kinds = run.kinds();
+        let first = kinds
+            .iter()
+            .find(|k| matches!(k, ChangeKind::Detuned | ChangeKind::Emergency));
+        let expected = if with_rule {
+            ChangeKind::Detuned
+        } else {
+            ChangeKind::Emergency
+        };
+        assert_eq!(first, Some(&expected), "{kinds:?}");
+        if !with_rule {
+            assert!(!kinds.contains(&ChangeKind::Detuned), "{kinds:?}");
+            continue;
+        }
+        // detuned first, the loop ends settled with the process's gain
+        let tail = run.err.get(8000..).unwrap_or_default();
+        assert!(tail.iter().all(|e| e.abs() <= 1.5), "{kinds:?}");
+        assert!(
+            (run.model.0 / 3.5 - 1.0).abs() < 0.1,
+            "{:?} {kinds:?}",
+            run.model
+        );
+    }
+}

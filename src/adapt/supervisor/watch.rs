@@ -89,7 +89,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// the evidence of `min_evidence` and not at the end of the range,
     /// predicting the recent data better than the model in use with as
     /// much, within the bounds) is applied, else the gain is halved again;
-    /// each logged. Detuning comes first because it is safe whatever the
+    /// each logged (a scheme its rule cannot detune has the estimate at
+    /// once). Detuning comes first because it is safe whatever the
     /// process, and an estimate is not, at the start of an oscillation:
     /// data of a growing oscillation excite its frequency alone, which any
     /// model with the same response there fits (measured: an integrating
@@ -98,10 +99,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// 120 times the step away before the loop recovered; detuned first,
     /// the estimator had the process's dead time a period later).
     pub(super) fn emergency(&mut self) {
+        // (a scheme the rule cannot detune goes to the estimate at once)
+        if self.detune >= T::one() && self.halve_gain() {
+            return;
+        }
         let clear = self
             .est
             .estimate()
-            .filter(|_| self.detune < T::one())
             .and_then(|m| self.plausible(m))
             .filter(|m| m.evidence >= self.cfg.min_evidence)
             // (an estimate at the end of the dead-time range is not clear:
@@ -121,21 +125,31 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.take(m, ChangeKind::Emergency);
             return;
         }
-        let m = self.model;
-        let detuned = self.detune / T::of(2.0);
-        if let Some([kp, _, _]) = self.retune.gains(m.k, m.tau, m.theta) {
-            if self.inner.retune(Gain::Kp, kp * detuned).is_ok() {
-                self.detune = detuned;
-                self.record(ChangeKind::Detuned);
-                self.since = 0;
-                return;
-            }
+        if self.halve_gain() {
+            return;
         }
         // nothing this scheme can do by itself: said, once per episode
         if !self.alarm {
             self.alarm = true;
-            self.record_model(ChangeKind::Alarm, m);
+            self.record_model(ChangeKind::Alarm, self.model);
         }
+    }
+
+    /// The primary's gain halved from its detuned value by the rule's own
+    /// (logged as detuned); `false` where the rule or the scheme cannot.
+    fn halve_gain(&mut self) -> bool {
+        let m = self.model;
+        let detuned = self.detune / T::of(2.0);
+        let Some([kp, _, _]) = self.retune.gains(m.k, m.tau, m.theta) else {
+            return false;
+        };
+        if self.inner.retune(Gain::Kp, kp * detuned).is_err() {
+            return false;
+        }
+        self.detune = detuned;
+        self.record(ChangeKind::Detuned);
+        self.since = 0;
+        true
     }
 
     /// The estimate as it stands lies at the end of the dead-time range or
