@@ -206,6 +206,13 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         self.buf.as_mut().iter_mut().for_each(|x| *x = *x + dv);
     }
 
+    /// Multiplies every sample of the history by `g`: the line then
+    /// outputs what it would have, had its input always been `g` times
+    /// what it was.
+    pub fn scale(&mut self, g: T) {
+        self.buf.as_mut().iter_mut().for_each(|x| *x = *x * g);
+    }
+
     /// Adds `dx` to the newest sample (the last pushed): the line then
     /// outputs what it would have, had that input been larger by `dx`.
     pub fn amend_newest(&mut self, dx: T) {
