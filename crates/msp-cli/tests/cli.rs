@@ -2112,7 +2112,7 @@ fn the_emergency_path_is_said_in_the_summary() {
         .lines()
         .find(|l| {
             l.contains(
-                "EMERGENCY: the loop still going unstable once detuned; the clear estimate applied",
+                "EMERGENCY: the loop was going unstable (the primary detuned first where the scheme can be); the clear estimate applied",
             )
         })
         .unwrap_or_else(|| panic!("{text}"));

@@ -136,7 +136,7 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             }
             msp::adapt::ChangeKind::Cleared => "alarm cleared: the model matches;",
             msp::adapt::ChangeKind::Emergency => {
-                "EMERGENCY: the loop still going unstable once detuned; the clear estimate applied:"
+                "EMERGENCY: the loop was going unstable (the primary detuned first where the scheme can be); the clear estimate applied:"
             }
             msp::adapt::ChangeKind::Detuned => {
                 "EMERGENCY: the loop was going unstable; the primary's gain halved (first, and while no estimate is clear), model"
