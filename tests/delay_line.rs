@@ -89,3 +89,100 @@ fn capacity_errors_instead_of_panics() {
     let mut buf = [0.0f32; 3];
     assert!(msp::DelayLineRef::with_storage(&mut buf[..], 4.0).is_err());
 }
+
+/// One operation on a line during a test of its rescale.
+#[derive(Debug, Clone)]
+enum Op {
+    Process(f64),
+    SetDelay(f64),
+    RampDelay(f64),
+    Push(f64),
+    AmendNewest(f64),
+    Scale(f64),
+}
+
+fn op() -> impl Strategy<Value = Op> {
+    prop_oneof![
+        8 => (-5.0f64..5.0).prop_map(Op::Process),
+        1 => (0.0f64..1.0).prop_map(Op::SetDelay),
+        1 => (0.0f64..1.0).prop_map(Op::RampDelay),
+        1 => (-5.0f64..5.0).prop_map(Op::Push),
+        1 => (-1.0f64..1.0).prop_map(Op::AmendNewest),
+        1 => (0.25f64..4.0).prop_map(Op::Scale),
+    ]
+}
+
+proptest! {
+    /// Delay::scale spreads its work over the following samples; whatever
+    /// happens meanwhile, the line reads as the line that always had `g`
+    /// times its input (exactly: the same products, in the same places).
+    #[test]
+    fn a_rescaled_line_is_the_line_that_always_had_that_input(
+        cap in 1usize..90,
+        d in 0.0f64..1.0,
+        xs in prop::collection::vec(-5.0f64..5.0, 0..200),
+        g in 0.25f64..4.0,
+        ops in prop::collection::vec(op(), 0..150),
+    ) {
+        let frac = |x: f64| (x * cap as f64 * 4.0).round() / 4.0;
+        let mut a: Delay<f64, Vec<f64>> = Delay::with_storage(vec![0.0; cap], frac(d)).unwrap();
+        let mut b = a.clone();
+        for x in &xs {
+            a.process(*x);
+            b.process(g * x);
+        }
+        a.scale(g);
+        // a line of 33 samples or more at an integer delay is still rescaling
+        prop_assert_eq!(a.is_rescaling() || cap <= 32 || xs.is_empty(), true);
+        for op in ops {
+            prop_assert_eq!(a.last(), b.last());
+            for j in 0..=cap {
+                prop_assert_eq!(a.peek_back(0.5, j), b.peek_back(0.5, j), "peek_back {}", j);
+            }
+            prop_assert_eq!(a.peek(0.5), b.peek(0.5));
+            match op {
+                Op::Process(x) => prop_assert_eq!(a.process(x), b.process(x)),
+                Op::SetDelay(d) => {
+                    a.set_delay(frac(d)).unwrap();
+                    b.set_delay(frac(d)).unwrap();
+                }
+                Op::RampDelay(d) => {
+                    a.ramp_delay(frac(d)).unwrap();
+                    b.ramp_delay(frac(d)).unwrap();
+                }
+                Op::Push(x) => {
+                    a.push(x);
+                    b.push(x);
+                }
+                Op::AmendNewest(x) => {
+                    a.amend_newest(x);
+                    b.amend_newest(x);
+                }
+                Op::Scale(h) => {
+                    // both rescaled: b at once
+                    a.scale(h);
+                    b.scale(h);
+                    b.settle();
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_rescale_ends_within_its_samples_and_costs_its_call_a_constant() {
+    let mut line: Delay<f64, Vec<f64>> = Delay::with_storage(vec![0.0; 1000], 900.0).unwrap();
+    for i in 0..1500 {
+        line.process(i as f64);
+    }
+    line.scale(0.5);
+    // 32 samples a sample: the 901 the line reads first, then the 99 it
+    // has not overwritten (fewer each sample)
+    let mut samples = 0;
+    while line.is_rescaling() {
+        line.process(0.0);
+        samples += 1;
+        assert!(samples <= 1000 / 32 + 1, "{samples}");
+    }
+    assert!(samples >= 1000 / 33, "{samples}");
+}

@@ -51,8 +51,11 @@ pub struct Element<T, const M: usize, S> {
 }
 
 impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
-    /// The element from its block and line.
-    pub fn new(block: Lti<T, M>, line: Delay<T, S>) -> Self {
+    /// The element from its block and line (a rescale under way in it
+    /// ended first: the element reads and writes its line unchecked, and
+    /// never rescales it).
+    pub fn new(block: Lti<T, M>, mut line: Delay<T, S>) -> Self {
+        line.settle();
         let d = line.delay();
         let weight = if d < T::one() {
             T::one() - d
@@ -72,7 +75,7 @@ impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
     /// the line's reading, kept for [`Element::step`]).
     #[inline(always)]
     fn free(&mut self) -> T {
-        self.pending = self.line.peek(T::zero());
+        self.pending = self.line.peek_stored(T::zero());
         self.block.output(self.pending)
     }
 
@@ -80,7 +83,7 @@ impl<T: Real, const M: usize, S: AsRef<[T]> + AsMut<[T]>> Element<T, M, S> {
     /// line's output is its reading plus `x`'s weight).
     #[inline(always)]
     fn step(&mut self, x: T) {
-        self.line.push(x);
+        self.line.push_stored(x);
         self.block.step(self.pending + self.weight * x);
     }
 
