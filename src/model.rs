@@ -229,10 +229,18 @@ impl<T: Real> ProcessModel<T> {
         }
     }
 
-    /// The delay-free part ZOH-discretized at `ts`, and the dead time in samples.
+    /// The delay-free part ZOH-discretized at `ts`, and the dead time in
+    /// samples; a first-order lag and an integrator in closed form
+    /// ([`Lti::first_order`], [`Lti::integrator`]).
     pub fn discretize<const N: usize>(&self, ts: T) -> Result<(Lti<T, N>, T), Error> {
-        let (num, den) = self.rational();
-        let block = Lti::from_tf(&num, &den, ts, Discretization::Zoh)?;
+        let block = match *self {
+            ProcessModel::Fopdt(m) => Lti::first_order(m.k, m.t, ts)?,
+            ProcessModel::Ipdt(m) => Lti::integrator(m.k, ts)?,
+            _ => {
+                let (num, den) = self.rational();
+                Lti::from_tf(&num, &den, ts, Discretization::Zoh)?
+            }
+        };
         Ok((block, crate::delay::samples(self.delay(), ts)?))
     }
 }

@@ -214,3 +214,54 @@ fn a_fractional_dead_time_is_exact() {
         assert!((yi - want).abs() < 1e-12, "t = {t}: {yi} vs {want}");
     }
 }
+
+/// The closed forms of `Lti::first_order` and `Lti::integrator` are the
+/// matrix exponential's block (`from_tf`, the same realization), coefficient
+/// by coefficient, over lags from a hundredth of the period to 10⁵ periods,
+/// either sign; and in `f32` the block `from_tf_of` rounds from `f64`.
+#[test]
+fn closed_forms_are_the_matrix_exponentials_block() {
+    let coeffs = |b: &Lti<f64, 2>| (b.phi_entry(0, 0), b.input_vector()[0], b.output_vector()[0]);
+    for &h in &[0.001, 0.05, 1.0] {
+        for &r in &[0.01, 0.3, 1.0, 7.0, 1e3, 1e5] {
+            for &(k, sign) in &[(2.5, 1.0), (-0.4, 1.0), (1.0, -1.0)] {
+                let tau = sign * r * h;
+                let closed = Lti::<f64, 2>::first_order(k, tau, h).unwrap();
+                let expm =
+                    Lti::<f64, 2>::from_tf(&[k], &[tau, 1.0], h, Discretization::Zoh).unwrap();
+                let (a, b) = (coeffs(&closed), coeffs(&expm));
+                // scaling and squaring's rounding grows with |A|·h = 1/r
+                let tol = 1e-15 * (1.0 + 1.0 / r);
+                assert_close(a.0, b.0, tol, 0.0);
+                assert_close(a.1, b.1, tol, 0.0);
+                assert_close(a.2, b.2, 1e-15, 0.0);
+                assert_eq!(closed.order(), expm.order());
+                let narrow = Lti::<f32, 2>::first_order(k as f32, tau as f32, h as f32);
+                let rounded = Lti::<f32, 2>::from_tf_of(&[k], &[tau, 1.0], h, Discretization::Zoh);
+                // e^{100} is beyond f32: both refuse it
+                assert_eq!(narrow.is_ok(), rounded.is_ok(), "{tau} {h}");
+                let (Ok(narrow), Ok(rounded)) = (narrow, rounded) else {
+                    continue;
+                };
+                for (x, y) in [
+                    (narrow.phi_entry(0, 0), rounded.phi_entry(0, 0)),
+                    (narrow.input_vector()[0], rounded.input_vector()[0]),
+                    (narrow.output_vector()[0], rounded.output_vector()[0]),
+                ] {
+                    assert_close(
+                        f64::from(x),
+                        f64::from(y),
+                        4.0 * f64::from(f32::EPSILON),
+                        0.0,
+                    );
+                }
+            }
+        }
+        let closed = Lti::<f64, 2>::integrator(0.2, h).unwrap();
+        let expm = Lti::<f64, 2>::from_tf(&[0.2], &[1.0, 0.0], h, Discretization::Zoh).unwrap();
+        assert_eq!(coeffs(&closed), coeffs(&expm));
+    }
+    assert!(Lti::<f64, 0>::first_order(1.0, 1.0, 0.1).is_err());
+    assert!(Lti::<f64, 1>::first_order(1.0, 0.0, 0.1).is_err());
+    assert!(Lti::<f64, 1>::integrator(1.0, 0.0).is_err());
+}

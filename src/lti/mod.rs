@@ -433,6 +433,25 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// The equilibrium state for the constant input `u`: `(I − Φ)⁻¹ Γ u`.
     fn equilibrium(&self, u: T) -> Result<[T; N], Error> {
         let n = self.n;
+        if n == 1 {
+            // the first order in this precision, the elimination's operations
+            // (`(1/(1 − φ))·(γ·u)`, refused where `1 − φ` is 0): no `f64`
+            // arithmetic, which a microcontroller without a double-precision
+            // unit emulates
+            let (phi, gamma) = (
+                self.phi_entry(0, 0),
+                self.gamma.first().copied().unwrap_or(T::zero()),
+            );
+            let m = T::one() - phi;
+            if !(m.abs() > T::epsilon() * m.abs()) {
+                return Err(Error::Numerical("matrix inversion"));
+            }
+            let mut x = [T::zero(); N];
+            if let Some(x0) = x.first_mut() {
+                *x0 = T::one() / m * (gamma * u);
+            }
+            return Ok(x);
+        }
         let m = matrix::Mat::<N>::identity() - mat_of(&self.phi, n);
         let x = matrix::solve(&m, &(vector_of(&self.gamma, n) * u.f64()), n)?;
         Ok(array_of(&x, n))
