@@ -100,7 +100,9 @@ impl<T: Real> EstimatorConfig<T> {
     /// back (0 without decimation; measured: 0.28 s of 6 s at 12 samples a
     /// block before it was added).
     pub fn centre(&self) -> T {
-        self.ts * T::of((self.decimation as f64 - 1.0) / 2.0)
+        // in this precision: no f64 arithmetic, which a Cortex-M4F emulates
+        let half = T::from(self.decimation.saturating_sub(1)).unwrap_or_else(T::zero) / T::of(2.0);
+        self.ts * half
     }
 
     /// Checks every setting (the history's room is the estimator's).

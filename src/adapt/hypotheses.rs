@@ -177,10 +177,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// their coefficients ([`changed`]), their simulations from rest as
     /// the model in use's, their sums cleared.
     pub(super) fn reset_hypotheses(&mut self, model: [T; 3]) {
-        let integrating = self.cfg.integrating;
-        for (i, h) in self.hyp.iter_mut().enumerate() {
+        for (h, coef) in self
+            .hyp
+            .iter_mut()
+            .zip(changed(model, self.cfg.integrating))
+        {
             *h = Hypothesis {
-                coef: changed(model, i, integrating),
+                coef,
                 yhat: T::zero(),
                 cusum: T::zero(),
                 recent: T::zero(),
@@ -247,37 +250,38 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 }
 
-/// The model `[a, b0, b1]` with hypothesis `i`'s change ([`HYPOTHESES`]):
+/// The model `[a, b0, b1]` with each hypothesis's change ([`HYPOTHESES`]):
 /// the gain `g` times, `[a, g·b0, g·b1]`; the lag `l` times with the same
 /// `K` and fraction `f`, `a' = a^{1/l}`, `b0 = K(1 − r')`, `b1 = K(r' − a')`
 /// with `r' = (a^{1−f})^{1/l}` (the module's equations), the powers
-/// `2, 3/2, 3/4, 1/2` by square roots. An integrating model has no lag to
-/// change: the model itself.
-fn changed<T: Real>(model: [T; 3], i: usize, integrating: bool) -> [T; 3] {
+/// `2, 3/2, 3/4, 1/2` by square roots, four in all (a software square root
+/// on a Cortex-M4F: the call that applies a model computes them). An
+/// integrating model has no lag to change: the model itself.
+fn changed<T: Real>(model: [T; 3], integrating: bool) -> [[T; 3]; HYPOTHESES] {
     let [a, b0, b1] = model;
-    if let Some(g) = GAINS.get(i) {
-        let g = T::of(*g);
-        return [a, b0 * g, b1 * g];
+    let mut out = [model; HYPOTHESES];
+    for (o, g) in out.iter_mut().zip(GAINS.map(T::of)) {
+        *o = [a, b0 * g, b1 * g];
     }
     if integrating || !(a < T::one()) || !(a > T::zero()) {
-        return model;
+        return out;
     }
     let k = (b0 + b1) / (T::one() - a);
     let r = at_most(at_least(T::one() - b0 / k, a), T::one());
-    let power = |x: T| {
+    let powers = |x: T| {
         let s = x.sqrt();
-        match i.saturating_sub(GAINS.len()) {
-            0 => x * x,
-            1 => x * s,
-            2 => s * s.sqrt(),
-            _ => s,
-        }
+        [x * x, x * s, s * s.sqrt(), s]
     };
-    let (a, r) = (power(a), power(r));
-    let c = [a, k * (T::one() - r), k * (r - a)];
-    if c.iter().all(|x| x.is_finite()) {
-        c
-    } else {
-        model
+    for ((o, pa), pr) in out
+        .iter_mut()
+        .skip(GAINS.len())
+        .zip(powers(a))
+        .zip(powers(r))
+    {
+        let c = [pa, k * (T::one() - pr), k * (pr - pa)];
+        if c.iter().all(|x| x.is_finite()) {
+            *o = c;
+        }
     }
+    out
 }

@@ -163,6 +163,11 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     ok: bool,
     /// The last measurement, for the estimator once its input is known.
     pending: Option<T>,
+    /// The estimator's reference is to follow the model in use before its
+    /// next sample: a model applied in a call that ended an estimator
+    /// sample sets it there, its coefficients and hypotheses computed in
+    /// the next call (a Cortex-M4F's longest call, #48 item 7).
+    refer: bool,
     watching: u32,
     side: i8,
     crossed: u32,
@@ -233,6 +238,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             last_u: T::zero(),
             ok: false,
             pending: None,
+            refer: false,
             watching: 0,
             side: 0,
             crossed: 0,
@@ -313,6 +319,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // the plant then received (known only now: a limit or an operator
         // may have changed it after that update), one sample late
         let mut ended = false;
+        if self.refer {
+            self.refer = false;
+            self.reference();
+        }
         if let Some(y_last) = self.pending.take() {
             let learn = self.ok && !self.frozen;
             ended = self.est.update(y_last, self.last_u, learn);
@@ -464,7 +474,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.inner.retune(Gain::Td, td)?;
         }
         self.model = m;
-        self.reference();
+        // the estimator takes it before its next sample (nothing reads the
+        // reference in between)
+        self.refer = true;
         Ok(true)
     }
 
