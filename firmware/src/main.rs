@@ -370,6 +370,67 @@ fn change_dead_time(c: &mut loops::OperatedSmith<f32>, samples: f32) -> bool {
     c.set_dead_time(samples).is_ok()
 }
 
+/// The adaptive Smith predictor on a process whose gain is half its
+/// model's, the set point stepping between 1 and 0.5 every 2 500 samples
+/// (12 000 in all): it learns, applies a model (sample 10 000 on the host)
+/// and its line is rescaled over the following updates. The most ticks one
+/// call took and the call's number, and how many models it applied.
+fn adaptive_applying() -> (u32, usize, usize) {
+    let (mut c, _) = loops::smith_adaptive::<f32>();
+    let m: msp::ProcessModel<f32> = match msp::Fopdt::new(5.6 * 0.5, 40.2, 93.9) {
+        Ok(f) => f.into(),
+        Err(_) => fail(),
+    };
+    let mut plant = loops::Plant::new(&m, 0.939);
+    let mut ticks = Ticks::default();
+    for k in 0..12_000 {
+        let r = if (k / 2500) % 2 == 0 { 1.0 } else { 0.5 };
+        let y = plant.output();
+        ticks.tick(true);
+        let u = adaptive_step(&mut c, r, y);
+        ticks.tick(false);
+        plant.advance(u);
+    }
+    let mut applied = 0;
+    msp::Operate::visit_log(&c, &mut |ch| {
+        applied += usize::from(ch.kind == msp::adapt::ChangeKind::Applied);
+    });
+    (ticks.max, ticks.max_at, applied)
+}
+
+/// The MathWorks example's Smith predictor at a tenth of its period: 1 000
+/// samples of dead time in a line of 1 024.
+type LongSmith = msp::SmithPredictor<f32, 1, [f32; 1024]>;
+
+fn long_smith() -> LongSmith {
+    let ts = 0.0939;
+    let m: msp::ProcessModel<f32> = match msp::Fopdt::new(5.6, 40.2, 93.9) {
+        Ok(f) => f.into(),
+        Err(_) => fail(),
+    };
+    let pi = msp::PidConfig::isa(40.2 / (5.6 * 93.9), 40.2, 0.0, ts);
+    match msp::SmithPredictor::from_model(pi, &m, ts) {
+        Ok(c) => c,
+        Err(_) => fail(),
+    }
+}
+
+/// A new gain for the long line's model (`Operate::set_model`, as an
+/// adaptive controller applies one): its line is rescaled over the
+/// following updates, not in this call.
+#[inline(never)]
+fn change_model(c: &mut LongSmith, gain: f32) -> bool {
+    use msp::Operate;
+    c.set_model(gain, 40.2).is_ok()
+}
+
+/// An update of the long line's predictor while its line is rescaled.
+#[inline(never)]
+fn rescaling_step(c: &mut LongSmith, r: f32, y: f32) -> f32 {
+    use msp::Controller;
+    c.update(r, y)
+}
+
 #[entry]
 fn main() -> ! {
     let Some(mut p) = cortex_m::Peripherals::take() else {
@@ -410,6 +471,22 @@ fn main() -> ! {
         new_delay.tick(false);
         if !ok {
             fail()
+        }
+    }
+    // a new model's gain on a line of 1 024 samples, 100 times, each
+    // followed by the 40 updates over which its line is rescaled (32
+    // samples in each: the line's 1 024 in 33 updates)
+    let mut long = long_smith();
+    for _ in 0..1100 {
+        use msp::Controller;
+        long.update(1.0, 0.5);
+    }
+    for i in 0..100 {
+        if !change_model(&mut long, if i % 2 == 0 { 4.0 } else { 5.6 }) {
+            fail()
+        }
+        for _ in 0..40 {
+            rescaling_step(&mut long, 1.0, 0.5);
         }
     }
     // their exact counts come from single-stepping (scripts/firmware); the
@@ -490,6 +567,14 @@ fn main() -> ! {
         max_at,
         f64::from(max_ad) * ipt
     );
+    let (max_ap, ap_at, applied) = adaptive_applying();
+    hprintln!(
+        "adaptive smith applying a model ({} applied, f32): the longest call {} (about {:.0} instructions)",
+        applied,
+        ap_at,
+        f64::from(max_ap) * ipt
+    );
+    let ok = ok & (applied > 0);
     // 1e-3 as for the design on the device: the model the loop runs on is
     // estimated in f32, by recursive least squares whose covariance spans
     // four decades (its rounding, ~1e-7 times that, reaches the estimates at
