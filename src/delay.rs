@@ -81,6 +81,12 @@ pub struct Delay<T, S> {
 /// Cortex-M4F.
 const SCALED_PER_SAMPLE: usize = 32;
 
+/// `x mod n` (0 for an empty line: no division by zero to panic on).
+#[inline(always)]
+fn wrap(x: usize, n: usize) -> usize {
+    x.checked_rem(n).unwrap_or(0)
+}
+
 /// A rescale of the history ([`Delay::scale`]) spread over the samples
 /// that follow its call: the stored samples from the oldest the line reads
 /// next (`start`) to the newest at the call first, ahead of the read
@@ -103,7 +109,7 @@ impl<T: Real> Rescale<T> {
     /// Whether the sample stored at `pos` still waits for its factor, with
     /// `pushed` samples written since the call into a line of capacity `n`.
     fn waits(&self, pos: usize, pushed: usize, n: usize) -> bool {
-        let o = (pos + n - self.start) % n;
+        let o = wrap(pos + n - self.start, n);
         o >= self.done && !(o >= self.near && o - self.near < pushed)
     }
 }
@@ -294,7 +300,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         let near = self.k.saturating_add(1).min(n);
         self.pending = Some(Rescale {
             g,
-            start: (self.head + n - near) % n,
+            start: wrap(self.head + n - near, n),
             near,
             done: 0,
             head: self.head,
@@ -313,7 +319,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         let n = self.capacity();
         // written since the call (one per sample; the rescale ends long
         // before the line turns over)
-        let pushed = (self.head + n - r.head) % n;
+        let pushed = wrap(self.head + n - r.head, n);
         let buf = self.buf.as_mut();
         while count > 0 && r.done < n {
             if r.done >= r.near {
@@ -326,7 +332,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
             }
             // a contiguous run: to the phase's end, the storage's, or the count's
             let end = if r.done < r.near { r.near } else { n };
-            let pos = (r.start + r.done) % n;
+            let pos = wrap(r.start + r.done, n);
             let run = count.min(end - r.done).min(n - pos);
             if let Some(xs) = buf.get_mut(pos..pos + run) {
                 xs.iter_mut().for_each(|x| *x = *x * r.g);
@@ -415,7 +421,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         match self.pending {
             Some(r) if j > 0 => {
                 let n = self.capacity();
-                let pushed = (self.head + n - r.head) % n;
+                let pushed = wrap(self.head + n - r.head, n);
                 if r.waits(self.index(j), pushed, n) {
                     v * r.g
                 } else {

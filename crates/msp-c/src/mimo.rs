@@ -77,6 +77,9 @@ impl MimoTag for f64 {
 
 type Sp<T> = SmithPredictor<T, 1, Buf<T>>;
 
+// the handle lives in the caller's buffer (sized by `msp_mimo2_size` for
+// the scheme asked for): no heap to box a variant into
+#[allow(clippy::large_enum_variant)]
 enum Scheme2<T: Real> {
     Decentralized(Decentralized<Sp<T>, [Sp<T>; 2]>),
     Decoupled(Decoupled<T, Sp<T>, 2, 2, Buf<T>>),
