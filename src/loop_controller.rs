@@ -57,6 +57,9 @@ macro_rules! forward_operate {
             fn visit_log(&self, f: &mut dyn FnMut(crate::adapt::Change<T>)) {
                 (**self).visit_log(f);
             }
+            fn adaptive_state(&self) -> Option<crate::operate::AdaptiveState<T>> {
+                (**self).adaptive_state()
+            }
         }
     )*};
 }
@@ -124,6 +127,9 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
                 theta: f64::from(c.theta),
             });
         });
+    }
+    fn adaptive_state(&self) -> Option<crate::operate::AdaptiveState<f64>> {
+        self.0.adaptive_state().map(|s| s.map(f64::from))
     }
 }
 

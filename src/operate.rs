@@ -122,6 +122,13 @@ pub trait Operate<T: Real>: Controller<T> {
         let _ = f;
     }
 
+    /// What an adaptive controller knows now ([`AdaptiveState`],
+    /// [`crate::adapt::Adaptive::state`]); `None` for one that does not
+    /// adapt.
+    fn adaptive_state(&self) -> Option<AdaptiveState<T>> {
+        None
+    }
+
     /// Changes a gain of the primary PID while the loop runs, bumpless: the
     /// integrator absorbs the change of the proportional and derivative
     /// terms, so that the output at the change is the one the old gains gave
@@ -352,6 +359,80 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     }
     fn visit_log(&self, f: &mut dyn FnMut(Change<T>)) {
         self.inner.visit_log(f);
+    }
+    fn adaptive_state(&self) -> Option<AdaptiveState<T>> {
+        self.inner.adaptive_state()
+    }
+}
+
+/// What an adaptive controller knows now, under the names of its recorded
+/// signals ([`crate::adapt::SIGNALS`]), which a run's CSV records every
+/// sample and Python (`Controller.state`) and C (`msp_adaptive_read`) give
+/// alike ([`Operate::adaptive_state`]): the
+/// estimate (`k_hat`, `tau_hat`, `theta_hat`, NaN before it means
+/// anything) and the `evidence` for its dead time, the model in use
+/// (`k_model`, `tau_model`, `theta_model`; `tau` infinite: integrating),
+/// the changes logged (`adapt_changes`) and the last one's kind
+/// (`adapt_kind`, [`ChangeKind::code`]; 0 none), its error against the
+/// process (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it
+/// means anything), the alarm (`model_alarm`), the estimator's counts
+/// (`onsets`, `restarts`, `learnt`: 0, nothing moved the loop enough to
+/// identify the process) and whether adaptation is `frozen`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct AdaptiveState<T> {
+    /// The estimate's gain (NaN before it means anything).
+    pub k_hat: T,
+    /// The estimate's time constant (s; infinite: integrating).
+    pub tau_hat: T,
+    /// The estimate's dead time (s).
+    pub theta_hat: T,
+    /// The evidence for the estimate's dead time ([`crate::adapt::Estimate::evidence`]).
+    pub evidence: T,
+    /// The model in use's gain.
+    pub k_model: T,
+    /// The model in use's time constant (s; infinite: integrating).
+    pub tau_model: T,
+    /// The model in use's dead time (s).
+    pub theta_model: T,
+    /// The changes logged so far.
+    pub adapt_changes: u64,
+    /// The last change's kind ([`ChangeKind::code`]; 0: none).
+    pub adapt_kind: u8,
+    /// The model in use's error against the process (0.3: 30 %; NaN before it means anything).
+    pub mismatch: T,
+    /// The model-error alarm.
+    pub model_alarm: bool,
+    /// Load onsets the estimator found and did not learn from.
+    pub onsets: u32,
+    /// Restarts of the estimator's change detector.
+    pub restarts: u32,
+    /// Estimator samples the chosen dead time learnt from.
+    pub learnt: u32,
+    /// Adaptation is frozen.
+    pub frozen: bool,
+}
+
+impl<T: Copy> AdaptiveState<T> {
+    /// The state in another precision (`f` converts each number).
+    pub fn map<U>(&self, f: impl Fn(T) -> U) -> AdaptiveState<U> {
+        AdaptiveState {
+            k_hat: f(self.k_hat),
+            tau_hat: f(self.tau_hat),
+            theta_hat: f(self.theta_hat),
+            evidence: f(self.evidence),
+            k_model: f(self.k_model),
+            tau_model: f(self.tau_model),
+            theta_model: f(self.theta_model),
+            adapt_changes: self.adapt_changes,
+            adapt_kind: self.adapt_kind,
+            mismatch: f(self.mismatch),
+            model_alarm: self.model_alarm,
+            onsets: self.onsets,
+            restarts: self.restarts,
+            learnt: self.learnt,
+            frozen: self.frozen,
+        }
     }
 }
 

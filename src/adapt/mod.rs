@@ -89,7 +89,9 @@ mod tests;
 
 pub use config::EstimatorConfig;
 pub(crate) use history::{History, Median};
-pub use supervisor::{Adaptive, AdaptiveConfig, Change, ChangeKind, Rebuild, Redesign, SIGNALS};
+pub use supervisor::{
+    Adaptive, AdaptiveConfig, AdaptiveState, Change, ChangeKind, Rebuild, Redesign, SIGNALS,
+};
 
 /// One candidate dead time's estimator: `θ = (a, b0, b1)` and `P` (3×3).
 #[derive(Debug, Clone, Copy)]

@@ -55,7 +55,7 @@ mod redesign;
 mod traits;
 mod watch;
 
-pub use crate::operate::{Change, ChangeKind};
+pub use crate::operate::{AdaptiveState, Change, ChangeKind};
 use block::{near, Block};
 pub use config::AdaptiveConfig;
 pub use log::SIGNALS;

@@ -34,6 +34,27 @@ pub const SIGNALS: [&str; 14] = [
     "learnt",
 ];
 
+/// The values of [`SIGNALS`] in a state, in their order.
+fn values<T: Real>(s: &AdaptiveState<T>) -> [T; SIGNALS.len()] {
+    let count = |n: u32| T::of(f64::from(n));
+    [
+        s.k_hat,
+        s.tau_hat,
+        s.theta_hat,
+        s.evidence,
+        s.k_model,
+        s.tau_model,
+        s.theta_model,
+        T::of(s.adapt_changes as f64),
+        T::of(f64::from(s.adapt_kind)),
+        s.mismatch,
+        if s.model_alarm { T::one() } else { T::zero() },
+        count(s.onsets),
+        count(s.restarts),
+        count(s.learnt),
+    ]
+}
+
 impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
     Introspect<T> for Adaptive<T, C, R, N, H, L>
 where
@@ -48,7 +69,7 @@ where
     fn signal(&self, i: usize) -> T {
         match i.checked_sub(self.scheme_signals()) {
             None => self.inner.signal(i),
-            Some(j) => self.own_signals().get(j).copied().unwrap_or_else(T::nan),
+            Some(j) => values(&self.state()).get(j).copied().unwrap_or_else(T::nan),
         }
     }
 
@@ -58,7 +79,7 @@ where
         let own = self.scheme_signals().min(out.len());
         let (scheme, mine) = out.split_at_mut(own);
         self.inner.write_signals(scheme);
-        for (o, v) in mine.iter_mut().zip(self.own_signals()) {
+        for (o, v) in mine.iter_mut().zip(values(&self.state())) {
             *o = v;
         }
     }
@@ -88,29 +109,28 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
     }
 
-    /// The values of [`SIGNALS`], in their order: the estimate (NaN before
-    /// it means anything), the model in use, the log's count and last
-    /// kind, the mismatch, the alarm and the estimator's counts.
-    fn own_signals(&self) -> [T; SIGNALS.len()] {
+    /// What it knows now ([`AdaptiveState`]).
+    pub fn state(&self) -> AdaptiveState<T> {
         let e = self.est.estimate();
         let m = self.model;
         let nan = T::nan();
-        [
-            e.map_or(nan, |e| e.k),
-            e.map_or(nan, |e| e.tau),
-            e.map_or(nan, |e| e.theta),
-            e.map_or(nan, |e| e.evidence),
-            m.k,
-            m.tau,
-            m.theta,
-            T::of(self.logged as f64),
-            T::of(f64::from(self.log().last().map_or(0, |c| c.kind.code()))),
-            self.est.mismatch().map_or(nan, |m| m.error),
-            if self.alarm { T::one() } else { T::zero() },
-            T::of(f64::from(self.est.onsets())),
-            T::of(f64::from(self.est.restarts())),
-            T::of(f64::from(self.est.learnt())),
-        ]
+        AdaptiveState {
+            k_hat: e.map_or(nan, |e| e.k),
+            tau_hat: e.map_or(nan, |e| e.tau),
+            theta_hat: e.map_or(nan, |e| e.theta),
+            evidence: e.map_or(nan, |e| e.evidence),
+            k_model: m.k,
+            tau_model: m.tau,
+            theta_model: m.theta,
+            adapt_changes: self.logged as u64,
+            adapt_kind: self.log().last().map_or(0, |c| c.kind.code()),
+            mismatch: self.est.mismatch().map_or(nan, |m| m.error),
+            model_alarm: self.alarm,
+            onsets: self.est.onsets(),
+            restarts: self.est.restarts(),
+            learnt: self.est.learnt(),
+            frozen: self.frozen,
+        }
     }
 }
 

@@ -73,6 +73,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             f(c);
         }
     }
+    fn adaptive_state(&self) -> Option<crate::operate::AdaptiveState<T>> {
+        Some(self.state())
+    }
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
         self.inner.set_model(gain, tau)?;
         self.model.k = gain;
