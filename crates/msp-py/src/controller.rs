@@ -226,41 +226,28 @@ impl Controller {
         }
         Ok(out)
     }
-    /// The estimate of an adaptive controller (``adapt=``): a dict of ``k``,
-    /// ``tau``, ``theta`` (NaN before it means anything), the ``evidence``
-    /// for its dead time over the candidates that cannot be the same
-    /// (small: ambiguous; as :class:`Estimator`'s), the model in
-    /// use, ``k_model``, ``tau_model``, ``theta_model``, its error against
-    /// the process ``mismatch`` (0.3: 30 %; NaN before it means anything),
-    /// the model-error alarm ``alarm`` (bool) and the estimator's counts
-    /// ``onsets``, ``restarts`` and ``learnt`` (as :class:`Estimator`'s:
-    /// ``learnt`` 0, nothing has moved the loop enough to identify the
-    /// process); ``None`` for one that does not adapt.
+    /// What an adaptive controller (``adapt=``) knows now, a dict under the
+    /// names of its recorded signals (the library's ``AdaptiveState``, as C's
+    /// ``msp_adaptive_read`` gives it): the estimate ``k_hat``, ``tau_hat``,
+    /// ``theta_hat`` (NaN before it means anything) and the ``evidence`` for
+    /// its dead time over the candidates that cannot be the same (small:
+    /// ambiguous; as :class:`Estimator`'s), the model in use ``k_model``,
+    /// ``tau_model``, ``theta_model``, the changes logged ``adapt_changes``
+    /// and the last one's kind ``adapt_kind`` (0: none), the model's error
+    /// against the process ``mismatch`` (0.3: 30 %; NaN before it means
+    /// anything), the alarm ``model_alarm`` (bool), the estimator's counts
+    /// ``onsets``, ``restarts`` and ``learnt`` (``learnt`` 0: nothing has
+    /// moved the loop enough to identify the process) and ``frozen``;
+    /// ``None`` for one that does not adapt.
     #[getter]
-    fn estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let c = &**self.inner.inner();
-        let Some(k) = c.signal_by_name("k_hat") else {
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        use msp::Operate;
+        let Some(state) = self.inner.inner().adaptive_state() else {
             return Ok(None);
         };
-        let d = PyDict::new(py);
-        d.set_item("k", k)?;
-        for (key, name) in [
-            ("tau", "tau_hat"),
-            ("theta", "theta_hat"),
-            ("evidence", "evidence"),
-            ("k_model", "k_model"),
-            ("tau_model", "tau_model"),
-            ("theta_model", "theta_model"),
-            ("mismatch", "mismatch"),
-        ] {
-            d.set_item(key, c.signal_by_name(name).unwrap_or(f64::NAN))?;
-        }
-        d.set_item("alarm", c.signal_by_name("model_alarm") == Some(1.0))?;
-        for name in ["onsets", "restarts", "learnt"] {
-            let n = c.signal_by_name(name).unwrap_or(0.0);
-            d.set_item(name, n as u64)?;
-        }
-        Ok(Some(d))
+        Ok(Some(
+            pythonize::pythonize(py, &state)?.downcast_into::<PyDict>()?,
+        ))
     }
     /// The changes an adaptive controller logged (the last 16), oldest
     /// first: dicts of ``sample`` (from the first update), ``at`` (s),

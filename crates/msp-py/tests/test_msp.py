@@ -1281,7 +1281,7 @@ def test_monitor_raises_an_alarm_when_the_gain_drifts():
     """run(monitor=True) as msp run --monitor: the process's gain rises 30 % and the alarm is
     raised, the model's error against the process tends to 0.3 (the model predicts y/1.3),
     nothing is applied; the per-sample controller's monitor (adapt={"apply": False}) says the
-    same in estimate["alarm"] and estimate["mismatch"]."""
+    same in state["model_alarm"] and state["mismatch"]."""
     steps = [(float(i % 2), 30.0 * i) for i in range(30)]
     kw = dict(controller="smith", lambda_=2.0, ts=0.1, duration=900.0, setpoint=steps,
               events=["150:plant-gain=1.3"])
@@ -1297,8 +1297,12 @@ def test_monitor_raises_an_alarm_when_the_gain_drifts():
         u = c.update(1.0 if (k // 300) % 2 == 0 else 0.0, y)
         late, line[k % 10] = line[k % 10], u
         y = a * y + (1.3 if k >= 1500 else 1.0) * (1 - a) * late
-    e = c.estimate
-    assert e["alarm"] and abs(e["mismatch"] - 0.3) < 0.02 and e["k_model"] == 1.0, e
+    e = c.state
+    assert e["model_alarm"] and abs(e["mismatch"] - 0.3) < 0.02 and e["k_model"] == 1.0, e
+    # the state is the controller's signals after the last update, under their names
+    sig = c.signals
+    assert e.keys() - {"frozen"} <= sig.keys(), (e.keys(), sig.keys())
+    assert all(float(e[n]) == sig[n] or math.isnan(sig[n]) for n in e.keys() - {"frozen"}), (e, sig)
 
 
 def test_estimator_finds_gain_lag_and_fractional_dead_time():
@@ -1441,11 +1445,11 @@ def test_adaptive_controller_per_sample():
             y = a * y + (1 - a) * late
 
     c = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
-    assert c.estimate["tau_model"] == 4.0
+    assert c.state["tau_model"] == 4.0
     # the estimator's counts, as msp.Estimator's: nothing learnt before any data
-    assert (c.estimate["learnt"], c.estimate["onsets"], c.estimate["restarts"]) == (0, 0, 0)
+    assert (c.state["learnt"], c.state["onsets"], c.state["restarts"]) == (0, 0, 0)
     loop(c)
-    e = c.estimate
+    e = c.state
     assert abs(e["tau_model"] - 8.0) < 0.8 and abs(e["k_model"] - 1.0) < 0.05, e
     # learnt from most of the 6000 samples (the set point moves every 300)
     assert 1000 < e["learnt"] <= 6000 and isinstance(e["learnt"], int), e
@@ -1462,9 +1466,10 @@ def test_adaptive_controller_per_sample():
     frozen.freeze()
     loop(frozen)
     # frozen: the estimate stays the model it started from, nothing learnt or applied
-    assert frozen.estimate["tau_model"] == 4.0 and abs(frozen.estimate["tau"] - 4.0) < 1e-9
-    assert frozen.estimate["learnt"] == 0, frozen.estimate
+    assert frozen.state["tau_model"] == 4.0 and abs(frozen.state["tau_hat"] - 4.0) < 1e-9
+    assert frozen.state["learnt"] == 0 and frozen.state["frozen"], frozen.state
+    assert e["adapt_changes"] == len(log) and e["adapt_kind"] == 1 and not e["frozen"], e
     plain = msp.SmithPredictor("e^-1s/(4s+1)", 0.1)
-    assert plain.estimate is None and plain.log == [] and frozen.log == []
+    assert plain.state is None and plain.log == [] and frozen.log == []
     with pytest.raises(ValueError, match="does not adapt"):
         plain.freeze()
