@@ -474,17 +474,18 @@ int main(void) {
         EXPECT(msp_adaptive_read(ad, NULL) == MSP_NULL_POINTER);
         /* nothing learnt before any data */
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK && st_.learnt == 0 && st_.onsets == 0
-               && st_.restarts == 0 && st_.changes == 0);
+               && st_.restarts == 0 && st_.adapt_changes == 0);
         /* a controller handle is not an adaptive one */
         EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
         lag_doubles(ad, 9000);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
-        EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
-               && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen
-               && st_.learnt > 0);
+        EXPECT(fabsf(st_.tau_model - 8.0f) < 0.8f && fabsf(st_.k_model - 1.0f) < 0.05f
+               && fabsf(st_.theta_model - 1.0f) <= 0.1f && st_.adapt_changes >= 1 && !st_.frozen
+               && st_.learnt > 0 && st_.adapt_kind >= 1 && st_.adapt_kind <= 8
+               && fabsf(st_.tau_hat - 8.0f) < 0.8f && st_.evidence > 0.0f);
         printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes, "
                "%u samples learnt from, %u load onsets, %u restarts\n",
-               (double)st_.k, (double)st_.tau, (double)st_.theta, (unsigned)st_.changes,
+               (double)st_.k_model, (double)st_.tau_model, (double)st_.theta_model, (unsigned)st_.adapt_changes,
                (unsigned)st_.learnt, (unsigned)st_.onsets, (unsigned)st_.restarts);
 
         EXPECT(msp_estimator_default_config(0.0f, 4, &ec) == MSP_NOT_POSITIVE);
@@ -613,12 +614,12 @@ int main(void) {
             }
         }
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
-        EXPECT(fabsf(st_.k - 0.6f) < 0.03f && isinf(st_.tau) && fabsf(st_.theta - 1.0f) <= 0.105f
-               && st_.changes >= 1 && !st_.frozen);
+        EXPECT(fabsf(st_.k_model - 0.6f) < 0.03f && isinf(st_.tau_model) && fabsf(st_.theta_model - 1.0f) <= 0.105f
+               && st_.adapt_changes >= 1 && !st_.frozen);
         EXPECT(peak < 0.01f);
         printf("adaptive karan-dey: model k %.4g, theta %.4g s after %u changes; settled error "
                "after 600 s at most %.3g\n",
-               (double)st_.k, (double)st_.theta, (unsigned)st_.changes, (double)peak);
+               (double)st_.k_model, (double)st_.theta_model, (unsigned)st_.adapt_changes, (double)peak);
     }
 
     /* the adaptive filtered Smith predictor on e^-1s/(4s+1) at 0.1 s whose
@@ -649,14 +650,14 @@ int main(void) {
         EXPECT(msp_adaptive_fsp_init(abuf, need, &afc, &ad) == MSP_OK);
         float worst = lag_doubles(ad, 12000);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
-        EXPECT(fabsf(st_.tau - 8.0f) < 0.8f && fabsf(st_.k - 1.0f) < 0.05f
-               && fabsf(st_.theta - 1.0f) <= 0.1f && st_.changes >= 1 && !st_.frozen);
+        EXPECT(fabsf(st_.tau_model - 8.0f) < 0.8f && fabsf(st_.k_model - 1.0f) < 0.05f
+               && fabsf(st_.theta_model - 1.0f) <= 0.1f && st_.adapt_changes >= 1 && !st_.frozen);
         /* the model read back is the predictor's: a dead time of whole samples */
-        EXPECT(fabsf(st_.theta / 0.1f - roundf(st_.theta / 0.1f)) < 1e-4f);
+        EXPECT(fabsf(st_.theta_model / 0.1f - roundf(st_.theta_model / 0.1f)) < 1e-4f);
         EXPECT(worst < 0.01f);
         printf("adaptive fsp: model k %.4g, tau %.4g s, theta %.4g s after %u changes; settled "
                "error after 600 s at most %.3g\n",
-               (double)st_.k, (double)st_.tau, (double)st_.theta, (unsigned)st_.changes,
+               (double)st_.k_model, (double)st_.tau_model, (double)st_.theta_model, (unsigned)st_.adapt_changes,
                (double)worst);
     }
 

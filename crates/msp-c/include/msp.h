@@ -489,49 +489,69 @@ typedef struct {
 // In `double`, a host's type.
 typedef msp_adaptive_fsp_config_of_f64 msp_adaptive_fsp_config_f64;
 
-// What an adaptive controller knows: the estimate, the model in use
-// (`k`, `tau`, `theta`), its error against the process `mismatch`
-// (0.3: 30 %; NaN before it means anything), the alarm, whether
-// adaptation is frozen, how many changes were logged, and the
-// estimator's counts: load onsets, restarts of its change detector,
-// and samples its chosen dead time learnt from (`learnt` 0: nothing
-// has moved the loop enough to identify the process).
+// What an adaptive controller knows (the library's `AdaptiveState`,
+// under the names of the recorded signals, as Python's
+// `Controller.state` and a run's CSV give them): the estimate
+// `k_hat`, `tau_hat`, `theta_hat` (NaN before it means anything) and
+// the `evidence` for its dead time, the model in use `k_model`,
+// `tau_model`, `theta_model` (`tau` `INFINITY`: integrating), the
+// changes logged `adapt_changes` and the last one's kind `adapt_kind`
+// (1 applied, 2 restored, 3 refused, 4 alarm, 5 cleared, 6 emergency,
+// 7 detuned, 8 edge; 0 none), its error against the process
+// `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
+// `model_alarm`, the estimator's counts `onsets`, `restarts` and
+// `learnt` (0: nothing has moved the loop enough to identify the
+// process), and whether adaptation is `frozen`.
 typedef struct {
-  msp_estimate_of_f32 estimate;
-  float k;
-  float tau;
-  float theta;
+  float k_hat;
+  float tau_hat;
+  float theta_hat;
+  float evidence;
+  float k_model;
+  float tau_model;
+  float theta_model;
+  uint32_t adapt_changes;
+  uint32_t adapt_kind;
   float mismatch;
-  uint32_t alarm;
-  uint32_t frozen;
-  uint32_t changes;
+  uint32_t model_alarm;
   uint32_t onsets;
   uint32_t restarts;
   uint32_t learnt;
+  uint32_t frozen;
 } msp_adaptive_state_of_f32;
 
 // In `float`, the device's type.
 typedef msp_adaptive_state_of_f32 msp_adaptive_state;
 
-// What an adaptive controller knows: the estimate, the model in use
-// (`k`, `tau`, `theta`), its error against the process `mismatch`
-// (0.3: 30 %; NaN before it means anything), the alarm, whether
-// adaptation is frozen, how many changes were logged, and the
-// estimator's counts: load onsets, restarts of its change detector,
-// and samples its chosen dead time learnt from (`learnt` 0: nothing
-// has moved the loop enough to identify the process).
+// What an adaptive controller knows (the library's `AdaptiveState`,
+// under the names of the recorded signals, as Python's
+// `Controller.state` and a run's CSV give them): the estimate
+// `k_hat`, `tau_hat`, `theta_hat` (NaN before it means anything) and
+// the `evidence` for its dead time, the model in use `k_model`,
+// `tau_model`, `theta_model` (`tau` `INFINITY`: integrating), the
+// changes logged `adapt_changes` and the last one's kind `adapt_kind`
+// (1 applied, 2 restored, 3 refused, 4 alarm, 5 cleared, 6 emergency,
+// 7 detuned, 8 edge; 0 none), its error against the process
+// `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
+// `model_alarm`, the estimator's counts `onsets`, `restarts` and
+// `learnt` (0: nothing has moved the loop enough to identify the
+// process), and whether adaptation is `frozen`.
 typedef struct {
-  msp_estimate_of_f64 estimate;
-  double k;
-  double tau;
-  double theta;
+  double k_hat;
+  double tau_hat;
+  double theta_hat;
+  double evidence;
+  double k_model;
+  double tau_model;
+  double theta_model;
+  uint32_t adapt_changes;
+  uint32_t adapt_kind;
   double mismatch;
-  uint32_t alarm;
-  uint32_t frozen;
-  uint32_t changes;
+  uint32_t model_alarm;
   uint32_t onsets;
   uint32_t restarts;
   uint32_t learnt;
+  uint32_t frozen;
 } msp_adaptive_state_of_f64;
 
 // In `double`, a host's type.

@@ -149,25 +149,35 @@ c_config! {
 }
 
 c_config! {
-    /// What an adaptive controller knows: the estimate, the model in use
-    /// (`k`, `tau`, `theta`), its error against the process `mismatch`
-    /// (0.3: 30 %; NaN before it means anything), the alarm, whether
-    /// adaptation is frozen, how many changes were logged, and the
-    /// estimator's counts: load onsets, restarts of its change detector,
-    /// and samples its chosen dead time learnt from (`learnt` 0: nothing
-    /// has moved the loop enough to identify the process).
+    /// What an adaptive controller knows (the library's `AdaptiveState`,
+    /// under the names of the recorded signals, as Python's
+    /// `Controller.state` and a run's CSV give them): the estimate
+    /// `k_hat`, `tau_hat`, `theta_hat` (NaN before it means anything) and
+    /// the `evidence` for its dead time, the model in use `k_model`,
+    /// `tau_model`, `theta_model` (`tau` `INFINITY`: integrating), the
+    /// changes logged `adapt_changes` and the last one's kind `adapt_kind`
+    /// (1 applied, 2 restored, 3 refused, 4 alarm, 5 cleared, 6 emergency,
+    /// 7 detuned, 8 edge; 0 none), its error against the process
+    /// `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
+    /// `model_alarm`, the estimator's counts `onsets`, `restarts` and
+    /// `learnt` (0: nothing has moved the loop enough to identify the
+    /// process), and whether adaptation is `frozen`.
     msp_adaptive_state_of: msp_adaptive_state, msp_adaptive_state_f64 {
-        estimate: msp_estimate_of<T>,
-        k: T,
-        tau: T,
-        theta: T,
+        k_hat: T,
+        tau_hat: T,
+        theta_hat: T,
+        evidence: T,
+        k_model: T,
+        tau_model: T,
+        theta_model: T,
+        adapt_changes: u32,
+        adapt_kind: u32,
         mismatch: T,
-        alarm: u32,
-        frozen: u32,
-        changes: u32,
+        model_alarm: u32,
         onsets: u32,
         restarts: u32,
         learnt: u32,
+        frozen: u32,
     }
 }
 

@@ -25,19 +25,24 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N,
     }
 
     fn state(&self) -> msp_adaptive_state_of<T> {
-        let (k, tau, theta) = self.model();
+        // the library's state, field by field under its names
+        let s = Adaptive::state(self);
         msp_adaptive_state_of {
-            estimate: estimate_of(self.estimate()),
-            k,
-            tau,
-            theta,
-            mismatch: self.mismatch().map_or(T::nan(), |m| m.error),
-            alarm: u32::from(self.alarm()),
-            frozen: u32::from(self.is_frozen()),
-            changes: u32::try_from(self.changes()).unwrap_or(u32::MAX),
-            onsets: self.estimator().onsets(),
-            restarts: self.estimator().restarts(),
-            learnt: self.estimator().learnt(),
+            k_hat: s.k_hat,
+            tau_hat: s.tau_hat,
+            theta_hat: s.theta_hat,
+            evidence: s.evidence,
+            k_model: s.k_model,
+            tau_model: s.tau_model,
+            theta_model: s.theta_model,
+            adapt_changes: u32::try_from(s.adapt_changes).unwrap_or(u32::MAX),
+            adapt_kind: u32::from(s.adapt_kind),
+            mismatch: s.mismatch,
+            model_alarm: u32::from(s.model_alarm),
+            onsets: s.onsets,
+            restarts: s.restarts,
+            learnt: s.learnt,
+            frozen: u32::from(s.frozen),
         }
     }
 
