@@ -3,6 +3,8 @@
 //! --adapt` runs it, against the same loop with the fixed model and against
 //! a loop built with the true model from the start.
 
+mod common;
+
 use msp::adapt::ChangeKind;
 use msp::sim::SetpointStep;
 use msp::study::{AdaptOptions, RunOutput, Scenario};
@@ -855,18 +857,7 @@ fn smith_run(
     let mut c: msp::adapt::Adaptive<f64, _, _, 16, 64> =
         msp::adapt::Adaptive::new(sp, (1.0, 4.0, 1.0), cfg, gains).unwrap();
     let a = (-TS / 4.0f64).exp();
-    let mut rng = 0x2545_f491_4f6c_dd1du64;
-    let mut gauss = move || {
-        // Box–Muller on a xorshift stream
-        let mut uni = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            ((rng >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (u1, u2) = (uni(), uni());
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    };
+    let mut gauss = common::gaussian(0x2545_f491_4f6c_dd1d);
     let (mut x, mut line) = (0.0, std::collections::VecDeque::from(vec![0.0; 10]));
     let mut err = Vec::new();
     for i in 0..9000 {

@@ -3,6 +3,8 @@
 //! it cannot be detuned, so a loop going unstable takes a clear estimate at
 //! once.
 
+mod common;
+
 use msp::adapt::{Adaptive, AdaptiveConfig, ChangeKind, EstimatorConfig};
 use msp::{Controller, Ipdt, PidConfig, ProcessModel, SmithPredictor};
 
@@ -35,17 +37,7 @@ fn run(adapt: bool, grown: f64, noise: f64, seed: u64) -> (Log, Option<f64>) {
     let mut fixed = sp.clone();
     let mut c: Adaptive<f64, _, _, 16, 64> =
         Adaptive::new(sp, (0.15, f64::INFINITY, 5.0), cfg, ()).unwrap();
-    let mut rng = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut gauss = move || {
-        let mut uni = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            ((rng >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (u1, u2) = (uni(), uni());
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    };
+    let mut gauss = common::gaussian(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     let mut line = std::collections::VecDeque::from(vec![0.0; 20]);
     let (mut x, mut worst) = (0.0f64, 0.0f64);
     for i in 0..4000 {

@@ -66,6 +66,7 @@ pub struct Lti<T, const N: usize> {
     n: usize,
 }
 
+mod blocks;
 mod design;
 pub(crate) mod matrix;
 #[cfg(feature = "serde")]

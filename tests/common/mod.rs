@@ -131,3 +131,18 @@ impl Tuned {
             .tune_process(&self.p1, self.p2.as_ref(), None, None, &set)
     }
 }
+
+/// White Gaussian noise of unit deviation: Box–Muller on a xorshift64
+/// stream from `state` (nonzero), deterministic.
+pub fn gaussian(mut state: u64) -> impl FnMut() -> f64 {
+    move || {
+        let mut uni = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let (u1, u2) = (uni(), uni());
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
