@@ -446,6 +446,9 @@ fn converges_after_the_lag_doubles() {
     );
 }
 
+/// Adaptation frozen before the lag doubles learns and applies nothing;
+/// resumed, it adapts; a controller that does not adapt refuses the event
+/// with the reason.
 #[test]
 fn freeze_and_resume() {
     let plant = "1*e^-1s/(4s+1)";

@@ -98,10 +98,6 @@ fn a_quiet_hour_changes_nothing() {
     assert_eq!(c.estimator().restarts(), 0);
 }
 
-/// Adaptation frozen before the lag doubles learns and applies nothing;
-/// resumed, it adapts; a controller that does not adapt refuses the event
-/// with the reason.
-
 /// Storage lent by a redesign to the scheme it builds, counting the lots
 /// alive.
 struct Lent {
