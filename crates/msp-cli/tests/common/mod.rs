@@ -54,3 +54,12 @@ pub fn fails(cmd: &mut Command, code: i32, says: &str) {
 pub fn line(text: &str) -> Vec<&str> {
     words(text).collect()
 }
+
+/// `msp ARGS…` exits with status 2 and says `says` on standard error.
+pub fn rejects<I, S>(args: I, says: &str)
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    fails(msp().args(args), 2, says);
+}
