@@ -146,3 +146,36 @@ pub fn gaussian(mut state: u64) -> impl FnMut() -> f64 {
         (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
     }
 }
+
+// the schemes' tests (schemes.rs, scheme_runs.rs): a scenario and its run
+use msp::sim::Disturbance;
+use msp::study::{RunOutput, Scenario};
+
+/// The default scenario on `plant`.
+pub fn scenario(plant: &str) -> Scenario {
+    Scenario {
+        plant: Some(plant.parse().unwrap_or_else(|e| panic!("{plant}: {e}"))),
+        ..Default::default()
+    }
+}
+
+pub fn run(plant: &str, controller: &str, f: impl FnOnce(&mut Scenario)) -> RunOutput {
+    let mut sc = Scenario {
+        controller: Some(controller.into()),
+        ..scenario(plant)
+    };
+    f(&mut sc);
+    sc.run().unwrap_or_else(|e| panic!("{controller}: {e}"))
+}
+
+pub fn load(value: f64, at: f64) -> Disturbance {
+    Disturbance::input_step(value, at)
+}
+
+pub fn set(sc: &mut Scenario, kv: &[(&str, f64)]) {
+    for (k, v) in kv {
+        sc.set.insert((*k).into(), *v);
+    }
+}
+
+pub const IPDT: &str = "0.2/s*e^-7.4s";
