@@ -109,6 +109,13 @@ struct Rescale<T> {
 impl<T: Real> Rescale<T> {
     /// Whether the sample stored at `pos` still waits for its factor, with
     /// `pushed` samples written since the call into a line of capacity `n`.
+    /// The samples written since the call into a line of capacity `n`
+    /// whose head is now `head` (one a sample; the rescale ends long before
+    /// the line turns over).
+    fn pushed(&self, head: usize, n: usize) -> usize {
+        wrap(head + n - self.head, n)
+    }
+
     fn waits(&self, pos: usize, pushed: usize, n: usize) -> bool {
         let o = wrap(pos + n - self.start, n);
         o >= self.done && !(o >= self.near && o - self.near < pushed)
@@ -318,9 +325,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
             return;
         };
         let n = self.capacity();
-        // written since the call (one per sample; the rescale ends long
-        // before the line turns over)
-        let pushed = wrap(self.head + n - r.head, n);
+        let pushed = r.pushed(self.head, n);
         let buf = self.buf.as_mut();
         while count > 0 && r.done < n {
             if r.done >= r.near {
@@ -422,8 +427,7 @@ impl<T: Real, S: AsRef<[T]> + AsMut<[T]>> Delay<T, S> {
         match self.pending {
             Some(r) if j > 0 => {
                 let n = self.capacity();
-                let pushed = wrap(self.head + n - r.head, n);
-                if r.waits(self.index(j), pushed, n) {
+                if r.waits(self.index(j), r.pushed(self.head, n), n) {
                     v * r.g
                 } else {
                     v

@@ -261,6 +261,21 @@ fn closed_forms_are_the_matrix_exponentials_block() {
         let expm = Lti::<f64, 2>::from_tf(&[0.2], &[1.0, 0.0], h, Discretization::Zoh).unwrap();
         assert_eq!(coeffs(&closed), coeffs(&expm));
     }
+    // their equilibrium in their own precision: the gain k (1/(1 − φ)·γ·k/τ),
+    // none for an integrator
+    for &(k, tau, h) in &[(2.5, 3.0, 0.1), (-0.4, 1e3, 0.01), (1.0, 0.02, 1.0)] {
+        let wide = Lti::<f64, 2>::first_order(k, tau, h).unwrap();
+        assert_close(wide.dc_gain().unwrap(), k, 1e-12, 0.0);
+        let narrow = Lti::<f32, 2>::first_order(k as f32, tau as f32, h as f32).unwrap();
+        // f32's φ near 1 is off by up to an ulp (ε/2): 1 − φ, and the gain,
+        // by ε/2 over 1 − φ ≈ Ts/τ
+        let tol = f64::from(f32::EPSILON) * (1.0 + tau.abs() / h);
+        assert_close(f64::from(narrow.dc_gain().unwrap()), k, tol, 0.0);
+    }
+    assert!(Lti::<f64, 2>::integrator(0.2, 0.1)
+        .unwrap()
+        .dc_gain()
+        .is_err());
     assert!(Lti::<f64, 0>::first_order(1.0, 1.0, 0.1).is_err());
     assert!(Lti::<f64, 1>::first_order(1.0, 0.0, 0.1).is_err());
     assert!(Lti::<f64, 1>::integrator(1.0, 0.0).is_err());

@@ -131,8 +131,12 @@ impl<T: Real, const N: usize, S: AsRef<[T]> + AsMut<[T]>> DelayedModel<T, N, S> 
     /// rescaled in 33 samples), and nothing is added to the sample's path
     /// otherwise (read through a scale instead, every update cost two
     /// multiplications: the Smith predictor's 79 instructions on a
-    /// Cortex-M4F became 84).
+    /// Cortex-M4F became 84). A `g` that is not a finite positive number
+    /// changes nothing.
     pub fn rescale(&mut self, g: T) {
+        if !(g > T::zero() && g.is_finite()) {
+            return;
+        }
         let x = self.model.state().map(|x| x * g);
         self.model.set_state(&x);
         self.line.scale(g);
@@ -245,7 +249,8 @@ mod tests {
     /// After `set_model(g·G)` and `rescale(g)` the model and its line are
     /// those of a model that was always `g·G` (the same inputs, from the
     /// start): its prediction and its delayed copy from then on, to
-    /// rounding, on a line of 37.5 samples; twice (the gains compound).
+    /// rounding, on a line of 37.5 samples; twice (the gains compound); a
+    /// factor that is not a finite positive number is refused.
     #[test]
     fn a_rescaled_model_is_the_model_that_always_had_that_gain() -> Result<(), Error> {
         let ts = 0.1_f64;
@@ -273,6 +278,12 @@ mod tests {
             );
             m.advance(input(k));
             truth.advance(input(k));
+        }
+        // a factor that is not a finite positive number changes nothing
+        for g in [f64::NAN, f64::INFINITY, 0.0, -1.0] {
+            let mut same = m.clone();
+            same.rescale(g);
+            assert_eq!(same.predict(0.0), m.clone().predict(0.0), "{g}");
         }
         Ok(())
     }

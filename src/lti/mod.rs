@@ -444,7 +444,7 @@ impl<T: Real, const N: usize> Lti<T, N> {
                 self.gamma.first().copied().unwrap_or(T::zero()),
             );
             let m = T::one() - phi;
-            if !(m.abs() > T::epsilon() * m.abs()) {
+            if m == T::zero() || !m.is_finite() {
                 return Err(Error::Numerical("matrix inversion"));
             }
             let mut x = [T::zero(); N];
