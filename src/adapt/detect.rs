@@ -27,6 +27,8 @@ pub(super) struct Scan<T> {
     evidence: T,
     /// The dead time whose evidence counts, the most of them, and its sum.
     best: Option<(usize, T)>,
+    /// The least recent error of all dead times.
+    least: T,
 }
 
 impl<T: Real> Scan<T> {
@@ -60,6 +62,7 @@ impl<T: Real> Scan<T> {
         c.scan = pred;
         c.cusum = sum;
         c.recent = recent;
+        self.least = at_most(self.least, recent);
     }
 }
 
@@ -104,6 +107,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         for ((i, c), (&u0, &u1)) in bank.iter_mut().enumerate().zip(pairs) {
             scan.step(i, c, u0, u1);
         }
+        self.recent_least = scan.least;
         // the model in use with other gains and lags
         self.test_hypotheses(target, e_ref, excited, scan.scale);
         self.detect_end(scan);
@@ -157,6 +161,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             chosen,
             evidence: cfg.switch_evidence,
             best: None,
+            least: T::infinity(),
         })
     }
 

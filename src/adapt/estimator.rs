@@ -76,6 +76,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             snap_count: 0,
             last_e: T::zero(),
             recent_weight: T::zero(),
+            recent_least: T::zero(),
             restarts: 0,
             pause: 0,
             block: (T::zero(), T::zero(), 0, true),
@@ -262,8 +263,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         self.model?;
         let [cost, energy, rival, weight] = r.recent;
-        let scans = self.bank.get(..self.n).unwrap_or_default();
-        let best = scans.iter().fold(rival, |m, c| at_most(m, c.recent));
+        let best = at_most(rival, self.recent_least);
         // a gain or a lag: the hypothesis that explains the recent data
         // (not one that explains a part of a load's response better)
         let best = self

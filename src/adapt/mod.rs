@@ -300,8 +300,11 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     snap_count: usize,
     /// The chosen simulation's last error.
     last_e: T,
-    /// The weight of the candidates' `recent` errors.
+    /// The weight of the candidates' `recent` errors, and the least of
+    /// them (kept by the detector's pass, the only one that moves them: the
+    /// model-error alarm reads it every estimator sample).
     recent_weight: T,
+    recent_least: T,
     /// Changes of dead time the detector found (see [`Estimator::restarts`]).
     restarts: u32,
 
