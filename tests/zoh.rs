@@ -280,3 +280,96 @@ fn closed_forms_are_the_matrix_exponentials_block() {
     assert!(Lti::<f64, 1>::first_order(1.0, 0.0, 0.1).is_err());
     assert!(Lti::<f64, 1>::integrator(1.0, 0.0).is_err());
 }
+
+/// The lead-lag `k(as + 1)/(bs + 1)` in closed form is the block the
+/// matrix exponential gives for the same transfer function, coefficient by
+/// coefficient and its feedthrough, for a lead, a lag, a zero in the right
+/// half-plane and a zero on the pole (a gain), in f64 and f32; and the same
+/// frequency response.
+#[test]
+fn lead_lag_in_closed_form_is_the_matrix_exponentials_block() {
+    let coeffs = |b: &Lti<f64, 2>| {
+        (
+            b.phi_entry(0, 0),
+            b.input_vector()[0],
+            b.output_vector()[0],
+            b.feedthrough(),
+        )
+    };
+    for &h in &[0.001, 0.05, 1.0] {
+        for &r in &[0.01, 0.3, 1.0, 7.0, 1e3, 1e5] {
+            let b = r * h;
+            for &(k, ratio) in &[
+                (2.5, 11.0),
+                (-0.4, 0.1),
+                (1.0, -3.0),
+                (0.7, 1.0),
+                (1.3, 0.0),
+            ] {
+                let a = ratio * b;
+                let closed = Lti::<f64, 2>::lead_lag(k, a, b, h).unwrap();
+                let expm =
+                    Lti::<f64, 2>::from_tf(&[k * a, k], &[b, 1.0], h, Discretization::Zoh).unwrap();
+                let (x, y) = (coeffs(&closed), coeffs(&expm));
+                // scaling and squaring's rounding grows with |A|·h = 1/r;
+                // C = k(b − a)/b²: from the transfer function, k/b − (ka/b)/b,
+                // to a few roundings of its terms (the closed form has none of
+                // their cancellation: 0 where a = b)
+                let tol = 1e-15 * (1.0 + 1.0 / r);
+                let scale = k.abs() * (b + a.abs()) / (b * b);
+                assert_close(x.0, y.0, tol, 0.0);
+                assert_close(x.1, y.1, tol, 0.0);
+                assert!(
+                    (x.2 - y.2).abs() <= 4e-16 * scale,
+                    "{k} {a} {b} {h}: {x:?} {y:?}"
+                );
+                assert_close(x.3, y.3, 1e-15, 0.0);
+                // the same transfer function on the unit circle
+                for w in [0.1, 1.0, 3.0] {
+                    let (p, q) = (closed.response(w), expm.response(w));
+                    assert!((p - q).abs() <= 1e-12 * (1.0 + q.abs()), "{w}: {p:?} {q:?}");
+                }
+                let narrow = Lti::<f32, 2>::lead_lag(k as f32, a as f32, b as f32, h as f32);
+                let rounded =
+                    Lti::<f32, 2>::from_tf_of(&[k * a, k], &[b, 1.0], h, Discretization::Zoh);
+                assert_eq!(narrow.is_ok(), rounded.is_ok(), "{a} {b} {h}");
+                let (Ok(narrow), Ok(rounded)) = (narrow, rounded) else {
+                    continue;
+                };
+                let eps = 4.0 * f64::from(f32::EPSILON);
+                assert_close(
+                    f64::from(narrow.phi_entry(0, 0)),
+                    f64::from(rounded.phi_entry(0, 0)),
+                    eps,
+                    0.0,
+                );
+                assert_close(
+                    f64::from(narrow.input_vector()[0]),
+                    f64::from(rounded.input_vector()[0]),
+                    eps,
+                    0.0,
+                );
+                assert!(
+                    (f64::from(narrow.output_vector()[0]) - f64::from(rounded.output_vector()[0]))
+                        .abs()
+                        <= eps * scale
+                );
+                assert_close(
+                    f64::from(narrow.feedthrough()),
+                    f64::from(rounded.feedthrough()),
+                    eps,
+                    0.0,
+                );
+            }
+        }
+    }
+    assert!(Lti::<f64, 1>::lead_lag(1.0, 1.0, 0.0, 0.1).is_err());
+    assert!(Lti::<f64, 1>::lead_lag(1.0, 1.0, 1.0, 0.0).is_err());
+    assert!(Lti::<f64, 1>::lead_lag(f64::NAN, 1.0, 1.0, 0.1).is_err());
+    assert_eq!(
+        Lti::<f64, 1>::lead_lag(3.0, 0.0, 0.0, 0.1)
+            .unwrap()
+            .feedthrough(),
+        3.0
+    );
+}

@@ -62,17 +62,23 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// Lead-lag `k(a s + 1)/(b s + 1)`, ZOH-discretized; `a = b = 0` is the
     /// static gain `k` (a filter or a derivative switched off), `a > 0` needs
     /// `b > 0` (a proper block).
+    ///
+    /// In closed form, in this precision (as [`Lti::first_order`]: an
+    /// adaptive Karan–Dey predictor designs its disturbance path's lead-lag
+    /// for each model it applies), in the realization `from_tf` gives: the
+    /// feedthrough `D = k·a/b` and the rest `k(1 − a/b)/(b s + 1)`, i.e.
+    /// `A = −1/b`, `B = 1`, `C = k(b − a)/b²`, `Φ = e^{−Ts/b}`,
+    /// `Γ = −b·(e^{−Ts/b} − 1)`.
     pub fn lead_lag(k: T, a: T, b: T, ts: T) -> Result<Self, Error> {
         if a == T::zero() && b == T::zero() {
             return Self::gain(k);
         }
-        let b = positive(b, "b")?;
-        Self::from_tf(
-            &[finite(k, "k")? * finite(a, "a")?, k],
-            &[b, T::one()],
-            ts,
-            Discretization::Zoh,
-        )
+        let (k, a) = (finite(k, "k")?, finite(a, "a")?);
+        let (b, ts) = (positive(b, "b")?, positive(ts, "ts")?);
+        let x = -ts / b;
+        let mut out = Self::scalar(x.exp(), -b * x.exp_m1(), k * (b - a) / (b * b))?;
+        out.d = k * a / b;
+        out.check_finite()
     }
 
     /// Second-order block `k ωₙ²/(s² + 2ζωₙ s + ωₙ²)`, ZOH-discretized.
