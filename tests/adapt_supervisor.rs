@@ -6,6 +6,8 @@
 
 mod common;
 
+use msp::adapt::ChangeKind;
+
 const TS: f64 = 0.1;
 
 /// An hour of steady state with 2 % measurement noise after 15 minutes of
@@ -163,6 +165,16 @@ impl msp::adapt::Redesign<f64, LentKd> for Lender {
     }
 }
 
+/// The process gain of [`a_redesign_builds_beside_the_one_in_use_only`] at
+/// sample `k`: up by a fifth, then down below the model's.
+fn gain(k: usize) -> f64 {
+    match k {
+        0..1500 => 0.5,
+        1500..12_000 => 0.6,
+        _ => 0.42,
+    }
+}
+
 /// A scheme rebuilt at each change asks its redesign for a new one only
 /// while the one in use is the only one alive (a device lends two lots of
 /// memory, alternately), and hears of every takeover: the count of
@@ -173,7 +185,70 @@ impl msp::adapt::Redesign<f64, LentKd> for Lender {
 /// (it stays: the model in use becomes the process's).
 #[test]
 fn a_redesign_builds_beside_the_one_in_use_only() {
-    use msp::adapt::{Adaptive, AdaptiveConfig, ChangeKind, EstimatorConfig};
+    let (c, alive, _) = karan_dey_adapting(false, |_| false);
+    let took = c
+        .log()
+        .filter(|e| matches!(e.kind, ChangeKind::Applied | ChangeKind::Restored))
+        .count();
+    assert!(took >= 2 && c.changes() <= 16, "{took}");
+    let r = c.redesign();
+    assert_eq!(r.took_over, took);
+    assert_eq!(r.most, 1);
+    assert!((1..=2).contains(&alive.get()));
+    assert!((c.model().0 - gain(24_000)).abs() < 0.03, "{:?}", c.model());
+}
+
+/// With `background_design` the update that applies a model leaves its
+/// design to `Adaptive::design`: called between samples (as a device's
+/// background task would), the same models are taken, each design a
+/// sample later, the lent lots as before; never called, the scheme in use
+/// and its model stay (a model waits, said by `is_designing`).
+#[test]
+fn a_design_in_the_background_waits_for_its_call() {
+    let (inline, _, _) = karan_dey_adapting(false, |_| false);
+    let (c, alive, designs) = karan_dey_adapting(true, |c| c.design());
+    let applied = |c: &Kd| {
+        c.log()
+            .filter(|e| e.kind == ChangeKind::Applied)
+            .map(|e| (e.k, e.theta))
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (applied(&inline), applied(&c));
+    assert_eq!(a.len(), b.len());
+    for ((k1, t1), (k2, t2)) in a.iter().zip(&b) {
+        assert!(
+            (k1 - k2).abs() < 0.01 * k1 && (t1 - t2).abs() < 0.05,
+            "{a:?} {b:?}"
+        );
+    }
+    assert!(
+        designs >= 2 && designs == c.redesign().took_over,
+        "{designs}"
+    );
+    assert_eq!(c.redesign().most, 1);
+    assert!((1..=2).contains(&alive.get()));
+    assert!(!c.is_designing());
+    // never designed: nothing taken, the loop the fixed predictor's
+    let (idle, _, none) = karan_dey_adapting(true, |_| false);
+    assert_eq!(none, 0);
+    assert!(idle.is_designing());
+    assert_eq!(idle.redesign().took_over, 0);
+    assert_eq!(idle.model(), (0.5, f64::INFINITY, 1.0));
+    assert!(idle.log().all(|e| e.kind != ChangeKind::Applied));
+}
+
+type Kd = msp::adapt::Adaptive<f64, LentKd, Lender, 16, 512>;
+
+/// The Karan–Dey predictor of `0.5 e^{−1s}/s` at [`TS`], rebuilt by a
+/// [`Lender`] at each change (in the background with `background`, `step`
+/// called after each update and counted where it returns true), on the
+/// process whose gain is [`gain`], the set point alternating every 30 s,
+/// 24 000 samples; the redesign's count of lots alive.
+fn karan_dey_adapting(
+    background: bool,
+    mut step: impl FnMut(&mut Kd) -> bool,
+) -> (Kd, std::rc::Rc<std::cell::Cell<usize>>, usize) {
+    use msp::adapt::{AdaptiveConfig, EstimatorConfig};
     use msp::Controller;
     let alive = std::rc::Rc::new(std::cell::Cell::new(0));
     let mut lender = Lender {
@@ -185,31 +260,20 @@ fn a_redesign_builds_beside_the_one_in_use_only() {
     let mut est = EstimatorConfig::new(TS, 4);
     est.integrating = true;
     est.set_prefilter_time(2.5).unwrap();
-    let mut c: Adaptive<f64, LentKd, Lender, 16, 512> = Adaptive::new(
-        first,
-        (0.5, f64::INFINITY, 1.0),
-        AdaptiveConfig::new(est),
-        lender,
-    )
-    .unwrap();
+    let mut cfg = AdaptiveConfig::new(est);
+    cfg.background_design = background;
+    let mut c: Kd = Kd::new(first, (0.5, f64::INFINITY, 1.0), cfg, lender).unwrap();
     let (mut y, mut line) = (0.0, std::collections::VecDeque::from(vec![0.0; 10]));
-    for k in 0..12_000 {
+    let mut steps = 0;
+    for k in 0..24_000 {
         let r = ((k / 300) % 2) as f64;
         let u = c.update(r, y);
+        steps += usize::from(step(&mut c));
         line.push_back(u);
         let late = line.pop_front().unwrap();
-        y += TS * if k < 1500 { 0.5 } else { 0.6 } * late;
+        y += TS * gain(k) * late;
     }
-    let took = c
-        .log()
-        .filter(|e| matches!(e.kind, ChangeKind::Applied | ChangeKind::Restored))
-        .count();
-    assert!(took >= 1 && c.changes() <= 16);
-    let r = c.redesign();
-    assert_eq!(r.took_over, took);
-    assert_eq!(r.most, 1);
-    assert!((1..=2).contains(&alive.get()));
-    assert!((c.model().0 - 0.6).abs() < 0.03, "{:?}", c.model());
+    (c, alive, steps)
 }
 
 /// What a run of [`smith_run`] leaves: the control error without the

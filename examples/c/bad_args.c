@@ -32,13 +32,18 @@ static unsigned char estimator_memory[1 << 14];
 /* The adaptive controller `ad` on e^-1s/(4s+1) sampled at 0.1 s, whose lag
    doubles at sample 1500, for `samples` samples, the set point alternating
    every 300: the largest error at the end of a half period after sample
-   6000. */
-static float lag_doubles(msp_adaptive *ad, int samples) {
+   6000. With `designs` not null, `msp_adaptive_design` is called after
+   each update (as a background task would) and its designs counted. */
+static float lag_doubles(msp_adaptive *ad, int samples, int *designs) {
     const float a = expf(-0.1f / 4.0f), a2 = expf(-0.1f / 8.0f);
     float y = 0.0f, line[10] = {0}, worst = 0.0f;
     for (int k = 0; k < samples; k++) {
         float r = (k / 300) % 2 == 0 ? 1.0f : 0.0f;
         float u = msp_adaptive_update(ad, r, y);
+        int built = 0;
+        if (designs != NULL && msp_adaptive_design(ad, &built) == MSP_OK) {
+            *designs += built;
+        }
         float late = line[k % 10];
         line[k % 10] = u;
         float p = k < 1500 ? a : a2;
@@ -477,7 +482,7 @@ int main(void) {
                && st_.restarts == 0 && st_.adapt_changes == 0);
         /* a controller handle is not an adaptive one */
         EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
-        lag_doubles(ad, 9000);
+        lag_doubles(ad, 9000, NULL);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
         EXPECT(fabsf(st_.tau_model - 8.0f) < 0.8f && fabsf(st_.k_model - 1.0f) < 0.05f
                && fabsf(st_.theta_model - 1.0f) <= 0.1f && st_.adapt_changes >= 1 && !st_.frozen
@@ -648,7 +653,7 @@ int main(void) {
         unsigned char *abuf = adapt_memory + 7;
         EXPECT(msp_adaptive_fsp_init(abuf, need / 2, &afc, &ad) == MSP_BUFFER_TOO_SMALL);
         EXPECT(msp_adaptive_fsp_init(abuf, need, &afc, &ad) == MSP_OK);
-        float worst = lag_doubles(ad, 12000);
+        float worst = lag_doubles(ad, 12000, NULL);
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK);
         EXPECT(fabsf(st_.tau_model - 8.0f) < 0.8f && fabsf(st_.k_model - 1.0f) < 0.05f
                && fabsf(st_.theta_model - 1.0f) <= 0.1f && st_.adapt_changes >= 1 && !st_.frozen);
@@ -659,6 +664,34 @@ int main(void) {
                "error after 600 s at most %.3g\n",
                (double)st_.k_model, (double)st_.tau_model, (double)st_.theta_model, (unsigned)st_.adapt_changes,
                (double)worst);
+
+        /* designed in the background: the update that applies a model
+           leaves its design to msp_adaptive_design (called here between
+           samples, as a background task would); the same models, a sample
+           later each; without the call nothing is applied, and nothing
+           breaks */
+        msp_adaptive_state bg, idle;
+        int designs = 0, none = 0;
+        EXPECT(msp_adaptive_design(NULL, &none) == MSP_NULL_POINTER);
+        EXPECT(msp_adaptive_design((msp_adaptive *)(void *)memory, &none) == MSP_BAD_HANDLE);
+        afc.adapt.background_design = 1;
+        EXPECT(msp_adaptive_fsp_init(abuf, need, &afc, &ad) == MSP_OK);
+        EXPECT(msp_adaptive_design(ad, &none) == MSP_OK && none == 0);
+        EXPECT(msp_adaptive_design(ad, NULL) == MSP_OK);
+        float bg_worst = lag_doubles(ad, 12000, &designs);
+        EXPECT(msp_adaptive_read(ad, &bg) == MSP_OK);
+        EXPECT(designs >= 1 && !bg.frozen);
+        EXPECT(fabsf(bg.tau_model - st_.tau_model) < 0.05f * st_.tau_model
+               && fabsf(bg.k_model - st_.k_model) < 0.01f && bg.theta_model == st_.theta_model);
+        EXPECT(bg_worst < 0.01f);
+        EXPECT(msp_adaptive_fsp_init(abuf, need, &afc, &ad) == MSP_OK);
+        lag_doubles(ad, 12000, NULL);
+        EXPECT(msp_adaptive_read(ad, &idle) == MSP_OK);
+        EXPECT(!idle.frozen && idle.tau_model == 4.0f && idle.k_model == 1.0f);
+        printf("adaptive fsp designed in the background: %d designs, model k %.4g, tau %.4g s, "
+               "theta %.4g s; without the calls, tau %.4g s\n",
+               designs, (double)bg.k_model, (double)bg.tau_model, (double)bg.theta_model,
+               (double)idle.tau_model);
     }
 
     printf("%s: %d failures\n", failures ? "FAIL" : "ok", failures);

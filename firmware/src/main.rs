@@ -10,6 +10,7 @@
 #![no_std]
 #![no_main]
 
+mod adaptive;
 mod loops;
 mod mimo;
 
@@ -575,6 +576,19 @@ fn main() -> ! {
         f64::from(max_ap) * ipt
     );
     let ok = ok & (applied > 0);
+    let (max_kd, kd_at, kd_applied, kd_design) = adaptive::karan_dey_applying();
+    hprintln!(
+        "adaptive karan-dey applying a model ({} applied, f32, designed in the background): the longest call {} (about {:.0} instructions)",
+        kd_applied,
+        kd_at,
+        f64::from(max_kd) * ipt
+    );
+    hprintln!(
+        "designs in the background (about): karan-dey {:.0} instructions, filtered smith (f64) {:.0}",
+        f64::from(kd_design) * ipt,
+        f64::from(adaptive::fsp_design_ticks()) * ipt
+    );
+    let ok = ok & (kd_applied > 0);
     // 1e-3 as for the design on the device: the model the loop runs on is
     // estimated in f32, by recursive least squares whose covariance spans
     // four decades (its rounding, ~1e-7 times that, reaches the estimates at

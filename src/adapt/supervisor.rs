@@ -50,8 +50,10 @@ use crate::{
 
 mod block;
 mod config;
+mod design;
 mod log;
 mod redesign;
+mod slots;
 mod traits;
 mod watch;
 
@@ -60,11 +62,12 @@ use block::{near, Block};
 pub use config::AdaptiveConfig;
 pub use log::SIGNALS;
 pub use redesign::{Rebuild, Redesign};
+use slots::Slots;
 
-/// A rebuilt scheme warming up beside the one in use.
-#[derive(Debug, Clone)]
-struct Shadow<T, C> {
-    scheme: C,
+/// A rebuilt scheme warming up beside the one in use (in the spare place
+/// of [`Slots`]).
+#[derive(Debug, Clone, Copy)]
+struct Shadow<T> {
     model: Model<T>,
     /// Samples until it takes over.
     left: u32,
@@ -118,9 +121,41 @@ pub(super) struct Model<T> {
 /// assert!(kinds.contains(&ChangeKind::Applied));
 /// # Ok::<(), msp::Error>(())
 /// ```
+// (fields in the order of use: those every sample reads first, then the
+// scheme and the estimator, the rest after them; a Cortex-M4F's
+// floating-point loads reach 1 020 bytes from a base, #48 item 7)
 #[derive(Debug, Clone)]
+#[repr(C)]
 pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16> {
-    inner: C,
+    /// The estimator's reference is to follow the model in use before its
+    /// next sample: a model applied in a call that ended an estimator
+    /// sample sets it there, its coefficients and hypotheses computed in
+    /// the next call (a Cortex-M4F's longest call, #48 item 7).
+    refer: bool,
+    /// The last measurement, for the estimator once its input is known.
+    pending: Option<T>,
+    ok: bool,
+    frozen: bool,
+    last_u: T,
+    /// The last set point, and whether it moved in the current block (a
+    /// set-point move starts a transient, not a half-cycle of an
+    /// oscillation).
+    r_last: T,
+    r_moved: bool,
+    /// The control error's sum over the current block, and its count.
+    err: T,
+    err_n: u32,
+    /// Controller samples so far.
+    samples: u64,
+    logged: usize,
+    /// A rebuilt scheme warming up to take over.
+    shadow: Option<Shadow<T>>,
+    /// A model whose scheme is to be rebuilt by [`Adaptive::design`]
+    /// ([`AdaptiveConfig::background_design`]), and what its taking over is
+    /// logged as.
+    waiting: Option<(Model<T>, ChangeKind)>,
+    /// The scheme in use, and a rebuilt one warming up (`shadow`).
+    inner: Slots<C>,
     est: Estimator<T, N, H>,
     cfg: AdaptiveConfig<T>,
     retune: R,
@@ -129,18 +164,10 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// one (what an oscillation after a change restores).
     commissioned: Model<T>,
     validated: Model<T>,
-    /// Estimator samples so far, and the control error's sum over the
-    /// current block.
+    /// Estimator samples so far.
     blocks: u64,
-    err: T,
-    err_n: u32,
     /// Half-cycles of a growing oscillation in a row (the emergency path).
     growing: u32,
-    /// The last set point, and whether it moved in the current block (a
-    /// set-point move starts a transient, not a half-cycle of an
-    /// oscillation).
-    r_last: T,
-    r_moved: bool,
     /// The factor on the rule's gain after detuning (1: none).
     detune: T,
     /// An edge warning was logged for the estimate as it stands.
@@ -154,20 +181,8 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// The last complete block's mean, when the estimate held still in it.
     settled: Option<(usize, Model<T>)>,
     since: u32,
-    samples: u64,
-    frozen: bool,
     rest_until: u64,
     log: [Option<Change<T>>; L],
-    logged: usize,
-    last_u: T,
-    ok: bool,
-    /// The last measurement, for the estimator once its input is known.
-    pending: Option<T>,
-    /// The estimator's reference is to follow the model in use before its
-    /// next sample: a model applied in a call that ended an estimator
-    /// sample sets it there, its coefficients and hypotheses computed in
-    /// the next call (a Cortex-M4F's longest call, #48 item 7).
-    refer: bool,
     watching: u32,
     side: i8,
     crossed: u32,
@@ -176,8 +191,6 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     half: u32,
     peak: T,
     last_peak: T,
-    /// A rebuilt scheme warming up to take over.
-    shadow: Option<Shadow<T, C>>,
     /// The model-error alarm, and for how many samples its condition has
     /// held against its state.
     alarm: bool,
@@ -211,7 +224,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // until evidence says otherwise)
         est.start_from(k, tau, theta)?;
         Ok(Adaptive {
-            inner,
+            inner: Slots::new(inner),
             est,
             cfg,
             retune,
@@ -248,6 +261,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             alarm: false,
             alarm_for: 0,
             shadow: None,
+            waiting: None,
         })
     }
 
@@ -352,9 +366,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.since = self.since.saturating_add(1);
             self.supervise(mean);
         }
-        let u = self.inner.update(r, y);
+        let scheme = &mut *self.inner;
+        let u = scheme.update(r, y);
         self.last_u = u;
-        self.ok = u.is_finite() && !self.inner.fault();
+        self.ok = u.is_finite() && !scheme.fault();
         self.warm(r, y, u, self.logged != logged);
         u
     }
@@ -368,8 +383,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         let Some(sh) = self.shadow.as_mut() else {
             return;
         };
-        sh.scheme.update(r, y);
-        sh.scheme.apply(u, Tracking::Full);
+        if let Some(spare) = self.inner.spare_mut() {
+            spare.update(r, y);
+            spare.apply(u, Tracking::Full);
+        }
         sh.left = sh.left.saturating_sub(1);
         if sh.left > 0 {
             return;
@@ -379,7 +396,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return;
         }
         if let Some(sh) = self.shadow.take() {
-            self.inner = sh.scheme;
+            // (a flag: the scheme's lines are not copied)
+            self.inner.swap();
             self.retune.took_over();
             self.model = sh.model;
             self.reference();
@@ -434,36 +452,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             Err(Error::Unsupported(why)) => {
                 // the one warming up (if any) goes before its successor is built
                 self.shadow = None;
-                let scheme = self
-                    .retune
-                    .rebuild(m.k, m.tau, m.theta)
-                    .ok_or(Error::Unsupported(why))?;
-                // the model in use is the one built: its dead time as the
-                // scheme runs it (a filtered Smith predictor's is rounded
-                // to a sample; one without a run-time dead time says so
-                // through its redesign)
-                let m = Model {
-                    theta: scheme
-                        .dead_time()
-                        .map(|d| d * ts)
-                        .or_else(|| self.retune.built_dead_time())
-                        .unwrap_or(m.theta),
-                    ..m
-                };
-                // its dead time and four time constants (an integrating
-                // model's: four dead times) fill its lines and settle it
-                let span = if m.tau.is_finite() { m.tau } else { m.theta };
-                let samples = ((m.theta + T::of(4.0) * span) / ts).ceil();
-                let left = num_traits::ToPrimitive::to_u32(&samples)
-                    .unwrap_or(u32::MAX)
-                    .clamp(1, 100_000);
-                self.shadow = Some(Shadow {
-                    scheme,
-                    model: m,
-                    left,
-                    kind,
-                });
-                return Ok(false);
+                if self.cfg.background_design {
+                    self.waiting = Some((m, kind));
+                    return Ok(false);
+                }
+                return self.rebuild(m, kind, why).map(|()| false);
             }
             Err(e) => return Err(e),
         }
@@ -510,7 +503,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if self.logged != logged {
             return;
         }
-        if !self.cfg.apply || self.blocks < self.rest_until || self.shadow.is_some() {
+        if !self.cfg.apply
+            || self.blocks < self.rest_until
+            || self.shadow.is_some()
+            || self.waiting.is_some()
+        {
             return;
         }
         // an estimate at an edge is warned of and never applied, but it

@@ -273,7 +273,11 @@ typedef msp_smith_config_float msp_smith_config;
 // `lambda` of the scheme's own tuning rule at each change (0: the
 // rule's default; NaN: a Smith predictor's gains stay, and a
 // Karan–Dey predictor, whose every block is designed from the model,
-// cannot take it).
+// cannot take it); `background_design` (nonzero: a Karan–Dey or a
+// filtered Smith predictor is designed for a new model by
+// `msp_adaptive_design`, called outside the sample, e.g. by a
+// background task, rather than in the update that applies it: the
+// update stays within its budget; 0 by default).
 typedef struct {
   uint32_t decimation;
   uint32_t d_min;
@@ -287,6 +291,7 @@ typedef struct {
   float band;
   uint32_t apply;
   float lambda;
+  uint32_t background_design;
 } msp_adapt_config_of_f32;
 
 // An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
@@ -336,7 +341,11 @@ typedef msp_smith_config_double msp_smith_config_f64;
 // `lambda` of the scheme's own tuning rule at each change (0: the
 // rule's default; NaN: a Smith predictor's gains stay, and a
 // Karan–Dey predictor, whose every block is designed from the model,
-// cannot take it).
+// cannot take it); `background_design` (nonzero: a Karan–Dey or a
+// filtered Smith predictor is designed for a new model by
+// `msp_adaptive_design`, called outside the sample, e.g. by a
+// background task, rather than in the update that applies it: the
+// update stays within its budget; 0 by default).
 typedef struct {
   uint32_t decimation;
   uint32_t d_min;
@@ -350,6 +359,7 @@ typedef struct {
   double band;
   uint32_t apply;
   double lambda;
+  uint32_t background_design;
 } msp_adapt_config_of_f64;
 
 // An adaptive Smith predictor (`msp::adapt::Adaptive`): the predictor
@@ -943,6 +953,23 @@ msp_status msp_adaptive_freeze(msp_adaptive *ctrl, int frozen);
 // # Safety
 // As [`msp_adaptive_freeze`].
 msp_status msp_adaptive_freeze_f64(msp_adaptive_f64 *ctrl, int frozen);
+
+// Designs the Karan–Dey or filtered Smith predictor a new model waits
+// for (`background_design`): call it outside the sample, e.g. from a
+// background task, with the controller not updated meanwhile. `*built`
+// (when not null) is 1 where one was designed (it warms up beside the
+// one in use and takes over, as the change logged), 0 where none was
+// waiting or the design failed (adaptation frozen, logged as refused).
+//
+// # Safety
+// `ctrl` is null or from `msp_adaptive_init`; `built` null or valid.
+msp_status msp_adaptive_design(msp_adaptive *ctrl, int *built);
+
+// [`msp_adaptive_design`] in double precision.
+//
+// # Safety
+// As [`msp_adaptive_design`].
+msp_status msp_adaptive_design_f64(msp_adaptive_f64 *ctrl, int *built);
 
 // One sample: set point and measurement in, actuator value out (NaN for a
 // null or foreign handle); the plant is taken to have received the last

@@ -94,7 +94,11 @@ c_config! {
     /// `lambda` of the scheme's own tuning rule at each change (0: the
     /// rule's default; NaN: a Smith predictor's gains stay, and a
     /// Karan–Dey predictor, whose every block is designed from the model,
-    /// cannot take it).
+    /// cannot take it); `background_design` (nonzero: a Karan–Dey or a
+    /// filtered Smith predictor is designed for a new model by
+    /// `msp_adaptive_design`, called outside the sample, e.g. by a
+    /// background task, rather than in the update that applies it: the
+    /// update stays within its budget; 0 by default).
     msp_adapt_config_of: msp_adapt_config, msp_adapt_config_f64 {
         decimation: u32,
         d_min: u32,
@@ -108,6 +112,7 @@ c_config! {
         band: T,
         apply: u32,
         lambda: T,
+        background_design: u32,
     }
 }
 
@@ -531,6 +536,23 @@ twins! {
     ) -> msp_status {
         // SAFETY: forwarded
         unsafe { adaptive_freeze(ctrl, frozen != 0) }
+    }
+
+    /// Designs the Karan–Dey or filtered Smith predictor a new model waits
+    /// for (`background_design`): call it outside the sample, e.g. from a
+    /// background task, with the controller not updated meanwhile. `*built`
+    /// (when not null) is 1 where one was designed (it warms up beside the
+    /// one in use and takes over, as the change logged), 0 where none was
+    /// waiting or the design failed (adaptation frozen, logged as refused).
+    ///
+    /// # Safety
+    /// `ctrl` is null or from `msp_adaptive_init`; `built` null or valid.
+    fn msp_adaptive_design, msp_adaptive_design_f64(
+        ctrl: *mut msp_adaptive | *mut msp_adaptive_f64,
+        built: *mut core::ffi::c_int,
+    ) -> msp_status {
+        // SAFETY: forwarded
+        unsafe { adaptive_design(ctrl, built) }
     }
 }
 

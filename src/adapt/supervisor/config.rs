@@ -72,6 +72,12 @@ pub struct AdaptiveConfig<T> {
     /// `min_evidence` (default 0.1); it clears below half of it; infinite:
     /// no alarm.
     pub alarm: T,
+    /// Whether a scheme rebuilt for a model ([`crate::adapt::Redesign::rebuild`])
+    /// is built by [`crate::adapt::Adaptive::design`], called outside the
+    /// control loop's sample, rather than in the update that applies the
+    /// model (default false): a device's update then stays within its
+    /// budget whatever the design costs.
+    pub background_design: bool,
 }
 
 impl<T: Real> AdaptiveConfig<T> {
@@ -110,6 +116,7 @@ impl<T: Real> AdaptiveConfig<T> {
             bound: T::of(4.0),
             emergency: 4,
             validate: T::of(16.0),
+            background_design: false,
         }
     }
 }

@@ -38,8 +38,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// answer to the control law) but records what the plant received.
     fn apply(&mut self, applied: T, how: Tracking) {
         self.inner.apply(applied, how);
-        if let Some(sh) = self.shadow.as_mut() {
-            sh.scheme.apply(applied, Tracking::Full);
+        if self.shadow.is_some() {
+            if let Some(spare) = self.inner.spare_mut() {
+                spare.apply(applied, Tracking::Full);
+            }
         }
         if applied.is_finite() && applied != self.last_u {
             self.last_u = applied;

@@ -17,6 +17,7 @@ pub(super) trait View<T> {
     fn update_applied(&mut self, r: T, y: T, u: Option<T>) -> T;
     fn state(&self) -> msp_adaptive_state_of<T>;
     fn freeze(&mut self, frozen: bool);
+    fn design(&mut self) -> bool;
 }
 
 impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N, H> {
@@ -52,6 +53,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N,
         } else {
             self.resume();
         }
+    }
+
+    fn design(&mut self) -> bool {
+        Adaptive::design(self)
     }
 }
 
@@ -483,6 +488,24 @@ pub(super) unsafe fn adaptive_freeze<H: Tagged>(h: *mut H, frozen: bool) -> msp_
         return bad(h);
     };
     c.view().freeze(frozen);
+    msp_status::MSP_OK
+}
+
+/// # Safety
+/// As [`value`]; `built` null or valid.
+pub(super) unsafe fn adaptive_design<H: Tagged>(
+    h: *mut H,
+    built: *mut core::ffi::c_int,
+) -> msp_status {
+    // SAFETY: forwarded
+    let Some(c) = (unsafe { value::<H, Adapting<H::T>>(h) }) else {
+        return bad(h);
+    };
+    let done = c.view().design();
+    if !built.is_null() {
+        // SAFETY: non-null, the caller's
+        unsafe { built.write(core::ffi::c_int::from(done)) };
+    }
     msp_status::MSP_OK
 }
 

@@ -139,6 +139,7 @@ pub(super) fn adaptive_config<T: Real>(
     a.alarm = c.alarm;
     a.band = c.band;
     a.apply = c.apply != 0;
+    a.background_design = c.background_design != 0;
     a.validate()?;
     Ok(a)
 }
@@ -180,6 +181,7 @@ pub(super) fn adapt_default<T: Real>(
         band: a.band,
         apply: 1,
         lambda: T::zero(),
+        background_design: u32::from(a.background_design),
     };
     adaptive_config(&c, m, ts)?;
     Ok(c)
