@@ -206,5 +206,6 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
         (false, false) => engine::samples::<C, false, false>(&mut run, controller, cfg, res),
     };
     res.truncate(rows?);
+    res.adaptive = controller.adaptive_state();
     Ok(())
 }

@@ -41,6 +41,10 @@ pub struct SimResult {
     pub diverged_at: Option<f64>,
     /// Rows per controller period (the controller's samples are every `substeps` rows).
     pub substeps: usize,
+    /// An adaptive controller's state at the end of the run
+    /// ([`crate::Operate::adaptive_state`]; `None` for one that does not
+    /// adapt).
+    pub adaptive: Option<crate::operate::AdaptiveState<f64>>,
 }
 
 impl SimResult {
@@ -48,6 +52,7 @@ impl SimResult {
     pub(super) fn clear(&mut self) {
         self.truncate(0);
         self.diverged_at = None;
+        self.adaptive = None;
     }
 
     /// Sizes the columns a run records to `rows` rows (the engine writes

@@ -50,8 +50,7 @@ pub use mimo::{
 };
 pub use output::RunOutput;
 pub use report::{
-    AdaptationReport, ControllerReport, EstimatorReport, ProcessReport, Report, RuleRow,
-    TuneReport, TuningReport,
+    AdaptationReport, ControllerReport, ProcessReport, Report, RuleRow, TuneReport, TuningReport,
 };
 pub(crate) use robustness::Advice;
 pub use robustness::Robustness;

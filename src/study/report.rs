@@ -151,24 +151,6 @@ pub struct AdaptationReport {
     pub mismatch: Option<f64>,
 }
 
-/// The adaptation's estimator at the end of a run (`--adapt` or
-/// `--monitor`; the CSV's last `learnt`, `onsets` and `restarts`): what it
-/// learnt from, and why it may have applied nothing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct EstimatorReport {
-    /// Estimator samples its chosen dead time learnt from
-    /// ([`crate::adapt::Estimator::learnt`]; 0: nothing moved the loop
-    /// enough to identify the process).
-    pub learnt: u64,
-    /// Load onsets it found and did not learn from
-    /// ([`crate::adapt::Estimator::onsets`]).
-    pub onsets: u64,
-    /// Restarts of its candidates by the dead-time change detector
-    /// ([`crate::adapt::Estimator::restarts`]).
-    pub restarts: u64,
-}
-
 /// What a run did and how it performed.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -209,9 +191,13 @@ pub struct Report {
     /// Every change of the model an adaptive run made (empty without
     /// adaptation).
     pub adaptation: Vec<AdaptationReport>,
-    /// The adaptation's estimator at the end of the run (absent without
-    /// adaptation).
-    pub estimator: Option<EstimatorReport>,
+    /// The adaptive controller's state at the end of the run (`--adapt` or
+    /// `--monitor`; absent without adaptation): the estimate, the model in
+    /// use, the estimator's counts (`learnt`: 0, nothing moved the loop
+    /// enough to identify the process; `onsets`, `restarts`), under the
+    /// names the library, Python's `Controller.state` and C's
+    /// `msp_adaptive_state` give them.
+    pub adaptive: Option<crate::operate::AdaptiveState<f64>>,
     /// The designed quantities a paper prints beside the parameters (see
     /// [`TuneReport::design`]).
     #[cfg_attr(
@@ -260,7 +246,7 @@ impl RunOutput {
             events: self.events.clone(),
             operator_events: self.operator_events(),
             adaptation: self.adaptation(),
-            estimator: self.estimator(),
+            adaptive: self.result.adaptive,
             design: self.design.clone(),
             robustness: self.robustness,
             stable: self.stable(),
@@ -298,18 +284,6 @@ impl RunOutput {
     /// which `adapt_changes` grew, with the model in use from then on.
     pub fn adaptation(&self) -> Vec<AdaptationReport> {
         adaptation_log(&self.result)
-    }
-
-    /// The adaptation's estimator at the end of the run, read from the
-    /// recorded signals (`None` without adaptation).
-    pub fn estimator(&self) -> Option<EstimatorReport> {
-        let last =
-            |name: &str| num_traits::ToPrimitive::to_u64(column(&self.result, name)?.last()?);
-        Some(EstimatorReport {
-            learnt: last("learnt")?,
-            onsets: last("onsets")?,
-            restarts: last("restarts")?,
-        })
     }
 
     /// The loop's verdict: the characteristic equation's, or where that is

@@ -36,8 +36,27 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     // samples counted
     let learnt: u64 = last("learnt").parse().unwrap();
     assert!(learnt > 100, "{learnt}");
-    // the same in the report and the summary
-    assert_eq!(r["estimator"]["learnt"].as_u64(), Some(learnt));
+    // the same in the report (the adaptive controller's state at the end,
+    // under the CSV's names: its last row) and the summary
+    let state = &r["adaptive"];
+    assert_eq!(state["learnt"].as_u64(), Some(learnt));
+    for name in [
+        "k_model",
+        "tau_model",
+        "theta_model",
+        "k_hat",
+        "theta_hat",
+        "mismatch",
+    ] {
+        let csv: f64 = last(name).parse().unwrap();
+        let json = state[name].as_f64().unwrap();
+        assert!(
+            (csv - json).abs() <= 1e-12 * json.abs().max(1.0),
+            "{name}: {csv} {json}"
+        );
+    }
+    assert_eq!(state["model_alarm"], true);
+    assert_eq!(state["frozen"], false);
     assert!(
         text.contains(&format!("estimator   learnt from {learnt} samples")),
         "{text}"
@@ -50,7 +69,7 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
             .collect();
     let (summary, short) =
         reported_run(&args, &dir.path().join("s.csv"), &dir.path().join("s.json"));
-    assert_eq!(short["estimator"]["learnt"].as_u64(), Some(0));
+    assert_eq!(short["adaptive"]["learnt"].as_u64(), Some(0));
     assert!(
         summary.contains(
             "learnt from 0 samples (nothing moved the loop enough to identify the process)"

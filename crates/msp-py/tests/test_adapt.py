@@ -87,10 +87,13 @@ def test_adapt_follows_a_process_lag_that_doubled():
     log = adaptive.report()["adaptation"]
     assert log and log[-1]["kind"] == "applied" and log[-1]["tau"] == adaptive.signals["tau_model"][-1]
     assert fixed.report()["adaptation"] == []
-    # the estimator's counts: the report's as the signals' last row (the CLI's JSON alike)
-    est = adaptive.report()["estimator"]
-    assert est["learnt"] == adaptive.signals["learnt"][-1] > 0 and fixed.report()["estimator"] is None
-    assert set(est) == {"learnt", "onsets", "restarts"}
+    # the adaptive state at the end: the report's as the signals' last row (the CLI's JSON
+    # alike), under the names of Controller.state
+    state = adaptive.report()["adaptive"]
+    assert state["learnt"] == adaptive.signals["learnt"][-1] > 0 and fixed.report()["adaptive"] is None
+    for name in ("k_model", "tau_model", "theta_model", "onsets", "restarts"):
+        assert state[name] == adaptive.signals[name][-1], name
+    assert set(state) == set(msp.SmithPredictor("e^-1s/(4s+1)", 0.1, adapt=True).state)
     with pytest.raises(ValueError, match="unknown option 'speed'"):
         msp.run("e^-1s/(4s+1)", adapt={"speed": 1}, **kw)
     with pytest.raises(ValueError, match="dead zone"):

@@ -157,7 +157,7 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
             fmt_sig(c.theta)
         ));
     }
-    if let Some(e) = out.estimator() {
+    if let Some(e) = out.result.adaptive {
         // what the estimator learnt from: why nothing may have been applied
         let still = if e.learnt == 0 {
             " (nothing moved the loop enough to identify the process)"
