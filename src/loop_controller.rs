@@ -60,6 +60,9 @@ macro_rules! forward_operate {
             fn adaptive_state(&self) -> Option<crate::operate::AdaptiveState<T>> {
                 (**self).adaptive_state()
             }
+            fn design(&mut self) -> bool {
+                (**self).design()
+            }
         }
     )*};
 }
@@ -130,6 +133,9 @@ impl<C: Operate<f32>> Operate<f64> for Widened<C> {
     }
     fn adaptive_state(&self) -> Option<crate::operate::AdaptiveState<f64>> {
         self.0.adaptive_state().map(|s| s.map(f64::from))
+    }
+    fn design(&mut self) -> bool {
+        self.0.design()
     }
 }
 

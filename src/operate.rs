@@ -129,6 +129,14 @@ pub trait Operate<T: Real>: Controller<T> {
         None
     }
 
+    /// The work an adaptive controller leaves for outside the sample with
+    /// [`crate::adapt::AdaptiveConfig::background_design`]: the scheme a
+    /// new model needs, designed ([`crate::adapt::Adaptive::design`]);
+    /// whether one was. `false` for a controller with none.
+    fn design(&mut self) -> bool {
+        false
+    }
+
     /// Changes a gain of the primary PID while the loop runs, bumpless: the
     /// integrator absorbs the change of the proportional and derivative
     /// terms, so that the output at the change is the one the old gains gave
@@ -362,6 +370,9 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
     }
     fn adaptive_state(&self) -> Option<AdaptiveState<T>> {
         self.inner.adaptive_state()
+    }
+    fn design(&mut self) -> bool {
+        self.inner.design()
     }
 }
 

@@ -163,6 +163,7 @@ fn simulate_process<C: CascadeControl<f64> + Introspect<f64> + Operate<f64> + ?S
     let operated = !cfg.operations.is_empty()
         || cfg.actuator.is_some()
         || cfg.reset_feedback
+        || cfg.background
         || cfg.setpoint_ramp != f64::INFINITY;
     let applies = !ops.is_empty() || cfg.actuator.is_some();
     let columns = Columns {

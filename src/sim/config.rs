@@ -63,6 +63,11 @@ pub struct SimConfig {
     /// The controller's set point moves to the scheduled one by at most this
     /// much per second (industrial blocks' set-point ramp); ∞: steps.
     pub setpoint_ramp: f64,
+    /// The controller's background work runs between samples, as a
+    /// device's background task would: [`crate::Operate::design`] after
+    /// each update (an adaptive controller with
+    /// [`crate::adapt::AdaptiveConfig::background_design`]).
+    pub background: bool,
 }
 
 /// An operator's action at a time of the run.
@@ -143,6 +148,7 @@ impl SimConfig {
             operations: Vec::new(),
             actuator: None,
             reset_feedback: false,
+            background: false,
             setpoint_ramp: f64::INFINITY,
         }
     }

@@ -252,6 +252,9 @@ where
         Some(y2) => controller.update_cascade(r, y, y2),
         None => controller.update(r, y),
     };
+    if OPERATED && cfg.background {
+        controller.design();
+    }
     if f.limited {
         u = crate::real::clamp(u, cfg.u_min, cfg.u_max);
     }

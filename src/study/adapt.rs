@@ -60,6 +60,12 @@ pub struct AdaptOptions {
     /// The model error that raises the alarm (default 0.1: 10 %, with
     /// the monitor; giving it turns the monitor on).
     pub alarm: Option<f64>,
+    /// A scheme rebuilt for each model (the Karan–Dey, the filtered Smith
+    /// predictor) is designed between samples, as a device's background
+    /// task would ([`crate::adapt::AdaptiveConfig::background_design`]):
+    /// each new scheme a sample later (default false: in the update that
+    /// applies its model).
+    pub background_design: Option<bool>,
 }
 
 /// The scheme's own design for a model, at the scenario's λ policy: the
@@ -250,6 +256,7 @@ impl Scenario {
         if let Some(apply) = opts.apply {
             cfg.apply = apply;
         }
+        cfg.background_design = opts.background_design.unwrap_or(false);
         // the alarm where the monitor is asked for
         cfg.alarm = match opts.alarm {
             Some(a) => crate::real::positive(a, "adapt alarm")?,

@@ -444,6 +444,9 @@ impl Scenario {
             actuator: self.actuator,
             reset_feedback: self.reset_feedback,
             setpoint_ramp: self.setpoint_ramp.unwrap_or(f64::INFINITY),
+            background: self
+                .adapt_options()
+                .is_some_and(|a| a.background_design == Some(true)),
         };
         let result = match inner {
             Some((p2, _)) => simulate_cascade(plant, p2, &mut ctrl, &cfg)?,

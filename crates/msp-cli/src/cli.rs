@@ -203,6 +203,12 @@ pub(crate) struct ScenarioArgs {
     /// applied (default 4).
     #[arg(long, value_name = "FACTOR", allow_hyphen_values = true)]
     pub(crate) adapt_bound: Option<f64>,
+    /// A scheme rebuilt for each model (karan-dey, fsp) is designed between
+    /// samples, as a device's background task would (C:
+    /// `background_design` and `msp_adaptive_design`): each new scheme a
+    /// sample later than when designed in the update that applies its model.
+    #[arg(long)]
+    pub(crate) adapt_background: bool,
     /// Model-error monitor: the estimator watches the model in use and
     /// raises an alarm (in the report and the summary, and the CSV columns
     /// mismatch, model_alarm) when the process no longer matches it;

@@ -233,3 +233,56 @@ fn the_emergency_path_is_said_in_the_summary() {
         .unwrap_or_else(|| panic!("{text}"));
     assert!(detuned < text.find(line).unwrap_or(0), "{text}");
 }
+
+/// `--adapt-background`: the filtered Smith predictor, rebuilt for each
+/// model, designed between samples (as a device's background task would)
+/// takes the same model one sample later than when designed in the update
+/// that applies it; the report's scenario keeps the option (a rerun from
+/// it designs alike). Without `--adapt` it is refused by name.
+#[test]
+fn a_design_in_the_background_takes_over_a_sample_later() {
+    let run = |extra: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let mut args: Vec<String> = words(&format!(
+            "run --plant e^-1s/(4s+1) -c fsp --ts 0.1 --duration 600 --event 150:plant-lag=8 --adapt {extra}"
+        ))
+        .map(String::from)
+        .collect();
+        for i in 0..20 {
+            args.push("--setpoint".into());
+            args.push(format!("{}@{}", i % 2, 30 * i));
+        }
+        reported_run(&args, &dir.path().join("b.csv"), &dir.path().join("b.json")).1
+    };
+    let (inline, background) = (run(""), run("--adapt-background"));
+    let applied = |r: &serde_json::Value| -> Vec<(f64, f64)> {
+        r["adaptation"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["kind"] == "applied")
+            .map(|c| (c["at"].as_f64().unwrap(), c["tau"].as_f64().unwrap()))
+            .collect()
+    };
+    let (a, b) = (applied(&inline), applied(&background));
+    assert!(!a.is_empty() && a.len() == b.len(), "{a:?} {b:?}");
+    for ((t1, tau1), (t2, tau2)) in a.iter().zip(&b) {
+        assert!(((t2 - t1) - 0.1).abs() < 1e-9, "{a:?} {b:?}");
+        assert!((tau1 - tau2).abs() < 1e-6 * tau1, "{a:?} {b:?}");
+    }
+    assert_eq!(background["scenario"]["adapt"]["background_design"], true);
+    assert_eq!(
+        inline["scenario"]["adapt"]["background_design"],
+        serde_json::Value::Null
+    );
+    let refused = msp()
+        .args(words(
+            "run --plant e^-1s/(4s+1) -c fsp --adapt-background -o /dev/null",
+        ))
+        .assert()
+        .failure()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(refused.stderr).unwrap();
+    assert!(text.contains("--adapt-background"), "{text}");
+}

@@ -281,6 +281,15 @@ impl Controller {
     fn resume(&mut self) -> PyResult<()> {
         self.inner.inner_mut().set_adapting(true).map_err(value_err)
     }
+    /// Designs the scheme a new model waits for, as a device's background
+    /// task does between samples (``adapt={"background_design": True}``:
+    /// a Karan–Dey or filtered Smith predictor, rebuilt for each model,
+    /// is then not designed in the ``update`` that applies the model);
+    /// whether one was. False for a controller with nothing waiting.
+    fn design(&mut self) -> bool {
+        use msp::Operate;
+        self.inner.inner_mut().design()
+    }
     /// One sample: set point and measurement in, actuator value out; ``y2`` is
     /// the secondary measurement of a cascade (ignored by single-loop schemes);
     /// ``u_applied`` is what the actuator really applied for the last output

@@ -432,14 +432,15 @@ pub(crate) fn fit_dict<'py>(
 
 /// A Python ``adapt`` argument: ``True``/``False`` or a dict of the
 /// options (``delay=(min, max)``, ``forgetting``, ``excitation``,
-/// ``min_change``, ``prefilter``, ``dead_zone``, ``bound``, ``apply``, ``alarm``).
+/// ``min_change``, ``prefilter``, ``dead_zone``, ``bound``, ``apply``, ``alarm``,
+/// ``background_design``).
 pub(crate) fn adapt_options(v: &Bound<'_, PyAny>) -> PyResult<Option<msp::study::AdaptOptions>> {
     if let Ok(on) = v.extract::<bool>() {
         return Ok(on.then(msp::study::AdaptOptions::default));
     }
     let d = v.downcast::<pyo3::types::PyDict>().map_err(|_| {
         PyTypeError::new_err(
-            "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter, dead_zone, bound, apply, alarm",
+            "adapt: True, False or a dict of delay=(min, max), forgetting, excitation, min_change, prefilter, dead_zone, bound, apply, alarm, background_design",
         )
     })?;
     let mut o = msp::study::AdaptOptions::default();
@@ -455,9 +456,10 @@ pub(crate) fn adapt_options(v: &Bound<'_, PyAny>) -> PyResult<Option<msp::study:
             "dead_zone" => o.dead_zone = Some(x.extract()?),
             "bound" => o.bound = Some(x.extract()?),
             "alarm" => o.alarm = Some(x.extract()?),
+            "background_design" => o.background_design = Some(x.extract()?),
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter, dead_zone, bound, apply, alarm)"
+                    "adapt: unknown option '{other}' (delay, forgetting, excitation, min_change, prefilter, dead_zone, bound, apply, alarm, background_design)"
                 )))
             }
         }

@@ -266,3 +266,37 @@ def test_adaptive_controller_per_sample():
     assert plain.state is None and plain.log == [] and frozen.log == []
     with pytest.raises(ValueError, match="does not adapt"):
         plain.freeze()
+
+
+def test_background_design_waits_for_its_call():
+    """adapt={"background_design": True}: the filtered Smith predictor, rebuilt for each model,
+    is designed between samples (as a device's background task would). msp.run takes the same
+    model a sample later; a per-sample controller takes it only when design() is called, and
+    without the calls keeps the model it was built for."""
+    steps = [(float(i % 2), 30.0 * i) for i in range(20)]
+    kw = dict(controller="fsp", ts=0.1, duration=600.0, setpoint=steps, events=["150:plant-lag=8"])
+    inline = msp.run("e^-1s/(4s+1)", adapt=True, **kw).report()["adaptation"]
+    later = msp.run("e^-1s/(4s+1)", adapt={"background_design": True}, **kw).report()["adaptation"]
+    a = [(c["at"], c["tau"]) for c in inline if c["kind"] == "applied"]
+    b = [(c["at"], c["tau"]) for c in later if c["kind"] == "applied"]
+    assert a and len(a) == len(b)
+    for (t1, tau1), (t2, tau2) in zip(a, b):
+        assert abs((t2 - t1) - 0.1) < 1e-9 and abs(tau1 - tau2) < 1e-6 * tau1
+    a8 = math.exp(-0.1 / 8.0)
+
+    def loop(c, call):
+        y, line, built = 0.0, [0.0] * 10, 0
+        for k in range(6000):
+            r = 1.0 if (k // 300) % 2 == 0 else 0.0
+            u = c.update(r, y)
+            built += c.design() if call else 0
+            late, line[k % 10] = line[k % 10], u
+            y = a8 * y + (1 - a8) * late
+        return built
+
+    designed = msp.FilteredSmith("e^-1s/(4s+1)", 0.1, adapt={"background_design": True})
+    assert designed.design() is False
+    assert loop(designed, True) >= 1 and abs(designed.state["tau_model"] - 8.0) < 0.8
+    idle = msp.FilteredSmith("e^-1s/(4s+1)", 0.1, adapt={"background_design": True})
+    assert loop(idle, False) == 0 and idle.state["tau_model"] == 4.0
+    assert msp.SmithPredictor("e^-1s/(4s+1)", 0.1).design() is False

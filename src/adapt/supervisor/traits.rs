@@ -78,6 +78,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     fn adaptive_state(&self) -> Option<crate::operate::AdaptiveState<T>> {
         Some(self.state())
     }
+    fn design(&mut self) -> bool {
+        Adaptive::design(self)
+    }
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
         self.inner.set_model(gain, tau)?;
         self.model.k = gain;

@@ -86,6 +86,7 @@ fn single_loop_flags(s: &ScenarioArgs) -> Vec<&'static str> {
         ("--adapt-excitation", s.adapt_excitation.is_some()),
         ("--adapt-dead-zone", s.adapt_dead_zone.is_some()),
         ("--adapt-bound", s.adapt_bound.is_some()),
+        ("--adapt-background", s.adapt_background),
         ("--alarm", s.alarm.is_some()),
     ]
     .into_iter()

@@ -142,11 +142,12 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
         || a.adapt_excitation.is_some()
         || a.adapt_dead_zone.is_some()
         || a.adapt_bound.is_some()
+        || a.adapt_background
         || a.alarm.is_some();
     sc.monitor |= a.monitor;
     if tuning && !(a.adapt || sc.monitor || sc.adapt.is_some()) {
         return Err(CliError::Input(
-            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation, --adapt-dead-zone, --adapt-bound and --alarm set up an adaptation: add --adapt or --monitor".into(),
+            "--adapt-delay, --adapt-forgetting, --adapt-prefilter, --adapt-excitation, --adapt-dead-zone, --adapt-bound, --adapt-background and --alarm set up an adaptation: add --adapt or --monitor".into(),
         ));
     }
     if a.adapt || tuning {
@@ -168,6 +169,9 @@ pub(crate) fn scenario_from(a: &ScenarioArgs) -> Result<Scenario, CliError> {
             adapt_bound => bound,
             alarm => alarm
         );
+        if a.adapt_background {
+            opts.background_design = Some(true);
+        }
     }
     if sc.plant.is_none() {
         return Err(CliError::Input(match &a.scenario {

@@ -235,8 +235,10 @@ def run(
         A dict sets ``delay=(min, max)`` (s), ``forgetting``, ``excitation``, ``min_change``,
         ``prefilter`` (s), ``dead_zone`` (multiples of the measured noise), ``bound`` (the
         factor of the commissioned gain and lag no estimate applied may pass, default 4),
-        ``apply`` (False: a monitor only) and ``alarm`` (the model error
-        that raises the alarm, default 0.1).
+        ``apply`` (False: a monitor only), ``alarm`` (the model error
+        that raises the alarm, default 0.1) and ``background_design`` (a scheme rebuilt for
+        each model designed between samples, as a device's background task would: each a
+        sample later; per-sample controllers then call ``Controller.design()``).
     monitor : bool, optional
         The model-error monitor, as the CLI's ``--monitor``: the estimator watches the model in
         use and raises an alarm when the process no longer matches it (the signals
