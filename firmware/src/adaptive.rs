@@ -45,8 +45,7 @@ fn adaptive_kd_design(c: &mut AdaptiveKd) -> bool {
 
 /// The longest update, its number, the models applied and the longest
 /// design (SysTick ticks) of the adaptive Karan–Dey predictor on a process
-/// whose gain is half its model's, the set point stepping between 1 and
-/// 0.5 every 2 500 samples (12 000 in all).
+/// whose gain is half its model's ([`applying`]).
 pub fn karan_dey_applying() -> (u32, usize, usize, u32) {
     let Some(kd) = karan_dey_for(0.2, f32::INFINITY, 7.4) else {
         fail()
@@ -65,25 +64,38 @@ pub fn karan_dey_applying() -> (u32, usize, usize, u32) {
         Err(_) => fail(),
     };
     let mut plant = loops::Plant::new(&process, 0.074);
-    let (mut ticks, mut design) = (Ticks::default(), Ticks::default());
+    applying(&mut c, &mut plant, adaptive_kd_step, adaptive_kd_design)
+}
+
+/// The adaptive controller `c` on `plant`, the set point stepping between
+/// 1 and 0.5 every 2 500 samples (12 000 in all), each `update` timed and
+/// after it `design` (a model's waiting scheme designed, as a background
+/// task would between samples; timed apart): the most ticks one update
+/// took and its number, how many models were applied, the most ticks of a
+/// design.
+pub fn applying<C: msp::Operate<f32>>(
+    c: &mut C,
+    plant: &mut loops::Plant<f32>,
+    mut update: impl FnMut(&mut C, f32, f32) -> f32,
+    mut design: impl FnMut(&mut C) -> bool,
+) -> (u32, usize, usize, u32) {
+    let (mut ticks, mut designs) = (Ticks::default(), Ticks::default());
     for k in 0..12_000 {
         let r = if (k / 2500) % 2 == 0 { 1.0 } else { 0.5 };
         let y = plant.output();
         ticks.tick(true);
-        let u = adaptive_kd_step(&mut c, r, y);
+        let u = update(c, r, y);
         ticks.tick(false);
         plant.advance(u);
-        if c.is_designing() {
-            design.tick(true);
-            adaptive_kd_design(&mut c);
-            design.tick(false);
-        }
+        designs.tick(true);
+        design(c);
+        designs.tick(false);
     }
     let mut applied = 0;
-    msp::Operate::visit_log(&c, &mut |ch| {
+    c.visit_log(&mut |ch| {
         applied += usize::from(ch.kind == msp::adapt::ChangeKind::Applied);
     });
-    (ticks.max, ticks.max_at, applied, design.max)
+    (ticks.max, ticks.max_at, applied, designs.max)
 }
 
 /// The filtered Smith predictor of `loops::fsp` designed for a new model

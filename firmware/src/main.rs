@@ -372,10 +372,10 @@ fn change_dead_time(c: &mut loops::OperatedSmith<f32>, samples: f32) -> bool {
 }
 
 /// The adaptive Smith predictor on a process whose gain is half its
-/// model's, the set point stepping between 1 and 0.5 every 2 500 samples
-/// (12 000 in all): it learns, applies a model (sample 10 000 on the host)
-/// and its line is rescaled over the following updates. The most ticks one
-/// call took and the call's number, and how many models it applied.
+/// model's ([`adaptive::applying`]): it learns, applies a model (sample
+/// 10 000 on the host) and its line is rescaled over the following
+/// updates. The most ticks one call took and the call's number, and how
+/// many models it applied.
 fn adaptive_applying() -> (u32, usize, usize) {
     let (mut c, _) = loops::smith_adaptive::<f32>();
     let m: msp::ProcessModel<f32> = match msp::Fopdt::new(5.6 * 0.5, 40.2, 93.9) {
@@ -383,20 +383,8 @@ fn adaptive_applying() -> (u32, usize, usize) {
         Err(_) => fail(),
     };
     let mut plant = loops::Plant::new(&m, 0.939);
-    let mut ticks = Ticks::default();
-    for k in 0..12_000 {
-        let r = if (k / 2500) % 2 == 0 { 1.0 } else { 0.5 };
-        let y = plant.output();
-        ticks.tick(true);
-        let u = adaptive_step(&mut c, r, y);
-        ticks.tick(false);
-        plant.advance(u);
-    }
-    let mut applied = 0;
-    msp::Operate::visit_log(&c, &mut |ch| {
-        applied += usize::from(ch.kind == msp::adapt::ChangeKind::Applied);
-    });
-    (ticks.max, ticks.max_at, applied)
+    let (max, at, applied, _) = adaptive::applying(&mut c, &mut plant, adaptive_step, |_| false);
+    (max, at, applied)
 }
 
 /// The MathWorks example's Smith predictor at a tenth of its period: 1 000

@@ -151,21 +151,26 @@ fn reported_run(
     (String::from_utf8(out.stderr).unwrap(), r)
 }
 
+/// The command line `line` with the set point alternating between 0 and
+/// 1 every 30 s (20 half periods).
+fn square_wave(line: &str) -> Vec<String> {
+    let mut args: Vec<String> = words(line).map(String::from).collect();
+    for i in 0..20 {
+        args.push("--setpoint".into());
+        args.push(format!("{}@{}", i % 2, 30 * i));
+    }
+    args
+}
+
 /// `msp run` of the Smith predictor on `e^{−1s}/(4s+1)` at 0.1 s for 600 s,
 /// the set point alternating every 30 s, with the flags `extra`: its
 /// summary (standard error), its report, and the CSV's last row by column.
 fn square_wave_run(extra: &str) -> (String, serde_json::Value, impl Fn(&str) -> String) {
     let dir = tempfile::tempdir().unwrap();
     let (csv, report) = (dir.path().join("m.csv"), dir.path().join("m.json"));
-    let mut args: Vec<String> = words(&format!(
+    let args = square_wave(&format!(
         "run --plant e^-1s/(4s+1) -c smith --lambda 2 --ts 0.1 --duration 600 {extra}"
-    ))
-    .map(String::from)
-    .collect();
-    for i in 0..20 {
-        args.push("--setpoint".into());
-        args.push(format!("{}@{}", i % 2, 30 * i));
-    }
+    ));
     let (text, r) = reported_run(&args, &csv, &report);
     let data = std::fs::read_to_string(&csv).unwrap();
     let header: Vec<String> = data
@@ -243,15 +248,9 @@ fn the_emergency_path_is_said_in_the_summary() {
 fn a_design_in_the_background_takes_over_a_sample_later() {
     let run = |extra: &str| {
         let dir = tempfile::tempdir().unwrap();
-        let mut args: Vec<String> = words(&format!(
+        let args = square_wave(&format!(
             "run --plant e^-1s/(4s+1) -c fsp --ts 0.1 --duration 600 --event 150:plant-lag=8 --adapt {extra}"
-        ))
-        .map(String::from)
-        .collect();
-        for i in 0..20 {
-            args.push("--setpoint".into());
-            args.push(format!("{}@{}", i % 2, 30 * i));
-        }
+        ));
         reported_run(&args, &dir.path().join("b.csv"), &dir.path().join("b.json")).1
     };
     let (inline, background) = (run(""), run("--adapt-background"));
