@@ -45,8 +45,9 @@ fn adaptive_kd_design(c: &mut AdaptiveKd) -> bool {
 
 /// The longest update, its number, the models applied and the longest
 /// design (SysTick ticks) of the adaptive Karan–Dey predictor on a process
-/// whose gain is half its model's ([`applying`]).
-pub fn karan_dey_applying() -> (u32, usize, usize, u32) {
+/// whose gain is half its model's ([`applying`]), and its RAM (bytes: the
+/// predictor in use, the place of the one warming up, the estimator).
+pub fn karan_dey_applying() -> ((u32, usize, usize, u32), usize) {
     let Some(kd) = karan_dey_for(0.2, f32::INFINITY, 7.4) else {
         fail()
     };
@@ -64,7 +65,11 @@ pub fn karan_dey_applying() -> (u32, usize, usize, u32) {
         Err(_) => fail(),
     };
     let mut plant = loops::Plant::new(&process, 0.074);
-    applying(&mut c, &mut plant, adaptive_kd_step, adaptive_kd_design)
+    let ram = core::mem::size_of_val(&c);
+    (
+        applying(&mut c, &mut plant, adaptive_kd_step, adaptive_kd_design),
+        ram,
+    )
 }
 
 /// The adaptive controller `c` on `plant`, the set point stepping between

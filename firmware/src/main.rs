@@ -564,12 +564,13 @@ fn main() -> ! {
         f64::from(max_ap) * ipt
     );
     let ok = ok & (applied > 0);
-    let (max_kd, kd_at, kd_applied, kd_design) = adaptive::karan_dey_applying();
+    let ((max_kd, kd_at, kd_applied, kd_design), kd_ram) = adaptive::karan_dey_applying();
     hprintln!(
-        "adaptive karan-dey applying a model ({} applied, f32, designed in the background): the longest call {} (about {:.0} instructions)",
+        "adaptive karan-dey applying a model ({} applied, f32, designed in the background): the longest call {} (about {:.0} instructions); controller RAM {} bytes",
         kd_applied,
         kd_at,
-        f64::from(max_kd) * ipt
+        f64::from(max_kd) * ipt,
+        kd_ram
     );
     hprintln!(
         "designs in the background (about): karan-dey {:.0} instructions, filtered smith (f64) {:.0}",
