@@ -173,20 +173,10 @@ fn square_wave_run(extra: &str) -> (String, serde_json::Value, impl Fn(&str) -> 
     ));
     let (text, r) = reported_run(&args, &csv, &report);
     let data = std::fs::read_to_string(&csv).unwrap();
-    let header: Vec<String> = data
-        .lines()
-        .next()
-        .unwrap()
-        .split(',')
-        .map(String::from)
-        .collect();
-    let row: Vec<String> = data
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .map(String::from)
-        .collect();
+    let cells = |line: Option<&str>| -> Vec<String> {
+        line.unwrap().split(',').map(String::from).collect()
+    };
+    let (header, row) = (cells(data.lines().next()), cells(data.lines().last()));
     let last = move |name: &str| {
         let i = header.iter().position(|h| h == name).unwrap();
         row[i].clone()
