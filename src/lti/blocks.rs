@@ -68,7 +68,8 @@ impl<T: Real, const N: usize> Lti<T, N> {
     /// for each model it applies), in the realization `from_tf` gives: the
     /// feedthrough `D = k·a/b` and the rest `k(1 − a/b)/(b s + 1)`, i.e.
     /// `A = −1/b`, `B = 1`, `C = k(b − a)/b²`, `Φ = e^{−Ts/b}`,
-    /// `Γ = −b·(e^{−Ts/b} − 1)`.
+    /// `Γ = −b·(e^{−Ts/b} − 1)` (the ZOH equivalent of a first-order
+    /// state model, Franklin, Powell & Workman, Sec. 4.3).
     pub fn lead_lag(k: T, a: T, b: T, ts: T) -> Result<Self, Error> {
         if a == T::zero() && b == T::zero() {
             return Self::gain(k);
