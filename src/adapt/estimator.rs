@@ -101,6 +101,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             fits: false,
             turn: 0,
             learnt: 0,
+            levels: Levels::new(),
         })
     }
 
@@ -319,6 +320,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     fn sample(&mut self, y: T, u_applied: T, ok: bool) -> bool {
         let dy = self.cfg.prefilter * self.last_dy + (y - self.last_y);
         let learn = ok && self.samples >= 2;
+        if !ok {
+            self.levels_drop();
+        }
         let pass = if learn {
             self.learn_begin(dy, u_applied)
         } else {
@@ -357,8 +361,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// order as one call: spread, a controller sample carries at most half
     /// of the bank's updates (the Cortex-M4F's longest call, #48 item 7).
     fn advance(&mut self) -> bool {
-        // (most calls have no pass under way: no move of one out and in)
+        // (most calls have no pass under way: no move of one out and in;
+        // a response the level test closed is compared in such a call,
+        // the Cortex-M4F's longest call, #48 item 7)
         if self.pending.is_none() {
+            self.levels_finish();
             return false;
         }
         let Some(mut p) = self.pending.take() else {
@@ -372,6 +379,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         } else if !p.compared {
             self.learn_compare(&p);
             p.compared = true;
+            self.pending = Some(p);
+            false
+        } else if !p.levelled {
+            self.levels_step(p.target);
+            p.levelled = true;
             self.pending = Some(p);
             false
         } else {

@@ -192,6 +192,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.proposal = None;
         self.proposal_for = 0;
         self.explaining = None;
+        self.levels_reset();
     }
 
     /// The hypothesis that explains the recent data (the change
@@ -205,9 +206,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// excite); the supervisor validates it against the model in use as
     /// any estimate ([`Estimator::proposal_mismatch`]).
     pub fn proposal(&self) -> Option<Estimate<T>> {
-        let i = self
-            .proposal
-            .filter(|_| self.proposal_for >= self.window / 2)?;
+        let i = self.proposed()?;
         let h = self.hyp.get(i)?;
         let d = self.reference.as_ref()?.d;
         let (k, tau, frac) = model_from(h.coef, self.cfg.period(), self.cfg.integrating)?;
@@ -226,6 +225,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// whether the bank's chosen model predicts that response at least as
     /// well as the proposal.
     pub fn proposal_mismatch(&self) -> Option<(Mismatch<T>, bool)> {
+        if self.difference_proposal().is_none() {
+            // the level test's, on its last response (the bank is not
+            // compared in levels)
+            return self.level_proposal().map(|(_, m)| (m, false));
+        }
         let r = self.reference.as_ref().filter(|r| r.seen >= self.window)?;
         let h = self.hyp.get(self.proposal?)?;
         let [cost, energy, rival, weight] = r.recent;
@@ -236,6 +240,19 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             weight,
         };
         Some((costs.mismatch(), rival <= h.recent))
+    }
+
+    /// The hypothesis the differences propose (once it has for half a
+    /// response's excited samples in a row), else the level test's
+    /// (`levels.rs`).
+    fn proposed(&self) -> Option<usize> {
+        self.difference_proposal()
+            .or_else(|| self.level_proposal().map(|(i, _)| i))
+    }
+
+    fn difference_proposal(&self) -> Option<usize> {
+        self.proposal
+            .filter(|_| self.proposal_for >= self.window / 2)
     }
 
     /// The hypotheses the detector simulates: the gains and the lags (an

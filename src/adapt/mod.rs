@@ -79,9 +79,12 @@ mod detect;
 mod estimator;
 mod history;
 mod hypotheses;
+mod levels;
 mod onset;
 mod pass;
 mod rest;
+use levels::Levels;
+pub use levels::LEVEL_EVIDENCE;
 use pass::{Pass, PARTS};
 mod supervisor;
 #[cfg(test)]
@@ -365,6 +368,8 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// The target's energy over the last response (as `recent_weight`):
     /// what a [`MATERIAL`] error is measured against.
     energy: T,
+    /// The level test over each load's response (see `levels.rs`).
+    levels: Levels<T>,
 }
 
 /// One of the change detector's hypotheses about the process's gain or

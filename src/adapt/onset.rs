@@ -65,6 +65,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.settled = (n, seen.saturating_add(1));
         self.skip -= 1;
         let anchor = self.skip == 0;
+        if anchor {
+            // the level test's response starts after the anchor
+            self.levels_open();
+        }
         let gain = if counted {
             T::one() / T::of(f64::from(n))
         } else if anchor {
@@ -101,6 +105,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     fn start_onset(&mut self, d: usize) {
         // the controller's answer to it reaches the output a dead time on
         self.skip = ONSET_SAMPLES.min(d).max(1);
+        self.levels_end();
         self.onsets = self.onsets.saturating_add(1);
         self.settled = (0, 0);
     }

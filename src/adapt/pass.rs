@@ -9,7 +9,7 @@ use super::*;
 /// A block's learning under way (see `Estimator::advance`).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Pass<T> {
-    target: T,
+    pub(super) target: T,
     excited: bool,
     /// The bank learns (the input departed from its drift).
     informative: bool,
@@ -26,14 +26,16 @@ pub(super) struct Pass<T> {
     pub(super) next: usize,
     /// The comparison and the change detector are done.
     pub(super) compared: bool,
+    /// The level test's sample is done (`levels.rs`).
+    pub(super) levelled: bool,
     /// The block's input, for the history once the pass has read it.
     pub(super) u: T,
 }
 
 /// The parts of a pass: two halves of the bank, the comparison with the
-/// change detector, the choice. A block of fewer controller samples
-/// learns in one call.
-pub(super) const PARTS: usize = 4;
+/// change detector, the level test's sample, the choice. A block of fewer
+/// controller samples learns in one call.
+pub(super) const PARTS: usize = 5;
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The start of the RLS step of every candidate for the new difference
@@ -61,6 +63,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // model's lag too: without a prior model, or with a lag grown
         // longer than its, the response outlasts the excitation's window)
         if self.hist.quiet > self.rest_after {
+            self.levels_step(target);
             self.rest_step(target);
             return None;
         }
@@ -87,6 +90,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             lowest: T::infinity(),
             next: 0,
             compared: false,
+            levelled: false,
             u,
         })
     }
