@@ -322,6 +322,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let learn = ok && self.samples >= 2;
         if !ok {
             self.levels_drop();
+        } else if self.samples >= 1 {
+            self.levels_quantum(y - self.last_y);
         }
         let pass = if learn {
             self.learn_begin(dy, u_applied)
@@ -377,7 +379,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.pending = Some(p);
             false
         } else if !p.compared {
-            self.learn_compare(&p);
+            if !p.rest {
+                self.learn_compare(&p);
+            }
             p.compared = true;
             self.pending = Some(p);
             false
@@ -387,7 +391,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.pending = Some(p);
             false
         } else {
-            self.learn_choose(&p);
+            if !p.rest {
+                self.learn_choose(&p);
+            }
             self.close(p.u);
             true
         }

@@ -30,6 +30,32 @@ pub(super) struct Pass<T> {
     pub(super) levelled: bool,
     /// The block's input, for the history once the pass has read it.
     pub(super) u: T,
+    /// A sample at rest: only the level test's part (`Pass::rest`).
+    pub(super) rest: bool,
+}
+
+impl<T: Real> Pass<T> {
+    /// A sample at rest whose level test's step waits for a call of its
+    /// own (the bank's `n` candidates passed over, the comparison's part
+    /// empty: the rest's own step ran).
+    fn rest(target: T, u: T, n: usize) -> Self {
+        Pass {
+            target,
+            excited: false,
+            informative: false,
+            zone2: T::zero(),
+            chosen: 0,
+            chosen_e: T::zero(),
+            chosen_learnt: false,
+            best: 0,
+            lowest: T::infinity(),
+            next: n,
+            compared: false,
+            levelled: false,
+            u,
+            rest: true,
+        }
+    }
 }
 
 /// The parts of a pass: two halves of the bank, the comparison with the
@@ -63,10 +89,17 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // model's lag too: without a prior model, or with a lag grown
         // longer than its, the response outlasts the excitation's window)
         if self.hist.quiet > self.rest_after {
-            self.levels_step(target);
-            self.rest_step(target);
-            return None;
+            // the level test's sample in a call of its own where a block
+            // has the calls (a Cortex-M4F's longest call, #48 item 7)
+            let later = self.levels_open_now() && self.cfg.decimation >= PARTS;
+            if !later {
+                self.levels_step(target);
+            }
+            let e_ref = self.rest_step(target);
+            self.levels_watch(e_ref);
+            return later.then(|| Pass::rest(target, u, self.n));
         }
+        self.levels_wake();
         self.wake();
         let chosen = self.chosen;
         // the dead zone, squared: the given one, or the measured noise's
@@ -92,6 +125,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             compared: false,
             levelled: false,
             u,
+            rest: false,
         })
     }
 

@@ -36,13 +36,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// One estimator sample at rest (`target` the prefiltered output's
     /// difference, no onset in it): the chosen candidate's simulation and
     /// gradient, the shared cost's discount and sum, the comparison with
-    /// the model in use and the noise's measure.
-    pub(super) fn rest_step(&mut self, target: T) {
+    /// the model in use and the noise's measure. Returns the model in use's
+    /// error.
+    pub(super) fn rest_step(&mut self, target: T) -> T {
         let cfg = self.cfg;
         let chosen = self.chosen;
         let (u0, u1) = self.hist.pair(cfg.d_min.saturating_add(chosen));
         let Some(c) = self.bank.get_mut(chosen) else {
-            return;
+            return T::zero();
         };
         let f0 = if cfg.integrating { T::zero() } else { c.yhat };
         let [t0, t1, t2] = c.theta;
@@ -66,12 +67,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             normal(cfg.cost_memory * sum + e * e),
         );
         self.resting = true;
-        self.compare_reference(target, false, e);
+        let e_ref = self.compare_reference(target, false, e);
         self.weight = cfg.cost_memory * self.weight + T::one();
         // the change detector: the noise from the chosen dead time's
         // simulation, which alone runs
         let Some(scan) = self.detect_begin(target, false) else {
-            return;
+            return e_ref;
         };
         let inputs = self.hist.from(cfg.d_min);
         let u = |i: usize| inputs.get(i).copied().unwrap_or(T::zero());
@@ -81,6 +82,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             scan.step(chosen, c, u0, u1);
             c.scan = normal(c.scan);
         }
+        e_ref
     }
 
     /// The bank from rest: every candidate's cost with the shared discount
