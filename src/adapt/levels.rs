@@ -270,8 +270,23 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             return;
         }
         let integrating = self.cfg.integrating;
-        let variance = self.level_noise();
+        // the noise in levels as `level_noise`'s, without its square:
+        // `1/√3`, `1/√10` of the measure's, at least `q/√12` (no square
+        // root a sample)
+        let share = if integrating {
+            0.316_227_766_016_837_94
+        } else {
+            0.577_350_269_189_625_8
+        };
+        let q = self.levels.quantum;
+        let rounding = if q.is_finite() {
+            q * T::of(0.288_675_134_594_812_9)
+        } else {
+            T::zero()
+        };
+        let deviation = at_least(self.noise_level() * T::of(share), rounding);
         let short = self.short;
+        let level = self.last_y;
         let lv = &mut self.levels;
         let [r, v, mean, hi, lo] = lv.watch;
         // the residual in levels
@@ -285,8 +300,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             lv.watched = true;
             return;
         }
-        let floor = T::epsilon() * (T::one() + r.abs());
-        let sigma = at_least(variance.sqrt(), floor);
+        // (and at least a thousandth of the measurement's level: without
+        // noise, a model's own departure from the process at rest, a
+        // block mean's aliasing, is no load)
+        let floor = T::of(1e-3) * (T::one() + level.abs());
+        let sigma = at_least(deviation, floor);
         let dev = r - mean;
         let drift = T::of(WATCH_DRIFT) * sigma;
         let hi = at_least(hi + dev - drift, T::zero());
