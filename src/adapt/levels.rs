@@ -179,8 +179,6 @@ pub(super) struct Levels<T> {
     /// The hypothesis with the most evidence, and the responses in a row
     /// that it explained better than the model in use.
     streak: (usize, u8),
-    /// Loads the watch found.
-    watches: u32,
     /// The measurement's quantum: the smallest difference between its
     /// samples that was not zero (a converter's step, or a block mean's
     /// share of it; as small as the noise's differences come without one).
@@ -202,7 +200,6 @@ impl<T: Real> Levels<T> {
             y: [T::zero(); 4],
             sums: [T::zero(); HYPOTHESES],
             streak: (0, 0),
-            watches: 0,
             quantum: T::infinity(),
             proposal: None,
         }
@@ -232,22 +229,26 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
     }
 
-    /// The noise's variance in levels: the target's noise is the first
-    /// (integrating: second) difference of white noise, whose own
-    /// differences the measure reads (variance `3σ²`, `10σ²`); at least a
-    /// quantum's (`q²/12`, the rounding's uniform error: below it the
-    /// measure of a converter's steps reads a still measurement as
-    /// noise-free; Widrow & Kollár (2008)).
-    fn level_noise(&self) -> T {
-        let level = self.noise_level();
-        let share = if self.cfg.integrating { 10.0 } else { 3.0 };
+    /// The noise's standard deviation in levels: the target's noise is
+    /// the first (integrating: second) difference of white noise, whose own
+    /// differences the measure reads (variance `3σ²`, `10σ²`: `σ` is
+    /// `1/√3`, `1/√10` of the measure's); at least a quantum's (`q/√12`,
+    /// the rounding's uniform error: below it the measure of a converter's
+    /// steps reads a still measurement as noise-free; Widrow & Kollár
+    /// (2008)). No square root: the watch reads it every sample at rest.
+    fn level_deviation(&self) -> T {
+        let share = if self.cfg.integrating {
+            0.316_227_766_016_837_94
+        } else {
+            0.577_350_269_189_625_8
+        };
         let q = self.levels.quantum;
         let rounding = if q.is_finite() {
-            q * q / T::of(12.0)
+            q * T::of(0.288_675_134_594_812_9)
         } else {
             T::zero()
         };
-        at_least(level * level / T::of(share), rounding)
+        at_least(self.noise_level() * T::of(share), rounding)
     }
 
     /// One sample at rest of the watch for a load the onset test does not
@@ -270,21 +271,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             return;
         }
         let integrating = self.cfg.integrating;
-        // the noise in levels as `level_noise`'s, without its square:
-        // `1/√3`, `1/√10` of the measure's, at least `q/√12` (no square
-        // root a sample)
-        let share = if integrating {
-            0.316_227_766_016_837_94
-        } else {
-            0.577_350_269_189_625_8
-        };
-        let q = self.levels.quantum;
-        let rounding = if q.is_finite() {
-            q * T::of(0.288_675_134_594_812_9)
-        } else {
-            T::zero()
-        };
-        let deviation = at_least(self.noise_level() * T::of(share), rounding);
+        let deviation = self.level_deviation();
         let short = self.short;
         let level = self.last_y;
         let lv = &mut self.levels;
@@ -316,7 +303,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         lv.watch = [r, v, mean, hi, lo];
         if hi.max(lo) > T::of(WATCH_LIMIT) * sigma {
-            lv.watches = lv.watches.saturating_add(1);
             self.levels_open();
         }
     }
@@ -444,7 +430,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.levels.open = None;
         let tested = self.hypotheses().len();
         let nt = T::of(n as f64);
-        let measured = self.level_noise();
+        let deviation = self.level_deviation();
+        let measured = deviation * deviation;
         let lv = &mut self.levels;
         let [reference, rest @ ..] = &lv.fits;
         let (hyps, dead) = rest.split_at(HYPOTHESES);
@@ -467,7 +454,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             return;
         };
         let drift = drifts.get(best).copied().unwrap_or_default();
-        // the noise's variance in levels (`level_noise`), at least half the
+        // the noise's variance in levels (`level_deviation`), at least half the
         // best fit's residual per degree of freedom and [`FLOOR`] of the
         // response's energy per sample
         let dof = at_least(nt - T::of(2.0), T::one());
