@@ -359,13 +359,24 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 
     /// One part of the learning under way: half the candidates, the
     /// comparison with the model in use and the change detector, or the
-    /// choice (the pass's end). Returns whether the pass ended here. The parts are the same arithmetic in the same
-    /// order as one call: spread, a controller sample carries at most half
-    /// of the bank's updates (the Cortex-M4F's longest call, #48 item 7).
+    /// choice (the pass's end). Returns whether the pass ended here. The
+    /// parts are the same arithmetic in the same order as one call: spread,
+    /// a controller sample carries at most half of the bank's updates (the
+    /// Cortex-M4F's longest call, #48 item 7).
+    #[inline]
     fn advance(&mut self) -> bool {
-        // (most calls have no pass under way: no move of one out and in;
-        // a response the level test closed is compared in such a call,
-        // the Cortex-M4F's longest call, #48 item 7)
+        // (most calls have nothing to do: decided here, without a call)
+        if self.pending.is_none() && !self.levels_due() {
+            return false;
+        }
+        self.advance_work()
+    }
+
+    /// [`Estimator::advance`] where there is work.
+    #[inline(never)]
+    fn advance_work(&mut self) -> bool {
+        // (a response the level test closed is compared in a call without
+        // a pass under way, the Cortex-M4F's longest call, #48 item 7)
         if self.pending.is_none() {
             self.levels_finish();
             return false;

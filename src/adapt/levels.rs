@@ -416,6 +416,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
     }
 
+    /// Whether a response that ended waits for its comparison.
+    #[inline]
+    pub(super) fn levels_due(&self) -> bool {
+        self.levels.due.is_some()
+    }
+
     /// A response that ended in `levels_step` compared (in a call of its
     /// own: between the estimator's passes, `Estimator::advance`).
     pub(super) fn levels_finish(&mut self) {
