@@ -85,26 +85,43 @@ fn rss_is_the_least_squares_residual() {
 }
 
 /// A PI loop that only loads move (output steps ±0.3 and input steps
-/// ±0.2/K, one every 400 samples), its process `k_true e^{−θs}/(τ_true s
-/// + 1)` against the model `K e^{−θs}/(τs + 1)` the estimator starts
-/// from, measured with noise `noise` (standard deviation): the level
-/// test's proposal after each load, from `loads` loads.
+/// ±0.2/K, one every 400 samples; an integrating process's loads all at
+/// its input), its process `k_true e^{−θs}/(τ_true s + 1)` (`τ` infinite:
+/// `k_true e^{−θs}/s`) against the model `K e^{−θs}/(τs + 1)` the
+/// estimator starts from, measured with noise `noise` (standard deviation)
+/// and rounded to `quantum` (0: not rounded): the level test's proposal
+/// after each load, from `loads` loads.
 fn loads_only(
     model: (f64, f64, usize),
     truth: (f64, f64),
-    noise: f64,
+    (noise, quantum): (f64, f64),
     seed: u64,
     loads: usize,
 ) -> Vec<Option<usize>> {
     let (k, tau, d) = model;
     let ts = 0.5;
-    let mut est: Estimator<f64, 16, 40> = Estimator::new(EstimatorConfig::new(ts, 2)).expect_ok();
+    let integrating = tau.is_infinite();
+    let mut cfg = EstimatorConfig::new(ts, 2);
+    cfg.integrating = integrating;
+    let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
     est.start_from(k, tau, d as f64 * ts).expect_ok();
     est.set_reference(k, tau, d as f64 * ts).expect_ok();
     let (kt, taut) = truth;
-    let a = (-ts / taut).exp();
-    // (tuned for the model, as the loop was commissioned)
-    let (kp, ki) = (0.4 / k, 0.4 / k * ts / tau);
+    // (a first-order lag's ZOH pole and gain; an integrator's)
+    let (a, b) = if integrating {
+        (1.0, kt * ts)
+    } else {
+        let a = (-ts / taut).exp();
+        (a, kt * (1.0 - a))
+    };
+    // (tuned for the model, as the loop was commissioned: SIMC's PI with
+    // a closed-loop time constant of the dead time for the integrating one)
+    let theta = d as f64 * ts;
+    let (kp, ki) = if integrating {
+        (0.5 / (k * theta), 0.5 / (k * theta) * ts / (8.0 * theta))
+    } else {
+        (0.4 / k, 0.4 / k * ts / tau)
+    };
     let (mut y, mut integral, mut seed) = (0.0f64, 0.0f64, seed);
     let mut line = std::vec![0.0f64; d];
     let (mut d_in, mut d_out) = (0.0, 0.0);
@@ -115,20 +132,25 @@ fn loads_only(
             out.push(est.level_proposal().map(|(i, _)| i));
             let i = j / 400;
             let sign = if i % 4 < 2 { 1.0 } else { -1.0 };
-            if i % 2 == 0 {
+            if i % 2 == 0 && !integrating {
                 d_out += 0.3 * sign;
             } else {
                 d_in += 0.2 * sign / k;
             }
         }
-        let meas = y + d_out + width * (uniform(&mut seed) - 0.5);
+        let raw = y + d_out + width * (uniform(&mut seed) - 0.5);
+        let meas = if quantum > 0.0 {
+            (raw / quantum).round() * quantum
+        } else {
+            raw
+        };
         let e = 1.0 - meas;
         integral += ki * e;
         let u = kp * e + integral;
         est.update(meas, u, true);
         let late = line[j % d];
         line[j % d] = u + d_in;
-        y = a * y + kt * (1.0 - a) * late;
+        y = a * y + b * late;
     }
     out
 }
@@ -147,7 +169,7 @@ fn loads_alone_name_a_changed_gain_or_lag() {
         for noise in [0.005, 0.02, 0.05] {
             for seed in [1u64, 2, 3] {
                 let case = (model, noise, seed);
-                let same = loads_only(model, (k, tau), noise, seed, 20);
+                let same = loads_only(model, (k, tau), (noise, 0.0), seed, 20);
                 assert!(same.iter().all(|p| p.is_none()), "{case:?}: {same:?}");
                 // (a doubled lag changes the loop's answer to a load
                 // less: under 5 % noise this loop's responses leave
@@ -158,7 +180,7 @@ fn loads_alone_name_a_changed_gain_or_lag() {
                         .into_iter()
                         .chain(lag)
                 {
-                    let got = loads_only(model, truth, noise, seed, loads);
+                    let got = loads_only(model, truth, (noise, 0.0), seed, loads);
                     // named (under 5 % noise, or a smaller step the
                     // same way, which the supervisor applies and goes
                     // on from), and nothing but steps the same way (a
@@ -176,5 +198,29 @@ fn loads_alone_name_a_changed_gain_or_lag() {
                 }
             }
         }
+    }
+}
+
+/// Behind a 10-bit converter (over ±2) and without noise, the rounding is
+/// the only noise, and the same in each of the loads' alike responses: an
+/// unchanged process, stable or integrating, has nothing proposed in forty
+/// loads (its misfits to the rounding do not add up as independent noise's
+/// would), and a halved gain, whose misfit is beyond the rounding, is
+/// still named within six.
+#[test]
+fn rounding_alone_proposes_nothing() {
+    let q = 4.0 / 1024.0;
+    let halved = GAINS.iter().position(|g| *g == 0.5).expect_ok();
+    for model in [
+        (1.6, 10.0, 12usize),
+        (2.3, 15.0, 16),
+        (0.15, f64::INFINITY, 10),
+        (0.05, f64::INFINITY, 12),
+    ] {
+        let (k, tau, _) = model;
+        let same = loads_only(model, (k, tau), (0.0, q), 1, 40);
+        assert!(same.iter().all(|p| p.is_none()), "{model:?}: {same:?}");
+        let got = loads_only(model, (k / 2.0, tau), (0.0, q), 1, 6);
+        assert!(got.contains(&Some(halved)), "{model:?}: {got:?}");
     }
 }
