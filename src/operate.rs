@@ -388,7 +388,9 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
 /// process (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it
 /// means anything), the alarm (`model_alarm`), the estimator's counts
 /// (`onsets`, `restarts`, `learnt`: 0, nothing moved the loop enough to
-/// identify the process) and whether adaptation is `frozen`.
+/// identify the process; `responses`, the loads' responses the level test
+/// compared, and `responses_used`, those it took as evidence) and whether
+/// adaptation is `frozen`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AdaptiveState<T> {
@@ -420,6 +422,10 @@ pub struct AdaptiveState<T> {
     pub restarts: u32,
     /// Estimator samples the chosen dead time learnt from.
     pub learnt: u32,
+    /// Load responses the level test compared ([`crate::adapt::Estimator::level_responses`]).
+    pub responses: u32,
+    /// Of those, the ones it took as evidence (the others held back).
+    pub responses_used: u32,
     /// Adaptation is frozen.
     pub frozen: bool,
 }
@@ -442,6 +448,8 @@ impl<T: Copy> AdaptiveState<T> {
             onsets: self.onsets,
             restarts: self.restarts,
             learnt: self.learnt,
+            responses: self.responses,
+            responses_used: self.responses_used,
             frozen: self.frozen,
         }
     }

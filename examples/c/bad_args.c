@@ -479,7 +479,8 @@ int main(void) {
         EXPECT(msp_adaptive_read(ad, NULL) == MSP_NULL_POINTER);
         /* nothing learnt before any data */
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK && st_.learnt == 0 && st_.onsets == 0
-               && st_.restarts == 0 && st_.adapt_changes == 0);
+               && st_.restarts == 0 && st_.responses == 0 && st_.responses_used == 0
+               && st_.adapt_changes == 0);
         /* a controller handle is not an adaptive one */
         EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
         lag_doubles(ad, 9000, NULL);
@@ -487,11 +488,13 @@ int main(void) {
         EXPECT(fabsf(st_.tau_model - 8.0f) < 0.8f && fabsf(st_.k_model - 1.0f) < 0.05f
                && fabsf(st_.theta_model - 1.0f) <= 0.1f && st_.adapt_changes >= 1 && !st_.frozen
                && st_.learnt > 0 && st_.adapt_kind >= 1 && st_.adapt_kind <= 8
+               && st_.responses_used <= st_.responses
                && fabsf(st_.tau_hat - 8.0f) < 0.8f && st_.evidence > 0.0f);
         printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes, "
-               "%u samples learnt from, %u load onsets, %u restarts\n",
+               "%u samples learnt from, %u load onsets, %u restarts, %u load responses compared in levels (%u taken as evidence)\n",
                (double)st_.k_model, (double)st_.tau_model, (double)st_.theta_model, (unsigned)st_.adapt_changes,
-               (unsigned)st_.learnt, (unsigned)st_.onsets, (unsigned)st_.restarts);
+               (unsigned)st_.learnt, (unsigned)st_.onsets, (unsigned)st_.restarts, (unsigned)st_.responses,
+               (unsigned)st_.responses_used);
 
         EXPECT(msp_estimator_default_config(0.0f, 4, &ec) == MSP_NOT_POSITIVE);
         EXPECT(msp_estimator_default_config(0.1f, 4, &ec) == MSP_OK);

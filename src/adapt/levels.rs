@@ -186,6 +186,9 @@ pub(super) struct Levels<T> {
     /// The hypothesis proposed, with its evidence over the last response
     /// and its relative error there (as [`Mismatch`]'s).
     proposal: Option<(usize, Mismatch<T>)>,
+    /// Responses compared, and those of them taken as evidence
+    /// ([`Estimator::level_responses`]; kept through a reset).
+    responses: (u32, u32),
 }
 
 impl<T: Real> Levels<T> {
@@ -202,6 +205,7 @@ impl<T: Real> Levels<T> {
             streak: (0, 0),
             quantum: T::infinity(),
             proposal: None,
+            responses: (0, 0),
         }
     }
 }
@@ -441,6 +445,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// documentation), Page's sums moved on, the proposal renewed.
     fn levels_compare(&mut self, n: usize) {
         self.levels.open = None;
+        let (compared, used) = self.levels.responses;
+        self.levels.responses = (compared.saturating_add(1), used);
         let tested = self.hypotheses().len();
         let nt = T::of(n as f64);
         let (noise_dev, rounding) = self.level_noises();
@@ -528,6 +534,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         {
             return;
         }
+        lv.responses.1 = used.saturating_add(1);
         let inv = T::one() / sigma2;
         for (s, &v) in lv.sums.iter_mut().zip(rss) {
             *s = at_least(*s + (v_ref - v) * inv, T::zero());
@@ -564,6 +571,16 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 },
             )
         });
+    }
+
+    /// The load responses the level test compared so far, and how many of
+    /// them it took as evidence: the others it held back (within the
+    /// noise or the rounding, a measurement that hardly moved, a drift, a
+    /// response another dead time explains better; see the module
+    /// documentation). Many responses and none taken: loads alone cannot
+    /// teach this loop.
+    pub fn level_responses(&self) -> (u32, u32) {
+        self.levels.responses
     }
 
     /// The hypothesis the level test proposes (see the module

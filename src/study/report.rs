@@ -194,7 +194,8 @@ pub struct Report {
     /// The adaptive controller's state at the end of the run (`--adapt` or
     /// `--monitor`; absent without adaptation): the estimate, the model in
     /// use, the estimator's counts (`learnt`: 0, nothing moved the loop
-    /// enough to identify the process; `onsets`, `restarts`), under the
+    /// enough to identify the process; `onsets`, `restarts`; `responses`
+    /// and `responses_used`, the level test's), under the
     /// names the library, Python's `Controller.state` and C's
     /// `msp_adaptive_state` give them.
     pub adaptive: Option<crate::operate::AdaptiveState<f64>>,

@@ -509,9 +509,11 @@ typedef msp_adaptive_fsp_config_of_f64 msp_adaptive_fsp_config_f64;
 // (1 applied, 2 restored, 3 refused, 4 alarm, 5 cleared, 6 emergency,
 // 7 detuned, 8 edge; 0 none), its error against the process
 // `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
-// `model_alarm`, the estimator's counts `onsets`, `restarts` and
+// `model_alarm`, the estimator's counts `onsets`, `restarts`,
 // `learnt` (0: nothing has moved the loop enough to identify the
-// process), and whether adaptation is `frozen`.
+// process), `responses` (the loads' responses the level test compared)
+// and `responses_used` (those it took as evidence), and whether
+// adaptation is `frozen`.
 typedef struct {
   float k_hat;
   float tau_hat;
@@ -527,6 +529,8 @@ typedef struct {
   uint32_t onsets;
   uint32_t restarts;
   uint32_t learnt;
+  uint32_t responses;
+  uint32_t responses_used;
   uint32_t frozen;
 } msp_adaptive_state_of_f32;
 
@@ -543,9 +547,11 @@ typedef msp_adaptive_state_of_f32 msp_adaptive_state;
 // (1 applied, 2 restored, 3 refused, 4 alarm, 5 cleared, 6 emergency,
 // 7 detuned, 8 edge; 0 none), its error against the process
 // `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
-// `model_alarm`, the estimator's counts `onsets`, `restarts` and
+// `model_alarm`, the estimator's counts `onsets`, `restarts`,
 // `learnt` (0: nothing has moved the loop enough to identify the
-// process), and whether adaptation is `frozen`.
+// process), `responses` (the loads' responses the level test compared)
+// and `responses_used` (those it took as evidence), and whether
+// adaptation is `frozen`.
 typedef struct {
   double k_hat;
   double tau_hat;
@@ -561,6 +567,8 @@ typedef struct {
   uint32_t onsets;
   uint32_t restarts;
   uint32_t learnt;
+  uint32_t responses;
+  uint32_t responses_used;
   uint32_t frozen;
 } msp_adaptive_state_of_f64;
 

@@ -164,9 +164,11 @@ c_config! {
     /// (1 applied, 2 restored, 3 refused, 4 alarm, 5 cleared, 6 emergency,
     /// 7 detuned, 8 edge; 0 none), its error against the process
     /// `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
-    /// `model_alarm`, the estimator's counts `onsets`, `restarts` and
+    /// `model_alarm`, the estimator's counts `onsets`, `restarts`,
     /// `learnt` (0: nothing has moved the loop enough to identify the
-    /// process), and whether adaptation is `frozen`.
+    /// process), `responses` (the loads' responses the level test compared)
+    /// and `responses_used` (those it took as evidence), and whether
+    /// adaptation is `frozen`.
     msp_adaptive_state_of: msp_adaptive_state, msp_adaptive_state_f64 {
         k_hat: T,
         tau_hat: T,
@@ -182,6 +184,8 @@ c_config! {
         onsets: u32,
         restarts: u32,
         learnt: u32,
+        responses: u32,
+        responses_used: u32,
         frozen: u32,
     }
 }

@@ -40,6 +40,13 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     // under the CSV's names: its last row) and the summary
     let state = &r["adaptive"];
     assert_eq!(state["learnt"].as_u64(), Some(learnt));
+    // the counts alike in the CSV and the JSON (the level test's responses
+    // compared, those taken as evidence among them)
+    for name in ["onsets", "restarts", "responses", "responses_used"] {
+        let csv: u64 = last(name).parse().unwrap();
+        assert_eq!(state[name].as_u64(), Some(csv), "{name}");
+    }
+    assert!(state["responses_used"].as_u64() <= state["responses"].as_u64());
     for name in [
         "k_model",
         "tau_model",
@@ -59,6 +66,13 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     assert_eq!(state["frozen"], false);
     assert!(
         text.contains(&format!("estimator   learnt from {learnt} samples")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "{} load responses compared in levels ({} taken as evidence)",
+            state["responses"], state["responses_used"]
+        )),
         "{text}"
     );
     // a run too short for the estimator to learn from says so, as its report

@@ -237,7 +237,9 @@ impl Controller {
     /// against the process ``mismatch`` (0.3: 30 %; NaN before it means
     /// anything), the alarm ``model_alarm`` (bool), the estimator's counts
     /// ``onsets``, ``restarts`` and ``learnt`` (``learnt`` 0: nothing has
-    /// moved the loop enough to identify the process) and ``frozen``;
+    /// moved the loop enough to identify the process), the loads' responses
+    /// the level test compared ``responses`` and took as evidence
+    /// ``responses_used``, and ``frozen``;
     /// ``None`` for one that does not adapt.
     #[getter]
     fn state<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {

@@ -102,6 +102,15 @@ impl Estimator {
         self.inner.onsets()
     }
 
+    /// The loads' responses the level test compared so far and, of them,
+    /// the ones it took as evidence, ``(responses, responses_used)`` (the
+    /// others held back: within the noise or the rounding, a measurement
+    /// that hardly moved, a drift, another dead time's).
+    #[getter]
+    fn level_responses(&self) -> (u32, u32) {
+        self.inner.level_responses()
+    }
+
     /// The samples the chosen candidate has learnt from so far (its RLS
     /// steps; the adaptive controller applies no estimate of a block with
     /// fewer than a response's).

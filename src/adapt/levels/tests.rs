@@ -98,6 +98,18 @@ fn loads_only(
     seed: u64,
     loads: usize,
 ) -> Vec<Option<usize>> {
+    loads_only_counted(model, truth, (noise, quantum), seed, loads).0
+}
+
+/// [`loads_only`] and the level test's counts at its end
+/// ([`Estimator::level_responses`]).
+fn loads_only_counted(
+    model: (f64, f64, usize),
+    truth: (f64, f64),
+    (noise, quantum): (f64, f64),
+    seed: u64,
+    loads: usize,
+) -> (Vec<Option<usize>>, (u32, u32)) {
     let (k, tau, d) = model;
     let ts = 0.5;
     let integrating = tau.is_infinite();
@@ -152,7 +164,7 @@ fn loads_only(
         line[j % d] = u + d_in;
         y = a * y + b * late;
     }
-    out
+    (out, est.level_responses())
 }
 
 /// Loads alone name a halved gain by the level test within six loads
@@ -222,5 +234,28 @@ fn rounding_alone_proposes_nothing() {
         assert!(same.iter().all(|p| p.is_none()), "{model:?}: {same:?}");
         let got = loads_only(model, (k / 2.0, tau), (0.0, q), 1, 6);
         assert!(got.contains(&Some(halved)), "{model:?}: {got:?}");
+    }
+}
+
+/// The level test counts the responses it compared and those it took as
+/// evidence: every load's response is compared (at least one a load), the
+/// ones taken are among them, a halved gain is learnt from some, and an
+/// unchanged process's responses under 0.5 % noise, which its model fits,
+/// are taken too (evidence for nothing else).
+#[test]
+fn the_level_test_counts_its_responses() {
+    for model in [(1.6, 10.0, 12usize), (0.15, f64::INFINITY, 10)] {
+        let (k, tau, _) = model;
+        for (truth, noise) in [((k, tau), 0.005), ((k / 2.0, tau), 0.005), ((k, tau), 0.0)] {
+            let (_, (compared, used)) = loads_only_counted(model, truth, (noise, 0.0), 1, 12);
+            let case = (model, truth, noise);
+            assert!(
+                compared >= 12 && used <= compared,
+                "{case:?}: {compared} {used}"
+            );
+            if noise > 0.0 {
+                assert!(used >= 1, "{case:?}: {compared} {used}");
+            }
+        }
     }
 }

@@ -16,8 +16,10 @@ use super::*;
 /// so far: load onsets (`onsets`, [`Estimator::onsets`]), restarts of the
 /// change detector (`restarts`, [`Estimator::restarts`]) and samples the
 /// chosen dead time learnt from (`learnt`, [`Estimator::learnt`]: none, and
-/// nothing moved the loop enough to identify the process).
-pub const SIGNALS: [&str; 14] = [
+/// nothing moved the loop enough to identify the process), and the loads'
+/// responses the level test compared (`responses`) and took as evidence
+/// (`responses_used`, [`Estimator::level_responses`]).
+pub const SIGNALS: [&str; 16] = [
     "k_hat",
     "tau_hat",
     "theta_hat",
@@ -32,6 +34,8 @@ pub const SIGNALS: [&str; 14] = [
     "onsets",
     "restarts",
     "learnt",
+    "responses",
+    "responses_used",
 ];
 
 /// The values of [`SIGNALS`] in a state, in their order.
@@ -52,6 +56,8 @@ fn values<T: Real>(s: &AdaptiveState<T>) -> [T; SIGNALS.len()] {
         count(s.onsets),
         count(s.restarts),
         count(s.learnt),
+        count(s.responses),
+        count(s.responses_used),
     ]
 }
 
@@ -129,6 +135,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             onsets: self.est.onsets(),
             restarts: self.est.restarts(),
             learnt: self.est.learnt(),
+            responses: self.est.level_responses().0,
+            responses_used: self.est.level_responses().1,
             frozen: self.frozen,
         }
     }

@@ -43,6 +43,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N,
             onsets: s.onsets,
             restarts: s.restarts,
             learnt: s.learnt,
+            responses: s.responses,
+            responses_used: s.responses_used,
             frozen: u32::from(s.frozen),
         }
     }
