@@ -172,15 +172,16 @@ impl Scenario {
     /// scenario's `adapt` asks (unchanged without it). The model must be a
     /// FOPDT or IPDT model; a scheme whose model changes at run time (the
     /// Smith predictor: [`crate::Operate::set_model`]) is retuned, any
-    /// other rebuilt for each model ([`crate::adapt::Redesign`]).
+    /// other rebuilt for each model ([`crate::adapt::Redesign`]). With it,
+    /// a note where an option asked for has nothing to act on.
     pub(super) fn adaptive(
         &self,
         mut controller: DynController,
         model: &TransferFunction,
         ts: f64,
-    ) -> Result<DynController, RunError> {
+    ) -> Result<(DynController, Option<String>), RunError> {
         let Some(opts) = self.adapt_options() else {
-            return Ok(controller);
+            return Ok((controller, None));
         };
         let (k, tau, theta, integrating) = match model.exact_model() {
             Some(ProcessModel::Fopdt(m)) => (m.k, m.t, m.l, false),
@@ -193,10 +194,14 @@ impl Scenario {
         };
         // a scheme that takes a new model at run time keeps its blocks (tried
         // with the one it has); the others are rebuilt for each model
-        match controller.set_model(k, tau) {
-            Ok(()) | Err(Error::Unsupported(_)) => {}
+        let in_place = match controller.set_model(k, tau) {
+            Ok(()) => true,
+            Err(Error::Unsupported(_)) => false,
             Err(e) => return Err(e.into()),
-        }
+        };
+        let note = (in_place && opts.background_design == Some(true)).then(|| {
+            "--adapt-background (Python: adapt={\"background_design\": True}) has no effect on this scheme: its model changes in place within a sample's budget, and only a scheme rebuilt for each model (karan-dey, fsp) is designed in the background".into()
+        });
         let decimation = Self::adapt_decimation(model, ts);
         let period = ts * decimation as f64;
         // the model's dead time as the estimator counts it (its block means'
@@ -299,6 +304,6 @@ impl Scenario {
                 )))
             }
         };
-        Ok(wrapped)
+        Ok((wrapped, note))
     }
 }

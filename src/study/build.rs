@@ -70,6 +70,8 @@ pub struct BuiltController {
     pub u_min: f64,
     /// Actuator upper limit.
     pub u_max: f64,
+    /// What the build could not do as the scenario asked (a run's notes).
+    pub notes: Vec<String>,
 }
 
 /// The memory this process can still have, or `None` where none of it can
@@ -366,8 +368,13 @@ impl Scenario {
         } else {
             scheme.build_process(params, model, inner, &build)?
         };
+        let mut notes = Vec::new();
         let controller = match inner {
-            None => self.adaptive(controller, model, ts)?,
+            None => {
+                let (c, note) = self.adaptive(controller, model, ts)?;
+                notes.extend(note);
+                c
+            }
             Some(_) if self.adapt_options().is_some() => {
                 return Err(RunError::Invalid(Error::Unsupported(
                     "adaptation is for a single loop (not a cascade process)",
@@ -383,6 +390,7 @@ impl Scenario {
             ts_chosen,
             u_min,
             u_max,
+            notes,
         })
     }
 }

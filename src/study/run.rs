@@ -510,6 +510,7 @@ impl Scenario {
             ),
             design: Vec::new(),
         };
+        out.notes.extend(built.notes);
         if self.float32 {
             out.notes
                 .extend(crate::sim::f32_note(&out.whole_model(), ts));

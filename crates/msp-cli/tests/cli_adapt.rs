@@ -274,6 +274,26 @@ fn a_design_in_the_background_takes_over_a_sample_later() {
         assert!((tau1 - tau2).abs() < 1e-6 * tau1, "{a:?} {b:?}");
     }
     assert_eq!(background["scenario"]["adapt"]["background_design"], true);
+    // here the option acts: nothing said of it; on the Smith predictor, whose
+    // model changes in place, it has nothing to act on: said so
+    let said = |r: &serde_json::Value| r["warnings"].to_string().contains("--adapt-background");
+    assert!(!said(&background), "{}", background["warnings"]);
+    let dir = tempfile::tempdir().unwrap();
+    let smith: Vec<String> = words(
+        "run --plant e^-1s/(4s+1) -c smith --ts 0.1 --duration 60 --adapt --adapt-background",
+    )
+    .map(String::from)
+    .collect();
+    let (summary, smith) = reported_run(
+        &smith,
+        &dir.path().join("s.csv"),
+        &dir.path().join("s.json"),
+    );
+    assert!(said(&smith), "{}", smith["warnings"]);
+    assert!(
+        summary.contains("warning: --adapt-background") && summary.contains("has no effect"),
+        "{summary}"
+    );
     assert_eq!(
         inline["scenario"]["adapt"]["background_design"],
         serde_json::Value::Null

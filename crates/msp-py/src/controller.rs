@@ -130,6 +130,13 @@ impl Controller {
             let built = sc
                 .build_controller(&tf)
                 .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            // what the build could not do as asked, as Python warns
+            let py = plant.py();
+            for note in &built.notes {
+                let text = std::ffi::CString::new(note.as_str()).unwrap_or_default();
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                PyErr::warn(py, &category, &text, 1)?;
+            }
             return Ok(Controller {
                 inner: Operated::new(built.controller),
                 name: built.scheme,

@@ -305,3 +305,10 @@ def test_background_design_waits_for_its_call():
     idle = msp.FilteredSmith("e^-1s/(4s+1)", 0.1, adapt={"background_design": True})
     assert loop(idle, False) == 0 and idle.state["tau_model"] == 4.0
     assert msp.SmithPredictor("e^-1s/(4s+1)", 0.1).design() is False
+    # the Smith predictor's model changes in place: the option has nothing to act on, and
+    # says so (a warning here, msp.run's warnings, as the CLI's)
+    with pytest.warns(UserWarning, match="has no effect on this scheme"):
+        msp.SmithPredictor("e^-1s/(4s+1)", 0.1, adapt={"background_design": True})
+    run = msp.run("e^-1s/(4s+1)", controller="smith", ts=0.1, duration=60.0, adapt={"background_design": True})
+    assert any("has no effect" in w for w in run.warnings), run.warnings
+    assert not any("background" in w for w in msp.run("e^-1s/(4s+1)", adapt={"background_design": True}, **kw).warnings)
