@@ -277,7 +277,9 @@ typedef msp_smith_config_float msp_smith_config;
 // filtered Smith predictor is designed for a new model by
 // `msp_adaptive_design`, called outside the sample, e.g. by a
 // background task, rather than in the update that applies it: the
-// update stays within its budget; 0 by default).
+// update stays within its budget; 0 by default; a Smith predictor's
+// model changes in place within the update's budget, and there it has
+// no effect).
 typedef struct {
   uint32_t decimation;
   uint32_t d_min;
@@ -345,7 +347,9 @@ typedef msp_smith_config_double msp_smith_config_f64;
 // filtered Smith predictor is designed for a new model by
 // `msp_adaptive_design`, called outside the sample, e.g. by a
 // background task, rather than in the update that applies it: the
-// update stays within its budget; 0 by default).
+// update stays within its budget; 0 by default; a Smith predictor's
+// model changes in place within the update's budget, and there it has
+// no effect).
 typedef struct {
   uint32_t decimation;
   uint32_t d_min;

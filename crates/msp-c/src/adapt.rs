@@ -98,7 +98,9 @@ c_config! {
     /// filtered Smith predictor is designed for a new model by
     /// `msp_adaptive_design`, called outside the sample, e.g. by a
     /// background task, rather than in the update that applies it: the
-    /// update stays within its budget; 0 by default).
+    /// update stays within its budget; 0 by default; a Smith predictor's
+    /// model changes in place within the update's budget, and there it has
+    /// no effect).
     msp_adapt_config_of: msp_adapt_config, msp_adapt_config_f64 {
         decimation: u32,
         d_min: u32,
