@@ -98,22 +98,28 @@ fn loads_only(
     seed: u64,
     loads: usize,
 ) -> Vec<Option<usize>> {
-    loads_only_counted(model, truth, (noise, quantum), seed, loads).0
+    loads_only_counted(model, truth, (noise, quantum), seed, loads, 1).0
 }
 
 /// [`loads_only`] and the level test's counts at its end
-/// ([`Estimator::level_responses`]).
+/// ([`Estimator::level_responses`]), the loop sampled `decimation` times
+/// faster and the estimator decimating by as much (its period, and the
+/// dead time in its samples, the same).
 fn loads_only_counted(
     model: (f64, f64, usize),
     truth: (f64, f64),
     (noise, quantum): (f64, f64),
     seed: u64,
     loads: usize,
+    decimation: usize,
 ) -> (Vec<Option<usize>>, (u32, u32)) {
-    let (k, tau, d) = model;
-    let ts = 0.5;
+    let (k, tau, d_est) = model;
+    let ts = 0.5 / decimation as f64;
+    let d = d_est * decimation;
+    let every = 400 * decimation;
     let integrating = tau.is_infinite();
     let mut cfg = EstimatorConfig::new(ts, 2);
+    cfg.decimation = decimation;
     cfg.integrating = integrating;
     let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
     est.start_from(k, tau, d as f64 * ts).expect_ok();
@@ -139,10 +145,10 @@ fn loads_only_counted(
     let (mut d_in, mut d_out) = (0.0, 0.0);
     let mut out = Vec::new();
     let width = noise * 12f64.sqrt();
-    for j in 0..(loads + 1) * 400 {
-        if j % 400 == 0 && j > 0 {
+    for j in 0..(loads + 1) * every {
+        if j % every == 0 && j > 0 {
             out.push(est.level_proposal().map(|(i, _)| i));
-            let i = j / 400;
+            let i = j / every;
             let sign = if i % 4 < 2 { 1.0 } else { -1.0 };
             if i % 2 == 0 && !integrating {
                 d_out += 0.3 * sign;
@@ -247,7 +253,7 @@ fn the_level_test_counts_its_responses() {
     for model in [(1.6, 10.0, 12usize), (0.15, f64::INFINITY, 10)] {
         let (k, tau, _) = model;
         for (truth, noise) in [((k, tau), 0.005), ((k / 2.0, tau), 0.005), ((k, tau), 0.0)] {
-            let (_, (compared, used)) = loads_only_counted(model, truth, (noise, 0.0), 1, 12);
+            let (_, (compared, used)) = loads_only_counted(model, truth, (noise, 0.0), 1, 12, 1);
             let case = (model, truth, noise);
             assert!(
                 compared >= 12 && used <= compared,
@@ -255,6 +261,39 @@ fn the_level_test_counts_its_responses() {
             );
             if noise > 0.0 {
                 assert!(used >= 1, "{case:?}: {compared} {used}");
+            }
+        }
+    }
+}
+
+/// The same loops sampled ten times faster, the estimator decimating by
+/// ten (its learning and the level test's steps spread over the controller
+/// samples, the rest in parts of their own): a halved gain is named within
+/// six loads under 0.5 and 2 % noise, nothing the other way, and nothing
+/// at all where the process is the model.
+#[test]
+fn loads_alone_name_a_halved_gain_when_decimated() {
+    let halved = GAINS.iter().position(|g| *g == 0.5).expect_ok();
+    for model in [
+        (1.6, 10.0, 12usize),
+        (0.8, 4.0, 14),
+        (0.15, f64::INFINITY, 10),
+    ] {
+        let (k, tau, _) = model;
+        for noise in [0.005, 0.02] {
+            for seed in [1u64, 2] {
+                let case = (model, noise, seed);
+                let (same, _) = loads_only_counted(model, (k, tau), (noise, 0.0), seed, 12, 10);
+                assert!(same.iter().all(|p| p.is_none()), "{case:?}: {same:?}");
+                let (got, _) = loads_only_counted(model, (k / 2.0, tau), (noise, 0.0), seed, 6, 10);
+                let wrong_way = got
+                    .iter()
+                    .flatten()
+                    .any(|i| GAINS.get(*i).is_none_or(|g| *g >= 1.0));
+                assert!(
+                    got.contains(&Some(halved)) && !wrong_way,
+                    "{case:?}: {got:?}"
+                );
             }
         }
     }
