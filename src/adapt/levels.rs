@@ -25,11 +25,16 @@
 //! noise of variance `σ²`), summed over the responses by Page's test (Page
 //! (1954)).
 //!
-//! A response opens at a load's onset, or where the watch finds one the
+//! A response opens at a load's onset, where the watch finds one the
 //! onset test does not see (`Estimator::levels_watch`: Page's two-sided
 //! test on the model in use's residual in levels at rest, which under 5 %
-//! noise finds an output load of six times the noise in two samples), and
-//! closes at rest a response's time later.
+//! noise finds an output load of six times the noise in two samples), or
+//! where the input first moves after rest (a set-point change's response,
+//! fitted alike: from rest the constant is the level and nothing is in
+//! flight; at a coarse period under noise the differences are slow to
+//! tell a halved gain or a doubled lag, the levels quick: measured on the
+//! bank, 41 and 39 of 45 such cases within 10 % of the true model's IAE
+//! before, 45 and 45 after), and closes at rest a response's time later.
 //!
 //! A response counts only when some model explains it (the best leaves
 //! the noise's residual to within three of its standard deviations, `χ²`

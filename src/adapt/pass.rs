@@ -99,6 +99,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.levels_watch(e_ref);
             return later.then(|| Pass::rest(target, u, self.n));
         }
+        // the input's first move after rest opens a response for the level
+        // test (a set-point change's: see `levels.rs`)
+        if self.resting && !self.levels_open_now() {
+            self.levels_open();
+        }
         self.levels_wake();
         self.wake();
         let chosen = self.chosen;
