@@ -388,7 +388,7 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
 /// process (`mismatch`, [`crate::adapt::Mismatch::error`]; NaN before it
 /// means anything), the alarm (`model_alarm`), the estimator's counts
 /// (`onsets`, `restarts`, `learnt`: 0, nothing moved the loop enough to
-/// identify the process; `responses`, the loads' responses the level test
+/// identify the process; `responses`, the responses the level test
 /// compared, and `responses_used`, those it took as evidence) and whether
 /// adaptation is `frozen`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -422,7 +422,7 @@ pub struct AdaptiveState<T> {
     pub restarts: u32,
     /// Estimator samples the chosen dead time learnt from.
     pub learnt: u32,
-    /// Load responses the level test compared ([`crate::adapt::Estimator::level_responses`]).
+    /// Responses (a load's, a set-point change's) the level test compared ([`crate::adapt::Estimator::level_responses`]).
     pub responses: u32,
     /// Of those, the ones it took as evidence (the others held back).
     pub responses_used: u32,

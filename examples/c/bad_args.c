@@ -491,7 +491,7 @@ int main(void) {
                && st_.responses_used <= st_.responses
                && fabsf(st_.tau_hat - 8.0f) < 0.8f && st_.evidence > 0.0f);
         printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes, "
-               "%u samples learnt from, %u load onsets, %u restarts, %u load responses compared in levels (%u taken as evidence)\n",
+               "%u samples learnt from, %u load onsets, %u restarts, %u responses compared in levels (%u taken as evidence)\n",
                (double)st_.k_model, (double)st_.tau_model, (double)st_.theta_model, (unsigned)st_.adapt_changes,
                (unsigned)st_.learnt, (unsigned)st_.onsets, (unsigned)st_.restarts, (unsigned)st_.responses,
                (unsigned)st_.responses_used);

@@ -578,12 +578,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         });
     }
 
-    /// The load responses the level test compared so far, and how many of
-    /// them it took as evidence: the others it held back (within the
-    /// noise or the rounding, a measurement that hardly moved, a drift, a
-    /// response another dead time explains better; see the module
-    /// documentation). Many responses and none taken: loads alone cannot
-    /// teach this loop.
+    /// The responses (a load's, or a set-point change's from rest) the
+    /// level test compared so far, and how many of them it took as
+    /// evidence: the others it held back (within the noise or the
+    /// rounding, a measurement that hardly moved, a drift, a response
+    /// another dead time explains better; see the module documentation).
+    /// Many responses and none taken: what moves this loop cannot teach it
+    /// a gain or a lag.
     pub fn level_responses(&self) -> (u32, u32) {
         self.levels.responses
     }

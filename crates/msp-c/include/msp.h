@@ -515,7 +515,7 @@ typedef msp_adaptive_fsp_config_of_f64 msp_adaptive_fsp_config_f64;
 // `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
 // `model_alarm`, the estimator's counts `onsets`, `restarts`,
 // `learnt` (0: nothing has moved the loop enough to identify the
-// process), `responses` (the loads' responses the level test compared)
+// process), `responses` (the responses, a load's or a set-point change's, the level test compared)
 // and `responses_used` (those it took as evidence), and whether
 // adaptation is `frozen`.
 typedef struct {
@@ -553,7 +553,7 @@ typedef msp_adaptive_state_of_f32 msp_adaptive_state;
 // `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
 // `model_alarm`, the estimator's counts `onsets`, `restarts`,
 // `learnt` (0: nothing has moved the loop enough to identify the
-// process), `responses` (the loads' responses the level test compared)
+// process), `responses` (the responses, a load's or a set-point change's, the level test compared)
 // and `responses_used` (those it took as evidence), and whether
 // adaptation is `frozen`.
 typedef struct {

@@ -168,7 +168,7 @@ c_config! {
     /// `mismatch` (0.3: 30 %; NaN before it means anything), the alarm
     /// `model_alarm`, the estimator's counts `onsets`, `restarts`,
     /// `learnt` (0: nothing has moved the loop enough to identify the
-    /// process), `responses` (the loads' responses the level test compared)
+    /// process), `responses` (the responses, a load's or a set-point change's, the level test compared)
     /// and `responses_used` (those it took as evidence), and whether
     /// adaptation is `frozen`.
     msp_adaptive_state_of: msp_adaptive_state, msp_adaptive_state_f64 {

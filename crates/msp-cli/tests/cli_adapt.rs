@@ -70,7 +70,7 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     );
     assert!(
         text.contains(&format!(
-            "{} load responses compared in levels ({} taken as evidence)",
+            "{} responses compared in levels ({} taken as evidence)",
             state["responses"], state["responses_used"]
         )),
         "{text}"

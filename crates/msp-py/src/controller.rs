@@ -244,7 +244,7 @@ impl Controller {
     /// against the process ``mismatch`` (0.3: 30 %; NaN before it means
     /// anything), the alarm ``model_alarm`` (bool), the estimator's counts
     /// ``onsets``, ``restarts`` and ``learnt`` (``learnt`` 0: nothing has
-    /// moved the loop enough to identify the process), the loads' responses
+    /// moved the loop enough to identify the process), the responses (a load's, a set-point change's)
     /// the level test compared ``responses`` and took as evidence
     /// ``responses_used``, and ``frozen``;
     /// ``None`` for one that does not adapt.

@@ -102,7 +102,7 @@ impl Estimator {
         self.inner.onsets()
     }
 
-    /// The loads' responses the level test compared so far and, of them,
+    /// The responses (a load's, a set-point change's) the level test compared so far and, of them,
     /// the ones it took as evidence, ``(responses, responses_used)`` (the
     /// others held back: within the noise or the rounding, a measurement
     /// that hardly moved, a drift, another dead time's).

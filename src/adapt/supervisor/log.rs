@@ -16,9 +16,10 @@ use super::*;
 /// so far: load onsets (`onsets`, [`Estimator::onsets`]), restarts of the
 /// change detector (`restarts`, [`Estimator::restarts`]) and samples the
 /// chosen dead time learnt from (`learnt`, [`Estimator::learnt`]: none, and
-/// nothing moved the loop enough to identify the process), and the loads'
-/// responses the level test compared (`responses`) and took as evidence
-/// (`responses_used`, [`Estimator::level_responses`]).
+/// nothing moved the loop enough to identify the process), and the
+/// responses (a load's, a set-point change's) the level test compared
+/// (`responses`) and took as evidence (`responses_used`,
+/// [`Estimator::level_responses`]).
 pub const SIGNALS: [&str; 16] = [
     "k_hat",
     "tau_hat",

@@ -166,7 +166,7 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         };
         s.push_str(&format!(
             "\nestimator   learnt from {} samples{still}, {} load onsets, {} restarts, \
-             {} load responses compared in levels ({} taken as evidence)",
+             {} responses compared in levels ({} taken as evidence)",
             e.learnt, e.onsets, e.restarts, e.responses, e.responses_used
         ));
     }
