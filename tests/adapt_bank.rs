@@ -178,10 +178,10 @@ fn a_lag_halving_is_learnt() {
 /// estimate of a converged bank wanders from sample to sample more than a
 /// change that counts, and the supervisor must still see it settle (the
 /// means of its blocks agree, [`msp::adapt::SPREAD`]). Of every change
-/// with the set point moving (seed 1: 36 cases), at least five in six end
-/// within 10 % of the true model's loop (the bank's table, three seeds:
-/// 93 of 108; with the blocks' spread held to one `min_change`, 71), and
-/// none diverges.
+/// with the set point moving (seed 1: 36 cases), at least 17 in 18 end
+/// within 10 % of the true model's loop (seed 1: 35; the bank's table,
+/// three seeds: 105 of 108; with the blocks' spread held to one
+/// `min_change`, 71), and none diverges.
 #[test]
 fn most_changes_are_learnt_at_the_coarse_period_under_5_percent_noise() {
     let mut n = 0;
@@ -200,7 +200,33 @@ fn most_changes_are_learnt_at_the_coarse_period_under_5_percent_noise() {
         }
     }
     assert_eq!(n, 36);
-    assert!(6 * within.len() >= 5 * n, "{} of {n}", within.len());
+    assert!(18 * within.len() >= 17 * n, "{} of {n}", within.len());
+}
+
+/// A converged estimate whose block means wander about each other by more
+/// than half of `min_change` under 5 % noise is applied at their midpoint
+/// ([`msp::adapt::SPREAD`]): the dead time shortened to 0.6 times on every
+/// stable process of the bank, coarse period, seed 2, ends within 10 % of
+/// the true model's loop (with only the means within half of `min_change`
+/// applied, two of the three did not: their estimates were right and
+/// never settled).
+#[test]
+fn a_converged_estimate_under_5_percent_noise_settles() {
+    let cases: Vec<_> = msp::study::bank::cases(2)
+        .into_iter()
+        .filter(|c| {
+            c.family == "dead time ×0.6"
+                && c.seed == 2
+                && c.period == Period::Coarse
+                && (c.noise, c.bits) == (0.05, None)
+                && c.plant.tau.is_some()
+        })
+        .collect();
+    assert_eq!(cases.len(), 3);
+    for case in cases {
+        let r = case.run().unwrap();
+        assert!(r.iae_adaptive <= 1.1 * r.iae_true, "{r:?}");
+    }
 }
 
 /// Integrating processes whose dead time grows by 40 % (0.15 e^{−5s}/s to

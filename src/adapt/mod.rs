@@ -449,12 +449,21 @@ pub const SPAN: f64 = 20.0;
 /// How far a settle block's estimates may spread, lowest to highest, in
 /// units of `min_change` ([`AdaptiveConfig::min_change`]), for the block
 /// to count as still; two still blocks in a row must then have means
-/// within half of `min_change`. The means' agreement is the convergence
-/// test: a block's spread under measurement noise is its samples', wider
-/// than its mean's by the square root of the samples it averages. Measured
-/// on the bank (`docs/adapt-bank.md`): a spread of one `min_change` held
-/// 37 of 108 changes at the coarse period under 5 % noise more than 10 %
-/// from the true model's loop, most of them held back (a converged
-/// estimate whose samples wander by more); four leaves 15, and the
-/// families where nothing changes apply nothing either way.
+/// within half of `min_change` (the later one is applied), or within
+/// `min_change` and within half of either block's spread, where the
+/// estimate wanders about them rather than moves (a trend moves a block's
+/// mean from the last one's by about the block's own spread): then their
+/// midpoint is applied, within half of `min_change` of each. The means'
+/// agreement is the convergence test: a block's spread under measurement
+/// noise is its samples', wider than its mean's by the square root of the
+/// samples it averages. Measured on the bank (`docs/adapt-bank.md`): a
+/// spread of one `min_change` held 37 of 108 changes at the coarse period
+/// under 5 % noise more than 10 % from the true model's loop, most of them
+/// held back (a converged estimate whose samples wander by more); four
+/// left 15; with the means held to half of `min_change` alone, 6 (the
+/// means of a converged estimate wandering by more); with the midpoint of
+/// wandering means, 3. The midpoint without the spread's test applied a
+/// gain still converging after a dead-time step, 8 % short of the
+/// process's, and left it (`tests/adapt.rs`). The families where nothing
+/// changes apply nothing either way.
 pub const SPREAD: f64 = 4.0;

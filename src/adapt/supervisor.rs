@@ -9,8 +9,10 @@
 //!   still in two blocks in a row (in each, one whole dead time and the gain
 //!   and the time constant within [`SPREAD`] times `min_change` of their
 //!   mean from lowest to highest) whose means agree within half of
-//!   `min_change` (half a
-//!   sample for the dead time) — the later block's mean is applied; every
+//!   `min_change` (half a sample for the dead time) — the later block's
+//!   mean is applied — or within `min_change` and half of either block's
+//!   spread (the estimate wanders about them: [`SPREAD`]) — their midpoint
+//!   is applied; every
 //!   sample's estimate counts only with its gain of the known sign, and
 //!   its dead time only where chosen without ambiguity (its evidence over
 //!   the candidates that are not its neighbours at least `min_evidence`,
@@ -58,7 +60,7 @@ mod traits;
 mod watch;
 
 pub use crate::operate::{AdaptiveState, Change, ChangeKind};
-use block::{near, Block};
+use block::{near, settled, Block, Still};
 pub use config::AdaptiveConfig;
 pub use log::SIGNALS;
 pub use redesign::{Rebuild, Redesign};
@@ -179,7 +181,7 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// The statistics of the current block of `settle` samples.
     block: Block<T>,
     /// The last complete block's mean, when the estimate held still in it.
-    settled: Option<(usize, Model<T>)>,
+    settled: Option<Still<T>>,
     since: u32,
     rest_until: u64,
     log: [Option<Change<T>>; L],
@@ -523,7 +525,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // still (one whole dead time throughout, the gain and the time
         // constant within SPREAD·min_change from lowest to highest, every sample
         // plausible) gives its mean; two such blocks in a row whose means
-        // agree within half of `min_change` settle the estimate
+        // agree settle the estimate (see SPREAD)
         let e = self.est.estimate().and_then(|m| self.plausible(m));
         self.block.add(e, self.est.learnt());
         if self.block.count < self.cfg.settle {
@@ -533,18 +535,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         let tol = self.cfg.min_change;
         let now = block.still(tol * T::of(SPREAD), self.est.window());
         let prev = core::mem::replace(&mut self.settled, now);
-        let Some((d, m)) = now else {
+        let period = self.cfg.estimator.period();
+        let Some(m) = now.and_then(|now| settled(prev?, now, tol, period)) else {
             return;
         };
-        let half = tol / T::of(2.0);
-        let period = self.cfg.estimator.period();
-        let agree = prev.is_some_and(|(pd, p)| {
-            pd == d
-                && near(p.k, m.k, half)
-                && near(p.tau, m.tau, half)
-                && (p.theta - m.theta).abs() <= period / T::of(2.0)
-        });
-        if !agree || self.since < self.cfg.min_interval {
+        if self.since < self.cfg.min_interval {
             return;
         }
         let tol = if self.provisional {

@@ -61,7 +61,7 @@ impl<T: Real> Block<T> {
     /// and two blocks of it were applied; the bank's ramp loads, where the
     /// bank learns only at a ramp's start and end, applied a gain likewise:
     /// `tests/adapt_bank.rs` fails without it).
-    pub(super) fn still(&self, tol: T, min_learnt: usize) -> Option<(usize, Model<T>)> {
+    pub(super) fn still(&self, tol: T, min_learnt: usize) -> Option<Still<T>> {
         let d = self.d?;
         let learnt = self
             .learnt
@@ -76,9 +76,55 @@ impl<T: Real> Block<T> {
             theta: self.sum.theta / n,
         };
         let narrow = |lo: T, hi: T, m: T| m.is_infinite() || hi - lo <= tol * m.abs();
+        let spread = [self.hi.k - self.lo.k, self.hi.tau - self.lo.tau];
         (narrow(self.lo.k, self.hi.k, mean.k) && narrow(self.lo.tau, self.hi.tau, mean.tau))
-            .then_some((d, mean))
+            .then_some(Still { d, mean, spread })
     }
+}
+
+/// A block in which the estimate held still ([`Block::still`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Still<T> {
+    /// Its one dead time (estimator samples).
+    d: usize,
+    /// Its mean model.
+    mean: Model<T>,
+    /// The spread, lowest to highest, of its gain and of its time constant.
+    spread: [T; 2],
+}
+
+/// The model two still blocks in a row settle on, `prev` then `now`
+/// (`None`: they do not agree; see [`crate::adapt::SPREAD`]): one dead
+/// time, within half a period (`period`), and the means within half of
+/// `tol` (`min_change`: the later one), or within `tol` and within half of
+/// either block's spread, the estimate wandering about them (a trend moves
+/// a block's mean from the last one's by about the block's own spread):
+/// their midpoint, within half of `tol` of each.
+pub(super) fn settled<T: Real>(
+    prev: Still<T>,
+    now: Still<T>,
+    tol: T,
+    period: T,
+) -> Option<Model<T>> {
+    let (p, m) = (prev.mean, now.mean);
+    if prev.d != now.d || (p.theta - m.theta).abs() > period / T::of(2.0) {
+        return None;
+    }
+    let half = tol / T::of(2.0);
+    if near(p.k, m.k, half) && near(p.tau, m.tau, half) {
+        return Some(m);
+    }
+    let wanders = |a: T, b: T, sa: T, sb: T| {
+        a == b || (near(a, b, tol) && (a - b).abs() * T::of(2.0) <= at_most(sa, sb))
+    };
+    let [sk, st] = prev.spread;
+    let [nk, nt] = now.spread;
+    let mid = |a: T, b: T| (a + b) / T::of(2.0);
+    (wanders(p.k, m.k, sk, nk) && wanders(p.tau, m.tau, st, nt)).then(|| Model {
+        k: mid(p.k, m.k),
+        tau: mid(p.tau, m.tau),
+        theta: mid(p.theta, m.theta),
+    })
 }
 
 /// `b` within the fraction `rel` of `a` (both infinite: equal).
@@ -87,4 +133,48 @@ pub(super) fn near<T: Real>(a: T, b: T, rel: T) -> bool {
         return a == b;
     }
     (a - b).abs() <= rel * a.abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn still(k: f64, tau: f64, spread: [f64; 2]) -> Still<f64> {
+        Still {
+            d: 6,
+            mean: Model { k, tau, theta: 6.0 },
+            spread,
+        }
+    }
+
+    /// Means within half of `min_change` settle on the later one; within
+    /// `min_change` and half of both blocks' spreads (an estimate wandering
+    /// about them) on their midpoint; a move as large as a block's spread
+    /// (a trend) or beyond `min_change`, or another dead time, not at all.
+    #[test]
+    fn wandering_means_settle_at_their_midpoint_and_a_trend_does_not() {
+        let tol = 0.05;
+        let near = settled(
+            still(1.0, 4.0, [0.0; 2]),
+            still(1.02, 4.0, [0.0; 2]),
+            tol,
+            1.0,
+        );
+        assert_eq!(near.map(|m| m.k), Some(1.02));
+        let wide = [0.2, 0.8];
+        let wander = settled(still(1.0, 4.0, wide), still(1.04, 4.1, wide), tol, 1.0);
+        let m = wander.map(|m| (m.k, m.tau));
+        assert!(matches!(m, Some((k, t)) if (k - 1.02).abs() < 1e-12 && (t - 4.05).abs() < 1e-12));
+        // a trend: each block spread by about the move between their means
+        let trend = [0.04, 0.1];
+        assert!(settled(still(1.0, 4.0, trend), still(1.04, 4.1, trend), tol, 1.0).is_none());
+        assert!(settled(still(1.0, 4.0, wide), still(1.06, 4.0, wide), tol, 1.0).is_none());
+        let mut other = still(1.0, 4.0, wide);
+        other.d = 7;
+        assert!(settled(still(1.0, 4.0, wide), other, tol, 1.0).is_none());
+        // an integrating model's time constant is infinite in both
+        let inf = f64::INFINITY;
+        let integ = settled(still(1.0, inf, wide), still(1.04, inf, wide), tol, 1.0);
+        assert_eq!(integ.map(|m| m.tau), Some(inf));
+    }
 }
