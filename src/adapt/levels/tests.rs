@@ -98,15 +98,16 @@ fn loads_only(
     seed: u64,
     loads: usize,
 ) -> Vec<Option<usize>> {
-    loads_only_counted(model, truth, (noise, quantum), seed, loads, 1, false).0
+    driven_counted(model, truth, (noise, quantum), seed, loads, 1, false).0
 }
 
-/// [`loads_only`] and the level test's counts at its end
+/// A PI loop driven by loads (as [`loads_only`]) or by set-point steps,
+/// and the level test's counts at its end
 /// ([`Estimator::level_responses`]), the loop sampled `decimation` times
 /// faster and the estimator decimating by as much (its period, and the
 /// dead time in its samples, the same); with `setpoint`, the set point
 /// steps between 1 and 0 where the loads would come, and no load comes.
-fn loads_only_counted(
+fn driven_counted(
     model: (f64, f64, usize),
     truth: (f64, f64),
     (noise, quantum): (f64, f64),
@@ -257,8 +258,7 @@ fn the_level_test_counts_its_responses() {
     for model in [(1.6, 10.0, 12usize), (0.15, f64::INFINITY, 10)] {
         let (k, tau, _) = model;
         for (truth, noise) in [((k, tau), 0.005), ((k / 2.0, tau), 0.005), ((k, tau), 0.0)] {
-            let (_, (compared, used)) =
-                loads_only_counted(model, truth, (noise, 0.0), 1, 12, 1, false);
+            let (_, (compared, used)) = driven_counted(model, truth, (noise, 0.0), 1, 12, 1, false);
             let case = (model, truth, noise);
             assert!(
                 compared >= 12 && used <= compared,
@@ -288,11 +288,10 @@ fn loads_alone_name_a_halved_gain_when_decimated() {
         for noise in [0.005, 0.02] {
             for seed in [1u64, 2] {
                 let case = (model, noise, seed);
-                let (same, _) =
-                    loads_only_counted(model, (k, tau), (noise, 0.0), seed, 12, 10, false);
+                let (same, _) = driven_counted(model, (k, tau), (noise, 0.0), seed, 12, 10, false);
                 assert!(same.iter().all(|p| p.is_none()), "{case:?}: {same:?}");
                 let (got, _) =
-                    loads_only_counted(model, (k / 2.0, tau), (noise, 0.0), seed, 6, 10, false);
+                    driven_counted(model, (k / 2.0, tau), (noise, 0.0), seed, 6, 10, false);
                 let wrong_way = got
                     .iter()
                     .flatten()
@@ -321,14 +320,12 @@ fn set_point_steps_name_a_changed_gain_or_lag_in_levels() {
         for noise in [0.02, 0.05] {
             for seed in [1u64, 2, 3] {
                 let case = (model, noise, seed);
-                let (same, _) =
-                    loads_only_counted(model, (k, tau), (noise, 0.0), seed, 20, 1, true);
+                let (same, _) = driven_counted(model, (k, tau), (noise, 0.0), seed, 20, 1, true);
                 assert!(same.iter().all(|p| p.is_none()), "{case:?}: {same:?}");
                 for (truth, want, steps) in
                     [((k / 2.0, tau), halved, 6), ((k, 2.0 * tau), doubled, 10)]
                 {
-                    let (got, _) =
-                        loads_only_counted(model, truth, (noise, 0.0), seed, steps, 1, true);
+                    let (got, _) = driven_counted(model, truth, (noise, 0.0), seed, steps, 1, true);
                     let same_way = |i: usize| match GAINS.get(i) {
                         Some(g) => want == halved && *g < 1.0,
                         None => want == doubled && LAGS.get(i - GAINS.len()) > Some(&1.0),

@@ -121,6 +121,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         let e = self.est.estimate();
         let m = self.model;
         let nan = T::nan();
+        let (responses, responses_used) = self.est.level_responses();
         AdaptiveState {
             k_hat: e.map_or(nan, |e| e.k),
             tau_hat: e.map_or(nan, |e| e.tau),
@@ -136,8 +137,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             onsets: self.est.onsets(),
             restarts: self.est.restarts(),
             learnt: self.est.learnt(),
-            responses: self.est.level_responses().0,
-            responses_used: self.est.level_responses().1,
+            responses,
+            responses_used,
             frozen: self.frozen,
         }
     }
