@@ -59,9 +59,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .push(r);
     }
     println!("## By family\n");
-    println!("IAE of the evaluated window (the whole run without a change; the last quarter after one), as ratios: the adaptive loop over the fixed model's and over the true model's. *Events worse*: cases where some event's IAE is more than 5 % above the fixed loop's. *Within 10 %*: the adaptive loop within 10 % of the true model's. *Helped*: of the cases where the fixed model is 20 % or more worse than the true one, those where the adaptive loop is 20 % better than the fixed and within 10 % of the true. Where the fixed model loses between 20 and 37.5 %, *helped* asks more than the true model gives (0.8 × 1.2 < 1): at the chosen period the misses (lag ×2) are such cases, each within 10 % of the true model's IAE.\n");
-    println!("| family | process | period | cases | adaptive/fixed median | worst | adaptive/true median | worst | events worse > 5 % | within 10 % of true | helped | diverged fixed / adaptive | cases with a model applied |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("IAE of the evaluated window (the whole run without a change; the last quarter after one), as ratios: the adaptive loop over the fixed model's and over the true model's. *Events worse*: cases where some event's IAE is more than 5 % above the fixed loop's. *Within 10 %*: the adaptive loop within 10 % of the true model's. *Helped*: of the cases where the fixed model is 20 % or more worse than the true one, those where the adaptive loop is 20 % better than the fixed and within 10 % of the true. Where the fixed model loses between 20 and 37.5 %, *helped* asks more than the true model gives (0.8 × 1.2 < 1): at the chosen period the misses (lag ×2) are such cases, each within 10 % of the true model's IAE. *Learnt after*: in settling scales after the change (its start, for a drift), the first event (set-point move or load) from which every event's IAE of the adaptive loop is within 10 % of the true model's loop's, median and worst over the cases, and the cases where the last event is not.\n");
+    println!("| family | process | period | cases | adaptive/fixed median | worst | adaptive/true median | worst | events worse > 5 % | within 10 % of true | helped | diverged fixed / adaptive | cases with a model applied | learnt after (scales): median, worst, not |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut by_condition: BTreeMap<String, Vec<&BankResult>> = BTreeMap::new();
     for ((_, family, class, period), rs) in &rows {
         let ratio = |f: &dyn Fn(&BankResult) -> f64| {
@@ -94,13 +94,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ("–".into(), "–".into())
         };
         let applied = rs.iter().filter(|r| r.applied > 0).count();
+        let learnt = if changed {
+            let mut after: Vec<f64> = rs.iter().filter_map(|r| r.learnt_after).collect();
+            after.sort_by(f64::total_cmp);
+            let not = rs.len() - after.len();
+            match (after.get(after.len() / 2), after.last()) {
+                (Some(m), Some(w)) => format!("{m:.0}, {w:.0}, {not}"),
+                _ => format!("–, –, {not}"),
+            }
+        } else {
+            "–".into()
+        };
         let worse = if changed {
             "–".into()
         } else {
             worse.to_string()
         };
         println!(
-            "| {family} | {class} | {period} | {} | {} | {} | {} | {} | {worse} | {within} | {helped} | {div_f} / {div_a} | {applied} |",
+            "| {family} | {class} | {period} | {} | {} | {} | {} | {} | {worse} | {within} | {helped} | {div_f} / {div_a} | {applied} | {learnt} |",
             rs.len(),
             fmt(af_med),
             fmt(af_worst),

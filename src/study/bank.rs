@@ -151,6 +151,35 @@ pub struct BankResult {
     pub worst_event_ratio: f64,
     /// Models the adaptation applied (applied, emergency, detuned).
     pub applied: usize,
+    /// After a change: from how many settling scales after it (its start,
+    /// for a drift) every event's IAE of the adaptive loop is within 10 %
+    /// of the true model's loop's, counted at the first event of that run
+    /// ([`BankResult::learnt_after`]); `None` without a change, or where
+    /// the last event is not.
+    pub learnt_after: Option<f64>,
+}
+
+impl BankResult {
+    /// The first event at or after `change` (s) from which every event's
+    /// IAE in `adaptive` is within 10 % of the one in `truth` (the same
+    /// set points and loads: the events pair by their order), as its time
+    /// after `change` in settling scales `scale`; `None` where the last is
+    /// not, or there is none after `change`.
+    fn learnt_after(
+        adaptive: &[(f64, f64)],
+        truth: &[(f64, f64)],
+        change: f64,
+        scale: f64,
+    ) -> Option<f64> {
+        let mut from = None;
+        for (&(at, a), &(_, t)) in adaptive.iter().zip(truth).rev() {
+            if at < change || !(a <= 1.1 * t) {
+                break;
+            }
+            from = Some((at - change) / scale);
+        }
+        from
+    }
 }
 
 /// The bank's processes: three stable (lag-dominant to dead-time-dominant)
@@ -367,26 +396,33 @@ impl BankCase {
             None => 0.0,
             Some(_) => 0.75 * self.duration(),
         };
-        let iae_true = match self.change {
-            None => iae(&fixed, from),
-            Some(_) => {
-                let truth = self.plant.changed(self.change);
-                iae(&self.scenario(&truth, false, false, ts)?.run()?, from)
-            }
-        };
-        let events = |o: &RunOutput| -> Vec<f64> {
+        let events = |o: &RunOutput| -> Vec<(f64, f64)> {
             o.events
                 .iter()
                 .map(|e| match e {
-                    super::Event::Setpoint(s) => s.iae,
-                    super::Event::Disturbance(d) => d.iae,
+                    super::Event::Setpoint(s) => (s.at, s.iae),
+                    super::Event::Disturbance(d) => (d.at, d.iae),
                 })
                 .collect()
+        };
+        let (iae_true, learnt_after) = match self.change {
+            None => (iae(&fixed, from), None),
+            Some(_) => {
+                let truth = self.plant.changed(self.change);
+                let truth = self.scenario(&truth, false, false, ts)?.run()?;
+                let after = BankResult::learnt_after(
+                    &events(&adaptive),
+                    &events(&truth),
+                    self.change_at(),
+                    self.plant.scale(),
+                );
+                (iae(&truth, from), after)
+            }
         };
         let worst_event_ratio = events(&adaptive)
             .iter()
             .zip(events(&fixed))
-            .map(|(a, f)| if f > 0.0 { a / f } else { 1.0 })
+            .map(|(&(_, a), (_, f))| if f > 0.0 { a / f } else { 1.0 })
             .fold(
                 1.0f64,
                 |m, r| if r.is_nan() { f64::INFINITY } else { m.max(r) },
@@ -412,6 +448,7 @@ impl BankCase {
             iae_true,
             worst_event_ratio,
             applied,
+            learnt_after,
         })
     }
 }
@@ -498,4 +535,50 @@ fn iae(out: &RunOutput, from: f64) -> f64 {
         .filter(|(t, _)| **t >= from)
         .map(|(_, (y, r))| (r - y).abs() * out.ts)
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first event from which every later one is within 10 % of the
+    /// true loop's, in scales after the change; none where the last is not
+    /// (or diverged: a NaN is not within); events before the change do not
+    /// count.
+    #[test]
+    fn learnt_after_is_the_first_event_of_the_last_run_within_10_percent() {
+        let truth = [
+            (0.0, 1.0),
+            (10.0, 1.0),
+            (20.0, 1.0),
+            (30.0, 1.0),
+            (40.0, 1.0),
+        ];
+        let adaptive = [
+            (0.0, 1.0),
+            (10.0, 2.0),
+            (20.0, 1.05),
+            (30.0, 1.2),
+            (40.0, 1.1),
+        ];
+        assert_eq!(
+            BankResult::learnt_after(&adaptive, &truth, 5.0, 5.0),
+            Some(7.0)
+        );
+        let settled = [
+            (0.0, 3.0),
+            (10.0, 1.0),
+            (20.0, 1.0),
+            (30.0, 1.0),
+            (40.0, 1.0),
+        ];
+        assert_eq!(
+            BankResult::learnt_after(&settled, &truth, 5.0, 5.0),
+            Some(1.0)
+        );
+        let mut diverged = adaptive;
+        diverged[4].1 = f64::NAN;
+        assert_eq!(BankResult::learnt_after(&diverged, &truth, 5.0, 5.0), None);
+        assert_eq!(BankResult::learnt_after(&adaptive, &truth, 45.0, 5.0), None);
+    }
 }
