@@ -154,8 +154,8 @@ pub struct BankResult {
     /// After a change: from how many settling scales after it (its start,
     /// for a drift) every event's IAE of the adaptive loop is within 10 %
     /// of the true model's loop's, counted at the first event of that run
-    /// ([`BankResult::learnt_after`]); `None` without a change, or where
-    /// the last event is not.
+    /// (the events of the two loops paired by their order); `None` without
+    /// a change, or where the last event is not.
     pub learnt_after: Option<f64>,
 }
 
