@@ -85,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (
                 format!(
                     "{} of {}",
-                    rs.iter().filter(|r| within_true(r)).count(),
+                    rs.iter().filter(|r| r.within_true()).count(),
                     rs.len()
                 ),
                 helped(rs.iter()),
@@ -128,7 +128,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "| {cond} | {} | {} of {} | {} |",
             rs.len(),
-            rs.iter().filter(|r| within_true(r)).count(),
+            rs.iter().filter(|r| r.within_true()).count(),
             rs.len(),
             helped(rs.iter().copied())
         );
@@ -146,18 +146,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// The adaptive loop within 10 % of the true model's.
-fn within_true(r: &BankResult) -> bool {
-    r.iae_adaptive <= 1.1 * r.iae_true
-}
-
 /// "won of needed": where the fixed model is ≥ 20 % worse than the true
 /// one, the adaptive loop 20 % better than it and within 10 % of the true.
 fn helped<'a>(rs: impl Iterator<Item = &'a BankResult>) -> String {
     let need: Vec<_> = rs.filter(|r| r.iae_fixed >= 1.2 * r.iae_true).collect();
     let won = need
         .iter()
-        .filter(|r| r.iae_adaptive <= 0.8 * r.iae_fixed && within_true(r))
+        .filter(|r| r.iae_adaptive <= 0.8 * r.iae_fixed && r.within_true())
         .count();
     format!("{won} of {}", need.len())
 }
