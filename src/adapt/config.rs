@@ -36,7 +36,9 @@ pub struct EstimatorConfig<T> {
     /// moves that are the set point's and the loads'.
     pub excitation_ratio: T,
     /// Excitation gate: no update unless `|Δu|` reached this within the
-    /// history the candidates read.
+    /// history the candidates read (and, whatever this is, a hundredth of
+    /// the largest move of late: a smaller one adds under 10⁻⁴ of its
+    /// information).
     pub min_excitation: T,
     /// Discount of the candidates' costs (the decision's memory).
     pub cost_memory: T,

@@ -74,8 +74,8 @@ pub(crate) struct History<T, const H: usize> {
     /// The prefilter's pole `c` and its last output (`Δu` through `1/(1 − c·z⁻¹)`).
     pole: T,
     last_f: T,
-    /// The excitation gate's threshold, and how many entries ago one
-    /// reached it, its ratio to the jitter and [`FLOOR`] of the largest
+    /// The excitation gate's threshold, and how many entries ago a move
+    /// reached it, `ratio` times the jitter and [`FLOOR`] of the largest
     /// move of late (0: the newest).
     gate: T,
     pub(crate) quiet: usize,
@@ -110,8 +110,9 @@ pub(crate) struct History<T, const H: usize> {
 
 /// The least move, as a fraction of the largest of late, that the gate
 /// counts. A sample's share of the information the bank's least squares
-/// gather is its regressor's square (`φφᵀ`: the input's moves and the
-/// model's answer to them, Ljung (1999) Sec. 13.2), so a move under 1 % of
+/// gather is its regressor's square (`φφᵀ`, the input's moves and the
+/// model's answer to them: the estimate's covariance is the noise's
+/// variance over `Σψψᵀ`, Ljung (1999) Sec. 9.3), so a move under 1 % of
 /// the largest one within the memory adds under 10⁻⁴ of that move's:
 /// nothing the bank can resolve. Without it a loop without noise (a
 /// simulation, a converter finer than the loop's jitter) keeps the bank

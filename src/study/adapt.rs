@@ -34,7 +34,8 @@ pub struct AdaptOptions {
     /// The forgetting factor (default 0.999).
     pub forgetting: Option<f64>,
     /// The excitation gate: no learning unless the input moved this much
-    /// within the history (default 1e-6).
+    /// within the history (default 1e-6; a move under a hundredth of the
+    /// largest of late never counts, whatever this is).
     pub excitation: Option<f64>,
     /// The model changes when the gain or the time constant moves by this
     /// fraction (default 0.05).

@@ -191,7 +191,8 @@ pub(crate) struct ScenarioArgs {
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub(crate) adapt_prefilter: Option<f64>,
     /// The excitation gate: no learning unless the input moved this much
-    /// (and ten times its own jitter) within the response's time.
+    /// (and ten times its own jitter, and a hundredth of its largest move
+    /// of late) within the response's time.
     #[arg(long, value_name = "DU", allow_hyphen_values = true)]
     pub(crate) adapt_excitation: Option<f64>,
     /// The estimator's dead zone in multiples of the measured noise (its
