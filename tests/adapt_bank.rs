@@ -214,32 +214,6 @@ fn most_changes_are_learnt_at_the_coarse_period_under_5_percent_noise() {
     assert!(18 * within.len() >= 17 * n, "{} of {n}", within.len());
 }
 
-/// A converged estimate whose block means wander about each other by more
-/// than half of `min_change` under 5 % noise is applied at their midpoint
-/// ([`msp::adapt::SPREAD`]): the dead time shortened to 0.6 times on every
-/// stable process of the bank, coarse period, seed 2, ends within 10 % of
-/// the true model's loop (with only the means within half of `min_change`
-/// applied, two of the three did not: their estimates were right and
-/// never settled).
-#[test]
-fn a_converged_estimate_under_5_percent_noise_settles() {
-    let cases: Vec<_> = msp::study::bank::cases(2)
-        .into_iter()
-        .filter(|c| {
-            c.family == "dead time ×0.6"
-                && c.seed == 2
-                && c.period == Period::Coarse
-                && (c.noise, c.bits) == (0.05, None)
-                && c.plant.tau.is_some()
-        })
-        .collect();
-    assert_eq!(cases.len(), 3);
-    for case in cases {
-        let r = case.run().unwrap();
-        assert!(r.within_true(), "{r:?}");
-    }
-}
-
 /// Integrating processes whose dead time grows by 40 % (0.15 e^{−5s}/s to
 /// 7 s, 0.05 e^{−6s}/s to 8.4 s), at 20 and at 120 samples of dead time:
 /// the fixed model's loop diverges after the next set-point move; the

@@ -86,6 +86,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             onset_error: T::zero(),
             pending: None,
             current: None,
+            over_reference: T::zero(),
             resting: false,
             rest: (T::one(), T::zero()),
             hyp: [Hypothesis {
@@ -151,7 +152,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.challenger_for = 0;
         self.rebase();
         self.refresh_model();
-        self.current = self.estimate_now();
+        self.refresh_current();
         self.set_reference(k, tau, theta)
     }
 
@@ -210,6 +211,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             recent: [T::zero(); 4],
         });
         self.reset_hypotheses(theta);
+        self.refresh_current();
         Ok(())
     }
 
@@ -459,8 +461,33 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.current
     }
 
-    /// [`Estimator::estimate`] from the bank as it is (a pass's end keeps it).
-    pub(super) fn estimate_now(&self) -> Option<Estimate<T>> {
+    /// The evidence ([`Estimate::evidence`]) for the chosen dead time over
+    /// the candidate at the reference's ([`Estimator::set_reference`]), as
+    /// of the end of the last estimator sample's learning (0: the same
+    /// candidate, or the reference's beyond the bank: not weighed).
+    pub(crate) fn over_reference(&self) -> T {
+        self.over_reference
+    }
+
+    /// [`Estimator::estimate`] and [`Estimator::over_reference`] from the
+    /// bank as it is (a pass's end keeps them).
+    pub(super) fn refresh_current(&mut self) {
+        self.current = self.estimate_now();
+        self.over_reference = match (self.reference.as_ref(), self.bank.get(self.chosen)) {
+            (Some(r), Some(c)) => {
+                let other =
+                    r.d.checked_sub(self.cfg.d_min)
+                        .filter(|&i| i < self.n)
+                        .and_then(|i| self.bank.get(i))
+                        .map_or(c.cost, |o| o.cost);
+                self.evidence(c.cost, other).max(T::zero())
+            }
+            _ => T::zero(),
+        };
+    }
+
+    /// [`Estimator::estimate`] from the bank as it is.
+    fn estimate_now(&self) -> Option<Estimate<T>> {
         let c = self.bank.get(self.chosen)?;
         let (k, tau, frac) = self.model?;
         // a neighbour's interval of dead times shares an end with the
