@@ -111,6 +111,12 @@ fn no_change_with_ramping_loads_does_no_harm() {
 /// integrating process; twenty set-point moves).
 const LEARNT_WITHIN: f64 = 80.0;
 
+/// [`LEARNT_WITHIN`] for a gain or a lag between the change detector's
+/// hypotheses, which none of them names: the nearest is applied first and
+/// the bank's estimate refines it once it held still (the bank's table:
+/// at most 108 at 0.5 % noise, three seeds).
+const LEARNT_BETWEEN: f64 = 120.0;
+
 /// Items 2 and 3, help and never destabilise: after each change of the
 /// bank on every process (0.5 % noise and a 10-bit converter at msp's
 /// chosen period, 0.5 % noise at the coarse one) the adaptive loop ends
@@ -122,6 +128,12 @@ const LEARNT_WITHIN: f64 = 80.0;
 /// within 10 % of the true model's loop's
 /// ([`msp::study::bank::BankResult::learnt_after`]).
 fn learns(family: &str) {
+    learns_within(family, LEARNT_WITHIN);
+}
+
+/// [`learns`] with every event within 10 % of the true model's loop from
+/// `within` settling scales after the change on.
+fn learns_within(family: &str, within: f64) {
     let mut n = 0;
     for (period, conditions) in [
         (Period::Chosen, &[(0.005, None), (0.0, Some(10))][..]),
@@ -131,7 +143,7 @@ fn learns(family: &str) {
             let r = case.run().unwrap();
             assert!(r.iae_adaptive.is_finite(), "{r:?}");
             assert!(r.within_true(), "{r:?}");
-            assert!(r.learnt_after.is_some_and(|a| a <= LEARNT_WITHIN), "{r:?}");
+            assert!(r.learnt_after.is_some_and(|a| a <= within), "{r:?}");
             if r.iae_fixed.is_finite() && r.iae_fixed >= 1.2 * r.iae_true {
                 assert!(
                     r.iae_adaptive <= r.iae_fixed - 0.5 * (r.iae_fixed - r.iae_true),
@@ -185,33 +197,48 @@ fn a_lag_halving_is_learnt() {
     learns("lag ×0.5");
 }
 
+/// A gain and a lag between the change detector's hypotheses (none names
+/// 0.6 times the gain or 1.6 times the lag exactly).
+#[test]
+fn a_gain_between_the_hypotheses_is_learnt() {
+    learns_within("gain ×0.6", LEARNT_BETWEEN);
+}
+
+#[test]
+fn a_lag_between_the_hypotheses_is_learnt() {
+    learns_within("lag ×1.6", LEARNT_BETWEEN);
+}
+
 /// Item 2 under heavy noise: at the coarse period with 5 % noise, the
 /// estimate of a converged bank wanders from sample to sample more than a
 /// change that counts, and the supervisor must still see it settle (the
 /// means of its blocks agree, [`msp::adapt::SPREAD`]). Of every change
-/// with the set point moving (seed 1: 36 cases), at least 17 in 18 end
-/// within 10 % of the true model's loop (seed 1: 35; the bank's table,
-/// three seeds: 105 of 108; with the blocks' spread held to one
-/// `min_change`, 71), and none diverges.
+/// with the set point moving whose factor a hypothesis of the change
+/// detector names (seed 1: 36 cases), every one ends within 10 % of the
+/// true model's loop (the bank's table, three seeds: 108 of 108; with the
+/// blocks' spread held to one `min_change`, 71; before a dead time was
+/// taken on its evidence over the model's own, 105); of the gain ×0.6 and
+/// the lag ×1.6 between them (8 cases), at least 6 (the bank's table:
+/// 15 of 24, the estimate right but its prediction not yet better than the
+/// model in use's by the validation's margin); none diverges.
 #[test]
 fn most_changes_are_learnt_at_the_coarse_period_under_5_percent_noise() {
-    let mut n = 0;
-    let mut within = Vec::new();
+    let (mut n, mut within) = ([0; 2], [0; 2]);
     for (family, _, excitation) in msp::study::bank::families() {
         if family.starts_with("no change") || excitation != msp::study::bank::Excitation::Setpoint {
             continue;
         }
+        let between = usize::from(family == "gain ×0.6" || family == "lag ×1.6");
         for case in bank_cases(&family, Period::Coarse, &[(0.05, None)]) {
             let r = case.run().unwrap();
             assert!(r.iae_adaptive.is_finite(), "{r:?}");
-            n += 1;
-            if r.within_true() {
-                within.push(r);
-            }
+            n[between] += 1;
+            within[between] += usize::from(r.within_true());
         }
     }
-    assert_eq!(n, 36);
-    assert!(18 * within.len() >= 17 * n, "{} of {n}", within.len());
+    assert_eq!(n, [36, 8]);
+    assert_eq!(within[0], 36);
+    assert!(within[1] >= 6, "{within:?}");
 }
 
 /// Integrating processes whose dead time grows by 40 % (0.15 e^{−5s}/s to

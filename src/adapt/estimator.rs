@@ -86,7 +86,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             onset_error: T::zero(),
             pending: None,
             current: None,
-            over_reference: T::zero(),
             resting: false,
             rest: (T::one(), T::zero()),
             hyp: [Hypothesis {
@@ -152,7 +151,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.challenger_for = 0;
         self.rebase();
         self.refresh_model();
-        self.refresh_current();
+        self.current = self.estimate_now();
         self.set_reference(k, tau, theta)
     }
 
@@ -211,7 +210,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             recent: [T::zero(); 4],
         });
         self.reset_hypotheses(theta);
-        self.refresh_current();
         Ok(())
     }
 
@@ -462,32 +460,24 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 
     /// The evidence ([`Estimate::evidence`]) for the chosen dead time over
-    /// the candidate at the reference's ([`Estimator::set_reference`]), as
-    /// of the end of the last estimator sample's learning (0: the same
-    /// candidate, or the reference's beyond the bank: not weighed).
+    /// the candidate at the reference's ([`Estimator::set_reference`]), from
+    /// the candidates' costs as they are (0: the same candidate, none, or
+    /// the reference's beyond the bank: not weighed). Computed when asked:
+    /// the supervisor asks only while the chosen dead time is another.
     pub(crate) fn over_reference(&self) -> T {
-        self.over_reference
-    }
-
-    /// [`Estimator::estimate`] and [`Estimator::over_reference`] from the
-    /// bank as it is (a pass's end keeps them).
-    pub(super) fn refresh_current(&mut self) {
-        self.current = self.estimate_now();
-        self.over_reference = match (self.reference.as_ref(), self.bank.get(self.chosen)) {
-            (Some(r), Some(c)) => {
-                let other =
-                    r.d.checked_sub(self.cfg.d_min)
-                        .filter(|&i| i < self.n)
-                        .and_then(|i| self.bank.get(i))
-                        .map_or(c.cost, |o| o.cost);
-                self.evidence(c.cost, other).max(T::zero())
-            }
-            _ => T::zero(),
+        let (Some(r), Some(c)) = (self.reference.as_ref(), self.bank.get(self.chosen)) else {
+            return T::zero();
         };
+        let other =
+            r.d.checked_sub(self.cfg.d_min)
+                .filter(|&i| i < self.n)
+                .and_then(|i| self.bank.get(i))
+                .map_or(c.cost, |o| o.cost);
+        self.evidence(c.cost, other).max(T::zero())
     }
 
-    /// [`Estimator::estimate`] from the bank as it is.
-    fn estimate_now(&self) -> Option<Estimate<T>> {
+    /// [`Estimator::estimate`] from the bank as it is (a pass's end keeps it).
+    pub(super) fn estimate_now(&self) -> Option<Estimate<T>> {
         let c = self.bank.get(self.chosen)?;
         let (k, tau, frac) = self.model?;
         // a neighbour's interval of dead times shares an end with the

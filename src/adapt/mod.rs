@@ -342,9 +342,6 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     pending: Option<Pass<T>>,
     /// The estimate as of the last pass's end ([`Estimator::estimate`]).
     current: Option<Estimate<T>>,
-    /// The evidence for the chosen dead time over the reference's
-    /// (`Estimator::over_reference`), as of the same pass's end.
-    over_reference: T,
     /// At rest (see `rest.rs`): only the chosen candidate's simulation
     /// runs, and every candidate's cost is `g·V + s` with the shared
     /// discount and sum `rest = (g, s)`, applied when the input moves.

@@ -281,7 +281,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.refresh_model();
         }
         self.learnt = self.learnt.wrapping_add(u32::from(pass.chosen_learnt));
-        self.refresh_current();
+        self.current = self.estimate_now();
     }
 }
 

@@ -261,6 +261,10 @@ pub fn families() -> Vec<(String, Option<Change>, Excitation)> {
         ("gain ×0.5", step(Gain, 0.5)),
         ("lag ×2", step(Lag, 2.0)),
         ("lag ×0.5", step(Lag, 0.5)),
+        // between the change detector's hypotheses (gains 0.5, 0.7, 1.4, 2;
+        // lags 1/2, 2/3, 4/3, 2): what none of them names exactly
+        ("gain ×0.6", step(Gain, 0.6)),
+        ("lag ×1.6", step(Lag, 1.6)),
     ] {
         f.push((String::from(name), change, Excitation::Setpoint));
     }
