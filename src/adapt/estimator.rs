@@ -158,7 +158,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The whole dead time `d` and the ZOH coefficients `(a, b0, b1)` of
     /// `K e^{−θs}/(τs + 1)` (`tau` infinite: `K e^{−θs}/s`; see the module
     /// documentation).
-    fn coefficients(&self, k: T, tau: T, theta: T) -> Result<(usize, [T; 3]), Error> {
+    pub(super) fn coefficients(&self, k: T, tau: T, theta: T) -> Result<(usize, [T; 3]), Error> {
         crate::real::finite(k, "k")?;
         if k == T::zero() {
             return Err(Error::OutOfRange("k: not zero"));

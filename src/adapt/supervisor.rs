@@ -22,6 +22,10 @@
 //!   and the lag do not);
 //! - it differs enough from the model in use: the gain or the time constant
 //!   by `min_change` (relative), or the dead time by half a sample;
+//! - it predicts the data since the model in use was set better than that
+//!   model, with the evidence of `validate`, or, where the differences
+//!   cannot tell yet, the level test weighed it so over the responses
+//!   since (its challenger, with the evidence it asks of a hypothesis);
 //! - `min_interval` samples have passed since the last change.
 //!
 //! A change moves the gain and the time constant by at most a factor
@@ -55,6 +59,7 @@ mod block;
 mod config;
 mod design;
 mod log;
+mod proposals;
 mod redesign;
 mod slots;
 mod traits;
@@ -519,7 +524,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // learnt a load-biased lag beyond the bounds, kept the right gain
         // hypothesis waiting for the rest of the run)
         let edge = self.edge();
-        if self.propose() || edge {
+        if self.propose() || edge || self.challenged() {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held
@@ -558,8 +563,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return;
         }
         // the estimate must predict the recent data better than the model
-        // in use
+        // in use; where its differences cannot tell yet, the level test
+        // weighs it over the responses to come (`challenged`)
         if !self.beats_model() {
+            self.est
+                .challenge((m.k, m.tau, m.theta), self.cfg.min_change);
             return;
         }
         self.apply(m);
@@ -574,44 +582,6 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         !near(cur.k, m.k, tol)
             || !near(cur.tau, m.tau, tol)
             || (cur.theta - m.theta).abs() > period / T::of(2.0)
-    }
-
-    /// The change detector's gain or lag hypothesis
-    /// ([`Estimator::proposal`]) applied when it differs from the model in
-    /// use by `min_change`, lies within the bounds, and predicts the last
-    /// response's data better than the model in use with the evidence of
-    /// `validate` (as the bank's estimate must: the same rule, on the
-    /// detector's memory of a response rather than on the data since the
-    /// model in use was set). A loop that only loads move learns this way
-    /// in responses where the bank takes tens of them. Returns whether it
-    /// was applied.
-    fn propose(&mut self) -> bool {
-        if self.since < self.cfg.min_interval {
-            return false;
-        }
-        let Some(m) = self.est.proposal().and_then(|m| self.plausible(m)) else {
-            return false;
-        };
-        let cur = self.model;
-        let m = Model {
-            k: m.k,
-            tau: m.tau,
-            theta: m.theta,
-        };
-        let differs =
-            !near(cur.k, m.k, self.cfg.min_change) || !near(cur.tau, m.tau, self.cfg.min_change);
-        // (and the bank's own model predicts the last response worse:
-        // where it learns, its estimate is the one to apply)
-        let validated = self
-            .est
-            .proposal_mismatch()
-            .is_some_and(|(mm, bank_better)| mm.evidence >= self.cfg.validate && !bank_better);
-        if !differs || !validated || !self.within_bounds(m) {
-            return false;
-        }
-        self.apply(m);
-        self.provisional = true;
-        true
     }
 
     /// The estimate `m` applied, its gain and time constant at most a
@@ -658,51 +628,5 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
                 self.record(ChangeKind::Refused);
             }
         }
-    }
-
-    /// An estimate worth applying: the gain of the model's sign, a finite
-    /// positive time constant (or an integrating model for an integrating
-    /// one); its dead time where it was chosen without ambiguity, or where
-    /// it is no neighbour of the model's and clearly better than the
-    /// model's own (`min_evidence` over that candidate,
-    /// [`Estimator::over_reference`]: the data need not yet tell it from a
-    /// candidate two samples away to tell it from the model's), the
-    /// model's where not (a switch of dead time waits for evidence; the
-    /// gain and the lag do not). Measured on the bank at the coarse period
-    /// under 5 % noise: the evidence over the nearest rival two samples
-    /// away stayed between 5 and 20 for some 1 000 s after a dead time's
-    /// step to 0.6 times, or hovered about 20 after a drift to 0.7 times,
-    /// each sample below it broke its block's stillness, and the model's
-    /// dead time stood until the evaluated window (3 of 108 cases more
-    /// than 10 % from the true model's loop; none with this rule).
-    /// The change is still applied only when the estimate predicts the
-    /// data better than the model in use (`validate`).
-    fn plausible(&self, m: Estimate<T>) -> Option<Estimate<T>> {
-        let integrating = self.cfg.estimator.integrating;
-        let ok = (m.k > T::zero()) == (self.model.k > T::zero())
-            && m.k.is_finite()
-            && (integrating || (m.tau.is_finite() && m.tau > T::zero()));
-        if !ok {
-            return None;
-        }
-        let est = &self.cfg.estimator;
-        // the model's whole samples, as the estimator counts them
-        // (truncation: not negative)
-        let at = (self.model.theta - est.centre()).max(T::zero()) / est.period();
-        let d = num_traits::ToPrimitive::to_usize(&(at + T::of(1e-9)));
-        // a neighbour's dead times share an end with the model's: only
-        // the evidence over the others counts for it
-        let far = d.is_some_and(|d| d.abs_diff(m.d) > 1);
-        if m.evidence >= self.cfg.min_evidence
-            || d == Some(m.d)
-            || (far && self.est.over_reference() >= self.cfg.min_evidence)
-        {
-            return Some(m);
-        }
-        Some(Estimate {
-            theta: self.model.theta,
-            d: d.unwrap_or(m.d),
-            ..m
-        })
     }
 }
