@@ -273,6 +273,10 @@ pub fn families() -> Vec<(String, Option<Change>, Excitation)> {
         ("dead time ×1.6, loads", step(DeadTime, 1.6)),
         ("gain ×0.5, loads", step(Gain, 0.5)),
         ("lag ×2, loads", step(Lag, 2.0)),
+        // between the hypotheses, loads only
+        ("dead time ×0.7, loads", step(DeadTime, 0.7)),
+        ("gain ×0.6, loads", step(Gain, 0.6)),
+        ("lag ×1.6, loads", step(Lag, 1.6)),
     ] {
         f.push((String::from(name), change, Excitation::Loads));
     }
