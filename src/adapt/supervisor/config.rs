@@ -45,7 +45,7 @@ pub struct AdaptiveConfig<T> {
     /// the dead-time range is.
     pub bound: T,
     /// Half-cycles of a growing oscillation of the control error (each
-    /// reaching the band, each peak at least the one before) that set off
+    /// reaching the band, each peak above the one before by the band) that set off
     /// the emergency path (default 4: two periods): the primary's gain is
     /// halved ([`crate::adapt::ChangeKind::Detuned`]); when the oscillation
     /// goes on, a clear estimate is applied
