@@ -12,6 +12,16 @@ fn noisy(family: &str) -> impl Iterator<Item = BankCase> + '_ {
     })
 }
 
+/// Each of the `n` cases `picked` ends within 10 % of the true model's loop.
+fn all_within_true(picked: impl Iterator<Item = BankCase>, n: usize) {
+    let picked: Vec<_> = picked.collect();
+    assert_eq!(picked.len(), n);
+    for case in picked {
+        let r = case.run().unwrap();
+        assert!(r.within_true(), "{r:?}");
+    }
+}
+
 /// A converged estimate whose block means wander about each other by more
 /// than half of `min_change` under 5 % noise is applied at their midpoint
 /// ([`msp::adapt::SPREAD`]): the dead time shortened to 0.6 times on every
@@ -21,14 +31,10 @@ fn noisy(family: &str) -> impl Iterator<Item = BankCase> + '_ {
 /// never settled).
 #[test]
 fn a_converged_estimate_under_5_percent_noise_settles() {
-    let cases: Vec<_> = noisy("dead time ×0.6")
-        .filter(|c| c.seed == 2 && c.plant.tau.is_some())
-        .collect();
-    assert_eq!(cases.len(), 3);
-    for case in cases {
-        let r = case.run().unwrap();
-        assert!(r.within_true(), "{r:?}");
-    }
+    all_within_true(
+        noisy("dead time ×0.6").filter(|c| c.seed == 2 && c.plant.tau.is_some()),
+        3,
+    );
 }
 
 /// A dead time no neighbour of the model's is taken on the evidence over
@@ -40,15 +46,10 @@ fn a_converged_estimate_under_5_percent_noise_settles() {
 /// alone: 1.53 and 1.36 times it, the dead time applied late or never).
 #[test]
 fn a_dead_time_clearly_better_than_the_models_is_taken() {
-    let picked: Vec<_> = noisy("dead time ×0.6")
+    let picked = noisy("dead time ×0.6")
         .filter(|c| c.seed == 3 && c.plant.k == 1.6)
-        .chain(noisy("dead time drifts ×0.7").filter(|c| c.seed == 2 && c.plant.k == 0.8))
-        .collect();
-    assert_eq!(picked.len(), 2);
-    for case in picked {
-        let r = case.run().unwrap();
-        assert!(r.within_true(), "{r:?}");
-    }
+        .chain(noisy("dead time drifts ×0.7").filter(|c| c.seed == 2 && c.plant.k == 0.8));
+    all_within_true(picked, 2);
 }
 
 /// A gain between the change detector's hypotheses (0.6 times the model's;
@@ -62,12 +63,7 @@ fn a_dead_time_clearly_better_than_the_models_is_taken() {
 /// (without the challenger: 1.15 times it).
 #[test]
 fn a_settled_gain_the_differences_cannot_validate_is_weighed_in_levels() {
-    let picked: Vec<_> = noisy("gain ×0.6")
-        .filter(|c| c.seed == 1 && (c.plant.k == 1.6 || c.plant.k == 2.3))
-        .collect();
-    assert_eq!(picked.len(), 2);
-    for case in picked {
-        let r = case.run().unwrap();
-        assert!(r.within_true(), "{r:?}");
-    }
+    let picked =
+        noisy("gain ×0.6").filter(|c| c.seed == 1 && (c.plant.k == 1.6 || c.plant.k == 2.3));
+    all_within_true(picked, 2);
 }
