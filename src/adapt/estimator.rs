@@ -310,6 +310,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             done |= self.advance();
         }
         self.block = (T::zero(), T::zero(), 0, true);
+        self.levels_quantum(y, all && ok);
         let inv = T::one() / T::of(n as f64);
         self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok) || done
     }
@@ -322,8 +323,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let learn = ok && self.samples >= 2;
         if !ok {
             self.levels_drop();
-        } else if self.samples >= 1 {
-            self.levels_quantum(y - self.last_y);
         }
         let pass = if learn {
             self.learn_begin(dy, u_applied)

@@ -204,10 +204,14 @@ pub(super) struct Levels<T> {
     /// The hypothesis with the most evidence, and the responses in a row
     /// that it explained better than the model in use.
     streak: (usize, u8),
-    /// The measurement's quantum: the smallest difference between its
-    /// samples that was not zero (a converter's step, or a block mean's
-    /// share of it; as small as the noise's differences come without one).
+    /// The measurement's quantum: the smallest difference between its raw
+    /// samples a block apart that was not zero (a converter's step), and
+    /// the last block's last raw sample. Not the block means': undithered,
+    /// a slow block's samples round alike, a whole step's error (measured:
+    /// read as 1/25 of a step at msp's chosen period, an integrating
+    /// loop's moves within one step gave a halved gain the evidence of 85).
     quantum: T,
+    raw: T,
     /// The hypothesis proposed, with its evidence over the last response
     /// and its relative error there (as [`Mismatch`]'s).
     proposal: Option<(usize, Mismatch<T>)>,
@@ -235,6 +239,7 @@ impl<T: Real> Levels<T> {
             sums: [T::zero(); HYPOTHESES],
             streak: (0, 0),
             quantum: T::infinity(),
+            raw: T::zero(),
             proposal: None,
             responses: (0, 0),
             loaded: true,
@@ -263,9 +268,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
     }
 
-    /// The measurement's difference `dy`, for its quantum.
-    pub(super) fn levels_quantum(&mut self, dy: T) {
-        let d = dy.abs();
+    /// The raw measurement `y` at a block's end (`ok`: the block is the
+    /// process's own response), for the quantum.
+    pub(super) fn levels_quantum(&mut self, y: T, ok: bool) {
+        let d = (y - self.levels.raw).abs();
+        self.levels.raw = y;
+        if !ok || self.samples < 1 {
+            return;
+        }
         if d > T::zero() && d < self.levels.quantum {
             self.levels.quantum = d;
         }

@@ -259,6 +259,34 @@ fn rounding_alone_proposes_nothing() {
     }
 }
 
+/// The rounding the level test measures against is a converter's whole
+/// step's (`q/√12`) whatever the decimation: a measurement that creeps up
+/// through the steps of a 10-bit converter, sampled 1, 10 and 100 times
+/// per estimator sample, reads the same (from the block means it read a
+/// share of a step — 1/25 at msp's chosen period, where no noise dithers
+/// the rounding that is the same in all of a slow block's samples — and
+/// the controller's moves within one step named a halved gain).
+#[test]
+fn the_rounding_is_a_whole_step_at_any_decimation() {
+    let q = 4.0 / 1024.0;
+    for decimation in [1usize, 10, 100] {
+        let mut cfg = EstimatorConfig::new(0.5 / decimation as f64, 2);
+        cfg.decimation = decimation;
+        let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
+        // (a ramp of a third of a step per estimator sample)
+        for j in 0..200 * decimation {
+            let y = (j as f64 / (3.0 * decimation as f64)).round() * q;
+            est.update(y, 0.0, true);
+        }
+        let (_, rounding) = est.level_noises();
+        let want = q / 12f64.sqrt();
+        assert!(
+            (rounding - want).abs() <= 1e-12 * want,
+            "{decimation}: {rounding} {want}"
+        );
+    }
+}
+
 /// The level test counts the responses it compared and those it took as
 /// evidence: every load's response is compared (at least one a load), the
 /// ones taken are among them, a halved gain is learnt from some, and an
