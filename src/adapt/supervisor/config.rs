@@ -36,8 +36,8 @@ pub struct AdaptiveConfig<T> {
     pub crossings: u32,
     /// Estimator samples watched after a change (default 2000); a change
     /// watched to the end without an oscillation, whose model predicts as
-    /// well as the estimate, is validated: the model a later oscillation
-    /// restores.
+    /// well as the estimate or is within `min_change` of it, is validated:
+    /// the model a later oscillation restores.
     pub watch: u32,
     /// The estimates' gain and time constant stay within this factor of
     /// the commissioned model's (default 4): beyond it an estimate is
