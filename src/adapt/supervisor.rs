@@ -62,6 +62,7 @@ mod log;
 mod proposals;
 mod redesign;
 mod slots;
+mod swing;
 mod traits;
 mod watch;
 
@@ -199,6 +200,9 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     half: u32,
     peak: T,
     last_peak: T,
+    /// The error's swings about its level (`swing.rs`), counted once the
+    /// error held its sign for longer than a half-cycle can last.
+    swing: swing::Swing<T>,
     /// The model-error alarm, and for how many samples its condition has
     /// held against its state.
     alarm: bool,
@@ -266,6 +270,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             half: 0,
             peak: T::zero(),
             last_peak: T::zero(),
+            swing: swing::Swing::default(),
             alarm: false,
             alarm_for: 0,
             shadow: None,

@@ -17,7 +17,27 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if core::mem::take(&mut self.r_moved) {
             (self.side, self.half, self.crossed, self.growing) = (0, 0, 0, 0);
             (self.peak, self.last_peak) = (T::zero(), T::zero());
+            self.swing.count(false);
         }
+        // an error that held its sign for longer than a half-cycle lasts:
+        // the loop settled away from the set point (a load's offset), and
+        // its swings about its level count from then on, until the set
+        // point moves or the emergency path acts (`swing.rs`; also where
+        // the error then crosses zero: a growing oscillation about the
+        // offset soon does, its half-cycles about zero too jagged, sampled
+        // two to four times each, for four in a row to grow — measured:
+        // counted afresh at each crossing, the case of `swing.rs` under
+        // 0.5 % noise diverged)
+        let need = self.cfg.emergency.max(1);
+        let max_half = self.max_half();
+        if !self.swing.counting() && self.half > max_half {
+            self.swing.count(true);
+        }
+        // (the band asked at a half-cycle's end only)
+        let (given, est, r) = (self.cfg.band, &self.est, self.r_last);
+        let swinging = self
+            .swing
+            .grows(e, (|| band(given, est, r), max_half), need);
         self.half = self.half.saturating_add(1);
         if e.abs() > self.peak {
             self.peak = e.abs();
@@ -47,7 +67,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             // 1.37 times the fixed loop's IAE)
             if self.side != 0 {
                 let band = self.band();
-                let counts = self.peak > band && self.half <= self.max_half();
+                let counts = self.peak > band && self.half <= max_half;
                 let sustained = counts && self.peak >= self.last_peak / T::of(2.0);
                 let growing =
                     counts && self.last_peak > T::zero() && self.peak > self.last_peak + band;
@@ -64,11 +84,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.restore();
             return true;
         }
-        // growing half-cycles, or (once detuned) ones that go on
+        // growing half-cycles (about zero, or about the error's level
+        // where it holds an offset), or (once detuned) ones that go on
         let detuned_still = self.detune < T::one() && self.crossed >= self.cfg.crossings;
-        if (self.growing >= self.cfg.emergency.max(1) || detuned_still) && !self.frozen {
+        if (self.growing >= need || swinging || detuned_still) && !self.frozen {
             self.growing = 0;
             self.crossed = 0;
+            self.swing.count(false);
             self.emergency();
             return true;
         }
@@ -303,11 +325,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// as an emergency after an output load, 1.37 times the fixed loop's
     /// IAE; the level watch's floor likewise, `levels.rs`).
     pub(super) fn band(&self) -> T {
-        let floor = T::of(1e-3) * (T::one() + self.r_last.abs());
-        self.cfg
-            .band
-            .max(T::of(4.0) * self.est.noise_level())
-            .max(floor)
+        band(self.cfg.band, &self.est, self.r_last)
     }
 
     /// The longest half-cycle of an oscillation: four times the longest
@@ -317,4 +335,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         let d = self.cfg.estimator.d_min.saturating_add(N);
         u32::try_from(d.saturating_mul(4)).unwrap_or(u32::MAX)
     }
+}
+
+/// [`Adaptive::band`] from the band given, the estimator and the set point.
+fn band<T: Real, const N: usize, const H: usize>(given: T, est: &Estimator<T, N, H>, r: T) -> T {
+    let floor = T::of(1e-3) * (T::one() + r.abs());
+    given.max(T::of(4.0) * est.noise_level()).max(floor)
 }

@@ -1,0 +1,182 @@
+//! The control error's swings about the level it settles at: the
+//! emergency path's second test for a growing oscillation.
+
+use super::*;
+
+/// The half-cycles of the control error about its level, and the run of
+/// sustained ones under way.
+///
+/// A loop may settle away from its set point — the Smith predictor on an
+/// integrating process holds an input load's offset `K·θ·d` (its
+/// `K(1 − e^{−θs})/s` is `Kθ` at rest) — and oscillate about that: the
+/// error keeps its sign and the half-cycles about zero never begin
+/// (measured: a dead time 30 % longer on 0.15 e^{−5s}/s with input loads,
+/// ten samples of dead time, the error between −1 and −2 for the first six
+/// periods of a growing oscillation, the loop gone before the count
+/// began). The level is the error's mean exponentially weighted over the
+/// longest half-cycle's samples (an oscillation's period is a few dead
+/// times: several of them), followed at every sample; a step of the level
+/// is one long half-cycle, which does not count. The supervisor counts
+/// these swings only once the error held its sign for longer than a
+/// half-cycle can last (the loop settled away from its set point): with a
+/// set point that moves, the error's level follows each move's transient,
+/// and counted everywhere they set the emergency path off in the middle
+/// of the bank's dead-time drifts (a drift's estimate applied and 4 of 30
+/// cases lost); a level started only where the count starts (from the
+/// error then, or from its mean over the half-cycle that held its sign)
+/// took a quantized ring, and a load's response, for growing swings.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Swing<T> {
+    level: T,
+    /// The swings count (the error held its sign longer than a
+    /// half-cycle lasts since the set point last moved).
+    counting: bool,
+    side: i8,
+    /// The current half-cycle's length and peak; the one before's peak.
+    half: u32,
+    peak: T,
+    last: T,
+    /// The peak of the half-cycle on the same side before (a period ago).
+    before: T,
+    /// The length of the half-cycle before.
+    last_half: u32,
+    /// In the run of sustained half-cycles under way: its length, those
+    /// larger than the one before, and its first peak.
+    run: u32,
+    rising: u32,
+    start: T,
+}
+
+impl<T: Real> Swing<T> {
+    /// The swings count from now (`true`), or no longer; the level goes
+    /// on.
+    pub(super) fn count(&mut self, counting: bool) {
+        *self = Swing {
+            level: self.level,
+            counting,
+            ..Swing::default()
+        };
+    }
+
+    /// Whether the swings count.
+    pub(super) fn counting(&self) -> bool {
+        self.counting
+    }
+
+    /// One sample `e` of the control error: the level follows it with
+    /// the weight `1/max_half`; where the swings count, whether the
+    /// oscillation about the level grows — a run of sustained half-cycles
+    /// (each reaching `band`, at most `max_half` samples long, at least
+    /// half the one before as `Adaptive::oscillation`'s, and of about the
+    /// one before's length: within half the longer one and a sample),
+    /// `need` of them larger by the band than the one a period before on
+    /// the same side, and the envelope grown by half since the run began.
+    /// Not each larger than the one before: a growing oscillation's peaks,
+    /// sampled two to four times a half-cycle at ten samples of dead time,
+    /// are larger and smaller in turn (measured: the case above under
+    /// 0.5 % noise, the output 10⁵ times the step away with no four in a
+    /// row); a limit cycle's, a quantized ring's, do not grow by half. Of
+    /// one length and compared a period apart: a stable loop's responses
+    /// to loads of two sizes, input and output in turn, are half-cycles of
+    /// 30 to 140 samples, larger and smaller in turn, and counted as one
+    /// run they grew (measured: 0.8 e^{−10s}/(4s + 1) with the lag ×1.6,
+    /// ten samples of dead time, detuned as an emergency, 1.5 times the
+    /// fixed loop's IAE). `band` is asked at a half-cycle's end only (a
+    /// device's longest call, #48 item 7).
+    pub(super) fn grows(
+        &mut self,
+        e: T,
+        (band, max_half): (impl FnOnce() -> T, u32),
+        need: u32,
+    ) -> bool {
+        let x = e - self.level;
+        if !x.is_finite() {
+            return false;
+        }
+        self.level = self.level + x / T::of(f64::from(max_half.max(1)));
+        if !self.counting {
+            return false;
+        }
+        self.half = self.half.saturating_add(1);
+        self.peak = at_least(self.peak, x.abs());
+        let side = if x > T::zero() {
+            1
+        } else if x < T::zero() {
+            -1
+        } else {
+            0
+        };
+        if side == 0 || side == self.side {
+            return false;
+        }
+        if self.side != 0 {
+            let bd = band();
+            let counts = self.half <= max_half && self.peak > bd;
+            let (h, l) = (self.half, self.last_half);
+            let regular = 2 * h.abs_diff(l) <= h.max(l) + 2;
+            let sustained = counts && regular && self.peak >= self.last / T::of(2.0);
+            if sustained {
+                if self.run == 0 {
+                    (self.start, self.rising) = (self.peak, 0);
+                }
+                self.run += 1;
+                self.rising += u32::from(self.before > T::zero() && self.peak > self.before + bd);
+            } else {
+                (self.run, self.rising) = (0, 0);
+            }
+            self.before = self.last;
+            self.last = self.peak;
+            self.last_half = self.half;
+        }
+        self.side = side;
+        self.half = 0;
+        self.peak = T::zero();
+        self.rising >= need.max(1) && self.last >= T::of(1.5) * self.start
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The swings of `x(k) = level + a(k)·s(k)`, `s` a square wave of
+    /// `period` samples sampled with a phase that moves (the peaks larger
+    /// and smaller in turn), from 0 to `n`: whether `grows` said so, and
+    /// when.
+    fn first_alarm(level: f64, a: impl Fn(f64) -> f64, n: usize) -> Option<usize> {
+        let mut w = Swing::<f64>::default();
+        // (the level settled where the count starts)
+        for _ in 0..400 {
+            w.grows(level, (|| 0.01, 40), 4);
+        }
+        w.count(true);
+        (0..n).find(|&k| {
+            let t = k as f64;
+            let s = (2.0 * core::f64::consts::PI * t / 7.3).sin();
+            let jitter = 1.0 + 0.3 * (t * 1.7).sin();
+            w.grows(level + a(t) * s * jitter, (|| 0.01, 40), 4)
+        })
+    }
+
+    /// About a level far from zero: a growing oscillation (its envelope
+    /// ×1.05 a sample, a period of 7.3 samples) is found within a few
+    /// periods though its sampled
+    /// peaks are larger and smaller in turn; one of constant amplitude or
+    /// dying out never is.
+    #[test]
+    fn a_growing_swing_about_its_level_is_found_and_a_steady_one_is_not() {
+        // (the level settled first: a still error for 200 samples)
+        let growing = |t: f64| {
+            if t < 200.0 {
+                0.0
+            } else {
+                0.1 * 1.05f64.powf(t - 200.0)
+            }
+        };
+        let grows = first_alarm(-3.0, growing, 400);
+        assert!(grows.is_some_and(|k| (200..240).contains(&k)), "{grows:?}");
+        assert_eq!(first_alarm(-3.0, |_| 0.5, 400), None);
+        assert_eq!(first_alarm(-3.0, |t| 0.5 * 0.99f64.powf(t), 400), None);
+        assert_eq!(first_alarm(-3.0, |_| 0.0, 400), None);
+    }
+}
