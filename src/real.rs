@@ -113,6 +113,14 @@ pub(crate) fn clamp<T: Real>(x: T, lo: T, hi: T) -> T {
     }
 }
 
+/// `b` within the fraction `rel` of `a` (either infinite: equal).
+pub(crate) fn near<T: Real>(a: T, b: T, rel: T) -> bool {
+    if a.is_infinite() || b.is_infinite() {
+        return a == b;
+    }
+    (a - b).abs() <= rel * a.abs()
+}
+
 /// The larger of `x` and `lo` by one comparison: `x.max(lo)` for a bound
 /// that is not NaN (a NaN `x` gives `lo`, as `max` does), without the
 /// library call `max` is on a Cortex-M4.

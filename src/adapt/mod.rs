@@ -71,7 +71,7 @@
 //! the last response the candidates away from the chosen dead time learn in
 //! turn ([`TURNS`]).
 
-use crate::real::{at_least, at_most};
+use crate::real::{at_least, at_most, near};
 use crate::{error::Error, real::Real};
 
 mod config;

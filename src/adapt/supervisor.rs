@@ -49,7 +49,7 @@
 
 use super::{Estimate, Estimator, SPREAD};
 use crate::operate::{Gain, Operate, Tracking};
-use crate::real::{at_least, at_most};
+use crate::real::{at_least, at_most, near};
 use crate::{
     controller::CascadeControl, controller::Controller, controller::FrequencyResponse,
     controller::Introspect, error::Error, real::Real,
@@ -67,7 +67,7 @@ mod traits;
 mod watch;
 
 pub use crate::operate::{AdaptiveState, Change, ChangeKind};
-use block::{near, settled, Block, Still};
+use block::{settled, Block, Still};
 pub use config::AdaptiveConfig;
 pub use log::SIGNALS;
 pub use redesign::{Rebuild, Redesign};

@@ -31,10 +31,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             self.levels.challenger = None;
             return;
         };
-        let near = |a: T, b: T| a == b || (a - b).abs() <= tol * a.abs();
         let kept = self.levels.challenger.is_some_and(|c| {
             let (ck, ctau, _) = c.model;
-            c.d == d && near(ck, k) && near(ctau, tau)
+            c.d == d && near(ck, k, tol) && near(ctau, tau, tol)
         });
         if !kept {
             self.levels.challenger = Some(Challenger {

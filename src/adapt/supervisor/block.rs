@@ -127,14 +127,6 @@ pub(super) fn settled<T: Real>(
     })
 }
 
-/// `b` within the fraction `rel` of `a` (both infinite: equal).
-pub(super) fn near<T: Real>(a: T, b: T, rel: T) -> bool {
-    if a.is_infinite() || b.is_infinite() {
-        return a == b;
-    }
-    (a - b).abs() <= rel * a.abs()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
