@@ -179,4 +179,53 @@ mod tests {
         assert_eq!(first_alarm(-3.0, |t| 0.5 * 0.99f64.powf(t), 400), None);
         assert_eq!(first_alarm(-3.0, |_| 0.0, 400), None);
     }
+
+    /// Whether `grows` finds growth in half-cycles of the given lengths
+    /// and peaks, in turn above and below a settled level (each a
+    /// half-sine, the band 0.02, the longest half-cycle 140 samples).
+    fn alarms(halves: &[(usize, f64)]) -> bool {
+        let mut w = Swing::<f64>::default();
+        w.count(true);
+        let mut sign = 1.0;
+        let mut alarmed = false;
+        for &(n, peak) in halves {
+            for j in 0..n {
+                let x = sign * peak * (core::f64::consts::PI * (j as f64 + 0.5) / n as f64).sin();
+                alarmed |= w.grows(x, (|| 0.02, 140), 4);
+            }
+            sign = -sign;
+        }
+        alarmed
+    }
+
+    /// A stable loop's responses to loads of two sizes, input and output
+    /// in turn, as swings about the level (measured on 0.8 e^{−10s}/(4s + 1),
+    /// lag ×1.6, ten samples of dead time: half-cycles of 124, 59 and 30
+    /// samples peaking at 0.17, 0.29, 0.29, then 136, 58, 30 at 0.18, 0.30,
+    /// 0.29, and so on; here the small ones a little larger, so that after
+    /// the level's drift they keep half the one before, and the run goes
+    /// on), are no growing oscillation: their lengths differ (without that
+    /// rule, they alarm); half-cycles of one length larger and smaller in
+    /// turn do not grow a period apart; a swing growing by a fifth a
+    /// half-cycle does.
+    #[test]
+    fn loads_of_two_sizes_are_no_growing_swing() {
+        let pattern = [
+            (124, 0.22),
+            (59, 0.29),
+            (30, 0.29),
+            (136, 0.23),
+            (58, 0.296),
+            (30, 0.294),
+        ];
+        let loads: Vec<_> = pattern.iter().cycle().take(60).copied().collect();
+        assert!(!alarms(&loads));
+        let growing: Vec<_> = (0..12).map(|i| (20, 0.1 * 1.2f64.powi(i))).collect();
+        assert!(alarms(&growing));
+        // (of one length, a fifth and a half in turn)
+        let alternate: Vec<_> = (0..60)
+            .map(|i| (20, if i % 2 == 0 { 0.1 } else { 0.5 }))
+            .collect();
+        assert!(!alarms(&alternate));
+    }
 }
