@@ -28,6 +28,8 @@ use super::*;
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Swing<T> {
     level: T,
+    /// The level's weight, `1/max_half`.
+    weight: T,
     /// The swings count (the error held its sign longer than a
     /// half-cycle lasts since the set point last moved).
     counting: bool,
@@ -48,11 +50,20 @@ pub(super) struct Swing<T> {
 }
 
 impl<T: Real> Swing<T> {
+    /// The level followed with the weight `1/max_half`, nothing counted.
+    pub(super) fn new(max_half: u32) -> Self {
+        Swing {
+            weight: T::one() / T::of(f64::from(max_half.max(1))),
+            ..Swing::default()
+        }
+    }
+
     /// The swings count from now (`true`), or no longer; the level goes
     /// on.
     pub(super) fn count(&mut self, counting: bool) {
         *self = Swing {
             level: self.level,
+            weight: self.weight,
             counting,
             ..Swing::default()
         };
@@ -63,8 +74,7 @@ impl<T: Real> Swing<T> {
         self.counting
     }
 
-    /// One sample `e` of the control error: the level follows it with
-    /// the weight `1/max_half`; where the swings count, whether the
+    /// One sample `e` of the control error: the level follows it; where the swings count, whether the
     /// oscillation about the level grows — a run of sustained half-cycles
     /// (each reaching `band`, at most `max_half` samples long, at least
     /// half the one before as `Adaptive::oscillation`'s, and of about the
@@ -93,7 +103,7 @@ impl<T: Real> Swing<T> {
         if !x.is_finite() {
             return false;
         }
-        self.level = self.level + x / T::of(f64::from(max_half.max(1)));
+        self.level = self.level + x * self.weight;
         if !self.counting {
             return false;
         }
@@ -144,7 +154,7 @@ mod tests {
     /// and smaller in turn), from 0 to `n`: whether `grows` said so, and
     /// when.
     fn first_alarm(level: f64, a: impl Fn(f64) -> f64, n: usize) -> Option<usize> {
-        let mut w = Swing::<f64>::default();
+        let mut w = Swing::<f64>::new(40);
         // (the level settled where the count starts)
         for _ in 0..400 {
             w.grows(level, (|| 0.01, 40), 4);
@@ -184,7 +194,7 @@ mod tests {
     /// and peaks, in turn above and below a settled level (each a
     /// half-sine, the band 0.02, the longest half-cycle 140 samples).
     fn alarms(halves: &[(usize, f64)]) -> bool {
-        let mut w = Swing::<f64>::default();
+        let mut w = Swing::<f64>::new(140);
         w.count(true);
         let mut sign = 1.0;
         let mut alarmed = false;

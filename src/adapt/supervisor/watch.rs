@@ -332,8 +332,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// candidate dead time (a detuned dead-time loop oscillates with a
     /// period of about two to four dead times).
     pub(super) fn max_half(&self) -> u32 {
-        let d = self.cfg.estimator.d_min.saturating_add(N);
-        u32::try_from(d.saturating_mul(4)).unwrap_or(u32::MAX)
+        longest_half(self.cfg.estimator.d_min, N)
     }
 }
 
@@ -341,4 +340,11 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 fn band<T: Real, const N: usize, const H: usize>(given: T, est: &Estimator<T, N, H>, r: T) -> T {
     let floor = T::of(1e-3) * (T::one() + r.abs());
     given.max(T::of(4.0) * est.noise_level()).max(floor)
+}
+
+/// [`Adaptive::max_half`] for the shortest candidate dead time `d_min` and
+/// `n` candidates.
+pub(super) fn longest_half(d_min: usize, n: usize) -> u32 {
+    let d = d_min.saturating_add(n);
+    u32::try_from(d.saturating_mul(4)).unwrap_or(u32::MAX)
 }
