@@ -92,6 +92,16 @@ pub(super) struct Model<T> {
     theta: T,
 }
 
+impl<T: Copy> From<Estimate<T>> for Model<T> {
+    fn from(m: Estimate<T>) -> Self {
+        Model {
+            k: m.k,
+            tau: m.tau,
+            theta: m.theta,
+        }
+    }
+}
+
 /// A scheme with a model, kept right by on-line identification (see the
 /// module documentation): `N` candidate dead times over a history of `H`
 /// inputs, a log of the last `L` changes.
@@ -600,14 +610,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.est
             .estimate()
             .and_then(|m| self.plausible(m))
-            .is_some_and(|m| {
-                let m = Model {
-                    k: m.k,
-                    tau: m.tau,
-                    theta: m.theta,
-                };
-                !self.differs(m, self.cfg.min_change)
-            })
+            .is_some_and(|m| !self.differs(m.into(), self.cfg.min_change))
     }
 
     /// `m` differs from the model in use: its gain or its time constant

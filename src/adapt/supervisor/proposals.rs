@@ -24,11 +24,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return false;
         };
         let cur = self.model;
-        let m = Model {
-            k: m.k,
-            tau: m.tau,
-            theta: m.theta,
-        };
+        let m = Model::from(m);
         let differs =
             !near(cur.k, m.k, self.cfg.min_change) || !near(cur.tau, m.tau, self.cfg.min_change);
         // (and the bank's own model predicts the last response worse:

@@ -1,5 +1,7 @@
 //! The control error's swings about the level it settles at: the
-//! emergency path's second test for a growing oscillation.
+//! emergency path's second test for a growing oscillation (Hägglund
+//! (1995)'s detection from the error's excursions between crossings, the
+//! crossings of its level here rather than of zero).
 
 use super::*;
 
@@ -76,7 +78,7 @@ impl<T: Real> Swing<T> {
 
     /// One sample `e` of the control error: the level follows it; where the swings count, whether the
     /// oscillation about the level grows — a run of sustained half-cycles
-    /// (each reaching `band`, at most `max_half` samples long, at least
+    /// (`need` at least 1; each reaching `band`, at most `max_half` samples long, at least
     /// half the one before as `Adaptive::oscillation`'s, and of about the
     /// one before's length: within half the longer one and a sample),
     /// `need` of them larger by the band than the one a period before on
@@ -141,7 +143,7 @@ impl<T: Real> Swing<T> {
         self.side = side;
         self.half = 0;
         self.peak = T::zero();
-        self.rising >= need.max(1) && self.last >= T::of(1.5) * self.start
+        self.rising >= need && self.last >= T::of(1.5) * self.start
     }
 }
 

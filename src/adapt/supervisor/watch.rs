@@ -141,11 +141,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             // end applied in an emergency left the loop diverging)
             .filter(|_| !self.est.at_edge())
             .filter(|_| self.beats_model())
-            .map(|m| Model {
-                k: m.k,
-                tau: m.tau,
-                theta: m.theta,
-            })
+            .map(Model::from)
             .filter(|m| self.within_bounds(*m));
         if let (Some(m), true) = (clear, self.cfg.apply) {
             self.shadow = None;
