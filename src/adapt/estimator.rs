@@ -315,6 +315,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok) || done
     }
 
+    /// The next call has nothing to do but add its sample to the block:
+    /// no learning under way, no response to compare, not a block's end.
+    pub(super) fn idle(&self) -> bool {
+        self.pending.is_none()
+            && !self.levels_due()
+            && self.block.2.saturating_add(1) < self.cfg.decimation
+    }
+
     /// One estimator sample: the block's mean measurement and input.
     /// Returns whether its learning is done (else it goes on over the next
     /// controller samples: [`Estimator::advance`]).

@@ -151,6 +151,11 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// sample sets it there, its coefficients and hypotheses computed in
     /// the next call (a Cortex-M4F's longest call, #48 item 7).
     refer: bool,
+    /// A change decided at the end of an estimator sample's learning,
+    /// taken in the next call without the estimator's work (a Cortex-M4F's
+    /// longest call, #48 item 7: the choice, the supervisor's decision and
+    /// the scheme's redesign had been one call).
+    deferred: Option<(Model<T>, ChangeKind)>,
     /// The last measurement, for the estimator once its input is known.
     pending: Option<T>,
     ok: bool,
@@ -274,6 +279,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             ok: false,
             pending: None,
             refer: false,
+            deferred: None,
             watching: 0,
             side: 0,
             crossed: 0,
@@ -364,6 +370,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // the plant then received (known only now: a limit or an operator
         // may have changed it after that update), one sample late
         let mut ended = false;
+        let quiet = self.deferred.is_some() && self.est.idle();
         if self.refer {
             self.refer = false;
             self.reference();
@@ -382,6 +389,12 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if e.is_finite() {
             self.err = self.err + e;
             self.err_n = self.err_n.saturating_add(1);
+        }
+        if quiet || ended {
+            // (at a block's end only where no call between had been quiet)
+            if let Some((m, kind)) = self.deferred.take() {
+                self.take_now(m, kind);
+            }
         }
         let logged = self.logged;
         if ended {
@@ -648,11 +661,23 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.take(target, ChangeKind::Applied);
     }
 
+    /// The model `m` into the scheme as a change of kind `kind`: in the
+    /// next call in which the estimator has no work, where a block has
+    /// calls enough for one after its learning's parts (`deferred`), else
+    /// now ([`Adaptive::take_now`]).
+    fn take(&mut self, m: Model<T>, kind: ChangeKind) {
+        if self.cfg.estimator.decimation >= super::pass::PARTS + 2 {
+            self.deferred = Some((m, kind));
+        } else {
+            self.take_now(m, kind);
+        }
+    }
+
     /// The model `m` into the scheme as a change of kind `kind`: logged
     /// and taking effect now, or when the rebuilt scheme takes over; a
     /// scheme that refuses it goes back to the model in use (a part may
     /// have been applied), and adaptation freezes, logged as refused.
-    fn take(&mut self, m: Model<T>, kind: ChangeKind) {
+    fn take_now(&mut self, m: Model<T>, kind: ChangeKind) {
         let cur = self.model;
         match self.put(m, kind) {
             Ok(true) => {
