@@ -197,9 +197,10 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// An edge warning was logged for the estimate as it stands.
     edge_warned: bool,
     /// The model in use is a change detector's hypothesis
-    /// ([`Adaptive::propose`]): the bank's settled estimate replaces it
-    /// when it differs by a quarter of `min_change`.
-    provisional: bool,
+    /// ([`Adaptive::propose`]), and which parameter it moved: the bank's
+    /// settled estimate replaces it when it differs by a quarter of
+    /// `min_change`.
+    provisional: Option<proposals::Moved>,
     /// The statistics of the current block of `settle` samples.
     block: Block<T>,
     /// The last complete block's mean, when the estimate held still in it.
@@ -266,7 +267,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             r_moved: false,
             detune: T::one(),
             edge_warned: false,
-            provisional: false,
+            provisional: None,
             block: Block::default(),
             settled: None,
             since: 0,
@@ -585,7 +586,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if self.since < self.cfg.min_interval {
             return;
         }
-        let tol = if self.provisional {
+        let tol = if self.provisional.is_some() {
             tol / T::of(4.0)
         } else {
             tol
@@ -608,7 +609,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return;
         }
         self.apply(m);
-        self.provisional = false;
+        self.provisional = None;
     }
 
     /// The estimator's estimate, predicting better than the model in use,

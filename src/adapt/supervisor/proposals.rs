@@ -4,6 +4,13 @@
 
 use super::*;
 
+/// What the hypothesis in use moved: the gain or the lag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Moved {
+    Gain,
+    Lag,
+}
+
 impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, const L: usize>
     Adaptive<T, C, R, N, H, L>
 {
@@ -16,6 +23,20 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// model in use was set). A loop that only loads move learns this way
     /// in responses where the bank takes tens of them. Returns whether it
     /// was applied.
+    ///
+    /// While a hypothesis is the model in use (`provisional`), one of the
+    /// other kind moves the first one's parameter again, to the `K/τ` it
+    /// names: a gain `g` after a lag applied is the lag `τ/g`, a lag `l`
+    /// after a gain the gain `K/l`. A load's response, `K·d·(1 − e^{−t/τ})
+    /// ≈ (K/τ)·d·t` while `t ≪ τ`, tells `K/τ` more than `K` and `τ` apart,
+    /// and a change between two of the hypotheses' factors is named by the
+    /// nearer one and then, along `K/τ`, by one of the other kind
+    /// (measured on the bank's lag ×1.6 with loads: the lag's ×2, then the
+    /// gain's ×1.4 under evidence 99, the loop 11.5 % worse than the fixed
+    /// model's; a process changes one thing at a time far more often than
+    /// two; with the lag moved on, the loop ends at most 0.8 % above the
+    /// fixed model's at msp's chosen period, and within 10 % of the true
+    /// model's in 37 of 45 cases, 36 before: `tests/adapt_between.rs`).
     pub(super) fn propose(&mut self) -> bool {
         if self.since < self.cfg.min_interval {
             return false;
@@ -25,8 +46,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         };
         let cur = self.model;
         let m = Model::from(m);
-        let differs =
-            !near(cur.k, m.k, self.cfg.min_change) || !near(cur.tau, m.tau, self.cfg.min_change);
+        let tol = self.cfg.min_change;
+        let (gain, lag) = (!near(cur.k, m.k, tol), !near(cur.tau, m.tau, tol));
+        let differs = gain || lag;
         // (and the bank's own model predicts the last response worse:
         // where it learns, its estimate is the one to apply)
         let validated = self
@@ -36,8 +58,29 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !differs || !validated || !self.within_bounds(m) {
             return false;
         }
+        // (a hypothesis moves one of them)
+        let moved = if lag { Moved::Lag } else { Moved::Gain };
+        let (m, moved) = match (self.provisional, moved) {
+            (Some(Moved::Lag), Moved::Gain) => (
+                Model {
+                    k: cur.k,
+                    tau: cur.tau * cur.k / m.k,
+                    ..m
+                },
+                Moved::Lag,
+            ),
+            (Some(Moved::Gain), Moved::Lag) => (
+                Model {
+                    k: cur.k * cur.tau / m.tau,
+                    tau: cur.tau,
+                    ..m
+                },
+                Moved::Gain,
+            ),
+            _ => (m, moved),
+        };
         self.apply(m);
-        self.provisional = true;
+        self.provisional = Some(moved);
         true
     }
 
@@ -57,7 +100,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return false;
         }
         self.apply(m);
-        self.provisional = false;
+        self.provisional = None;
         true
     }
 
