@@ -79,6 +79,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             ),
             _ => (m, moved),
         };
+        // (the parameter moved on stays within the bounds too)
+        if !self.within_bounds(m) {
+            return false;
+        }
         self.apply(m);
         self.provisional = Some(moved);
         true
