@@ -80,8 +80,10 @@ fn run(
 /// (`0.15e^{−5s}/s`, `0.05e^{−6s}/s`) sampled at 20 and at 10 samples of
 /// dead time, without noise and under 0.5 % and 2 % (two seeds): the fixed
 /// loop diverges; the adaptive one, which its rule cannot detune, applies
-/// the estimate in its emergency (the first change of the loop it makes: no
-/// detuning), with the process's dead time to 2 %, and settles: over the
+/// the estimate in its emergency, or before the loop swings where the bank
+/// has the model in use at the new dead time (the first change of the loop
+/// it makes either way: no detuning; the emergency in 31 of the 40 cases),
+/// with the process's dead time to 2 %, and settles: over the
 /// last 20θ its output stays within 0.05 + 3 noise deviations of the set
 /// point; the model it applied is then validated (a restore would return
 /// to it, not to the commissioned one: without noise, and behind the
@@ -104,14 +106,18 @@ fn a_scheme_without_a_rule_takes_a_clear_estimate_at_once() {
                     "{case}: the fixed loop {fixed:?}"
                 );
                 let ((log, validated), settled) = run(plant, true, grown, measure);
-                let first = log
-                    .iter()
-                    .find(|(k, _, _)| matches!(k, ChangeKind::Emergency | ChangeKind::Detuned));
+                let first = log.iter().find(|(k, _, _)| {
+                    matches!(
+                        k,
+                        ChangeKind::Emergency | ChangeKind::Detuned | ChangeKind::Applied
+                    )
+                });
                 let theta = grown * plant.1;
                 assert!(
-                    first
-                        .is_some_and(|(k, _, t)| *k == ChangeKind::Emergency
-                            && (t - theta).abs() < 0.02 * theta),
+                    first.is_some_and(|(k, _, t)| matches!(
+                        k,
+                        ChangeKind::Emergency | ChangeKind::Applied
+                    ) && (t - theta).abs() < 0.02 * theta),
                     "{case}: {log:?}"
                 );
                 assert!(

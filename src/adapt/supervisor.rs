@@ -562,7 +562,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // learnt a load-biased lag beyond the bounds, kept the right gain
         // hypothesis waiting for the rest of the run)
         let edge = self.edge();
-        if self.propose() || edge || self.challenged() {
+        if self.propose() || edge || self.moved_dead_time() || self.challenged() {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held

@@ -1,0 +1,41 @@
+//! A dead time that only loads show (#48 item 2): shortened by 30 % on a
+//! process whose loop only loads move (input and output steps; an
+//! integrating process's, input steps).
+//!
+//! The change detector finds the new dead time at the first load's
+//! response and restarts the bank from the model it had: the candidate at
+//! the new dead time is then the model in use there, exactly. The next
+//! loads teach the bank a load-biased gain before two blocks of its
+//! estimate held still (measured on `2.3 e^{−8s}/(15s + 1)` without noise:
+//! the right model with evidence above 10⁶ for some 100 s, then a gain
+//! 10 % low, applied 3 000 s later, the loop 22 % above the true model's);
+//! the supervisor applies the model in use with the new dead time at once
+//! (`Adaptive::moved_dead_time`).
+
+use msp::study::bank::{cases, Period};
+
+/// Every process of the bank at msp's chosen period, under every
+/// measurement condition (noise 0, 0.5, 2, 5 %, a 10-bit converter), two
+/// seeds: a model is applied, the adaptive loop ends within 10 % of the
+/// true model's IAE and 20 % better than the fixed model's (which is 30 %
+/// worse than the true one's or more here; on the integrating processes it
+/// diverges), and never diverges. Before the rule: 27 of the 45 stable
+/// cases of three seeds within 10 %, 44 with it.
+#[test]
+fn a_dead_time_only_loads_show_is_learnt_at_the_chosen_period() {
+    let family = "dead time ×0.7, loads";
+    let mut n = 0;
+    for case in cases(2)
+        .into_iter()
+        .filter(|c| c.family == family && c.period == Period::Chosen)
+    {
+        let r = case.run().unwrap();
+        assert!(r.iae_fixed >= 1.3 * r.iae_true, "{r:?}");
+        assert!(r.applied > 0, "{r:?}");
+        assert!(r.within_true(), "{r:?}");
+        assert!(r.iae_adaptive <= 0.8 * r.iae_fixed, "{r:?}");
+        n += 1;
+    }
+    // five processes, five conditions, two seeds
+    assert_eq!(n, 50, "{family}");
+}
