@@ -318,9 +318,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The next call has nothing to do but add its sample to the block:
     /// no learning under way, no response to compare, not a block's end.
     pub(super) fn idle(&self) -> bool {
+        let (_, _, in_block, _) = self.block;
         self.pending.is_none()
             && !self.levels_due()
-            && self.block.2.saturating_add(1) < self.cfg.decimation
+            && in_block.saturating_add(1) < self.cfg.decimation
     }
 
     /// One estimator sample: the block's mean measurement and input.

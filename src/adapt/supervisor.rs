@@ -328,7 +328,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         (m.k, m.tau, m.theta)
     }
 
-    /// Stops adapting: nothing is learnt or applied until [`Self::resume`].
+    /// Stops adapting: nothing is learnt or applied until [`Self::resume`]
+    /// — but a change decided before the freeze and waiting for a call
+    /// without the estimator's work (decimation ≥ 7) is still put in, within
+    /// the block (a restore after an oscillation must not be lost).
     pub fn freeze(&mut self) {
         self.frozen = true;
     }

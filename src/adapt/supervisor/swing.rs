@@ -76,10 +76,11 @@ impl<T: Real> Swing<T> {
         self.counting
     }
 
-    /// One sample `e` of the control error: the level follows it; where the swings count, whether the
-    /// oscillation about the level grows — a run of sustained half-cycles
-    /// (`need` at least 1; each reaching `band`, at most `max_half` samples long, at least
-    /// half the one before as `Adaptive::oscillation`'s, and of about the
+    /// One sample `e` of the control error: the level follows it; where
+    /// the swings count, whether the oscillation about the level grows — a
+    /// run of sustained half-cycles (`need` at least 1; each reaching
+    /// `band`, at most `max_half` samples long, at least half the one
+    /// before as `Adaptive::oscillation`'s, and of about the
     /// one before's length: within half the longer one and a sample),
     /// `need` of them larger by the band than the one a period before on
     /// the same side, and the envelope grown by half since the run began.
