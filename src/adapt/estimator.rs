@@ -94,6 +94,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 cusum: T::zero(),
                 recent: T::zero(),
             }; HYPOTHESES],
+            fine: false,
             proposal: None,
             proposal_for: 0,
             explaining: None,

@@ -173,6 +173,13 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
     }
 
+    /// The gain hypotheses of the next model in use ([`Estimator::set_reference`])
+    /// are [`FINE_GAINS`] (`fine`: a gain hypothesis is to be the model in
+    /// use, and what it left is within `√2` of it) or [`GAINS`].
+    pub(super) fn refine(&mut self, fine: bool) {
+        self.fine = fine;
+    }
+
     /// The hypotheses anew for the model in use `model` (`[a, b0, b1]`):
     /// their coefficients ([`changed`]), their simulations from rest as
     /// the model in use's, their sums cleared.
@@ -180,7 +187,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         for (h, coef) in self
             .hyp
             .iter_mut()
-            .zip(changed(model, self.cfg.integrating))
+            .zip(changed(model, self.cfg.integrating, self.fine))
         {
             *h = Hypothesis {
                 coef,
@@ -274,10 +281,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 /// `2, 3/2, 3/4, 1/2` by square roots, four in all (a software square root
 /// on a Cortex-M4F: the call that applies a model computes them). An
 /// integrating model has no lag to change: the model itself.
-fn changed<T: Real>(model: [T; 3], integrating: bool) -> [[T; 3]; HYPOTHESES] {
+fn changed<T: Real>(model: [T; 3], integrating: bool, fine: bool) -> [[T; 3]; HYPOTHESES] {
     let [a, b0, b1] = model;
     let mut out = [model; HYPOTHESES];
-    for (o, g) in out.iter_mut().zip(GAINS.map(T::of)) {
+    let gains = if fine { FINE_GAINS } else { GAINS };
+    for (o, g) in out.iter_mut().zip(gains.map(T::of)) {
         *o = [a, b0 * g, b1 * g];
     }
     if integrating || !(a < T::one()) || !(a > T::zero()) {

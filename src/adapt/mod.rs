@@ -352,6 +352,9 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// compares the model in use with besides the other dead times, and
     /// what the supervisor may apply ([`Estimator::proposal`]).
     hyp: [Hypothesis<T>; HYPOTHESES],
+    /// The gain hypotheses are [`FINE_GAINS`] (a gain hypothesis is the
+    /// model in use: [`Estimator::refine`]).
+    fine: bool,
     /// The hypothesis that passes the proposal's test, as of the last
     /// excited sample, and for how many excited samples in a row it has.
     proposal: Option<usize>,
@@ -390,6 +393,19 @@ struct Hypothesis<T> {
 /// went to 0.7 or 1.3 times the model's is explained by one of them to
 /// within a quarter of the model's error ([`EXPLAINED`]).
 pub const GAINS: [f64; 4] = [0.5, 0.7, 1.4, 2.0];
+
+/// The gain factors the change detector simulates while a gain
+/// hypothesis is the model in use: the square roots of [`GAINS`]. A gain
+/// between two of them (0.6 times the model's) is named first by the
+/// nearer (0.7), which leaves a factor within `√2` of one (0.6/0.7 ≈ 0.86)
+/// that none of [`GAINS`] explains to within [`EXPLAINED`]; one of these
+/// does (√0.7 ≈ 0.84).
+pub const FINE_GAINS: [f64; 4] = [
+    core::f64::consts::FRAC_1_SQRT_2,
+    0.836_660_026_534_075_6,
+    1.183_215_956_619_923_2,
+    core::f64::consts::SQRT_2,
+];
 
 /// The lag factors the change detector simulates (a stable process's):
 /// the time constant times 1/2, 2/3, 4/3, 2, whose coefficients `a^{1/l}`

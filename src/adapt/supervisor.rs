@@ -524,6 +524,9 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// The estimator's reference follows the model in use.
     fn reference(&mut self) {
         let m = self.model;
+        // a gain hypothesis in use: what it left, the finer gains name
+        self.est
+            .refine(matches!(self.provisional, Some(proposals::Moved::Gain)));
         // a model the estimator cannot weigh (a dead time beyond its
         // history) leaves no reference: no alarm rather than a wrong one
         let _ = self.est.set_reference(m.k, m.tau, m.theta);
