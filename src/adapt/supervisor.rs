@@ -618,31 +618,6 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         self.provisional = None;
     }
 
-    /// The estimator's estimate, predicting better than the model in use,
-    /// is that model within `min_change` (its dead time within half an
-    /// estimator sample): the data confirm the model (measured: under a
-    /// 10-bit converter an integrating process's model applied by the
-    /// emergency path, 3 % from the process, was never validated — the
-    /// bank's estimate beat it with the evidence of hundreds of thousands
-    /// on a quantization's noise — and a later restore went back to the
-    /// commissioned model, whose dead time the process had left).
-    fn confirmed(&self) -> bool {
-        self.est
-            .estimate()
-            .and_then(|m| self.plausible(m))
-            .is_some_and(|m| !self.differs(m.into(), self.cfg.min_change))
-    }
-
-    /// `m` differs from the model in use: its gain or its time constant
-    /// by `tol` (relative), or its dead time by half an estimator sample.
-    pub(super) fn differs(&self, m: Model<T>, tol: T) -> bool {
-        let cur = self.model;
-        let period = self.cfg.estimator.period();
-        !near(cur.k, m.k, tol)
-            || !near(cur.tau, m.tau, tol)
-            || (cur.theta - m.theta).abs() > period / T::of(2.0)
-    }
-
     /// The estimate `m` applied, its gain and time constant at most a
     /// factor `max_step` from the model in use's.
     fn apply(&mut self, m: Model<T>) {
