@@ -1,12 +1,10 @@
-/*
- * Every entry point of msp.h, called with bad arguments, returns a status
- * (or the documented NaN / fault), never crashes: null pointers, buffers too
- * small, NaN and out-of-range parameters, dead times beyond the buffer, a
- * handle of the other precision and a buffer that is not a controller (every
- * call checks the tag, msp_update included: NaN out), finite measurements
- * at the float range's end (never a latched NaN). Then the
- * good calls work, on a buffer at an odd address. Exit status 0 when all hold.
- */
+/* Every entry point of msp.h, called with bad arguments, returns a status (or
+ * the documented NaN / fault), never crashes: null pointers, buffers too small,
+ * NaN and out-of-range parameters, dead times beyond the buffer, a handle of
+ * the other precision and a buffer that is not a controller (every call checks
+ * the tag, msp_update included: NaN out), finite measurements at the float
+ * range's end (never a latched NaN). Then the good calls work, on a buffer at
+ * an odd address. Exit status 0 when all hold. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
