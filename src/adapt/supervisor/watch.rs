@@ -81,8 +81,17 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         }
         if self.watching > 0 && self.crossed >= self.cfg.crossings {
             self.watching = 0;
-            self.restore();
-            return true;
+            // (a model the data confirm, predicting the last response to
+            // half the alarm's error, rings as the loop built for the
+            // process does: its own tuning's, no model error's — measured,
+            // the bank's 0.8 e^{−10s}/(4s + 1) at ten samples of dead time
+            // without noise, the dead time ×0.7 applied exactly, a load's
+            // response counted as an oscillation and the commissioned
+            // model restored, 1.43 times the true model's IAE)
+            if !(self.confirmed() && self.predicts_recent_data()) {
+                self.restore();
+                return true;
+            }
         }
         // growing half-cycles (about zero, or about the error's level
         // where it holds an offset), or (once detuned) ones that go on
@@ -95,6 +104,14 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             return true;
         }
         false
+    }
+
+    /// The model in use misses at most half of [`AdaptiveConfig::alarm`]
+    /// of the last response's movement ([`Estimator::recent_mismatch`]).
+    fn predicts_recent_data(&self) -> bool {
+        self.est
+            .recent_costs()
+            .is_some_and(|c| !c.error_reaches(self.cfg.alarm / T::of(2.0)))
     }
 
     /// Back to the last validated model and its tuning; adaptation rests
