@@ -94,7 +94,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// evidence of `validate`: the model in use with that dead time,
     /// applied at once. After a step of the process's dead time the change
     /// detector restarts the bank from the model it had
-    /// (`Estimator::restart`), and the candidate at the new dead time is
+    /// (`Estimator::detect`), and the candidate at the new dead time is
     /// then that model there; a loop that only loads move would next teach
     /// the bank a load-biased gain before two blocks of it held still
     /// (measured on the bank's dead time ×0.7 with loads: the right dead
