@@ -131,6 +131,33 @@ struct Fit<T> {
 }
 
 impl<T: Real> Fit<T> {
+    /// One sample of the response: the model `coef` (its inputs `u`) on
+    /// the target `target`, the drift's regressor `p`.
+    #[inline(always)]
+    fn step(&mut self, coef: [T; 3], u: (T, T), target: T, p: T, integrating: bool) {
+        self.x = predict(coef, self.x, u, integrating);
+        let e = target - self.x;
+        if integrating {
+            self.v = self.v + e;
+            self.r = self.r + self.v;
+        } else {
+            self.r = self.r + e;
+        }
+        let pole = if integrating { T::one() } else { coef[0] };
+        self.q = pole * self.q + T::one();
+        let [sr, srr, srq, sq, sqq, srp, sqp] = self.s;
+        let (r, q) = (self.r, self.q);
+        self.s = [
+            sr + r,
+            srr + r * r,
+            srq + r * q,
+            sq + q,
+            sqq + q * q,
+            srp + r * p,
+            sqp + q * p,
+        ];
+    }
+
     fn zero() -> Self {
         Fit {
             x: T::zero(),
@@ -431,33 +458,27 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let p = if integrating { k * k } else { k };
         self.levels.p = [k, sp + p, spp + p * p];
         let challenger = self.levels.challenger.map(|c| (c.coef, c.d));
-        let models = core::iter::once((r.theta, d))
-            .chain(self.hyp.iter().map(|h| (h.coef, d)))
-            .chain(dead.map(|d| (r.theta, d)))
-            .chain(challenger);
         let hist = &self.hist;
-        for (f, (coef, d)) in self.levels.fits.iter_mut().zip(models) {
-            f.x = predict(coef, f.x, hist.pair(d), integrating);
-            let e = target - f.x;
-            if integrating {
-                f.v = f.v + e;
-                f.r = f.r + f.v;
-            } else {
-                f.r = f.r + e;
-            }
-            let pole = if integrating { T::one() } else { coef[0] };
-            f.q = pole * f.q + T::one();
-            let [sr, srr, srq, sq, sqq, srp, sqp] = f.s;
-            let (r, q) = (f.r, f.q);
-            f.s = [
-                sr + r,
-                srr + r * r,
-                srq + r * q,
-                sq + q,
-                sqq + q * q,
-                srp + r * p,
-                sqp + q * p,
-            ];
+        // (the fits in runs of their own: the model in use, the hypotheses,
+        // the other dead times, the challenger)
+        let fit = |f: &mut Fit<T>, coef: [T; 3], u: (T, T)| {
+            f.step(coef, u, target, p, integrating);
+        };
+        let u = hist.pair(d);
+        let (model, rest) = self.levels.fits.split_at_mut(1);
+        let (hyps, rest) = rest.split_at_mut(HYPOTHESES.min(rest.len()));
+        let (deads, rest) = rest.split_at_mut(dead.len().min(rest.len()));
+        for f in model {
+            fit(f, r.theta, u);
+        }
+        for (f, h) in hyps.iter_mut().zip(&self.hyp) {
+            fit(f, h.coef, u);
+        }
+        for (f, &d) in deads.iter_mut().zip(&dead) {
+            fit(f, r.theta, hist.pair(d));
+        }
+        for (f, (coef, d)) in rest.iter_mut().zip(challenger) {
+            fit(f, coef, hist.pair(d));
         }
         let [dy, y, sy, syy] = self.levels.y;
         let (dy, y) = if integrating {

@@ -74,9 +74,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let Some(scan) = self.detect_begin(target, false) else {
             return e_ref;
         };
-        let inputs = self.hist.from(cfg.d_min);
-        let u = |i: usize| inputs.get(i).copied().unwrap_or(T::zero());
-        let (u0, u1) = (u(chosen), u(chosen.saturating_add(1)));
+        // (the chosen dead time's inputs, read above)
         if let Some(c) = self.bank.get_mut(chosen) {
             let mut scan = scan;
             scan.step(chosen, c, u0, u1);
