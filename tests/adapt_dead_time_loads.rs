@@ -63,3 +63,54 @@ fn a_dead_time_only_loads_show_is_learnt_at_the_coarse_period_without_noise() {
     // five processes, without noise and behind a 10-bit converter
     assert_eq!(n, 10, "{family}");
 }
+
+/// Item 4 on the same family: the dead-time range given (`--adapt-delay`)
+/// ends at 0.75 times the commissioned dead time, above the process's new
+/// 0.7. The bank's estimate is then the model in use at the range's
+/// lowest dead time, which predicts the data better than the model in use
+/// (without the edge's rule in `Adaptive::moved_dead_time`, applied at
+/// once on four of the six): no model is applied there, the estimate at
+/// the edge is warned of (`ChangeKind::Edge`) and the loop stays stable. Every stable process
+/// (an integrating one's fixed loop diverges after this change: the bank's
+/// table) at the chosen period, without noise and under 2 % noise (seed 1).
+#[test]
+fn a_dead_time_beyond_the_range_is_warned_of_and_not_applied() {
+    use msp::adapt::ChangeKind;
+    use msp::study::AdaptOptions;
+    let family = "dead time ×0.7, loads";
+    let mut n = 0;
+    for case in cases(1).into_iter().filter(|c| {
+        c.family == family
+            && c.period == Period::Chosen
+            && c.plant.tau.is_some()
+            && c.bits.is_none()
+            && (c.noise == 0.0 || c.noise == 0.02)
+    }) {
+        let theta = case.plant.theta;
+        let lowest = 0.75 * theta;
+        let out = case
+            .adaptive_with(AdaptOptions {
+                delay: Some((lowest, 3.0 * theta)),
+                ..AdaptOptions::default()
+            })
+            .unwrap();
+        let log = &out.report().adaptation;
+        // (a tenth of the dead time an estimator sample: within one of the edge)
+        let at_edge = |t: f64| t < lowest + 0.1 * theta;
+        assert!(
+            !log.iter()
+                .any(|c| c.kind == ChangeKind::Applied && at_edge(c.theta)),
+            "{:?}: {log:?}",
+            case.plant
+        );
+        assert!(
+            log.iter().any(|c| c.kind == ChangeKind::Edge),
+            "{:?}: {log:?}",
+            case.plant
+        );
+        assert!(out.result.diverged_at.is_none(), "{:?}", case.plant);
+        n += 1;
+    }
+    // three processes, two conditions
+    assert_eq!(n, 6, "{family}");
+}

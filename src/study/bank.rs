@@ -404,6 +404,17 @@ impl BankCase {
         self.scenario(&self.plant, true, true, self.ts()?)?.run()
     }
 
+    /// The adaptive loop with the options `adapt` in place of the
+    /// defaults (a narrower dead-time range, another `min_change`), its
+    /// log in the report.
+    pub fn adaptive_with(&self, adapt: AdaptOptions) -> Result<RunOutput, RunError> {
+        Scenario {
+            adapt: Some(adapt),
+            ..self.scenario(&self.plant, true, true, self.ts()?)?
+        }
+        .run()
+    }
+
     /// Runs the three loops and compares them.
     pub fn run(&self) -> Result<BankResult, RunError> {
         let ts = self.ts()?;

@@ -136,15 +136,6 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         true
     }
 
-    /// The model in use predicts the last response worse than the best of
-    /// the bank's chosen model and the change detector's simulations
-    /// ([`Estimator::recent_mismatch`]) with the evidence of `validate`.
-    fn beats_model_recently(&self) -> bool {
-        self.est
-            .recent_mismatch()
-            .is_some_and(|mm| mm.evidence >= self.cfg.validate)
-    }
-
     /// The settled estimate the differences could not validate, applied
     /// once the level test has the evidence for it over the model in use
     /// ([`Estimator::challenger`]: what it asks of a hypothesis). Returns

@@ -228,6 +228,15 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             .is_some_and(|mm| mm.evidence >= self.cfg.validate)
     }
 
+    /// The model in use predicts the last response worse than the best of
+    /// the bank's chosen model and the change detector's simulations
+    /// ([`Estimator::recent_mismatch`]) with the evidence of `validate`.
+    pub(super) fn beats_model_recently(&self) -> bool {
+        self.est
+            .recent_mismatch()
+            .is_some_and(|mm| mm.evidence >= self.cfg.validate)
+    }
+
     /// `m`'s gain and time constant within [`AdaptiveConfig::bound`] of the
     /// commissioned model's.
     pub(super) fn within_bounds(&self, m: Model<T>) -> bool {
