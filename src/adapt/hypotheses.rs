@@ -211,12 +211,26 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// alone (whose estimators, with a memory of a thousand excited
     /// samples, take many responses to follow a change that only loads
     /// excite); the supervisor validates it against the model in use as
-    /// any estimate ([`Estimator::proposal_mismatch`]).
+    /// any estimate ([`Estimator::proposal_mismatch`]). Where the level
+    /// test proposes the gain between the hypotheses (`levels/between.rs`),
+    /// the model in use with its gain times that factor.
     pub fn proposal(&self) -> Option<Estimate<T>> {
         let i = self.proposed()?;
         let h = self.hyp.get(i)?;
         let d = self.reference.as_ref()?.d;
         let (k, tau, frac) = model_from(h.coef, self.cfg.period(), self.cfg.integrating)?;
+        // the level test's gain hypothesis: the gain between the hypotheses
+        // it fitted (`levels/between.rs`; `K` is linear in the input's
+        // coefficients)
+        let factors = if self.fine { FINE_GAINS } else { GAINS };
+        let k = match (
+            self.difference_proposal(),
+            self.level_gain(),
+            factors.get(i),
+        ) {
+            (None, Some(g), Some(&f)) => k * g / T::of(f),
+            _ => k,
+        };
         Some(Estimate {
             k,
             tau,
