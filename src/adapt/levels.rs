@@ -594,7 +594,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         for (s, &v) in lv.sums.iter_mut().zip(rss) {
             *s = at_least(*s + (v_ref - v) * inv, T::zero());
         }
-
         // the hypothesis with the most evidence, proposed while it has
         // enough and explains the last two responses to the noise better
         // than the model in use (under 5 % noise a single response's
