@@ -194,6 +194,7 @@ impl<T: Real> Levels<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_util::ExpectOk;
 
     /// Points of `v(g) = 3·(g − 0.6)² + 0.2`, `drift(g) = (g − 0.9)²`: the
     /// lowest point 0.6 and its values, from whichever three are nearest.
@@ -204,21 +205,21 @@ mod tests {
         let factors = GAINS;
         let rss = factors.map(v);
         let drifts = factors.map(d);
-        let b = between(factors, &rss, &drifts, (v(1.0), d(1.0))).expect("between");
-        let g = lowest(b.quad, 0.5, 2.0).expect("convex");
+        let b = between(factors, &rss, &drifts, (v(1.0), d(1.0))).expect_ok();
+        let g = lowest(b.quad, 0.5, 2.0).expect_ok();
         assert!((g - 0.6).abs() < 1e-12, "{b:?}");
         assert!((b.rss - 0.2).abs() < 1e-12, "{b:?}");
         assert!((b.drift - d(0.6)).abs() < 1e-12, "{b:?}");
         // the sum of two responses' parabolas: their weighted lowest point
         let w = |g: f64| (g - 0.8) * (g - 0.8);
-        let other = between(factors, &factors.map(w), &drifts, (w(1.0), d(1.0))).expect("w");
+        let other = between(factors, &factors.map(w), &drifts, (w(1.0), d(1.0))).expect_ok();
         let sum = [0, 1, 2].map(|i| b.quad[i] + other.quad[i]);
-        let g = lowest(sum, 0.5, 2.0).expect("convex");
+        let g = lowest(sum, 0.5, 2.0).expect_ok();
         // 3(g − 0.6) + (g − 0.8) = 0
         assert!((g - 0.65).abs() < 1e-12, "{g}");
         // beyond the range: its end
         let far = |g: f64| (g - 3.0) * (g - 3.0);
-        let end = between(factors, &factors.map(far), &drifts, (far(1.0), 0.0)).expect("far");
+        let end = between(factors, &factors.map(far), &drifts, (far(1.0), 0.0)).expect_ok();
         assert_eq!(end.rss, far(2.0));
         // not convex: none
         let cap = |g: f64| -g * g;
