@@ -65,37 +65,36 @@ fn a_gain_between_the_hypotheses_with_loads_is_learnt_on_integrating_processes()
     assert_eq!(n, 16, "{family}");
 }
 
-/// A gain between the hypotheses that the level test fits itself, on the
-/// stable processes of the bank at msp's chosen period, without noise and
-/// under 0.5 % noise (seed 1), only loads moving the loop: ×0.85, between
-/// the model in use and the nearest hypothesis (×0.7), and ×0.6. The
-/// hypotheses' fits lie on a parabola in the gain whose lowest point is the
-/// response's least-squares gain (`levels/between.rs`); weighed over the
-/// responses by its own sum, it is applied, and the adaptive loop ends
-/// within 10 % of the true model's IAE. Before it: ×0.85 was applied on
-/// three of the six cases (1.18 times the true model's IAE on the others),
-/// and ×0.6 on the dead-time-dominant `0.8 e^{−10s}/(4s + 1)` without noise
-/// 2 400 s after the change (1.64 times).
+/// A gain between the hypotheses that the level test fits itself, only
+/// loads moving the loop: ×0.85 (between the model in use and the nearest
+/// hypothesis, ×0.7) and ×0.6, on every process of the bank (stable and
+/// integrating), under every measurement condition (noise 0, 0.5, 2, 5 %,
+/// a 10-bit converter), at msp's chosen period and at a coarse one (seed
+/// 1). The hypotheses' fits lie on a parabola in the gain whose lowest
+/// point is the response's least-squares gain (`levels/between.rs`);
+/// weighed over the responses by its own sum, it is applied. Everywhere the
+/// adaptive loop ends at most 5 % above the fixed loop's IAE and never
+/// diverges; without noise it ends within 10 % of the true model's IAE.
+/// Before it, ×0.85 without noise was 1.18 times the true model's IAE on
+/// `0.8 e^{−10s}/(4s + 1)` at the chosen period (nothing applied), and ×0.6
+/// there 1.64 times (applied 2 400 s after the change).
 #[test]
 fn a_gain_between_the_hypotheses_with_loads_is_fitted_by_the_level_test() {
     let family = "gain ×0.6, loads";
     let mut n = 0;
     for factor in [0.85, 0.6] {
-        for mut case in cases(1).into_iter().filter(|c| {
-            c.family == family
-                && c.period == Period::Chosen
-                && c.plant.tau.is_some()
-                && c.bits.is_none()
-                && c.noise <= 0.005
-        }) {
+        for mut case in cases(1).into_iter().filter(|c| c.family == family) {
             if let Some(change) = case.change.as_mut() {
                 change.factor = factor;
             }
             let r = case.run().unwrap();
-            assert!(r.within_true() && r.applied > 0, "×{factor}: {r:?}");
+            assert!(r.iae_adaptive <= 1.05 * r.iae_fixed, "×{factor}: {r:?}");
+            if case.noise == 0.0 && case.bits.is_none() {
+                assert!(r.within_true() && r.applied > 0, "×{factor}: {r:?}");
+            }
             n += 1;
         }
     }
-    // three stable processes, two conditions, two factors
-    assert_eq!(n, 12, "{family}");
+    // five processes, five conditions, two periods, two factors
+    assert_eq!(n, 100, "{family}");
 }

@@ -219,16 +219,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let h = self.hyp.get(i)?;
         let d = self.reference.as_ref()?.d;
         let (k, tau, frac) = model_from(h.coef, self.cfg.period(), self.cfg.integrating)?;
-        // the level test's gain hypothesis: the gain between the hypotheses
-        // it fitted (`levels/between.rs`; `K` is linear in the input's
+        // the level test's gain between the hypotheses, from the nearest
+        // one's (`levels/between.rs`; `K` is linear in the input's
         // coefficients)
-        let factors = if self.fine { FINE_GAINS } else { GAINS };
-        let k = match (
-            self.difference_proposal(),
-            self.level_gain(),
-            factors.get(i),
-        ) {
-            (None, Some(g), Some(&f)) => k * g / T::of(f),
+        let k = match (self.difference_proposal(), self.level_gain()) {
+            (None, Some(scale)) => k * scale,
             _ => k,
         };
         Some(Estimate {
@@ -288,6 +283,16 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 }
 
+/// The gain hypotheses' factors: [`FINE_GAINS`] while a gain hypothesis
+/// is the model in use (`fine`), else [`GAINS`].
+pub(super) fn gain_factors(fine: bool) -> [f64; GAINS.len()] {
+    if fine {
+        FINE_GAINS
+    } else {
+        GAINS
+    }
+}
+
 /// The model `[a, b0, b1]` with each hypothesis's change ([`HYPOTHESES`]):
 /// the gain `g` times, `[a, g·b0, g·b1]`; the lag `l` times with the same
 /// `K` and fraction `f`, `a' = a^{1/l}`, `b0 = K(1 − r')`, `b1 = K(r' − a')`
@@ -298,7 +303,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 fn changed<T: Real>(model: [T; 3], integrating: bool, fine: bool) -> [[T; 3]; HYPOTHESES] {
     let [a, b0, b1] = model;
     let mut out = [model; HYPOTHESES];
-    let gains = if fine { FINE_GAINS } else { GAINS };
+    let gains = gain_factors(fine);
     for (o, g) in out.iter_mut().zip(gains.map(T::of)) {
         *o = [a, b0 * g, b1 * g];
     }

@@ -77,6 +77,7 @@
 //! differences ([`EstimatorConfig::prefilter`] 0, the default): another
 //! prefilter colours the noise the evidence is measured against.
 
+use super::hypotheses::gain_factors;
 use super::*;
 use between::{between, Quadratic, Response};
 use challenger::Challenger;
@@ -173,11 +174,12 @@ pub(super) struct Levels<T> {
     /// The gain between the hypotheses (`between.rs`): Page's sum of its
     /// evidence, the responses in a row it explained better than the model
     /// in use, the responses' parabolas since the sum was last at zero
-    /// (each over the noise's variance), and the gain proposed with its
-    /// mismatch.
+    /// (each over the noise's variance), and the gain proposed: the
+    /// nearest gain hypothesis, the factor from its gain to the one
+    /// proposed, and the mismatch.
     between: (T, u8),
     gain: Quadratic<T>,
-    gain_proposed: Option<(T, Mismatch<T>)>,
+    gain_proposed: Option<(usize, T, Mismatch<T>)>,
 }
 
 impl<T: Real> Levels<T> {
@@ -461,7 +463,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let rounded = noise_dev < T::of(1.732_050_807_568_877_2) * rounding;
         let deviation = at_least(noise_dev, rounding);
         let measured = deviation * deviation;
-        let factors = if self.fine { FINE_GAINS } else { GAINS }.map(T::of);
+        let factors = gain_factors(self.fine).map(T::of);
         let lv = &mut self.levels;
         let [reference, rest @ ..] = &lv.fits;
         let (hyps, rest) = rest.split_at(HYPOTHESES);
@@ -643,30 +645,18 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// documentation) and how far the model in use is from the last
     /// response against it.
     pub(super) fn level_proposal(&self) -> Option<(usize, Mismatch<T>)> {
-        self.levels.proposal.or_else(|| {
-            // the gain between the hypotheses, as the nearest of them
-            let (g, m) = self.levels.gain_proposed?;
-            let factors = if self.fine { FINE_GAINS } else { GAINS };
-            let far = |f: &f64| (T::of(*f) - g).abs();
-            let nearest = factors
-                .iter()
-                .enumerate()
-                .min_by(|a, b| {
-                    far(a.1)
-                        .partial_cmp(&far(b.1))
-                        .unwrap_or(core::cmp::Ordering::Equal)
-                })?
-                .0;
-            Some((nearest, m))
-        })
+        // (else the gain between the hypotheses, as the nearest of them)
+        let between = self.levels.gain_proposed.map(|(i, _, m)| (i, m));
+        self.levels.proposal.or(between)
     }
 
-    /// The gain factor the level test proposes where no hypothesis is: the
-    /// gain between them (`between.rs`).
+    /// Where the level test proposes the gain between its hypotheses (no
+    /// hypothesis itself: `between.rs`), the factor from the nearest
+    /// hypothesis's gain ([`Estimator::level_proposal`]'s) to it.
     pub(super) fn level_gain(&self) -> Option<T> {
         match self.levels.proposal {
             Some(_) => None,
-            None => self.levels.gain_proposed.map(|(g, _)| g),
+            None => self.levels.gain_proposed.map(|(_, scale, _)| scale),
         }
     }
 }

@@ -401,7 +401,7 @@ impl BankCase {
 
     /// The adaptive loop alone (`--adapt`), its log in the report.
     pub fn adaptive(&self) -> Result<RunOutput, RunError> {
-        self.scenario(&self.plant, true, true, self.ts()?)?.run()
+        self.adaptive_with(AdaptOptions::default())
     }
 
     /// The adaptive loop with the options `adapt` in place of the

@@ -175,19 +175,24 @@ impl<T: Real> Levels<T> {
         self.between = (sum, streak);
         let proposed = sum >= T::of(LEVEL_EVIDENCE) && streak >= 2;
         let range = factors.first().zip(factors.last());
-        self.gain_proposed = range
+        let g = range
             .filter(|_| proposed)
-            .and_then(|(&lo, &hi)| lowest(self.gain, lo, hi))
-            .map(|g| {
-                let error = (at_least(r.v_ref - b.rss, T::zero()) / r.energy).sqrt();
-                (
-                    g,
-                    Mismatch {
-                        error,
-                        evidence: sum,
-                    },
-                )
-            });
+            .and_then(|(&lo, &hi)| lowest(self.gain, lo, hi));
+        // proposed as the nearest gain hypothesis, scaled
+        let far = |f: &T, g: T| (*f - g).abs();
+        let nearest = g.and_then(|g| {
+            let (i, f) = factors.iter().enumerate().min_by(|a, b| {
+                far(a.1, g)
+                    .partial_cmp(&far(b.1, g))
+                    .unwrap_or(core::cmp::Ordering::Equal)
+            })?;
+            Some((i, g / *f))
+        });
+        self.gain_proposed = nearest.map(|(i, scale)| {
+            let error = (at_least(r.v_ref - b.rss, T::zero()) / r.energy).sqrt();
+            let evidence = sum;
+            (i, scale, Mismatch { error, evidence })
+        });
     }
 }
 
