@@ -114,19 +114,23 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         let Some(e) = self.est.estimate() else {
             return false;
         };
+        // (the dead time first: at rest it is the model's, and the rest
+        // is not asked)
+        let cur = self.model;
+        let period = self.cfg.estimator.period();
+        if (cur.theta - e.theta).abs() < T::of(1.5) * period {
+            return false;
+        }
         let Some(m) = self.plausible(e).filter(|m| m.theta == e.theta) else {
             return false;
         };
-        let cur = self.model;
         let tol = self.cfg.min_change * T::of(SPREAD);
-        let period = self.cfg.estimator.period();
         let moved = Model {
             theta: m.theta,
             ..cur
         };
         if !near(cur.k, m.k, tol)
             || !near(cur.tau, m.tau, tol)
-            || (cur.theta - m.theta).abs() < T::of(1.5) * period
             || !(self.beats_model() || self.beats_model_recently())
         {
             return false;
