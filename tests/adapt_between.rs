@@ -42,7 +42,7 @@ fn a_lag_between_the_hypotheses_with_loads_does_no_harm() {
 /// named by the finer gains the detector simulates while a gain hypothesis
 /// is the model in use ([`msp::adapt::FINE_GAINS`]: √0.7): the adaptive loop
 /// ends within 10 % of the true model's IAE in 15 of the 16 cases, and
-/// 30 % or more below the fixed loop's in every one. Before them: 1.16 times
+/// 25 % or more below the fixed loop's in every one. Before them: 1.16 times
 /// the true model's in most of these cases, the loads teaching the bank too
 /// little to refine the gain. The one case left, `0.15 e^{−5s}/s` at the
 /// chosen period under 2 % noise, showed the factor 0.86 in one load's
