@@ -182,12 +182,12 @@ pub(super) struct Levels<T> {
     /// The challenger ([`Estimator::challenge`]).
     challenger: Option<Challenger<T>>,
     /// The gain between the hypotheses (`between.rs`): Page's sum of its
-    /// evidence, the responses in a row it explained better than the model
+    /// evidence with its largest response ([`page`]), the responses in a row it explained better than the model
     /// in use, the responses' parabolas since the sum was last at zero
     /// (each over the noise's variance), and the gain proposed: the
     /// nearest gain hypothesis, the factor from its gain to the one
     /// proposed, and the mismatch.
-    between: (T, u8),
+    between: ((T, T), u8),
     gain: Quadratic<T>,
     gain_proposed: Option<(usize, T, Mismatch<T>)>,
 }
@@ -211,7 +211,7 @@ impl<T: Real> Levels<T> {
             responses: (0, 0),
             loaded: true,
             challenger: None,
-            between: (T::zero(), 0),
+            between: ((T::zero(), T::zero()), 0),
             gain: [T::zero(); 3],
             gain_proposed: None,
         }
@@ -319,7 +319,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.streak = (0, 0);
         lv.proposal = None;
         lv.challenger = None;
-        lv.between = (T::zero(), 0);
+        lv.between = ((T::zero(), T::zero()), 0);
         lv.gain = [T::zero(); 3];
         lv.gain_proposed = None;
     }
@@ -544,13 +544,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.responses.1 = used.saturating_add(1);
         let inv = T::one() / sigma2;
         for ((s, peak), &v) in lv.sums.iter_mut().zip(&mut lv.peaks).zip(rss) {
-            let e = (v_ref - v) * inv;
-            *s = at_least(*s + e, T::zero());
-            *peak = if *s > T::zero() {
-                peak.max(e)
-            } else {
-                T::zero()
-            };
+            (*s, *peak) = page((*s, *peak), (v_ref - v) * inv);
         }
         // the hypothesis with the most evidence, proposed while it has
         // enough and explains the last two responses to the noise better
@@ -574,10 +568,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             (true, false) => (i, 1),
             (false, _) => (i, 0),
         };
-        // (and not on one response alone: see [`REPLICATED`])
         let peak = lv.peaks.get(i).copied().unwrap_or_default();
-        let proposed =
-            sum >= T::of(LEVEL_EVIDENCE) && lv.streak.1 >= 2 && sum - peak >= T::of(REPLICATED);
+        let proposed = enough((sum, peak)) && lv.streak.1 >= 2;
         lv.proposal = proposed.then(|| {
             (
                 i,
@@ -618,6 +610,25 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             None => self.levels.gain_proposed.map(|(_, scale, _)| scale),
         }
     }
+}
+
+/// Page's sum and its largest single response since it was last at zero,
+/// `(sum, peak)`, moved on by a response's evidence `e`: `max(0, sum + e)`
+/// (Page (1954)).
+fn page<T: Real>((sum, peak): (T, T), e: T) -> (T, T) {
+    let sum = at_least(sum + e, T::zero());
+    let peak = if sum > T::zero() {
+        peak.max(e)
+    } else {
+        T::zero()
+    };
+    (sum, peak)
+}
+
+/// A sum `(sum, peak)` of [`page`] is evidence enough: it reached
+/// [`LEVEL_EVIDENCE`], and not on one response alone ([`REPLICATED`]).
+fn enough<T: Real>((sum, peak): (T, T)) -> bool {
+    sum >= T::of(LEVEL_EVIDENCE) && sum - peak >= T::of(REPLICATED)
 }
 
 /// The dead times the level test sets beside the hypotheses: the model in

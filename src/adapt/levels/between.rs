@@ -136,8 +136,9 @@ impl<T: Real> Levels<T> {
     /// degree of freedom less and [`PENALTY`] for the gain it fits; its
     /// parabolas summed while its evidence is; proposed, with the gain at
     /// their lowest point within the hypotheses' range (`factors`), when
-    /// its sum reaches [`LEVEL_EVIDENCE`] and it explained the last two
-    /// responses better than the model in use.
+    /// its sum reaches [`LEVEL_EVIDENCE`], not on one response alone
+    /// ([`REPLICATED`], as a hypothesis's: `enough`), and it explained the
+    /// last two responses better than the model in use.
     pub(super) fn weigh_between<const G: usize>(
         &mut self,
         b: Between<T>,
@@ -162,8 +163,8 @@ impl<T: Real> Levels<T> {
             return;
         }
         let (sum, streak) = self.between;
-        let sum = at_least(sum + (r.v_ref - b.rss) / sigma2 - T::of(PENALTY), T::zero());
-        if sum > T::zero() {
+        let sum = page(sum, (r.v_ref - b.rss) / sigma2 - T::of(PENALTY));
+        if sum.0 > T::zero() {
             for (g, &c) in self.gain.iter_mut().zip(&b.quad) {
                 *g = *g + c / sigma2;
             }
@@ -173,7 +174,7 @@ impl<T: Real> Levels<T> {
         let better = explains && !fits_ref;
         let streak = if better { streak.saturating_add(1) } else { 0 };
         self.between = (sum, streak);
-        let proposed = sum >= T::of(LEVEL_EVIDENCE) && streak >= 2;
+        let proposed = enough(sum) && streak >= 2;
         let range = factors.first().zip(factors.last());
         let g = range
             .filter(|_| proposed)
@@ -190,7 +191,7 @@ impl<T: Real> Levels<T> {
         });
         self.gain_proposed = nearest.map(|(i, scale)| {
             let error = (at_least(r.v_ref - b.rss, T::zero()) / r.energy).sqrt();
-            let evidence = sum;
+            let evidence = sum.0;
             (i, scale, Mismatch { error, evidence })
         });
     }
