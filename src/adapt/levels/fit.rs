@@ -61,12 +61,12 @@ impl<T: Real> Fit<T> {
 
     /// The residual sum of squares after the least-squares fit of
     /// `c0 + c1·q` (of `c0` alone where `q` is nearly constant over the
-    /// response), and how much of it a drift `c2·p[k]` would take (the
-    /// third regressor's share: the LDLᵀ factors of the regressors' Gram
-    /// matrix, `z = L⁻¹b`, the residual `Σr² − z1²/D1 − z2²/D2` and the
-    /// drift's `z3²/D3`; Golub & Van Loan (2013) Sec. 4.1), over `n` samples
-    /// with `Σp, Σp²` `p`.
-    pub(super) fn rss(&self, n: T, [sp, spp]: [T; 2], loaded: bool) -> (T, T) {
+    /// response: a lag far shorter than the period), and how much of it a
+    /// drift `c2·p[k]` would take (the third regressor's share: the LDLᵀ
+    /// factors of the regressors' Gram matrix, `z = L⁻¹b`, the residual
+    /// `Σr² − z1²/D1 − z2²/D2` and the drift's `z3²/D3`; Golub & Van Loan
+    /// (2013) Sec. 4.1), over `n` samples with `Σp, Σp²` `p`.
+    pub(super) fn rss(&self, n: T, [sp, spp]: [T; 2]) -> (T, T) {
         let [sr, srr, srq, sq, sqq, srp, sqp] = self.s;
         if !(n > T::zero()) {
             return (srr, T::zero());
@@ -77,15 +77,11 @@ impl<T: Real> Fit<T> {
         let z2 = srq - l21 * z1;
         let mut rss = srr - z1 * z1 / n;
         let mut l32 = T::zero();
-        if loaded && d2 > tiny * sqq {
+        if d2 > tiny * sqq {
             rss = rss - z2 * z2 / d2;
             l32 = (sqp - l31 * sq) / d2;
         }
-        let (d3, z3) = if loaded {
-            (spp - l31 * sp - l32 * l32 * d2, srp - l31 * z1 - l32 * z2)
-        } else {
-            (spp - l31 * sp, srp - l31 * z1)
-        };
+        let (d3, z3) = (spp - l31 * sp - l32 * l32 * d2, srp - l31 * z1 - l32 * z2);
         let drift = if d3 > tiny * spp {
             z3 * z3 / d3
         } else {
