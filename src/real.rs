@@ -159,9 +159,37 @@ pub(crate) fn normal<T: Real>(x: T) -> T {
     }
 }
 
+/// The index and value of the smallest of `xs`, the first where several
+/// are (`None`: none, or every one NaN; a NaN is never the smallest).
+pub(crate) fn arg_min<T: Real>(xs: impl IntoIterator<Item = T>) -> Option<(usize, T)> {
+    xs.into_iter()
+        .enumerate()
+        .fold(None, |m: Option<(usize, T)>, (i, x)| match m {
+            Some((_, low)) if !(x < low) => m,
+            _ if x.is_nan() => m,
+            _ => Some((i, x)),
+        })
+}
+
 #[cfg(test)]
 mod tests {
-    use super::Real;
+    use super::{arg_min, Real};
+
+    /// The first of the smallest, NaN passed over wherever it stands, and
+    /// none of nothing or of NaN alone; against a search by sorting.
+    #[test]
+    fn arg_min_is_the_first_of_the_smallest_and_never_nan() {
+        let nan = f64::NAN;
+        assert_eq!(arg_min([3.0, 1.0, 2.0, 1.0]), Some((1, 1.0)));
+        assert_eq!(arg_min([nan, 2.0, nan, -1.0, nan]), Some((3, -1.0)));
+        assert_eq!(arg_min([f64::INFINITY, nan]), Some((0, f64::INFINITY)));
+        assert_eq!(arg_min(core::iter::empty::<f64>()), None);
+        assert_eq!(arg_min([nan, nan]), None);
+        let xs = [0.5, -0.25, 7.0, -0.25, 3.0];
+        let mut sorted: Vec<(f64, usize)> = xs.iter().enumerate().map(|(i, &x)| (x, i)).collect();
+        sorted.sort_by(|a, b| a.partial_cmp(b).unwrap_or(core::cmp::Ordering::Equal));
+        assert_eq!(arg_min(xs), Some((sorted[0].1, sorted[0].0)));
+    }
 
     /// The bounds are the powers of two the docs state; the bound itself
     /// is usable, the next number above it and NaN, ±∞ are not, in either

@@ -89,6 +89,7 @@
 
 use super::hypotheses::gain_factors;
 use super::*;
+use crate::real::arg_min;
 use between::{between, Quadratic, Response};
 use challenger::Challenger;
 use fit::Fit;
@@ -433,11 +434,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             (*v, *d) = f.rss(nt, [sp, spp]);
         }
         let rss = rss.get(..tested).unwrap_or_default();
-        let Some((best, &v_best)) = rss
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.partial_cmp(b.1).unwrap_or(core::cmp::Ordering::Equal))
-        else {
+        let Some((best, v_best)) = arg_min(rss.iter().copied()) else {
             return;
         };
         let drift = drifts.get(best).copied().unwrap_or_default();

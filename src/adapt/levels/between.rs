@@ -20,6 +20,7 @@
 //! give the gain the level test proposes with a gain hypothesis.
 
 use super::*;
+use crate::real::arg_min;
 
 /// A quadratic `c0 + c1·g + c2·g²`.
 pub(super) type Quadratic<T> = [T; 3];
@@ -85,14 +86,7 @@ pub(super) fn between<T: Real, const G: usize>(
         n += 1;
     }
     let points = points.get(..n)?;
-    let low = points
-        .iter()
-        .enumerate()
-        .fold(
-            (0, T::infinity()),
-            |m, (i, p)| if p.1 < m.1 { (i, p.1) } else { m },
-        )
-        .0;
+    let (low, _) = arg_min(points.iter().map(|p| p.1))?;
     let mid = low.clamp(1, n.checked_sub(2)?);
     let [a, b, c] = [points.get(mid - 1)?, points.get(mid)?, points.get(mid + 1)?];
     let quad = through([(a.0, a.1), (b.0, b.1), (c.0, c.1)])?;
@@ -180,14 +174,9 @@ impl<T: Real> Levels<T> {
             .filter(|_| proposed)
             .and_then(|(&lo, &hi)| lowest(self.gain, lo, hi));
         // proposed as the nearest gain hypothesis, scaled
-        let far = |f: &T, g: T| (*f - g).abs();
         let nearest = g.and_then(|g| {
-            let (i, f) = factors.iter().enumerate().min_by(|a, b| {
-                far(a.1, g)
-                    .partial_cmp(&far(b.1, g))
-                    .unwrap_or(core::cmp::Ordering::Equal)
-            })?;
-            Some((i, g / *f))
+            let (i, _) = arg_min(factors.iter().map(|&f| (f - g).abs()))?;
+            Some((i, g / *factors.get(i)?))
         });
         self.gain_proposed = nearest.map(|(i, scale)| {
             let error = (at_least(r.v_ref - b.rss, T::zero()) / r.energy).sqrt();

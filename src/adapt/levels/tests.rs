@@ -1,9 +1,36 @@
-//! The level test's tests: its least squares against Gram–Schmidt, and
-//! loops that only loads move.
+//! The level test's tests: its least squares against Gram–Schmidt, its
+//! Page's sum, and loops that only loads move.
 
 use super::super::tests::uniform;
 use super::*;
 use crate::test_util::ExpectOk;
+
+/// Page's sum with its largest response (`page`): `max(0, sum + e)`, the
+/// largest single evidence since the sum was last at zero (forgotten
+/// there); `enough`: the sum reached [`LEVEL_EVIDENCE`] with
+/// [`REPLICATED`] of it besides the largest response, so one response of
+/// any size is not enough, and the same total spread over several is.
+#[test]
+fn page_keeps_its_largest_response_and_one_response_is_not_enough() {
+    let run = |es: &[f64]| es.iter().fold((0.0, 0.0), |s, &e| page(s, e));
+    // the sum and its peak against a direct computation
+    let es = [5.0, -2.0, 30.0, -40.0, 12.0, 20.0, -3.0, 8.0];
+    let (mut sum, mut peak) = (0.0f64, 0.0f64);
+    for &e in &es {
+        sum = (sum + e).max(0.0);
+        peak = if sum > 0.0 { peak.max(e) } else { 0.0 };
+    }
+    assert_eq!(run(&es), (sum, peak));
+    // after the zero at -40 the peak is 20, not 30
+    assert_eq!(peak, 20.0);
+    let one = LEVEL_EVIDENCE * 3.0;
+    assert!(!enough(run(&[one])));
+    assert!(!enough(run(&[one, REPLICATED * 0.9])));
+    assert!(enough(run(&[one, REPLICATED])));
+    let part = LEVEL_EVIDENCE / 4.0;
+    assert!(enough(run(&[part; 4])));
+    assert!(!enough(run(&[part; 3])));
+}
 
 /// The residual of `r` after its projection on the span of the
 /// columns `cols`, by modified Gram–Schmidt (columns within `1e-9` of
