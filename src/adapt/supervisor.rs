@@ -206,6 +206,11 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     /// The last complete block's mean, when the estimate held still in it.
     settled: Option<Still<T>>,
     since: u32,
+    /// The estimator's learnt samples when the model in use was set.
+    learnt_from: u32,
+    /// The level test's last dead-time move: the dead time before it and
+    /// after it (s).
+    dead_moved: Option<(T, T)>,
     rest_until: u64,
     log: [Option<Change<T>>; L],
     watching: u32,
@@ -271,6 +276,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             block: Block::default(),
             settled: None,
             since: 0,
+            learnt_from: 0,
+            dead_moved: None,
             samples: 0,
             frozen: false,
             rest_until: 0,
@@ -458,6 +465,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// applied one the watch for oscillation.
     fn changed(&mut self, kind: ChangeKind) {
         self.since = 0;
+        self.learnt_from = self.est.learnt();
         self.settled = None;
         self.block = Block::default();
         if matches!(kind, ChangeKind::Applied | ChangeKind::Emergency) {
@@ -574,7 +582,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // time's responses)
         let edge = self.edge();
         let dead_first = self.est.level_gain().is_some() && self.moved_dead_time();
-        if dead_first || self.propose() || edge || self.moved_dead_time() || self.challenged() {
+        if dead_first
+            || self.propose()
+            || edge
+            || self.moved_dead_time()
+            || self.level_dead_time()
+            || self.challenged()
+        {
             return;
         }
         // the estimate in blocks of `settle` samples: a block in which it held

@@ -1,0 +1,166 @@
+//! The level test's dead-time hypotheses: the model in use at the other
+//! dead times of `shifted`, weighed over the responses as the gain and lag
+//! hypotheses are, and proposed where the bank does not see the change.
+//!
+//! A loop that only loads move shows a change of its dead time in the
+//! differences only where a load's step stands out of the noise there
+//! (under 2 % noise at ten samples of dead time it does not: the bank's
+//! dead time ×0.7 with loads was never learnt). In levels a response is
+//! the model's simulation at a dead time plus the load's part (`levels.rs`),
+//! and the model in use at a shorter or longer dead time is one more model
+//! fitted on the same response with the same regressors: `(V_ref − V_d)/σ²`
+//! its evidence, summed by Page's test (Page (1954)) and proposed on the
+//! evidence a gain or a lag needs (`enough`, two responses in a row
+//! explained better). Each response is evidence for the dead times or for
+//! the gains and lags, never both: the dead times where one of them
+//! explains it better than every gain and lag (the hypotheses' `own`,
+//! turned round). The supervisor applies a proposed dead time where the
+//! bank learnt since the model in use was set, and a move back halfway
+//! (`Adaptive::level_dead_time`).
+
+use super::*;
+use crate::real::arg_min;
+
+/// The dead-time hypotheses' state: Page's sum and largest response of
+/// each, the responses in a row the best explained better than the model
+/// in use, and the dead time proposed (estimator samples) with the
+/// mismatch.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Dead<T> {
+    sums: [(T, T); DEAD],
+    streak: (usize, u8),
+    pub(super) proposed: Option<(usize, Mismatch<T>)>,
+}
+
+impl<T: Real> Dead<T> {
+    pub(super) fn new() -> Self {
+        Dead {
+            sums: [(T::zero(), T::zero()); DEAD],
+            streak: (0, 0),
+            proposed: None,
+        }
+    }
+}
+
+/// What the level test measured on a response, for its dead times: each
+/// dead time (estimator samples; `None`: outside the bank's range, not
+/// proposed), its fit's residual and drift; the model in use's residual,
+/// the best gain or lag's; the noise's variance, its residual over the
+/// response and the spread of that; the measurement's energy; the tests
+/// every response passes (it stands out of the noise, a misfit beyond the
+/// rounding).
+pub(super) struct DeadResponse<T> {
+    pub(super) d: [Option<usize>; DEAD],
+    pub(super) v: [T; DEAD],
+    pub(super) drift: [T; DEAD],
+    pub(super) v_ref: T,
+    pub(super) v_hyp: T,
+    pub(super) sigma2: T,
+    pub(super) noise: T,
+    pub(super) spread: T,
+    pub(super) energy: T,
+    pub(super) counts: bool,
+}
+
+impl<T: Real> Dead<T> {
+    /// One response weighed: where the best dead time explains it (to the
+    /// noise, at most [`EXPLAINED`] of the model in use's excess, no drift)
+    /// or the model in use does, and no gain or lag explains it better,
+    /// each dead time's evidence joins its sum; the best sum proposed with
+    /// the evidence a hypothesis needs.
+    pub(super) fn weigh(&mut self, r: DeadResponse<T>) {
+        let allowed = |j: usize| r.d.get(j).copied().flatten().is_some();
+        let Some((best, v_best)) =
+            arg_min(
+                r.v.iter()
+                    .enumerate()
+                    .map(|(j, &v)| if allowed(j) { v } else { T::nan() }),
+            )
+        else {
+            return;
+        };
+        let drift = r.drift.get(best).copied().unwrap_or_default();
+        let excess_ref = r.v_ref - r.noise;
+        let fits_ref = excess_ref <= r.spread;
+        let explains =
+            v_best - r.noise <= r.spread && v_best - r.noise <= T::of(EXPLAINED) * excess_ref;
+        let counts = r.counts
+            && (explains || fits_ref)
+            && drift <= T::of(DRIFT) * r.sigma2
+            && (v_best < r.v_hyp || fits_ref)
+            && r.sigma2 > T::zero();
+        if !counts {
+            return;
+        }
+        let inv = T::one() / r.sigma2;
+        for (j, (s, &v)) in self.sums.iter_mut().zip(&r.v).enumerate() {
+            *s = if allowed(j) {
+                page(*s, (r.v_ref - v) * inv)
+            } else {
+                (T::zero(), T::zero())
+            };
+        }
+        let (top, sum) =
+            self.sums
+                .iter()
+                .enumerate()
+                .fold((0, (T::zero(), T::zero())), |m, (j, &s)| {
+                    if s.0 > m.1 .0 {
+                        (j, s)
+                    } else {
+                        m
+                    }
+                });
+        let v_top = r.v.get(top).copied().unwrap_or(r.v_ref);
+        let better = v_top - r.noise <= r.spread && v_top < r.v_ref;
+        let (was, count) = self.streak;
+        self.streak = match (better, was == top) {
+            (true, true) => (top, count.saturating_add(1)),
+            (true, false) => (top, 1),
+            (false, _) => (top, 0),
+        };
+        let d = r.d.get(top).copied().flatten();
+        self.proposed = d.filter(|_| enough(sum) && self.streak.1 >= 2).map(|d| {
+            let error = (at_least(r.v_ref - v_top, T::zero()) / r.energy).sqrt();
+            (
+                d,
+                Mismatch {
+                    error,
+                    evidence: sum.0,
+                },
+            )
+        });
+    }
+}
+
+impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
+    /// The dead times of [`shifted`] the level test may propose (estimator
+    /// samples): inside the bank's range and off its ends (an estimate at
+    /// an end is warned of, never applied), not the model in use's. None
+    /// for an integrating process: its loads' ramps show in the
+    /// differences, and the bank learns its dead time from them (measured:
+    /// every integrating case of the bank's families with loads within
+    /// 10 % of the true model's IAE without the level test's), while in a
+    /// loop that a longer dead time sets swinging the level test named a
+    /// shorter one (`tests/adapt_emergency.rs`: 4 s applied for a
+    /// process's 7).
+    pub(super) fn dead_candidates(&self) -> [Option<usize>; DEAD] {
+        let d = self.reference.as_ref().map(|r| r.d);
+        let Some(d) = d.filter(|_| !self.cfg.integrating) else {
+            return [None; DEAD];
+        };
+        let lo = self.cfg.d_min.saturating_add(1);
+        let hi = self.cfg.d_min.saturating_add(self.n).saturating_sub(2);
+        shifted(d, H.saturating_sub(2)).map(|x| (x != d && x >= lo && x <= hi).then_some(x))
+    }
+
+    /// The dead time the level test proposes, as a change of the model in
+    /// use's (s), and how far the model in use is from the last response
+    /// against it.
+    pub(crate) fn level_dead_time(&self) -> Option<(T, Mismatch<T>)> {
+        let (d, m) = self.levels.dead.proposed?;
+        let from = self.reference.as_ref()?.d;
+        let shift = T::of(d as f64) - T::of(from as f64);
+        Some((shift * self.cfg.period(), m))
+    }
+}
