@@ -164,3 +164,79 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         Some((shift * self.cfg.period(), m))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::ExpectOk;
+
+    /// A response of 100 samples under noise of variance 1 on which the
+    /// dead time at index `best` leaves the noise alone and the model in use
+    /// `excess` more; the others and the best gain or lag leave `other`.
+    fn response(best: usize, excess: f64, other: f64) -> DeadResponse<f64> {
+        let noise = 98.0;
+        let mut v = [noise + other; DEAD];
+        v[best] = noise;
+        DeadResponse {
+            d: [Some(6), Some(8), Some(13), None],
+            v,
+            drift: [0.0; DEAD],
+            v_ref: noise + excess,
+            v_hyp: noise + other,
+            sigma2: 1.0,
+            noise,
+            spread: 3.0 * (2.0f64 * 98.0).sqrt(),
+            energy: 1e4,
+            counts: true,
+        }
+    }
+
+    /// A dead time is proposed once its sum has the evidence a hypothesis
+    /// needs and two responses in a row: not on one response however
+    /// large, not where a gain or a lag explains the responses better, a
+    /// drift is left, or the response does not count, and never one outside
+    /// the bank's range.
+    #[test]
+    fn a_dead_time_is_proposed_on_the_evidence_a_hypothesis_needs() {
+        let mut dead = Dead::new();
+        dead.weigh(response(1, 200.0, 80.0));
+        assert!(dead.proposed.is_none(), "one response is not enough");
+        dead.weigh(response(1, 200.0, 80.0));
+        let (d, m) = dead.proposed.expect_ok();
+        assert_eq!(d, 8);
+        assert_eq!(m.evidence, 400.0);
+        // a gain or a lag explains it better: no evidence for a dead time
+        let mut gained = Dead::new();
+        for _ in 0..4 {
+            let mut r = response(1, 200.0, 80.0);
+            r.v_hyp = r.noise - 1.0;
+            gained.weigh(r);
+        }
+        assert!(gained.proposed.is_none());
+        // the best fit leaves a drift, or the response does not count
+        let mut drifting = Dead::new();
+        for _ in 0..4 {
+            let mut r = response(1, 200.0, 80.0);
+            r.drift[1] = DRIFT + 1.0;
+            drifting.weigh(r);
+            drifting.weigh(DeadResponse {
+                counts: false,
+                ..response(0, 200.0, 80.0)
+            });
+        }
+        assert!(drifting.proposed.is_none());
+        // the best outside the bank's range, the allowed ones 80 above the
+        // noise (beyond its spread): none explains the responses
+        let mut outside = Dead::new();
+        for _ in 0..4 {
+            outside.weigh(response(3, 200.0, 80.0));
+        }
+        assert!(outside.proposed.is_none());
+        // within the range, the same responses propose it
+        let mut inside = Dead::new();
+        for _ in 0..2 {
+            inside.weigh(response(2, 200.0, 80.0));
+        }
+        assert_eq!(inside.proposed.map(|(d, _)| d), Some(13));
+    }
+}
