@@ -587,12 +587,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let (i, sum) = top;
         let v_top = rss.get(i).copied().unwrap_or(v_ref);
         let better = v_top - noise <= spread && v_top < v_ref;
-        let (was, count) = lv.streak;
-        lv.streak = match (better, was == i) {
-            (true, true) => (i, count.saturating_add(1)),
-            (true, false) => (i, 1),
-            (false, _) => (i, 0),
-        };
+        lv.streak = streak(lv.streak, i, better);
         let peak = lv.peaks.get(i).copied().unwrap_or_default();
         let proposed = enough((sum, peak)) && lv.streak.1 >= 2;
         lv.proposal = proposed.then(|| {
@@ -648,6 +643,17 @@ fn page<T: Real>((sum, peak): (T, T), e: T) -> (T, T) {
         T::zero()
     };
     (sum, peak)
+}
+
+/// The responses in a row `(i, count)` that the model `top` explained
+/// better than the model in use, after a response it did (`better`) or
+/// not: a new model's run starts at one.
+fn streak((was, count): (usize, u8), top: usize, better: bool) -> (usize, u8) {
+    match (better, was == top) {
+        (true, true) => (top, count.saturating_add(1)),
+        (true, false) => (top, 1),
+        (false, _) => (top, 0),
+    }
 }
 
 /// A sum `(sum, peak)` of [`page`] is evidence enough: it reached

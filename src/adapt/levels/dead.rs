@@ -113,12 +113,7 @@ impl<T: Real> Dead<T> {
                 });
         let v_top = r.v.get(top).copied().unwrap_or(r.v_ref);
         let better = v_top - r.noise <= r.spread && v_top < r.v_ref;
-        let (was, count) = self.streak;
-        self.streak = match (better, was == top) {
-            (true, true) => (top, count.saturating_add(1)),
-            (true, false) => (top, 1),
-            (false, _) => (top, 0),
-        };
+        self.streak = streak(self.streak, top, better);
         let d = r.d.get(top).copied().flatten();
         self.proposed = d.filter(|_| enough(sum) && self.streak.1 >= 2).map(|d| {
             let error = (at_least(r.v_ref - v_top, T::zero()) / r.energy).sqrt();
