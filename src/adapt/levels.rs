@@ -101,6 +101,7 @@ use between::{between, Quadratic, Response};
 use challenger::Challenger;
 use dead::{Dead, DeadResponse};
 use fit::Fit;
+use noise::{top, Noise};
 pub use watch::{WATCH_DRIFT, WATCH_LIMIT};
 
 /// The other dead times the level test fits the model in use at
@@ -467,39 +468,22 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         );
         // the noise's variance in levels (`level_deviation`), at least half the
         // best fit's residual per degree of freedom and [`FLOOR`] of the
-        // response's energy per sample
-        let dof = at_least(nt - T::of(2.0), T::one());
+        // response's energy per sample (`noise.rs`)
         let [_, _, sy, syy] = lv.y;
         let energy = at_least(syy - sy * sy / nt, T::zero());
-        let sigma2 = at_least(measured, v_best / (T::of(2.0) * dof));
-        let sigma2 = at_least(sigma2, T::of(FLOOR) * energy / nt);
-        let noise = dof * sigma2;
-        // the spread of a residual sum of squares of pure noise (χ² with
-        // `dof` degrees of freedom: `σ²·√(2·dof)`), three times
-        let spread = T::of(3.0) * sigma2 * (T::of(2.0) * dof).sqrt();
-        let excess_ref = v_ref - noise;
+        let noise = Noise::new(nt, T::of(2.0), measured, v_best, energy);
+        let sigma2 = noise.sigma2;
         // the best fits to the noise, and leaves at most EXPLAINED of the
         // model in use's excess
-        let explains = v_best - noise <= spread && v_best - noise <= T::of(EXPLAINED) * excess_ref;
-        let fits_ref = excess_ref <= spread;
-        // and the response stands out of the noise (the measurement's
-        // variance about its mean over the response at least 1.5 times
-        // the noise's): a load the controller holds the measurement
-        // against shows in the input, and a model of a smaller gain, whose
-        // prediction of the input's move is nearer to a still measurement,
-        // explains it "better" (measured on the bank: ramp loads at the
-        // coarse period under 2 % noise, the measurement's variance within
-        // twice the noise's, had a halved gain and a doubled lag applied;
-        // a response within a converter's step, likewise). Not the
-        // differences' [`MATERIAL`] test: a doubled lag changes less than
-        // 1 % of a load's response in levels.
-        let seen = energy >= T::of(1.5) * noise;
+        let explains = noise.explains(v_best, v_ref);
+        let fits_ref = noise.fits(v_ref);
+        let seen = noise.seen(energy);
         // and the best fit leaves no drift: a ramp load, which a model with
         // the wrong gain follows in part (the controller's answer carries
         // it), is no step's response (the drift's share of the residual
         // within [`DRIFT`] times the noise's variance, `χ²` with one degree
         // of freedom: an F-test of the drift's regressor)
-        let steady = drift <= T::of(DRIFT) * sigma2;
+        let steady = noise.steady(drift);
         // and no other dead time explains it better (see [`shifted`])
         let own = v_best < v_dead || fits_ref;
         // and, where the rounding is the noise, a misfit beyond it: without
@@ -517,14 +501,14 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             // its own: it explains the response to the noise and leaves no
             // drift (not the hypotheses' `own`: its dead time is its own)
             let counts = c.whole
-                && (v - noise <= spread || v_ref - noise <= spread)
+                && (noise.fits(v) || fits_ref)
                 && seen
-                && drift <= T::of(DRIFT) * sigma2
+                && noise.steady(drift)
                 && independent
                 && sigma2 > T::zero();
             if counts {
                 c.sum = at_least(c.sum + (v_ref - v) / sigma2, T::zero());
-                let better = v - noise <= spread && v < v_ref;
+                let better = noise.better(v, v_ref);
                 c.streak = if better {
                     c.streak.saturating_add(1)
                 } else {
@@ -551,9 +535,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             drift: dead_fits.map(|f| f.1),
             v_ref,
             v_hyp: v_best,
-            sigma2,
             noise,
-            spread,
             energy,
             counts: seen && independent,
         });
@@ -580,13 +562,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // between them in part: measured on the bank, a dead time that rose
         // inside a load's response had a doubled lag proposed by it)
         let sums = lv.sums.get(..tested).unwrap_or_default();
-        let top = sums.iter().enumerate().fold(
-            (0, T::zero()),
-            |m, (i, &s)| if s > m.1 { (i, s) } else { m },
-        );
-        let (i, sum) = top;
+        let (i, sum) = top(sums.iter().copied());
         let v_top = rss.get(i).copied().unwrap_or(v_ref);
-        let better = v_top - noise <= spread && v_top < v_ref;
+        let better = noise.better(v_top, v_ref);
         lv.streak = streak(lv.streak, i, better);
         let peak = lv.peaks.get(i).copied().unwrap_or_default();
         let proposed = enough((sum, peak)) && lv.streak.1 >= 2;
@@ -686,6 +664,7 @@ mod between;
 mod challenger;
 mod dead;
 mod fit;
+mod noise;
 #[cfg(test)]
 mod tests;
 mod watch;

@@ -139,17 +139,14 @@ impl<T: Real> Levels<T> {
         r: Response<T>,
         factors: [T; G],
     ) {
-        let dof = at_least(r.n - T::of(3.0), T::one());
-        let sigma2 = at_least(r.measured, b.rss / (T::of(2.0) * dof));
-        let sigma2 = at_least(sigma2, T::of(FLOOR) * r.energy / r.n);
-        let noise = dof * sigma2;
-        let spread = T::of(3.0) * sigma2 * (T::of(2.0) * dof).sqrt();
-        let excess_ref = r.v_ref - noise;
-        let fits_ref = excess_ref <= spread;
-        let explains = b.rss - noise <= spread && b.rss - noise <= T::of(EXPLAINED) * excess_ref;
+        // (three parameters: the load's two and the gain)
+        let noise = Noise::new(r.n, T::of(3.0), r.measured, b.rss, r.energy);
+        let sigma2 = noise.sigma2;
+        let fits_ref = noise.fits(r.v_ref);
+        let explains = noise.explains(b.rss, r.v_ref);
         let counts = (explains || fits_ref)
-            && r.energy >= T::of(1.5) * noise
-            && b.drift <= T::of(DRIFT) * sigma2
+            && noise.seen(r.energy)
+            && noise.steady(b.drift)
             && (b.rss < r.v_dead || fits_ref)
             && !(r.rounded && fits_ref)
             && sigma2 > T::zero();

@@ -45,8 +45,7 @@ impl<T: Real> Dead<T> {
 /// What the level test measured on a response, for its dead times: each
 /// dead time (estimator samples; `None`: outside the bank's range, not
 /// proposed), its fit's residual and drift; the model in use's residual,
-/// the best gain or lag's; the noise's variance, its residual over the
-/// response and the spread of that; the measurement's energy; the tests
+/// the best gain or lag's; the noise (`noise.rs`); the measurement's energy; the tests
 /// every response passes (it stands out of the noise, a misfit beyond the
 /// rounding).
 pub(super) struct DeadResponse<T> {
@@ -55,9 +54,7 @@ pub(super) struct DeadResponse<T> {
     pub(super) drift: [T; DEAD],
     pub(super) v_ref: T,
     pub(super) v_hyp: T,
-    pub(super) sigma2: T,
-    pub(super) noise: T,
-    pub(super) spread: T,
+    pub(super) noise: Noise<T>,
     pub(super) energy: T,
     pub(super) counts: bool,
 }
@@ -80,19 +77,17 @@ impl<T: Real> Dead<T> {
             return;
         };
         let drift = r.drift.get(best).copied().unwrap_or_default();
-        let excess_ref = r.v_ref - r.noise;
-        let fits_ref = excess_ref <= r.spread;
-        let explains =
-            v_best - r.noise <= r.spread && v_best - r.noise <= T::of(EXPLAINED) * excess_ref;
+        let n = r.noise;
+        let fits_ref = n.fits(r.v_ref);
         let counts = r.counts
-            && (explains || fits_ref)
-            && drift <= T::of(DRIFT) * r.sigma2
+            && (n.explains(v_best, r.v_ref) || fits_ref)
+            && n.steady(drift)
             && (v_best < r.v_hyp || fits_ref)
-            && r.sigma2 > T::zero();
+            && n.sigma2 > T::zero();
         if !counts {
             return;
         }
-        let inv = T::one() / r.sigma2;
+        let inv = T::one() / n.sigma2;
         for (j, (s, &v)) in self.sums.iter_mut().zip(&r.v).enumerate() {
             *s = if allowed(j) {
                 page(*s, (r.v_ref - v) * inv)
@@ -100,19 +95,10 @@ impl<T: Real> Dead<T> {
                 (T::zero(), T::zero())
             };
         }
-        let (top, sum) =
-            self.sums
-                .iter()
-                .enumerate()
-                .fold((0, (T::zero(), T::zero())), |m, (j, &s)| {
-                    if s.0 > m.1 .0 {
-                        (j, s)
-                    } else {
-                        m
-                    }
-                });
+        let (top, _) = top(self.sums.iter().map(|s| s.0));
+        let sum = self.sums.get(top).copied().unwrap_or_default();
         let v_top = r.v.get(top).copied().unwrap_or(r.v_ref);
-        let better = v_top - r.noise <= r.spread && v_top < r.v_ref;
+        let better = n.better(v_top, r.v_ref);
         self.streak = streak(self.streak, top, better);
         let d = r.d.get(top).copied().flatten();
         self.proposed = d.filter(|_| enough(sum) && self.streak.1 >= 2).map(|d| {
@@ -178,9 +164,7 @@ mod tests {
             drift: [0.0; DEAD],
             v_ref: noise + excess,
             v_hyp: noise + other,
-            sigma2: 1.0,
-            noise,
-            spread: 3.0 * (2.0f64 * 98.0).sqrt(),
+            noise: Noise::new(100.0, 2.0, 1.0, noise, 1.0),
             energy: 1e4,
             counts: true,
         }
@@ -204,7 +188,7 @@ mod tests {
         let mut gained = Dead::new();
         for _ in 0..4 {
             let mut r = response(1, 200.0, 80.0);
-            r.v_hyp = r.noise - 1.0;
+            r.v_hyp = r.noise.noise - 1.0;
             gained.weigh(r);
         }
         assert!(gained.proposed.is_none());

@@ -1,0 +1,107 @@
+//! The noise a response's residual sums are judged against, and the tests
+//! every model's fit passes by it (`levels.rs`): the model in use's, its
+//! hypotheses', the gain between them, the other dead times', the
+//! challenger's. One place, so that each weighs a response alike.
+
+use super::*;
+
+/// The noise over one response: its variance per sample `σ²`, the residual
+/// sum of squares pure noise leaves, `(n − p)·σ²` for `p` fitted
+/// parameters, and three times that sum's spread, `3σ²·√(2(n − p))` (`χ²`
+/// with `n − p` degrees of freedom; Söderström & Stoica (1989) Ch. 4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Noise<T> {
+    pub(super) sigma2: T,
+    pub(super) noise: T,
+    pub(super) spread: T,
+}
+
+impl<T: Real> Noise<T> {
+    /// Over `n` samples with `params` parameters fitted: `σ²` the measured
+    /// variance `measured`, at least half the best fit's residual `v_best`
+    /// per degree of freedom (a noise measure that reads too little does
+    /// not make every misfit evidence) and [`FLOOR`] of the response's
+    /// `energy` per sample.
+    pub(super) fn new(n: T, params: T, measured: T, v_best: T, energy: T) -> Self {
+        let dof = at_least(n - params, T::one());
+        let sigma2 = at_least(measured, v_best / (T::of(2.0) * dof));
+        let sigma2 = at_least(sigma2, T::of(FLOOR) * energy / n);
+        Noise {
+            sigma2,
+            noise: dof * sigma2,
+            spread: T::of(3.0) * sigma2 * (T::of(2.0) * dof).sqrt(),
+        }
+    }
+
+    /// A fit leaving `v` leaves the noise alone (within its spread).
+    pub(super) fn fits(&self, v: T) -> bool {
+        v - self.noise <= self.spread
+    }
+
+    /// A fit leaving `v` explains the response against the model in use's
+    /// `v_ref`: to the noise, and at most [`EXPLAINED`] of the model in
+    /// use's excess over it.
+    pub(super) fn explains(&self, v: T, v_ref: T) -> bool {
+        self.fits(v) && v - self.noise <= T::of(EXPLAINED) * (v_ref - self.noise)
+    }
+
+    /// A fit leaving `v` explained the response better than the model in
+    /// use's `v_ref`, to the noise (a streak's response).
+    pub(super) fn better(&self, v: T, v_ref: T) -> bool {
+        self.fits(v) && v < v_ref
+    }
+
+    /// The response stands out of the noise: the measurement's `energy`
+    /// about its mean at least 1.5 times the noise's.
+    pub(super) fn seen(&self, energy: T) -> bool {
+        energy >= T::of(1.5) * self.noise
+    }
+
+    /// A fit whose drift regressor takes `drift` of its residual leaves no
+    /// drift ([`DRIFT`]).
+    pub(super) fn steady(&self, drift: T) -> bool {
+        drift <= T::of(DRIFT) * self.sigma2
+    }
+}
+
+/// The index and value of the largest of Page's sums `sums` (the first
+/// where several are); `(0, 0)` where none is above zero.
+pub(super) fn top<T: Real>(sums: impl IntoIterator<Item = T>) -> (usize, T) {
+    sums.into_iter()
+        .enumerate()
+        .fold((0, T::zero()), |m, (i, s)| if s > m.1 { (i, s) } else { m })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The noise over 100 samples with two parameters: the measured
+    /// variance where it is the largest, else half the best fit's residual
+    /// per degree of freedom or the energy's floor; the residual of pure
+    /// noise `98σ²` and its spread `3σ²√196 = 42σ²`; the tests at their
+    /// edges.
+    #[test]
+    fn the_noise_and_its_tests() {
+        let n = Noise::new(100.0, 2.0, 1.0, 98.0, 1.0);
+        assert_eq!(
+            n,
+            Noise {
+                sigma2: 1.0,
+                noise: 98.0,
+                spread: 42.0
+            }
+        );
+        assert_eq!(Noise::new(100.0, 2.0, 1.0, 392.0, 1.0).sigma2, 2.0);
+        let floor: f64 = Noise::new(100.0, 2.0, 1.0, 1.0, 3e6).sigma2;
+        assert!((floor - 3.0).abs() <= 1e-14, "{floor}");
+        assert!(n.fits(140.0) && !n.fits(140.5));
+        // at most a quarter of the excess 98 + 160 leaves
+        assert!(n.explains(138.0, 258.0) && !n.explains(139.0, 258.0));
+        assert!(n.better(139.0, 140.0) && !n.better(140.0, 140.0));
+        assert!(n.seen(147.0) && !n.seen(146.0));
+        assert!(n.steady(DRIFT) && !n.steady(DRIFT + 0.5));
+        assert_eq!(top([0.0, 2.0, 1.0, 2.0]), (1, 2.0));
+        assert_eq!(top([0.0, 0.0]), (0, 0.0));
+    }
+}
