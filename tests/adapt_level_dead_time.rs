@@ -5,15 +5,20 @@
 
 use msp::study::bank::{cases, BankCase, Period};
 
-/// The bank's cases of `family` on its stable processes at the coarse
-/// period under `noise`, seeds `seeds`.
-fn stable_coarse(family: &str, noise: f64, seeds: std::ops::RangeInclusive<u64>) -> Vec<BankCase> {
+/// The bank's cases of `family` on its stable processes at `period` under
+/// `noise`, seeds `seeds`.
+fn stable(
+    family: &str,
+    period: Period,
+    noise: f64,
+    seeds: std::ops::RangeInclusive<u64>,
+) -> Vec<BankCase> {
     cases(*seeds.end())
         .into_iter()
         .filter(|c| {
             c.family == family
                 && c.plant.tau.is_some()
-                && c.period == Period::Coarse
+                && c.period == period
                 && c.noise == noise
                 && c.bits.is_none()
                 && seeds.contains(&c.seed)
@@ -30,7 +35,7 @@ fn stable_coarse(family: &str, noise: f64, seeds: std::ops::RangeInclusive<u64>)
 /// none had a model applied: the bank's differences did not see the loads.
 #[test]
 fn loads_alone_teach_a_shorter_dead_time_under_noise() {
-    let all = stable_coarse("dead time ×0.7, loads", 0.02, 1..=8);
+    let all = stable("dead time ×0.7, loads", Period::Coarse, 0.02, 1..=8);
     assert_eq!(all.len(), 3 * 8);
     let mut within = 0;
     for case in &all {
@@ -39,6 +44,23 @@ fn loads_alone_teach_a_shorter_dead_time_under_noise() {
         within += usize::from(r.within_true());
     }
     assert!(within >= 18, "{within} of {} within 10 %", all.len());
+}
+
+/// The same at msp's chosen period (a tenth of the dead time per estimator
+/// sample) under 5 % noise, seeds 1 to 4 (12 cases): each run at most 0.9
+/// times the fixed loop's IAE and within 10 % of the true model's. There
+/// the bank's differences see most loads' steps; on `0.8 e^{−10s}/(4s + 1)`,
+/// seed 3, they taught nothing, and without the level test's dead time the
+/// run ended 1.13 times the true loop's IAE (measured).
+#[test]
+fn loads_alone_teach_a_shorter_dead_time_at_the_chosen_period() {
+    let all = stable("dead time ×0.7, loads", Period::Chosen, 0.05, 1..=4);
+    assert_eq!(all.len(), 3 * 4);
+    for case in &all {
+        let r = case.run().unwrap();
+        assert!(r.iae_adaptive <= 0.9 * r.iae_fixed, "{r:?}");
+        assert!(r.within_true(), "{r:?}");
+    }
 }
 
 /// A dead time drifting to 0.7 times over ten settling scales, the set
@@ -50,7 +72,7 @@ fn loads_alone_teach_a_shorter_dead_time_under_noise() {
 /// true loop's IAE; halfway, 4.2 and the true loop's IAE).
 #[test]
 fn a_dead_time_between_the_shifts_is_bracketed() {
-    let all = stable_coarse("dead time drifts ×0.7", 0.02, 1..=6);
+    let all = stable("dead time drifts ×0.7", Period::Coarse, 0.02, 1..=6);
     assert_eq!(all.len(), 3 * 6);
     for case in &all {
         let r = case.run().unwrap();
