@@ -101,7 +101,9 @@ use between::{between, Quadratic, Response};
 use challenger::Challenger;
 use dead::{Dead, DeadResponse};
 use fit::Fit;
+pub use noise::DRIFT;
 use noise::{top, Noise};
+pub use ramps::PARTIAL;
 pub use watch::{WATCH_DRIFT, WATCH_LIMIT};
 
 /// The other dead times the level test fits the model in use at
@@ -137,22 +139,6 @@ pub const LEVEL_EVIDENCE: f64 = 60.0;
 /// with loads on an integrating process, whose second step of 0.86 shows
 /// little in each response, was learnt in one case of 30 fewer).
 pub const REPLICATED: f64 = 15.0;
-
-/// The level test's noise is at least this fraction of the response's
-/// energy per sample (its level's variance about its mean over the
-/// response): a misfit of 1 % of the response in RMS is as much as it
-/// tells apart where the noise measure reads less (noise-free data, a
-/// converter's steps; measured on the bank: a 10-bit converter at rest
-/// reads no noise, and the model's own 0.01 % of misfit was evidence).
-const FLOOR: f64 = 1e-4;
-
-/// The drift test's threshold: the share of the best fit's residual a
-/// drift regressor takes, in units of the noise's variance (`χ²` with one
-/// degree of freedom: two standard deviations, passed by white residuals
-/// 95 times in 100), beyond which a response holds a ramp load and teaches
-/// nothing (measured on the bank: at three standard deviations, ramp loads
-/// at the coarse period under 5 % noise still had models applied).
-pub const DRIFT: f64 = 4.0;
 
 /// The level test's state: a fit per model over the response under way,
 /// and the evidence over the responses so far.
@@ -198,6 +184,14 @@ pub(super) struct Levels<T> {
     /// Responses compared, and those of them taken as evidence
     /// ([`Estimator::level_responses`]; kept through a reset).
     responses: (u32, u32),
+    /// Since the model in use was set: the steps' responses (a set-point
+    /// change's, a load's taken as evidence) and the ramps'
+    /// ([`Levels::ramping`]); the ramps' in all
+    /// ([`Estimator::level_ramps`]; kept through a reset).
+    since: (u32, u32),
+    ramps: u32,
+    /// The response under way is a load's (else a set-point change's).
+    load: bool,
     /// The challenger ([`Estimator::challenge`]).
     challenger: Option<Challenger<T>>,
     /// The gain between the hypotheses (`between.rs`): Page's sum of its
@@ -230,6 +224,9 @@ impl<T: Real> Levels<T> {
             raw: T::zero(),
             proposal: None,
             responses: (0, 0),
+            since: (0, 0),
+            ramps: 0,
+            load: false,
             challenger: None,
             between: ((T::zero(), T::zero()), 0),
             gain: [T::zero(); 3],
@@ -240,8 +237,10 @@ impl<T: Real> Levels<T> {
 }
 
 impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
-    /// A response starts (an onset's last sample): every fit from zero.
-    pub(super) fn levels_open(&mut self) {
+    /// A response starts (an onset's last sample): every fit from zero;
+    /// `load`, a load's (an onset, the watch), else the input's first move
+    /// after rest (a set-point change's).
+    pub(super) fn levels_open(&mut self, load: bool) {
         if self.cfg.prefilter != T::zero() {
             return;
         }
@@ -251,6 +250,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.y = [T::zero(); 4];
         lv.p = [T::zero(); 3];
         lv.open = Some(0);
+        lv.load = load;
         lv.watched = false;
         if let Some(c) = lv.challenger.as_mut() {
             c.whole = true;
@@ -342,6 +342,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.gain = [T::zero(); 3];
         lv.gain_proposed = None;
         lv.dead = Dead::new();
+        lv.since = (0, 0);
     }
 
     /// One sample of the response under way, `target` the estimator's
@@ -484,6 +485,12 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // within [`DRIFT`] times the noise's variance, `χ²` with one degree
         // of freedom: an F-test of the drift's regressor)
         let steady = noise.steady(drift);
+        // a ramp's response? (every fit: a changed process's is no ramp's)
+        let fits = dead_fits
+            .iter()
+            .copied()
+            .chain(between.as_ref().map(|b| (b.rss, b.drift)));
+        lv.weigh_ramp(&noise, v_ref, fits.chain([(v_best, drift)]));
         // and no other dead time explains it better (see [`shifted`])
         let own = v_best < v_dead || fits_ref;
         // and, where the rounding is the noise, a misfit beyond it: without
@@ -549,6 +556,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             return;
         }
         lv.responses.1 = used.saturating_add(1);
+        lv.since.0 = lv.since.0.saturating_add(u32::from(lv.load));
         let inv = T::one() / sigma2;
         for ((s, peak), &v) in lv.sums.iter_mut().zip(&mut lv.peaks).zip(rss) {
             (*s, *peak) = page((*s, *peak), (v_ref - v) * inv);
@@ -590,10 +598,21 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.levels.responses
     }
 
+    /// Of the responses the level test compared, those that were a ramp
+    /// load's ([`PARTIAL`]): while, since the model in use was set, they
+    /// outnumber the ones taken as evidence, the level test proposes
+    /// nothing (it cannot tell a ramp's end from a change of the process).
+    pub fn level_ramps(&self) -> u32 {
+        self.levels.ramps
+    }
+
     /// The hypothesis the level test proposes (see the module
     /// documentation) and how far the model in use is from the last
     /// response against it.
     pub(super) fn level_proposal(&self) -> Option<(usize, Mismatch<T>)> {
+        if self.levels.ramping() {
+            return None;
+        }
         // (else the gain between the hypotheses, as the nearest of them)
         let between = self.levels.gain_proposed.map(|(i, _, m)| (i, m));
         self.levels.proposal.or(between)
@@ -603,6 +622,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// hypothesis itself: `between.rs`), the factor from the nearest
     /// hypothesis's gain ([`Estimator::level_proposal`]'s) to it.
     pub(super) fn level_gain(&self) -> Option<T> {
+        if self.levels.ramping() {
+            return None;
+        }
         match self.levels.proposal {
             Some(_) => None,
             None => self.levels.gain_proposed.map(|(_, scale, _)| scale),
@@ -665,6 +687,7 @@ mod challenger;
 mod dead;
 mod fit;
 mod noise;
+mod ramps;
 #[cfg(test)]
 mod tests;
 mod watch;

@@ -84,7 +84,7 @@ mod onset;
 mod pass;
 mod rest;
 use levels::Levels;
-pub use levels::{DRIFT, LEVEL_EVIDENCE, REPLICATED, WATCH_DRIFT, WATCH_LIMIT};
+pub use levels::{DRIFT, LEVEL_EVIDENCE, PARTIAL, REPLICATED, WATCH_DRIFT, WATCH_LIMIT};
 use pass::{Pass, PARTS};
 mod supervisor;
 #[cfg(test)]

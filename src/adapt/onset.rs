@@ -67,7 +67,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let anchor = self.skip == 0;
         if anchor {
             // the level test's response starts after the anchor
-            self.levels_open();
+            self.levels_open(true);
         }
         let gain = if counted {
             T::one() / T::of(f64::from(n))

@@ -102,7 +102,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // the input's first move after rest opens a response for the level
         // test (a set-point change's: see `levels.rs`)
         if self.resting && !self.levels_open_now() {
-            self.levels_open();
+            self.levels_open(false);
         }
         self.levels_wake();
         self.wake();

@@ -52,6 +52,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// hypothesis ([`LEVEL_EVIDENCE`], and it explained the last two
     /// responses to the noise better than the model in use).
     pub(crate) fn challenger(&self) -> Option<(T, T, T)> {
+        if self.levels.ramping() {
+            return None;
+        }
         self.levels
             .challenger
             .filter(|c| c.sum >= T::of(LEVEL_EVIDENCE) && c.streak >= 2)

@@ -139,6 +139,9 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// use's (s), and how far the model in use is from the last response
     /// against it.
     pub(crate) fn level_dead_time(&self) -> Option<(T, Mismatch<T>)> {
+        if self.levels.ramping() {
+            return None;
+        }
         let (d, m) = self.levels.dead.proposed?;
         let from = self.reference.as_ref()?.d;
         let shift = T::of(d as f64) - T::of(from as f64);

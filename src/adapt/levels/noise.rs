@@ -5,6 +5,22 @@
 
 use super::*;
 
+/// The level test's noise is at least this fraction of the response's
+/// energy per sample (its level's variance about its mean over the
+/// response): a misfit of 1 % of the response in RMS is as much as it
+/// tells apart where the noise measure reads less (noise-free data, a
+/// converter's steps; measured on the bank: a 10-bit converter at rest
+/// reads no noise, and the model's own 0.01 % of misfit was evidence).
+pub(super) const FLOOR: f64 = 1e-4;
+
+/// The drift test's threshold: the share of the best fit's residual a
+/// drift regressor takes, in units of the noise's variance (`χ²` with one
+/// degree of freedom: two standard deviations, passed by white residuals
+/// 95 times in 100), beyond which a response holds a ramp load and teaches
+/// nothing (measured on the bank: at three standard deviations, ramp loads
+/// at the coarse period under 5 % noise still had models applied).
+pub const DRIFT: f64 = 4.0;
+
 /// The noise over one response: its variance per sample `σ²`, the residual
 /// sum of squares pure noise leaves, `(n − p)·σ²` for `p` fitted
 /// parameters, and three times that sum's spread, `3σ²·√(2(n − p))` (`χ²`
@@ -42,7 +58,13 @@ impl<T: Real> Noise<T> {
     /// `v_ref`: to the noise, and at most [`EXPLAINED`] of the model in
     /// use's excess over it.
     pub(super) fn explains(&self, v: T, v_ref: T) -> bool {
-        self.fits(v) && v - self.noise <= T::of(EXPLAINED) * (v_ref - self.noise)
+        self.fits(v) && self.leaves(v, v_ref, T::of(EXPLAINED))
+    }
+
+    /// A fit leaving `v` leaves at most the share `share` of the model in
+    /// use's excess over the noise, `v_ref − noise`.
+    pub(super) fn leaves(&self, v: T, v_ref: T, share: T) -> bool {
+        v - self.noise <= share * (v_ref - self.noise)
     }
 
     /// A fit leaving `v` explained the response better than the model in
@@ -98,6 +120,7 @@ mod tests {
         assert!(n.fits(140.0) && !n.fits(140.5));
         // at most a quarter of the excess 98 + 160 leaves
         assert!(n.explains(138.0, 258.0) && !n.explains(139.0, 258.0));
+        assert!(n.leaves(114.0, 258.0, 0.1) && !n.leaves(114.5, 258.0, 0.1));
         assert!(n.better(139.0, 140.0) && !n.better(140.0, 140.0));
         assert!(n.seen(147.0) && !n.seen(146.0));
         assert!(n.steady(DRIFT) && !n.steady(DRIFT + 0.5));

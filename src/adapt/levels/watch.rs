@@ -69,7 +69,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         };
         lv.watch = [r, v, mean, hi, lo];
         if hi.max(lo) > T::of(WATCH_LIMIT) * sigma {
-            self.levels_open();
+            self.levels_open(true);
         }
     }
 
