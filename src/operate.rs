@@ -389,8 +389,9 @@ impl<T: Real, C: Operate<T>> Operate<T> for Operated<T, C> {
 /// means anything), the alarm (`model_alarm`), the estimator's counts
 /// (`onsets`, `restarts`, `learnt`: 0, nothing moved the loop enough to
 /// identify the process; `responses`, the responses the level test
-/// compared, and `responses_used`, those it took as evidence) and whether
-/// adaptation is `frozen`.
+/// compared, `responses_used`, those it took as evidence, and
+/// `responses_ramps`, those it found a ramp load's) and whether adaptation
+/// is `frozen`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AdaptiveState<T> {
@@ -426,6 +427,11 @@ pub struct AdaptiveState<T> {
     pub responses: u32,
     /// Of those, the ones it took as evidence (the others held back).
     pub responses_used: u32,
+    /// Of those, the ones it found a ramp load's
+    /// ([`crate::adapt::Estimator::level_ramps`]: while they outnumber the
+    /// ones taken since the model in use was set, the level test holds
+    /// back).
+    pub responses_ramps: u32,
     /// Adaptation is frozen.
     pub frozen: bool,
 }
@@ -450,6 +456,7 @@ impl<T: Copy> AdaptiveState<T> {
             learnt: self.learnt,
             responses: self.responses,
             responses_used: self.responses_used,
+            responses_ramps: self.responses_ramps,
             frozen: self.frozen,
         }
     }

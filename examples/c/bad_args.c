@@ -478,7 +478,7 @@ int main(void) {
         /* nothing learnt before any data */
         EXPECT(msp_adaptive_read(ad, &st_) == MSP_OK && st_.learnt == 0 && st_.onsets == 0
                && st_.restarts == 0 && st_.responses == 0 && st_.responses_used == 0
-               && st_.adapt_changes == 0);
+               && st_.responses_ramps == 0 && st_.adapt_changes == 0);
         /* a controller handle is not an adaptive one */
         EXPECT(msp_adaptive_freeze((msp_adaptive *)(void *)c, 1) == MSP_BAD_HANDLE);
         lag_doubles(ad, 9000, NULL);
@@ -487,6 +487,7 @@ int main(void) {
                && fabsf(st_.theta_model - 1.0f) <= 0.1f && st_.adapt_changes >= 1 && !st_.frozen
                && st_.learnt > 0 && st_.adapt_kind >= 1 && st_.adapt_kind <= 8
                && st_.responses_used <= st_.responses
+               && st_.responses_used + st_.responses_ramps <= st_.responses
                && fabsf(st_.tau_hat - 8.0f) < 0.8f && st_.evidence > 0.0f);
         printf("adaptive: model k %.4g, tau %.4g s, theta %.4g s after %u changes, "
                "%u samples learnt from, %u load onsets, %u restarts, %u responses compared in levels (%u taken as evidence)\n",

@@ -516,7 +516,9 @@ typedef msp_adaptive_fsp_config_of_f64 msp_adaptive_fsp_config_f64;
 // `model_alarm`, the estimator's counts `onsets`, `restarts`,
 // `learnt` (0: nothing has moved the loop enough to identify the
 // process), `responses` (the responses, a load's or a set-point change's, the level test compared)
-// and `responses_used` (those it took as evidence), and whether
+// `responses_used` (those it took as evidence) and `responses_ramps`
+// (those it found a ramp load's: while they outnumber the ones taken
+// since the model in use was set, it holds back), and whether
 // adaptation is `frozen`.
 typedef struct {
   float k_hat;
@@ -535,6 +537,7 @@ typedef struct {
   uint32_t learnt;
   uint32_t responses;
   uint32_t responses_used;
+  uint32_t responses_ramps;
   uint32_t frozen;
 } msp_adaptive_state_of_f32;
 
@@ -554,7 +557,9 @@ typedef msp_adaptive_state_of_f32 msp_adaptive_state;
 // `model_alarm`, the estimator's counts `onsets`, `restarts`,
 // `learnt` (0: nothing has moved the loop enough to identify the
 // process), `responses` (the responses, a load's or a set-point change's, the level test compared)
-// and `responses_used` (those it took as evidence), and whether
+// `responses_used` (those it took as evidence) and `responses_ramps`
+// (those it found a ramp load's: while they outnumber the ones taken
+// since the model in use was set, it holds back), and whether
 // adaptation is `frozen`.
 typedef struct {
   double k_hat;
@@ -573,6 +578,7 @@ typedef struct {
   uint32_t learnt;
   uint32_t responses;
   uint32_t responses_used;
+  uint32_t responses_ramps;
   uint32_t frozen;
 } msp_adaptive_state_of_f64;
 

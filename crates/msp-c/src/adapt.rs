@@ -169,7 +169,9 @@ c_config! {
     /// `model_alarm`, the estimator's counts `onsets`, `restarts`,
     /// `learnt` (0: nothing has moved the loop enough to identify the
     /// process), `responses` (the responses, a load's or a set-point change's, the level test compared)
-    /// and `responses_used` (those it took as evidence), and whether
+    /// `responses_used` (those it took as evidence) and `responses_ramps`
+    /// (those it found a ramp load's: while they outnumber the ones taken
+    /// since the model in use was set, it holds back), and whether
     /// adaptation is `frozen`.
     msp_adaptive_state_of: msp_adaptive_state, msp_adaptive_state_f64 {
         k_hat: T,
@@ -188,6 +190,7 @@ c_config! {
         learnt: u32,
         responses: u32,
         responses_used: u32,
+        responses_ramps: u32,
         frozen: u32,
     }
 }

@@ -42,7 +42,13 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     assert_eq!(state["learnt"].as_u64(), Some(learnt));
     // the counts alike in the CSV and the JSON (the level test's responses
     // compared, those taken as evidence among them)
-    for name in ["onsets", "restarts", "responses", "responses_used"] {
+    for name in [
+        "onsets",
+        "restarts",
+        "responses",
+        "responses_used",
+        "responses_ramps",
+    ] {
         let csv: u64 = last(name).parse().unwrap();
         assert_eq!(state[name].as_u64(), Some(csv), "{name}");
     }
@@ -70,8 +76,8 @@ fn monitor_raises_the_alarm_in_summary_report_and_csv() {
     );
     assert!(
         text.contains(&format!(
-            "{} responses compared in levels ({} taken as evidence)",
-            state["responses"], state["responses_used"]
+            "{} responses compared in levels ({} taken as evidence, {} a ramp load's)",
+            state["responses"], state["responses_used"], state["responses_ramps"]
         )),
         "{text}"
     );

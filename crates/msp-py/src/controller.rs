@@ -245,8 +245,10 @@ impl Controller {
     /// anything), the alarm ``model_alarm`` (bool), the estimator's counts
     /// ``onsets``, ``restarts`` and ``learnt`` (``learnt`` 0: nothing has
     /// moved the loop enough to identify the process), the responses (a load's, a set-point change's)
-    /// the level test compared ``responses`` and took as evidence
-    /// ``responses_used``, and ``frozen``;
+    /// the level test compared ``responses``, took as evidence
+    /// ``responses_used`` and found a ramp load's ``responses_ramps`` (while
+    /// they outnumber the ones taken since the model in use was set, it
+    /// holds back), and ``frozen``;
     /// ``None`` for one that does not adapt.
     #[getter]
     fn state<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {

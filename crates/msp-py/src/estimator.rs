@@ -111,6 +111,15 @@ impl Estimator {
         self.inner.level_responses()
     }
 
+    /// Of the responses the level test compared, those it found a ramp
+    /// load's (a drift, a misfit no model removes): while, since the model
+    /// in use was set, they outnumber the ones taken as evidence, the level
+    /// test proposes nothing.
+    #[getter]
+    fn level_ramps(&self) -> u32 {
+        self.inner.level_ramps()
+    }
+
     /// The samples the chosen candidate has learnt from so far (its RLS
     /// steps; the adaptive controller applies no estimate of a block with
     /// fewer than a response's).

@@ -52,6 +52,8 @@ def test_estimator_decimates_and_finds_load_onsets():
     # opens it), those taken as evidence among them
     compared, used = est.level_responses
     assert compared >= 2 and 0 <= used <= compared, est.level_responses
+    # step loads are no ramps
+    assert 0 <= est.level_ramps <= compared - used, est.level_ramps
     # it learns from the controller's answer to each load, and nothing at
     # rest (the last 10 000 samples)
     assert learnt[30000] > learnt[20000] and learnt[50000] > learnt[40000], learnt
@@ -95,7 +97,7 @@ def test_adapt_follows_a_process_lag_that_doubled():
     # alike), under the names of Controller.state
     state = adaptive.report()["adaptive"]
     assert state["learnt"] == adaptive.signals["learnt"][-1] > 0 and fixed.report()["adaptive"] is None
-    for name in ("k_model", "tau_model", "theta_model", "onsets", "restarts", "responses", "responses_used"):
+    for name in ("k_model", "tau_model", "theta_model", "onsets", "restarts", "responses", "responses_used", "responses_ramps"):
         assert state[name] == adaptive.signals[name][-1], name
     assert set(state) == set(msp.SmithPredictor("e^-1s/(4s+1)", 0.1, adapt=True).state)
     with pytest.raises(ValueError, match="unknown option 'speed'"):
@@ -244,8 +246,8 @@ def test_adaptive_controller_per_sample():
     c = msp.SmithPredictor("e^-1s/(4s+1)", 0.1, lambda_=2.0, adapt=True)
     assert c.state["tau_model"] == 4.0
     # the estimator's counts, as msp.Estimator's: nothing learnt before any data
-    counts = ("learnt", "onsets", "restarts", "responses", "responses_used")
-    assert [c.state[n] for n in counts] == [0] * 5
+    counts = ("learnt", "onsets", "restarts", "responses", "responses_used", "responses_ramps")
+    assert [c.state[n] for n in counts] == [0] * 6
     loop(c)
     e = c.state
     assert abs(e["tau_model"] - 8.0) < 0.8 and abs(e["k_model"] - 1.0) < 0.05, e

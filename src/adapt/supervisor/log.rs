@@ -18,9 +18,12 @@ use super::*;
 /// chosen dead time learnt from (`learnt`, [`Estimator::learnt`]: none, and
 /// nothing moved the loop enough to identify the process), and the
 /// responses (a load's, a set-point change's) the level test compared
-/// (`responses`) and took as evidence (`responses_used`,
-/// [`Estimator::level_responses`]).
-pub const SIGNALS: [&str; 16] = [
+/// (`responses`), took as evidence (`responses_used`,
+/// [`Estimator::level_responses`]) and found a ramp load's
+/// (`responses_ramps`, [`Estimator::level_ramps`]: while they outnumber
+/// the ones taken since the model in use was set, the level test holds
+/// back).
+pub const SIGNALS: [&str; 17] = [
     "k_hat",
     "tau_hat",
     "theta_hat",
@@ -37,6 +40,7 @@ pub const SIGNALS: [&str; 16] = [
     "learnt",
     "responses",
     "responses_used",
+    "responses_ramps",
 ];
 
 /// The values of [`SIGNALS`] in a state, in their order.
@@ -59,6 +63,7 @@ fn values<T: Real>(s: &AdaptiveState<T>) -> [T; SIGNALS.len()] {
         count(s.learnt),
         count(s.responses),
         count(s.responses_used),
+        count(s.responses_ramps),
     ]
 }
 
@@ -139,6 +144,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             learnt: self.est.learnt(),
             responses,
             responses_used,
+            responses_ramps: self.est.level_ramps(),
             frozen: self.frozen,
         }
     }

@@ -45,6 +45,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>> View<T> for Adaptive<T, C, R, N,
             learnt: s.learnt,
             responses: s.responses,
             responses_used: s.responses_used,
+            responses_ramps: s.responses_ramps,
             frozen: u32::from(s.frozen),
         }
     }

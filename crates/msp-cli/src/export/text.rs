@@ -166,8 +166,8 @@ pub(crate) fn summary(out: &RunOutput, warnings: &[String]) -> String {
         };
         s.push_str(&format!(
             "\nestimator   learnt from {} samples{still}, {} load onsets, {} restarts, \
-             {} responses compared in levels ({} taken as evidence)",
-            e.learnt, e.onsets, e.restarts, e.responses, e.responses_used
+             {} responses compared in levels ({} taken as evidence, {} a ramp load's)",
+            e.learnt, e.onsets, e.restarts, e.responses, e.responses_used, e.responses_ramps
         ));
     }
     for w in warnings {
