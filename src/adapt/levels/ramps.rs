@@ -75,3 +75,34 @@ impl<T: Real> Levels<T> {
         self.ramps = self.ramps.saturating_add(u32::from(ramp));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Over 100 samples under a noise of variance 1 (its residual 98, the
+    /// spread 42) a model in use leaving 498: a load's response whose best
+    /// fit leaves a drift and half the misfit is a ramp's, one the best
+    /// fit explains to a twentieth is not, nor one without a drift, nor a
+    /// set-point change's (a step's); the level test holds back while the
+    /// ramps' outnumber the steps' since the model was set.
+    #[test]
+    fn ramps_outnumbering_steps_hold_the_level_test_back() {
+        let noise = Noise::new(100.0, 2.0, 1.0, 98.0, 1.0);
+        let drift = DRIFT + 1.0;
+        let mut lv = Levels::<f64>::new();
+        lv.load = true;
+        lv.weigh_ramp(&noise, 498.0, [(298.0, drift)]);
+        assert_eq!((lv.since, lv.ramps), ((0, 1), 1));
+        assert!(lv.ramping());
+        // the best of the fits counts: another explains it (a changed process)
+        lv.weigh_ramp(&noise, 498.0, [(298.0, drift), (118.0, drift)]);
+        lv.weigh_ramp(&noise, 498.0, [(298.0, 0.0)]);
+        assert_eq!(lv.since, (0, 1));
+        // a set-point change's response is a step's
+        lv.load = false;
+        lv.weigh_ramp(&noise, 498.0, [(298.0, drift)]);
+        assert_eq!((lv.since, lv.ramps), ((1, 1), 1));
+        assert!(!lv.ramping());
+    }
+}
