@@ -316,6 +316,30 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok) || done
     }
 
+    /// How many calls from now on have nothing to do but add their sample
+    /// to the block ([`Estimator::add`]): with no learning under way and no
+    /// response to compare, those before the block's end.
+    pub(super) fn calm_calls(&self) -> usize {
+        if self.pending.is_some() || self.levels_due() {
+            return 0;
+        }
+        let (_, _, in_block, _) = self.block;
+        self.cfg
+            .decimation
+            .saturating_sub(in_block.saturating_add(1))
+    }
+
+    /// [`Estimator::update`] in a call [`Estimator::calm_calls`] counted:
+    /// the sample joins the block (none that a controller would not
+    /// compute with).
+    #[inline(always)]
+    pub(super) fn add(&mut self, y: T, u_applied: T, ok: bool) {
+        if y.usable_with(u_applied) {
+            let (sy, su, n, all) = self.block;
+            self.block = (sy + y, su + u_applied, n + 1, all && ok);
+        }
+    }
+
     /// The next call has nothing to do but add its sample to the block:
     /// no learning under way, no response to compare, not a block's end.
     pub(super) fn idle(&self) -> bool {

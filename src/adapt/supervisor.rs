@@ -61,6 +61,7 @@ mod design;
 mod log;
 mod proposals;
 mod redesign;
+mod sample;
 mod slots;
 mod swing;
 mod traits;
@@ -171,6 +172,9 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     err_n: u32,
     /// Controller samples so far.
     samples: u64,
+    /// The coming calls that only add their sample to the estimator's
+    /// block (`Adaptive::calm_step`).
+    calm: usize,
     logged: usize,
     /// A rebuilt scheme warming up to take over.
     shadow: Option<Shadow<T>>,
@@ -183,11 +187,16 @@ pub struct Adaptive<T, C, R, const N: usize, const H: usize, const L: usize = 16
     est: Estimator<T, N, H>,
     cfg: AdaptiveConfig<T>,
     retune: R,
+    /// The model in use (set by `use_model`), and its dead time in whole
+    /// estimator samples (`proposals::whole_samples`).
     model: Model<T>,
+    model_d: Option<usize>,
     /// The commissioned model (the bounds' centre) and the last validated
     /// one (what an oscillation after a change restores).
     commissioned: Model<T>,
     validated: Model<T>,
+    /// `1/bound` ([`AdaptiveConfig::bound`]), asked at every block.
+    inv_bound: T,
     /// Estimator samples so far.
     blocks: u64,
     /// Half-cycles of a growing oscillation in a row (the emergency path).
@@ -262,8 +271,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             cfg,
             retune,
             model,
+            model_d: proposals::whole_samples(&cfg.estimator, theta),
             commissioned: model,
             validated: model,
+            inv_bound: T::one() / cfg.bound,
             blocks: 0,
             err: T::zero(),
             err_n: 0,
@@ -279,6 +290,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             learnt_from: 0,
             dead_moved: None,
             samples: 0,
+            calm: 0,
             frozen: false,
             rest_until: 0,
             log: [None; L],
@@ -364,101 +376,10 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         (start..self.logged).filter_map(move |i| self.log.get(i % L.max(1)).copied().flatten())
     }
 
-    /// One sample with the input the plant really received over the last
-    /// period (`None`: this controller's own output).
-    pub fn update_applied(&mut self, r: T, y: T, u_applied: Option<T>) -> T {
-        if let Some(u) = u_applied {
-            if u.usable() && (u - self.last_u).abs() > T::epsilon() * (T::one() + u.abs()) {
-                self.last_u = u;
-                self.ok = false;
-            }
-        }
-        self.step(r, y)
-    }
-
-    fn step(&mut self, r: T, y: T) -> T {
-        // the estimator takes the last sample's measurement with the input
-        // the plant then received (known only now: a limit or an operator
-        // may have changed it after that update), one sample late
-        let mut ended = false;
-        let quiet = self.deferred.is_some() && self.est.idle();
-        if self.refer {
-            self.refer = false;
-            self.reference();
-        }
-        if let Some(y_last) = self.pending.take() {
-            let learn = self.ok && !self.frozen;
-            ended = self.est.update(y_last, self.last_u, learn);
-        }
-        self.pending = Some(y);
-        self.samples = self.samples.saturating_add(1);
-        if r != self.r_last {
-            self.r_moved = true;
-            self.r_last = r;
-        }
-        let e = r - y;
-        if e.is_finite() {
-            self.err = self.err + e;
-            self.err_n = self.err_n.saturating_add(1);
-        }
-        if quiet || ended {
-            // (at a block's end only where no call between had been quiet)
-            if let Some((m, kind)) = self.deferred.take() {
-                self.take_now(m, kind);
-            }
-        }
-        let logged = self.logged;
-        if ended {
-            // the supervisor runs at the estimator's period, on the
-            // block's mean control error
-            let mean = if self.err_n > 0 {
-                self.err / T::of(f64::from(self.err_n))
-            } else {
-                T::zero()
-            };
-            (self.err, self.err_n) = (T::zero(), 0);
-            self.blocks = self.blocks.saturating_add(1);
-            self.since = self.since.saturating_add(1);
-            self.supervise(mean);
-        }
-        let scheme = &mut *self.inner;
-        let u = scheme.update(r, y);
-        self.last_u = u;
-        self.ok = u.is_finite() && !scheme.fault();
-        self.warm(r, y, u, self.logged != logged);
-        u
-    }
-
-    /// The rebuilt scheme's sample beside the one in use: it computes on
-    /// the same measurement and follows the output the plant receives; when
-    /// its time has come, it takes over (a sample later when this sample
-    /// already logged a change: one change per sample, so that the
-    /// recorded signals `adapt_changes` and `adapt_kind` name every one).
-    fn warm(&mut self, r: T, y: T, u: T, logged: bool) {
-        let Some(sh) = self.shadow.as_mut() else {
-            return;
-        };
-        if let Some(spare) = self.inner.spare_mut() {
-            spare.update(r, y);
-            spare.apply(u, Tracking::Full);
-        }
-        sh.left = sh.left.saturating_sub(1);
-        if sh.left > 0 {
-            return;
-        }
-        if logged {
-            sh.left = 1;
-            return;
-        }
-        if let Some(sh) = self.shadow.take() {
-            // (a flag: the scheme's lines are not copied)
-            self.inner.swap();
-            self.retune.took_over();
-            self.model = sh.model;
-            self.reference();
-            self.record(sh.kind);
-            self.changed(sh.kind);
-        }
+    /// The model in use is `m` (its dead time in estimator samples beside it).
+    pub(super) fn use_model(&mut self, m: Model<T>) {
+        self.model = m;
+        self.model_d = proposals::whole_samples(&self.cfg.estimator, m.theta);
     }
 
     /// After a change took effect: the interval starts again, and after an
@@ -522,7 +443,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             self.inner.retune(Gain::Ti, ti)?;
             self.inner.retune(Gain::Td, td)?;
         }
-        self.model = m;
+        self.use_model(m);
         // the estimator takes it before its next sample (nothing reads the
         // reference in between)
         self.refer = true;

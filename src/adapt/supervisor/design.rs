@@ -19,6 +19,8 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// is untouched). Nothing waits without `background_design`: the
     /// update that applies a model builds its scheme.
     pub fn design(&mut self) -> bool {
+        // (the next call warms what this builds: not a calm one)
+        self.calm = 0;
         let Some((m, kind)) = self.waiting.take() else {
             return false;
         };

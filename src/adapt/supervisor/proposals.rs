@@ -229,11 +229,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         if !ok {
             return None;
         }
-        let est = &self.cfg.estimator;
-        // the model's whole samples, as the estimator counts them
-        // (truncation: not negative)
-        let at = (self.model.theta - est.centre()).max(T::zero()) / est.period();
-        let d = num_traits::ToPrimitive::to_usize(&(at + T::of(1e-9)));
+        let d = self.model_d;
         // a neighbour's dead times share an end with the model's: only
         // the evidence over the others counts for it
         let far = d.is_some_and(|d| d.abs_diff(m.d) > 1);
@@ -274,4 +270,17 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
             || !near(cur.tau, m.tau, tol)
             || (cur.theta - m.theta).abs() > period / T::of(2.0)
     }
+}
+
+/// The dead time `theta` in the estimator's whole samples, as it counts
+/// them (the block means' centre taken off, truncated, not negative; `None`
+/// beyond a `usize`): the model in use's, kept beside it
+/// (`Adaptive::use_model`) for [`Adaptive::plausible`], which asks it at
+/// every block.
+pub(super) fn whole_samples<T: Real>(
+    est: &crate::adapt::EstimatorConfig<T>,
+    theta: T,
+) -> Option<usize> {
+    let at = (theta - est.centre()).max(T::zero()) / est.period();
+    num_traits::ToPrimitive::to_usize(&(at + T::of(1e-9)))
 }

@@ -12,6 +12,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 
     /// The scheme's reset; the estimator and the log keep what they learnt.
     fn reset(&mut self) {
+        self.calm = 0;
         self.inner.reset();
         self.shadow = None;
         self.last_u = T::zero();
@@ -37,6 +38,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// from this sample (saturated, manual or tracking: not the process's
     /// answer to the control law) but records what the plant received.
     fn apply(&mut self, applied: T, how: Tracking) {
+        self.calm = 0;
         self.inner.apply(applied, how);
         if self.shadow.is_some() {
             if let Some(spare) = self.inner.spare_mut() {
@@ -53,13 +55,23 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     }
     fn set_dead_time(&mut self, samples: T) -> Result<(), Error> {
         self.inner.set_dead_time(samples)?;
-        self.model.theta = samples * self.cfg.estimator.ts;
+        self.calm = 0;
+        let theta = samples * self.cfg.estimator.ts;
+        self.use_model(Model {
+            theta,
+            ..self.model
+        });
         self.reference();
         Ok(())
     }
     fn ramp_dead_time(&mut self, samples: T, per_sample: T) -> Result<(), Error> {
         self.inner.ramp_dead_time(samples, per_sample)?;
-        self.model.theta = samples * self.cfg.estimator.ts;
+        self.calm = 0;
+        let theta = samples * self.cfg.estimator.ts;
+        self.use_model(Model {
+            theta,
+            ..self.model
+        });
         self.reference();
         Ok(())
     }
@@ -83,8 +95,12 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     }
     fn set_model(&mut self, gain: T, tau: T) -> Result<(), Error> {
         self.inner.set_model(gain, tau)?;
-        self.model.k = gain;
-        self.model.tau = tau;
+        self.calm = 0;
+        self.use_model(Model {
+            k: gain,
+            tau,
+            ..self.model
+        });
         self.reference();
         Ok(())
     }

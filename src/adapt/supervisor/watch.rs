@@ -241,13 +241,13 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// commissioned model's.
     pub(super) fn within_bounds(&self, m: Model<T>) -> bool {
         let c = self.commissioned;
-        let b = self.cfg.bound;
+        let (b, inv_b) = (self.cfg.bound, self.inv_bound);
         let inside = |x: T, x0: T| {
             if x0.is_infinite() || x.is_infinite() {
                 x0.is_infinite() == x.is_infinite()
             } else {
                 let r = x / x0;
-                r >= T::one() / b && r <= b
+                r >= inv_b && r <= b
             }
         };
         inside(m.k, c.k) && inside(m.tau, c.tau)
