@@ -82,12 +82,13 @@ impl<C> Deref for Slots<C> {
 }
 
 impl<C> DerefMut for Slots<C> {
-    /// The place in use, chosen in a call of its own: inlined into the
-    /// scheme's update, the choice was made again at each of the scheme's
-    /// field accesses (on x86 a load from both places and a `cmov` each);
-    /// returned once, the update reads one place. Measured (callgrind, the
-    /// bench's loop): 530 → 452 instructions a sample; the Cortex-M4F's
-    /// mean 399 → 405 (a call where it chose once anyway).
+    /// The place in use, chosen once: inlined freely into the scheme's
+    /// update, the choice was made again at each of the scheme's field
+    /// accesses (on x86 a load from both places and a `cmov` each), so the
+    /// place passes through `black_box` (the optimizer sees one pointer,
+    /// whatever it is) and the update reads one place. Measured (callgrind,
+    /// the bench's loop): 530 → 452 instructions a sample in a call of its
+    /// own, 8 fewer inline behind `black_box`.
     #[inline(always)]
     fn deref_mut(&mut self) -> &mut C {
         let c = match (&mut self.second, self.in_second) {
