@@ -172,11 +172,8 @@ impl<T: Real, const H: usize> History<T, H> {
             self.steady.saturating_add(1)
         };
         let last = self.from(0);
-        let mut five = [du, T::zero(), T::zero(), T::zero(), T::zero()];
-        for (x, y) in five.iter_mut().skip(1).zip(last) {
-            *x = *y;
-        }
-        let persistent = median5(five);
+        let at = |i: usize| last.get(i).copied().unwrap_or(T::zero());
+        let persistent = median5([du, at(0), at(1), at(2), at(3)]);
         self.drift = crate::real::normal(self.drift + self.drift_step * (persistent - self.drift));
         self.at = if self.at == 0 {
             H.saturating_sub(1)
