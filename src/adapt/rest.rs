@@ -112,7 +112,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::uniform;
+    use super::super::tests::{lcg, uniform};
     use super::*;
     use crate::test_util::ExpectOk;
 
@@ -224,6 +224,67 @@ mod tests {
         .chain(est.costs());
         for x in states {
             assert!(normal(x), "{x:e}");
+        }
+    }
+
+    /// The calls [`Estimator::calm_calls`] counts are those of
+    /// [`Estimator::update`] that only add their sample to the block: an
+    /// estimator fed through [`Estimator::add`] in them (as the adaptive
+    /// controller's calm calls do) and one fed through `update` in every call
+    /// hold the same estimate, costs, noise and restarts bit for bit after
+    /// every sample, with a prior model and without, through a dead-time step,
+    /// under noise and with samples a controller would not compute with.
+    #[test]
+    fn calm_calls_are_the_updates_that_only_add() {
+        for prior in [None, Some((1.5, 4.0, 1.2))] {
+            let ts = 0.01;
+            let mut cfg = EstimatorConfig::new(ts, 2);
+            cfg.decimation = 10;
+            let mut all: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
+            let mut calm: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
+            if let Some((k, tau, theta)) = prior {
+                all.start_from(k, tau, theta).expect_ok();
+                calm.start_from(k, tau, theta).expect_ok();
+            }
+            let (a, mut y, mut seed) = ((-ts / 4.0f64).exp(), 0.0f64, 11u64);
+            let mut line = [0.0f64; 256];
+            let (mut u, mut left, mut added) = (0.0f64, 0usize, 0usize);
+            for j in 0..40_000usize {
+                if j % 700 == 0 {
+                    u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
+                }
+                let d = if j < 20_000 { 120 } else { 170 };
+                let ym = if j % 997 == 0 {
+                    f64::NAN
+                } else {
+                    y + 0.01 * (uniform(&mut seed) - 0.5)
+                };
+                let ended = all.update(ym, u, true);
+                if left > 0 {
+                    left -= 1;
+                    added += 1;
+                    calm.add(ym, u, true);
+                    assert!(!ended, "sample {j}: a calm call ended a pass");
+                } else {
+                    assert_eq!(calm.update(ym, u, true), ended, "sample {j}");
+                    left = calm.calm_calls();
+                }
+                let bits = |e: &Estimator<f64, 16, 40>| {
+                    e.estimate()
+                        .map(|m| [m.k, m.tau, m.theta, m.evidence].map(f64::to_bits))
+                };
+                assert_eq!(bits(&calm), bits(&all), "sample {j}");
+                assert!(calm.costs().eq(all.costs()), "sample {j}");
+                assert_eq!(calm.noise_level().to_bits(), all.noise_level().to_bits());
+                assert_eq!(calm.restarts(), all.restarts());
+                line[j % 256] = u;
+                y = a * y + 1.5 * (1.0 - a) * line[(j + 256 - d) % 256];
+            }
+            // half the calls are calm ones here (nine in ten at rest, fewer
+            // while a pass spreads over the calls after its block: the input
+            // moves every 700 samples)
+            assert!(added > 15_000, "{added}");
+            assert!(all.restarts() >= 1, "the detector's restart is in the run");
         }
     }
 }

@@ -410,7 +410,7 @@ fn a_ramps_steady_part_is_no_move() {
 
 /// The next state of Knuth's MMIX linear congruential generator (the
 /// test inputs' and noise's fixed stream).
-fn lcg(seed: &mut u64) -> u64 {
+pub(super) fn lcg(seed: &mut u64) -> u64 {
     *seed = seed
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
