@@ -107,6 +107,14 @@ impl<T: Real> EstimatorConfig<T> {
         self.ts * half
     }
 
+    /// The dead time `theta` (s) in the estimator's samples, whole and
+    /// fraction: the block means see it shorter by [`Self::centre`], never
+    /// below zero (a billionth added: a dead time of whole samples in
+    /// decimals, as 0.3 s at 0.1 s, is not a sample short).
+    pub(crate) fn dead_samples(&self, theta: T) -> T {
+        (theta - self.centre()).max(T::zero()) / self.period() + T::of(1e-9)
+    }
+
     /// Checks every setting (the history's room is the estimator's).
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.ts, "ts")?;

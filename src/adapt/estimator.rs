@@ -174,8 +174,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             ));
         }
         let ts = self.cfg.period();
-        // the block means see the dead time shorter ([`EstimatorConfig::centre`])
-        let samples = (theta - self.cfg.centre()).max(T::zero()) / ts + T::of(1e-9);
+        let samples = self.cfg.dead_samples(theta);
         let whole = samples.floor();
         let f = (samples - whole - T::of(1e-9)).max(T::zero()).min(T::one());
         let d = num_traits::ToPrimitive::to_usize(&whole)
@@ -303,7 +302,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let (sy, su, n, all) = self.block;
         let n = n + 1;
         if n < self.cfg.decimation {
-            self.block = (sy + y, su + u_applied, n, all && ok);
+            self.join(y, u_applied, ok);
             return done;
         }
         // (with a block shorter than the parts, the last one ends first)
@@ -335,18 +334,21 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     #[inline(always)]
     pub(super) fn add(&mut self, y: T, u_applied: T, ok: bool) {
         if y.usable_with(u_applied) {
-            let (sy, su, n, all) = self.block;
-            self.block = (sy + y, su + u_applied, n + 1, all && ok);
+            self.join(y, u_applied, ok);
         }
+    }
+
+    /// The sample joins the block's sums and count.
+    #[inline(always)]
+    fn join(&mut self, y: T, u_applied: T, ok: bool) {
+        let (sy, su, n, all) = self.block;
+        self.block = (sy + y, su + u_applied, n + 1, all && ok);
     }
 
     /// The next call has nothing to do but add its sample to the block:
     /// no learning under way, no response to compare, not a block's end.
     pub(super) fn idle(&self) -> bool {
-        let (_, _, in_block, _) = self.block;
-        self.pending.is_none()
-            && !self.levels_due()
-            && in_block.saturating_add(1) < self.cfg.decimation
+        self.calm_calls() > 0
     }
 
     /// One estimator sample: the block's mean measurement and input.

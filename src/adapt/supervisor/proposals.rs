@@ -273,7 +273,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
 }
 
 /// The dead time `theta` in the estimator's whole samples, as it counts
-/// them (the block means' centre taken off, truncated, not negative; `None`
+/// them ([`crate::adapt::EstimatorConfig::dead_samples`] truncated; `None`
 /// beyond a `usize`): the model in use's, kept beside it
 /// (`Adaptive::use_model`) for [`Adaptive::plausible`], which asks it at
 /// every block.
@@ -281,6 +281,5 @@ pub(super) fn whole_samples<T: Real>(
     est: &crate::adapt::EstimatorConfig<T>,
     theta: T,
 ) -> Option<usize> {
-    let at = (theta - est.centre()).max(T::zero()) / est.period();
-    num_traits::ToPrimitive::to_usize(&(at + T::of(1e-9)))
+    num_traits::ToPrimitive::to_usize(&est.dead_samples(theta))
 }
