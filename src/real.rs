@@ -177,7 +177,23 @@ pub(crate) fn arg_min<T: Real>(xs: impl IntoIterator<Item = T>) -> Option<(usize
 
 #[cfg(test)]
 mod tests {
-    use super::{arg_min, Real};
+    use super::{arg_min, at_least, at_most, Real};
+
+    /// `at_least`/`at_most` are `max`/`min` against a bound: the larger
+    /// (smaller) of two, the bound for a NaN, the bound's own zero where
+    /// the two are equal zeros (the strict comparison), in both precisions.
+    #[test]
+    fn bounds_take_the_bound_for_nan_and_equal_values() {
+        for (x, b) in [(1.0, 2.0), (2.0, 1.0), (-3.0, -3.0), (f64::INFINITY, 0.0)] {
+            assert_eq!(at_least(x, b), x.max(b));
+            assert_eq!(at_most(x, b), x.min(b));
+        }
+        assert_eq!(at_least(f64::NAN, 1.0), 1.0);
+        assert_eq!(at_most(f64::NAN, -1.0), -1.0);
+        assert_eq!(at_least(f32::NAN, 0.5), 0.5);
+        assert!(at_least(-0.0f64, 0.0).is_sign_positive());
+        assert!(at_most(0.0f64, -0.0).is_sign_negative());
+    }
 
     /// The first of the smallest, NaN passed over wherever it stands, and
     /// none of nothing or of NaN alone; against a search by sorting.
