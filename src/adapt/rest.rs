@@ -112,7 +112,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{lcg, uniform};
+    use super::super::tests::{drive_dead_time_step, uniform};
     use super::*;
     use crate::test_util::ExpectOk;
 
@@ -246,19 +246,9 @@ mod tests {
                 all.start_from(k, tau, theta).expect_ok();
                 calm.start_from(k, tau, theta).expect_ok();
             }
-            let (a, mut y, mut seed) = ((-ts / 4.0f64).exp(), 0.0f64, 11u64);
-            let mut line = [0.0f64; 256];
-            let (mut u, mut left, mut added) = (0.0f64, 0usize, 0usize);
-            for j in 0..40_000usize {
-                if j % 700 == 0 {
-                    u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
-                }
-                let d = if j < 20_000 { 120 } else { 170 };
-                let ym = if j % 997 == 0 {
-                    f64::NAN
-                } else {
-                    y + 0.01 * (uniform(&mut seed) - 0.5)
-                };
+            let (mut left, mut added) = (0usize, 0usize);
+            drive_dead_time_step(11, |j, ym, u| {
+                let ym = if j % 997 == 0 { f64::NAN } else { ym };
                 let ended = all.update(ym, u, true);
                 if left > 0 {
                     left -= 1;
@@ -277,9 +267,7 @@ mod tests {
                 assert!(calm.costs().eq(all.costs()), "sample {j}");
                 assert_eq!(calm.noise_level().to_bits(), all.noise_level().to_bits());
                 assert_eq!(calm.restarts(), all.restarts());
-                line[j % 256] = u;
-                y = a * y + 1.5 * (1.0 - a) * line[(j + 256 - d) % 256];
-            }
+            });
             // half the calls are calm ones here (nine in ten at rest, fewer
             // while a pass spreads over the calls after its block: the input
             // moves every 700 samples)

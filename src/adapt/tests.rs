@@ -410,7 +410,7 @@ fn a_ramps_steady_part_is_no_move() {
 
 /// The next state of Knuth's MMIX linear congruential generator (the
 /// test inputs' and noise's fixed stream).
-pub(super) fn lcg(seed: &mut u64) -> u64 {
+fn lcg(seed: &mut u64) -> u64 {
     *seed = seed
         .wrapping_mul(6364136223846793005)
         .wrapping_add(1442695040888963407);
@@ -604,6 +604,26 @@ fn nothing_moves_nothing_learnt() {
     assert!(est.trace() <= 1e4 * (1.0 + 1e-9));
 }
 
+/// `1.5/(4s + 1)` sampled at 0.01 s with a dead time of 120 samples, 170
+/// from sample 20 000 on, driven by ±1 switching at random every 700
+/// samples, measured with uniform noise of 1 % of the step (seed `seed`):
+/// `each(j, measurement, input)` for 40 000 samples.
+pub(super) fn drive_dead_time_step(seed: u64, mut each: impl FnMut(usize, f64, f64)) {
+    let ts = 0.01;
+    let (a, mut y, mut seed) = ((-ts / 4.0f64).exp(), 0.0f64, seed);
+    let mut line = [0.0f64; 256];
+    let mut u = 0.0f64;
+    for j in 0..40_000usize {
+        if j % 700 == 0 {
+            u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
+        }
+        let d = if j < 20_000 { 120 } else { 170 };
+        each(j, y + 0.01 * (uniform(&mut seed) - 0.5), u);
+        line[j % 256] = u;
+        y = a * y + 1.5 * (1.0 - a) * line[(j + 256 - d) % 256];
+    }
+}
+
 /// A block's learning spread over the controller samples after the block
 /// (two halves of the bank, then the detector and the choice) is the
 /// learning of one call: an estimator decimating by 10 and one fed the
@@ -626,15 +646,8 @@ fn spread_learning_is_the_learning_of_one_call() {
             spread.start_from(k, tau, theta).expect_ok();
             whole.start_from(k, tau, theta - fine.centre()).expect_ok();
         }
-        let (a, mut y, mut seed) = ((-ts / 4.0f64).exp(), 0.0f64, 7u64);
-        let mut line = [0.0f64; 256];
-        let (mut u, mut sums, mut passes) = (0.0f64, (0.0f64, 0.0f64), 0);
-        for j in 0..40_000usize {
-            if j % 700 == 0 {
-                u = if lcg(&mut seed) >> 63 == 1 { 1.0 } else { -1.0 };
-            }
-            let d = if j < 20_000 { 120 } else { 170 };
-            let ym = y + 0.01 * (uniform(&mut seed) - 0.5);
+        let (mut sums, mut passes) = ((0.0f64, 0.0f64), 0);
+        drive_dead_time_step(7, |j, ym, u| {
             sums = (sums.0 + ym, sums.1 + u);
             if j % 10 == 9 {
                 let inv = 1.0 / 10.0;
@@ -662,9 +675,7 @@ fn spread_learning_is_the_learning_of_one_call() {
                 assert!(spread.costs().eq(whole.costs()), "sample {j}");
                 assert_eq!(spread.restarts(), whole.restarts());
             }
-            line[j % 256] = u;
-            y = a * y + 1.5 * (1.0 - a) * line[(j + 256 - d) % 256];
-        }
+        });
         assert!(passes >= 3990, "{passes}");
         assert!(
             whole.restarts() >= 1,
