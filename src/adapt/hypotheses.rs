@@ -212,19 +212,20 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// samples, take many responses to follow a change that only loads
     /// excite); the supervisor validates it against the model in use as
     /// any estimate ([`Estimator::proposal_mismatch`]). Where the level
-    /// test proposes the gain between the hypotheses (`levels/between.rs`),
-    /// the model in use with its gain times that factor.
+    /// test proposes the gain or the lag between the hypotheses
+    /// (`levels/between.rs`), the model in use with it times that factor.
     pub fn proposal(&self) -> Option<Estimate<T>> {
         let i = self.proposed()?;
         let h = self.hyp.get(i)?;
         let d = self.reference.as_ref()?.d;
         let (k, tau, frac) = model_from(h.coef, self.cfg.period(), self.cfg.integrating)?;
-        // the level test's gain between the hypotheses, from the nearest
-        // one's (`levels/between.rs`; `K` is linear in the input's
+        // the level test's gain or lag between the hypotheses, from the
+        // nearest one's (`levels/between.rs`; `K` is linear in the input's
         // coefficients)
-        let k = match (self.difference_proposal(), self.level_gain()) {
-            (None, Some(scale)) => k * scale,
-            _ => k,
+        let (k, tau) = match (self.difference_proposal(), self.level_between()) {
+            (None, Some(p)) if i < GAINS.len() => (k * p.scale, tau),
+            (None, Some(p)) => (k, tau * p.scale),
+            _ => (k, tau),
         };
         Some(Estimate {
             k,

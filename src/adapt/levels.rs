@@ -83,13 +83,16 @@
 //! move: measured on the bank's dead time ×0.7 with loads at the coarse
 //! period, 34 of 45 cases within 10 % of the true model's IAE, 28 before).
 //!
-//! And the gain between the hypotheses (`between.rs`): the
+//! And the gain and the lag between the hypotheses (`between.rs`): the
 //! model in use and its gain hypotheses are points on one parabola in the
-//! gain, whose lowest point is the response's least-squares gain. Weighed
-//! by its own sum (one parameter more, a penalty per response), it is
-//! proposed where no hypothesis is, as a gain hypothesis with its own
-//! factor (measured on the bank: a gain ×0.6 with loads within 10 % of
-//! the true model's IAE in 131 of 150 cases, 120 before).
+//! gain, whose lowest point is the response's least-squares gain; its lag
+//! hypotheses, near the lowest point, on one in the lag's logarithm.
+//! Weighed each by its own sum (one parameter more, a penalty per
+//! response), each is proposed as the nearest hypothesis with its own
+//! factor, where it explains the responses better than that hypothesis
+//! (measured on the bank: a gain ×0.6 with loads within 10 % of the true
+//! model's IAE in 134 of 150 cases, 120 before the gain; a lag ×1.6 with
+//! loads 81 of 90, 68 before the lag).
 //! The test needs plain
 //! differences ([`EstimatorConfig::prefilter`] 0, the default): another
 //! prefilter colours the noise the evidence is measured against.
@@ -97,7 +100,7 @@
 use super::hypotheses::gain_factors;
 use super::*;
 use crate::real::arg_min;
-use between::{between, Quadratic, Response};
+use between::{betweens, Proposed, Quadratic, Response, KINDS};
 use challenger::Challenger;
 use dead::{Dead, DeadResponse};
 use fit::Fit;
@@ -194,15 +197,17 @@ pub(super) struct Levels<T> {
     load: bool,
     /// The challenger ([`Estimator::challenge`]).
     challenger: Option<Challenger<T>>,
-    /// The gain between the hypotheses (`between.rs`): Page's sum of its
-    /// evidence with its largest response ([`page`]), the responses in a row it explained better than the model
-    /// in use, the responses' parabolas since the sum was last at zero
-    /// (each over the noise's variance), and the gain proposed: the
-    /// nearest gain hypothesis, the factor from its gain to the one
-    /// proposed, and the mismatch.
-    between: ((T, T), u8),
-    gain: Quadratic<T>,
-    gain_proposed: Option<(usize, T, Mismatch<T>)>,
+    /// The gain and the lag between the hypotheses (`between.rs`), each:
+    /// Page's sum of its evidence with its largest response ([`page`]),
+    /// the responses in a row it explained better than the model in use,
+    /// the responses' parabolas since the sum was last at zero (each over
+    /// the noise's variance), and the factor proposed: the nearest
+    /// hypothesis, the factor from its to the one proposed, and the
+    /// mismatch. Of the two proposed, the one with the more evidence.
+    between: [((T, T), u8); KINDS],
+    quads: [Quadratic<T>; KINDS],
+    between_proposed: [Option<Proposed<T>>; KINDS],
+    proposed_between: Option<Proposed<T>>,
     /// The dead-time hypotheses (`dead.rs`).
     dead: Dead<T>,
 }
@@ -228,9 +233,10 @@ impl<T: Real> Levels<T> {
             ramps: 0,
             load: false,
             challenger: None,
-            between: ((T::zero(), T::zero()), 0),
-            gain: [T::zero(); 3],
-            gain_proposed: None,
+            between: [((T::zero(), T::zero()), 0); KINDS],
+            quads: [[T::zero(); 3]; KINDS],
+            between_proposed: [None; KINDS],
+            proposed_between: None,
             dead: Dead::new(),
         }
     }
@@ -338,9 +344,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.streak = (0, 0);
         lv.proposal = None;
         lv.challenger = None;
-        lv.between = ((T::zero(), T::zero()), 0);
-        lv.gain = [T::zero(); 3];
-        lv.gain_proposed = None;
+        lv.between = [((T::zero(), T::zero()), 0); KINDS];
+        lv.quads = [[T::zero(); 3]; KINDS];
+        lv.between_proposed = [None; KINDS];
+        lv.proposed_between = None;
         lv.dead = Dead::new();
         lv.since = (0, 0);
     }
@@ -459,12 +466,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             return;
         };
         let drift = drifts.get(best).copied().unwrap_or_default();
-        // the gain between the hypotheses (`between.rs`)
-        let gains = GAINS.len().min(tested);
-        let between = between(
+        // the gain and the lag between the hypotheses (`between.rs`)
+        let betweens = betweens(
             factors,
-            rss.get(..gains).unwrap_or_default(),
-            drifts.get(..gains).unwrap_or_default(),
+            rss,
+            drifts.get(..tested).unwrap_or_default(),
             fit_ref,
         );
         // the noise's variance in levels (`level_deviation`), at least half the
@@ -489,7 +495,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let fits = dead_fits
             .iter()
             .copied()
-            .chain(between.as_ref().map(|b| (b.rss, b.drift)));
+            .chain(betweens.iter().flatten().map(|b| (b.rss, b.drift)));
         lv.weigh_ramp(&noise, v_ref, fits.chain([(v_best, drift)]));
         // and no other dead time explains it better (see [`shifted`])
         let own = v_best < v_dead || fits_ref;
@@ -523,18 +529,17 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
                 };
             }
         }
-        // the gain between the hypotheses, by its own sum (`between.rs`)
-        if let Some(b) = between {
-            let response = Response {
-                n: nt,
-                measured,
-                energy,
-                v_ref,
-                v_dead,
-                rounded,
-            };
-            lv.weigh_between(b, response, factors);
-        }
+        // the gain and the lag between the hypotheses, each by its own sum
+        // (`between.rs`)
+        let response = Response {
+            n: nt,
+            measured,
+            energy,
+            v_ref,
+            v_dead,
+            rounded,
+        };
+        lv.weigh_betweens(betweens, response, factors);
         // the dead-time hypotheses, by their own sums (`dead.rs`)
         lv.dead.weigh(DeadResponse {
             d: dead_ds,
@@ -613,22 +618,21 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if self.levels.ramping() {
             return None;
         }
-        // (else the gain between the hypotheses, as the nearest of them)
-        let between = self.levels.gain_proposed.map(|(i, _, m)| (i, m));
-        self.levels.proposal.or(between)
+        match self.level_between() {
+            Some(p) => Some((p.i, p.mismatch)),
+            None => self.levels.proposal,
+        }
     }
 
-    /// Where the level test proposes the gain between its hypotheses (no
-    /// hypothesis itself: `between.rs`), the factor from the nearest
-    /// hypothesis's gain ([`Estimator::level_proposal`]'s) to it.
-    pub(super) fn level_gain(&self) -> Option<T> {
+    /// Where the level test proposes the gain or the lag between its
+    /// hypotheses (`between.rs`; where a hypothesis is proposed too, as
+    /// `Levels::between_choice` chooses): the nearest hypothesis ([`Estimator::level_proposal`]'s), the factor
+    /// from its gain or lag to the one proposed, and the mismatch.
+    pub(super) fn level_between(&self) -> Option<Proposed<T>> {
         if self.levels.ramping() {
             return None;
         }
-        match self.levels.proposal {
-            Some(_) => None,
-            None => self.levels.gain_proposed.map(|(_, scale, _)| scale),
-        }
+        self.levels.between_choice()
     }
 }
 

@@ -502,7 +502,7 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // time ×0.7 with loads, a gain ×0.82 fitted to a shorter dead
         // time's responses)
         let edge = self.edge();
-        let dead_first = self.est.level_gain().is_some() && self.moved_dead_time();
+        let dead_first = self.est.level_between().is_some() && self.moved_dead_time();
         if dead_first
             || self.propose()
             || edge

@@ -143,6 +143,28 @@ fn driven_counted(
     decimation: usize,
     setpoint: bool,
 ) -> (Vec<Option<usize>>, (u32, u32)) {
+    let (out, est) = driven(
+        model,
+        truth,
+        (noise, quantum),
+        seed,
+        loads,
+        decimation,
+        setpoint,
+    );
+    (out, est.level_responses())
+}
+
+/// [`driven_counted`]'s loop, and the estimator at its end.
+fn driven(
+    model: (f64, f64, usize),
+    truth: (f64, f64),
+    (noise, quantum): (f64, f64),
+    seed: u64,
+    loads: usize,
+    decimation: usize,
+    setpoint: bool,
+) -> (Vec<Option<usize>>, Estimator<f64, 16, 40>) {
     let (k, tau, d_est) = model;
     let ts = 0.5 / decimation as f64;
     let d = d_est * decimation;
@@ -202,7 +224,7 @@ fn driven_counted(
         line[j % d] = u + d_in;
         y = a * y + b * late;
     }
-    (out, est.level_responses())
+    (out, est)
 }
 
 /// Loads alone name a halved gain by the level test within six loads
@@ -249,6 +271,42 @@ fn loads_alone_name_a_changed_gain_or_lag() {
             }
         }
     }
+}
+
+/// Loads alone name a lag 1.6 times the model's, between the hypotheses
+/// 4/3 and 2, by the lag the level test fits between them
+/// (`between.rs`): after twenty loads under 0.5 and 2 % noise, on three
+/// processes and three seeds, proposed in two cases of three or more (in
+/// the others the model in use fits the responses to the noise too often
+/// for a streak), each time as the nearest lag hypothesis times a factor,
+/// the lag within 5 % of the truth (4/3 and 2 are 17 and 25 % off; the
+/// parabola's error and the noise's leave some 3 %), and nothing proposed
+/// the other way along the run (a shorter lag, a larger gain).
+#[test]
+fn loads_alone_name_a_lag_between_the_hypotheses() {
+    let mut named = 0;
+    for model in [(1.6, 10.0, 12usize), (2.3, 15.0, 16), (0.8, 4.0, 14)] {
+        let (k, tau, _) = model;
+        for noise in [0.005, 0.02] {
+            for seed in [1u64, 2, 3] {
+                let case = (model, noise, seed);
+                let (got, est) = driven(model, (k, 1.6 * tau), (noise, 0.0), seed, 20, 1, false);
+                let lags = |i: usize| i.checked_sub(GAINS.len()).and_then(|j| LAGS.get(j));
+                let up = got
+                    .iter()
+                    .flatten()
+                    .all(|&i| lags(i) > Some(&1.0) || GAINS.get(i) < Some(&1.0));
+                assert!(up, "{case:?}: {got:?}");
+                if let Some(b) = est.level_between() {
+                    let lag = lags(b.i).map(|l| l * b.scale);
+                    let within = lag.is_some_and(|l| (l / 1.6 - 1.0).abs() < 0.05);
+                    assert!(within, "{case:?}: {lag:?} {got:?}");
+                    named += 1;
+                }
+            }
+        }
+    }
+    assert!(named >= 12, "{named} of 18");
 }
 
 /// Behind a 10-bit converter (over ±2) and without noise, the rounding is
