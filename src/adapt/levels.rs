@@ -100,9 +100,9 @@
 use super::hypotheses::gain_factors;
 use super::*;
 use crate::real::arg_min;
-use between::{betweens, Proposed, Quadratic, Response, KINDS};
+use between::{betweens, Proposed, Quadratic, Response, Weigh, KINDS};
 use challenger::Challenger;
-use dead::{Dead, DeadResponse};
+use dead::{shifted, Dead, DeadResponse};
 use fit::Fit;
 pub use noise::DRIFT;
 use noise::{top, Noise};
@@ -208,6 +208,10 @@ pub(super) struct Levels<T> {
     quads: [Quadratic<T>; KINDS],
     between_proposed: [Option<Proposed<T>>; KINDS],
     proposed_between: Option<Proposed<T>>,
+    /// The last response's factors between, weighed in the next call (the
+    /// Cortex-M4F's longest call is a response's comparison, #48 item 7):
+    /// meanwhile the level test proposes nothing.
+    weigh: Option<Weigh<T>>,
     /// The dead-time hypotheses (`dead.rs`).
     dead: Dead<T>,
 }
@@ -237,6 +241,7 @@ impl<T: Real> Levels<T> {
             quads: [[T::zero(); 3]; KINDS],
             between_proposed: [None; KINDS],
             proposed_between: None,
+            weigh: None,
             dead: Dead::new(),
         }
     }
@@ -250,7 +255,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if self.cfg.prefilter != T::zero() {
             return;
         }
-        self.levels_finish();
+        // (a response due is compared now: its fits start again here)
+        if let Some(n) = self.levels.due.take() {
+            self.levels_compare(n);
+        }
         let lv = &mut self.levels;
         lv.fits = [Fit::zero(); FITS];
         lv.y = [T::zero(); 4];
@@ -348,6 +356,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.quads = [[T::zero(); 3]; KINDS];
         lv.between_proposed = [None; KINDS];
         lv.proposed_between = None;
+        lv.weigh = None;
         lv.dead = Dead::new();
         lv.since = (0, 0);
     }
@@ -412,16 +421,20 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         }
     }
 
-    /// Whether a response that ended waits for its comparison.
+    /// Whether a response that ended waits for its comparison, or its
+    /// factors between the hypotheses for their weighing.
     #[inline]
     pub(super) fn levels_due(&self) -> bool {
-        self.levels.due.is_some()
+        self.levels.due.is_some() || self.levels.weigh.is_some()
     }
 
-    /// A response that ended in `levels_step` compared (in a call of its
-    /// own: between the estimator's passes, `Estimator::advance`).
+    /// A response that ended in `levels_step` compared, or its factors
+    /// between the hypotheses weighed (each in a call of its own: between
+    /// the estimator's passes, `Estimator::advance`).
     pub(super) fn levels_finish(&mut self) {
-        if let Some(n) = self.levels.due.take() {
+        if let Some(w) = self.levels.weigh.take() {
+            self.levels.weigh_betweens(w);
+        } else if let Some(n) = self.levels.due.take() {
             self.levels_compare(n);
         }
     }
@@ -429,6 +442,10 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// The response's end: the fits compared (see the module
     /// documentation), Page's sums moved on, the proposal renewed.
     fn levels_compare(&mut self, n: usize) {
+        // (the last response's weighing first, where it still waits)
+        if let Some(w) = self.levels.weigh.take() {
+            self.levels.weigh_betweens(w);
+        }
         self.levels.open = None;
         let (compared, used) = self.levels.responses;
         self.levels.responses = (compared.saturating_add(1), used);
@@ -539,7 +556,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             v_dead,
             rounded,
         };
-        lv.weigh_betweens(betweens, response, factors);
+        lv.weigh = Some(Weigh {
+            betweens,
+            response,
+            factors,
+        });
         // the dead-time hypotheses, by their own sums (`dead.rs`)
         lv.dead.weigh(DeadResponse {
             d: dead_ds,
@@ -615,7 +636,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// documentation) and how far the model in use is from the last
     /// response against it.
     pub(super) fn level_proposal(&self) -> Option<(usize, Mismatch<T>)> {
-        if self.levels.ramping() {
+        if self.levels.ramping() || self.levels.weigh.is_some() {
             return None;
         }
         match self.level_between() {
@@ -629,7 +650,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// `Levels::between_choice` chooses): the nearest hypothesis ([`Estimator::level_proposal`]'s), the factor
     /// from its gain or lag to the one proposed, and the mismatch.
     pub(super) fn level_between(&self) -> Option<Proposed<T>> {
-        if self.levels.ramping() {
+        if self.levels.ramping() || self.levels.weigh.is_some() {
             return None;
         }
         self.levels.between_choice()
@@ -664,26 +685,6 @@ fn streak((was, count): (usize, u8), top: usize, better: bool) -> (usize, u8) {
 /// [`LEVEL_EVIDENCE`], and not on one response alone ([`REPLICATED`]).
 fn enough<T: Real>((sum, peak): (T, T)) -> bool {
     sum >= T::of(LEVEL_EVIDENCE) && sum - peak >= T::of(REPLICATED)
-}
-
-/// The dead times the level test sets beside the hypotheses: the model in
-/// use's `d` samples 40 and 20 % shorter, 30 and 60 % longer (at least a
-/// sample apart, at most `longest`), the range of changes the adaptation
-/// is to follow in steps of a fifth to a third. A response that one of
-/// them explains better than every gain and lag points to a change of the
-/// dead time (the bank's to find), and its misfit, which a longer lag or a
-/// smaller gain follows in part, is no evidence for them (measured on the
-/// bank: a dead time 60 % longer with loads at the coarse period had a
-/// doubled lag applied under 5 % noise; with the dead times 30 % either
-/// side only, still), but evidence for that dead time (`dead.rs`).
-fn shifted(d: usize, longest: usize) -> [usize; DEAD] {
-    let part = |tenths: usize| (d.saturating_mul(tenths).saturating_add(5) / 10).max(1);
-    [
-        d.saturating_sub(part(4)),
-        d.saturating_sub(part(2)),
-        d.saturating_add(part(3)).min(longest),
-        d.saturating_add(part(6)).min(longest),
-    ]
 }
 
 mod between;

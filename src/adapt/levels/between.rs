@@ -140,6 +140,7 @@ const PENALTY: f64 = 4.0;
 /// samples, the noise's variance measured, the measurement's energy about
 /// its mean, the model in use's residual and the other dead times' best,
 /// whether the rounding is the noise.
+#[derive(Debug, Clone, Copy)]
 pub(super) struct Response<T> {
     pub(super) n: T,
     pub(super) measured: T,
@@ -194,16 +195,26 @@ pub(super) fn betweens<T: Real>(
     [gain, lag]
 }
 
+/// A response's gain and lag between the hypotheses, to be weighed in a
+/// call of their own ([`Levels::weigh_betweens`]): what it measured, and
+/// the gain hypotheses' factors.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Weigh<T> {
+    pub(super) betweens: [Option<Between<T>>; KINDS],
+    pub(super) response: Response<T>,
+    pub(super) factors: [T; GAINS.len()],
+}
+
 impl<T: Real> Levels<T> {
     /// The gain and the lag between the hypotheses ([`betweens`]) weighed
     /// on a response ([`Levels::weigh_between`]), each by its own sum; the
     /// one proposed with the more evidence proposed.
-    pub(super) fn weigh_betweens(
-        &mut self,
-        betweens: [Option<Between<T>>; KINDS],
-        r: Response<T>,
-        factors: [T; GAINS.len()],
-    ) {
+    pub(super) fn weigh_betweens(&mut self, w: Weigh<T>) {
+        let Weigh {
+            betweens,
+            response: r,
+            factors,
+        } = w;
         let lags = LOG_LAGS.map(T::of);
         let kinds: [(&[T], usize); KINDS] = [(&factors, 0), (&lags, GAINS.len())];
         for (k, (b, (coords, first))) in betweens.into_iter().zip(kinds).enumerate() {

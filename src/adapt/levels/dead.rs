@@ -149,6 +149,26 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     }
 }
 
+/// The dead times the level test sets beside the hypotheses: the model in
+/// use's `d` samples 40 and 20 % shorter, 30 and 60 % longer (at least a
+/// sample apart, at most `longest`), the range of changes the adaptation
+/// is to follow in steps of a fifth to a third. A response that one of
+/// them explains better than every gain and lag points to a change of the
+/// dead time (the bank's to find), and its misfit, which a longer lag or a
+/// smaller gain follows in part, is no evidence for them (measured on the
+/// bank: a dead time 60 % longer with loads at the coarse period had a
+/// doubled lag applied under 5 % noise; with the dead times 30 % either
+/// side only, still), but evidence for that dead time (this module).
+pub(super) fn shifted(d: usize, longest: usize) -> [usize; DEAD] {
+    let part = |tenths: usize| (d.saturating_mul(tenths).saturating_add(5) / 10).max(1);
+    [
+        d.saturating_sub(part(4)),
+        d.saturating_sub(part(2)),
+        d.saturating_add(part(3)).min(longest),
+        d.saturating_add(part(6)).min(longest),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
