@@ -495,7 +495,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         // response's energy per sample (`noise.rs`)
         let [_, _, sy, syy] = lv.y;
         let energy = at_least(syy - sy * sy / nt, T::zero());
-        let noise = Noise::new(nt, T::of(2.0), measured, v_best, energy);
+        let noise = Noise::new(nt, T::of(2.0), measured, v_best, energy).undithered(rounded);
         let sigma2 = noise.sigma2;
         // the best fits to the noise, and leaves at most EXPLAINED of the
         // model in use's excess

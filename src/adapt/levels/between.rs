@@ -267,7 +267,7 @@ impl<T: Real> Levels<T> {
         first: usize,
     ) {
         // (three parameters: the load's two and the factor)
-        let noise = Noise::new(r.n, T::of(3.0), r.measured, b.rss, r.energy);
+        let noise = Noise::new(r.n, T::of(3.0), r.measured, b.rss, r.energy).undithered(r.rounded);
         let sigma2 = noise.sigma2;
         let fits_ref = noise.fits(r.v_ref);
         let explains = noise.explains(b.rss, r.v_ref);

@@ -30,6 +30,8 @@ pub(super) struct Noise<T> {
     pub(super) sigma2: T,
     pub(super) noise: T,
     pub(super) spread: T,
+    /// The rounding is the noise ([`Noise::undithered`]).
+    rounded: bool,
 }
 
 impl<T: Real> Noise<T> {
@@ -46,7 +48,14 @@ impl<T: Real> Noise<T> {
             sigma2,
             noise: dof * sigma2,
             spread: T::of(3.0) * sigma2 * (T::of(2.0) * dof).sqrt(),
+            rounded: false,
         }
+    }
+
+    /// The same noise, `rounded`: a converter's rounding is the noise, no
+    /// noise dithering it ([`Noise::steady`]).
+    pub(super) fn undithered(self, rounded: bool) -> Self {
+        Noise { rounded, ..self }
     }
 
     /// A fit leaving `v` leaves the noise alone (within its spread).
@@ -88,9 +97,21 @@ impl<T: Real> Noise<T> {
     }
 
     /// A fit whose drift regressor takes `drift` of its residual leaves no
-    /// drift ([`DRIFT`]).
+    /// drift ([`DRIFT`]). Where the rounding is the noise, in units of its
+    /// largest square, `(q/2)²`, three times its variance `q²/12`: without
+    /// a noise that dithers it, the rounding's error is no independent
+    /// uniform noise (Widrow, Kollár & Liu (1996)) but a function of the
+    /// signal, bounded by half a quantum, and a regressor can take up to
+    /// the bound's share of it (measured on the bank: a noise-free gain
+    /// ×0.6 with loads behind a 10-bit converter, every response's best
+    /// fit within the rounding and its drift 8 to 11 times the variance,
+    /// none counted and the gain left at the first step, 0.7; now 44 of
+    /// 45 such cases within 10 % of the true model's IAE, 41 before, and
+    /// no model applied without a change behind converters of 8 to 12
+    /// bits that was not applied before).
     pub(super) fn steady(&self, drift: T) -> bool {
-        drift <= T::of(DRIFT) * self.sigma2
+        let bound = if self.rounded { 3.0 } else { 1.0 };
+        drift <= T::of(DRIFT * bound) * self.sigma2
     }
 }
 
@@ -110,7 +131,8 @@ mod tests {
     /// variance where it is the largest, else half the best fit's residual
     /// per degree of freedom or the energy's floor; the residual of pure
     /// noise `98σ²` and its spread `3σ²√196 = 42σ²`; the tests at their
-    /// edges.
+    /// edges (the drift's, where the rounding is the noise, at three times
+    /// the variance).
     #[test]
     fn the_noise_and_its_tests() {
         let n = Noise::new(100.0, 2.0, 1.0, 98.0, 1.0);
@@ -119,7 +141,8 @@ mod tests {
             Noise {
                 sigma2: 1.0,
                 noise: 98.0,
-                spread: 42.0
+                spread: 42.0,
+                rounded: false,
             }
         );
         assert_eq!(Noise::new(100.0, 2.0, 1.0, 392.0, 1.0).sigma2, 2.0);
@@ -132,6 +155,10 @@ mod tests {
         assert!(n.better(139.0, 140.0) && !n.better(140.0, 140.0));
         assert!(n.seen(147.0) && !n.seen(146.0));
         assert!(n.steady(DRIFT) && !n.steady(DRIFT + 0.5));
+        // the rounding as the noise: its largest square, three variances
+        let r = n.undithered(true);
+        assert!(r.steady(3.0 * DRIFT) && !r.steady(3.0 * DRIFT + 0.5));
+        assert_eq!(r.undithered(false), n);
         assert_eq!(top([0.0, 2.0, 1.0, 2.0]), (1, 2.0));
         assert_eq!(top([0.0, 0.0]), (0, 0.0));
     }
