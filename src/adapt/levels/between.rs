@@ -114,7 +114,12 @@ pub(super) fn between<T: Real, const G: usize>(
     }
     let points = points.get(..n)?;
     let (low, _) = arg_min(points.iter().map(|p| p.1))?;
-    let mid = low.clamp(1, n.checked_sub(2)?);
+    // (`max`/`min`, not `clamp`: three points at least, and no panic
+    // where there are fewer)
+    let mid = low.min(n.checked_sub(2)?).max(1);
+    if mid + 1 >= n {
+        return None;
+    }
     let [a, b, c] = [points.get(mid - 1)?, points.get(mid)?, points.get(mid + 1)?];
     let quad = through([(a.0, a.1), (b.0, b.1), (c.0, c.1)])?;
     let drift = through([(a.0, a.2), (b.0, b.2), (c.0, c.2)])?;
@@ -182,14 +187,14 @@ const LOG_LAGS: [f64; LAGS.len()] = [
 /// the gain hypotheses' fits (`factors` theirs) and the lag hypotheses'
 /// (the rest of `rss`, `drifts`; [`LAGS`]), `model` the model in use's fit;
 /// the lag's in its logarithm ([`LOG_LAGS`]: see the module documentation).
-pub(super) fn betweens<T: Real>(
+pub(super) fn betweens<'a, T: Real>(
     factors: [T; GAINS.len()],
-    rss: &[T],
-    drifts: &[T],
+    rss: &'a [T],
+    drifts: &'a [T],
     model: (T, T),
 ) -> [Option<Between<T>>; KINDS] {
-    let (g_rss, l_rss) = rss.split_at(GAINS.len().min(rss.len()));
-    let (g_drifts, l_drifts) = drifts.split_at(GAINS.len().min(drifts.len()));
+    let part = |x: &'a [T]| x.split_at_checked(GAINS.len()).unwrap_or((x, &[]));
+    let ((g_rss, l_rss), (g_drifts, l_drifts)) = (part(rss), part(drifts));
     let gain = between(factors, T::one(), g_rss, g_drifts, model);
     let lag = between(LOG_LAGS.map(T::of), T::zero(), l_rss, l_drifts, model);
     [gain, lag]
