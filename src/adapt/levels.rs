@@ -181,6 +181,10 @@ pub(super) struct Levels<T> {
     /// loop's moves within one step gave a halved gain the evidence of 85).
     quantum: T,
     raw: T,
+    /// The nonzero raw differences in a row that were whole multiples of
+    /// the quantum (a converter's; a continuous noise's smallest
+    /// difference is no grid the next ones fall on).
+    on_grid: u16,
     /// The hypothesis proposed, with its evidence over the last response
     /// and its relative error there (as [`Mismatch`]'s).
     proposal: Option<(usize, Mismatch<T>)>,
@@ -231,6 +235,7 @@ impl<T: Real> Levels<T> {
             streak: (0, 0),
             quantum: T::infinity(),
             raw: T::zero(),
+            on_grid: 0,
             proposal: None,
             responses: (0, 0),
             since: (0, 0),
@@ -279,38 +284,19 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         if !ok || self.samples < 1 {
             return;
         }
-        if d > T::zero() && d < self.levels.quantum {
-            self.levels.quantum = d;
+        let lv = &mut self.levels;
+        if d > T::zero() && d < lv.quantum {
+            lv.quantum = d;
+            lv.on_grid = 1;
+        } else if d > T::zero() {
+            let r = d / lv.quantum;
+            let whole = (r - r.round()).abs() < T::of(1e-3);
+            lv.on_grid = if whole {
+                lv.on_grid.saturating_add(1)
+            } else {
+                0
+            };
         }
-    }
-
-    /// The noise's standard deviation in levels: the target's noise is
-    /// the first (integrating: second) difference of white noise, whose own
-    /// differences the measure reads (variance `3σ²`, `10σ²`: `σ` is
-    /// `1/√3`, `1/√10` of the measure's); at least a quantum's (`q/√12`,
-    /// the rounding's uniform error: below it the measure of a converter's
-    /// steps reads a still measurement as noise-free; Widrow & Kollár
-    /// (2008)). No square root: the watch reads it every sample at rest.
-    fn level_deviation(&self) -> T {
-        let (measured, rounding) = self.level_noises();
-        at_least(measured, rounding)
-    }
-
-    /// The two parts of [`Estimator::level_deviation`]: the measured
-    /// noise's and the rounding's.
-    fn level_noises(&self) -> (T, T) {
-        let share = if self.cfg.integrating {
-            0.316_227_766_016_837_94
-        } else {
-            0.577_350_269_189_625_8
-        };
-        let q = self.levels.quantum;
-        let rounding = if q.is_finite() {
-            q * T::of(0.288_675_134_594_812_9)
-        } else {
-            T::zero()
-        };
-        (self.noise_level() * T::of(share), rounding)
     }
 
     /// A response is under way.

@@ -28,7 +28,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         let d = cfg.d_min + self.chosen;
         let e = target - predict(c.theta, c.yhat, self.hist.pair(d), cfg.integrating);
         let floor = T::epsilon().sqrt() * (T::one() + self.last_y.abs());
-        let threshold = at_least(T::of(ONSET) * self.noise_level(), floor);
+        let threshold = at_least(T::of(ONSET) * self.onset_noise(), floor);
         if self.skip == 0 {
             // at rest (no input move within twice the response's time), and
             // the noise measured over as long (the change detector's)

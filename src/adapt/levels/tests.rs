@@ -453,3 +453,50 @@ fn set_point_steps_name_a_changed_gain_or_lag_in_levels() {
         }
     }
 }
+
+/// Behind a 10-bit converter (over ±2) without noise, a PI loop that
+/// only loads move (input 0.2, output 0.3, input −0.15), its measurement
+/// toggling between two of the converter's steps as it settles: its loads
+/// are onsets, its toggles not — all three at the controller's period, at
+/// most three decimated by 5 (the onset test's noise is at least the
+/// rounding's where the measurement is a converter's,
+/// `Estimator::onset_noise`; before it, 5 and 6 onsets).
+#[test]
+fn a_converters_toggles_are_no_onsets() {
+    let q = 4.0 / 1024.0;
+    for (k, tau, d, decimation) in [(1.6, 10.0, 12usize, 1usize), (2.3, 15.0, 16, 5)] {
+        let ts = 0.5 / decimation as f64;
+        let dd = d * decimation;
+        let mut cfg = EstimatorConfig::new(ts, 2);
+        cfg.decimation = decimation;
+        let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
+        est.start_from(k, tau, d as f64 * 0.5).expect_ok();
+        let a = (-ts / tau).exp();
+        let (kp, ki) = (0.4 / k, 0.4 / k * ts / tau);
+        let (mut y, mut integral) = (0.0f64, 0.0f64);
+        let mut line = std::vec![0.0f64; dd];
+        let loads = [(2000, 0.2, 0.0), (4000, 0.0, 0.3), (6000, -0.15, 0.0)];
+        let r = 1.0;
+        for j in 0..8000 * decimation {
+            let at = |s: usize| j >= s * decimation;
+            let d_in: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.1).sum();
+            let d_out: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.2).sum();
+            let meas = ((y + d_out) / q).round() * q;
+            let e = r - meas;
+            integral += ki * e;
+            let u = kp * e + integral;
+            est.update(meas, u, true);
+            let late = line[j % dd];
+            line[j % dd] = u + d_in;
+            y = a * y + k * (1.0 - a) * late;
+        }
+        // (decimated, the block means of a load's first samples stand
+        // out of the rounding less: one of the three found)
+        let found = est.onsets();
+        let loads = if decimation == 1 { 3..=3 } else { 1..=3 };
+        assert!(
+            loads.contains(&found),
+            "{k} {tau} {d} {decimation}: {found}"
+        );
+    }
+}
