@@ -518,6 +518,42 @@ fn estimates_are_projected_onto_plausible_models() {
     }
 }
 
+/// A PI loop on `K e^{−θs}/(τs + 1)` (`θ` `d` samples of 0.5 s, sampled
+/// `decimation` times faster) that only loads move after its set-point
+/// step to 1: input 0.2 at 1 000 s, output 0.3 at 2 000 s, input −0.15
+/// at 3 000 s, 4 000 s in all; `measure` makes the measurement of the
+/// output with its output load, `each(j, est)` after each of `est`'s
+/// updates.
+pub(super) fn drive_loads_at_rest(
+    est: &mut Estimator<f64, 16, 40>,
+    (k, tau, d): (f64, f64, usize),
+    decimation: usize,
+    mut measure: impl FnMut(f64) -> f64,
+    mut each: impl FnMut(usize, &Estimator<f64, 16, 40>),
+) {
+    let ts = 0.5 / decimation as f64;
+    let dd = d * decimation;
+    let a = (-ts / tau).exp();
+    let (kp, ki) = (0.4 / k, 0.4 / k * ts / tau);
+    let (mut y, mut integral) = (0.0f64, 0.0f64);
+    let mut line = std::vec![0.0f64; dd];
+    let loads = [(2000, 0.2, 0.0), (4000, 0.0, 0.3), (6000, -0.15, 0.0)];
+    for j in 0..8000 * decimation {
+        let at = |s: usize| j >= s * decimation;
+        let d_in: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.1).sum();
+        let d_out: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.2).sum();
+        let meas = measure(y + d_out);
+        let e = 1.0 - meas;
+        integral += ki * e;
+        let u = kp * e + integral;
+        est.update(meas, u, true);
+        each(j, est);
+        let late = line[j % dd];
+        line[j % dd] = u + d_in;
+        y = a * y + k * (1.0 - a) * late;
+    }
+}
+
 /// Closed-loop data in which, after one set-point step, only loads move
 /// the loop: `K e^{−θs}/(τs + 1)` sampled exactly under a PI
 /// controller, input and output load steps at rest, uniform noise of
@@ -539,28 +575,14 @@ fn loads_at_rest_are_onsets_not_lessons() {
         (0.7, 3.0, 10, 2, 0.0),
         (-1.2, 6.0, 8, 3, 0.005),
     ] {
-        let ts = 0.5 / decimation as f64;
-        let dd = d * decimation;
-        let mut cfg = EstimatorConfig::new(ts, 2);
+        let mut cfg = EstimatorConfig::new(0.5 / decimation as f64, 2);
         cfg.decimation = decimation;
         let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
         est.start_from(k, tau, d as f64 * 0.5).expect_ok();
-        let a = (-ts / tau).exp();
-        let (kp, ki) = (0.4 / k, 0.4 / k * ts / tau);
-        let (mut y, mut integral, mut seed) = (0.0f64, 0.0f64, 11u64);
-        let mut line = std::vec![0.0f64; dd];
-        let n = 8000 * decimation;
-        let loads = [(2000, 0.2, 0.0), (4000, 0.0, 0.3), (6000, -0.15, 0.0)];
+        let mut seed = 11u64;
+        let measure = |y: f64| y + noise * (2.0 * uniform(&mut seed) - 1.0);
         let (mut worst, mut evidence) = (0.0f64, f64::NEG_INFINITY);
-        for j in 0..n {
-            let at = |s: usize| j >= s * decimation;
-            let d_in: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.1).sum();
-            let d_out: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.2).sum();
-            let meas = y + d_out + noise * (2.0 * uniform(&mut seed) - 1.0);
-            let e = 1.0 - meas;
-            integral += ki * e;
-            let u = kp * e + integral;
-            est.update(meas, u, true);
+        drive_loads_at_rest(&mut est, (k, tau, d), decimation, measure, |j, est| {
             if j > 1000 * decimation {
                 let m = est.estimate().expect_ok();
                 worst = worst
@@ -571,10 +593,7 @@ fn loads_at_rest_are_onsets_not_lessons() {
                     evidence = evidence.max(mm.evidence);
                 }
             }
-            let late = line[j % dd];
-            line[j % dd] = u + d_in;
-            y = a * y + k * (1.0 - a) * late;
-        }
+        });
         let case = (k, tau, d, decimation, noise);
         if noise == 0.0 {
             // every load found, and the process's model kept: exactly

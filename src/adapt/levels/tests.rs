@@ -3,6 +3,7 @@
 
 use super::super::tests::uniform;
 use super::*;
+use crate::adapt::tests::drive_loads_at_rest;
 use crate::test_util::ExpectOk;
 
 /// Page's sum with its largest response (`page`): `max(0, sum + e)`, the
@@ -125,37 +126,15 @@ fn loads_only(
     seed: u64,
     loads: usize,
 ) -> Vec<Option<usize>> {
-    driven_counted(model, truth, (noise, quantum), seed, loads, 1, false).0
+    driven(model, truth, (noise, quantum), seed, loads, 1, false).0
 }
 
 /// A PI loop driven by loads (as [`loads_only`]) or by set-point steps,
-/// and the level test's counts at its end
-/// ([`Estimator::level_responses`]), the loop sampled `decimation` times
+/// and the estimator at its end (the level test's counts:
+/// [`Estimator::level_responses`]), the loop sampled `decimation` times
 /// faster and the estimator decimating by as much (its period, and the
 /// dead time in its samples, the same); with `setpoint`, the set point
 /// steps between 1 and 0 where the loads would come, and no load comes.
-fn driven_counted(
-    model: (f64, f64, usize),
-    truth: (f64, f64),
-    (noise, quantum): (f64, f64),
-    seed: u64,
-    loads: usize,
-    decimation: usize,
-    setpoint: bool,
-) -> (Vec<Option<usize>>, (u32, u32)) {
-    let (out, est) = driven(
-        model,
-        truth,
-        (noise, quantum),
-        seed,
-        loads,
-        decimation,
-        setpoint,
-    );
-    (out, est.level_responses())
-}
-
-/// [`driven_counted`]'s loop, and the estimator at its end.
 fn driven(
     model: (f64, f64, usize),
     truth: (f64, f64),
@@ -371,7 +350,8 @@ fn the_level_test_counts_its_responses() {
     for model in [(1.6, 10.0, 12usize), (0.15, f64::INFINITY, 10)] {
         let (k, tau, _) = model;
         for (truth, noise) in [((k, tau), 0.005), ((k / 2.0, tau), 0.005), ((k, tau), 0.0)] {
-            let (_, (compared, used)) = driven_counted(model, truth, (noise, 0.0), 1, 12, 1, false);
+            let (_, est) = driven(model, truth, (noise, 0.0), 1, 12, 1, false);
+            let (compared, used) = est.level_responses();
             let case = (model, truth, noise);
             assert!(
                 compared >= 12 && used <= compared,
@@ -401,10 +381,9 @@ fn loads_alone_name_a_halved_gain_when_decimated() {
         for noise in [0.005, 0.02] {
             for seed in [1u64, 2] {
                 let case = (model, noise, seed);
-                let (same, _) = driven_counted(model, (k, tau), (noise, 0.0), seed, 12, 10, false);
+                let (same, _) = driven(model, (k, tau), (noise, 0.0), seed, 12, 10, false);
                 assert!(same.iter().all(|p| p.is_none()), "{case:?}: {same:?}");
-                let (got, _) =
-                    driven_counted(model, (k / 2.0, tau), (noise, 0.0), seed, 6, 10, false);
+                let (got, _) = driven(model, (k / 2.0, tau), (noise, 0.0), seed, 6, 10, false);
                 let wrong_way = got
                     .iter()
                     .flatten()
@@ -433,12 +412,12 @@ fn set_point_steps_name_a_changed_gain_or_lag_in_levels() {
         for noise in [0.02, 0.05] {
             for seed in [1u64, 2, 3] {
                 let case = (model, noise, seed);
-                let (same, _) = driven_counted(model, (k, tau), (noise, 0.0), seed, 20, 1, true);
+                let (same, _) = driven(model, (k, tau), (noise, 0.0), seed, 20, 1, true);
                 assert!(same.iter().all(|p| p.is_none()), "{case:?}: {same:?}");
                 for (truth, want, steps) in
                     [((k / 2.0, tau), halved, 6), ((k, 2.0 * tau), doubled, 10)]
                 {
-                    let (got, _) = driven_counted(model, truth, (noise, 0.0), seed, steps, 1, true);
+                    let (got, _) = driven(model, truth, (noise, 0.0), seed, steps, 1, true);
                     let same_way = |i: usize| match GAINS.get(i) {
                         Some(g) => want == halved && *g < 1.0,
                         None => want == doubled && LAGS.get(i - GAINS.len()) > Some(&1.0),
@@ -465,31 +444,12 @@ fn set_point_steps_name_a_changed_gain_or_lag_in_levels() {
 fn a_converters_toggles_are_no_onsets() {
     let q = 4.0 / 1024.0;
     for (k, tau, d, decimation) in [(1.6, 10.0, 12usize, 1usize), (2.3, 15.0, 16, 5)] {
-        let ts = 0.5 / decimation as f64;
-        let dd = d * decimation;
-        let mut cfg = EstimatorConfig::new(ts, 2);
+        let mut cfg = EstimatorConfig::new(0.5 / decimation as f64, 2);
         cfg.decimation = decimation;
         let mut est: Estimator<f64, 16, 40> = Estimator::new(cfg).expect_ok();
         est.start_from(k, tau, d as f64 * 0.5).expect_ok();
-        let a = (-ts / tau).exp();
-        let (kp, ki) = (0.4 / k, 0.4 / k * ts / tau);
-        let (mut y, mut integral) = (0.0f64, 0.0f64);
-        let mut line = std::vec![0.0f64; dd];
-        let loads = [(2000, 0.2, 0.0), (4000, 0.0, 0.3), (6000, -0.15, 0.0)];
-        let r = 1.0;
-        for j in 0..8000 * decimation {
-            let at = |s: usize| j >= s * decimation;
-            let d_in: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.1).sum();
-            let d_out: f64 = loads.iter().filter(|l| at(l.0)).map(|l| l.2).sum();
-            let meas = ((y + d_out) / q).round() * q;
-            let e = r - meas;
-            integral += ki * e;
-            let u = kp * e + integral;
-            est.update(meas, u, true);
-            let late = line[j % dd];
-            line[j % dd] = u + d_in;
-            y = a * y + k * (1.0 - a) * late;
-        }
+        let converter = |y: f64| (y / q).round() * q;
+        drive_loads_at_rest(&mut est, (k, tau, d), decimation, converter, |_, _| {});
         // (decimated, the block means of a load's first samples stand
         // out of the rounding less: one of the three found)
         let found = est.onsets();
