@@ -207,11 +207,11 @@ pub(super) struct Levels<T> {
     /// the responses' parabolas since the sum was last at zero (each over
     /// the noise's variance), and the factor proposed: the nearest
     /// hypothesis, the factor from its to the one proposed, and the
-    /// mismatch. Of the two proposed, the one with the more evidence.
+    /// mismatch (of the two, `Levels::between_choice` takes the one with
+    /// the more evidence).
     between: [((T, T), u8); KINDS],
     quads: [Quadratic<T>; KINDS],
     between_proposed: [Option<Proposed<T>>; KINDS],
-    proposed_between: Option<Proposed<T>>,
     /// The last response's factors between, weighed in the next call (the
     /// Cortex-M4F's longest call is a response's comparison, #48 item 7):
     /// meanwhile the level test proposes nothing.
@@ -245,7 +245,6 @@ impl<T: Real> Levels<T> {
             between: [((T::zero(), T::zero()), 0); KINDS],
             quads: [[T::zero(); 3]; KINDS],
             between_proposed: [None; KINDS],
-            proposed_between: None,
             weigh: None,
             dead: Dead::new(),
         }
@@ -341,7 +340,6 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         lv.between = [((T::zero(), T::zero()), 0); KINDS];
         lv.quads = [[T::zero(); 3]; KINDS];
         lv.between_proposed = [None; KINDS];
-        lv.proposed_between = None;
         lv.weigh = None;
         lv.dead = Dead::new();
         lv.since = (0, 0);

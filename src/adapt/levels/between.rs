@@ -212,8 +212,7 @@ pub(super) struct Weigh<T> {
 
 impl<T: Real> Levels<T> {
     /// The gain and the lag between the hypotheses ([`betweens`]) weighed
-    /// on a response ([`Levels::weigh_between`]), each by its own sum; the
-    /// one proposed with the more evidence proposed.
+    /// on a response ([`Levels::weigh_between`]), each by its own sum.
     pub(super) fn weigh_betweens(&mut self, w: Weigh<T>) {
         let Weigh {
             betweens,
@@ -227,12 +226,6 @@ impl<T: Real> Levels<T> {
                 self.weigh_between(k, b, &r, coords, first);
             }
         }
-        let [gain, lag] = self.between_proposed;
-        self.proposed_between = match (gain, lag) {
-            (Some(g), Some(l)) if l.mismatch.evidence > g.mismatch.evidence => Some(l),
-            (Some(g), _) => Some(g),
-            (None, l) => l,
-        };
     }
 
     /// The factor between the hypotheses proposed, where it explains the
@@ -242,7 +235,12 @@ impl<T: Real> Levels<T> {
     /// hypothesis, not a factor a little off it), another one's with more
     /// evidence (the factor's net of its penalty per response).
     pub(super) fn between_choice(&self) -> Option<Proposed<T>> {
-        let p = self.proposed_between?;
+        // (of the gain's and the lag's, the one with the more evidence)
+        let p = match self.between_proposed {
+            [Some(g), Some(l)] if l.mismatch.evidence > g.mismatch.evidence => l,
+            [Some(g), _] => g,
+            [None, l] => l?,
+        };
         let chosen = match self.proposal {
             Some((h, _)) if h == p.i => p.beyond >= T::of(PENALTY),
             Some((_, m)) => p.mismatch.evidence > m.evidence,
