@@ -208,9 +208,24 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             rival: T::zero(),
             weight: T::zero(),
             recent: [T::zero(); 4],
+            growth: growth::Growth::default(),
         });
         self.reset_hypotheses(theta);
         Ok(())
+    }
+
+    /// The last window's peak of the model in use's simulation error where
+    /// the windows' peaks grew several times in a row: the loop is going
+    /// unstable (`growth.rs`; `None` otherwise).
+    pub(crate) fn grown(&self) -> Option<T> {
+        self.reference.as_ref().and_then(|r| r.growth.grown())
+    }
+
+    /// The growth's windows start again (the emergency path acted).
+    pub(crate) fn growth_clear(&mut self) {
+        if let Some(r) = self.reference.as_mut() {
+            r.growth = growth::Growth::default();
+        }
     }
 
     /// The estimator samples the chosen candidate has learnt from so far

@@ -77,6 +77,7 @@ use crate::{error::Error, real::Real};
 mod config;
 mod detect;
 mod estimator;
+mod growth;
 mod history;
 mod hypotheses;
 mod levels;
@@ -181,6 +182,8 @@ struct Reference<T> {
     /// The cost, energy, rival cost and weight over the last response's
     /// excited samples ([`Estimator::recent_mismatch`]).
     recent: [T; 4],
+    /// Its error's peaks window by window (`growth.rs`).
+    growth: growth::Growth<T>,
 }
 
 /// The comparison of the model in use (cost `cost`, its prediction's

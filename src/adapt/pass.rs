@@ -239,6 +239,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     pub(super) fn compare_reference(&mut self, target: T, excited: bool, chosen_e: T) -> T {
         let cfg = self.cfg;
         let short = self.short;
+        // (ten times the noise: its differences' peaks stay below)
+        let band = T::of(10.0) * self.noise_level();
         let hist = &self.hist;
         let Some(r) = self.reference.as_mut() else {
             return T::zero();
@@ -251,6 +253,11 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         r.cost = normal(m * r.cost + e * e);
         r.energy = normal(m * r.energy + pred * pred);
         r.yhat = pred;
+        // (windows of twice the model's dead time, at least four samples)
+        let len = u32::try_from(r.d.saturating_mul(2))
+            .unwrap_or(u32::MAX)
+            .max(4);
+        r.growth.add(e, len, band);
         r.rival = normal(m * r.rival + chosen_e * chosen_e);
         r.weight = m * r.weight + T::one();
         if excited {

@@ -589,6 +589,18 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
     /// calls enough for one after its learning's parts (`deferred`), else
     /// now ([`Adaptive::take_now`]).
     fn take(&mut self, m: Model<T>, kind: ChangeKind) {
+        // a model watched for half the watch without an oscillation, which
+        // the data confirm, is validated when a new one replaces it before
+        // its watch ends (measured: an integrating process's dead time
+        // ×0.75, the emergency path's model right for 1 600 estimator
+        // samples, a later proposal replaced it, oscillated, and the restore
+        // went back to the commissioned model, under which the loop had
+        // diverged, and it diverged again)
+        let half_watched = self.watching > 0 && self.watching <= self.cfg.watch / 2;
+        if kind == ChangeKind::Applied && half_watched && (!self.beats_model() || self.confirmed())
+        {
+            self.validated = self.model;
+        }
         if self.cfg.estimator.decimation >= super::pass::PARTS + 2 {
             self.deferred = Some((m, kind));
         } else {

@@ -96,10 +96,14 @@ impl<T: Real, C: Operate<T>, R: Redesign<T, C>, const N: usize, const H: usize, 
         // growing half-cycles (about zero, or about the error's level
         // where it holds an offset), or (once detuned) ones that go on
         let detuned_still = self.detune < T::one() && self.crossed >= self.cfg.crossings;
-        if (self.growing >= need || swinging || detuned_still) && !self.frozen {
+        // or the model in use's simulation error growing window by window
+        // (`growth.rs`: irregular half-cycles, a set point that moves)
+        let grown = self.est.grown().is_some_and(|p| p > self.band());
+        if (self.growing >= need || swinging || detuned_still || grown) && !self.frozen {
             self.growing = 0;
             self.crossed = 0;
             self.swing.count(false);
+            self.est.growth_clear();
             self.emergency();
             return true;
         }
