@@ -50,15 +50,17 @@ pub struct EstimatorConfig<T> {
     /// The process integrates (`a = 1`, not estimated).
     pub integrating: bool,
     /// Controller samples per estimator sample (at least 1): the estimator
-    /// learns from the means of `y` and `u` over blocks of this many
-    /// samples, at its period `ts·decimation` (the process's own time
-    /// scale: a fine controller period gives it no more information per
-    /// sample, only more noise and more work). The dead times `d_min`,
-    /// `d_max` and every other count of samples here are the estimator's.
-    /// Both means pass the same moving-average filter, which commutes with
-    /// the process, so the block means obey the process's model (up to the
-    /// block's own aliasing, small once the block is a fraction of the dead
-    /// time and of the lag); the measurement noise falls by `√decimation`.
+    /// learns from the means of `y` over blocks of this many samples, at
+    /// its period `ts·decimation` (the process's own time scale: a fine
+    /// controller period gives it no more information per sample, only
+    /// more noise and more work), and from the input as those means see it
+    /// (a triangle over the block and the one before, a block older:
+    /// [`EstimatorConfig::lag`], `Estimator::update`). The
+    /// dead times `d_min`, `d_max` and every other count of samples here
+    /// are the estimator's. The block means obey an integrating process's
+    /// model exactly, a lag's up to the block's own aliasing (small once
+    /// the block is a fraction of the lag); the measurement noise falls by
+    /// `√decimation`.
     pub decimation: usize,
     /// The pole `c` of the prefilter `L(z) = (1 − z⁻¹)/(1 − c·z⁻¹)` both
     /// the input and the output pass before the estimator sees them
@@ -93,26 +95,24 @@ impl<T: Real> EstimatorConfig<T> {
         self.ts * T::of(self.decimation as f64)
     }
 
-    /// How much later than the estimator's sampling instant its output
-    /// sample stands: `(decimation − 1)/2` controller periods. The block's
-    /// mean of `y[jM] … y[jM + M − 1]` is centred there, while the mean of
-    /// the inputs `u[jM] … u[jM + M − 1]`, each held over its period, is a
-    /// held input like the model's; so the model fitted to the block means
-    /// sees the dead time shorter by this much, and the estimate adds it
-    /// back (0 without decimation; measured: 0.28 s of 6 s at 12 samples a
-    /// block before it was added).
-    pub fn centre(&self) -> T {
-        // in this precision: no f64 arithmetic, which a Cortex-M4F emulates
-        let half = T::from(self.decimation.saturating_sub(1)).unwrap_or_else(T::zero) / T::of(2.0);
-        self.ts * half
+    /// The dead time `theta` (s) in the estimator's samples, whole and
+    /// fraction, never below zero (a billionth added: a dead time of whole
+    /// samples in decimals, as 0.3 s at 0.1 s, is not a sample short). The
+    /// block means obey the process's model at its own dead time: each
+    /// block's input is the one they see (`Estimator::update`).
+    pub(crate) fn dead_samples(&self, theta: T) -> T {
+        (theta - self.lag()).max(T::zero()) / self.period() + T::of(1e-9)
     }
 
-    /// The dead time `theta` (s) in the estimator's samples, whole and
-    /// fraction: the block means see it shorter by [`Self::centre`], never
-    /// below zero (a billionth added: a dead time of whole samples in
-    /// decimals, as 0.3 s at 0.1 s, is not a sample short).
-    pub(crate) fn dead_samples(&self, theta: T) -> T {
-        (theta - self.centre()).max(T::zero()) / self.period() + T::of(1e-9)
+    /// How much older the block's input is than its output mean (s): a
+    /// block (the triangle over the block and the one before,
+    /// `Estimator::update`), none without decimation.
+    pub fn lag(&self) -> T {
+        if self.decimation > 1 {
+            self.period()
+        } else {
+            T::zero()
+        }
     }
 
     /// Checks every setting (the history's room is the estimator's).

@@ -80,6 +80,8 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
             restarts: 0,
             pause: 0,
             block: (T::zero(), T::zero(), 0, true),
+            partial: T::zero(),
+            before: None,
             skip: 0,
             settled: (0, 0),
             onsets: 0,
@@ -306,6 +308,25 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     /// change detector at the one after, the choice at the fourth: the same
     /// arithmetic as in one call, a fraction of its longest run), so the
     /// estimate is the block's from the call that returns true.
+    ///
+    /// A block's sample is its mean output `ȳ_k` and the input as that
+    /// mean sees it: for the process `y_j = y_{j−1} + K·ts·u_{j−1−D}` at
+    /// the controller's period, the means of `M` samples obey
+    /// `ȳ_k − ȳ_{k−1} = K·ts·M·x_{k−d}` exactly where `D = (d + 1)·M`, with
+    /// `x_k = (Σ_p (p + 1)·u_{(k−1)M+p} + Σ_p (M − 1 − p)·u_{kM+p})/M²` — the
+    /// moving average of `M` samples (which commutes with the process)
+    /// applied twice, a triangle over blocks `k − 1` and `k`, a block older
+    /// than `ȳ_k` ([`EstimatorConfig::lag`]). The block means of the input
+    /// are that only while it holds still over each block: a set point's
+    /// kick within a block, measured, gave an integrating process's gain
+    /// 11 to 27 % high, the block's phase deciding (0.3 % with the kick at
+    /// a block's start; exact with the triangle); a lag's weights `a^p`
+    /// within a block are nearly the triangle's (gain and lag within 1 %
+    /// without noise at a block of half the lag). `x` is the sums'
+    /// `Σ (p + 1)·u_p = M·Σu − Σ_p Σ_{i<p} u_i` of the block before and
+    /// `Σ_p Σ_{i<p} u_i` of this one: two additions a sample. The first
+    /// block, without one before, is not learnt from; without decimation
+    /// the sample is the controller's.
     pub fn update(&mut self, y: T, u_applied: T, ok: bool) -> bool {
         // a sample a controller would not compute with (`Real::usable_with`)
         // is not one to learn from, nor to take into a block's mean
@@ -324,10 +345,25 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         while self.pending.is_some() {
             done |= self.advance();
         }
+        // the block's input as the block means of the output see it: the
+        // triangle `Σ (p + 1)·u_p` of the block before and `Σ (N − 1 − p)·u_p`
+        // of this one, over N² (see `Estimator::update_block`)
+        let falling = self.partial + su;
+        let (s0, ok) = (su + u_applied, all && ok);
         self.block = (T::zero(), T::zero(), 0, true);
-        self.levels_quantum(y, all && ok);
-        let inv = T::one() / T::of(n as f64);
-        self.sample((sy + y) * inv, (su + u_applied) * inv, all && ok) || done
+        self.partial = T::zero();
+        self.levels_quantum(y, ok);
+        let size = T::of(n as f64);
+        let inv = T::one() / size;
+        let rising = size * s0 - falling;
+        let y_mean = (sy + y) * inv;
+        if n == 1 {
+            return self.sample(y_mean, s0, ok) || done;
+        }
+        let (rising_before, ok_before) =
+            self.before.replace((rising, ok)).unwrap_or((rising, false));
+        let u = (rising_before + falling) * inv * inv;
+        self.sample(y_mean, u, ok_before && ok) || done
     }
 
     /// How many calls from now on have nothing to do but add their sample
@@ -357,6 +393,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
     #[inline(always)]
     fn join(&mut self, y: T, u_applied: T, ok: bool) {
         let (sy, su, n, all) = self.block;
+        self.partial = self.partial + su;
         self.block = (sy + y, su + u_applied, n + 1, all && ok);
     }
 
@@ -548,7 +585,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         Some(Estimate {
             k,
             tau,
-            theta: (T::of(d as f64) + frac) * self.cfg.period() + self.cfg.centre(),
+            theta: (T::of(d as f64) + frac) * self.cfg.period() + self.cfg.lag(),
             d,
             evidence: self.evidence(c.cost, second),
         })

@@ -230,7 +230,7 @@ impl<T: Real, const N: usize, const H: usize> Estimator<T, N, H> {
         Some(Estimate {
             k,
             tau,
-            theta: (T::of(d as f64) + frac) * self.cfg.period() + self.cfg.centre(),
+            theta: (T::of(d as f64) + frac) * self.cfg.period() + self.cfg.lag(),
             d,
             evidence: self.current.map_or(T::zero(), |c| c.evidence),
         })

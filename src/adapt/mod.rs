@@ -330,6 +330,12 @@ pub struct Estimator<T, const N: usize, const H: usize> {
     /// The current block of controller samples: the sums of `y` and `u`,
     /// their count, and whether every one was the process's own response.
     block: (T, T, usize, bool),
+    /// The current block's sum of the input's partial sums `Σ_p Σ_{i<p} u_i`
+    /// (the triangle's falling side, `Estimator::update`).
+    partial: T,
+    /// The block before's input triangle's rising side `Σ_p (p + 1)·u_p`,
+    /// and whether every sample was the process's own.
+    before: Option<(T, bool)>,
     /// Samples of a load's onset still to pass unlearnt (see
     /// `Estimator::onset`).
     skip: usize,

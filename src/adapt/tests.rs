@@ -3,6 +3,8 @@
 use super::*;
 use crate::test_util::ExpectOk;
 
+mod blocks;
+
 /// A FOPDT process `K e^{−θs}/(τs + 1)` sampled exactly (ZOH, the
 /// fractional delay in `b0`, `b1`) under a PRBS-like input with a load.
 fn run(k: f64, tau: f64, theta: f64, ts: f64, n: usize, noise: f64) -> Estimator<f64, 16, 40> {
@@ -640,65 +642,5 @@ pub(super) fn drive_dead_time_step(seed: u64, mut each: impl FnMut(usize, f64, f
         each(j, y + 0.01 * (uniform(&mut seed) - 0.5), u);
         line[j % 256] = u;
         y = a * y + 1.5 * (1.0 - a) * line[(j + 256 - d) % 256];
-    }
-}
-
-/// A block's learning spread over the controller samples after the block
-/// (two halves of the bank, then the detector and the choice) is the
-/// learning of one call: an estimator decimating by 10 and one fed the
-/// same block means one by one hold the same estimate, costs and evidence
-/// bit for bit after every pass (the first when its last part ends, two
-/// samples after the block), with a prior model and without, through a
-/// dead-time step (the detector's restart) and under noise.
-#[test]
-fn spread_learning_is_the_learning_of_one_call() {
-    for prior in [None, Some((1.5, 4.0, 1.2))] {
-        let ts = 0.01;
-        let mut fine = EstimatorConfig::new(ts, 2);
-        fine.decimation = 10;
-        let coarse = EstimatorConfig::new(ts * 10.0, 2);
-        let mut spread: Estimator<f64, 16, 40> = Estimator::new(fine).expect_ok();
-        let mut whole: Estimator<f64, 16, 40> = Estimator::new(coarse).expect_ok();
-        if let Some((k, tau, theta)) = prior {
-            // the same model: the decimating one counts its dead time from
-            // the blocks' centres
-            spread.start_from(k, tau, theta).expect_ok();
-            whole.start_from(k, tau, theta - fine.centre()).expect_ok();
-        }
-        let (mut sums, mut passes) = ((0.0f64, 0.0f64), 0);
-        drive_dead_time_step(7, |j, ym, u| {
-            sums = (sums.0 + ym, sums.1 + u);
-            if j % 10 == 9 {
-                let inv = 1.0 / 10.0;
-                whole.update(sums.0 * inv, sums.1 * inv, true);
-                sums = (0.0, 0.0);
-            }
-            if spread.update(ym, u, true) {
-                passes += 1;
-                // the same model, its dead time counted from the blocks'
-                // centres in the decimating one (`EstimatorConfig::centre`)
-                let (s, w) = (spread.estimate(), whole.estimate());
-                let centre = fine.centre();
-                let moved = w.map(|w| Estimate {
-                    theta: w.theta + centre,
-                    ..w
-                });
-                assert_eq!(
-                    s.map(|s| (s.k, s.tau, s.d, s.evidence.to_bits())),
-                    w.map(|w| (w.k, w.tau, w.d, w.evidence.to_bits())),
-                    "sample {j}"
-                );
-                if let (Some(s), Some(w)) = (s, moved) {
-                    assert!((s.theta - w.theta).abs() < 1e-12, "sample {j}: {s:?} {w:?}");
-                }
-                assert!(spread.costs().eq(whole.costs()), "sample {j}");
-                assert_eq!(spread.restarts(), whole.restarts());
-            }
-        });
-        assert!(passes >= 3990, "{passes}");
-        assert!(
-            whole.restarts() >= 1,
-            "the detector's restart is in the run"
-        );
     }
 }

@@ -139,13 +139,25 @@ impl Scenario {
             .clamp(1, 1 << 20)
     }
 
+    /// The estimator's decimation, period (s) and its block's input's lag
+    /// behind its output mean (s, [`EstimatorConfig::lag`]).
+    pub(super) fn adapt_timing(model: &TransferFunction, ts: f64) -> (usize, f64, f64) {
+        let decimation = Self::adapt_decimation(model, ts);
+        let est = EstimatorConfig {
+            decimation,
+            ..EstimatorConfig::new(ts, 0)
+        };
+        (decimation, est.period(), est.lag())
+    }
+
     /// The candidate dead times `(d_min, d_max)` in the estimator's samples
-    /// (of `period` s) the scenario's adaptation considers: the range given
-    /// in seconds, or 0.3 to 3 times the model's dead time.
+    /// (of `period` s, the first a block's input `lag` s behind its output)
+    /// the scenario's adaptation considers: the range given in seconds, or
+    /// 0.3 to 3 times the model's dead time.
     pub(super) fn adapt_range(
         &self,
         model: &TransferFunction,
-        period: f64,
+        (period, lag): (f64, f64),
     ) -> Result<(f64, f64), RunError> {
         let (lo, hi) = match self.adapt_options().and_then(|a| a.delay) {
             Some((lo, hi)) => {
@@ -160,13 +172,16 @@ impl Scenario {
             }
             None => {
                 let (lo, hi) = DEFAULT_RANGE;
-                let lo = (lo * model.delay / period).floor();
+                let lo = ((lo * model.delay - lag).max(0.0) / period).floor();
                 // a model without dead time still searches a few samples
-                let hi = (hi * model.delay / period).floor().max(lo + 3.0);
+                let hi = ((hi * model.delay - lag).max(0.0) / period)
+                    .floor()
+                    .max(lo + 3.0);
                 return Ok((lo, hi.min(lo + (CANDIDATES - 1) as f64)));
             }
         };
-        Ok(((lo / period).floor(), (hi / period).floor()))
+        let whole = |t: f64| ((t - lag).max(0.0) / period).floor();
+        Ok((whole(lo), whole(hi)))
     }
 
     /// `controller`, built for `model` with period `ts`, wrapped as the
@@ -203,17 +218,11 @@ impl Scenario {
         let note = (in_place && opts.background_design == Some(true)).then(|| {
             "--adapt-background (Python: adapt={\"background_design\": True}) has no effect on this scheme: its model changes in place within a sample's budget, and only a scheme rebuilt for each model (karan-dey, fsp) is designed in the background".into()
         });
-        let decimation = Self::adapt_decimation(model, ts);
-        let period = ts * decimation as f64;
-        // the model's dead time as the estimator counts it (its block means'
-        // centre: EstimatorConfig::centre)
-        let centre = EstimatorConfig {
-            decimation,
-            ..EstimatorConfig::new(ts, 0)
-        }
-        .centre();
-        let d_model = ((theta - centre).max(0.0) / period).floor();
-        let (d_min, d_max) = self.adapt_range(model, period)?;
+        let (decimation, period, lag) = Self::adapt_timing(model, ts);
+        // the model's dead time as the estimator counts it (its block's
+        // input a block older: EstimatorConfig::lag)
+        let d_model = ((theta - lag).max(0.0) / period).floor();
+        let (d_min, d_max) = self.adapt_range(model, (period, lag))?;
         if d_max - d_min >= CANDIDATES as f64 {
             return Err(RunError::Limit(std::format!(
                 "the adaptation's dead-time range spans {} of the estimator's samples ({} s each, a tenth of the model's dead time); it compares at most {CANDIDATES}: narrow --adapt-delay",

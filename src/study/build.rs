@@ -355,8 +355,8 @@ impl Scenario {
             // for a fraction)
             max_dead_time: match (self.adapt_options(), inner) {
                 (Some(_), None) => self.event_dead_time(false).max({
-                    let period = ts * Self::adapt_decimation(model, ts) as f64;
-                    (self.adapt_range(model, period)?.1 + 1.0) * period
+                    let (_, period, lag) = Self::adapt_timing(model, ts);
+                    (self.adapt_range(model, (period, lag))?.1 + 1.0) * period + lag
                 }),
                 _ => self.event_dead_time(false),
             },

@@ -36,7 +36,9 @@ c_config! {
     /// Settings of an on-line identifier (`msp::adapt::EstimatorConfig`):
     /// the period `ts` (s), `decimation` (controller samples per estimator
     /// sample, at least 1: it learns from their means), the candidate dead
-    /// times `d_min … d_max` (estimator samples; at most 16 of them),
+    /// times `d_min … d_max` (estimator samples; at most 16 of them; with
+    /// decimation, candidate `d` is `d + 1` of them, the block's input as its
+    /// means see it a block older),
     /// `integrating` (nonzero: `k e^{−θs}/s`), the forgetting factor
     /// (0.999: a memory of 1000 estimator samples), the prefilter's time
     /// constant (s; 0: plain differences, which a load's onset needs) and
@@ -83,7 +85,8 @@ c_config! {
     /// How a scheme adapts (`msp::adapt::AdaptiveConfig`): `decimation`
     /// (controller samples per estimator sample: by default a tenth of the
     /// model's dead time), the candidate dead times `d_min … d_max`
-    /// (estimator samples; at most 16 of them), the estimator's
+    /// (estimator samples; at most 16 of them; with decimation, candidate `d`
+    /// is `d + 1` of them), the estimator's
     /// `forgetting`, `prefilter` (s; 0 by default) and `excitation`, the
     /// relative change `min_change` that is applied, the factor `bound` of
     /// the commissioned gain and lag no applied estimate passes (4), the

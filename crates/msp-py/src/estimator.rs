@@ -26,6 +26,11 @@ const H: usize = 4096;
 /// d_max : int, optional
 ///     The longest candidate dead time (samples, at least ``d_min``;
 ///     default ``d_min + 31``): the candidates end there.
+/// decimation : int, optional
+///     Controller samples per estimator sample (default 1): it learns from
+///     their block means, and ``d_min``, ``d_max`` count its samples, a
+///     candidate ``d`` then standing for ``d + 1`` of them (a block's input,
+///     as its means see it, is a block older).
 /// integrating : bool, optional
 ///     The process integrates (``a = 1``).
 /// forgetting : float, optional
