@@ -115,6 +115,30 @@ impl<T: Real> EstimatorConfig<T> {
         }
     }
 
+    /// The decimation for a model dead time of `dead` controller samples:
+    /// about a tenth of it (the estimator at the process's time scale), and
+    /// where the dead time is a whole number of samples with a divisor
+    /// giving 8 to 10 blocks, that divisor (the smallest), so that the
+    /// model's dead time is a whole number of blocks, which the block means
+    /// obey exactly (a fraction is interpolated: [`Estimator::update`]);
+    /// else `⌈dead/10⌉`, and 1 below ten samples.
+    pub fn decimation_for(dead: T) -> usize {
+        if !(dead >= T::zero() && dead.is_finite()) {
+            return 1;
+        }
+        let tenth = num_traits::ToPrimitive::to_usize(&(dead / T::of(10.0)).ceil())
+            .unwrap_or(1)
+            .clamp(1, 1 << 20);
+        let whole = dead.round();
+        let n = num_traits::ToPrimitive::to_usize(&whole).filter(|n| *n < 1 << 30);
+        let Some(n) = n.filter(|_| (dead - whole).abs() <= T::of(1e-6)) else {
+            return tenth;
+        };
+        (tenth..=(n / 8).max(tenth))
+            .find(|m| n % m == 0)
+            .unwrap_or(tenth)
+    }
+
     /// Checks every setting (the history's room is the estimator's).
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.ts, "ts")?;

@@ -14,10 +14,6 @@ use crate::{error::Error, model::ProcessModel};
 /// Candidate dead times the host's estimator compares.
 pub const CANDIDATES: usize = 32;
 
-/// The estimator's samples per model dead time (see
-/// [`Scenario::adapt_decimation`]).
-const DEAD_TIME_SAMPLES: f64 = 10.0;
-
 /// The dead times searched by default, relative to the model's.
 pub const DEFAULT_RANGE: (f64, f64) = (0.3, 3.0);
 
@@ -128,15 +124,13 @@ impl Scenario {
         }
     }
 
-    /// Controller samples per estimator sample: a tenth of the model's dead
-    /// time (rounded up; 1 when the dead time is under ten samples), so that
-    /// the estimator works at the process's time scale whatever the
-    /// controller's period.
+    /// Controller samples per estimator sample: about a tenth of the model's
+    /// dead time, a whole number of blocks where it can
+    /// ([`EstimatorConfig::decimation_for`]; 1 when the dead time is under
+    /// ten samples), so that the estimator works at the process's time
+    /// scale whatever the controller's period.
     pub(super) fn adapt_decimation(model: &TransferFunction, ts: f64) -> usize {
-        let per = (model.delay / (DEAD_TIME_SAMPLES * ts)).ceil();
-        num_traits::ToPrimitive::to_usize(&per)
-            .unwrap_or(1)
-            .clamp(1, 1 << 20)
+        EstimatorConfig::<f64>::decimation_for(model.delay / ts)
     }
 
     /// The estimator's decimation, period (s) and its block's input's lag

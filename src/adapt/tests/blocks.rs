@@ -140,3 +140,26 @@ fn the_block_means_obey_the_model_whatever_the_steps_phase() {
     let (gain, dead) = worst_error(false, 1.05, 4003);
     assert!(gain < 0.02 && dead < 0.005, "{gain} {dead}");
 }
+
+/// The decimation for a model's dead time (`EstimatorConfig::decimation_for`):
+/// about a tenth of it, a whole number of blocks where the dead time is a
+/// whole number of samples with a divisor giving 8 to 10 blocks (the
+/// smallest such divisor), else `⌈dead/10⌉`.
+#[test]
+fn the_decimation_makes_the_dead_time_whole_blocks_where_it_can() {
+    let m = EstimatorConfig::<f64>::decimation_for;
+    assert_eq!((m(1000.0), m(954.0), m(10.0), m(7.0)), (100, 106, 1, 1));
+    // (not a whole number of samples; 997 is prime)
+    assert_eq!(
+        (m(1050.66), m(997.0), m(f64::NAN), m(-3.0)),
+        (106, 100, 1, 1)
+    );
+    for n in 10..3000usize {
+        let d = m(n as f64);
+        let divisor = (n.div_ceil(10)..=n / 8).find(|k| n % k == 0);
+        match divisor {
+            Some(k) => assert!(d == k && (8..=10).contains(&(n / d)), "{n}: {d}"),
+            None => assert_eq!(d, n.div_ceil(10), "{n}"),
+        }
+    }
+}

@@ -145,8 +145,9 @@ pub(super) fn adaptive_config<T: Real>(
 }
 
 /// The adaptation's defaults for a scheme of the model `m` whose dead time
-/// is `d` samples at `ts`, as `msp run --adapt`'s: the estimator at a tenth
-/// of the dead time per sample (`decimation`), its 16 candidates from 6
+/// is `d` samples at `ts`, as `msp run --adapt`'s: the estimator at about a
+/// tenth of the dead time per sample, a whole number of its samples where
+/// it can (`decimation`, `EstimatorConfig::decimation_for`), its 16 candidates from 6
 /// of its samples below the model's dead time, plain differences (no
 /// prefilter: a load's onset needs them).
 pub(super) fn adapt_default<T: Real>(
@@ -154,7 +155,7 @@ pub(super) fn adapt_default<T: Real>(
     d: T,
     ts: T,
 ) -> Result<msp_adapt_config_of<T>, Error> {
-    let per = (d / T::of(10.0)).ceil().max(T::one());
+    let per = T::of(EstimatorConfig::<T>::decimation_for(d) as f64);
     let whole = |x: T| {
         x.to_f64()
             .filter(|x| x.is_finite() && *x >= 0.0 && *x < f64::from(u32::MAX))
