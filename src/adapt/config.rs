@@ -135,7 +135,7 @@ impl<T: Real> EstimatorConfig<T> {
             return tenth;
         };
         (tenth..=(n / 8).max(tenth))
-            .find(|m| n % m == 0)
+            .find(|m| n.checked_rem(*m) == Some(0))
             .unwrap_or(tenth)
     }
 
