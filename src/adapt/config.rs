@@ -120,7 +120,7 @@ impl<T: Real> EstimatorConfig<T> {
     /// where the dead time is a whole number of samples with a divisor
     /// giving 8 to 10 blocks, that divisor (the smallest), so that the
     /// model's dead time is a whole number of blocks, which the block means
-    /// obey exactly (a fraction is interpolated: [`Estimator::update`]);
+    /// obey exactly (a fraction is interpolated: [`crate::adapt::Estimator::update`]);
     /// else `⌈dead/10⌉`, and 1 below ten samples.
     pub fn decimation_for(dead: T) -> usize {
         if !(dead >= T::zero() && dead.is_finite()) {
