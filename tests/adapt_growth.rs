@@ -36,11 +36,9 @@ fn integrating(factor: f64, period: Period) -> Vec<BankCase> {
 /// acts within a few of the set point's moves — no event's IAE after the
 /// change above 25 times the last one's (measured before the windows'
 /// test: the output 5·10⁴ times the step away, an event's IAE 10⁵ times
-/// the last's) — and settles (its IAE over the last quarter within twice
-/// the true model's loop's: 1.10–1.13 at ×0.75, the model the emergency
-/// path applied a few per cent off until a later change; 1.01 at ×1.25,
-/// but for one case in four, 1.84, whose later change oscillated and was
-/// restored — see #48's notes).
+/// the last's) — and ends within 10 % of the true model's loop (0.97 to
+/// 1.00 measured; 1.10 to 1.84 before the block's input was taken as its
+/// means see it, the emergency's estimate biased by the set point's kicks).
 #[test]
 fn a_growing_oscillation_of_irregular_half_cycles_is_stopped() {
     let mut checked = 0;
@@ -50,7 +48,7 @@ fn a_growing_oscillation_of_irregular_half_cycles_is_stopped() {
         for case in picked {
             let r = case.run().unwrap();
             assert!(r.iae_fixed.is_infinite(), "{r:?}");
-            assert!(r.iae_adaptive <= 2.0 * r.iae_true, "{r:?}");
+            assert!(r.iae_adaptive <= 1.1 * r.iae_true, "{r:?}");
             let out = case.adaptive().unwrap();
             let kinds: Vec<_> = out.report().adaptation.iter().map(|c| c.kind).collect();
             assert!(kinds.contains(&ChangeKind::Emergency), "{kinds:?}");
@@ -65,6 +63,23 @@ fn a_growing_oscillation_of_irregular_half_cycles_is_stopped() {
             let last = *iae.last().unwrap();
             let worst = iae.iter().copied().fold(0.0, f64::max);
             assert!(worst <= 25.0 * last, "{worst} against {last}: {kinds:?}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 24);
+}
+
+/// Nearby changes at ten samples of dead time (×0.7 and ×1.3: whole
+/// samples; 24 cases): the fixed loop diverges, the adaptive one ends
+/// within 10 % of the true model's loop.
+#[test]
+fn nearby_changes_at_the_coarse_period_end_at_the_true_model() {
+    let mut checked = 0;
+    for factor in [0.7, 1.3] {
+        for case in integrating(factor, Period::Coarse) {
+            let r = case.run().unwrap();
+            assert!(r.iae_fixed.is_infinite(), "{r:?}");
+            assert!(r.iae_adaptive <= 1.1 * r.iae_true, "{r:?}");
             checked += 1;
         }
     }
